@@ -1,0 +1,30 @@
+// The mission every robot agent receives from the world's durable Mission topic: the shape to form, where to take
+// it, and the controller's parameters. An agent needs no file of its own; this is all it is told.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+
+#include "common/shape.hpp"
+#include "common/types.hpp"
+
+namespace swarmform {
+
+struct Mission {
+  std::string behaviour = "paper";  // "paper" (the paper's algorithm) or "random_walk"
+  ShapeMatrix shape;                // the label matrix (common/shape.hpp)
+  double grid_spacing = 1.0;        // m between horizontally/vertically adjacent labels (paper Table II)
+  Vec2 goal{10.0, 0.0};             // m, arena frame; only the elected leader uses it (paper eq. 3)
+  double goal_radius = 0.5;         // m
+  double max_speed = 0.1;           // m/s, wheel speed limit (the world clamps anything above)
+  double tick_rate = 10.0;          // ticks per second of simulated time
+  double comm_range = 3.0;          // m, range-and-bearing range (for the controller's own reasoning only)
+  std::uint32_t max_message_bytes = 1024;  // the world drops larger outgoing messages
+  std::uint64_t seed = 1;           // per-run seed; a controller mixes in its id for its own randomness
+  // Controller parameters by name (scenario `controller:` section). The controller library owns the names and
+  // their defaults; robot_agent/controller/params.hpp validates them.
+  std::map<std::string, double> params;
+};
+
+}  // namespace swarmform

@@ -1,0 +1,44 @@
+// The in-process harness: the same World with N controllers in one process, no DDS. Deterministic and fast;
+// used by the simulation tests and the large-N benchmark. Each tick: every live robot's controller steps on its
+// perception, the commands go to the world, the world steps, the session records; scheduled kills apply.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "robot_agent/controller/controller.hpp"
+#include "world_server/world/run_session.hpp"
+#include "world_server/world/scenario.hpp"
+#include "world_server/world/world.hpp"
+
+namespace swarmform::harness {
+
+struct HarnessOptions {
+  std::string run_dir;  // empty: no files written
+};
+
+class Harness {
+ public:
+  explicit Harness(const world::Scenario& scenario, HarnessOptions options = {});
+  ~Harness();
+
+  void step();  // one tick for everyone
+  // Steps until the scenario's max_ticks, or until `stop` returns true (checked after each tick).
+  void run(const std::function<bool(const Harness&)>& stop = {});
+
+  void kill(RobotId id);    // the robot dies now (its controller is dropped)
+  void revive(RobotId id);  // a fresh controller for it (init with the mission), as a restarted agent
+
+  const world::World& world() const;
+  world::World& world();
+  const world::Metrics& metrics() const;
+  const controller::Controller& controller(RobotId id) const;
+  std::string finish(double wall_seconds);  // summary.json text
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace swarmform::harness

@@ -1,0 +1,55 @@
+// A run: one World plus its recorder and metrics, writing a run directory (format: docs/recording-format.md).
+// Both front ends use it the same way: the DDS world_server and the in-process harness.
+//
+//   RunSession session(world, options);   // writes world.json, opens the recording, records tick 0
+//   loop { ...commands...; world.step(); session.record_tick(); }
+//   session.finish(wall_seconds);          // writes summary.json
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "common/types.hpp"
+#include "world_server/world/metrics.hpp"
+#include "world_server/world/world.hpp"
+
+namespace swarmform::world {
+
+struct RunOptions {
+  std::string run_dir;   // created if missing; empty = record nothing to disk (metrics still computed)
+  std::string mode = "in-process";  // "lockstep", "realtime" or "in-process", for the summary
+};
+
+class RunSession {
+ public:
+  RunSession(const World& world, RunOptions options);
+  ~RunSession();
+  RunSession(const RunSession&) = delete;
+  RunSession& operator=(const RunSession&) = delete;
+
+  // After each World::step(): one recording row per robot, events derived from telemetry changes (state, label,
+  // leader), fragment/rejoin of the neighbour graph, and the metrics. Flushed as it goes: a crashed run keeps
+  // what it had.
+  void record_tick();
+
+  // Events the front end knows of and the world does not.
+  void record_death(RobotId id);
+  void record_rejoin(RobotId id);
+  void record_command_verdict(RobotId id, CommandVerdict verdict);
+  void record_event(RobotId id, const std::string& kind, const std::string& detail);
+
+  const Metrics& metrics() const;
+
+  // Writes summary.json (the metrics plus robots, seed, mode, ticks, wall_seconds, ticks_per_second,
+  // alive_at_end, trajectory_sha256) and closes the recording. Returns the summary as JSON text.
+  std::string finish(double wall_seconds);
+
+  // SHA-256 over the recorded poses so far (bit patterns of x, y, theta of every robot every tick).
+  std::string trajectory_sha256() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace swarmform::world

@@ -1,0 +1,88 @@
+// The scenario: an immutable description of one run (arena, obstacles, robots, medium, mode, goal, shape,
+// controller parameters), loaded from a YAML file in scenarios/ (format: scenarios/README.md) and then never
+// changed. The mutable state lives in World.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/mission.hpp"
+#include "common/types.hpp"
+
+namespace swarmform::world {
+
+struct Obstacle {
+  enum class Kind { Box, Cylinder };
+  Kind kind = Kind::Box;
+  std::string name;       // for the log and the pictures
+  Vec2 centre;            // m
+  double yaw = 0.0;       // rad (boxes)
+  Vec2 half_extents;      // m (boxes): half width along the box's x, half depth along its y
+  double radius = 0.0;    // m (cylinders)
+};
+
+enum class Mode { Lockstep, Realtime };
+
+struct Kill {  // a scheduled fault: SIGKILL agent `id` (multi-process) or kill its robot (in-process) at `tick`
+  RobotId id = 0;
+  Tick tick = 0;
+};
+
+struct Scenario {
+  std::string source;  // path of the file it came from
+
+  // Arena: a rectangle centred at `arena_centre`, walls on its four sides when `walls`.
+  Vec2 arena_centre{4.0, 0.0};
+  double arena_width = 20.0;   // m, along x
+  double arena_height = 12.0;  // m, along y
+  bool walls = true;
+  double wall_thickness = 0.1;  // m
+  std::vector<Obstacle> obstacles;
+
+  // Robots: ids 0..robots.size()-1, initial poses resolved (listed in the file, or random in a region from the
+  // seed: never overlapping, communication graph connected).
+  std::vector<Pose2D> robots;
+
+  // Medium (SPEC section 3) and sensors (section 4).
+  double comm_range = 3.0;           // m
+  double range_noise_sd = 0.0;       // m, Gaussian noise on a received message's range
+  double bearing_noise_sd = 0.0;     // rad, on its bearing
+  double ultrasonic_noise_sd = 0.0;  // m, on each ultrasonic reading
+  double packet_loss = 0.0;          // probability in [0,1) that one copy of a message is lost
+  bool occlusion = false;            // obstacles block messages (line of sight)
+
+  // Time.
+  Mode mode = Mode::Lockstep;
+  double tick_rate = 10.0;            // ticks per simulated (and, in realtime, wall) second
+  int substeps = 10;                  // physics substeps per tick
+  double lockstep_deadline_s = 2.0;   // lockstep waits at most this long for a live agent's command
+  std::uint64_t seed = 1;
+  Tick max_ticks = 3000;
+  std::vector<Kill> kills;
+
+  // What the robots are told (goal, shape, speed limit, controller parameters...).
+  Mission mission;
+  std::string shape_file;  // path the shape came from (for the log)
+};
+
+// Command-line overrides, applied before random placement is resolved (so --robots and --seed take effect).
+struct ScenarioOverrides {
+  std::optional<std::string> shape_file;
+  std::optional<std::size_t> robots;
+  std::optional<std::uint64_t> seed;
+  std::optional<Mode> mode;
+  std::optional<Tick> max_ticks;
+  std::vector<Kill> kills;  // appended to the file's
+};
+
+// Loads and checks a scenario; throws InputError (file:line: what) on anything wrong. A relative shape path is
+// resolved against the scenario file's folder, then against the repository's shapes/ folder.
+Scenario load_scenario(const std::string& path, const ScenarioOverrides& overrides = {});
+Scenario parse_scenario_text(const std::string& yaml_text, const std::string& origin,
+                             const ScenarioOverrides& overrides = {});
+
+std::string_view to_string(Mode m);
+
+}  // namespace swarmform::world

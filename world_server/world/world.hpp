@@ -1,0 +1,81 @@
+// The world: Bullet physics, the sensors and the range-and-bearing medium for N Khepera IV robots. No DDS.
+// The tick order is written once, in World::step (act, physics, medium, sense), after ARGoS:
+//
+//   perception(i) for tick t  --> controllers --> apply_command(i, cmd of tick t) --> step() --> tick t+1
+//
+// A message in the command of tick t is delivered, range-filtered, in the perceptions of tick t+1.
+// Same scenario, same commands => bit-identical states (single-threaded Bullet, bodies added in a fixed order).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/types.hpp"
+#include "world_server/world/scenario.hpp"
+
+namespace swarmform::world {
+
+// The truth about one robot, for the recorder and metrics (never shown to a controller).
+struct RobotTruth {
+  RobotId id = 0;
+  Pose2D pose;
+  bool alive = true;
+  Telemetry telemetry;  // what its controller last reported
+};
+
+// What the world did with a command (anything but Ok is logged as an event by the caller's recorder).
+enum class CommandVerdict {
+  Ok,
+  Clamped,          // a wheel speed over the limit was clamped to it
+  RejectedNonFinite,  // NaN or infinity: the robot keeps still this tick
+  MessageDropped,   // outgoing message over max_message_bytes: dropped, wheels applied
+  DeadRobot,        // the robot is dead: ignored
+  UnknownRobot,     // no such id: ignored
+};
+std::string_view to_string(CommandVerdict v);
+
+// Contact onsets this tick (a pair counts once when it starts touching, not every tick it stays in contact).
+struct ContactCounts {
+  std::uint32_t robot_robot = 0;
+  std::uint32_t robot_obstacle = 0;  // walls, obstacles and dead robots' bodies
+};
+
+class World {
+ public:
+  explicit World(const Scenario& scenario);
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  const Scenario& scenario() const;
+  Tick tick() const;
+  std::size_t robot_count() const;
+
+  // The perception of robot `id` for the current tick (pose, ultrasonics, messages sent last tick).
+  const Perception& perception(RobotId id) const;
+
+  // The command of robot `id` for the current tick; checked and clamped here (SPEC section 7).
+  // A robot with no command this tick keeps its last wheel speeds and says nothing.
+  CommandVerdict apply_command(RobotId id, const Command& command);
+
+  // Advances one tick: wheel speeds -> Bullet substeps -> medium -> sensors.
+  void step();
+
+  // A dead robot stops, says nothing, hears nothing, and stays as a body that others' sensors see.
+  void kill(RobotId id);
+  // Back to life as a fresh robot where its body stands (its controller is re-initialised by the caller).
+  void revive(RobotId id);
+  bool alive(RobotId id) const;
+
+  const std::vector<RobotTruth>& robots() const;
+  // Contacts that began during the last step.
+  ContactCounts last_contacts() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace swarmform::world
