@@ -1,5 +1,5 @@
-// The mission every robot agent receives from the world's durable Mission topic: the shape to form, where to take
-// it, and the controller's parameters. An agent needs no file of its own; this is all it is told.
+// The mission every robot agent receives from the world's durable Mission topic: the shape to form, where to
+// take it, and the controller's parameters. An agent needs no file of its own; this is all it is told.
 #pragma once
 
 #include <cstdint>
@@ -21,7 +21,7 @@ struct Mission {
   double tick_rate = 10.0;          // ticks per second of simulated time
   double comm_range = 3.0;          // m, range-and-bearing range (for the controller's own reasoning only)
   std::uint32_t max_message_bytes = 1024;  // the world drops larger outgoing messages
-  std::uint64_t seed = 1;           // per-run seed; a controller mixes in its id for its own randomness
+  std::uint64_t seed = 1;  // per-run seed; a controller mixes in its id for its own randomness
   // Controller parameters by name (scenario `controller:` section). The controller library owns the names and
   // their defaults; robot_agent/controller/params.hpp validates them.
   std::map<std::string, double> params;

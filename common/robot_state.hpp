@@ -1,5 +1,5 @@
-// The controller's states as integers, shared by the controller (which reports them in Telemetry::state) and the
-// world's recorder and metrics (which read them). Paper section III.C, Fig. 2, plus the motion phases.
+// The controller's states as integers, shared by the controller (which reports them in Telemetry::state) and
+// the world's recorder and metrics (which read them). Paper section III.C, Fig. 2, plus the motion phases.
 #pragma once
 
 #include <cstdint>
@@ -19,13 +19,20 @@ enum class RobotState : std::int32_t {
 
 constexpr std::string_view to_string(RobotState s) {
   switch (s) {
-    case RobotState::Idle: return "idle";
-    case RobotState::Searching: return "searching";
-    case RobotState::Moving: return "moving";
-    case RobotState::Reached: return "reached";
-    case RobotState::Ready: return "ready";
-    case RobotState::Motion: return "motion";
-    case RobotState::Arrived: return "arrived";
+    case RobotState::Idle:
+      return "idle";
+    case RobotState::Searching:
+      return "searching";
+    case RobotState::Moving:
+      return "moving";
+    case RobotState::Reached:
+      return "reached";
+    case RobotState::Ready:
+      return "ready";
+    case RobotState::Motion:
+      return "motion";
+    case RobotState::Arrived:
+      return "arrived";
   }
   return "unknown";
 }

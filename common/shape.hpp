@@ -1,7 +1,7 @@
-// A shape: the paper's integer label matrix (section III.B). -1 is empty, labels 0..n-1 appear exactly once and
-// are 8-connected. The text format is documented in shapes/README.md.
-// Row 0 is the top line of the file. In the arena, column index grows along +x and row index grows along -y
-// (the matrix is drawn as it looks from above), one grid spacing apart.
+// A shape: the paper's integer label matrix (section III.B). -1 is empty, labels 0..n-1 appear exactly once
+// and are 8-connected. The text format is documented in shapes/README.md. Row 0 is the top line of the file.
+// In the arena, column index grows along +x and row index grows along -y (the matrix is drawn as it looks
+// from above), one grid spacing apart.
 #pragma once
 
 #include <string>

@@ -1,6 +1,7 @@
 // The plain data that crosses between the world and a robot's controller, once per tick.
-// No DDS, no Bullet: the world library fills these, the DDS adapters copy them to and from the IDL types, and the
-// controller reads a Perception and returns a Command. Units: metres, radians, seconds, metres per second.
+// No DDS, no Bullet: the world library fills these, the DDS adapters copy them to and from the IDL types, and
+// the controller reads a Perception and returns a Command. Units: metres, radians, seconds, metres per
+// second.
 //
 // Angle convention (as ARGoS's range-and-bearing sensor): a bearing is measured in the receiver's own frame,
 // counter-clockwise from its heading (+x of the robot), wrapped to (-pi, pi]. Headings in the arena frame are
@@ -36,35 +37,36 @@ inline constexpr double kUltrasonicMinRange = 0.25;  // m: readings are clamped 
 inline constexpr double kUltrasonicMaxRange = 2.0;   // m: "nothing seen" reads exactly this
 
 // Khepera IV geometry (SPEC section 4).
-inline constexpr double kRobotRadius = 0.0704;      // m
-inline constexpr double kRobotHeight = 0.053;       // m
-inline constexpr double kWheelRadius = 0.021;       // m
-inline constexpr double kWheelSpacing = 0.1054;     // m, distance between the two wheels
-inline constexpr double kRobotMass = 0.4;           // kg
+inline constexpr double kRobotRadius = 0.0704;   // m
+inline constexpr double kRobotHeight = 0.053;    // m
+inline constexpr double kWheelRadius = 0.021;    // m
+inline constexpr double kWheelSpacing = 0.1054;  // m, distance between the two wheels
+inline constexpr double kRobotMass = 0.4;        // kg
 
 // One message heard this tick: what a neighbour sent last tick, as the range-and-bearing medium delivers it.
 struct RabReading {
-  RobotId sender = 0;               // the sender's id (as Buzz's `neighbors` keys them)
-  double range = 0.0;               // m, centre to centre (with noise if the scenario sets it)
-  double bearing = 0.0;             // rad, in the receiver's frame (see the convention above)
-  std::vector<std::uint8_t> data;   // the sender's payload, opaque to the world
+  RobotId sender = 0;              // the sender's id (as Buzz's `neighbors` keys them)
+  double range = 0.0;              // m, centre to centre (with noise if the scenario sets it)
+  double bearing = 0.0;            // rad, in the receiver's frame (see the convention above)
+  std::vector<std::uint8_t> data;  // the sender's payload, opaque to the world
 };
 
 // Everything a robot perceives in one tick. The controller gets nothing else.
 struct Perception {
   Tick tick = 0;
-  Pose2D pose;                                           // positioning sensor, arena frame
-  std::array<double, kUltrasonicCount> ultrasonic{};     // m, in [kUltrasonicMinRange, kUltrasonicMaxRange]
-  std::vector<RabReading> messages;                      // heard this tick, any order
+  Pose2D pose;                                        // positioning sensor, arena frame
+  std::array<double, kUltrasonicCount> ultrasonic{};  // m, in [kUltrasonicMinRange, kUltrasonicMaxRange]
+  std::vector<RabReading> messages;                   // heard this tick, any order
 };
 
-// What the controller reports about itself, for the recorder and the metrics only (never delivered to robots).
+// What the controller reports about itself, for the recorder and the metrics only (never delivered to
+// robots).
 struct Telemetry {
-  std::int32_t state = 0;       // controller::State as an integer (see robot_agent/controller/state.hpp)
-  std::int32_t label = -1;      // shape label, -1 none
-  std::int32_t parent = -1;     // id of the parent robot in the formation tree, -1 none
-  bool leader = false;          // this robot believes it is the leader
-  double net_force = 0.0;       // |F_net| (eq. 5), or 0 when not in formation motion
+  std::int32_t state = 0;    // controller::State as an integer (see robot_agent/controller/state.hpp)
+  std::int32_t label = -1;   // shape label, -1 none
+  std::int32_t parent = -1;  // id of the parent robot in the formation tree, -1 none
+  bool leader = false;       // this robot believes it is the leader
+  double net_force = 0.0;    // |F_net| (eq. 5), or 0 when not in formation motion
 };
 
 // One tick's output of the controller.

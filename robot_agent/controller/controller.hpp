@@ -1,7 +1,7 @@
 // The controller interface, after ARGoS's CCI_Controller: init, control step, reset. A controller is pure: it
-// sees one tick's Perception and returns one Command; it knows nothing of DDS or Bullet, so every phase of the
-// paper can be unit-tested in-process and the same object runs in a robot_agent process or in the in-process
-// harness.
+// sees one tick's Perception and returns one Command; it knows nothing of DDS or Bullet, so every phase of
+// the paper can be unit-tested in-process and the same object runs in a robot_agent process or in the
+// in-process harness.
 #pragma once
 
 #include <memory>

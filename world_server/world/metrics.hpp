@@ -17,21 +17,21 @@ struct DeathRecord {
 };
 
 struct Metrics {
-  std::optional<Tick> formation_tick;            // first tick every live shape robot (label >= 0) is ready
+  std::optional<Tick> formation_tick;              // first tick every live shape robot (label >= 0) is ready
   std::optional<double> shape_error_at_formation;  // grid units
-  std::optional<Tick> motion_start_tick;         // first tick a robot is in Motion
-  std::optional<Tick> goal_tick;                 // first tick every live shape robot is within the goal radius
-  std::optional<double> shape_error_at_goal;     // grid units
-  std::optional<double> peak_distortion;         // max shape error over the motion ticks, grid units
-  std::optional<double> mean_distortion;         // mean shape error over the motion ticks, grid units
+  std::optional<Tick> motion_start_tick;           // first tick a robot is in Motion
+  std::optional<Tick> goal_tick;              // first tick every live shape robot is within the goal radius
+  std::optional<double> shape_error_at_goal;  // grid units
+  std::optional<double> peak_distortion;      // max shape error over the motion ticks, grid units
+  std::optional<double> mean_distortion;      // mean shape error over the motion ticks, grid units
   std::vector<std::pair<Tick, double>> distortion;  // (tick, shape error) for every tick from formation on
-  std::uint32_t collisions_robot_robot = 0;      // contact onsets
-  std::uint32_t collisions_robot_obstacle = 0;   // contact onsets (walls, obstacles, dead bodies)
-  double path_length = 0.0;                      // m, travelled by the centre of the shape robots in motion
-  std::uint32_t arrived = 0;                     // live shape robots within the goal radius at the end
+  std::uint32_t collisions_robot_robot = 0;         // contact onsets
+  std::uint32_t collisions_robot_obstacle = 0;      // contact onsets (walls, obstacles, dead bodies)
+  double path_length = 0.0;   // m, travelled by the centre of the shape robots in motion
+  std::uint32_t arrived = 0;  // live shape robots within the goal radius at the end
   std::vector<DeathRecord> deaths;
   std::vector<DeathRecord> rejoins;
-  std::uint32_t leader_changes = 0;              // times the robot reporting leader=true changed (first one not counted)
+  std::uint32_t leader_changes = 0;  // times the robot reporting leader=true changed (first one not counted)
 };
 
 // A robot's position with the label it holds.
@@ -41,8 +41,8 @@ struct LabelledPosition {
 };
 
 // SPEC section 6's shape error: RMS distance of each robot from its label's place after the best rigid fit
-// (rotation and translation, no scaling) of the label grid onto the robots, in grid units (divided by the grid
-// spacing). Labels held by no live robot are left out; returns nullopt for fewer than 2 robots.
+// (rotation and translation, no scaling) of the label grid onto the robots, in grid units (divided by the
+// grid spacing). Labels held by no live robot are left out; returns nullopt for fewer than 2 robots.
 std::optional<double> shape_error(const ShapeMatrix& shape, double grid_spacing,
                                   const std::vector<LabelledPosition>& robots);
 

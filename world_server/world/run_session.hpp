@@ -16,7 +16,7 @@
 namespace swarmform::world {
 
 struct RunOptions {
-  std::string run_dir;   // created if missing; empty = record nothing to disk (metrics still computed)
+  std::string run_dir;  // created if missing; empty = record nothing to disk (metrics still computed)
   std::string mode = "in-process";  // "lockstep", "realtime" or "in-process", for the summary
 };
 
@@ -27,9 +27,9 @@ class RunSession {
   RunSession(const RunSession&) = delete;
   RunSession& operator=(const RunSession&) = delete;
 
-  // After each World::step(): one recording row per robot, events derived from telemetry changes (state, label,
-  // leader), fragment/rejoin of the neighbour graph, and the metrics. Flushed as it goes: a crashed run keeps
-  // what it had.
+  // After each World::step(): one recording row per robot, events derived from telemetry changes (state,
+  // label, leader), fragment/rejoin of the neighbour graph, and the metrics. Flushed as it goes: a crashed
+  // run keeps what it had.
   void record_tick();
 
   // Events the front end knows of and the world does not.

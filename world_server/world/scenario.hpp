@@ -16,16 +16,17 @@ namespace swarmform::world {
 struct Obstacle {
   enum class Kind { Box, Cylinder };
   Kind kind = Kind::Box;
-  std::string name;       // for the log and the pictures
-  Vec2 centre;            // m
-  double yaw = 0.0;       // rad (boxes)
-  Vec2 half_extents;      // m (boxes): half width along the box's x, half depth along its y
-  double radius = 0.0;    // m (cylinders)
+  std::string name;     // for the log and the pictures
+  Vec2 centre;          // m
+  double yaw = 0.0;     // rad (boxes)
+  Vec2 half_extents;    // m (boxes): half width along the box's x, half depth along its y
+  double radius = 0.0;  // m (cylinders)
 };
 
 enum class Mode { Lockstep, Realtime };
 
-struct Kill {  // a scheduled fault: SIGKILL agent `id` (multi-process) or kill its robot (in-process) at `tick`
+struct Kill {  // a scheduled fault: SIGKILL agent `id` (multi-process) or kill its robot (in-process) at
+               // `tick`
   RobotId id = 0;
   Tick tick = 0;
 };
@@ -41,8 +42,8 @@ struct Scenario {
   double wall_thickness = 0.1;  // m
   std::vector<Obstacle> obstacles;
 
-  // Robots: ids 0..robots.size()-1, initial poses resolved (listed in the file, or random in a region from the
-  // seed: never overlapping, communication graph connected).
+  // Robots: ids 0..robots.size()-1, initial poses resolved (listed in the file, or random in a region from
+  // the seed: never overlapping, communication graph connected).
   std::vector<Pose2D> robots;
 
   // Medium (SPEC section 3) and sensors (section 4).
@@ -55,9 +56,9 @@ struct Scenario {
 
   // Time.
   Mode mode = Mode::Lockstep;
-  double tick_rate = 10.0;            // ticks per simulated (and, in realtime, wall) second
-  int substeps = 10;                  // physics substeps per tick
-  double lockstep_deadline_s = 2.0;   // lockstep waits at most this long for a live agent's command
+  double tick_rate = 10.0;           // ticks per simulated (and, in realtime, wall) second
+  int substeps = 10;                 // physics substeps per tick
+  double lockstep_deadline_s = 2.0;  // lockstep waits at most this long for a live agent's command
   std::uint64_t seed = 1;
   Tick max_ticks = 3000;
   std::vector<Kill> kills;
@@ -77,8 +78,8 @@ struct ScenarioOverrides {
   std::vector<Kill> kills;  // appended to the file's
 };
 
-// Loads and checks a scenario; throws InputError (file:line: what) on anything wrong. A relative shape path is
-// resolved against the scenario file's folder, then against the repository's shapes/ folder.
+// Loads and checks a scenario; throws InputError (file:line: what) on anything wrong. A relative shape path
+// is resolved against the scenario file's folder, then against the repository's shapes/ folder.
 Scenario load_scenario(const std::string& path, const ScenarioOverrides& overrides = {});
 Scenario parse_scenario_text(const std::string& yaml_text, const std::string& origin,
                              const ScenarioOverrides& overrides = {});

@@ -4,7 +4,8 @@
 //   perception(i) for tick t  --> controllers --> apply_command(i, cmd of tick t) --> step() --> tick t+1
 //
 // A message in the command of tick t is delivered, range-filtered, in the perceptions of tick t+1.
-// Same scenario, same commands => bit-identical states (single-threaded Bullet, bodies added in a fixed order).
+// Same scenario, same commands => bit-identical states (single-threaded Bullet, bodies added in a fixed
+// order).
 #pragma once
 
 #include <cstdint>
@@ -28,11 +29,11 @@ struct RobotTruth {
 // What the world did with a command (anything but Ok is logged as an event by the caller's recorder).
 enum class CommandVerdict {
   Ok,
-  Clamped,          // a wheel speed over the limit was clamped to it
+  Clamped,            // a wheel speed over the limit was clamped to it
   RejectedNonFinite,  // NaN or infinity: the robot keeps still this tick
-  MessageDropped,   // outgoing message over max_message_bytes: dropped, wheels applied
-  DeadRobot,        // the robot is dead: ignored
-  UnknownRobot,     // no such id: ignored
+  MessageDropped,     // outgoing message over max_message_bytes: dropped, wheels applied
+  DeadRobot,          // the robot is dead: ignored
+  UnknownRobot,       // no such id: ignored
 };
 std::string_view to_string(CommandVerdict v);
 

@@ -1,0 +1,60 @@
+// The controller's parameters: every name a scenario's `controller:` section may set, with its default and
+// unit. One table, read by the scenario parser (to reject unknown names with file:line) and by the controller
+// (to fill its typed parameter struct). Add a parameter by adding a row here; document it in
+// robot_agent/README.md.
+#pragma once
+
+#include <array>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace swarmform {
+
+struct ParamSpec {
+  std::string_view name;
+  double default_value;
+  double min_value;  // inclusive bounds, checked by the scenario parser
+  double max_value;
+  std::string_view doc;  // meaning and unit
+};
+
+inline constexpr std::array kControllerParams = {
+    // Label allotment and shape formation (paper III.C).
+    ParamSpec{"k_collision", 0.002, 0.0, 10.0, "eq. (1) collision repulsion gain"},
+    ParamSpec{"r_o", 0.35, 0.0, 5.0, "eq. (1) threshold distance under which neighbours repel, m"},
+    ParamSpec{"reach_tolerance", 0.03, 0.001, 1.0,
+              "distance to its place at which a robot has reached it, m"},
+    ParamSpec{"heading_tolerance", 0.05, 0.001, 1.0,
+              "heading error at which a reached robot stops turning, rad"},
+    ParamSpec{"neighbour_timeout", 20, 1, 1e6,
+              "ticks without a message before a neighbour is taken for dead"},
+    ParamSpec{"label_timeout", 40, 1, 1e6, "ticks before a silent robot's label is freed for others"},
+    ParamSpec{"k_move", 1.0, 0.0, 100.0, "proportional gain towards the target place, 1/s"},
+    // Ready and formation motion (paper III.C 'Ready', III.D).
+    ParamSpec{"ready_timeout", 100, 0, 1e6, "ticks in 'ready' before the leader starts for the goal"},
+    ParamSpec{"k_o", 1.0, 0.0, 100.0, "eq. (2), (4) reference/attractive force gain"},
+    ParamSpec{"k_goal", 1.0, 0.0, 100.0, "eq. (3) goal attraction gain"},
+    // Obstacles (paper III.E).
+    ParamSpec{"m_obstacle", 0.05, 0.0, 100.0, "eq. (6)-(7) obstacle repulsion gain, per unit of |F_goal|"},
+    ParamSpec{"obstacle_range", 0.6, 0.0, 2.0, "ultrasonic readings beyond this are not repulsive, m"},
+    ParamSpec{"neighbour_mask_angle", 0.35, 0.0, 3.2, "Alg. 2 clearance around a neighbour's azimuth, rad"},
+};
+
+inline const ParamSpec* find_param(std::string_view name) {
+  for (const auto& p : kControllerParams) {
+    if (p.name == name) return &p;
+  }
+  return nullptr;
+}
+
+// The value of `name` from a mission's overrides, or its default. `name` must be in the table.
+inline double param_value(const std::map<std::string, double>& overrides, std::string_view name) {
+  auto it = overrides.find(std::string(name));
+  if (it != overrides.end()) return it->second;
+  const ParamSpec* spec = find_param(name);
+  return spec ? spec->default_value : 0.0;
+}
+
+}  // namespace swarmform
