@@ -8,7 +8,7 @@
 #include <string>
 
 #include "robot_agent/controller/controller.hpp"
-#include "world_server/world/run_session.hpp"
+#include "world_server/run/run_session.hpp"
 #include "world_server/world/scenario.hpp"
 #include "world_server/world/world.hpp"
 

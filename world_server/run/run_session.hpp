@@ -10,7 +10,7 @@
 #include <string>
 
 #include "common/types.hpp"
-#include "world_server/world/metrics.hpp"
+#include "world_server/run/metrics.hpp"
 #include "world_server/world/world.hpp"
 
 namespace swarmform::world {
