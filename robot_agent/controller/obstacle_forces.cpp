@@ -1,0 +1,70 @@
+#include "robot_agent/controller/obstacle_forces.hpp"
+
+#include <cmath>
+
+#include "robot_agent/controller/motion_math.hpp"
+
+namespace swarmform::controller::motion {
+
+SensorMask mask_neighbour_directions(const UltrasonicArray& readings,
+                                     const std::vector<NeighbourBearing>& neighbours, double mask_angle,
+                                     double slack) {
+  SensorMask mask{};
+  for (std::size_t s = 0; s < kUltrasonicCount; ++s) {
+    for (const auto& n : neighbours) {
+      const double half_size = std::atan2(kRobotRadius, std::max(n.range, kRobotRadius));
+      const bool in_direction =
+          std::abs(wrap_angle(n.bearing - kUltrasonicAngles[s])) < mask_angle + half_size;
+      const bool explained = readings[s] >= n.range - 2.0 * kRobotRadius - slack;
+      if (in_direction && explained) {
+        mask[s] = true;
+        break;
+      }
+    }
+  }
+  return mask;
+}
+
+ObstacleSense sense_obstacles(const UltrasonicArray& readings, const SensorMask& mask, double theta,
+                              const ObstacleParams& params) {
+  ObstacleSense out;
+  Vec2 body_force;
+  for (std::size_t s = 0; s < kUltrasonicCount; ++s) {
+    if (mask[s]) continue;
+    const double r = std::max(readings[s], kUltrasonicMinRange);
+    if (r < out.nearest) {
+      out.nearest = r;
+      out.nearest_bearing = kUltrasonicAngles[s];
+    }
+    if (r < params.fusion_range) ++out.sensors_seeing;
+    if (r < params.obstacle_range) {
+      // eq. (6), pointing away from the echo, zero at the obstacle range.
+      const double magnitude = params.m * (1.0 / r - 1.0 / params.obstacle_range);
+      body_force = vsub(body_force, vpolar(magnitude, kUltrasonicAngles[s]));
+    }
+  }
+  out.force = vrotate(body_force, theta);
+
+  if (out.sensors_seeing == 0) return out;
+  // Size discrimination: the run of adjacent seeing sensors that holds the nearest echo.
+  std::size_t nearest_s = 0;
+  for (std::size_t s = 0; s < kUltrasonicCount; ++s) {
+    if (!mask[s] && kUltrasonicAngles[s] == out.nearest_bearing) nearest_s = s;
+  }
+  auto sees = [&](std::size_t s) { return !mask[s] && readings[s] < params.fusion_range; };
+  std::size_t lo = nearest_s, hi = nearest_s;
+  while (lo > 0 && sees(lo - 1)) --lo;
+  while (hi + 1 < kUltrasonicCount && sees(hi + 1)) ++hi;
+  double span = 0.0;
+  for (std::size_t a = lo; a <= hi; ++a) {
+    for (std::size_t b = a + 1; b <= hi; ++b) {
+      const Vec2 pa = vpolar(readings[a], kUltrasonicAngles[a]);
+      const Vec2 pb = vpolar(readings[b], kUltrasonicAngles[b]);
+      span = std::max(span, vnorm(vsub(pa, pb)));
+    }
+  }
+  out.size = (lo == hi || span < params.small_obstacle_width) ? ObstacleSize::Small : ObstacleSize::Large;
+  return out;
+}
+
+}  // namespace swarmform::controller::motion

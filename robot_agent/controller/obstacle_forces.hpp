@@ -1,0 +1,66 @@
+// Obstacles (paper III.E): repulsion from the five ultrasonic readings, eq. (6)-(7), with the directions in
+// which a neighbour stands left out (Algorithm 2), and the size discrimination that picks the strategy.
+//
+//   eq. (6)  F_obs = - sum_s m (1/r_s - 1/R) (cos a_s x + sin a_s y)     over unmasked sensors with r_s < R
+//   eq. (7)  m ∝ |F_goal|
+//
+// Choices where the paper is loose:
+// - The paper writes m / r_s along the sensor's direction; a repulsion points away from the echo, hence the
+//   minus sign, and we subtract m / R so that the force starts from zero at the obstacle range R
+//   (`obstacle_range`) instead of jumping to m / R when an echo enters it.
+// - eq. (7): the leader uses m = m_obstacle |F_goal|. Followers do not know the goal, so they use
+//   m = m_obstacle * v_cruise, the saturated |F_goal| every robot knows from the parameters (the same m the
+//   leader has while cruising).
+// - Algorithm 2: sensor s is masked when some neighbour j (range-and-bearing, body frame) satisfies
+//   |bearing_j - a_s| < neighbour_mask_angle + atan(robot radius / range_j) (the neighbour's own angular
+//   half-size) AND the echo is no nearer than that neighbour's near side, r_s >= range_j - 2 radius - slack.
+//   An echo clearly nearer than the neighbour is something between us, so it stays.
+// - Size discrimination by ultrasonic fusion: the unmasked echoes nearer than `fusion_range` are turned into
+//   points in the body frame; if they come from one sensor, or the points of the nearest run of adjacent
+//   sensors span less than `small_obstacle_width`, the obstacle is SMALL (the affected robot wall-follows
+//   around it); otherwise it is LARGE (eq. 6 repulsion, the perimeter gives way).
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "common/types.hpp"
+
+namespace swarmform::controller::motion {
+
+using UltrasonicArray = std::array<double, kUltrasonicCount>;
+using SensorMask = std::array<bool, kUltrasonicCount>;  // true: left out (a neighbour stands there)
+
+// A neighbour in the robot's own frame, as the range-and-bearing sensor gives it.
+struct NeighbourBearing {
+  double range = 0.0;    // m, centre to centre
+  double bearing = 0.0;  // rad, body frame
+};
+
+// Algorithm 2's mask. `slack`: m of tolerance on the range consistency.
+SensorMask mask_neighbour_directions(const UltrasonicArray& readings,
+                                     const std::vector<NeighbourBearing>& neighbours, double mask_angle,
+                                     double slack);
+
+enum class ObstacleSize { None, Small, Large };
+
+struct ObstacleSense {
+  Vec2 force;  // eq. (6), arena frame (already rotated by the robot's heading)
+  ObstacleSize size = ObstacleSize::None;
+  double nearest = kUltrasonicMaxRange;  // m, nearest unmasked echo
+  double nearest_bearing = 0.0;          // rad, body frame, of that echo's sensor
+  int sensors_seeing = 0;                // unmasked sensors with an echo nearer than fusion_range
+};
+
+struct ObstacleParams {
+  double m = 0.0;                     // eq. (6)-(7) gain, m^2/s
+  double obstacle_range = 0.6;        // R, m
+  double fusion_range = 1.0;          // m, echoes used to judge the obstacle's size
+  double small_obstacle_width = 0.5;  // m
+};
+
+// `theta`: the robot's heading in the arena frame (to rotate the force out of the body frame).
+ObstacleSense sense_obstacles(const UltrasonicArray& readings, const SensorMask& mask, double theta,
+                              const ObstacleParams& params);
+
+}  // namespace swarmform::controller::motion

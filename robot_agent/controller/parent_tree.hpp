@@ -1,0 +1,49 @@
+// Ready phase, part 3 (paper III.C 'Ready'): "each bot with the exception of the 'leader' chooses a parent.
+// The relative azimuth and distance are considered while choosing a parent. To avoid deadlock, a common
+// parents table with ID of all the bot's parents is broadcast via local stigmergy."
+//
+// How we guarantee a tree rooted at the leader with no cycles: every robot computes the same shortest-path
+// tree over the shape's labels, from the same shared inputs (the leader, the labels held by live robots as
+// the stigmergy says, the shape every robot was given), and takes as its parent the robot that holds its
+// label's parent label. Along a shortest-path tree the path cost strictly decreases towards the root, so no
+// choice can close a cycle. Links: two labels whose places are 8-neighbours in the grid (<= 1.5 grid
+// spacings) cost 1; labels further apart but within `link_range` (less than the radio range) cost
+// `kLongLinkCost`, so longer links are used only when a dead robot cuts the grid graph (a line, a ring).
+// Among equally short paths the parent is chosen by distance (an orthogonal neighbour before a diagonal
+// one), then by relative azimuth (the one most ahead along the heading, so that robots trail their parent),
+// then by the smaller label. A dead robot is dropped from the inputs and every robot recomputes: its
+// children re-parent, still acyclic. `would_close_cycle` checks a choice against the shared parents table
+// while views of the table differ for a few ticks.
+#pragma once
+
+#include <limits>
+#include <map>
+#include <vector>
+
+#include "common/shape.hpp"
+#include "common/types.hpp"
+
+namespace swarmform::controller::motion {
+
+inline constexpr int kLongLinkCost = 4;
+inline constexpr int kUnreachable = std::numeric_limits<int>::max();
+
+// Each label's place in the arena frame relative to the matrix's top-left cell: column along +x, row along
+// -y, `spacing` apart (common/shape.hpp). Indexed by label.
+std::vector<Vec2> label_places(const ShapeMatrix& shape, double spacing);
+
+struct ParentTree {
+  int root = -1;            // the leader's label
+  std::vector<int> parent;  // by label: its parent label; -1 for the root, absent or unreachable labels
+  std::vector<int> cost;    // by label: path cost from the root; kUnreachable if absent or cut off
+};
+
+// `present[label]`: the label is held by a live robot. `heading`: common heading (rad, arena frame).
+ParentTree build_parent_tree(const std::vector<Vec2>& places, const std::vector<bool>& present, int root,
+                             double spacing, double link_range, double heading);
+
+// True when `self` taking `candidate` as its parent would close a cycle in `parents` (id -> parent id; ids
+// absent from the map have no parent): i.e. when walking up from `candidate` reaches `self`.
+bool would_close_cycle(const std::map<RobotId, RobotId>& parents, RobotId self, RobotId candidate);
+
+}  // namespace swarmform::controller::motion
