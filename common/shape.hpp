@@ -1,7 +1,11 @@
 // A shape: the paper's integer label matrix (section III.B). -1 is empty, labels 0..n-1 appear exactly once
 // and are 8-connected. The text format is documented in shapes/README.md. Row 0 is the top line of the file.
-// In the arena, column index grows along +x and row index grows along -y (the matrix is drawn as it looks
-// from above), one grid spacing apart.
+// In the shape's own frame, column index grows along +x and row index grows along -y (the matrix is drawn as
+// it looks from above), one grid spacing apart: the neighbour at grid offset (drow, dcol) is at angle
+// atan2(-drow, dcol). This reproduces the paper's Table II for the triangle's label 0 (labels 1 and 3 at
+// -3pi/4 and -pi/4, distances 1.4, 1.0, 1.4) except the sign of label 2's angle, which no grid orientation can
+// reproduce together with the other two (shapes/README.md). In the arena the shape's "up" (towards row 0)
+// points along the controller parameter shape_heading (default pi/2: shape frame = arena frame).
 #pragma once
 
 #include <string>

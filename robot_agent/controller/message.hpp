@@ -1,0 +1,64 @@
+// The robot's broadcast: one message per tick, heard by every neighbour in range (SPEC section 3).
+// A compact, versioned, little-endian binary codec. decode() never trusts its input: any truncation, bad
+// magic or version, count over its bound, non-finite number or trailing byte gives nullopt, never a crash.
+//
+// Wire layout, version 1 (all little-endian; f32 = IEEE-754 binary32):
+//   u8  magic 0x53 ('S')         u8  version (1)
+//   u32 sender id                u8  state (common/robot_state.hpp)     i16 label (-1 none)
+//   f32 x, f32 y, f32 heading    (the sender's own positioning sensor, arena frame: the paper's robots
+//                                 exchange their coordinates)
+//   u8  flags                    bit 0: has_origin
+//   f32 origin x, f32 origin y   (the shape's origin, the place of label 0; meaningful with has_origin)
+//   u32 seed candidate id        f32 seed candidate distance to the arena origin (flooded minimum)
+//   u8  free label count (<= 8)  then i16 each (free labels of the sender's 3x3 grid)
+//   u8  stigmergy entry count (<= kMaxEntriesPerMessage) then per entry
+//                                u32 key, i64 value, u32 version, u32 writer    (20 bytes)
+//   u16 motion section length    then the bytes (the motion phases' own codec, opaque here)
+// Size: 46 bytes + 2 per free label + 20 per entry + the motion section; with the bound of 24 entries and
+// no motion section at most 542 bytes, well under the 1 KiB the world accepts.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "common/robot_state.hpp"
+#include "common/types.hpp"
+
+namespace swarmform::controller {
+
+inline constexpr std::uint8_t kMessageMagic = 0x53;
+inline constexpr std::uint8_t kMessageVersion = 1;
+inline constexpr std::size_t kMaxFreeLabels = 8;          // a 3x3 grid has 8 cells around its centre
+inline constexpr std::size_t kMaxEntriesPerMessage = 24;  // stigmergy entries carried per message
+inline constexpr std::size_t kMaxMotionBytes = 1024;
+
+struct StigmergyEntry {
+  std::uint32_t key = 0;
+  std::int64_t value = 0;
+  std::uint32_t version = 0;
+  RobotId writer = 0;
+  bool operator==(const StigmergyEntry&) const = default;
+};
+
+struct RobotMessage {
+  RobotId sender = 0;
+  RobotState state = RobotState::Idle;
+  int label = -1;
+  Pose2D pose;  // the sender's own pose (positioning sensor), arena frame
+  bool has_origin = false;
+  Vec2 origin;  // place of label 0, arena frame (valid with has_origin)
+  RobotId seed_candidate = 0;
+  double seed_distance = 0.0;  // m
+  std::vector<int> free_labels;
+  std::vector<StigmergyEntry> entries;
+  std::vector<std::uint8_t> motion;  // opaque section for the motion phases
+};
+
+// Encodes `m`. Counts over their bounds are truncated (free labels, entries, motion bytes): encode never
+// produces what decode would refuse.
+std::vector<std::uint8_t> encode_message(const RobotMessage& m);
+std::optional<RobotMessage> decode_message(std::span<const std::uint8_t> bytes);
+
+}  // namespace swarmform::controller
