@@ -32,6 +32,10 @@ struct Metrics {
   std::vector<DeathRecord> deaths;
   std::vector<DeathRecord> rejoins;
   std::uint32_t leader_changes = 0;  // times the robot reporting leader=true changed (first one not counted)
+  // The communication graph of the live shape robots (edges: true distance <= comm_range), from formation on.
+  std::uint32_t fragmentations = 0;  // times it went from one component to several
+  std::uint32_t graph_rejoins = 0;   // times it went from several components back to one
+  std::uint32_t max_components = 0;  // the most components seen at once (1 = never split)
 };
 
 // A robot's position with the label it holds.

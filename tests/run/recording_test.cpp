@@ -1,0 +1,244 @@
+// The recording format: what RecordingWriter writes, the reader gets back exactly; world.json and
+// summary.json carry every documented key; the SHA-256 helper is the standard one.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "common/input_error.hpp"
+#include "world_server/run/recorder.hpp"
+#include "world_server/run/recording_format.hpp"
+#include "world_server/run/recording_reader.hpp"
+#include "world_server/run/run_events.hpp"
+#include "world_server/run/sha256.hpp"
+
+namespace swarmform::world {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("swarmform-run-test-" + name + "-" +
+                                   std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+  fs::remove_all(dir);
+  return dir;
+}
+
+std::vector<RobotTruth> robots_at(Tick tick) {
+  std::vector<RobotTruth> robots(4);
+  for (RobotId i = 0; i < 4; ++i) {
+    RobotTruth& r = robots[i];
+    r.id = i;
+    // Values whose shortest decimal form is long or unusual: the round trip must still be exact.
+    r.pose = {0.1 * i + 1.0 / 3.0 * static_cast<double>(tick), -1e-300 * i, std::numbers::pi - i};
+    r.alive = i != 2;
+    r.telemetry.state = static_cast<std::int32_t>(tick % 7);
+    r.telemetry.label = static_cast<std::int32_t>(i) - 1;
+    r.telemetry.parent = i == 0 ? -1 : 0;
+    r.telemetry.leader = i == 0;
+    r.telemetry.net_force = std::sqrt(2.0) * static_cast<double>(tick);
+  }
+  return robots;
+}
+
+TEST(Recording, RobotsCsvAndEventsRoundTrip) {
+  const auto dir = fresh_dir("roundtrip");
+  {
+    RecordingWriter writer(dir.string());
+    for (Tick t = 0; t < 25; ++t) writer.write_rows(t, robots_at(t));
+    Event e = make_event(12, "state", 3);
+    e["from"] = 1;
+    e["to"] = 2;
+    writer.write_event(e);
+    Event f = make_event(20, "fragment", -1);
+    f["components"] = {{0, 1}, {3}};
+    writer.write_event(f);
+  }  // closed without a summary, as a crashed run would be (after its last flush)
+
+  const auto rows = read_robots_csv((dir / "robots.csv").string());
+  ASSERT_EQ(rows.size(), 25u * 4u);
+  for (Tick t = 0; t < 25; ++t) {
+    const auto expected = robots_at(t);
+    for (RobotId i = 0; i < 4; ++i) {
+      const RecordedRow& r = rows[t * 4 + i];
+      EXPECT_EQ(r.tick, t);
+      EXPECT_EQ(r.id, i);
+      // Bit-exact: the recording can be replayed and re-hashed.
+      EXPECT_EQ(r.pose.x, expected[i].pose.x);
+      EXPECT_EQ(r.pose.y, expected[i].pose.y);
+      EXPECT_EQ(r.pose.theta, expected[i].pose.theta);
+      EXPECT_EQ(r.alive, expected[i].alive);
+      EXPECT_EQ(r.state, expected[i].telemetry.state);
+      EXPECT_EQ(r.label, expected[i].telemetry.label);
+      EXPECT_EQ(r.parent, expected[i].telemetry.parent);
+      EXPECT_EQ(r.leader, expected[i].telemetry.leader);
+      EXPECT_EQ(r.net_force, expected[i].telemetry.net_force);
+    }
+  }
+  const auto events = read_events_jsonl((dir / "events.jsonl").string());
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_EQ(events[0]["tick"], 12);
+  EXPECT_EQ(events[0]["kind"], "state");
+  EXPECT_EQ(events[0]["id"], 3);
+  EXPECT_EQ(events[0]["to"], 2);
+  EXPECT_EQ(events[1]["components"][1][0], 3);
+  fs::remove_all(dir);
+}
+
+TEST(Recording, FlushedAsItGoesSoACrashedRunKeepsItsTicks) {
+  const auto dir = fresh_dir("flush");
+  RecordingWriter writer(dir.string());
+  for (Tick t = 0; t < kFlushEveryTicks; ++t) writer.write_rows(t, robots_at(t));
+  // Still open: a reader sees every tick written up to the last flush.
+  const auto rows = read_robots_csv((dir / "robots.csv").string());
+  EXPECT_EQ(rows.size(), kFlushEveryTicks * 4);
+  fs::remove_all(dir);
+}
+
+TEST(Recording, TruncatedFilesAreReportedWithFileAndLine) {
+  const auto dir = fresh_dir("truncated");
+  fs::create_directories(dir);
+  const auto csv = (dir / "robots.csv").string();
+  {
+    std::ofstream out(csv);
+    out << kRobotsCsvHeader << "\n0,0,1,2,3,1,0,-1,-1,0,0\n1,0,1.5,2";
+  }
+  try {
+    read_robots_csv(csv);
+    FAIL() << "a cut-off line must be reported";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_NE(std::string(e.what()).find("robots.csv:3"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(read_robots_csv(csv, /*allow_truncated_tail=*/true).size(), 1u);
+  {
+    std::ofstream out(csv);
+    out << kRobotsCsvHeader << "\n0,0,1,2,3,1,0,-1,-1,0,0\n1,0,1.5,2,x,1,0,-1,-1,0,0\n";
+  }
+  EXPECT_THROW(read_robots_csv(csv), InputError);
+  const auto jsonl = (dir / "events.jsonl").string();
+  {
+    std::ofstream out(jsonl);
+    out << R"({"tick":1,"kind":"death","id":2})"
+        << "\n"
+        << R"({"tick":2,"kind":)"
+        << "\n";
+  }
+  try {
+    read_events_jsonl(jsonl);
+    FAIL() << "a broken event must be reported";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 2);
+  }
+  fs::remove_all(dir);
+}
+
+Scenario small_scenario() {
+  Scenario s;
+  s.source = "scenarios/test.yaml";
+  s.robots = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  s.obstacles.push_back({Obstacle::Kind::Box, "wall", {3, 1}, 0.5, {1.0, 0.2}, 0.0});
+  s.obstacles.push_back({Obstacle::Kind::Cylinder, "post", {6, -1}, 0.0, {}, 0.3});
+  s.mission.shape = ShapeMatrix{2, 2, {0, 1, -1, 2}};
+  s.mission.goal = {10, 0.5};
+  s.kills.push_back({1, 50});
+  return s;
+}
+
+TEST(Recording, WorldJsonHasTheDocumentedFields) {
+  const auto j = describe_world(small_scenario(), "in-process");
+  for (const char* key : {"format", "version", "scenario", "seed", "mode", "tick_rate", "robots", "arena",
+                          "obstacles", "goal", "grid_spacing", "comm_range", "shape", "robot_radius"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  EXPECT_EQ(j["format"], "swarmform-recording");
+  EXPECT_EQ(j["robots"], 3);
+  EXPECT_EQ(j["arena"]["centre"][0], 4.0);
+  EXPECT_EQ(j["obstacles"][0]["kind"], "box");
+  EXPECT_EQ(j["obstacles"][0]["half_extents"][1], 0.2);
+  EXPECT_EQ(j["obstacles"][1]["kind"], "cylinder");
+  EXPECT_EQ(j["obstacles"][1]["radius"], 0.3);
+  EXPECT_EQ(j["goal"]["y"], 0.5);
+  EXPECT_EQ(j["shape"]["cells"].size(), 4u);
+}
+
+TEST(Recording, SummaryHasEveryKeyNullWhereNotReached) {
+  const Scenario s = small_scenario();
+  const auto robots = robots_at(3);
+  Metrics m;
+  m.formation_tick = 40;
+  m.shape_error_at_formation = 0.05;
+  m.deaths.push_back({2, 7});
+  SummaryInputs in;
+  in.scenario = &s;
+  in.mode = "lockstep";
+  in.ticks = 100;
+  in.wall_seconds = 2.0;
+  in.robots = &robots;
+  in.metrics = &m;
+  in.trajectory_sha256 = std::string(64, 'a');
+  const auto j = make_summary(in);
+  for (const char* key : {"robots",
+                          "seed",
+                          "mode",
+                          "ticks",
+                          "wall_seconds",
+                          "ticks_per_second",
+                          "alive_at_end",
+                          "deaths",
+                          "rejoins",
+                          "collisions_robot_robot",
+                          "collisions_robot_obstacle",
+                          "formation_tick",
+                          "shape_error_at_formation",
+                          "motion_start_tick",
+                          "goal_tick",
+                          "shape_error_at_goal",
+                          "peak_distortion",
+                          "mean_distortion",
+                          "leader_changes",
+                          "path_length",
+                          "arrived",
+                          "trajectory_sha256"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  EXPECT_EQ(j["ticks_per_second"], 50.0);
+  EXPECT_EQ(j["alive_at_end"], 3);
+  EXPECT_EQ(j["formation_tick"], 40);
+  EXPECT_TRUE(j["goal_tick"].is_null());
+  EXPECT_TRUE(j["peak_distortion"].is_null());
+  EXPECT_EQ(j["deaths"][0]["id"], 2);
+  EXPECT_EQ(j["deaths"][0]["tick"], 7);
+}
+
+TEST(Sha256, StandardVectorsAndIncrementalUse) {
+  EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  Sha256 sha;
+  sha.update("a", 1);
+  const auto partial = sha.hex_digest();  // reading does not end the stream
+  sha.update("bc", 2);
+  EXPECT_EQ(sha.hex_digest(), sha256_hex("abc"));
+  EXPECT_NE(partial, sha.hex_digest());
+}
+
+TEST(Sha256, DoublesAreHashedByTheirBitPattern) {
+  Sha256 a;
+  Sha256 b;
+  Sha256 c;
+  a.update_double(0.0);
+  b.update_double(0.0);
+  c.update_double(-0.0);  // equal as numbers, not as bits
+  EXPECT_EQ(a.hex_digest(), b.hex_digest());
+  EXPECT_NE(a.hex_digest(), c.hex_digest());
+  Sha256 d;
+  d.update_double(std::nextafter(0.0, 1.0));
+  EXPECT_NE(a.hex_digest(), d.hex_digest());
+}
+
+}  // namespace
+}  // namespace swarmform::world

@@ -1,0 +1,52 @@
+// Writes a run directory (docs/recording-format.md): world.json at the start, robots.csv and events.jsonl as
+// the run goes (flushed every kFlushEveryTicks recorded ticks, so a crashed run keeps what it had), a
+// human-readable world.log, and summary.json at the end. Plain file output only; what to write is decided by
+// RunSession.
+#pragma once
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "world_server/world/world.hpp"
+
+namespace swarmform::world {
+
+inline constexpr const char* kRobotsCsvHeader = "tick,id,x,y,theta,alive,state,label,parent,leader,net_force";
+inline constexpr Tick kFlushEveryTicks = 10;
+
+class RecordingWriter {
+ public:
+  // Creates `run_dir` (and parents) and opens the files; throws std::runtime_error naming the path on
+  // failure.
+  explicit RecordingWriter(const std::string& run_dir);
+  ~RecordingWriter();
+  RecordingWriter(const RecordingWriter&) = delete;
+  RecordingWriter& operator=(const RecordingWriter&) = delete;
+
+  const std::string& run_dir() const { return run_dir_; }
+
+  void write_world(const nlohmann::ordered_json& world);  // world.json, written whole at once
+  // One row per robot (in id order) for this tick; flushes every kFlushEveryTicks ticks.
+  void write_rows(Tick tick, const std::vector<RobotTruth>& robots);
+  void write_event(const nlohmann::ordered_json& event);  // one line of events.jsonl
+  void log(Tick tick, const std::string& text);           // one line of world.log
+  void flush();
+  void write_summary(const nlohmann::ordered_json& summary);  // summary.json; closes the streams first
+
+ private:
+  static std::FILE* open(const std::string& path, const char* mode);
+  void close_streams();
+  void write_file_atomically(const std::string& name, const std::string& text);
+
+  std::string run_dir_;
+  std::FILE* robots_ = nullptr;
+  std::FILE* events_ = nullptr;
+  std::FILE* log_ = nullptr;
+  std::string row_buffer_;
+  Tick ticks_since_flush_ = 0;
+};
+
+}  // namespace swarmform::world

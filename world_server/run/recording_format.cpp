@@ -1,0 +1,124 @@
+#include "world_server/run/recording_format.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace swarmform::world {
+
+namespace {
+
+using ojson = nlohmann::ordered_json;
+
+template <typename T>
+ojson or_null(const std::optional<T>& v) {
+  return v ? ojson(*v) : ojson(nullptr);
+}
+
+ojson xy(Vec2 v) {
+  return ojson::array({v.x, v.y});
+}
+
+ojson obstacle_json(const Obstacle& o) {
+  ojson j;
+  if (o.kind == Obstacle::Kind::Box) {
+    j["kind"] = "box";
+    j["name"] = o.name;
+    j["centre"] = xy(o.centre);
+    j["half_extents"] = xy(o.half_extents);
+    j["yaw"] = o.yaw;
+  } else {
+    j["kind"] = "cylinder";
+    j["name"] = o.name;
+    j["centre"] = xy(o.centre);
+    j["radius"] = o.radius;
+  }
+  return j;
+}
+
+ojson deaths_json(const std::vector<DeathRecord>& records) {
+  ojson list = ojson::array();
+  for (const auto& d : records) list.push_back({{"id", d.id}, {"tick", d.tick}});
+  return list;
+}
+
+}  // namespace
+
+ojson describe_world(const Scenario& scenario, const std::string& mode) {
+  const Mission& m = scenario.mission;
+  ojson j;
+  j["format"] = "swarmform-recording";
+  j["version"] = kRecordingVersion;
+  j["scenario"] = scenario.source;
+  j["seed"] = scenario.seed;
+  j["mode"] = mode;
+  j["tick_rate"] = scenario.tick_rate;
+  j["robots"] = scenario.robots.size();
+  j["arena"] = {{"centre", xy(scenario.arena_centre)},
+                {"width", scenario.arena_width},
+                {"height", scenario.arena_height},
+                {"walls", scenario.walls},
+                {"wall_thickness", scenario.wall_thickness}};
+  ojson obstacles = ojson::array();
+  for (const auto& o : scenario.obstacles) obstacles.push_back(obstacle_json(o));
+  j["obstacles"] = std::move(obstacles);
+  j["goal"] = {{"x", m.goal.x}, {"y", m.goal.y}, {"radius", m.goal_radius}};
+  j["grid_spacing"] = m.grid_spacing;
+  j["comm_range"] = scenario.comm_range;
+  j["shape"] = {{"rows", m.shape.rows}, {"cols", m.shape.cols}, {"cells", m.shape.cells}};
+  j["robot_radius"] = kRobotRadius;
+  j["shape_file"] = scenario.shape_file;
+  j["behaviour"] = m.behaviour;
+  j["max_speed"] = m.max_speed;
+  j["max_ticks"] = scenario.max_ticks;
+  ojson kills = ojson::array();
+  for (const auto& k : scenario.kills) kills.push_back({{"id", k.id}, {"tick", k.tick}});
+  j["kills"] = std::move(kills);
+  return j;
+}
+
+ojson make_summary(const SummaryInputs& in) {
+  const Metrics& m = *in.metrics;
+  std::size_t alive = 0;
+  for (const auto& r : *in.robots) alive += r.alive ? 1 : 0;
+  const bool timed = in.wall_seconds > 0.0 && std::isfinite(in.wall_seconds);
+  const double tps = timed ? static_cast<double>(in.ticks) / in.wall_seconds : 0.0;
+
+  ojson j;
+  j["format"] = "swarmform-summary";
+  j["version"] = kRecordingVersion;
+  j["scenario"] = in.scenario->source;
+  j["shape_file"] = in.scenario->shape_file;
+  j["behaviour"] = in.scenario->mission.behaviour;
+  j["robots"] = in.robots->size();
+  j["labels"] = std::count_if(in.scenario->mission.shape.cells.begin(),
+                              in.scenario->mission.shape.cells.end(), [](int c) { return c >= 0; });
+  j["seed"] = in.scenario->seed;
+  j["mode"] = in.mode;
+  j["ticks"] = in.ticks;
+  j["wall_seconds"] = in.wall_seconds;
+  j["ticks_per_second"] = timed ? ojson(tps) : ojson(nullptr);
+  j["robot_ticks_per_second"] = timed ? ojson(tps * static_cast<double>(in.robots->size())) : ojson(nullptr);
+  j["alive_at_end"] = alive;
+  j["deaths"] = deaths_json(m.deaths);
+  j["rejoins"] = deaths_json(m.rejoins);
+  j["collisions_robot_robot"] = m.collisions_robot_robot;
+  j["collisions_robot_obstacle"] = m.collisions_robot_obstacle;
+  j["formation_tick"] = or_null(m.formation_tick);
+  j["shape_error_at_formation"] = or_null(m.shape_error_at_formation);
+  j["motion_start_tick"] = or_null(m.motion_start_tick);
+  j["goal_tick"] = or_null(m.goal_tick);
+  j["shape_error_at_goal"] = or_null(m.shape_error_at_goal);
+  j["peak_distortion"] = or_null(m.peak_distortion);
+  j["mean_distortion"] = or_null(m.mean_distortion);
+  j["leader_changes"] = m.leader_changes;
+  j["fragmentations"] = m.fragmentations;
+  j["graph_rejoins"] = m.graph_rejoins;
+  j["max_components"] = m.max_components;
+  j["path_length"] = m.path_length;
+  j["arrived"] = m.arrived;
+  j["command_verdicts"] = in.command_verdicts;
+  j["trajectory_sha256"] = in.trajectory_sha256.empty() ? ojson(nullptr) : ojson(in.trajectory_sha256);
+  return j;
+}
+
+}  // namespace swarmform::world

@@ -1,0 +1,36 @@
+// The JSON documents of a run directory whose content is more than a stream: world.json (what the run is) and
+// summary.json (what came of it). Field by field in docs/recording-format.md; a reader is written against
+// that page, so a field is added, never renamed.
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "world_server/run/metrics.hpp"
+#include "world_server/world/scenario.hpp"
+#include "world_server/world/world.hpp"
+
+namespace swarmform::world {
+
+inline constexpr int kRecordingVersion = 1;
+
+// world.json: the arena, obstacles, goal, shape and the run's settings. `mode`: "lockstep", "realtime",
+// "in-process".
+nlohmann::ordered_json describe_world(const Scenario& scenario, const std::string& mode);
+
+struct SummaryInputs {
+  const Scenario* scenario = nullptr;
+  std::string mode;
+  Tick ticks = 0;  // ticks stepped (the last recorded tick)
+  double wall_seconds = 0.0;
+  const std::vector<RobotTruth>* robots = nullptr;
+  const Metrics* metrics = nullptr;
+  std::string trajectory_sha256;
+  std::uint64_t command_verdicts = 0;  // commands not taken as they came (clamped, rejected, dropped)
+};
+
+// summary.json: every metric, null where not reached.
+nlohmann::ordered_json make_summary(const SummaryInputs& in);
+
+}  // namespace swarmform::world

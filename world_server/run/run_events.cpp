@@ -1,0 +1,139 @@
+#include "world_server/run/run_events.hpp"
+
+#include <string>
+
+#include "common/robot_state.hpp"
+#include "world_server/run/comm_graph.hpp"
+
+namespace swarmform::world {
+
+namespace {
+
+std::string state_name(std::int32_t s) {
+  if (s < static_cast<std::int32_t>(RobotState::Idle) || s > static_cast<std::int32_t>(RobotState::Arrived)) {
+    return "unknown";
+  }
+  return std::string(to_string(static_cast<RobotState>(s)));
+}
+
+}  // namespace
+
+Event make_event(Tick tick, std::string_view kind, std::int64_t id) {
+  Event e;
+  e["tick"] = tick;
+  e["kind"] = kind;
+  e["id"] = id;
+  return e;
+}
+
+std::vector<Event> EventDeriver::observe(Tick tick, const std::vector<RobotTruth>& robots, bool track_graph,
+                                         std::size_t& components) {
+  std::vector<Event> out;
+  if (seen_.size() < robots.size()) seen_.resize(robots.size());
+  for (std::size_t i = 0; i < robots.size(); ++i) {
+    const RobotTruth& r = robots[i];
+    Seen& s = seen_[i];
+    if (!baseline_) {
+      s.alive = r.alive;
+      s.telemetry = r.telemetry;
+      continue;
+    }
+    if (s.alive != r.alive) {
+      out.push_back(make_event(tick, r.alive ? "rejoin" : "death", r.id));
+      s.alive = r.alive;
+    }
+    if (!r.alive) continue;  // a dead robot's last report is not news
+    const Telemetry& before = s.telemetry;
+    const Telemetry& now = r.telemetry;
+    if (before.state != now.state) {
+      Event e = make_event(tick, "state", r.id);
+      e["from"] = before.state;
+      e["to"] = now.state;
+      e["from_name"] = state_name(before.state);
+      e["to_name"] = state_name(now.state);
+      out.push_back(std::move(e));
+    }
+    if (before.label != now.label) {
+      Event e = make_event(tick, "label", r.id);
+      e["from"] = before.label;
+      e["to"] = now.label;
+      out.push_back(std::move(e));
+    }
+    s.telemetry = now;
+  }
+  baseline_ = true;
+  observe_leader(tick, robots, out);
+  components = 0;
+  if (track_graph) observe_graph(tick, robots, out, components);
+  return out;
+}
+
+// The leader is the robot that says so. Several may say so for a while during an election: the current leader
+// keeps the title while it is alive and claims it; otherwise the lowest claiming id takes it.
+void EventDeriver::observe_leader(Tick tick, const std::vector<RobotTruth>& robots, std::vector<Event>& out) {
+  const auto claims = [&](RobotId id) {
+    return id < robots.size() && robots[id].alive && robots[id].telemetry.leader;
+  };
+  if (leader_ && claims(*leader_)) return;
+  std::optional<RobotId> next;
+  for (const auto& r : robots) {
+    if (r.alive && r.telemetry.leader) {
+      next = r.id;
+      break;
+    }
+  }
+  if (next) {
+    Event e = make_event(tick, "leader", *next);
+    e["previous"] = last_leader_ ? static_cast<std::int64_t>(*last_leader_) : std::int64_t{-1};
+    out.push_back(std::move(e));
+    last_leader_ = next;
+  } else if (leader_) {
+    out.push_back(make_event(tick, "leader_lost", *leader_));
+  }
+  leader_ = next;
+}
+
+void EventDeriver::observe_graph(Tick tick, const std::vector<RobotTruth>& robots, std::vector<Event>& out,
+                                 std::size_t& components) {
+  std::vector<Vec2> points;
+  std::vector<RobotId> ids;
+  for (const auto& r : robots) {
+    if (!r.alive || r.telemetry.label < 0) continue;
+    points.push_back({r.pose.x, r.pose.y});
+    ids.push_back(r.id);
+  }
+  if (points.empty()) return;
+  const auto component = range_components(points, comm_range_);
+  components = component_count(component);
+  if (components > 1 && components_ <= 1) {
+    Event e = make_event(tick, "fragment", -1);
+    auto groups = nlohmann::ordered_json::array();
+    for (std::size_t c = 0; c < components; ++c) groups.push_back(nlohmann::ordered_json::array());
+    for (std::size_t i = 0; i < ids.size(); ++i) groups[component[i]].push_back(ids[i]);
+    e["components"] = std::move(groups);
+    out.push_back(std::move(e));
+  } else if (components == 1 && components_ > 1) {
+    Event e = make_event(tick, "rejoin_graph", -1);
+    e["robots"] = ids;
+    out.push_back(std::move(e));
+  }
+  components_ = components;
+}
+
+std::optional<Event> EventDeriver::death(Tick tick, RobotId id) {
+  if (id < seen_.size()) {
+    if (!seen_[id].alive) return std::nullopt;
+    seen_[id].alive = false;
+  }
+  return make_event(tick, "death", id);
+}
+
+std::optional<Event> EventDeriver::rejoin(Tick tick, RobotId id) {
+  if (id < seen_.size()) {
+    if (seen_[id].alive) return std::nullopt;
+    seen_[id].alive = true;
+  }
+  return make_event(tick, "rejoin", id);
+}
+
+}  // namespace swarmform::world

@@ -1,0 +1,53 @@
+// The events of a run that are derived from the truth, tick by tick: state and label changes and leader
+// elections (from what the controllers report), deaths and rejoins (from the alive flags, unless the front
+// end reported them first), and the splitting and reuniting of the shape robots' communication graph. An
+// event is one JSON object, written as one line of events.jsonl (docs/recording-format.md).
+#pragma once
+
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "world_server/world/world.hpp"
+
+namespace swarmform::world {
+
+using Event = nlohmann::ordered_json;
+
+// {"tick": tick, "kind": kind, "id": id}; more fields are added by the caller. id -1: no single robot.
+Event make_event(Tick tick, std::string_view kind, std::int64_t id);
+
+class EventDeriver {
+ public:
+  explicit EventDeriver(double comm_range) : comm_range_(comm_range) {}
+
+  // Compares this tick's truth with what was seen before. The first call only sets the baseline (plus the
+  // leader, if one is already reported). With `track_graph` the shape robots' communication graph is checked
+  // and its component count is put in `components` (0 when not tracked or no shape robot).
+  std::vector<Event> observe(Tick tick, const std::vector<RobotTruth>& robots, bool track_graph,
+                             std::size_t& components);
+
+  // Deaths and rejoins the front end knows of; nullopt when this one is already known (no double counting).
+  std::optional<Event> death(Tick tick, RobotId id);
+  std::optional<Event> rejoin(Tick tick, RobotId id);
+
+ private:
+  struct Seen {
+    bool alive = true;
+    Telemetry telemetry;
+  };
+  void observe_leader(Tick tick, const std::vector<RobotTruth>& robots, std::vector<Event>& out);
+  void observe_graph(Tick tick, const std::vector<RobotTruth>& robots, std::vector<Event>& out,
+                     std::size_t& components);
+
+  double comm_range_;
+  std::vector<Seen> seen_;  // by id
+  bool baseline_ = false;
+  std::optional<RobotId> leader_;       // the robot taken as leader now
+  std::optional<RobotId> last_leader_;  // the last one there was (for "previous")
+  std::size_t components_ = 0;          // of the last tracked tick
+};
+
+}  // namespace swarmform::world

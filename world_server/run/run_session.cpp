@@ -1,0 +1,160 @@
+// RunSession: after each World::step, derive the events, update the metrics, hash the poses and (with a run
+// directory) write the recording. Metrics come first in record_tick because the formation tick they find
+// switches on the graph events of the same tick.
+#include "world_server/run/run_session.hpp"
+
+#include <bit>
+#include <cstring>
+#include <optional>
+
+#include "world_server/run/metrics_tracker.hpp"
+#include "world_server/run/recorder.hpp"
+#include "world_server/run/recording_format.hpp"
+#include "world_server/run/run_events.hpp"
+#include "world_server/run/sha256.hpp"
+
+namespace swarmform::world {
+
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "the trajectory hash is defined little-endian");
+
+// One line of world.log for an event: "kind id {fields}".
+std::string log_line(const Event& e) {
+  std::string line = e.value("kind", "?") + " robot " + std::to_string(e.value("id", std::int64_t{-1}));
+  Event rest = e;
+  rest.erase("tick");
+  rest.erase("kind");
+  rest.erase("id");
+  if (!rest.empty()) line += " " + rest.dump();
+  return line;
+}
+
+}  // namespace
+
+struct RunSession::Impl {
+  Impl(const World& w, RunOptions o)
+      : world(w), options(std::move(o)), tracker(w.scenario().mission), events(w.scenario().comm_range) {
+    if (!options.run_dir.empty()) {
+      writer.emplace(options.run_dir);
+      writer->write_world(describe_world(world.scenario(), options.mode));
+      writer->log(world.tick(), "run starts: " + std::to_string(world.robot_count()) + " robots, scenario " +
+                                    world.scenario().source + ", mode " + options.mode);
+    }
+  }
+
+  void emit(const Event& e) {
+    tracker.count_event(e);
+    if (writer) {
+      writer->write_event(e);
+      writer->log(e.value("tick", Tick{0}), log_line(e));
+    }
+  }
+
+  void record() {
+    const Tick tick = world.tick();
+    const auto& robots = world.robots();
+    tracker.observe(tick, robots, recorded_once ? world.last_contacts() : ContactCounts{});
+    // The communication graph is watched from the formation tick on (before it, robots joining the shape
+    // one by one would read as endless splits and rejoins).
+    const bool track_graph = tracker.metrics().formation_tick.has_value();
+    std::size_t components = 0;
+    for (const auto& e : events.observe(tick, robots, track_graph, components)) emit(e);
+    if (track_graph) tracker.note_components(components);
+    // x, y, theta of every robot in id order, each as its 8-byte little-endian bit pattern; one update a
+    // tick.
+    pose_bytes.resize(robots.size() * 3 * sizeof(double));
+    unsigned char* out = pose_bytes.data();
+    for (const auto& r : robots) {
+      for (const double v : {r.pose.x, r.pose.y, r.pose.theta}) {
+        std::memcpy(out, &v, sizeof(double));
+        out += sizeof(double);
+      }
+    }
+    sha.update(pose_bytes.data(), pose_bytes.size());
+    if (writer) writer->write_rows(tick, robots);
+    recorded_once = true;
+    last_recorded_tick = tick;
+  }
+
+  const World& world;
+  RunOptions options;
+  MetricsTracker tracker;
+  EventDeriver events;
+  Sha256 sha;
+  std::vector<unsigned char> pose_bytes;
+  std::optional<RecordingWriter> writer;
+  bool recorded_once = false;
+  Tick last_recorded_tick = 0;
+  std::uint64_t command_verdicts = 0;
+  bool finished = false;
+};
+
+RunSession::RunSession(const World& world, RunOptions options)
+    : impl_(std::make_unique<Impl>(world, std::move(options))) {
+  impl_->record();  // tick 0: the starting poses
+}
+
+RunSession::~RunSession() {
+  if (impl_ && impl_->writer) {
+    try {
+      impl_->writer->flush();
+    } catch (...) {  // a destructor must not throw; the data already written stays
+    }
+  }
+}
+
+void RunSession::record_tick() {
+  impl_->record();
+}
+
+void RunSession::record_death(RobotId id) {
+  if (auto e = impl_->events.death(impl_->world.tick(), id)) impl_->emit(*e);
+}
+
+void RunSession::record_rejoin(RobotId id) {
+  if (auto e = impl_->events.rejoin(impl_->world.tick(), id)) impl_->emit(*e);
+}
+
+void RunSession::record_command_verdict(RobotId id, CommandVerdict verdict) {
+  if (verdict == CommandVerdict::Ok) return;
+  ++impl_->command_verdicts;
+  Event e = make_event(impl_->world.tick(), "command", id);
+  e["verdict"] = to_string(verdict);
+  impl_->emit(e);
+}
+
+void RunSession::record_event(RobotId id, const std::string& kind, const std::string& detail) {
+  Event e = make_event(impl_->world.tick(), kind, id);
+  e["detail"] = detail;
+  impl_->emit(e);
+}
+
+const Metrics& RunSession::metrics() const {
+  return impl_->tracker.metrics();
+}
+
+std::string RunSession::trajectory_sha256() const {
+  return impl_->sha.hex_digest();
+}
+
+std::string RunSession::finish(double wall_seconds) {
+  SummaryInputs in;
+  in.scenario = &impl_->world.scenario();
+  in.mode = impl_->options.mode;
+  in.ticks = impl_->last_recorded_tick;
+  in.wall_seconds = wall_seconds;
+  in.robots = &impl_->world.robots();
+  in.metrics = &impl_->tracker.metrics();
+  in.trajectory_sha256 = trajectory_sha256();
+  in.command_verdicts = impl_->command_verdicts;
+  const auto summary = make_summary(in);
+  if (impl_->writer && !impl_->finished) {
+    impl_->writer->log(impl_->last_recorded_tick, "run ends");
+    impl_->writer->write_summary(summary);
+  }
+  impl_->finished = true;
+  return summary.dump(2);
+}
+
+}  // namespace swarmform::world

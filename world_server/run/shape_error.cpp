@@ -1,0 +1,88 @@
+// SPEC section 6's shape error: the label grid is fitted onto the robots that hold its labels by the best
+// proper rigid motion (rotation + translation; no scaling, no reflection), and the RMS of what is left over
+// is given in grid units.
+//
+// The fit is the Kabsch/Umeyama solution, which in the plane has a closed form: with both point sets centred
+// (p_i the grid places, q_i the robots), sum_i |R p_i - q_i|^2 is least for the rotation angle
+//   theta = atan2( sum_i p_i x q_i , sum_i p_i . q_i )
+// (maximising sum_i q_i . R p_i = cos(theta) S_dot + sin(theta) S_cross). Only proper rotations are searched,
+// so a mirrored formation is measured as the error it is, not fitted away.
+#include <cmath>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "world_server/run/metrics.hpp"
+
+namespace swarmform::world {
+
+namespace {
+
+// Place of each label on the grid (m): column along +x, row along -y (common/shape.hpp). Index: label.
+std::vector<std::optional<Eigen::Vector2d>> label_places(const ShapeMatrix& shape, double grid_spacing) {
+  std::vector<std::optional<Eigen::Vector2d>> places;
+  for (int row = 0; row < shape.rows; ++row) {
+    for (int col = 0; col < shape.cols; ++col) {
+      const int label = shape.at(row, col);
+      if (label < 0) continue;
+      if (static_cast<std::size_t>(label) >= places.size())
+        places.resize(static_cast<std::size_t>(label) + 1);
+      places[static_cast<std::size_t>(label)] = Eigen::Vector2d(col * grid_spacing, -row * grid_spacing);
+    }
+  }
+  return places;
+}
+
+}  // namespace
+
+std::optional<double> shape_error(const ShapeMatrix& shape, double grid_spacing,
+                                  const std::vector<LabelledPosition>& robots) {
+  if (grid_spacing <= 0.0) return std::nullopt;
+  const auto places = label_places(shape, grid_spacing);
+
+  // Pairs (grid place, robot position). A label not in the shape is skipped; a label held by two robots (a
+  // conflict not yet resolved) counts twice, as it stands in the arena.
+  std::vector<Eigen::Vector2d> grid;
+  std::vector<Eigen::Vector2d> arena;
+  grid.reserve(robots.size());
+  arena.reserve(robots.size());
+  for (const auto& r : robots) {
+    if (r.label < 0 || static_cast<std::size_t>(r.label) >= places.size()) continue;
+    const auto& place = places[static_cast<std::size_t>(r.label)];
+    if (!place) continue;
+    grid.push_back(*place);
+    arena.emplace_back(r.position.x, r.position.y);
+  }
+  if (grid.size() < 2) return std::nullopt;
+
+  const double n = static_cast<double>(grid.size());
+  Eigen::Vector2d grid_mean = Eigen::Vector2d::Zero();
+  Eigen::Vector2d arena_mean = Eigen::Vector2d::Zero();
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    grid_mean += grid[i];
+    arena_mean += arena[i];
+  }
+  grid_mean /= n;
+  arena_mean /= n;
+
+  double s_dot = 0.0;
+  double s_cross = 0.0;
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    const Eigen::Vector2d p = grid[i] - grid_mean;
+    const Eigen::Vector2d q = arena[i] - arena_mean;
+    s_dot += p.dot(q);
+    s_cross += p.x() * q.y() - p.y() * q.x();
+  }
+  const Eigen::Rotation2Dd rotation(std::atan2(s_cross, s_dot));
+
+  // The residual is summed explicitly (not from the closed-form minimum) so that a perfect fit gives ~1e-16,
+  // not the square root of a cancellation error.
+  double sum_sq = 0.0;
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    const Eigen::Vector2d fitted = rotation * (grid[i] - grid_mean) + arena_mean;
+    sum_sq += (fitted - arena[i]).squaredNorm();
+  }
+  return std::sqrt(sum_sq / n) / grid_spacing;
+}
+
+}  // namespace swarmform::world
