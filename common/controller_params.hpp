@@ -41,9 +41,28 @@ inline constexpr std::array kControllerParams = {
     ParamSpec{"k_o", 1.0, 0.0, 100.0, "eq. (2), (4) reference/attractive force gain"},
     ParamSpec{"k_goal", 1.0, 0.0, 100.0, "eq. (3) goal attraction gain"},
     // Obstacles (paper III.E).
-    ParamSpec{"m_obstacle", 0.05, 0.0, 100.0, "eq. (6)-(7) obstacle repulsion gain, per unit of |F_goal|"},
+    ParamSpec{"m_obstacle", 1.0, 0.0, 100.0, "eq. (6)-(7) obstacle repulsion gain, per unit of |F_goal|"},
     ParamSpec{"obstacle_range", 0.6, 0.0, 2.0, "ultrasonic readings beyond this are not repulsive, m"},
     ParamSpec{"neighbour_mask_angle", 0.35, 0.0, 3.2, "Alg. 2 clearance around a neighbour's azimuth, rad"},
+    // Ready and motion phases, added by the motion engineer (robot_agent/README.md, "Ready and motion").
+    ParamSpec{"boundary_cone", 0.5235987755982988, 0.01, 1.5,
+              "half-angle around heading +-pi/2 in which a neighbour hides a robot's left/right side, rad"},
+    ParamSpec{"cruise_fraction", 0.6, 0.05, 1.0,
+              "eq. (3) saturation: the leader's cruise speed as a fraction of the speed limit"},
+    ParamSpec{"link_range_fraction", 0.9, 0.1, 1.0,
+              "longest parent link, as a fraction of the communication range"},
+    ParamSpec{"fusion_range", 1.0, 0.25, 2.0,
+              "ultrasonic echoes nearer than this judge an obstacle's size, m"},
+    ParamSpec{"small_obstacle_width", 0.5, 0.0, 5.0,
+              "echo span under which an obstacle is small (wall-follow) rather than large (give way), m"},
+    ParamSpec{"wall_distance", 0.4, 0.1, 2.0, "distance kept from a small obstacle while wall-following, m"},
+    ParamSpec{"mask_slack", 0.1, 0.0, 1.0,
+              "Alg. 2 range tolerance: an echo this much nearer than a neighbour is still it, m"},
+    ParamSpec{"arrival_tolerance", 0.1, 0.01, 5.0,
+              "the leader has arrived when its place is this close to where the goal puts it, m"},
+    ParamSpec{"arrival_net_force", 0.01, 0.0, 1.0,
+              "a follower whose parent has arrived stops once |F_net| is below this, m/s"},
+    ParamSpec{"boundary_delay", 10, 1, 1e6, "ticks in 'ready' before a robot judges its boundary role"},
 };
 
 inline const ParamSpec* find_param(std::string_view name) {

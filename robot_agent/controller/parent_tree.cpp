@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <functional>
+#include <numbers>
 #include <queue>
 #include <utility>
 
@@ -9,7 +10,8 @@
 
 namespace swarmform::controller::motion {
 
-std::vector<Vec2> label_places(const ShapeMatrix& shape, double spacing) {
+std::vector<Vec2> label_places(const ShapeMatrix& shape, double spacing, double shape_heading) {
+  const double turn = shape_heading - std::numbers::pi / 2;
   std::vector<Vec2> places;
   for (int r = 0; r < shape.rows; ++r) {
     for (int c = 0; c < shape.cols; ++c) {
@@ -17,7 +19,7 @@ std::vector<Vec2> label_places(const ShapeMatrix& shape, double spacing) {
       if (label < 0) continue;
       if (static_cast<std::size_t>(label) >= places.size())
         places.resize(static_cast<std::size_t>(label) + 1);
-      places[static_cast<std::size_t>(label)] = {c * spacing, -r * spacing};
+      places[static_cast<std::size_t>(label)] = vrotate({c * spacing, -r * spacing}, turn);
     }
   }
   return places;

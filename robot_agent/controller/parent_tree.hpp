@@ -18,6 +18,7 @@
 
 #include <limits>
 #include <map>
+#include <numbers>
 #include <vector>
 
 #include "common/shape.hpp"
@@ -28,9 +29,11 @@ namespace swarmform::controller::motion {
 inline constexpr int kLongLinkCost = 4;
 inline constexpr int kUnreachable = std::numeric_limits<int>::max();
 
-// Each label's place in the arena frame relative to the matrix's top-left cell: column along +x, row along
-// -y, `spacing` apart (common/shape.hpp). Indexed by label.
-std::vector<Vec2> label_places(const ShapeMatrix& shape, double spacing);
+// Each label's place in the arena frame relative to the matrix's top-left cell: with `shape_heading` = pi/2
+// (the default of the `shape_heading` parameter) column along +x and row along -y, `spacing` apart
+// (common/shape.hpp); otherwise that grid turned so that row 0 lies towards `shape_heading`. By label.
+std::vector<Vec2> label_places(const ShapeMatrix& shape, double spacing,
+                               double shape_heading = std::numbers::pi / 2);
 
 struct ParentTree {
   int root = -1;            // the leader's label
