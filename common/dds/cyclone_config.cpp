@@ -1,0 +1,58 @@
+#include "common/dds/cyclone_config.hpp"
+
+#include <stdexcept>
+
+namespace swarmform::dds {
+
+namespace {
+
+bool is_loopback(const std::string& host) {
+  return host == "localhost" || host.rfind("127.", 0) == 0 || host == "::1";
+}
+
+// Host names and IPv4/IPv6 literals only: the value goes into an XML attribute.
+void check_address(const std::string& what, const std::string& value) {
+  if (value.empty()) throw std::invalid_argument(what + " is empty");
+  for (char c : value) {
+    const bool ok = (c >= '0' && c <= '9') || (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '.' ||
+                    c == '-' || c == ':' || c == '_';
+    if (!ok) throw std::invalid_argument(what + " '" + value + "' is not a host name or address");
+  }
+}
+
+}  // namespace
+
+std::uint16_t world_discovery_port(std::uint32_t domain) {
+  return static_cast<std::uint16_t>(7400 + 250 * domain + 10);
+}
+
+std::string cyclone_config_xml(const DdsSettings& s) {
+  if (s.domain > kMaxDomain) {
+    throw std::invalid_argument("DDS domain " + std::to_string(s.domain) + " is out of range 0.." +
+                                std::to_string(kMaxDomain));
+  }
+  std::string iface = s.interface_address;
+  if (iface.empty() && (s.role == Role::World || is_loopback(s.world_host))) iface = "127.0.0.1";
+  if (!iface.empty()) check_address("interface address", iface);
+
+  std::string xml = "<CycloneDDS><Domain id=\"any\"><General>";
+  if (!iface.empty()) xml += "<Interfaces><NetworkInterface address=\"" + iface + "\"/></Interfaces>";
+  // Loopback has no multicast flag; say so rather than let Cyclone find out, on every interface alike.
+  xml += "<AllowMulticast>false</AllowMulticast></General><Discovery>";
+  if (s.role == Role::World) {
+    xml += "<ParticipantIndex>0</ParticipantIndex>";
+  } else {
+    check_address("world host", s.world_host);
+    xml += "<ParticipantIndex>none</ParticipantIndex><Peers><Peer address=\"" + s.world_host + ":" +
+           std::to_string(world_discovery_port(s.domain)) + "\"/></Peers>";
+    // Re-announce every second so an agent started before the world is matched soon after it comes up.
+    xml += "<SPDPInterval>1s</SPDPInterval>";
+  }
+  xml += "<LeaseDuration>1s</LeaseDuration></Discovery>";
+  // iceoryx shared memory is compiled in but loses samples with keep-last 1 and ignores partitions in 0.10.2.
+  xml += "<SharedMemory><Enable>false</Enable></SharedMemory>";
+  xml += "</Domain></CycloneDDS>";
+  return xml;
+}
+
+}  // namespace swarmform::dds

@@ -1,0 +1,41 @@
+// The project's own Cyclone DDS configuration, generated in code and applied with dds_create_domain, so a run
+// never depends on CYCLONEDDS_URI or on what the default configuration picks on this host.
+//
+// Star discovery (NOTES-DEPENDENCIES "Discovery shape decides scale"): loopback has no multicast, and a full
+// mesh of 128 processes takes minutes to converge. So the world takes ParticipantIndex 0 (a fixed discovery
+// port), every agent takes ParticipantIndex none (an ephemeral port, no limit of 9 a host) and has the world
+// as its only peer: agents never discover each other, and the world discovers each agent once. Death
+// detection: a participant lease of 1 s, with the writers' AUTOMATIC liveliness of 500 ms (qos.cpp), makes a
+// SIGKILLed agent's writer lose liveliness at the world within ~0.5 s (measured 0.14-0.5 s).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace swarmform::dds {
+
+enum class Role {
+  World,  // ParticipantIndex 0: the fixed discovery port the agents peer with
+  Agent,  // ParticipantIndex none, the world as the only peer (agents, bench robots, test programs)
+};
+
+struct DdsSettings {
+  std::uint32_t domain = 0;  // DDS domain id, 0..kMaxDomain (the port mapping needs 250 ports a domain)
+  Role role = Role::Agent;
+  // Agents: the world's address, their only discovery peer. Loopback by default; another host's address for
+  // agents on other hosts (no code change, just this).
+  std::string world_host = "127.0.0.1";
+  // The local interface to use (its address). Empty: loopback when world_host is loopback, else Cyclone's own
+  // choice of interface.
+  std::string interface_address;
+};
+
+inline constexpr std::uint32_t kMaxDomain = 232;
+
+// The world's SPDP unicast port for a domain (RTPS port mapping: 7400 + 250*domain + 10 + 2*index, index 0).
+std::uint16_t world_discovery_port(std::uint32_t domain);
+
+// The XML configuration for these settings (throws std::invalid_argument on a bad domain or address).
+std::string cyclone_config_xml(const DdsSettings& settings);
+
+}  // namespace swarmform::dds

@@ -1,0 +1,613 @@
+// The one translation unit that includes the idlc-generated header: conversions between the IDL samples and
+// the plain types, and the endpoints that carry them. Writes point the IDL sequences straight into the plain
+// structs' storage (Cyclone serialises during dds_write), and takes use loans, so the hot path copies each
+// byte once and allocates nothing once the reused buffers are warm.
+#include "common/dds/wire.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cstring>
+#include <map>
+#include <mutex>
+
+#include "common/dds/qos.hpp"
+#include "common/input_error.hpp"
+#include "swarmform.h"
+
+namespace swarmform::dds {
+
+struct Participant::Topics {
+  Entity mission, sensor, command, claim_reply, world_state;
+};
+
+struct Participant::Impl {
+  Entity domain;
+  Entity participant;
+  Topics topics;
+};
+
+namespace {
+
+constexpr const char* kMissionTopic = "sf_mission";
+constexpr const char* kSensorTopic = "sf_sensor";
+constexpr const char* kCommandTopic = "sf_command";
+constexpr const char* kClaimReplyTopic = "sf_claim_reply";
+constexpr const char* kWorldStateTopic = "sf_world_state";
+
+constexpr std::uint32_t kTakeBatch = 64;
+
+Entity make_topic(dds_entity_t participant, const dds_topic_descriptor_t* desc, const char* name) {
+  return Entity(dds_create_topic(participant, desc, name, nullptr, nullptr), "dds_create_topic");
+}
+
+// A publisher or subscriber whose only partition is `partition`.
+Entity make_partitioned(dds_entity_t participant, const std::string& partition, bool publisher) {
+  Qos qos;
+  dds_qset_partition1(qos.get(), partition.c_str());
+  if (publisher) return Entity(dds_create_publisher(participant, qos.get(), nullptr), "dds_create_publisher");
+  return Entity(dds_create_subscriber(participant, qos.get(), nullptr), "dds_create_subscriber");
+}
+
+Entity make_writer(dds_entity_t parent, dds_entity_t topic, Channel channel) {
+  Qos qos = make_qos(channel);
+  return Entity(dds_create_writer(parent, topic, qos.get(), nullptr), "dds_create_writer");
+}
+
+Entity make_reader(dds_entity_t parent, dds_entity_t topic, Channel channel,
+                   const dds_listener_t* listener = nullptr) {
+  Qos qos = make_qos(channel);
+  return Entity(dds_create_reader(parent, topic, qos.get(), listener), "dds_create_reader");
+}
+
+Entity make_condition(dds_entity_t reader) {
+  return Entity(dds_create_readcondition(reader, DDS_ANY_STATE), "dds_create_readcondition");
+}
+
+// Returns the loan of `n` samples taken into `ptrs` when it goes out of scope.
+class Loan {
+ public:
+  Loan(dds_entity_t reader, void** ptrs, int n) : reader_(reader), ptrs_(ptrs), n_(n) {}
+  ~Loan() {
+    if (n_ > 0) (void)dds_return_loan(reader_, ptrs_, n_);  // cannot fail for a loan we hold
+  }
+  Loan(const Loan&) = delete;
+  Loan& operator=(const Loan&) = delete;
+
+ private:
+  dds_entity_t reader_;
+  void** ptrs_;
+  int n_;
+};
+
+template <typename T>
+dds_sequence_octet octets(const std::vector<T>& v) {
+  static_assert(sizeof(T) == 1);
+  dds_sequence_octet s{};
+  s._length = s._maximum = static_cast<std::uint32_t>(v.size());
+  s._buffer = const_cast<std::uint8_t*>(reinterpret_cast<const std::uint8_t*>(v.data()));
+  s._release = false;
+  return s;
+}
+
+void assign_octets(std::vector<std::uint8_t>& out, const dds_sequence_octet& s) {
+  out.assign(s._buffer, s._buffer + s._length);
+}
+
+std::string str(const char* s) {
+  return s != nullptr ? std::string(s) : std::string();
+}
+
+Entity make_guard(dds_entity_t participant) {
+  return Entity(dds_create_guardcondition(participant), "dds_create_guardcondition");
+}
+
+}  // namespace
+
+std::string robot_partition(RobotId id) {
+  return "robot/" + std::to_string(id);
+}
+
+// ---- Participant
+// -------------------------------------------------------------------------------------------
+
+Participant::Participant(const DdsSettings& settings) : impl_(std::make_unique<Impl>()) {
+  const std::string xml = cyclone_config_xml(settings);
+  impl_->domain = Entity(dds_create_domain(static_cast<dds_domainid_t>(settings.domain), xml.c_str()),
+                         "dds_create_domain");
+  impl_->participant =
+      Entity(dds_create_participant(static_cast<dds_domainid_t>(settings.domain), nullptr, nullptr),
+             "dds_create_participant");
+  const dds_entity_t p = impl_->participant.get();
+  impl_->topics.mission = make_topic(p, &sfdds_Mission_desc, kMissionTopic);
+  impl_->topics.sensor = make_topic(p, &sfdds_SensorPacket_desc, kSensorTopic);
+  impl_->topics.command = make_topic(p, &sfdds_Command_desc, kCommandTopic);
+  impl_->topics.claim_reply = make_topic(p, &sfdds_ClaimReply_desc, kClaimReplyTopic);
+  impl_->topics.world_state = make_topic(p, &sfdds_WorldState_desc, kWorldStateTopic);
+}
+
+Participant::~Participant() {
+  // Children before the participant, the participant before the domain.
+  if (impl_) {
+    impl_->topics = Topics{};
+    impl_->participant.reset();
+    impl_->domain.reset();
+  }
+}
+
+dds_entity_t Participant::get() const {
+  return impl_->participant.get();
+}
+const Participant::Topics& Participant::topics() const {
+  return impl_->topics;
+}
+
+// ---- Waiter -----------------------------------------------------------------------------------------------
+
+Waiter::Waiter(const Participant& participant)
+    : waitset_(dds_create_waitset(participant.get()), "dds_create_waitset"),
+      guard_(make_guard(participant.get())) {
+  attach(guard_.get());
+}
+
+void Waiter::attach(dds_entity_t entity) {
+  check(dds_waitset_attach(waitset_.get(), entity, entity), "dds_waitset_attach");
+}
+
+bool Waiter::wait_until(dds_time_t deadline) {
+  const dds_return_t n =
+      check(dds_waitset_wait_until(waitset_.get(), nullptr, 0, deadline), "dds_waitset_wait");
+  // Reset the guard before the caller looks at what woke it: a wake() after this reset is never lost.
+  bool triggered = false;
+  check(dds_take_guardcondition(guard_.get(), &triggered), "dds_take_guardcondition");
+  return n > 0;
+}
+
+void Waiter::wake() {
+  check(dds_set_guardcondition(guard_.get(), true), "dds_set_guardcondition");
+}
+
+// ---- Mission ----------------------------------------------------------------------------------------------
+
+MissionWriter::MissionWriter(const Participant& participant)
+    : writer_(make_writer(participant.get(), participant.topics().mission.get(), Channel::Mission)) {}
+
+void MissionWriter::publish(const MissionAnnouncement& a) {
+  const Mission& m = a.mission;
+  std::vector<sfdds_Param> params;
+  params.reserve(m.params.size());
+  for (const auto& [name, value] : m.params) {
+    params.push_back(sfdds_Param{const_cast<char*>(name.c_str()), value});
+  }
+  std::vector<std::int32_t> cells(m.shape.cells.begin(), m.shape.cells.end());
+  sfdds_Mission s{};
+  s.run_nonce = a.run_nonce;
+  s.robots = a.robots;
+  s.behaviour = const_cast<char*>(m.behaviour.c_str());
+  s.rows = m.shape.rows;
+  s.cols = m.shape.cols;
+  s.cells._buffer = cells.data();
+  s.cells._length = s.cells._maximum = static_cast<std::uint32_t>(cells.size());
+  s.grid_spacing = m.grid_spacing;
+  s.goal_x = m.goal.x;
+  s.goal_y = m.goal.y;
+  s.goal_radius = m.goal_radius;
+  s.max_speed = m.max_speed;
+  s.tick_rate = m.tick_rate;
+  s.comm_range = m.comm_range;
+  s.max_message_bytes = m.max_message_bytes;
+  s.seed = m.seed;
+  s.params._buffer = params.data();
+  s.params._length = s.params._maximum = static_cast<std::uint32_t>(params.size());
+  check(dds_write(writer_.get(), &s), "dds_write(mission)");
+}
+
+MissionReader::MissionReader(const Participant& participant)
+    : reader_(make_reader(participant.get(), participant.topics().mission.get(), Channel::Mission)),
+      condition_(make_condition(reader_.get())) {}
+
+std::optional<MissionAnnouncement> MissionReader::take() {
+  void* ptrs[4] = {};
+  dds_sample_info_t infos[4];
+  const int n = check(dds_take(reader_.get(), ptrs, infos, 4, 4), "dds_take(mission)");
+  Loan loan(reader_.get(), ptrs, n);
+  std::optional<MissionAnnouncement> out;
+  for (int i = 0; i < n; ++i) {
+    if (!infos[i].valid_data) continue;
+    const auto& s = *static_cast<const sfdds_Mission*>(ptrs[i]);
+    MissionAnnouncement a;
+    a.run_nonce = s.run_nonce;
+    a.robots = s.robots;
+    Mission& m = a.mission;
+    m.behaviour = str(s.behaviour);
+    if (s.rows < 0 || s.cols < 0 ||
+        static_cast<std::uint64_t>(s.rows) * static_cast<std::uint64_t>(s.cols) != s.cells._length) {
+      throw InputError("<mission>", 0,
+                       "shape of " + std::to_string(s.rows) + "x" + std::to_string(s.cols) + " with " +
+                           std::to_string(s.cells._length) + " cells");
+    }
+    m.shape.rows = s.rows;
+    m.shape.cols = s.cols;
+    m.shape.cells.assign(s.cells._buffer, s.cells._buffer + s.cells._length);
+    for (int c : m.shape.cells) {
+      if (c < -1) throw InputError("<mission>", 0, "shape cell " + std::to_string(c) + " below -1");
+    }
+    m.grid_spacing = s.grid_spacing;
+    m.goal = Vec2{s.goal_x, s.goal_y};
+    m.goal_radius = s.goal_radius;
+    m.max_speed = s.max_speed;
+    m.tick_rate = s.tick_rate;
+    m.comm_range = s.comm_range;
+    m.max_message_bytes = s.max_message_bytes;
+    m.seed = s.seed;
+    for (std::uint32_t k = 0; k < s.params._length; ++k) {
+      m.params[str(s.params._buffer[k].name)] = s.params._buffer[k].value;
+    }
+    out = std::move(a);
+  }
+  return out;
+}
+
+// ---- RobotChannels (world side) ---------------------------------------------------------------------------
+
+namespace {
+struct RobotChannel {
+  Entity publisher, sensor, claim_reply;
+};
+
+RobotChannel make_robot_channel(const Participant& p, RobotId id) {
+  RobotChannel c;
+  c.publisher = make_partitioned(p.get(), robot_partition(id), true);
+  c.sensor = make_writer(c.publisher.get(), p.topics().sensor.get(), Channel::Sensor);
+  c.claim_reply = make_writer(c.publisher.get(), p.topics().claim_reply.get(), Channel::ClaimReply);
+  return c;
+}
+}  // namespace
+
+struct RobotChannels::Impl {
+  const Participant& participant;
+  std::vector<RobotChannel> robots;
+  std::map<RobotId, RobotChannel> extra;  // claimants with an id outside the run, answered then left
+  std::vector<sfdds_RabReading> scratch;  // reused for every packet
+};
+
+RobotChannels::RobotChannels(const Participant& participant, std::size_t robots)
+    : impl_(std::make_unique<Impl>(Impl{participant, {}, {}, {}})) {
+  impl_->robots.reserve(robots);
+  for (std::size_t i = 0; i < robots; ++i) {
+    impl_->robots.push_back(make_robot_channel(participant, static_cast<RobotId>(i)));
+  }
+}
+
+RobotChannels::~RobotChannels() = default;
+
+void RobotChannels::write_packet(RobotId id, PacketStatus status, const Perception& p) {
+  auto& scratch = impl_->scratch;
+  scratch.resize(p.messages.size());
+  for (std::size_t k = 0; k < p.messages.size(); ++k) {
+    const RabReading& r = p.messages[k];
+    scratch[k] = sfdds_RabReading{r.sender, r.range, r.bearing, octets(r.data)};
+  }
+  sfdds_SensorPacket s{};
+  s.robot_id = id;
+  s.tick = p.tick;
+  s.status = static_cast<std::uint8_t>(status);
+  s.x = p.pose.x;
+  s.y = p.pose.y;
+  s.theta = p.pose.theta;
+  std::copy(p.ultrasonic.begin(), p.ultrasonic.end(), s.ultrasonic);
+  s.messages._buffer = scratch.data();
+  s.messages._length = s.messages._maximum = static_cast<std::uint32_t>(scratch.size());
+  s.messages._release = false;
+  check(dds_write(impl_->robots.at(id).sensor.get(), &s), "dds_write(sensor)");
+}
+
+void RobotChannels::reply_claim(const ClaimAnswer& a) {
+  RobotChannel* c = nullptr;
+  if (a.robot_id < impl_->robots.size()) {
+    c = &impl_->robots[a.robot_id];
+  } else {
+    auto it = impl_->extra.find(a.robot_id);
+    if (it == impl_->extra.end()) {
+      it = impl_->extra.emplace(a.robot_id, make_robot_channel(impl_->participant, a.robot_id)).first;
+    }
+    c = &it->second;
+  }
+  sfdds_ClaimReply s{};
+  s.robot_id = a.robot_id;
+  s.nonce = a.nonce;
+  s.accepted = a.accepted;
+  s.reason = const_cast<char*>(a.reason.c_str());
+  check(dds_write(c->claim_reply.get(), &s), "dds_write(claim reply)");
+}
+
+void RobotChannels::wait_for_acks(dds_duration_t timeout) {
+  const dds_time_t deadline = dds_time() + timeout;
+  for (const RobotChannel& c : impl_->robots) {
+    const dds_duration_t left = std::max<dds_duration_t>(0, deadline - dds_time());
+    // TIMEOUT is an answer, not a failure: a reader that died meanwhile never acknowledges.
+    const dds_return_t rc = dds_wait_for_acks(c.publisher.get(), left);
+    if (rc != DDS_RETCODE_OK && rc != DDS_RETCODE_TIMEOUT) check(rc, "dds_wait_for_acks");
+  }
+}
+
+// ---- AgentInbox (agent side) ------------------------------------------------------------------------------
+
+struct AgentInbox::Impl {
+  RobotId self = 0;
+  Waiter* waiter = nullptr;
+  std::atomic<std::uint32_t> alive{0};
+  std::atomic<bool> seen{false};
+  Entity subscriber, packets, packet_condition, replies, reply_condition;
+
+  static void on_liveliness(dds_entity_t, const dds_liveliness_changed_status_t status, void* arg) {
+    auto* self = static_cast<Impl*>(arg);
+    self->alive.store(status.alive_count);
+    if (status.alive_count > 0) self->seen.store(true);
+    try {
+      self->waiter->wake();
+    } catch (const DdsError&) {
+      // Only possible while tearing down; nobody is waiting then.
+    }
+  }
+};
+
+AgentInbox::AgentInbox(const Participant& participant, RobotId self, Waiter& waiter)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->self = self;
+  impl_->waiter = &waiter;
+  impl_->subscriber = make_partitioned(participant.get(), robot_partition(self), false);
+  dds_listener_t* listener = dds_create_listener(impl_.get());
+  dds_lset_liveliness_changed(listener, &Impl::on_liveliness);
+  try {
+    impl_->packets =
+        make_reader(impl_->subscriber.get(), participant.topics().sensor.get(), Channel::Sensor, listener);
+  } catch (...) {
+    dds_delete_listener(listener);
+    throw;
+  }
+  dds_delete_listener(listener);
+  impl_->packet_condition = make_condition(impl_->packets.get());
+  impl_->replies =
+      make_reader(impl_->subscriber.get(), participant.topics().claim_reply.get(), Channel::ClaimReply);
+  impl_->reply_condition = make_condition(impl_->replies.get());
+}
+
+AgentInbox::~AgentInbox() {
+  // The reader (and its listener) goes before the state the listener touches.
+  if (impl_) impl_->subscriber.reset();
+}
+
+dds_entity_t AgentInbox::packet_condition() const {
+  return impl_->packet_condition.get();
+}
+dds_entity_t AgentInbox::claim_condition() const {
+  return impl_->reply_condition.get();
+}
+std::uint32_t AgentInbox::world_writers_alive() const {
+  return impl_->alive.load();
+}
+bool AgentInbox::world_seen() const {
+  return impl_->seen.load();
+}
+
+bool AgentInbox::take_packet(SensorSample& own, std::uint64_t& foreign) {
+  void* ptrs[4] = {};
+  dds_sample_info_t infos[4];
+  const int n = check(dds_take(impl_->packets.get(), ptrs, infos, 4, 4), "dds_take(sensor)");
+  Loan loan(impl_->packets.get(), ptrs, n);
+  bool got = false;
+  for (int i = 0; i < n; ++i) {
+    if (!infos[i].valid_data) continue;
+    const auto& s = *static_cast<const sfdds_SensorPacket*>(ptrs[i]);
+    if (s.robot_id != impl_->self) {
+      ++foreign;
+      continue;
+    }
+    if (got && s.tick < own.perception.tick) continue;
+    got = true;
+    own.robot_id = s.robot_id;
+    own.status = s.status == sfdds_PACKET_END ? PacketStatus::End : PacketStatus::Run;
+    Perception& p = own.perception;
+    p.tick = s.tick;
+    p.pose = Pose2D{s.x, s.y, s.theta};
+    std::copy(std::begin(s.ultrasonic), std::end(s.ultrasonic), p.ultrasonic.begin());
+    p.messages.resize(s.messages._length);
+    for (std::uint32_t k = 0; k < s.messages._length; ++k) {
+      const sfdds_RabReading& r = s.messages._buffer[k];
+      RabReading& m = p.messages[k];
+      m.sender = r.sender;
+      m.range = r.range;
+      m.bearing = r.bearing;
+      assign_octets(m.data, r.data);
+    }
+  }
+  return got;
+}
+
+std::optional<ClaimAnswer> AgentInbox::take_claim_reply() {
+  void* ptrs[4] = {};
+  dds_sample_info_t infos[4];
+  const int n = check(dds_take(impl_->replies.get(), ptrs, infos, 4, 4), "dds_take(claim reply)");
+  Loan loan(impl_->replies.get(), ptrs, n);
+  std::optional<ClaimAnswer> out;
+  for (int i = 0; i < n; ++i) {
+    if (!infos[i].valid_data) continue;
+    const auto& s = *static_cast<const sfdds_ClaimReply*>(ptrs[i]);
+    out = ClaimAnswer{s.robot_id, s.nonce, s.accepted, str(s.reason)};
+  }
+  return out;
+}
+
+// ---- Commands ---------------------------------------------------------------------------------------------
+
+struct CommandWriter::Impl {
+  Entity writer;
+};
+
+CommandWriter::CommandWriter(const Participant& participant) : impl_(std::make_unique<Impl>()) {
+  impl_->writer = make_writer(participant.get(), participant.topics().command.get(), Channel::Command);
+}
+CommandWriter::~CommandWriter() = default;
+dds_entity_t CommandWriter::get() const {
+  return impl_->writer.get();
+}
+
+void CommandWriter::claim(RobotId id, std::uint64_t nonce, std::uint32_t pid) {
+  sfdds_Command s{};
+  s.robot_id = id;
+  s.kind = sfdds_COMMAND_CLAIM;
+  s.nonce = nonce;
+  s.pid = pid;
+  s.label = -1;
+  s.parent = -1;
+  check(dds_write(impl_->writer.get(), &s), "dds_write(claim)");
+}
+
+void CommandWriter::step(RobotId id, Tick tick, const Command& c) {
+  sfdds_Command s{};
+  s.robot_id = id;
+  s.kind = sfdds_COMMAND_STEP;
+  s.tick = tick;
+  s.left_speed = c.left_speed;
+  s.right_speed = c.right_speed;
+  s.message = octets(c.message);
+  s.state = c.telemetry.state;
+  s.label = c.telemetry.label;
+  s.parent = c.telemetry.parent;
+  s.leader = c.telemetry.leader;
+  s.net_force = c.telemetry.net_force;
+  check(dds_write(impl_->writer.get(), &s), "dds_write(command)");
+}
+
+struct CommandReader::Impl {
+  Waiter* waiter = nullptr;
+  std::mutex mutex;
+  std::vector<PublicationHandle> lost;  // guarded by mutex
+  Entity reader, condition;
+
+  static void on_liveliness(dds_entity_t, const dds_liveliness_changed_status_t status, void* arg) {
+    auto* self = static_cast<Impl*>(arg);
+    // alive_count falls when a writer loses liveliness (not_alive rises) or goes away (deleted, unmatched).
+    if (status.alive_count_change >= 0) return;
+    {
+      std::lock_guard lock(self->mutex);
+      self->lost.push_back(status.last_publication_handle);
+    }
+    try {
+      self->waiter->wake();
+    } catch (const DdsError&) {
+      // Only possible while tearing down; nobody is waiting then.
+    }
+  }
+};
+
+CommandReader::CommandReader(const Participant& participant, Waiter& waiter)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->waiter = &waiter;
+  dds_listener_t* listener = dds_create_listener(impl_.get());
+  dds_lset_liveliness_changed(listener, &Impl::on_liveliness);
+  try {
+    impl_->reader =
+        make_reader(participant.get(), participant.topics().command.get(), Channel::Command, listener);
+  } catch (...) {
+    dds_delete_listener(listener);
+    throw;
+  }
+  dds_delete_listener(listener);
+  impl_->condition = make_condition(impl_->reader.get());
+}
+
+CommandReader::~CommandReader() {
+  if (impl_) {
+    impl_->condition.reset();
+    impl_->reader.reset();
+  }
+}
+
+dds_entity_t CommandReader::condition() const {
+  return impl_->condition.get();
+}
+
+void CommandReader::take_lost_writers(std::vector<PublicationHandle>& out) {
+  std::lock_guard lock(impl_->mutex);
+  out.insert(out.end(), impl_->lost.begin(), impl_->lost.end());
+  impl_->lost.clear();
+}
+
+std::size_t CommandReader::take(std::vector<CommandSample>& buf) {
+  std::size_t count = 0;
+  for (;;) {
+    void* ptrs[kTakeBatch] = {};
+    dds_sample_info_t infos[kTakeBatch];
+    const int n =
+        check(dds_take(impl_->reader.get(), ptrs, infos, kTakeBatch, kTakeBatch), "dds_take(command)");
+    Loan loan(impl_->reader.get(), ptrs, n);
+    for (int i = 0; i < n; ++i) {
+      if (!infos[i].valid_data) continue;
+      const auto& s = *static_cast<const sfdds_Command*>(ptrs[i]);
+      if (count == buf.size()) buf.emplace_back();
+      CommandSample& c = buf[count++];
+      c.robot_id = s.robot_id;
+      c.kind = s.kind == sfdds_COMMAND_CLAIM ? CommandKind::Claim : CommandKind::Step;
+      c.tick = s.tick;
+      c.nonce = s.nonce;
+      c.pid = s.pid;
+      c.writer = infos[i].publication_handle;
+      c.command.left_speed = s.left_speed;
+      c.command.right_speed = s.right_speed;
+      assign_octets(c.command.message, s.message);
+      c.command.telemetry = Telemetry{s.state, s.label, s.parent, s.leader, s.net_force};
+    }
+    if (n < static_cast<int>(kTakeBatch)) break;
+  }
+  return count;
+}
+
+// ---- World state ------------------------------------------------------------------------------------------
+
+struct WorldStateWriter::Impl {
+  Entity writer;
+  std::vector<sfdds_RobotPose> scratch;
+};
+
+WorldStateWriter::WorldStateWriter(const Participant& participant) : impl_(std::make_unique<Impl>()) {
+  impl_->writer = make_writer(participant.get(), participant.topics().world_state.get(), Channel::WorldState);
+}
+WorldStateWriter::~WorldStateWriter() = default;
+
+void WorldStateWriter::publish(Tick tick, bool finished, std::uint32_t alive,
+                               const std::vector<RobotPoseRow>& robots) {
+  auto& scratch = impl_->scratch;
+  scratch.resize(robots.size());
+  for (std::size_t i = 0; i < robots.size(); ++i) {
+    const RobotPoseRow& r = robots[i];
+    scratch[i] = sfdds_RobotPose{r.id, r.pose.x, r.pose.y, r.pose.theta, r.alive, r.state, r.label};
+  }
+  sfdds_WorldState s{};
+  s.tick = tick;
+  s.finished = finished;
+  s.alive = alive;
+  s.robots._buffer = scratch.data();
+  s.robots._length = s.robots._maximum = static_cast<std::uint32_t>(scratch.size());
+  check(dds_write(impl_->writer.get(), &s), "dds_write(world state)");
+}
+
+WorldStateReader::WorldStateReader(const Participant& participant)
+    : reader_(make_reader(participant.get(), participant.topics().world_state.get(), Channel::WorldState)),
+      condition_(make_condition(reader_.get())) {}
+
+std::optional<WorldStateHeader> WorldStateReader::take() {
+  void* ptrs[4] = {};
+  dds_sample_info_t infos[4];
+  const int n = check(dds_take(reader_.get(), ptrs, infos, 4, 4), "dds_take(world state)");
+  Loan loan(reader_.get(), ptrs, n);
+  std::optional<WorldStateHeader> out;
+  for (int i = 0; i < n; ++i) {
+    if (!infos[i].valid_data) continue;
+    const auto& s = *static_cast<const sfdds_WorldState*>(ptrs[i]);
+    out = WorldStateHeader{s.tick, s.finished, s.alive};
+  }
+  return out;
+}
+
+}  // namespace swarmform::dds

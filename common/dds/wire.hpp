@@ -1,0 +1,252 @@
+// The DDS wire of swarmform, in plain types: the participant with its topics, the typed endpoints of each
+// side and a waiter. This header and its .cpp are the only place that knows the IDL (idl/swarmform.idl); the
+// world, the agents, the bench and the test programs see Perception, Command and Mission (common/).
+//
+// Who writes what (SPEC section 3):
+//   world:  MissionWriter (durable), RobotChannels (per robot: a publisher in partition "robot/K" holding the
+//           SensorPacket writer and the ClaimReply writer), CommandReader (claims and commands, with the
+//           liveliness of every agent's writer), WorldStateWriter (viewers).
+//   agent:  MissionReader, AgentInbox (a subscriber in partition "robot/K": its SensorPackets and
+//   ClaimReplies
+//           only, so no process receives another robot's packets), CommandWriter.
+// Identity is the writer: an agent claims an id with a CLAIM sample on the command topic, and the world binds
+// the id to that sample's publication handle; later commands from any other writer are not the owner's.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/dds/cyclone_config.hpp"
+#include "common/dds/entity.hpp"
+#include "common/mission.hpp"
+#include "common/types.hpp"
+
+namespace swarmform::dds {
+
+using PublicationHandle = std::uint64_t;  // dds_instance_handle_t of a remote writer, as a reader sees it
+
+std::string robot_partition(RobotId id);  // "robot/<id>"
+
+// The domain (created from cyclone_config_xml), the participant and the five topics.
+class Participant {
+ public:
+  explicit Participant(const DdsSettings& settings);
+  ~Participant();
+  Participant(const Participant&) = delete;
+  Participant& operator=(const Participant&) = delete;
+
+  dds_entity_t get() const;
+  struct Topics;
+  const Topics& topics() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// A waitset with a guard condition: the one place a thread blocks, woken by data on an attached condition or
+// by wake() from another thread (a signal watcher, a DDS listener). No polling sleeps.
+class Waiter {
+ public:
+  explicit Waiter(const Participant& participant);
+  void attach(dds_entity_t condition_or_entity);
+  // Blocks until something triggered or `deadline` (dds_time_t, absolute) passed; false on timeout.
+  bool wait_until(dds_time_t deadline);
+  // Thread-safe.
+  void wake();
+
+ private:
+  Entity waitset_;
+  Entity guard_;
+};
+
+// ---- the mission
+// -------------------------------------------------------------------------------------------
+
+struct MissionAnnouncement {
+  Mission mission;
+  std::uint32_t robots = 0;     // robots in the run (ids 0..robots-1)
+  std::uint64_t run_nonce = 0;  // random per world start
+};
+
+class MissionWriter {
+ public:
+  explicit MissionWriter(const Participant& participant);
+  void publish(const MissionAnnouncement& announcement);
+
+ private:
+  Entity writer_;
+};
+
+class MissionReader {
+ public:
+  explicit MissionReader(const Participant& participant);
+  dds_entity_t condition() const { return condition_.get(); }
+  // The newest mission, if one arrived; throws InputError ("<mission>: what") if it is malformed.
+  std::optional<MissionAnnouncement> take();
+
+ private:
+  Entity reader_;
+  Entity condition_;
+};
+
+// ---- per-robot packets and claim replies
+// -------------------------------------------------------------------
+
+enum class PacketStatus : std::uint8_t {
+  Run = 0,  // a perception for its tick
+  End = 1,  // the run is over: the agent exits 0
+};
+
+struct ClaimAnswer {
+  RobotId robot_id = 0;
+  std::uint64_t nonce = 0;
+  bool accepted = false;
+  std::string reason;
+};
+
+// World side: for each robot a publisher in partition robot/K with its SensorPacket and ClaimReply writers.
+class RobotChannels {
+ public:
+  RobotChannels(const Participant& participant, std::size_t robots);
+  ~RobotChannels();
+  RobotChannels(const RobotChannels&) = delete;
+  RobotChannels& operator=(const RobotChannels&) = delete;
+
+  // No allocation after the first ticks (scratch buffers are reused; sequences point into the perception).
+  void write_packet(RobotId id, PacketStatus status, const Perception& perception);
+  // Answers a claim in the claimant's partition (a channel is made on demand for an id outside the run).
+  void reply_claim(const ClaimAnswer& answer);
+  // Waits until every packet written so far is acknowledged by its matched readers, up to `timeout`.
+  void wait_for_acks(dds_duration_t timeout);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+struct SensorSample {
+  RobotId robot_id = 0;  // as it came on the wire (an agent counts any that is not its own)
+  PacketStatus status = PacketStatus::Run;
+  Perception perception;
+};
+
+// Agent side: a subscriber in partition robot/K with a SensorPacket reader and a ClaimReply reader. The
+// liveliness of the world's packet writer is followed by a listener (world_alive), which wakes `waiter`.
+class AgentInbox {
+ public:
+  AgentInbox(const Participant& participant, RobotId self, Waiter& waiter);
+  ~AgentInbox();
+  AgentInbox(const AgentInbox&) = delete;
+  AgentInbox& operator=(const AgentInbox&) = delete;
+
+  dds_entity_t packet_condition() const;
+  dds_entity_t claim_condition() const;
+  // Takes every packet available: `own` receives the newest of robot `self` (true if there was one);
+  // `foreign` is increased by the number of packets for any other robot (never expected).
+  bool take_packet(SensorSample& own, std::uint64_t& foreign);
+  std::optional<ClaimAnswer> take_claim_reply();
+  // Writers of this robot's packets alive now, and whether one was ever seen (the world came and went).
+  std::uint32_t world_writers_alive() const;
+  bool world_seen() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// ---- commands ---------------------------------------------------------------------------------------------
+
+enum class CommandKind : std::uint8_t {
+  Step = 0,   // the command of `tick`
+  Claim = 1,  // this writer claims robot_id; `nonce` identifies the attempt
+};
+
+struct CommandSample {
+  RobotId robot_id = 0;
+  CommandKind kind = CommandKind::Step;
+  Tick tick = 0;
+  std::uint64_t nonce = 0;
+  std::uint32_t pid = 0;
+  Command command;
+  PublicationHandle writer = 0;  // who sent it (the identity)
+};
+
+class CommandWriter {
+ public:
+  explicit CommandWriter(const Participant& participant);
+  ~CommandWriter();
+  CommandWriter(const CommandWriter&) = delete;
+  CommandWriter& operator=(const CommandWriter&) = delete;
+  void claim(RobotId id, std::uint64_t nonce, std::uint32_t pid);
+  void step(RobotId id, Tick tick, const Command& command);
+  dds_entity_t get() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// World side. A listener follows the liveliness of every command writer and wakes `waiter` when one is lost.
+class CommandReader {
+ public:
+  CommandReader(const Participant& participant, Waiter& waiter);
+  ~CommandReader();
+  CommandReader(const CommandReader&) = delete;
+  CommandReader& operator=(const CommandReader&) = delete;
+
+  dds_entity_t condition() const;
+  // Takes what is available into buf[0..n) (grown as needed, elements reused: no allocation once warm).
+  std::size_t take(std::vector<CommandSample>& buf);
+  // Writers whose liveliness was lost, or which went away, since the last call (appended to `out`).
+  void take_lost_writers(std::vector<PublicationHandle>& out);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// ---- observers --------------------------------------------------------------------------------------------
+
+struct RobotPoseRow {
+  RobotId id = 0;
+  Pose2D pose;
+  bool alive = true;
+  std::int32_t state = 0;
+  std::int32_t label = -1;
+};
+
+class WorldStateWriter {
+ public:
+  explicit WorldStateWriter(const Participant& participant);
+  ~WorldStateWriter();
+  WorldStateWriter(const WorldStateWriter&) = delete;
+  WorldStateWriter& operator=(const WorldStateWriter&) = delete;
+  void publish(Tick tick, bool finished, std::uint32_t alive, const std::vector<RobotPoseRow>& robots);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+struct WorldStateHeader {
+  Tick tick = 0;
+  bool finished = false;
+  std::uint32_t alive = 0;
+};
+
+class WorldStateReader {
+ public:
+  explicit WorldStateReader(const Participant& participant);
+  dds_entity_t condition() const { return condition_.get(); }
+  std::optional<WorldStateHeader> take();  // the newest
+
+ private:
+  Entity reader_;
+  Entity condition_;
+};
+
+}  // namespace swarmform::dds

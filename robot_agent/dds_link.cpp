@@ -1,0 +1,107 @@
+#include "robot_agent/dds_link.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <random>
+
+namespace swarmform::agent {
+
+namespace {
+
+dds_time_t after(double seconds) {
+  return dds_time() + static_cast<dds_duration_t>(seconds * 1e9);
+}
+
+std::uint64_t fresh_nonce() {
+  std::random_device rd;
+  const std::uint64_t r = (static_cast<std::uint64_t>(rd()) << 32) ^ rd();
+  return r ^ (static_cast<std::uint64_t>(getpid()) << 16) ^ static_cast<std::uint64_t>(dds_time());
+}
+
+}  // namespace
+
+AgentLink::AgentLink(const dds::DdsSettings& settings, RobotId self, dds::SignalWatch& signals)
+    : self_(self),
+      signals_(signals),
+      participant_(settings),
+      waiter_(participant_),
+      mission_(participant_),
+      inbox_(participant_, self, waiter_),
+      commands_(participant_) {
+  waiter_.attach(mission_.condition());
+  waiter_.attach(inbox_.packet_condition());
+  waiter_.attach(inbox_.claim_condition());
+  signals_.notify(&waiter_);
+}
+
+AgentLink::~AgentLink() {
+  signals_.notify(nullptr);
+}
+
+WaitResult AgentLink::wait_mission(double timeout_s, dds::MissionAnnouncement& out) {
+  const dds_time_t deadline = after(timeout_s);
+  for (;;) {
+    if (auto m = mission_.take()) {
+      out = std::move(*m);
+      return WaitResult::Ok;
+    }
+    if (signals_.stop_requested()) return WaitResult::Stopped;
+    if (dds_time() >= deadline) return WaitResult::Timeout;
+    waiter_.wait_until(deadline);
+  }
+}
+
+WaitResult AgentLink::claim(double timeout_s, dds::ClaimAnswer& out) {
+  const dds_time_t deadline = after(timeout_s);
+  const std::uint64_t nonce = fresh_nonce();
+  dds_time_t resend = 0;
+  for (;;) {
+    while (auto answer = inbox_.take_claim_reply()) {
+      // A reply to an earlier attempt (ours or a previous agent's with this id) is not an answer to this one.
+      if (answer->nonce == nonce) {
+        out = std::move(*answer);
+        return WaitResult::Ok;
+      }
+    }
+    (void)mission_.take();  // a republished mission is not news here
+    if (signals_.stop_requested()) return WaitResult::Stopped;
+    const dds_time_t now = dds_time();
+    if (now >= deadline) return WaitResult::Timeout;
+    if (now >= resend) {
+      // Re-sent every second: a claim written before the world matched our writer is lost (volatile).
+      commands_.claim(self_, nonce, static_cast<std::uint32_t>(getpid()));
+      resend = now + DDS_SECS(1);
+    }
+    waiter_.wait_until(std::min(deadline, resend));
+  }
+}
+
+WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out) {
+  dds_time_t idle_deadline = after(idle_timeout_s);
+  for (;;) {
+    if (inbox_.take_packet(out, foreign_)) {
+      ++packets_;
+      return WaitResult::Ok;
+    }
+    (void)mission_.take();
+    (void)inbox_.take_claim_reply();
+    if (signals_.stop_requested()) return WaitResult::Stopped;
+    const std::uint32_t alive = inbox_.world_writers_alive();
+    if (alive == 0 && inbox_.world_seen()) return WaitResult::WorldGone;
+    const dds_time_t now = dds_time();
+    if (alive > 0) {
+      idle_deadline = now + static_cast<dds_duration_t>(idle_timeout_s * 1e9);
+    } else if (now >= idle_deadline) {
+      return WaitResult::Timeout;
+    }
+    // Wake at least once a second to re-check the world's liveliness against the idle deadline.
+    waiter_.wait_until(std::min(idle_deadline, now + DDS_SECS(1)));
+  }
+}
+
+void AgentLink::send(Tick tick, const Command& command) {
+  commands_.step(self_, tick, command);
+}
+
+}  // namespace swarmform::agent

@@ -1,0 +1,51 @@
+// The agent's side of the DDS wire, as four verbs main() reads top to bottom: wait for the mission, claim the
+// id, take the next own packet, send the command. Every wait blocks on one waitset (no polling sleeps) and
+// ends on data, a signal, the world going away, or a deadline.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "common/dds/signal_watch.hpp"
+#include "common/dds/wire.hpp"
+
+namespace swarmform::agent {
+
+enum class WaitResult {
+  Ok,
+  Timeout,    // the deadline passed
+  Stopped,    // SIGINT/SIGTERM
+  WorldGone,  // the world's packet writer was alive and is no more
+};
+
+class AgentLink {
+ public:
+  AgentLink(const dds::DdsSettings& settings, RobotId self, dds::SignalWatch& signals);
+  ~AgentLink();
+  AgentLink(const AgentLink&) = delete;
+  AgentLink& operator=(const AgentLink&) = delete;
+
+  WaitResult wait_mission(double timeout_s, dds::MissionAnnouncement& out);
+  // Sends a claim (again every second) until the world answers this attempt or `timeout_s` passes.
+  WaitResult claim(double timeout_s, dds::ClaimAnswer& out);
+  // The next packet of this robot. While the world is alive this waits as long as it takes (the world may be
+  // waiting for other agents); `idle_timeout_s` bounds the wait only while no world writer is alive.
+  WaitResult next_packet(double idle_timeout_s, dds::SensorSample& out);
+  void send(Tick tick, const Command& command);
+
+  std::uint64_t packets() const { return packets_; }
+  std::uint64_t foreign_packets() const { return foreign_; }
+
+ private:
+  RobotId self_;
+  dds::SignalWatch& signals_;
+  dds::Participant participant_;
+  dds::Waiter waiter_;
+  dds::MissionReader mission_;
+  dds::AgentInbox inbox_;
+  dds::CommandWriter commands_;
+  std::uint64_t packets_ = 0;
+  std::uint64_t foreign_ = 0;
+};
+
+}  // namespace swarmform::agent

@@ -1,0 +1,131 @@
+// robot_agent --id K: one robot's process. It takes the mission from the world's durable topic, makes its
+// controller, claims its id, then each tick reads its own SensorPacket (partition robot/K), steps the
+// controller and writes its Command, until the world announces the end (exit 0).
+//
+// Exit codes: 0 the run ended (or --help); 2 bad flags or an unusable mission; 3 no world within --timeout,
+// or the world went away mid-run; 4 the id was refused; 1 anything else (a DDS failure, a controller
+// exception); 128+signal when stopped by SIGINT/SIGTERM. The last stdout line is a summary a test can read:
+//   agent id=K packets=P foreign_packets=F
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+#include "common/dds/signal_watch.hpp"
+#include "common/input_error.hpp"
+#include "robot_agent/controller/controller.hpp"
+#include "robot_agent/dds_link.hpp"
+
+namespace {
+
+using swarmform::agent::AgentLink;
+using swarmform::agent::WaitResult;
+
+struct Options {
+  std::uint32_t id = 0;
+  std::uint32_t domain = 0;
+  std::string world_host = "127.0.0.1";
+  std::string interface_address;
+  double timeout_s = 60.0;
+};
+
+int run(const Options& o, swarmform::dds::SignalWatch& signals) {
+  const std::string me = "robot_agent " + std::to_string(o.id);
+  swarmform::dds::DdsSettings settings;
+  settings.domain = o.domain;
+  settings.role = swarmform::dds::Role::Agent;
+  settings.world_host = o.world_host;
+  settings.interface_address = o.interface_address;
+  AgentLink link(settings, o.id, signals);
+
+  auto stopped = [&](int code) {
+    std::cout << "agent id=" << o.id << " packets=" << link.packets()
+              << " foreign_packets=" << link.foreign_packets() << std::endl;
+    return code;
+  };
+
+  swarmform::dds::MissionAnnouncement mission;
+  switch (link.wait_mission(o.timeout_s, mission)) {
+    case WaitResult::Ok:
+      break;
+    case WaitResult::Stopped:
+      return stopped(128 + signals.signal());
+    default:
+      std::cerr << me << ": no world on DDS domain " << o.domain << " (peer " << o.world_host << ") within "
+                << o.timeout_s << " s; is world_server running?\n";
+      return stopped(3);
+  }
+
+  std::unique_ptr<swarmform::controller::Controller> controller;
+  try {
+    controller = swarmform::controller::make_controller(mission.mission, o.id);
+  } catch (const swarmform::InputError& e) {
+    std::cerr << me << ": unusable mission: " << e.what() << "\n";
+    return stopped(2);
+  }
+
+  swarmform::dds::ClaimAnswer answer;
+  switch (link.claim(o.timeout_s, answer)) {
+    case WaitResult::Ok:
+      break;
+    case WaitResult::Stopped:
+      return stopped(128 + signals.signal());
+    default:
+      std::cerr << me << ": the world did not answer the claim of id " << o.id << " within " << o.timeout_s
+                << " s\n";
+      return stopped(3);
+  }
+  if (!answer.accepted) {
+    std::cerr << me << ": refused: " << answer.reason << "\n";
+    return stopped(4);
+  }
+
+  swarmform::dds::SensorSample packet;
+  for (;;) {
+    switch (link.next_packet(o.timeout_s, packet)) {
+      case WaitResult::Ok:
+        break;
+      case WaitResult::Stopped:
+        return stopped(128 + signals.signal());
+      case WaitResult::WorldGone:
+        std::cerr << me << ": the world went away before announcing the end\n";
+        return stopped(3);
+      case WaitResult::Timeout:
+        std::cerr << me << ": no packet and no world for " << o.timeout_s << " s\n";
+        return stopped(3);
+    }
+    if (packet.status == swarmform::dds::PacketStatus::End) return stopped(0);
+    const swarmform::Command command = controller->step(packet.perception);
+    link.send(packet.perception.tick, command);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  CLI::App app{"robot_agent: one robot of a swarmform run, as its own process over DDS"};
+  app.add_option("--id", o.id, "this robot's id (0..N-1)")->required();
+  app.add_option("--domain", o.domain, "DDS domain id (0..232)")->check(CLI::Range(0u, 232u));
+  app.add_option("--world-host", o.world_host, "address of the world server's host (its discovery peer)");
+  app.add_option("--interface", o.interface_address,
+                 "local interface address to use (default: loopback when the world is on loopback)");
+  app.add_option("--timeout", o.timeout_s, "seconds to wait for the world (mission, claim answer, packets)")
+      ->check(CLI::PositiveNumber);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return e.get_exit_code() == 0 ? app.exit(e) : (app.exit(e), 2);
+  }
+
+  try {
+    swarmform::dds::SignalWatch signals;  // first: every DDS thread inherits the blocked signal mask
+    return run(o, signals);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "robot_agent: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "robot_agent " << o.id << ": " << e.what() << "\n";
+    return 1;
+  }
+}
