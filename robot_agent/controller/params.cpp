@@ -55,6 +55,7 @@ FormationParams params_from_mission(const Mission& mission) {
   p.m_obstacle = value("m_obstacle");
   p.obstacle_range = value("obstacle_range");
   p.neighbour_mask_angle = value("neighbour_mask_angle");
+  p.overrides = mission.params;
   return p;
 }
 

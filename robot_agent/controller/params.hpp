@@ -3,6 +3,8 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
+#include <string>
 
 #include "common/mission.hpp"
 #include "common/types.hpp"
@@ -36,6 +38,9 @@ struct FormationParams {
   double m_obstacle = 0.05;
   double obstacle_range = 0.6;
   double neighbour_mask_angle = 0.35;
+  // Every parameter as the mission set it (name -> value), for phases that read their own rows of
+  // common/controller_params.hpp with param_value() (the motion phases: motion_params.hpp).
+  std::map<std::string, double> overrides;
 
   double dt() const { return 1.0 / tick_rate; }  // s per tick
 };
