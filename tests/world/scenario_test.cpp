@@ -1,0 +1,244 @@
+// The scenario loader: every file in scenarios/ loads; bad files are refused with file:line and what.
+#include "world_server/world/scenario.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "common/input_error.hpp"
+#include "world_server/world/placement.hpp"
+
+namespace swarmform::world {
+namespace {
+
+const std::string kRepo = SWARMFORM_REPO_DIR;
+// Inline scenarios pretend to live in scenarios/, so `shape: triangle.txt` resolves as in a real file.
+const std::string kOrigin = kRepo + "/scenarios/inline-test.yaml";
+
+Scenario parse(const std::string& text, const ScenarioOverrides& ov = {}) {
+  return parse_scenario_text(text, kOrigin, ov);
+}
+
+// Parsing must fail at `line` with a message containing `what`.
+void expect_rejected(const std::string& text, int line, const std::string& what) {
+  try {
+    parse(text);
+    ADD_FAILURE() << "accepted:\n" << text;
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), kOrigin);
+    EXPECT_EQ(e.line(), line) << e.what();
+    EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    if (line > 0) {
+      EXPECT_NE(std::string(e.what()).find("inline-test.yaml:" + std::to_string(line) + ": "),
+                std::string::npos)
+          << e.what();
+    }
+  }
+}
+
+bool connected(const std::vector<Pose2D>& poses, double range) {
+  std::vector<char> seen(poses.size(), 0);
+  std::vector<std::size_t> stack{0};
+  seen[0] = 1;
+  std::size_t count = 1;
+  while (!stack.empty()) {
+    const std::size_t i = stack.back();
+    stack.pop_back();
+    for (std::size_t j = 0; j < poses.size(); ++j) {
+      if (!seen[j] && std::hypot(poses[i].x - poses[j].x, poses[i].y - poses[j].y) <= range) {
+        seen[j] = 1;
+        ++count;
+        stack.push_back(j);
+      }
+    }
+  }
+  return count == poses.size();
+}
+
+TEST(Scenario, EveryFileInScenariosLoads) {
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(kRepo + "/scenarios")) {
+    if (entry.path().extension() != ".yaml") continue;
+    ++files;
+    EXPECT_NO_THROW({
+      const Scenario s = load_scenario(entry.path().string());
+      EXPECT_GT(s.robots.size(), 0u);
+      EXPECT_GT(s.mission.shape.label_count(), 0);
+    }) << entry.path();
+  }
+  EXPECT_GE(files, 3);
+}
+
+TEST(Scenario, PaperScenarioIsThePapersRun) {
+  const Scenario s = load_scenario(kRepo + "/scenarios/paper.yaml");
+  EXPECT_EQ(s.mode, Mode::Lockstep);
+  EXPECT_EQ(s.robots.size(), static_cast<std::size_t>(s.mission.shape.label_count()));
+  EXPECT_NEAR(std::hypot(s.mission.goal.x, s.mission.goal.y), 10.0, 1.0);
+  bool big_box = false, small_post = false;
+  for (const Obstacle& o : s.obstacles) {
+    if (o.kind == Obstacle::Kind::Box && 2.0 * std::max(o.half_extents.x, o.half_extents.y) > 2.0)
+      big_box = true;
+    if (o.kind == Obstacle::Kind::Cylinder && o.radius < s.mission.grid_spacing / 2.0) small_post = true;
+  }
+  EXPECT_TRUE(big_box);
+  EXPECT_TRUE(small_post);
+}
+
+TEST(Scenario, MinimalFileGetsDefaultsAndAConnectedRandomPlacement) {
+  const Scenario s = parse("shape: triangle.txt\n");
+  EXPECT_EQ(s.robots.size(), 9u);  // the triangle's labels
+  EXPECT_EQ(s.mission.shape.label_count(), 9);
+  EXPECT_EQ(s.comm_range, 3.0);
+  EXPECT_TRUE(connected(s.robots, kLinkFraction * s.comm_range));
+  for (std::size_t i = 0; i < s.robots.size(); ++i) {
+    for (std::size_t j = i + 1; j < s.robots.size(); ++j) {
+      EXPECT_GE(std::hypot(s.robots[i].x - s.robots[j].x, s.robots[i].y - s.robots[j].y), kMinSeparation);
+    }
+    EXPECT_LT(std::hypot(s.robots[i].x, s.robots[i].y), 3.0);  // near the origin
+  }
+}
+
+TEST(Scenario, SeedAndRobotOverridesDecidePlacement) {
+  const std::string text = "shape: triangle.txt\nrobots: {count: 20}\nseed: 4\n";
+  const Scenario a = parse(text), b = parse(text);
+  ASSERT_EQ(a.robots.size(), 20u);
+  for (std::size_t i = 0; i < 20; ++i) EXPECT_EQ(a.robots[i].x, b.robots[i].x);
+  ScenarioOverrides ov;
+  ov.seed = 5;
+  ov.robots = 300;
+  const Scenario c = parse(text, ov);
+  EXPECT_EQ(c.seed, 5u);
+  EXPECT_EQ(c.mission.seed, 5u);
+  ASSERT_EQ(c.robots.size(), 300u);
+  EXPECT_TRUE(connected(c.robots, kLinkFraction * c.comm_range));
+  EXPECT_NE(c.robots[0].x, a.robots[0].x);
+}
+
+TEST(Scenario, ListedPosesControllerAndEverySection) {
+  const Scenario s = parse(R"(shape: ../shapes/square.txt
+arena: {centre: [0, 0], width: 10, height: 8, walls: false}
+obstacles:
+  - {type: box, name: b, centre: [3, 0], size: [1, 2], yaw: 0.5}
+  - {type: cylinder, centre: [-3, 1], radius: 0.25}
+robots:
+  poses:
+    - [0, 0, 0]
+    - [0.5, 0, 1.57]
+    - [1.0, 0]
+comm_range: 2.5
+noise: {range: 0.01, bearing: 0.02, ultrasonic: 0.03}
+packet_loss: 0.1
+occlusion: true
+mode: realtime
+tick_rate: 20
+substeps: 5
+lockstep_deadline: 1.5
+seed: 99
+max_ticks: 1000
+kills: [{id: 1, tick: 50}]
+goal: {x: 4, y: 3, radius: 0.4}
+grid_spacing: 1.4
+max_speed: 0.2
+behaviour: random_walk
+max_message_bytes: 512
+controller: {k_o: 2.0, neighbour_timeout: 30}
+)");
+  EXPECT_EQ(s.robots.size(), 3u);
+  EXPECT_DOUBLE_EQ(s.robots[1].theta, 1.57);
+  EXPECT_EQ(s.obstacles.size(), 2u);
+  EXPECT_DOUBLE_EQ(s.obstacles[0].half_extents.y, 1.0);
+  EXPECT_FALSE(s.walls);
+  EXPECT_EQ(s.mode, Mode::Realtime);
+  EXPECT_EQ(s.substeps, 5);
+  EXPECT_TRUE(s.occlusion);
+  EXPECT_EQ(s.kills.size(), 1u);
+  EXPECT_EQ(s.mission.params.at("k_o"), 2.0);
+  EXPECT_EQ(s.mission.behaviour, "random_walk");
+  EXPECT_EQ(s.mission.tick_rate, 20.0);
+  EXPECT_EQ(s.mission.comm_range, 2.5);
+  EXPECT_EQ(s.mission.max_message_bytes, 512u);
+}
+
+TEST(Scenario, RejectsUnknownKeys) {
+  expect_rejected("shape: triangle.txt\ncomm_rang: 3\n", 2, "comm_rang: unknown key");
+  expect_rejected("shape: triangle.txt\narena:\n  width: 10\n  walls: true\n  colour: red\n", 5,
+                  "arena.colour");
+  expect_rejected(
+      "shape: triangle.txt\nobstacles:\n  - {type: box, centre: [1, 1], size: [1, 1], radius: 2}\n", 3,
+      "obstacles[0].radius: unknown key");
+}
+
+TEST(Scenario, RejectsWrongTypes) {
+  expect_rejected("shape: triangle.txt\ncomm_range: far\n", 2, "comm_range: expected a finite number");
+  expect_rejected("shape: triangle.txt\noccurrence: 1\n", 2, "unknown key");
+  expect_rejected("shape: triangle.txt\nocclusion: maybe\n", 2, "occlusion: expected true or false");
+  expect_rejected("shape: triangle.txt\nsubsteps: 2.5\n", 2, "substeps: expected an integer");
+  expect_rejected("shape: triangle.txt\narena: [1, 2]\n", 2, "arena: expected a map");
+  expect_rejected("shape: triangle.txt\nseed: -3\n", 2, "seed: expected a non-negative integer");
+  expect_rejected("shape: triangle.txt\ncomm_range: .nan\n", 2, "finite");
+  expect_rejected("shape: triangle.txt\nmode: fast\n", 2, "mode: expected lockstep or realtime");
+}
+
+TEST(Scenario, RejectsOutOfRangeValues) {
+  expect_rejected(
+      "shape: triangle.txt\nobstacles:\n  - type: cylinder\n    centre: [1, 1]\n    radius: -0.3\n", 5,
+      "obstacles[0].radius: must be > 0");
+  expect_rejected("shape: triangle.txt\npacket_loss: 1.0\n", 2, "packet_loss: must be in [0, 1)");
+  expect_rejected("shape: triangle.txt\nmax_speed: 0\n", 2, "max_speed: must be > 0");
+  expect_rejected("shape: triangle.txt\ntick_rate: -10\n", 2, "tick_rate");
+  expect_rejected("shape: triangle.txt\ngoal: {x: 40, y: 0}\n", 2, "goal: lies outside");
+}
+
+TEST(Scenario, RejectsOverlappingListedRobots) {
+  expect_rejected("shape: triangle.txt\nrobots:\n  poses:\n    - [0, 0, 0]\n    - [0.1, 0, 0]\n", 5,
+                  "robot 1 overlaps robot 0");
+  expect_rejected(
+      "shape: triangle.txt\nobstacles: [{type: cylinder, centre: [2, 0], radius: 0.5}]\n"
+      "robots:\n  poses:\n    - [0, 0, 0]\n    - [2.3, 0, 0]\n",
+      6, "robot 1 overlaps an obstacle");
+}
+
+TEST(Scenario, RejectsAMissingShapeFile) {
+  expect_rejected("comm_range: 3\nshape: no_such_shape.txt\n", 2,
+                  "shape: file 'no_such_shape.txt' not found");
+  expect_rejected("comm_range: 3\n", 0, "shape: missing");
+}
+
+TEST(Scenario, RejectsBadControllerParameters) {
+  expect_rejected("shape: triangle.txt\ncontroller:\n  k_o: 1.0\n  k_wobble: 2\n", 4,
+                  "controller.k_wobble: unknown controller parameter");
+  expect_rejected("shape: triangle.txt\ncontroller:\n  r_o: 50\n", 3, "controller.r_o: must be in [0, 5]");
+  expect_rejected("shape: triangle.txt\ncontroller:\n  k_o: lots\n", 3,
+                  "controller.k_o: expected a finite number");
+}
+
+TEST(Scenario, RejectsSyntaxErrorsAndDuplicatesWithTheirLine) {
+  expect_rejected("shape: triangle.txt\narena:\n  width: [1, 2\n", 4, "YAML syntax");
+  expect_rejected("shape: triangle.txt\nseed: 1\nseed: 2\n", 3, "seed: duplicate key");
+}
+
+TEST(Scenario, RejectsKillsOfRobotsThatDoNotExist) {
+  expect_rejected("shape: triangle.txt\nkills:\n  - {id: 3, tick: 10}\n  - {id: 9, tick: 10}\n", 4,
+                  "kill of robot 9, but there are only 9 robots");
+}
+
+TEST(Scenario, RejectsARegionTooSmallForItsRobots) {
+  expect_rejected(
+      "shape: triangle.txt\nrobots:\n  count: 50\n  region: {centre: [0, 0], width: 1, height: 1}\n", 3,
+      "cannot place 50 robots");
+}
+
+TEST(Scenario, LoadReportsAnUnreadableFile) {
+  try {
+    load_scenario(kRepo + "/scenarios/does-not-exist.yaml");
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 0);
+    EXPECT_NE(std::string(e.what()).find("cannot open"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace swarmform::world

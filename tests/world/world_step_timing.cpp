@@ -1,0 +1,45 @@
+// For information, not a test: the wall time of World::step for N robots with no controllers (every robot
+// drives slowly forward and broadcasts 32 bytes every tick). Usage: world_step_timing [N] [ticks]
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+
+#include "world_server/world/placement.hpp"
+#include "world_server/world/world.hpp"
+
+int main(int argc, char** argv) {
+  using namespace swarmform;
+  using namespace swarmform::world;
+  const std::size_t n = argc > 1 ? std::strtoul(argv[1], nullptr, 10) : 1000;
+  const int ticks = argc > 2 ? std::atoi(argv[2]) : 50;
+  Scenario s;
+  s.walls = false;
+  s.seed = 1;
+  const PlacementRegion region = default_region(n);
+  auto poses = place_randomly(n, region, s, s.seed);
+  if (!poses) {
+    std::fprintf(stderr, "cannot place %zu robots\n", n);
+    return 1;
+  }
+  s.robots = *poses;
+  World w(s);
+  Command c;
+  c.left_speed = 0.05;
+  c.right_speed = 0.06;
+  c.message.assign(32, 7);
+  double total = 0.0;
+  for (int t = 0; t < ticks; ++t) {
+    for (RobotId i = 0; i < n; ++i) w.apply_command(i, c);
+    const auto t0 = std::chrono::steady_clock::now();
+    w.step();
+    total += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  std::size_t heard = 0;
+  for (RobotId i = 0; i < n; ++i) heard += w.perception(i).messages.size();
+  std::printf(
+      "N=%zu region %.1f m square: World::step %.2f ms/tick, %.2f us/robot-tick, %.0f robot-ticks/s; "
+      "%.1f messages heard per robot\n",
+      n, region.width, 1e3 * total / ticks, 1e6 * total / (ticks * static_cast<double>(n)),
+      ticks * static_cast<double>(n) / total, static_cast<double>(heard) / static_cast<double>(n));
+  return 0;
+}

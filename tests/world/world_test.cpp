@@ -1,0 +1,192 @@
+// World: the tick (messages at t+1), command checks, kill and revive, contacts, determinism.
+#include "world_server/world/world.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <numbers>
+
+#include "test_scenarios.hpp"
+#include "world_server/world/placement.hpp"
+
+namespace swarmform::world {
+namespace {
+
+using testing::open_scenario;
+
+Command drive(double l, double r, std::vector<std::uint8_t> msg = {}) {
+  Command c;
+  c.left_speed = l;
+  c.right_speed = r;
+  c.message = std::move(msg);
+  return c;
+}
+
+TEST(World, MessageOfTickTArrivesAtTickTPlusOneOnly) {
+  World w(open_scenario({Pose2D{0, 0, 0}, Pose2D{1, 0, 0}}));
+  EXPECT_EQ(w.tick(), 0u);
+  EXPECT_EQ(w.apply_command(0, drive(0, 0, {1, 2, 3})), CommandVerdict::Ok);
+  EXPECT_TRUE(w.perception(1).messages.empty());  // not before the step
+  w.step();
+  EXPECT_EQ(w.tick(), 1u);
+  EXPECT_EQ(w.perception(1).tick, 1u);
+  ASSERT_EQ(w.perception(1).messages.size(), 1u);
+  EXPECT_EQ(w.perception(1).messages[0].data, (std::vector<std::uint8_t>{1, 2, 3}));
+  EXPECT_TRUE(w.perception(0).messages.empty());
+  w.step();  // nothing said at tick 1
+  EXPECT_TRUE(w.perception(1).messages.empty());
+}
+
+TEST(World, NonFiniteCommandIsRejectedAndTheRobotKeepsStill) {
+  World w(open_scenario({Pose2D{0, 0, 0}, Pose2D{1, 0, 0}}));
+  w.apply_command(0, drive(0.1, 0.1));
+  w.step();
+  const double x = w.robots()[0].pose.x;
+  EXPECT_EQ(w.apply_command(0, drive(std::numeric_limits<double>::quiet_NaN(), 0.1, {9})),
+            CommandVerdict::RejectedNonFinite);
+  EXPECT_EQ(w.apply_command(0, drive(0.1, std::numeric_limits<double>::infinity(), {9})),
+            CommandVerdict::RejectedNonFinite);
+  w.step();
+  EXPECT_EQ(w.robots()[0].pose.x, x);
+  EXPECT_TRUE(w.perception(1).messages.empty());
+}
+
+TEST(World, OverLimitSpeedIsClampedToTheLimit) {
+  Scenario s = open_scenario({Pose2D{0, 0, 0}});
+  s.mission.max_speed = 0.1;
+  World w(s);
+  EXPECT_EQ(w.apply_command(0, drive(5.0, 5.0)), CommandVerdict::Clamped);
+  for (int t = 0; t < 10; ++t) w.step();  // the wheel speeds persist
+  EXPECT_NEAR(w.robots()[0].pose.x, 0.1, 0.001);
+  EXPECT_EQ(w.apply_command(0, drive(-0.1, 0.1)), CommandVerdict::Ok);
+  EXPECT_EQ(w.apply_command(0, drive(-0.2, 0.05)), CommandVerdict::Clamped);
+}
+
+TEST(World, OversizeMessageIsDroppedButTheWheelsApply) {
+  Scenario s = open_scenario({Pose2D{0, 0, 0}, Pose2D{1, 0, 0}});
+  s.mission.max_message_bytes = 8;
+  World w(s);
+  EXPECT_EQ(w.apply_command(0, drive(0.1, 0.1, std::vector<std::uint8_t>(9, 1))),
+            CommandVerdict::MessageDropped);
+  w.step();
+  EXPECT_TRUE(w.perception(1).messages.empty());
+  EXPECT_GT(w.robots()[0].pose.x, 0.005);
+  EXPECT_EQ(w.apply_command(0, drive(0.1, 0.1, std::vector<std::uint8_t>(8, 1))), CommandVerdict::Ok);
+}
+
+TEST(World, DeadAndUnknownRobotsAreRefused) {
+  World w(open_scenario({Pose2D{0, 0, 0}, Pose2D{1, 0, 0}}));
+  EXPECT_EQ(w.apply_command(2, drive(0, 0)), CommandVerdict::UnknownRobot);
+  w.kill(1);
+  EXPECT_FALSE(w.alive(1));
+  EXPECT_FALSE(w.robots()[1].alive);
+  EXPECT_EQ(w.apply_command(1, drive(0.1, 0.1, {1})), CommandVerdict::DeadRobot);
+  w.apply_command(0, drive(0, 0, {5}));
+  w.step();
+  EXPECT_TRUE(w.perception(1).messages.empty());  // a dead robot hears nothing
+  EXPECT_EQ(w.robots()[1].pose.x, 1.0);
+}
+
+TEST(World, KilledRobotStopsAndRevivedRobotDrivesAgain) {
+  World w(open_scenario({Pose2D{0, 0, 0}, Pose2D{2, 0, 0}}));
+  w.apply_command(0, drive(0.1, 0.1));
+  w.step();
+  w.kill(0);
+  const Pose2D at_death = w.robots()[0].pose;
+  for (int t = 0; t < 5; ++t) w.step();
+  EXPECT_EQ(w.robots()[0].pose.x, at_death.x);
+  w.revive(0);
+  EXPECT_TRUE(w.alive(0));
+  EXPECT_EQ(w.robots()[0].pose.x, at_death.x);  // a fresh robot where the body stood
+  for (int t = 0; t < 5; ++t) w.step();
+  EXPECT_EQ(w.robots()[0].pose.x, at_death.x);  // wheels start at zero
+  w.apply_command(0, drive(0.1, 0.1, {3}));
+  w.step();
+  EXPECT_NEAR(w.robots()[0].pose.x, at_death.x + 0.01, 1e-4);
+  ASSERT_EQ(w.perception(1).messages.size(), 1u);
+}
+
+TEST(World, TelemetryFromTheLastCommandIsKept) {
+  World w(open_scenario({Pose2D{0, 0, 0}}));
+  Command c = drive(0, 0);
+  c.telemetry.state = 3;
+  c.telemetry.label = 5;
+  c.telemetry.leader = true;
+  w.apply_command(0, c);
+  w.step();
+  EXPECT_EQ(w.robots()[0].telemetry.state, 3);
+  EXPECT_EQ(w.robots()[0].telemetry.label, 5);
+  EXPECT_TRUE(w.robots()[0].telemetry.leader);
+}
+
+TEST(World, ContactsCountedThroughTheWorld) {
+  Scenario s = open_scenario({Pose2D{0, 0, 0}, Pose2D{0.5, 0, std::numbers::pi}});
+  s.obstacles.push_back(testing::box(0.25, 1.0, 0.5, 0.2));
+  World w(s);
+  std::uint32_t rr = 0, ro = 0;
+  w.apply_command(0, drive(0.1, 0.1));
+  w.apply_command(1, drive(0.1, 0.1));
+  for (int t = 0; t < 40; ++t) {
+    w.step();
+    rr += w.last_contacts().robot_robot;
+    ro += w.last_contacts().robot_obstacle;
+  }
+  EXPECT_EQ(rr, 1u);
+  EXPECT_EQ(ro, 0u);
+}
+
+// Robots crowded in a walled arena with pseudo-random commands (they collide), and messages with noise and
+// loss: two worlds from the same scenario and commands give bit-identical poses and perceptions.
+TEST(World, SameScenarioAndCommandsGiveBitIdenticalRuns) {
+  Scenario s;
+  s.arena_centre = Vec2{0, 0};
+  s.arena_width = 4.0;
+  s.arena_height = 4.0;
+  s.obstacles.push_back(testing::cylinder(0.5, 0.5, 0.3));
+  s.packet_loss = 0.2;
+  s.range_noise_sd = 0.05;
+  s.bearing_noise_sd = 0.05;
+  s.ultrasonic_noise_sd = 0.02;
+  s.seed = 11;
+  s.mission.max_speed = 0.3;
+  s.robots = *place_randomly(30, PlacementRegion{Vec2{0, 0}, 3.5, 3.5}, s, s.seed);
+  World a(s), b(s);
+  std::uint64_t lcg = 12345;
+  auto next = [&] {
+    lcg = lcg * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(lcg >> 11) * 0x1.0p-53;
+  };
+  std::uint32_t contacts = 0;
+  for (int t = 0; t < 300; ++t) {
+    for (RobotId i = 0; i < 30; ++i) {
+      const Command c = drive(0.6 * next() - 0.3, 0.6 * next() - 0.3, {static_cast<std::uint8_t>(t), 1});
+      a.apply_command(i, c);
+      b.apply_command(i, c);
+    }
+    if (t == 100) {
+      a.kill(4);
+      b.kill(4);
+    }
+    a.step();
+    b.step();
+    contacts += a.last_contacts().robot_robot + a.last_contacts().robot_obstacle;
+  }
+  EXPECT_GT(contacts, 0u);  // the run did exercise collisions
+  for (RobotId i = 0; i < 30; ++i) {
+    const Pose2D pa = a.robots()[i].pose, pb = b.robots()[i].pose;
+    EXPECT_EQ(std::memcmp(&pa, &pb, sizeof(Pose2D)), 0) << i;
+    const Perception& qa = a.perception(i);
+    const Perception& qb = b.perception(i);
+    ASSERT_EQ(qa.messages.size(), qb.messages.size());
+    for (std::size_t k = 0; k < qa.messages.size(); ++k) {
+      EXPECT_EQ(qa.messages[k].range, qb.messages[k].range);
+      EXPECT_EQ(qa.messages[k].bearing, qb.messages[k].bearing);
+    }
+    EXPECT_EQ(qa.ultrasonic, qb.ultrasonic);
+  }
+}
+
+}  // namespace
+}  // namespace swarmform::world

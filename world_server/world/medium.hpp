@@ -1,0 +1,64 @@
+// The range-and-bearing medium (SPEC section 3), after ARGoS: the medium decides WHO hears whom (spatial
+// grid, range test on the true centre distance, optional line of sight, per-copy loss), and to_receiver_frame
+// decides WHAT is perceived (range and bearing in the receiver's frame, with noise). Messages given to
+// deliver() are those of tick t; they land in the perceptions of tick t+1, only of live robots, never of the
+// sender itself, never from a dead sender. All randomness comes from one seeded stream, drawn in a fixed
+// order (senders by id, then receivers by id), so a run replays exactly.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "common/types.hpp"
+#include "world_server/world/geometry.hpp"
+#include "world_server/world/rng.hpp"
+#include "world_server/world/spatial_grid.hpp"
+
+namespace swarmform::world {
+
+struct MediumParams {
+  double comm_range = 3.0;        // m
+  double range_noise_sd = 0.0;    // m
+  double bearing_noise_sd = 0.0;  // rad
+  double packet_loss = 0.0;       // per copy
+  bool occlusion = false;         // static bodies (obstacles, walls) block; robots never do
+};
+
+struct RangeBearing {
+  double range = 0.0;    // m, centre to centre
+  double bearing = 0.0;  // rad, in the receiver's frame, CCW from its heading, (-pi, pi]
+};
+
+// The sender's position as the receiver perceives it (no noise).
+RangeBearing to_receiver_frame(const Pose2D& sender, const Pose2D& receiver);
+
+// One robot's outgoing message of this tick.
+struct Outbox {
+  bool has_message = false;
+  std::vector<std::uint8_t> data;
+};
+
+class Medium {
+ public:
+  Medium(const MediumParams& params, const std::vector<Obstacle>& statics, std::uint64_t seed);
+
+  // Fills perceptions[i].messages for every robot (cleared first; dead receivers get none). `grid` holds
+  // `poses`. Reuses the perceptions' buffers.
+  void deliver(const std::vector<Pose2D>& poses, const std::vector<char>& alive,
+               const std::vector<Outbox>& outboxes, const SpatialGrid& grid,
+               std::vector<Perception>& perceptions);
+
+  // True when the straight line between a and b crosses a static body (used when occlusion is on).
+  bool occluded(const Pose2D& a, const Pose2D& b) const;
+
+  const MediumParams& params() const { return params_; }
+
+ private:
+  MediumParams params_;
+  std::vector<StaticShape> statics_;
+  Rng rng_;
+  std::vector<std::uint32_t> receivers_;
+  std::vector<std::size_t> used_;  // messages filled per receiver this tick
+};
+
+}  // namespace swarmform::world

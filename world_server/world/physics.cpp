@@ -1,0 +1,243 @@
+// Bullet (double precision, single-threaded) for the arena. Why it is set up as it is
+// (NOTES-DEPENDENCIES.md "Bullet", measured on this machine):
+//  - robots are DYNAMIC btCylinderShapeZ bodies: kinematic bodies get no contacts;
+//  - gravity zero, linear factor (1,1,0), angular factor (0,0,1): planar, no tipping, no z drift;
+//  - DISABLE_DEACTIVATION: a sleeping body would ignore the velocities we set;
+//  - velocities are re-set from the wheel speeds before EVERY substep, so a push by a neighbour or a wall
+//    lasts one substep and the robot then drives as its wheels say (a wheeled robot does not coast);
+//  - friction 0 between all bodies: a robot pressed against a wall or a neighbour slides along it instead of
+//    being stuck or spun by contact friction (its heading is the wheels' business);
+//  - bodies added in a fixed order: static bodies, then robots by id.
+#include "world_server/world/physics.hpp"
+
+#include <btBulletDynamicsCommon.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "world_server/world/geometry.hpp"
+
+namespace swarmform::world {
+namespace {
+
+constexpr double kTouching = 0.0005;   // m: a manifold point this close (or penetrating) is a contact
+constexpr double kStaticHeight = 0.5;  // m: walls and obstacles, far taller than a robot
+constexpr std::uint64_t kStaticFlag = 1ULL << 63;
+
+double yaw_of(const btTransform& t) {
+  const btQuaternion q = t.getRotation();
+  return wrap_angle(
+      std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()), 1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z())));
+}
+
+}  // namespace
+
+struct Physics::Impl {
+  // Bullet's world and what it points at; destroyed in reverse order.
+  btDefaultCollisionConfiguration config;
+  btCollisionDispatcher dispatcher{&config};
+  btDbvtBroadphase broadphase;
+  btSequentialImpulseConstraintSolver solver;
+  btDiscreteDynamicsWorld dyn{&dispatcher, &broadphase, &solver, &config};
+
+  btCylinderShapeZ robot_shape{btVector3(kRobotRadius, kRobotRadius, kRobotHeight / 2.0)};
+  btVector3 robot_inertia{0, 0, 0};
+  std::vector<std::unique_ptr<btCollisionShape>> static_shapes;
+  std::vector<std::unique_ptr<btRigidBody>> statics;
+  std::vector<std::unique_ptr<btRigidBody>> robots;
+
+  struct Wheels {
+    double left = 0.0, right = 0.0;
+  };
+  std::vector<Wheels> wheels;
+  std::vector<char> dead;
+  double substep_s = 0.01;
+  int substeps = 10;
+
+  // Contact pairs touching during this tick and the previous one (sorted keys), and this tick's onsets.
+  std::vector<std::uint64_t> touching, touching_prev;
+  std::uint32_t onsets_rr = 0, onsets_ro = 0;
+
+  ~Impl() {
+    for (auto& b : robots) dyn.removeRigidBody(b.get());
+    for (auto& b : statics) dyn.removeRigidBody(b.get());
+  }
+
+  void add_static(const Obstacle& o, int index) {
+    std::unique_ptr<btCollisionShape> shape;
+    if (o.kind == Obstacle::Kind::Box) {
+      shape =
+          std::make_unique<btBoxShape>(btVector3(o.half_extents.x, o.half_extents.y, kStaticHeight / 2.0));
+    } else {
+      shape = std::make_unique<btCylinderShapeZ>(btVector3(o.radius, o.radius, kStaticHeight / 2.0));
+    }
+    btTransform t;
+    t.setIdentity();
+    t.setOrigin(btVector3(o.centre.x, o.centre.y, kStaticHeight / 2.0));
+    t.setRotation(btQuaternion(btVector3(0, 0, 1), o.yaw));
+    btRigidBody::btRigidBodyConstructionInfo info(0.0, nullptr, shape.get());
+    info.m_startWorldTransform = t;
+    info.m_friction = 0.0;
+    info.m_restitution = 0.0;
+    auto body = std::make_unique<btRigidBody>(info);
+    body->setUserIndex(-1);
+    body->setUserIndex2(index);
+    dyn.addRigidBody(body.get());
+    static_shapes.push_back(std::move(shape));
+    statics.push_back(std::move(body));
+  }
+
+  void add_robot(const Pose2D& p, RobotId id) {
+    btTransform t;
+    t.setIdentity();
+    t.setOrigin(btVector3(p.x, p.y, kRobotHeight / 2.0));
+    t.setRotation(btQuaternion(btVector3(0, 0, 1), p.theta));
+    btRigidBody::btRigidBodyConstructionInfo info(kRobotMass, nullptr, &robot_shape, robot_inertia);
+    info.m_startWorldTransform = t;
+    info.m_friction = 0.0;
+    info.m_restitution = 0.0;
+    info.m_linearDamping = 0.0;
+    info.m_angularDamping = 0.0;
+    auto body = std::make_unique<btRigidBody>(info);
+    make_dynamic_flags(*body);
+    body->setUserIndex(static_cast<int>(id));
+    dyn.addRigidBody(body.get());
+    robots.push_back(std::move(body));
+  }
+
+  static void make_dynamic_flags(btRigidBody& b) {
+    b.setLinearFactor(btVector3(1, 1, 0));
+    b.setAngularFactor(btVector3(0, 0, 1));
+    b.forceActivationState(DISABLE_DEACTIVATION);
+  }
+
+  void apply_wheels() {
+    for (std::size_t i = 0; i < robots.size(); ++i) {
+      if (dead[i]) continue;
+      btRigidBody& b = *robots[i];
+      const double theta = yaw_of(b.getWorldTransform());
+      const double v = 0.5 * (wheels[i].left + wheels[i].right);
+      const double w = (wheels[i].right - wheels[i].left) / kWheelSpacing;
+      b.setLinearVelocity(btVector3(v * std::cos(theta), v * std::sin(theta), 0.0));
+      b.setAngularVelocity(btVector3(0.0, 0.0, w));
+    }
+  }
+
+  // Adds the pairs touching now to `touching` (unsorted; deduplicated at the end of the tick).
+  void collect_contacts() {
+    const int n = dispatcher.getNumManifolds();
+    for (int m = 0; m < n; ++m) {
+      const btPersistentManifold* man = dispatcher.getManifoldByIndexInternal(m);
+      bool touch = false;
+      for (int c = 0; c < man->getNumContacts() && !touch; ++c)
+        touch = man->getContactPoint(c).getDistance() < kTouching;
+      if (!touch) continue;
+      const btCollisionObject* a = man->getBody0();
+      const btCollisionObject* b = man->getBody1();
+      int ra = a->getUserIndex(), rb = b->getUserIndex();
+      if (ra < 0 && rb < 0) continue;  // static-static: never
+      if (ra >= 0 && rb >= 0) {
+        if (ra > rb) std::swap(ra, rb);
+        touching.push_back((static_cast<std::uint64_t>(ra) << 32) | static_cast<std::uint32_t>(rb));
+      } else {
+        const int robot = ra >= 0 ? ra : rb;
+        const int obstacle = ra >= 0 ? b->getUserIndex2() : a->getUserIndex2();
+        touching.push_back(kStaticFlag | (static_cast<std::uint64_t>(robot) << 32) |
+                           static_cast<std::uint32_t>(obstacle));
+      }
+    }
+  }
+
+  void count_onsets() {
+    std::sort(touching.begin(), touching.end());
+    touching.erase(std::unique(touching.begin(), touching.end()), touching.end());
+    onsets_rr = onsets_ro = 0;
+    for (std::uint64_t key : touching) {
+      if (std::binary_search(touching_prev.begin(), touching_prev.end(), key)) continue;
+      if (key & kStaticFlag) {
+        ++onsets_ro;
+      } else {
+        const auto a = static_cast<std::size_t>(key >> 32);
+        const auto b = static_cast<std::size_t>(key & 0xffffffffULL);
+        (dead[a] || dead[b]) ? ++onsets_ro : ++onsets_rr;
+      }
+    }
+    std::swap(touching, touching_prev);
+    touching.clear();
+  }
+};
+
+Physics::Physics(const Scenario& s) : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.dyn.setGravity(btVector3(0, 0, 0));
+  m.robot_shape.calculateLocalInertia(kRobotMass, m.robot_inertia);
+  m.substeps = s.substeps;
+  m.substep_s = 1.0 / (s.tick_rate * static_cast<double>(s.substeps));
+  const std::vector<Obstacle> obstacles = static_obstacles(s);
+  for (std::size_t k = 0; k < obstacles.size(); ++k) m.add_static(obstacles[k], static_cast<int>(k));
+  m.robots.reserve(s.robots.size());
+  for (std::size_t i = 0; i < s.robots.size(); ++i) m.add_robot(s.robots[i], static_cast<RobotId>(i));
+  m.wheels.assign(s.robots.size(), {});
+  m.dead.assign(s.robots.size(), 0);
+}
+
+Physics::~Physics() = default;
+
+void Physics::set_wheels(RobotId id, double left, double right) {
+  impl_->wheels[id] = {left, right};
+}
+
+void Physics::tick_forward() {
+  Impl& m = *impl_;
+  for (int k = 0; k < m.substeps; ++k) {
+    m.apply_wheels();
+    // maxSubSteps = 0: exactly one internal step of substep_s (no interpolation, no accumulator).
+    m.dyn.stepSimulation(m.substep_s, 0);
+    m.collect_contacts();
+  }
+  m.count_onsets();
+}
+
+void Physics::read_poses(std::vector<Pose2D>& out) const {
+  out.resize(impl_->robots.size());
+  for (std::size_t i = 0; i < impl_->robots.size(); ++i) {
+    const btTransform& t = impl_->robots[i]->getWorldTransform();
+    out[i] = Pose2D{t.getOrigin().x(), t.getOrigin().y(), yaw_of(t)};
+  }
+}
+
+Pose2D Physics::pose(RobotId id) const {
+  const btTransform& t = impl_->robots[id]->getWorldTransform();
+  return Pose2D{t.getOrigin().x(), t.getOrigin().y(), yaw_of(t)};
+}
+
+void Physics::set_dead(RobotId id, bool dead) {
+  Impl& m = *impl_;
+  if (static_cast<bool>(m.dead[id]) == dead) return;
+  btRigidBody& b = *m.robots[id];
+  m.dyn.removeRigidBody(&b);
+  b.setLinearVelocity(btVector3(0, 0, 0));
+  b.setAngularVelocity(btVector3(0, 0, 0));
+  b.clearForces();
+  if (dead) {
+    b.setMassProps(0.0, btVector3(0, 0, 0));
+    b.setCollisionFlags(b.getCollisionFlags() | btCollisionObject::CF_STATIC_OBJECT);
+  } else {
+    b.setCollisionFlags(b.getCollisionFlags() & ~btCollisionObject::CF_STATIC_OBJECT);
+    b.setMassProps(kRobotMass, m.robot_inertia);
+  }
+  b.updateInertiaTensor();
+  m.dyn.addRigidBody(&b);
+  if (!dead) Impl::make_dynamic_flags(b);
+  m.wheels[id] = {};
+  m.dead[id] = dead ? 1 : 0;
+}
+
+std::uint32_t Physics::onsets_robot_robot() const {
+  return impl_->onsets_rr;
+}
+std::uint32_t Physics::onsets_robot_obstacle() const {
+  return impl_->onsets_ro;
+}
+
+}  // namespace swarmform::world

@@ -1,0 +1,435 @@
+// The scenario loader: YAML (format in scenarios/README.md) -> an immutable, fully checked Scenario.
+// Order: parse and check every field; load the shape; apply the command-line overrides; resolve the robots'
+// initial poses (listed, or random from the seed); check what depends on the robot count (kills).
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+#include "common/controller_params.hpp"
+#include "common/input_error.hpp"
+#include "common/shape.hpp"
+#include "world_server/world/placement.hpp"
+#include "world_server/world/scenario.hpp"
+#include "world_server/world/yaml_fields.hpp"
+
+namespace swarmform::world {
+namespace {
+
+namespace fs = std::filesystem;
+using yaml::MapReader;
+using yaml::Source;
+
+constexpr double kMaxLength = 10000.0;  // m: any length beyond this is a typo
+constexpr double kMaxSpeedLimit = 2.0;  // m/s: physics is verified tunnel-free well beyond this (3 m/s)
+constexpr std::int64_t kMaxRobots = 100000;
+
+// The folder to resolve relative paths against: the scenario file's, or the working directory.
+fs::path base_folder(const std::string& origin) {
+  std::error_code ec;
+  fs::path p = fs::absolute(fs::path(origin), ec);
+  if (ec) return fs::current_path();
+  fs::path dir = p.parent_path();
+  return fs::is_directory(dir, ec) ? dir : fs::current_path();
+}
+
+// The repository root: the first folder upwards from `from` that holds shapes/.
+std::optional<fs::path> repo_root_from(fs::path from) {
+  std::error_code ec;
+  for (fs::path p = fs::absolute(from, ec); !p.empty(); p = p.parent_path()) {
+    if (fs::is_directory(p / "shapes", ec)) return p;
+    if (p == p.parent_path()) break;
+  }
+  return std::nullopt;
+}
+
+// A shape path: as given when absolute; else under each of `folders`, then under the repository's shapes/
+// (and the repository root itself, for paths written as shapes/x.txt).
+std::string resolve_shape(const std::string& given, const std::vector<fs::path>& folders,
+                          std::vector<std::string>& tried) {
+  std::error_code ec;
+  const fs::path g(given);
+  auto ok = [&](const fs::path& p) {
+    tried.push_back(p.string());
+    return fs::is_regular_file(p, ec);
+  };
+  if (g.is_absolute()) return ok(g) ? g.string() : std::string();
+  for (const fs::path& f : folders) {
+    if (ok(f / g)) return (f / g).lexically_normal().string();
+  }
+  for (const fs::path& f : folders) {
+    if (auto root = repo_root_from(f)) {
+      if (ok(*root / "shapes" / g)) return (*root / "shapes" / g).lexically_normal().string();
+      if (ok(*root / g)) return (*root / g).lexically_normal().string();
+    }
+  }
+  return {};
+}
+
+Mode parse_mode(const Source& src, const YAML::Node& n, const std::string& path) {
+  const std::string s = yaml::to_string(src, n, path);
+  if (s == "lockstep") return Mode::Lockstep;
+  if (s == "realtime") return Mode::Realtime;
+  yaml::fail(src, n, path, "expected lockstep or realtime, got '" + s + "'");
+}
+
+void parse_arena(const Source& src, MapReader& top, Scenario& s) {
+  auto node = top.get("arena");
+  if (!node) return;
+  MapReader m(src, *node, "arena");
+  if (auto c = m.get("centre")) s.arena_centre = yaml::to_vec2(src, *c, m.field("centre"));
+  s.arena_width = m.positive("width", s.arena_width, kMaxLength);
+  s.arena_height = m.positive("height", s.arena_height, kMaxLength);
+  s.walls = m.boolean("walls", s.walls);
+  s.wall_thickness = m.positive("wall_thickness", s.wall_thickness, 10.0);
+  m.finish({"centre", "width", "height", "walls", "wall_thickness"});
+}
+
+Obstacle parse_obstacle(const Source& src, const YAML::Node& node, const std::string& path) {
+  MapReader m(src, node, path);
+  Obstacle o;
+  auto type = m.get("type");
+  if (!type) yaml::fail(src, node, path, "missing 'type' (box or cylinder)");
+  const std::string t = yaml::to_string(src, *type, m.field("type"));
+  if (auto name = m.get("name")) o.name = yaml::to_string(src, *name, m.field("name"));
+  auto centre = m.get("centre");
+  if (!centre) yaml::fail(src, node, path, "missing 'centre' ([x, y], m)");
+  o.centre = yaml::to_vec2(src, *centre, m.field("centre"));
+  if (t == "box") {
+    o.kind = Obstacle::Kind::Box;
+    auto size = m.get("size");
+    if (!size) yaml::fail(src, node, path, "missing 'size' ([width along x, depth along y], m)");
+    const Vec2 sz = yaml::to_vec2(src, *size, m.field("size"));
+    yaml::check_positive(src, *size, m.field("size") + "[0]", sz.x, kMaxLength);
+    yaml::check_positive(src, *size, m.field("size") + "[1]", sz.y, kMaxLength);
+    o.half_extents = Vec2{sz.x / 2.0, sz.y / 2.0};
+    o.yaw = m.number("yaw", 0.0, -2.0 * std::numbers::pi, 2.0 * std::numbers::pi);
+    m.finish({"type", "name", "centre", "size", "yaw"});
+  } else if (t == "cylinder") {
+    o.kind = Obstacle::Kind::Cylinder;
+    auto radius = m.get("radius");
+    if (!radius) yaml::fail(src, node, path, "missing 'radius' (m)");
+    o.radius = yaml::check_positive(src, *radius, m.field("radius"),
+                                    yaml::to_number(src, *radius, m.field("radius")), kMaxLength);
+    m.finish({"type", "name", "centre", "radius"});
+  } else {
+    yaml::fail(src, *type, m.field("type"), "expected box or cylinder, got '" + t + "'");
+  }
+  return o;
+}
+
+void parse_obstacles(const Source& src, MapReader& top, Scenario& s) {
+  auto node = top.get("obstacles");
+  if (!node) return;
+  if (node->IsNull()) return;  // `obstacles:` with nothing after it: none
+  if (!node->IsSequence()) yaml::fail(src, *node, "obstacles", "expected a list of obstacles");
+  for (std::size_t i = 0; i < node->size(); ++i) {
+    s.obstacles.push_back(parse_obstacle(src, (*node)[i], "obstacles[" + std::to_string(i) + "]"));
+  }
+}
+
+struct RobotsSection {
+  std::optional<std::size_t> count;
+  std::optional<PlacementRegion> region;
+  std::vector<Pose2D> poses;  // listed
+  std::vector<YAML::Node> pose_nodes;
+  YAML::Node node;
+};
+
+RobotsSection parse_robots(const Source& src, MapReader& top) {
+  RobotsSection r;
+  auto node = top.get("robots");
+  if (!node) return r;
+  r.node = *node;
+  MapReader m(src, *node, "robots");
+  if (auto c = m.get("count")) {
+    const std::int64_t n = yaml::to_integer(src, *c, "robots.count");
+    if (n < 1 || n > kMaxRobots) {
+      yaml::fail(src, *c, "robots.count", "must be in [1, " + std::to_string(kMaxRobots) + "]");
+    }
+    r.count = static_cast<std::size_t>(n);
+  }
+  if (auto reg = m.get("region")) {
+    MapReader rm(src, *reg, "robots.region");
+    PlacementRegion pr;
+    auto c = rm.get("centre");
+    if (c) pr.centre = yaml::to_vec2(src, *c, rm.field("centre"));
+    pr.width = rm.positive("width", 0.0, kMaxLength);
+    pr.height = rm.positive("height", 0.0, kMaxLength);
+    if (!rm.has("width") || !rm.has("height")) {
+      yaml::fail(src, *reg, "robots.region", "needs centre, width and height");
+    }
+    rm.finish({"centre", "width", "height"});
+    r.region = pr;
+  }
+  if (auto poses = m.get("poses")) {
+    if (r.count || r.region) {
+      yaml::fail(src, *poses, "robots.poses",
+                 "give either count/region (random placement) or poses, not both");
+    }
+    if (!poses->IsSequence() || poses->size() == 0) {
+      yaml::fail(src, *poses, "robots.poses", "expected a non-empty list of [x, y, theta]");
+    }
+    for (std::size_t i = 0; i < poses->size(); ++i) {
+      const YAML::Node p = (*poses)[i];
+      const std::string path = "robots.poses[" + std::to_string(i) + "]";
+      if (!p.IsSequence() || (p.size() != 2 && p.size() != 3)) {
+        yaml::fail(src, p, path, "expected [x, y] or [x, y, theta] (m, m, rad)");
+      }
+      Pose2D pose{yaml::to_number(src, p[0], path + "[0]"), yaml::to_number(src, p[1], path + "[1]"), 0.0};
+      if (p.size() == 3) {
+        pose.theta = yaml::check_range(src, p[2], path + "[2]", yaml::to_number(src, p[2], path + "[2]"),
+                                       -2.0 * std::numbers::pi, 2.0 * std::numbers::pi);
+      }
+      r.poses.push_back(pose);
+      r.pose_nodes.push_back(p);
+    }
+  }
+  m.finish({"count", "region", "poses"});
+  return r;
+}
+
+void parse_noise(const Source& src, MapReader& top, Scenario& s) {
+  auto node = top.get("noise");
+  if (!node) return;
+  MapReader m(src, *node, "noise");
+  s.range_noise_sd = m.number("range", s.range_noise_sd, 0.0, 10.0);
+  s.bearing_noise_sd = m.number("bearing", s.bearing_noise_sd, 0.0, std::numbers::pi);
+  s.ultrasonic_noise_sd = m.number("ultrasonic", s.ultrasonic_noise_sd, 0.0, 2.0);
+  m.finish({"range", "bearing", "ultrasonic"});
+}
+
+void parse_kills(const Source& src, MapReader& top, std::vector<Kill>& kills,
+                 std::vector<YAML::Node>& nodes) {
+  auto node = top.get("kills");
+  if (!node || node->IsNull()) return;
+  if (!node->IsSequence()) yaml::fail(src, *node, "kills", "expected a list of {id, tick}");
+  for (std::size_t i = 0; i < node->size(); ++i) {
+    const std::string path = "kills[" + std::to_string(i) + "]";
+    MapReader m(src, (*node)[i], path);
+    if (!m.has("id") || !m.has("tick")) yaml::fail(src, (*node)[i], path, "needs id and tick");
+    Kill k;
+    k.id = static_cast<RobotId>(m.integer("id", 0, 0, kMaxRobots - 1));
+    k.tick = static_cast<Tick>(m.integer("tick", 0, 0, 1000000000));
+    m.finish({"id", "tick"});
+    kills.push_back(k);
+    nodes.push_back((*node)[i]);
+  }
+}
+
+int parse_goal(const Source& src, MapReader& top, Mission& mission) {
+  auto node = top.get("goal");
+  if (!node) return 0;
+  MapReader m(src, *node, "goal");
+  mission.goal.x = m.number("x", mission.goal.x, -kMaxLength, kMaxLength);
+  mission.goal.y = m.number("y", mission.goal.y, -kMaxLength, kMaxLength);
+  mission.goal_radius = m.positive("radius", mission.goal_radius, kMaxLength);
+  m.finish({"x", "y", "radius"});
+  return yaml::line_of(*node);
+}
+
+void parse_controller(const Source& src, MapReader& top, Mission& mission) {
+  auto node = top.get("controller");
+  if (!node || node->IsNull()) return;
+  MapReader m(src, *node, "controller");
+  for (const auto& kv : *node) {
+    const std::string name = kv.first.Scalar();
+    const ParamSpec* spec = find_param(name);
+    if (spec == nullptr) {
+      std::string known;
+      for (const auto& p : kControllerParams) known += (known.empty() ? "" : ", ") + std::string(p.name);
+      yaml::fail(src, kv.first, "controller." + name, "unknown controller parameter (known: " + known + ")");
+    }
+    mission.params[name] = m.number(name, spec->default_value, spec->min_value, spec->max_value);
+  }
+}
+
+bool inside_arena(const Scenario& s, Vec2 p) {
+  return std::abs(p.x - s.arena_centre.x) <= s.arena_width / 2.0 &&
+         std::abs(p.y - s.arena_centre.y) <= s.arena_height / 2.0;
+}
+
+// Robot poses: listed (checked), or random in the given or default region (clipped to the arena).
+void resolve_robots(const Source& src, const RobotsSection& r, const ScenarioOverrides& ov, Scenario& s) {
+  if (!r.poses.empty()) {
+    if (ov.robots && *ov.robots != r.poses.size()) {
+      throw InputError(src.file, yaml::line_of(r.node),
+                       "robots: --robots " + std::to_string(*ov.robots) + " conflicts with the " +
+                           std::to_string(r.poses.size()) + " poses listed here");
+    }
+    for (std::size_t k = 0; k < r.poses.size(); ++k) {
+      const std::string why = check_listed_pose(r.poses, k, s);
+      if (!why.empty()) yaml::fail(src, r.pose_nodes[k], "robots.poses[" + std::to_string(k) + "]", why);
+    }
+    s.robots = r.poses;
+    return;
+  }
+  const std::size_t n = ov.robots ? *ov.robots
+                        : r.count ? *r.count
+                                  : static_cast<std::size_t>(s.mission.shape.label_count());
+  if (n < 1) throw InputError(src.file, yaml::line_of(r.node), "robots: need at least one robot");
+  PlacementRegion region = r.region ? *r.region : default_region(n);
+  if (!r.region && s.walls) {
+    // Clip the default square to the arena's interior.
+    const double x_lo =
+        std::max(region.centre.x - region.width / 2.0, s.arena_centre.x - s.arena_width / 2.0);
+    const double x_hi =
+        std::min(region.centre.x + region.width / 2.0, s.arena_centre.x + s.arena_width / 2.0);
+    const double y_lo =
+        std::max(region.centre.y - region.height / 2.0, s.arena_centre.y - s.arena_height / 2.0);
+    const double y_hi =
+        std::min(region.centre.y + region.height / 2.0, s.arena_centre.y + s.arena_height / 2.0);
+    region = PlacementRegion{Vec2{(x_lo + x_hi) / 2.0, (y_lo + y_hi) / 2.0}, std::max(x_hi - x_lo, 0.0),
+                             std::max(y_hi - y_lo, 0.0)};
+  }
+  auto poses = place_randomly(n, region, s, s.seed);
+  if (!poses) {
+    std::ostringstream why;
+    why << "robots: cannot place " << n << " robots in the region " << region.width << " x " << region.height
+        << " m centred at (" << region.centre.x << ", " << region.centre.y << ") at least " << kMinSeparation
+        << " m apart and clear of obstacles; give a larger robots.region";
+    throw InputError(src.file, yaml::line_of(r.node), why.str());
+  }
+  s.robots = std::move(*poses);
+}
+
+Scenario parse(const YAML::Node& root, const std::string& origin, const ScenarioOverrides& ov) {
+  const Source src{origin};
+  Scenario s;
+  s.source = origin;
+  MapReader top(src, root, "");
+
+  parse_arena(src, top, s);
+  parse_obstacles(src, top, s);
+  const RobotsSection robots = parse_robots(src, top);
+  s.comm_range = top.positive("comm_range", s.comm_range, kMaxLength);
+  parse_noise(src, top, s);
+  if (auto n = top.get("packet_loss")) {
+    const double p = yaml::to_number(src, *n, "packet_loss");
+    if (p < 0.0 || p >= 1.0) yaml::fail(src, *n, "packet_loss", "must be in [0, 1)");
+    s.packet_loss = p;
+  }
+  s.occlusion = top.boolean("occlusion", s.occlusion);
+  if (auto n = top.get("mode")) s.mode = parse_mode(src, *n, "mode");
+  s.tick_rate = top.positive("tick_rate", s.tick_rate, 1000.0);
+  s.substeps = static_cast<int>(top.integer("substeps", s.substeps, 1, 1000));
+  s.lockstep_deadline_s = top.positive("lockstep_deadline", s.lockstep_deadline_s, 3600.0);
+  if (auto n = top.get("seed")) s.seed = yaml::to_unsigned(src, *n, "seed");
+  s.max_ticks =
+      static_cast<Tick>(top.integer("max_ticks", static_cast<std::int64_t>(s.max_ticks), 1, 1000000000));
+  std::vector<YAML::Node> kill_nodes;
+  parse_kills(src, top, s.kills, kill_nodes);
+  const int goal_line = parse_goal(src, top, s.mission);
+  s.mission.grid_spacing = top.positive("grid_spacing", s.mission.grid_spacing, 100.0);
+  s.mission.max_speed = top.positive("max_speed", s.mission.max_speed, kMaxSpeedLimit);
+  if (auto n = top.get("behaviour")) {
+    const std::string b = yaml::to_string(src, *n, "behaviour");
+    if (b != "paper" && b != "random_walk")
+      yaml::fail(src, *n, "behaviour", "expected paper or random_walk, got '" + b + "'");
+    s.mission.behaviour = b;
+  }
+  s.mission.max_message_bytes =
+      static_cast<std::uint32_t>(top.integer("max_message_bytes", s.mission.max_message_bytes, 1, 65536));
+  parse_controller(src, top, s.mission);
+  auto shape_node = top.get("shape");
+  if (auto d = top.get("description")) yaml::to_string(src, *d, "description");  // for people; not used
+  top.finish({"description", "arena",      "obstacles",
+              "robots",      "comm_range", "noise",
+              "packet_loss", "occlusion",  "mode",
+              "tick_rate",   "substeps",   "lockstep_deadline",
+              "seed",        "max_ticks",  "kills",
+              "goal",        "shape",      "grid_spacing",
+              "max_speed",   "behaviour",  "max_message_bytes",
+              "controller"});
+
+  // Overrides (before placement, so --robots and --seed take effect).
+  if (ov.seed) s.seed = *ov.seed;
+  if (ov.mode) s.mode = *ov.mode;
+  if (ov.max_ticks) {
+    if (*ov.max_ticks < 1) throw InputError("command line", 0, "--max-ticks must be >= 1");
+    s.max_ticks = *ov.max_ticks;
+  }
+  if (ov.robots && (*ov.robots < 1 || *ov.robots > static_cast<std::size_t>(kMaxRobots))) {
+    throw InputError("command line", 0, "--robots must be in [1, " + std::to_string(kMaxRobots) + "]");
+  }
+
+  // The shape: the override's path (from the working directory first), else the file's `shape`.
+  const fs::path base = base_folder(origin);
+  std::vector<std::string> tried;
+  if (ov.shape_file) {
+    s.shape_file = resolve_shape(*ov.shape_file, {fs::current_path(), base}, tried);
+    if (s.shape_file.empty()) {
+      std::string list;
+      for (const auto& t : tried) list += (list.empty() ? "" : ", ") + t;
+      throw InputError("command line", 0,
+                       "--shape: file '" + *ov.shape_file + "' not found (looked at " + list + ")");
+    }
+  } else {
+    if (!shape_node)
+      throw InputError(origin, 0, "shape: missing (the shape file to form, e.g. shape: triangle.txt)");
+    const std::string given = yaml::to_string(src, *shape_node, "shape");
+    s.shape_file = resolve_shape(given, {base}, tried);
+    if (s.shape_file.empty()) {
+      std::string list;
+      for (const auto& t : tried) list += (list.empty() ? "" : ", ") + t;
+      yaml::fail(src, *shape_node, "shape", "file '" + given + "' not found (looked at " + list + ")");
+    }
+  }
+  s.mission.shape = load_shape_file(s.shape_file);
+
+  // Goal inside the walls (else the formation can never get there).
+  if (s.walls && !inside_arena(s, s.mission.goal)) {
+    throw InputError(origin, goal_line, "goal: lies outside the arena's walls");
+  }
+
+  resolve_robots(src, robots, ov, s);
+
+  s.kills.insert(s.kills.end(), ov.kills.begin(), ov.kills.end());
+  for (std::size_t i = 0; i < s.kills.size(); ++i) {
+    if (s.kills[i].id < s.robots.size()) continue;
+    const std::string what = "kill of robot " + std::to_string(s.kills[i].id) + ", but there are only " +
+                             std::to_string(s.robots.size()) + " robots";
+    if (i < kill_nodes.size()) yaml::fail(src, kill_nodes[i], "kills[" + std::to_string(i) + "]", what);
+    throw InputError("command line", 0, "--kill: " + what);
+  }
+
+  // What the robots are told.
+  s.mission.tick_rate = s.tick_rate;
+  s.mission.comm_range = s.comm_range;
+  s.mission.seed = s.seed;
+  return s;
+}
+
+}  // namespace
+
+std::string_view to_string(Mode m) {
+  return m == Mode::Lockstep ? "lockstep" : "realtime";
+}
+
+Scenario parse_scenario_text(const std::string& yaml_text, const std::string& origin,
+                             const ScenarioOverrides& overrides) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::ParserException& e) {
+    throw InputError(origin, e.mark.is_null() ? 0 : e.mark.line + 1, "YAML syntax: " + e.msg);
+  }
+  try {
+    return parse(root, origin, overrides);
+  } catch (const YAML::Exception& e) {  // anything yaml-cpp throws that our checks did not foresee
+    throw InputError(origin, e.mark.is_null() ? 0 : e.mark.line + 1, e.msg);
+  }
+}
+
+Scenario load_scenario(const std::string& path, const ScenarioOverrides& overrides) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, "cannot open the scenario file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw InputError(path, 0, "cannot read the scenario file");
+  return parse_scenario_text(text.str(), path, overrides);
+}
+
+}  // namespace swarmform::world

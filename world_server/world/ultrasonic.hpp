@@ -1,0 +1,48 @@
+// The Khepera IV's five ultrasonic sensors (SPEC section 4), after ARGoS's proximity sensors but as cones:
+// each sensor at kUltrasonicAngles casts kRaysPerSensor rays spread over +-kConeHalfAngle around its axis,
+// from the robot's CENTRE (a ray starting on the surface could start inside a touching body), against every
+// other robot (alive or dead) and every static body, analytically. A ray's distance is measured from the
+// robot's SURFACE (centre distance minus kRobotRadius); a reading is the minimum over its cone's rays,
+// clamped to [kUltrasonicMinRange, kUltrasonicMaxRange], and exactly kUltrasonicMaxRange when nothing is
+// within range. Gaussian noise (scenario `noise.ultrasonic`) is added to readings that saw something, then
+// clamped again.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "common/types.hpp"
+#include "world_server/world/geometry.hpp"
+#include "world_server/world/rng.hpp"
+#include "world_server/world/spatial_grid.hpp"
+
+namespace swarmform::world {
+
+inline constexpr int kRaysPerSensor = 5;
+inline constexpr double kConeHalfAngle = 0.2617993877991494;  // rad, 15 degrees
+
+using UltrasonicReading = std::array<double, kUltrasonicCount>;
+
+class Ultrasonic {
+ public:
+  Ultrasonic(const std::vector<Obstacle>& statics, double noise_sd, std::uint64_t seed);
+
+  // The noiseless reading of robot `self` standing at poses[self]; `grid` holds `poses` (all robots, alive
+  // or dead: every body is seen).
+  UltrasonicReading read(std::size_t self, const std::vector<Pose2D>& poses, const SpatialGrid& grid) const;
+
+  // Readings for every robot with alive[i] != 0, in id order (so the noise stream is reproducible); others'
+  // entries are left as they were.
+  void sense_all(const std::vector<Pose2D>& poses, const std::vector<char>& alive, const SpatialGrid& grid,
+                 std::vector<UltrasonicReading>& out);
+
+ private:
+  std::vector<StaticShape> statics_;
+  double noise_sd_;
+  Rng rng_;
+  std::array<double, kUltrasonicCount * kRaysPerSensor> ray_offsets_{};  // robot-frame ray angles
+  mutable std::vector<std::uint32_t> candidates_;
+};
+
+}  // namespace swarmform::world

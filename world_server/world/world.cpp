@@ -1,0 +1,198 @@
+// The world's tick, written once (after ARGoS: act, physics, media, sense):
+//
+//   apply_command(i, cmd of tick t)   wheel speeds checked and stored, outgoing message queued
+//   step():
+//     1. act      the stored wheel speeds of every live robot go to the physics
+//     2. physics  `substeps` Bullet steps; contact onsets counted
+//     3. truth    poses read back into RobotTruth; spatial grid rebuilt
+//     4. medium   messages of tick t -> perceptions of tick t+1 (at the new positions)
+//     5. sense    pose and ultrasonics of every live robot
+//     6. tick t+1
+#include "world_server/world/world.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "world_server/world/geometry.hpp"
+#include "world_server/world/medium.hpp"
+#include "world_server/world/physics.hpp"
+#include "world_server/world/spatial_grid.hpp"
+#include "world_server/world/ultrasonic.hpp"
+
+namespace swarmform::world {
+namespace {
+
+constexpr double kGridCell = 1.0;  // m: a compromise between the medium's 3 m and the sonar's 2.1 m queries
+
+MediumParams medium_params(const Scenario& s) {
+  MediumParams p;
+  p.comm_range = s.comm_range;
+  p.range_noise_sd = s.range_noise_sd;
+  p.bearing_noise_sd = s.bearing_noise_sd;
+  p.packet_loss = s.packet_loss;
+  p.occlusion = s.occlusion;
+  return p;
+}
+
+}  // namespace
+
+std::string_view to_string(CommandVerdict v) {
+  switch (v) {
+    case CommandVerdict::Ok:
+      return "ok";
+    case CommandVerdict::Clamped:
+      return "clamped";
+    case CommandVerdict::RejectedNonFinite:
+      return "rejected_non_finite";
+    case CommandVerdict::MessageDropped:
+      return "message_dropped";
+    case CommandVerdict::DeadRobot:
+      return "dead_robot";
+    case CommandVerdict::UnknownRobot:
+      return "unknown_robot";
+  }
+  return "unknown";
+}
+
+struct World::Impl {
+  const Scenario scenario;
+  Physics physics;
+  Medium medium;
+  Ultrasonic ultrasonic;
+  SpatialGrid grid;
+  Tick tick = 0;
+
+  std::vector<Pose2D> poses;
+  std::vector<char> alive;
+  std::vector<Outbox> outboxes;
+  std::vector<Perception> perceptions;
+  std::vector<UltrasonicReading> sonar;
+  std::vector<RobotTruth> truth;
+  ContactCounts contacts;
+
+  explicit Impl(const Scenario& s)
+      : scenario(s),
+        physics(scenario),
+        medium(medium_params(scenario), static_obstacles(scenario), scenario.seed),
+        ultrasonic(static_obstacles(scenario), scenario.ultrasonic_noise_sd, scenario.seed) {
+    const std::size_t n = scenario.robots.size();
+    alive.assign(n, 1);
+    outboxes.resize(n);
+    perceptions.resize(n);
+    truth.resize(n);
+    for (std::size_t i = 0; i < n; ++i) truth[i].id = static_cast<RobotId>(i);
+    refresh(/*with_medium=*/false);
+  }
+
+  // Steps 3-5 of the tick: truth, grid, (medium), sensors.
+  void refresh(bool with_medium) {
+    physics.read_poses(poses);
+    for (std::size_t i = 0; i < poses.size(); ++i) {
+      truth[i].pose = poses[i];
+      truth[i].alive = alive[i] != 0;
+    }
+    grid.build(poses, kGridCell);
+    if (with_medium) {
+      medium.deliver(poses, alive, outboxes, grid, perceptions);
+      for (Outbox& o : outboxes) o.has_message = false;
+    }
+    ultrasonic.sense_all(poses, alive, grid, sonar);
+    for (std::size_t i = 0; i < poses.size(); ++i) {
+      Perception& p = perceptions[i];
+      p.tick = tick;
+      p.pose = poses[i];
+      if (alive[i]) p.ultrasonic = sonar[i];
+    }
+  }
+};
+
+World::World(const Scenario& scenario) : impl_(std::make_unique<Impl>(scenario)) {}
+World::~World() = default;
+
+const Scenario& World::scenario() const {
+  return impl_->scenario;
+}
+Tick World::tick() const {
+  return impl_->tick;
+}
+std::size_t World::robot_count() const {
+  return impl_->poses.size();
+}
+const Perception& World::perception(RobotId id) const {
+  return impl_->perceptions.at(id);
+}
+const std::vector<RobotTruth>& World::robots() const {
+  return impl_->truth;
+}
+ContactCounts World::last_contacts() const {
+  return impl_->contacts;
+}
+bool World::alive(RobotId id) const {
+  return id < impl_->alive.size() && impl_->alive[id] != 0;
+}
+
+CommandVerdict World::apply_command(RobotId id, const Command& command) {
+  Impl& m = *impl_;
+  if (id >= m.alive.size()) return CommandVerdict::UnknownRobot;
+  if (!m.alive[id]) return CommandVerdict::DeadRobot;
+  if (!std::isfinite(command.left_speed) || !std::isfinite(command.right_speed)) {
+    m.physics.set_wheels(id, 0.0, 0.0);  // the robot keeps still; its message and telemetry are refused too
+    m.outboxes[id].has_message = false;
+    return CommandVerdict::RejectedNonFinite;
+  }
+  CommandVerdict verdict = CommandVerdict::Ok;
+  const double limit = m.scenario.mission.max_speed;
+  double left = command.left_speed;
+  double right = command.right_speed;
+  if (std::abs(left) > limit || std::abs(right) > limit) {
+    left = std::clamp(left, -limit, limit);
+    right = std::clamp(right, -limit, limit);
+    verdict = CommandVerdict::Clamped;
+  }
+  m.physics.set_wheels(id, left, right);
+  Outbox& out = m.outboxes[id];
+  out.has_message = false;
+  if (command.message.size() > m.scenario.mission.max_message_bytes) {
+    verdict = CommandVerdict::MessageDropped;  // reported over Clamped: losing data matters more
+  } else if (!command.message.empty()) {
+    out.has_message = true;
+    out.data.assign(command.message.begin(), command.message.end());
+  }
+  m.truth[id].telemetry = command.telemetry;
+  return verdict;
+}
+
+void World::step() {
+  Impl& m = *impl_;
+  m.physics.tick_forward();  // acts with the wheel speeds set by apply_command (or kept from before)
+  m.contacts.robot_robot = m.physics.onsets_robot_robot();
+  m.contacts.robot_obstacle = m.physics.onsets_robot_obstacle();
+  ++m.tick;
+  m.refresh(/*with_medium=*/true);
+}
+
+void World::kill(RobotId id) {
+  Impl& m = *impl_;
+  if (id >= m.alive.size() || !m.alive[id]) return;
+  m.alive[id] = 0;
+  m.physics.set_dead(id, true);
+  m.outboxes[id].has_message = false;
+  m.perceptions[id].messages.clear();
+  m.truth[id].alive = false;
+}
+
+void World::revive(RobotId id) {
+  Impl& m = *impl_;
+  if (id >= m.alive.size() || m.alive[id]) return;
+  m.alive[id] = 1;
+  m.physics.set_dead(id, false);  // dynamic again where the body stands, wheels zero
+  m.outboxes[id].has_message = false;
+  m.truth[id].alive = true;
+  m.truth[id].telemetry = Telemetry{};
+  // Its perception for this tick: fresh sensors, no messages (it heard nothing while dead).
+  Perception& p = m.perceptions[id];
+  p.messages.clear();
+  p.ultrasonic = m.ultrasonic.read(id, m.poses, m.grid);
+}
+
+}  // namespace swarmform::world
