@@ -67,6 +67,10 @@ struct Telemetry {
   std::int32_t parent = -1;  // id of the parent robot in the formation tree, -1 none
   bool leader = false;       // this robot believes it is the leader
   double net_force = 0.0;    // |F_net| (eq. 5), or 0 when not in formation motion
+  // What happened in the controller this tick that the recorder should log, one event a string:
+  // "<kind> <detail>", kind one word (e.g. "seed_elected", "label_taken 3", "label_lost 3 to 7",
+  // "label_freed 3 holder 5", "label_abandoned 3", "barrier_passed 8/9"). Usually empty.
+  std::vector<std::string> events;
 };
 
 // One tick's output of the controller.

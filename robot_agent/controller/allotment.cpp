@@ -1,0 +1,156 @@
+#include "robot_agent/controller/allotment.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <tuple>
+
+#include "robot_agent/controller/drive.hpp"
+
+namespace swarmform::controller {
+
+LabelStatus label_status(const Stigmergy& stigmergy, int label) {
+  LabelStatus s;
+  if (label < 0) return s;
+  const auto value = stigmergy.get(stig::key(stig::Ns::Labels, static_cast<std::uint32_t>(label)));
+  if (!value) return s;
+  if (*value >= 0) {
+    s.kind = LabelStatus::Kind::Held;
+    s.holder = static_cast<RobotId>(*value);
+  } else if (*value <= kLabelFreedBase) {
+    s.kind = LabelStatus::Kind::Freed;
+    s.freed_at = static_cast<Tick>(kLabelFreedBase - *value);
+  }
+  return s;
+}
+
+void put_label_holder(Stigmergy& stigmergy, int label, RobotId holder) {
+  stigmergy.put(stig::key(stig::Ns::Labels, static_cast<std::uint32_t>(label)),
+                static_cast<std::int64_t>(holder));
+}
+
+void put_label_freed(Stigmergy& stigmergy, int label, Tick now) {
+  stigmergy.put(stig::key(stig::Ns::Labels, static_cast<std::uint32_t>(label)),
+                kLabelFreedBase - static_cast<std::int64_t>(now));
+}
+
+void SeedElection::update(RobotId self, double own_distance, const NeighbourTable& neighbours, Tick now) {
+  RobotId best = self;
+  double best_d = own_distance;
+  auto better = [&](double d, RobotId id) { return std::tie(d, id) < std::tie(best_d, best); };
+  for (const auto& [id, n] : neighbours.all()) {
+    // Only what was heard this tick: a stale report would keep a minimum alive after its source moved on.
+    if (n.last_heard != now) continue;
+    const auto& m = n.message;
+    if (m.state != RobotState::Searching) continue;
+    if (better(m.seed_distance, m.seed_candidate)) {
+      best = m.seed_candidate;
+      best_d = m.seed_distance;
+    }
+  }
+  // Distances travel as f32 on the wire: compare what the others will see.
+  best_d = static_cast<double>(static_cast<float>(best_d));
+  if (!started_ || best != candidate_) {
+    started_ = true;
+    candidate_ = best;
+    since_ = now;
+  }
+  distance_ = best_d;
+}
+
+bool SeedElection::settled(Tick now, int settle_ticks) const {
+  return started_ && now >= since_ + static_cast<Tick>(settle_ticks);
+}
+
+namespace {
+
+// Labels the neighbours report holding right now.
+std::set<int> labels_heard(const NeighbourTable& neighbours) {
+  std::set<int> out;
+  for (const auto& [id, n] : neighbours.all()) {
+    if (n.message.label >= 0) out.insert(n.message.label);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<int> free_grid_labels(const ShapeTable& table, int label, const Stigmergy& stigmergy,
+                                  const NeighbourTable& neighbours) {
+  std::vector<int> out;
+  const auto heard = labels_heard(neighbours);
+  for (const auto& nb : table.neighbours(label)) {
+    if (label_status(stigmergy, nb.label).kind == LabelStatus::Kind::Held) continue;
+    if (heard.contains(nb.label)) continue;
+    out.push_back(nb.label);
+  }
+  return out;
+}
+
+std::vector<LabelOffer> collect_offers(const ShapeTable& table, double shape_heading,
+                                       const NeighbourTable& neighbours, const Stigmergy& stigmergy) {
+  std::map<int, LabelOffer> by_label;
+  const auto heard = labels_heard(neighbours);
+  for (const auto& [id, n] : neighbours.all()) {
+    const auto& m = n.message;
+    if (m.label < 0 || !m.has_origin) continue;
+    for (int label : m.free_labels) {
+      if (label < 0 || label >= table.size()) continue;
+      if (label_status(stigmergy, label).kind == LabelStatus::Kind::Held) continue;
+      if (heard.contains(label)) continue;
+      if (by_label.contains(label)) continue;  // std::map iterates ids in order: the lowest advertiser wins
+      by_label[label] = {label, id, m.label, m.origin, table.place(label, m.origin, shape_heading)};
+    }
+  }
+  std::vector<LabelOffer> out;
+  for (auto& [label, offer] : by_label) out.push_back(offer);
+  return out;
+}
+
+std::optional<LabelOffer> choose_offer(const std::vector<LabelOffer>& offers,
+                                       const std::vector<Searcher>& searchers, RobotId self) {
+  struct Pair {
+    double distance;
+    RobotId id;
+    int label;
+    std::size_t offer;
+  };
+  std::vector<Pair> pairs;
+  for (std::size_t o = 0; o < offers.size(); ++o) {
+    for (const auto& s : searchers) {
+      pairs.push_back({norm(offers[o].place - s.position), s.id, offers[o].label, o});
+    }
+  }
+  std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
+    return std::tie(a.distance, a.id, a.label) < std::tie(b.distance, b.id, b.label);
+  });
+  std::set<RobotId> matched_robots;
+  std::set<int> matched_labels;
+  for (const auto& p : pairs) {
+    if (matched_robots.contains(p.id) || matched_labels.contains(p.label)) continue;
+    if (p.id == self) return offers[p.offer];
+    matched_robots.insert(p.id);
+    matched_labels.insert(p.label);
+  }
+  return std::nullopt;
+}
+
+std::vector<int> labels_to_free(const ShapeTable& table, int own_label, const Stigmergy& stigmergy,
+                                const NeighbourTable& neighbours, const std::map<int, Tick>& holder_since,
+                                RobotId self, Tick now, int label_timeout) {
+  std::vector<int> out;
+  for (const auto& nb : table.neighbours(own_label)) {
+    const auto status = label_status(stigmergy, nb.label);
+    if (status.kind != LabelStatus::Kind::Held || status.holder == self) continue;
+    const auto heard = neighbours.last_heard(status.holder);
+    if (!heard) continue;  // never heard: maybe still on its way from afar; not ours to judge
+    Tick quiet_since = *heard;
+    if (auto it = holder_since.find(nb.label); it != holder_since.end())
+      quiet_since = std::max(quiet_since, it->second);
+    if (now >= quiet_since + static_cast<Tick>(label_timeout)) out.push_back(nb.label);
+  }
+  return out;
+}
+
+}  // namespace swarmform::controller

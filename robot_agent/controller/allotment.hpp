@@ -1,0 +1,107 @@
+// Label allotment (paper III.C, states 'searching' and 'moving'), as pure functions over what a robot knows:
+// its own pose, its neighbour table and its stigmergy. PaperController strings them together.
+//
+// - Seed: the robot closest to the arena origin, found by local interaction only: every searching robot
+//   broadcasts the best (distance, id) it knows -- its own or a neighbour's, whichever is smaller -- so the
+//   minimum floods the connected swarm one hop a tick. A robot whose candidate is itself and has stayed
+//   unchanged for `seed_settle` ticks, with no shape heard of, takes label 0 where it stands: that place is
+//   the shape's origin.
+// - Offers: a robot in the shape broadcasts the free labels of its 3x3 grid (Table II's row of its label):
+//   those the labels stigmergy does not give to a holder and no neighbour reports as its own. It also
+//   broadcasts the shape's origin, from which every label's place follows (shape_table.hpp).
+// - Taking a label: a searching robot pools the offers it hears and pairs offered places with the searching
+//   robots it hears (and itself) greedily, closest pair first; it takes the label paired with itself and
+//   puts itself as that label's holder in the stigmergy. (The paper takes "the last non-negative label" of
+//   its list; pairing by distance makes simultaneous claims rarer and trips shorter. Claims can still
+//   collide, since views differ: the conflict rule settles them.)
+// - Conflicts (paper: "the bot with a higher ID gets the label while the other bots go back to searching"):
+//   keeps_label(). Through the stigmergy an equal-version tie also goes to the higher writer id, so the
+//   table agrees with the rule; a holder that sees a lower id in its label's entry re-puts itself.
+// - A dead holder: a robot of the shape whose own label is in the 3x3 grid of label L, and which had heard
+//   L's holder before, frees L when that holder has been silent for `label_timeout` ticks: it puts
+//   kLabelFreedBase - tick. L is then offered again. A freed label nobody takes within another
+//   `label_timeout` ticks is abandoned: the barrier no longer waits for it (barrier.hpp).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <vector>
+
+#include "common/types.hpp"
+#include "robot_agent/controller/neighbours.hpp"
+#include "robot_agent/controller/shape_table.hpp"
+#include "robot_agent/controller/stigmergy.hpp"
+
+namespace swarmform::controller {
+
+// Labels namespace values: a holder id (>= 0), or kLabelFreedBase - tick for a label freed at that tick.
+inline constexpr std::int64_t kLabelFreedBase = -2;
+
+struct LabelStatus {
+  enum class Kind { Unclaimed, Held, Freed };
+  Kind kind = Kind::Unclaimed;
+  RobotId holder = 0;  // Held
+  Tick freed_at = 0;   // Freed
+};
+LabelStatus label_status(const Stigmergy& stigmergy, int label);
+void put_label_holder(Stigmergy& stigmergy, int label, RobotId holder);
+void put_label_freed(Stigmergy& stigmergy, int label, Tick now);
+
+// The paper's conflict rule: of two robots with the same label, the higher id keeps it.
+constexpr bool keeps_label(RobotId self, RobotId other) {
+  return self > other;
+}
+
+class SeedElection {
+ public:
+  // Folds in this tick's own distance to the origin and the candidates the neighbours report.
+  void update(RobotId self, double own_distance, const NeighbourTable& neighbours, Tick now);
+  RobotId candidate() const { return candidate_; }
+  double distance() const { return distance_; }
+  // The candidate has not changed for `settle_ticks`.
+  bool settled(Tick now, int settle_ticks) const;
+  void reset() { *this = SeedElection{}; }
+
+ private:
+  bool started_ = false;
+  RobotId candidate_ = 0;
+  double distance_ = 0.0;
+  Tick since_ = 0;
+};
+
+// Labels of `label`'s 3x3 grid that nobody holds, as the robot knows it.
+std::vector<int> free_grid_labels(const ShapeTable& table, int label, const Stigmergy& stigmergy,
+                                  const NeighbourTable& neighbours);
+
+struct LabelOffer {
+  int label = -1;
+  RobotId advertiser = 0;
+  int advertiser_label = -1;  // becomes the taker's parent label
+  Vec2 origin;                // the advertiser's shape origin
+  Vec2 place;                 // the label's place, arena frame
+};
+
+// The offers heard from the neighbours (robots with a label and an origin), minus labels the robot knows are
+// held. One offer per label (from the lowest advertiser id).
+std::vector<LabelOffer> collect_offers(const ShapeTable& table, double shape_heading,
+                                       const NeighbourTable& neighbours, const Stigmergy& stigmergy);
+
+struct Searcher {
+  RobotId id = 0;
+  Vec2 position;
+};
+
+// Greedy closest-pair matching of offered places and searching robots; the offer paired with `self`.
+std::optional<LabelOffer> choose_offer(const std::vector<LabelOffer>& offers,
+                                       const std::vector<Searcher>& searchers, RobotId self);
+
+// The rule that frees a dead holder's label: the labels of `own_label`'s 3x3 grid whose holder was heard
+// before and has been silent for `label_timeout` ticks, counted from the last time it was heard or from
+// `holder_since[label]` (the tick this robot first saw the current holder), whichever is later -- so a robot
+// heard long ago that has just taken the label from afar gets its full timeout.
+std::vector<int> labels_to_free(const ShapeTable& table, int own_label, const Stigmergy& stigmergy,
+                                const NeighbourTable& neighbours, const std::map<int, Tick>& holder_since,
+                                RobotId self, Tick now, int label_timeout);
+
+}  // namespace swarmform::controller

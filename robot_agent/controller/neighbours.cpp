@@ -1,0 +1,58 @@
+#include "robot_agent/controller/neighbours.hpp"
+
+#include "robot_agent/controller/drive.hpp"
+
+namespace swarmform::controller {
+
+void NeighbourTable::update(const Perception& perception, RobotId self) {
+  now_ = perception.tick;
+  for (const auto& reading : perception.messages) {
+    if (reading.sender == self) continue;
+    auto decoded = decode_message(reading.data);
+    // A message whose inner sender is not the one the medium saw is a forgery or a bug: ignore it.
+    if (!decoded || decoded->sender != reading.sender) {
+      ++dropped_;
+      continue;
+    }
+    Neighbour& n = live_[reading.sender];
+    n.id = reading.sender;
+    n.range = reading.range;
+    n.bearing = reading.bearing;
+    n.azimuth = wrap_angle(perception.pose.theta + reading.bearing);
+    n.message = std::move(*decoded);
+    n.last_heard = now_;
+    ever_heard_[reading.sender] = now_;
+  }
+  for (auto it = live_.begin(); it != live_.end();) {
+    if (now_ - it->second.last_heard >= static_cast<Tick>(timeout_)) {
+      it = live_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+}
+
+const Neighbour* NeighbourTable::find(RobotId id) const {
+  auto it = live_.find(id);
+  return it == live_.end() ? nullptr : &it->second;
+}
+
+bool NeighbourTable::fresh(RobotId id) const {
+  const Neighbour* n = find(id);
+  return n != nullptr && n->last_heard == now_;
+}
+
+std::optional<Tick> NeighbourTable::last_heard(RobotId id) const {
+  auto it = ever_heard_.find(id);
+  if (it == ever_heard_.end()) return std::nullopt;
+  return it->second;
+}
+
+void NeighbourTable::clear() {
+  live_.clear();
+  ever_heard_.clear();
+  now_ = 0;
+  dropped_ = 0;
+}
+
+}  // namespace swarmform::controller

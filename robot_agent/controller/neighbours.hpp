@@ -1,0 +1,53 @@
+// The neighbours a robot hears, as Buzz's `neighbors` structure: id -> last range, bearing, decoded message
+// and the tick it was last heard. A neighbour silent for `neighbour_timeout` ticks is dropped (taken for
+// gone or dead). The tick each id was last heard is kept after expiry too: the label-freeing rule needs to
+// know that a robot was heard once and then fell silent (allotment.hpp).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+
+#include "common/types.hpp"
+#include "robot_agent/controller/message.hpp"
+
+namespace swarmform::controller {
+
+struct Neighbour {
+  RobotId id = 0;
+  double range = 0.0;    // m, as last heard
+  double bearing = 0.0;  // rad, receiver's frame, as last heard
+  double azimuth = 0.0;  // rad, arena frame: own heading at that tick + bearing
+  RobotMessage message;  // the last message decoded from it
+  Tick last_heard = 0;
+};
+
+class NeighbourTable {
+ public:
+  explicit NeighbourTable(int timeout_ticks = 20) : timeout_(timeout_ticks) {}
+
+  // Takes this tick's readings: decodes each message (undecodable ones, and our own id, are dropped and
+  // counted), then expires the neighbours silent for the timeout.
+  void update(const Perception& perception, RobotId self);
+
+  // Neighbours heard within the timeout.
+  const std::map<RobotId, Neighbour>& all() const { return live_; }
+  const Neighbour* find(RobotId id) const;
+  // True when `id` was heard this very tick (its range and bearing are current).
+  bool fresh(RobotId id) const;
+  // The tick `id` was last heard, also after it expired; nullopt if never heard.
+  std::optional<Tick> last_heard(RobotId id) const;
+  Tick now() const { return now_; }
+  std::uint64_t dropped_messages() const { return dropped_; }
+
+  void clear();
+
+ private:
+  int timeout_;
+  Tick now_ = 0;
+  std::map<RobotId, Neighbour> live_;
+  std::map<RobotId, Tick> ever_heard_;
+  std::uint64_t dropped_ = 0;
+};
+
+}  // namespace swarmform::controller

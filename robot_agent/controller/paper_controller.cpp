@@ -1,0 +1,435 @@
+#include "robot_agent/controller/paper_controller.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "robot_agent/controller/collision_avoidance.hpp"
+#include "robot_agent/controller/drive.hpp"
+
+namespace swarmform::controller {
+
+namespace {
+
+std::uint64_t mix(std::uint64_t x) {  // splitmix64
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+Vec2 position(const Pose2D& p) {
+  return {p.x, p.y};
+}
+
+bool in_shape_before_ready(RobotState s) {
+  return s == RobotState::Moving || s == RobotState::Reached;
+}
+
+bool in_motion_phases(RobotState s) {
+  return s == RobotState::Ready || s == RobotState::Motion || s == RobotState::Arrived;
+}
+
+// Searching robots keep this far from every place (grid spacings), spares (every label held) further: they
+// leave the shape's area.
+constexpr double kSearcherClearance = 0.5;
+constexpr double kSpareClearance = 1.2;
+// A searcher that has heard no offer for this long walks towards the nearest unheld place, up to this many
+// grid spacings from it.
+constexpr double kApproachDistance = 1.5;
+
+}  // namespace
+
+PaperController::PaperController(std::unique_ptr<MotionPhases> motion) : motion_(std::move(motion)) {}
+
+void PaperController::init(const Mission& mission, RobotId self) {
+  mission_ = mission;
+  self_ = self;
+  params_ = params_from_mission(mission);
+  table_ = ShapeTable(mission.shape, params_.grid_spacing);
+  if (!motion_) motion_ = make_motion_phases(params_);
+  reset();
+}
+
+void PaperController::reset() {
+  rng_.seed(mix(mission_.seed ^ static_cast<std::uint64_t>(self_)));
+  state_ = RobotState::Searching;
+  label_ = -1;
+  parent_label_ = -1;
+  has_origin_ = false;
+  origin_ = {};
+  tick_ = 0;
+  backoff_until_ = 0;
+  last_offer_tick_ = 0;
+  blocked_ticks_ = 0;
+  ready_tick_ = 0;
+  holder_since_.clear();
+  holder_seen_.clear();
+  neighbours_ = NeighbourTable(params_.neighbour_timeout);
+  stigmergy_ = Stigmergy(self_);
+  election_.reset();
+  barrier_at_ready_ = {};
+  events_.clear();
+  last_motion_ = {};
+  if (!in_motion_phases(state_) && motion_) motion_ = make_motion_phases(params_);
+}
+
+Command PaperController::step(const Perception& p) {
+  events_.clear();
+  tick_ = p.tick;
+
+  // Hear: neighbour table, stigmergy entries, the shape's origin.
+  neighbours_.update(p, self_);
+  for (const auto& [id, n] : neighbours_.all()) {
+    if (n.last_heard != tick_) continue;
+    stigmergy_.merge_all(n.message.entries);
+    if (!has_origin_ && n.message.has_origin) {
+      has_origin_ = true;
+      origin_ = n.message.origin;
+    }
+  }
+  track_holders();
+
+  // Keep the label.
+  if (in_shape_before_ready(state_)) {
+    keep_label();
+    if (label_ >= 0) free_dead_labels();
+  }
+
+  // The state's behaviour.
+  Vec2 velocity;
+  std::optional<WheelSpeeds> wheels;
+  std::vector<std::uint8_t> motion_bytes;
+  Telemetry telemetry;
+  switch (state_) {
+    case RobotState::Idle:
+    case RobotState::Searching:
+      state_ = RobotState::Searching;
+      velocity = searching_step(p);
+      break;
+    case RobotState::Moving:
+      velocity = moving_step(p);
+      break;
+    case RobotState::Reached:
+      wheels = reached_step(p);
+      break;
+    case RobotState::Ready:
+    case RobotState::Motion:
+    case RobotState::Arrived:
+      break;
+  }
+  if (in_motion_phases(state_)) {
+    last_motion_ = motion_->step(context(p));
+    state_ = in_motion_phases(last_motion_.state) ? last_motion_.state : RobotState::Ready;
+    velocity = last_motion_.velocity;
+    wheels = last_motion_.wheels;
+    motion_bytes = last_motion_.message;
+    for (auto& e : last_motion_.events) events_.push_back(e);
+    telemetry.leader = last_motion_.leader;
+    telemetry.net_force = std::isfinite(last_motion_.net_force) ? last_motion_.net_force : 0.0;
+    telemetry.parent = last_motion_.parent;
+  } else {
+    telemetry.parent = parent_id();
+  }
+
+  Command cmd;
+  const WheelSpeeds w = clamp_wheels(
+      wheels ? *wheels : drive_velocity(velocity, p.pose.theta, params_.max_speed), params_.max_speed);
+  cmd.left_speed = w.left;
+  cmd.right_speed = w.right;
+  cmd.message = encode_message(compose_message(p, motion_bytes));
+  telemetry.state = static_cast<std::int32_t>(state_);
+  telemetry.label = label_;
+  telemetry.events = std::move(events_);
+  events_.clear();
+  cmd.telemetry = std::move(telemetry);
+  return cmd;
+}
+
+// ---- Searching (paper III.C 'Searching') ----
+
+Vec2 PaperController::searching_step(const Perception& p) {
+  const Vec2 pos = position(p.pose);
+  const bool shape_known = has_origin_ || label_status(stigmergy_, 0).kind != LabelStatus::Kind::Unclaimed;
+
+  // The seed: closest to the origin by the flooded minimum, once it has settled.
+  election_.update(self_, norm(pos), neighbours_, tick_);
+  if (!shape_known && election_.candidate() == self_ && election_.settled(tick_, params_.seed_settle)) {
+    take_label(0, -1, pos, "seed_elected");
+    return {};
+  }
+
+  // Take a free label from the offers heard.
+  const auto offers = collect_offers(table_, params_.shape_heading, neighbours_, stigmergy_);
+  if (!offers.empty()) last_offer_tick_ = tick_;
+  if (!offers.empty() && tick_ >= backoff_until_) {
+    std::vector<Searcher> searchers{{self_, pos}};
+    for (const auto& [id, n] : neighbours_.all()) {
+      if (n.last_heard == tick_ && n.message.state == RobotState::Searching) {
+        searchers.push_back({id, {n.message.pose.x, n.message.pose.y}});
+      }
+    }
+    if (auto offer = choose_offer(offers, searchers, self_)) {
+      take_label(offer->label, offer->advertiser_label, offer->origin, "label_taken");
+      return {};
+    }
+  }
+
+  // Keep clear of the shape's places; spares leave its area; a searcher with nothing to take walks towards
+  // where labels are still open.
+  Vec2 v;
+  if (has_origin_) {
+    const auto places = table_.places(origin_, params_.shape_heading);
+    int held = 0;
+    for (int l = 0; l < table_.size(); ++l) {
+      if (label_status(stigmergy_, l).kind == LabelStatus::Kind::Held) ++held;
+    }
+    const bool spare = held == table_.size();
+    const double s = params_.grid_spacing;
+    double nearest = 1e18;
+    Vec2 nearest_place;
+    Vec2 centroid;
+    for (const auto& pl : places) {
+      centroid = centroid + (1.0 / static_cast<double>(places.size())) * pl;
+      const double d = norm(pl - pos);
+      if (d < nearest) {
+        nearest = d;
+        nearest_place = pl;
+      }
+    }
+    if (spare && nearest < kSpareClearance * s) {
+      Vec2 away = pos - centroid;
+      if (norm(away) < 1e-6) away = pos - nearest_place;
+      v = (params_.max_speed / std::max(norm(away), 1e-9)) * away;
+    } else if (nearest < kSearcherClearance * s) {
+      const Vec2 away = pos - nearest_place;
+      v = (params_.k_move * (kSearcherClearance * s - nearest) / std::max(norm(away), 1e-9)) * away;
+    } else if (!spare && tick_ > last_offer_tick_ + static_cast<Tick>(params_.neighbour_timeout)) {
+      double best = 1e18;
+      Vec2 target;
+      for (int l = 0; l < table_.size(); ++l) {
+        if (label_status(stigmergy_, l).kind == LabelStatus::Kind::Held) continue;
+        const double d = norm(places[static_cast<std::size_t>(l)] - pos);
+        if (d < best) {
+          best = d;
+          target = places[static_cast<std::size_t>(l)];
+        }
+      }
+      if (best < 1e17 && best > kApproachDistance * s) {
+        v = limit(params_.k_move * (best - kApproachDistance * s) * ((1.0 / best) * (target - pos)),
+                  params_.max_speed);
+      }
+    }
+  }
+  return avoid_collisions(limit(v, params_.max_speed), fresh_neighbour_positions(), params_.k_collision,
+                          params_.r_o, params_.max_speed);
+}
+
+void PaperController::take_label(int label, int parent_label, Vec2 origin, const std::string& why) {
+  label_ = label;
+  parent_label_ = parent_label;
+  origin_ = origin;
+  has_origin_ = true;
+  put_label_holder(stigmergy_, label, self_);
+  holder_seen_[label] = self_;
+  holder_since_[label] = tick_;
+  state_ = RobotState::Moving;
+  blocked_ticks_ = 0;
+  event(why + " " + std::to_string(label) +
+        (parent_label >= 0 ? " parent_label " + std::to_string(parent_label) : std::string()));
+}
+
+void PaperController::lose_label(const std::string& why) {
+  event("label_lost " + std::to_string(label_) + " " + why);
+  label_ = -1;
+  parent_label_ = -1;
+  state_ = RobotState::Searching;
+  // A short random back-off, so two losers do not collide again on the next offer.
+  backoff_until_ = tick_ + 1 + std::uniform_int_distribution<Tick>(0, 10)(rng_);
+}
+
+// ---- Keeping the label: conflicts (paper III.C 'Moving') and dead holders ----
+
+void PaperController::keep_label() {
+  if (label_ < 0) return;
+  const auto s = label_status(stigmergy_, label_);
+  if (s.kind == LabelStatus::Kind::Held && s.holder != self_) {
+    if (!keeps_label(self_, s.holder)) {
+      lose_label("to " + std::to_string(s.holder));
+      return;
+    }
+    put_label_holder(stigmergy_, label_, self_);  // the higher id re-asserts
+  } else if (s.kind != LabelStatus::Kind::Held) {
+    put_label_holder(stigmergy_, label_, self_);  // freed while alive (a false alarm): still here
+  }
+  for (const auto& [id, n] : neighbours_.all()) {
+    if (n.last_heard == tick_ && n.message.label == label_ && in_shape_before_ready(n.message.state) &&
+        !keeps_label(self_, id)) {
+      lose_label("to " + std::to_string(id));
+      return;
+    }
+  }
+}
+
+void PaperController::track_holders() {
+  for (int l = 0; l < table_.size(); ++l) {
+    const auto s = label_status(stigmergy_, l);
+    if (s.kind != LabelStatus::Kind::Held) {
+      holder_seen_.erase(l);
+      holder_since_.erase(l);
+      continue;
+    }
+    auto it = holder_seen_.find(l);
+    if (it == holder_seen_.end() || it->second != s.holder) {
+      holder_seen_[l] = s.holder;
+      holder_since_[l] = tick_;
+    }
+  }
+}
+
+void PaperController::free_dead_labels() {
+  for (int l : labels_to_free(table_, label_, stigmergy_, neighbours_, holder_since_, self_, tick_,
+                              params_.label_timeout)) {
+    const auto holder = label_status(stigmergy_, l).holder;
+    put_label_freed(stigmergy_, l, tick_);
+    event("label_freed " + std::to_string(l) + " holder " + std::to_string(holder));
+  }
+}
+
+// ---- Moving (paper III.C 'Moving', eq. 1) ----
+
+Vec2 PaperController::moving_step(const Perception& p) {
+  const Vec2 pos = position(p.pose);
+  const Vec2 target = table_.place(label_, origin_, params_.shape_heading);
+  const Vec2 error = target - pos;
+  const double distance = norm(error);
+  if (distance < params_.reach_tolerance) {
+    state_ = RobotState::Reached;
+    event("reached " + std::to_string(label_));
+    return {};
+  }
+
+  // A place held by something that is not a robot we hear (a dead robot's body): stop short of it, and
+  // after a while take the spot as reached.
+  const auto neighbours = fresh_neighbour_positions();
+  const double bearing = wrap_angle(std::atan2(error.y, error.x) - p.pose.theta);
+  bool blocked = false;
+  if (distance < 0.4 && std::abs(bearing) <= kUltrasonicAngles.back() + 0.3) {
+    std::size_t sensor = 0;
+    for (std::size_t i = 1; i < kUltrasonicCount; ++i) {
+      if (std::abs(kUltrasonicAngles[i] - bearing) < std::abs(kUltrasonicAngles[sensor] - bearing))
+        sensor = i;
+    }
+    const double echo = p.ultrasonic[sensor];
+    bool robot_there = false;
+    for (const auto& n : neighbours) {
+      if (std::abs(wrap_angle(n.azimuth - p.pose.theta - bearing)) < 0.5 && n.range < distance + 0.3) {
+        robot_there = true;
+      }
+    }
+    blocked = !robot_there && echo <= kUltrasonicMinRange + 1e-9 && echo < distance;
+  }
+  if (blocked) {
+    if (++blocked_ticks_ >= kBlockedPlaceTicks) {
+      state_ = RobotState::Reached;
+      event("reached " + std::to_string(label_) + " blocked_place");
+    }
+    return {};
+  }
+  blocked_ticks_ = 0;
+  const Vec2 v = limit(params_.k_move * error, params_.max_speed);
+  return avoid_collisions(v, neighbours, params_.k_collision, params_.r_o, params_.max_speed);
+}
+
+// ---- Reached and the barrier (paper III.C 'Reached', Algorithm 1) ----
+
+std::optional<WheelSpeeds> PaperController::reached_step(const Perception& p) {
+  const Vec2 pos = position(p.pose);
+  const Vec2 error = table_.place(label_, origin_, params_.shape_heading) - pos;
+  WheelSpeeds wheels;
+  const double heading_error = wrap_angle(params_.shape_heading - p.pose.theta);
+  if (blocked_ticks_ < kBlockedPlaceTicks && norm(error) > 2.0 * params_.reach_tolerance) {
+    // Pushed off its place: back to it without leaving the state.
+    wheels =
+        drive_velocity(limit(params_.k_move * error, params_.max_speed), p.pose.theta, params_.max_speed);
+  } else if (std::abs(heading_error) > params_.heading_tolerance) {
+    wheels = turn_towards(params_.shape_heading, p.pose.theta, params_.max_speed);
+  } else if (!barrier_contains(stigmergy_, self_) ||
+             stigmergy_.get(stig::key(stig::Ns::Barrier, self_)) != label_) {
+    barrier_enter(stigmergy_, self_, label_);
+  }
+  if (barrier_contains(stigmergy_, self_) && stigmergy_.get(stig::key(stig::Ns::Barrier, self_)) == label_) {
+    const auto view = read_barrier(stigmergy_, table_.size(), tick_, params_.label_timeout);
+    if (view.passed() && view.members.contains(self_)) {
+      barrier_at_ready_ = view;
+      enter_ready();
+      return WheelSpeeds{};
+    }
+  }
+  return wheels;
+}
+
+void PaperController::enter_ready() {
+  state_ = RobotState::Ready;
+  ready_tick_ = tick_;
+  for (int l : barrier_at_ready_.abandoned) event("label_abandoned " + std::to_string(l));
+  event("barrier_passed " + std::to_string(barrier_at_ready_.count) + "/" + std::to_string(table_.size()));
+}
+
+FormationContext PaperController::context(const Perception& p) const {
+  FormationContext ctx;
+  ctx.self = self_;
+  ctx.tick = tick_;
+  ctx.perception = &p;
+  ctx.pose = p.pose;
+  ctx.params = &params_;
+  ctx.table = &table_;
+  ctx.label = label_;
+  ctx.origin = origin_;
+  ctx.places = table_.places(origin_, params_.shape_heading);
+  ctx.common_heading = params_.shape_heading;
+  ctx.neighbours = &neighbours_;
+  ctx.stigmergy = const_cast<Stigmergy*>(&stigmergy_);
+  ctx.members = barrier_at_ready_.members;
+  ctx.abandoned_labels = barrier_at_ready_.abandoned;
+  ctx.ready_tick = ready_tick_;
+  return ctx;
+}
+
+// ---- Helpers ----
+
+std::vector<NeighbourPosition> PaperController::fresh_neighbour_positions() const {
+  std::vector<NeighbourPosition> out;
+  for (const auto& [id, n] : neighbours_.all()) {
+    if (n.last_heard == tick_) out.push_back({n.range, n.azimuth});
+  }
+  return out;
+}
+
+std::int32_t PaperController::parent_id() const {
+  if (parent_label_ < 0) return -1;
+  const auto s = label_status(stigmergy_, parent_label_);
+  return s.kind == LabelStatus::Kind::Held ? static_cast<std::int32_t>(s.holder) : -1;
+}
+
+RobotMessage PaperController::compose_message(const Perception& p, const std::vector<std::uint8_t>& motion) {
+  RobotMessage m;
+  m.sender = self_;
+  m.state = state_;
+  m.label = label_;
+  m.pose = p.pose;
+  m.has_origin = has_origin_;
+  m.origin = origin_;
+  m.seed_candidate = state_ == RobotState::Searching ? election_.candidate() : self_;
+  m.seed_distance = state_ == RobotState::Searching ? election_.distance() : norm(position(p.pose));
+  if (in_shape_before_ready(state_))
+    m.free_labels = free_grid_labels(table_, label_, stigmergy_, neighbours_);
+  if (m.free_labels.size() > kMaxFreeLabels) m.free_labels.resize(kMaxFreeLabels);
+  m.motion = motion;
+  // What is left of the world's message limit goes to the stigmergy.
+  const std::size_t fixed = 46 + 2 * m.free_labels.size() + m.motion.size();
+  const std::size_t budget = params_.max_message_bytes > fixed ? params_.max_message_bytes - fixed : 0;
+  m.entries = stigmergy_.outgoing(std::min(kMaxEntriesPerMessage, budget / 20));
+  return m;
+}
+
+}  // namespace swarmform::controller

@@ -1,0 +1,98 @@
+// The paper's controller (mission.behaviour = "paper"): the state machine of Fig. 2.
+//
+//   Searching --(seed elected, or a free label taken)--> Moving --(at its place)--> Reached
+//   Reached --(turned to the common heading, id in the barrier, barrier full)--> Ready -> Motion -> Arrived
+//   Moving/Reached --(label lost to a higher id)--> Searching
+//
+// One tick (step): hear (neighbour table, stigmergy merge) -> keep the label (conflicts, freeing dead
+// holders' labels) -> the state's behaviour (allotment.hpp, collision_avoidance.hpp, barrier.hpp, or the
+// motion phases through motion_hooks.hpp) -> wheels (drive.hpp) -> broadcast (message.hpp) -> telemetry.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "robot_agent/controller/allotment.hpp"
+#include "robot_agent/controller/barrier.hpp"
+#include "robot_agent/controller/collision_avoidance.hpp"
+#include "robot_agent/controller/controller.hpp"
+#include "robot_agent/controller/motion_hooks.hpp"
+#include "robot_agent/controller/neighbours.hpp"
+#include "robot_agent/controller/params.hpp"
+#include "robot_agent/controller/shape_table.hpp"
+#include "robot_agent/controller/stigmergy.hpp"
+
+namespace swarmform::controller {
+
+class PaperController final : public Controller {
+ public:
+  // Ticks a Moving robot waits in front of a place held by an unexplained obstacle (a dead robot's body
+  // standing on it) before it takes the spot where it stands as reached.
+  static constexpr int kBlockedPlaceTicks = 30;
+
+  // `motion`: the motion phases; null = make_motion_phases(params).
+  explicit PaperController(std::unique_ptr<MotionPhases> motion = nullptr);
+
+  void init(const Mission& mission, RobotId self) override;
+  Command step(const Perception& perception) override;
+  void reset() override;
+
+  // For tests and the in-process harness.
+  RobotState state() const { return state_; }
+  int label() const { return label_; }
+  bool has_origin() const { return has_origin_; }
+  Vec2 origin() const { return origin_; }
+  const Stigmergy& stigmergy() const { return stigmergy_; }
+  const NeighbourTable& neighbours() const { return neighbours_; }
+  const ShapeTable& table() const { return table_; }
+  const FormationParams& params() const { return params_; }
+
+ private:
+  Vec2 searching_step(const Perception& p);
+  Vec2 moving_step(const Perception& p);
+  std::optional<WheelSpeeds> reached_step(const Perception& p);
+  void keep_label();
+  void free_dead_labels();
+  void track_holders();
+  void take_label(int label, int parent_label, Vec2 origin, const std::string& why);
+  void lose_label(const std::string& why);
+  void enter_ready();
+  FormationContext context(const Perception& p) const;
+  std::vector<NeighbourPosition> fresh_neighbour_positions() const;
+  void event(std::string text) { events_.push_back(std::move(text)); }
+  RobotMessage compose_message(const Perception& p, const std::vector<std::uint8_t>& motion);
+  std::int32_t parent_id() const;
+
+  Mission mission_;
+  FormationParams params_;
+  RobotId self_ = 0;
+  ShapeTable table_;
+  std::unique_ptr<MotionPhases> motion_;
+  std::mt19937_64 rng_;
+
+  RobotState state_ = RobotState::Searching;
+  int label_ = -1;
+  int parent_label_ = -1;  // the label whose robot offered ours
+  bool has_origin_ = false;
+  Vec2 origin_;
+  Tick tick_ = 0;
+  Tick backoff_until_ = 0;    // no new claim before this tick (after losing a conflict)
+  Tick last_offer_tick_ = 0;  // last tick an offer was heard
+  int blocked_ticks_ = 0;     // Moving: ticks in front of a blocked place
+  Tick ready_tick_ = 0;
+  std::map<int, Tick> holder_since_;    // label -> tick this robot first saw its current holder
+  std::map<int, RobotId> holder_seen_;  // label -> that holder
+
+  NeighbourTable neighbours_;
+  Stigmergy stigmergy_;
+  SeedElection election_;
+  BarrierView barrier_at_ready_;
+  std::vector<std::string> events_;
+  MotionStep last_motion_;
+};
+
+}  // namespace swarmform::controller

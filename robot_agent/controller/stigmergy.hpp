@@ -1,0 +1,92 @@
+// Virtual stigmergy with Buzz semantics (Pinciroli & Beltrame): a key-value table replicated on every robot
+// and carried by the neighbour messages, multi-hop.
+//
+// - Each entry: key (u32), value (i64), version (u32), writer (the id that put it).
+// - put(): the local robot writes; the version becomes (the version it holds for that key) + 1.
+// - merge(): a received entry replaces the local one when it is newer: a higher version wins; on an equal
+//   version the higher writer id wins, then the higher value. The rule is a total order on (version, writer,
+//   value), so every robot that has seen the same entries holds the same one, whatever the order they came
+//   in: conflicts resolve the same way everywhere.
+// - Flooding: an entry that changed locally (put, or a merge that took a newer entry) is sent in the next
+//   kResendCount messages; the rest of each message's quota goes round-robin over the whole table, so every
+//   entry keeps propagating even when copies are lost.
+//
+// Key layout: namespace in the high 16 bits, index (a robot id or a label, < 65536) in the low 16.
+//   1 Barrier   index = robot id   value = the label it holds when it passed Reached (barrier.hpp)
+//   2 Labels    index = label      value = holder id (>= 0), or kLabelFreedBase - tick when freed (allotment)
+//   3 Boundary  index = robot id   the motion phases' boundary roles (boundary.hpp)
+//   4 Parents   index = robot id   the motion phases' parents table (parent_tree.hpp)
+//   5 Leader    index = 0..        the motion phases' leader entries (leader_election.hpp)
+//   6..15       reserved for the motion phases
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <optional>
+#include <vector>
+
+#include "common/types.hpp"
+#include "robot_agent/controller/message.hpp"
+
+namespace swarmform::controller {
+
+namespace stig {
+enum class Ns : std::uint32_t { Barrier = 1, Labels = 2, Boundary = 3, Parents = 4, Leader = 5 };
+inline constexpr std::uint32_t kMaxIndex = 0xFFFF;
+inline constexpr std::uint32_t key(Ns ns, std::uint32_t index) {
+  return (static_cast<std::uint32_t>(ns) << 16) | (index & kMaxIndex);
+}
+inline constexpr std::uint32_t key(std::uint32_t ns, std::uint32_t index) {
+  return (ns << 16) | (index & kMaxIndex);
+}
+inline constexpr std::uint32_t ns_of(std::uint32_t key) {
+  return key >> 16;
+}
+inline constexpr std::uint32_t index_of(std::uint32_t key) {
+  return key & kMaxIndex;
+}
+}  // namespace stig
+
+// True when `a` wins over `b` (the merge rule above).
+bool stigmergy_newer(const StigmergyEntry& a, const StigmergyEntry& b);
+
+class Stigmergy {
+ public:
+  // How many of its next messages carry an entry after it changed.
+  static constexpr int kResendCount = 3;
+
+  explicit Stigmergy(RobotId self = 0) : self_(self) {}
+
+  // Buzz's stigmergy.put.
+  void put(std::uint32_t key, std::int64_t value);
+  std::optional<std::int64_t> get(std::uint32_t key) const;
+  const StigmergyEntry* entry(std::uint32_t key) const;
+
+  // Takes a received entry if it is newer; returns true when the table changed.
+  bool merge(const StigmergyEntry& e);
+  void merge_all(const std::vector<StigmergyEntry>& entries);
+
+  // The entries for the next message, at most `max_entries`: changed ones first, then round-robin.
+  std::vector<StigmergyEntry> outgoing(std::size_t max_entries);
+
+  // All entries of one namespace, by index.
+  std::map<std::uint32_t, StigmergyEntry> in_namespace(std::uint32_t ns) const;
+  std::map<std::uint32_t, StigmergyEntry> in_namespace(stig::Ns ns) const {
+    return in_namespace(static_cast<std::uint32_t>(ns));
+  }
+  const std::map<std::uint32_t, StigmergyEntry>& entries() const { return table_; }
+  std::size_t size() const { return table_.size(); }
+
+  void clear();
+
+ private:
+  void mark_changed(std::uint32_t key);
+
+  RobotId self_;
+  std::map<std::uint32_t, StigmergyEntry> table_;
+  std::map<std::uint32_t, int> pending_;  // key -> sends left
+  std::uint32_t cursor_ = 0;              // round-robin: the next key to send is the first >= cursor_
+};
+
+}  // namespace swarmform::controller
