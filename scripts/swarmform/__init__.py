@@ -1,0 +1,12 @@
+"""swarmform's launcher and viewer: `scripts/swarm` runs this package with Debian's /usr/bin/python3.
+
+Modules, one job each:
+  cli        the command line (`swarm run|demo|kill|replay|report`), argument checks, dispatch
+  launcher   starts the world and the robot agents, shows progress, cleans up every process
+  recording  reads a run directory back (world.json, robots.csv, events.jsonl, summary.json)
+  geometry   formation centre and shape error (rigid fit), from the recording
+  scene      draws the arena and the robots at one tick (shared by the snapshots and the animation)
+  pictures   the paper's figures (snapshots, trajectories, residual force, shape error)
+  animation  the whole run as MP4 and GIF, through ffmpeg
+  report     summary.json as a readable table
+"""

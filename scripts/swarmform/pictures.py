@@ -1,0 +1,188 @@
+"""The paper's figures from a recording, into RUN_DIR/pictures/:
+
+  snapshot_tNNNNN.png   the arena at chosen ticks (Figs. 4-9): the start, formation, motion start, evenly
+                        through the motion, the end, plus any tick asked for
+  trajectories.png      every robot's path (Fig. 10)
+  residual_force.png    the net force summed over the robots against the path of the formation's centre (Fig. 3)
+  shape_error.png       shape error (RMS after a rigid fit, grid units) over time
+  animation.mp4/.gif    the whole run (animation.py)
+
+Every figure has a fixed pixel size (PICTURE_SIZES), so a README or a test can rely on it.
+"""
+
+import os
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.collections import LineCollection  # noqa: E402
+
+from . import animation, geometry  # noqa: E402
+from .scene import Scene, draw_static  # noqa: E402
+
+DPI = 100
+PICTURE_SIZES = {"snapshot": (900, 600), "trajectories": (900, 600), "residual_force": (900, 800),
+                 "shape_error": (900, 450)}
+
+
+class PictureError(Exception):
+    """A request the recording cannot answer (e.g. a tick beyond its end)."""
+
+
+def snapshot_ticks(rec, extra=()):
+    """[(tick, caption)] in tick order: t=0, formation, motion start, three evenly through the motion, the end
+    (the paper's Figs. 4-9); without a formation (e.g. a random walk), five ticks evenly through the run."""
+    t = rec.track
+    first, last = int(t.ticks[0]), int(t.ticks[-1])
+    ph = geometry.phases(rec)
+    chosen = {first: "start"}
+    if ph["formation"] is not None:
+        chosen.setdefault(ph["formation"], "shape formed")
+    if ph["motion"] is not None:
+        end = ph["goal"] if ph["goal"] is not None else last
+        chosen.setdefault(ph["motion"], "motion towards the goal starts")
+        for k in (1, 2, 3):
+            chosen.setdefault(int(round(ph["motion"] + (end - ph["motion"]) * k / 4)), "")
+        if ph["goal"] is not None:
+            chosen.setdefault(ph["goal"], "goal reached")
+    else:
+        for k in (1, 2, 3):
+            chosen.setdefault(int(round(first + (last - first) * k / 4)), "")
+    chosen.setdefault(last, "end")
+    for tick in extra:
+        if tick < first or tick > last:
+            raise PictureError(f"--ticks {tick}: the recording holds ticks {first}..{last}")
+        chosen.setdefault(int(tick), "")
+    # Snap to recorded ticks (a recording may skip ticks) and keep one caption per tick.
+    out = {}
+    for tick, caption in sorted(chosen.items()):
+        real = int(t.ticks[t.index_of(tick)])
+        if real not in out or (caption and not out[real]):
+            out[real] = caption
+    return sorted(out.items())
+
+
+def render_all(rec, out_dir=None, extra_ticks=(), animate=True, log=print):
+    """Writes every picture; returns the list of paths written."""
+    out_dir = out_dir or os.path.join(rec.run_dir, "pictures")
+    os.makedirs(out_dir, exist_ok=True)
+    written = []
+    ticks = snapshot_ticks(rec, extra_ticks)
+    scene = Scene(rec, PICTURE_SIZES["snapshot"], DPI)
+    try:
+        for tick, caption in ticks:
+            scene.show(rec.track.index_of(tick), caption)
+            path = os.path.join(out_dir, f"snapshot_t{tick:05d}.png")
+            scene.fig.savefig(path, dpi=DPI)
+            written.append(path)
+    finally:
+        scene.close()
+    written.append(trajectories(rec, os.path.join(out_dir, "trajectories.png")))
+    written.append(residual_force(rec, os.path.join(out_dir, "residual_force.png")))
+    written.append(shape_error(rec, os.path.join(out_dir, "shape_error.png")))
+    if animate:
+        written += animation.render(rec, out_dir, log=log)
+    return written
+
+
+def _figure(kind):
+    w, h = PICTURE_SIZES[kind]
+    return plt.figure(figsize=(w / DPI, h / DPI), dpi=DPI)
+
+
+def _save(fig, path):
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+    return path
+
+
+def trajectories(rec, path):
+    """Fig. 10: each robot's path from start (circle) to end (square; a cross where it died)."""
+    t = rec.track
+    fig = _figure("trajectories")
+    ax = fig.add_axes([0.08, 0.09, 0.88, 0.82])
+    draw_static(ax, rec.world, geometry.view_bounds(rec))
+    cmap = plt.get_cmap("tab20")
+    for k in range(t.robots):
+        colour = cmap(k % 20)
+        ever_alive = np.nonzero(t.alive[:, k])[0]
+        upto = ever_alive[-1] + 1 if ever_alive.size else len(t.ticks)
+        xs, ys = t.x[:upto, k], t.y[:upto, k]
+        ax.plot(xs, ys, color=colour, linewidth=1.0)
+        ax.plot(xs[:1], ys[:1], marker="o", color=colour, markersize=4)
+        died = not t.alive[-1, k]
+        ax.plot(xs[-1:], ys[-1:], marker="x" if died else "s", color=colour, markersize=6 if died else 4)
+    ax.set_title(f"Trajectories of the {t.robots} robots, ticks {t.ticks[0]}-{t.ticks[-1]} "
+                 "(o start, \u25a0 end, x died)", fontsize=11)
+    return _save(fig, path)
+
+
+def residual_force(rec, path):
+    """Fig. 3: the net force |F_net| summed over the robots, on the path of the formation's centre (top, as
+    colour) and against the distance that centre travelled (bottom). The paper reads obstacles off its peaks."""
+    t = rec.track
+    total = (t.net_force * t.alive).sum(axis=1)
+    centre = geometry.formation_centre(t)
+    ph = geometry.phases(rec)
+    start = t.index_of(ph["motion"]) if ph["motion"] is not None else 0
+    sel = np.arange(start, len(t.ticks))
+    sel = sel[np.isfinite(centre[sel]).all(axis=1)]
+    fig = _figure("residual_force")
+    ax = fig.add_axes([0.08, 0.42, 0.80, 0.52])
+    cax = fig.add_axes([0.90, 0.42, 0.02, 0.52])
+    draw_static(ax, rec.world, geometry.view_bounds(rec))
+    ax2 = fig.add_axes([0.08, 0.07, 0.80, 0.26])
+    ax2.set_xlabel("distance travelled by the formation's centre (m)")
+    ax2.set_ylabel("\u03a3 |F_net|")
+    ax2.grid(True, color="#e0e0e0", linewidth=0.5)
+    if sel.size >= 2:
+        pts = centre[sel]
+        segs = np.stack([pts[:-1], pts[1:]], axis=1)
+        vmax = max(float(total[sel].max()), 1e-9)
+        lc = LineCollection(segs, cmap="inferno_r", norm=plt.Normalize(0.0, vmax), linewidths=3.0, zorder=5)
+        lc.set_array(total[sel][1:])
+        ax.add_collection(lc)
+        fig.colorbar(lc, cax=cax, label="\u03a3 |F_net| over the robots")
+        dist = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
+        ax2.plot(dist, total[sel], color="#bf360c", linewidth=1.2)
+        ax2.set_xlim(0, max(dist[-1], 1e-6))
+    else:
+        cax.set_axis_off()
+        ax2.text(0.5, 0.5, "no formation motion in this run", transform=ax2.transAxes, ha="center",
+                 va="center")
+    what = "formation motion" if ph["motion"] is not None else "the whole run"
+    ax.set_title(f"Residual force along the path of the formation's centre ({what})", fontsize=11)
+    return _save(fig, path)
+
+
+def shape_error(rec, path):
+    """Shape error (SPEC section 6) over time, with the formation, motion-start and goal ticks marked."""
+    ticks, errors = geometry.distortion_series(rec)
+    fig = _figure("shape_error")
+    ax = fig.add_axes([0.08, 0.13, 0.88, 0.77])
+    ax.set_xlabel("tick")
+    ax.set_ylabel("shape error (grid units)")
+    ax.grid(True, color="#e0e0e0", linewidth=0.5)
+    if ticks.size:
+        ax.plot(ticks, errors, color="#1e88e5", linewidth=1.2)
+        peak = int(np.argmax(errors))
+        ax.plot([ticks[peak]], [errors[peak]], marker="v", color="#c62828")
+        ax.annotate(f"peak {errors[peak]:.3f}", (ticks[peak], errors[peak]), textcoords="offset points",
+                    xytext=(5, 5), fontsize=8, color="#c62828")
+        ax.set_ylim(bottom=0)
+    else:
+        ax.text(0.5, 0.5, "no labelled robots in this run (no shape to measure)", transform=ax.transAxes,
+                ha="center", va="center")
+    ax.set_xlim(float(rec.track.ticks[0]), max(float(rec.track.ticks[-1]), float(rec.track.ticks[0]) + 1))
+    for key, label, colour in (("formation", "formed", "#2e7d32"), ("motion", "motion", "#1e88e5"),
+                               ("goal", "goal", "#8e24aa")):
+        tick = geometry.phases(rec)[key]
+        if tick is not None:
+            ax.axvline(tick, color=colour, linestyle=":", linewidth=1.0)
+            ax.annotate(label, (tick, 1.0), xycoords=("data", "axes fraction"), textcoords="offset points",
+                        xytext=(2, -10), fontsize=8, color=colour)
+    source = "summary.json" if (rec.summary or {}).get("distortion") else "computed from robots.csv"
+    ax.set_title(f"Shape error after the best rigid fit ({source})", fontsize=11)
+    return _save(fig, path)

@@ -1,0 +1,411 @@
+"""Reads a run directory back (format: docs/recording-format.md).
+
+A run directory holds world.json (the static scene), robots.csv (one row per robot per tick), events.jsonl (one
+JSON object per line) and summary.json (written at the end; missing when the run crashed). Everything that is
+wrong with a file is reported as a RecordingError naming file:line, never as a traceback. A crashed run keeps
+what it had: a half-written last line of robots.csv or events.jsonl, or a last tick with missing rows, is
+dropped with a warning instead.
+"""
+
+import json
+import math
+import os
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+
+ROBOT_COLUMNS = ("tick", "id", "x", "y", "theta", "alive", "state", "label", "parent", "leader", "net_force")
+INT_COLUMNS = {"tick", "id", "alive", "state", "label", "parent", "leader"}
+STATE_NAMES = {0: "idle", 1: "searching", 2: "moving", 3: "reached", 4: "ready", 5: "motion", 6: "arrived"}
+READY, MOTION = 4, 5
+
+
+class RecordingError(Exception):
+    """A file of the run directory is missing or wrong. str() is `file:line: what` (or `file: what`)."""
+
+    def __init__(self, path, line, what):
+        super().__init__(what)
+        self.path, self.line, self.what = path, line, what
+
+    def __str__(self):
+        where = self.path if self.line is None else f"{self.path}:{self.line}"
+        return f"{where}: {self.what}"
+
+
+@dataclass
+class Obstacle:
+    kind: str  # "box" or "cylinder"
+    centre: tuple
+    name: str = ""
+    half_extents: tuple = (0.0, 0.0)  # boxes, m
+    yaw: float = 0.0  # boxes, rad
+    radius: float = 0.0  # cylinders, m
+
+
+@dataclass
+class Shape:
+    rows: int
+    cols: int
+    cells: list  # row-major, -1 empty
+
+    def label_count(self):
+        return sum(1 for c in self.cells if c >= 0)
+
+    def places(self, spacing):
+        """label -> (x, y) of its grid cell: column along +x, row along -y (common/shape.hpp)."""
+        out = {}
+        for i, label in enumerate(self.cells):
+            if label >= 0:
+                out[label] = ((i % self.cols) * spacing, -(i // self.cols) * spacing)
+        return out
+
+
+@dataclass
+class World:
+    arena_centre: tuple = (0.0, 0.0)
+    arena_width: float = 10.0
+    arena_height: float = 10.0
+    walls: bool = True
+    obstacles: list = field(default_factory=list)
+    goal: Optional[tuple] = None  # (x, y, radius)
+    grid_spacing: float = 1.0
+    comm_range: float = 3.0
+    shape: Optional[Shape] = None
+    robots: int = 0
+    seed: object = None
+    mode: str = ""
+    tick_rate: float = 10.0
+    robot_radius: float = 0.0704
+
+
+@dataclass
+class Track:
+    """Every robot at every recorded tick: arrays of shape [T, N] (ticks [T]); row t, column = robot id."""
+
+    ticks: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    theta: np.ndarray
+    alive: np.ndarray  # bool
+    state: np.ndarray  # int
+    label: np.ndarray  # int, -1 none
+    parent: np.ndarray  # int, id of the parent robot, -1 none
+    leader: np.ndarray  # bool
+    net_force: np.ndarray
+
+    @property
+    def robots(self):
+        return self.x.shape[1]
+
+    def index_of(self, tick):
+        """Index of the last recorded tick <= `tick` (the first one if `tick` is before it)."""
+        i = int(np.searchsorted(self.ticks, tick, side="right")) - 1
+        return max(i, 0)
+
+
+@dataclass
+class Recording:
+    run_dir: str
+    world: World
+    track: Track
+    events: list
+    summary: Optional[dict]
+    warnings: list
+
+
+def load(run_dir):
+    """Reads a whole run directory; raises RecordingError on anything wrong."""
+    if not os.path.isdir(run_dir):
+        raise RecordingError(run_dir, None, "not a directory (expected a run directory with world.json, robots.csv)")
+    warnings = []
+    world = read_world(os.path.join(run_dir, "world.json"))
+    track = read_robots(os.path.join(run_dir, "robots.csv"), world.robots, warnings)
+    if world.robots == 0:
+        world.robots = track.robots
+    events_path = os.path.join(run_dir, "events.jsonl")
+    events = read_events(events_path, warnings) if os.path.exists(events_path) else []
+    summary_path = os.path.join(run_dir, "summary.json")
+    summary = None
+    if os.path.exists(summary_path):
+        summary = read_json(summary_path)
+        if not isinstance(summary, dict):
+            raise RecordingError(summary_path, 1, "expected a JSON object")
+    else:
+        warnings.append(f"{summary_path}: missing (the run did not finish); figures come from the recording alone")
+    return Recording(run_dir, world, track, events, summary, warnings)
+
+
+# --- world.json -------------------------------------------------------------------------------------------
+
+
+def read_json(path):
+    try:
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+    except FileNotFoundError:
+        raise RecordingError(path, None, "missing (is this a run directory?)") from None
+    except (OSError, UnicodeDecodeError) as e:
+        raise RecordingError(path, None, f"cannot read: {e}") from None
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as e:
+        raise RecordingError(path, e.lineno, f"not valid JSON: {e.msg} (column {e.colno})") from None
+
+
+def _vec2(value, path, what):
+    if isinstance(value, dict) and "x" in value and "y" in value:
+        value = (value["x"], value["y"])
+    if isinstance(value, (list, tuple)) and len(value) == 2 and all(_is_number(v) for v in value):
+        return (float(value[0]), float(value[1]))
+    raise RecordingError(path, None, f"{what}: expected [x, y] or {{x, y}}, got {value!r}")
+
+
+def _is_number(v):
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+
+
+def _number(obj, key, path, what, default=None):
+    if key not in obj:
+        if default is None:
+            raise RecordingError(path, None, f"{what}: missing '{key}'")
+        return default
+    v = obj[key]
+    if not _is_number(v):
+        raise RecordingError(path, None, f"{what}.{key}: expected a number, got {v!r}")
+    return float(v)
+
+
+def read_world(path):
+    doc = read_json(path)
+    if not isinstance(doc, dict):
+        raise RecordingError(path, 1, "expected a JSON object")
+    w = World()
+    arena = doc.get("arena")
+    if not isinstance(arena, dict):
+        raise RecordingError(path, None, "missing 'arena' object {centre, width, height, walls}")
+    w.arena_centre = _vec2(arena.get("centre", [0, 0]), path, "arena.centre")
+    w.arena_width = _number(arena, "width", path, "arena")
+    w.arena_height = _number(arena, "height", path, "arena")
+    w.walls = bool(arena.get("walls", True))
+    for i, ob in enumerate(doc.get("obstacles") or []):
+        w.obstacles.append(_read_obstacle(ob, path, f"obstacles[{i}]"))
+    goal = doc.get("goal")
+    if isinstance(goal, dict):
+        w.goal = (_number(goal, "x", path, "goal"), _number(goal, "y", path, "goal"),
+                  _number(goal, "radius", path, "goal", 0.5))
+    elif goal is not None:
+        raise RecordingError(path, None, f"goal: expected {{x, y, radius}}, got {goal!r}")
+    w.grid_spacing = _number(doc, "grid_spacing", path, "world", 1.0)
+    w.comm_range = _number(doc, "comm_range", path, "world", 3.0)
+    w.tick_rate = _number(doc, "tick_rate", path, "world", 10.0)
+    w.robot_radius = _number(doc, "robot_radius", path, "world", 0.0704)
+    robots = doc.get("robots", 0)
+    if isinstance(robots, list):  # tolerated: a list of initial poses
+        robots = len(robots)
+    if not isinstance(robots, int) or isinstance(robots, bool) or robots < 0:
+        raise RecordingError(path, None, f"robots: expected a count, got {robots!r}")
+    w.robots = robots
+    w.seed = doc.get("seed")
+    w.mode = str(doc.get("mode", ""))
+    if doc.get("shape") is not None:
+        w.shape = _read_shape(doc["shape"], path)
+    return w
+
+
+def _read_obstacle(ob, path, what):
+    if not isinstance(ob, dict):
+        raise RecordingError(path, None, f"{what}: expected an object")
+    kind = str(ob.get("kind", "")).lower()
+    centre = _vec2(ob.get("centre"), path, f"{what}.centre")
+    name = str(ob.get("name", ""))
+    if kind == "box":
+        he = _vec2(ob.get("half_extents"), path, f"{what}.half_extents")
+        return Obstacle("box", centre, name, half_extents=he, yaw=_number(ob, "yaw", path, what, 0.0))
+    if kind == "cylinder":
+        return Obstacle("cylinder", centre, name, radius=_number(ob, "radius", path, what))
+    raise RecordingError(path, None, f"{what}.kind: expected 'box' or 'cylinder', got {ob.get('kind')!r}")
+
+
+def _read_shape(sh, path):
+    if not isinstance(sh, dict):
+        raise RecordingError(path, None, "shape: expected {rows, cols, cells}")
+    rows, cols, cells = sh.get("rows"), sh.get("cols"), sh.get("cells")
+    if isinstance(cells, list) and cells and all(isinstance(r, list) for r in cells):
+        cells = [c for r in cells for c in r]  # tolerated: a list of rows
+    if not (isinstance(rows, int) and isinstance(cols, int) and isinstance(cells, list)):
+        raise RecordingError(path, None, "shape: expected integer rows, cols and a list of cells")
+    if len(cells) != rows * cols or not all(isinstance(c, int) for c in cells):
+        raise RecordingError(path, None, f"shape: cells must be {rows}x{cols} integers, got {len(cells)} entries")
+    return Shape(rows, cols, cells)
+
+
+# --- robots.csv -------------------------------------------------------------------------------------------
+
+
+def _read_lines(path):
+    """The file's non-blank lines as (line number, text), and whether its last line lacks a newline."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+    except FileNotFoundError:
+        raise RecordingError(path, None, "missing (is this a run directory?)") from None
+    except (OSError, UnicodeDecodeError) as e:
+        raise RecordingError(path, None, f"cannot read: {e}") from None
+    lines = text.split("\n")
+    truncated = not text.endswith("\n") and lines[-1] != ""
+    numbered = [(i + 1, s.rstrip("\r")) for i, s in enumerate(lines) if s.strip()]
+    return numbered, truncated
+
+
+def read_robots(path, expected_robots, warnings):
+    numbered, truncated = _read_lines(path)
+    if not numbered:
+        raise RecordingError(path, 1, "empty: expected the header " + ",".join(ROBOT_COLUMNS))
+    header_line, header = numbered[0]
+    names = [h.strip() for h in header.split(",")]
+    missing = [c for c in ROBOT_COLUMNS if c not in names]
+    if missing:
+        raise RecordingError(path, header_line, f"header lacks column(s) {', '.join(missing)}; got '{header}'")
+    col = {c: names.index(c) for c in ROBOT_COLUMNS}
+    rows = numbered[1:]
+    if truncated and rows:
+        last_no, last = rows[-1]
+        if _parse_row(last, len(names), col) is None:
+            rows = rows[:-1]
+            warnings.append(f"{path}:{last_no}: half-written last line dropped (the run stopped while writing)")
+    if not rows:
+        raise RecordingError(path, header_line + 1, "no rows after the header")
+    data = _parse_fast(rows, names, col)
+    if data is None:  # something is off: parse row by row to name the first bad line
+        data = np.empty((len(rows), len(ROBOT_COLUMNS)), dtype=np.float64)
+        for i, (no, text) in enumerate(rows):
+            values = _parse_row(text, len(names), col)
+            if values is None:
+                raise RecordingError(path, no, _describe_bad_row(text, names, col))
+            data[i] = values
+    line_numbers = np.array([no for no, _ in rows])
+    return _to_track(path, data, line_numbers, expected_robots, warnings)
+
+
+def _parse_fast(rows, names, col):
+    """numpy's C parser for a well-formed file (10x faster than row by row); None if anything is off."""
+    try:
+        table = np.loadtxt([t for _, t in rows], delimiter=",", dtype=np.float64, ndmin=2)
+    except ValueError:
+        return None
+    if table.shape != (len(rows), len(names)):
+        return None
+    data = table[:, [col[c] for c in ROBOT_COLUMNS]]
+    ints = data[:, [ROBOT_COLUMNS.index(c) for c in INT_COLUMNS]]
+    if not np.isfinite(data).all() or (ints != np.round(ints)).any():
+        return None
+    return data
+
+
+def _cell(text, name):
+    text = text.strip()
+    if name in ("alive", "leader"):
+        low = text.lower()
+        if low in ("true", "false"):
+            return 1.0 if low == "true" else 0.0
+    v = float(text) if name not in INT_COLUMNS else float(int(text))
+    if not math.isfinite(v):
+        raise ValueError
+    return v
+
+
+def _parse_row(text, width, col):
+    parts = text.split(",")
+    if len(parts) != width:
+        return None
+    try:
+        return [_cell(parts[col[c]], c) for c in ROBOT_COLUMNS]
+    except ValueError:
+        return None
+
+
+def _describe_bad_row(text, names, col):
+    parts = text.split(",")
+    if len(parts) != len(names):
+        return f"expected {len(names)} comma-separated fields, got {len(parts)}: '{text[:80]}'"
+    for c in ROBOT_COLUMNS:
+        try:
+            _cell(parts[col[c]], c)
+        except ValueError:
+            kind = "an integer" if c in INT_COLUMNS else "a finite number"
+            return f"column '{c}': expected {kind}, got '{parts[col[c]].strip()}'"
+    return f"cannot read '{text[:80]}'"
+
+
+def _to_track(path, data, line_numbers, expected_robots, warnings):
+    ticks_col = data[:, 0].astype(np.int64)
+    ids = data[:, 1].astype(np.int64)
+    back = np.nonzero(np.diff(ticks_col) < 0)[0]
+    if back.size:
+        i = back[0] + 1
+        raise RecordingError(path, int(line_numbers[i]),
+                             f"tick {ticks_col[i]} comes after tick {ticks_col[i - 1]}: rows must be in tick order")
+    bad = np.nonzero((ids < 0) | ((ids >= expected_robots) if expected_robots else False))[0]
+    if bad.size:
+        i = bad[0]
+        raise RecordingError(path, int(line_numbers[i]),
+                             f"robot id {ids[i]} out of range (world.json says {expected_robots} robots)")
+    n = expected_robots or int(ids.max()) + 1
+    ticks, tick_index = np.unique(ticks_col, return_inverse=True)
+    count = np.zeros((len(ticks), n), dtype=np.int64)
+    np.add.at(count, (tick_index, ids), 1)
+    dup = np.nonzero(count[tick_index, ids] > 1)[0]
+    if dup.size:
+        i = dup[-1]
+        raise RecordingError(path, int(line_numbers[i]), f"robot {ids[i]} appears twice at tick {ticks_col[i]}")
+    incomplete = np.nonzero((count == 0).any(axis=1))[0]
+    if incomplete.size:
+        t = incomplete[0]
+        first_row = int(np.argmax(tick_index == t))
+        have = int(count[t].sum())
+        if t == len(ticks) - 1 and len(ticks) > 1:
+            warnings.append(f"{path}:{line_numbers[first_row]}: last tick {ticks[t]} has {have} of {n} robots "
+                            "(the run stopped while writing); dropped")
+            keep = tick_index < t
+            data, tick_index, ids, ticks = data[keep], tick_index[keep], ids[keep], ticks[:-1]
+        else:
+            raise RecordingError(path, int(line_numbers[first_row]),
+                                 f"tick {ticks[t]} has rows for {have} of {n} robots")
+    shape = (len(ticks), n)
+
+    def grid(column, dtype):
+        out = np.zeros(shape, dtype=dtype)
+        out[tick_index, ids] = data[:, ROBOT_COLUMNS.index(column)].astype(dtype)
+        return out
+
+    return Track(ticks=ticks, x=grid("x", np.float64), y=grid("y", np.float64), theta=grid("theta", np.float64),
+                 alive=grid("alive", np.int64) != 0, state=grid("state", np.int64), label=grid("label", np.int64),
+                 parent=grid("parent", np.int64), leader=grid("leader", np.int64) != 0,
+                 net_force=grid("net_force", np.float64))
+
+
+# --- events.jsonl -----------------------------------------------------------------------------------------
+
+
+def read_events(path, warnings):
+    numbered, truncated = _read_lines(path)
+    events = []
+    for k, (no, text) in enumerate(numbered):
+        last = k == len(numbered) - 1
+        try:
+            ev = json.loads(text)
+        except json.JSONDecodeError as e:
+            if last and truncated:
+                warnings.append(f"{path}:{no}: half-written last line dropped (the run stopped while writing)")
+                break
+            raise RecordingError(path, no, f"not valid JSON: {e.msg} (column {e.colno})") from None
+        if not isinstance(ev, dict):
+            raise RecordingError(path, no, "expected a JSON object {\"tick\", \"kind\", ...}")
+        if not isinstance(ev.get("tick"), int) or isinstance(ev.get("tick"), bool):
+            raise RecordingError(path, no, f"'tick' must be an integer, got {ev.get('tick')!r}")
+        if not isinstance(ev.get("kind"), str):
+            raise RecordingError(path, no, f"'kind' must be a string, got {ev.get('kind')!r}")
+        ev["_line"] = no
+        events.append(ev)
+    return events

@@ -1,0 +1,103 @@
+"""`swarm report RUN_DIR`: summary.json as a readable table, grouped as a reader asks about a run: what ran, did
+the shape form and reach the goal, what failed, what collided. Ticks are also given in simulated seconds.
+Keys the table does not know (added to summary.json later) are listed at the end, so nothing is hidden.
+"""
+
+import os
+
+from .recording import RecordingError, read_json, read_world
+
+# (group, [(key, label, kind)]); kind: tick, int, float, grid, m, s, tps, text, list
+LAYOUT = [
+    ("Run", [("scenario", "scenario", "text"), ("shape_file", "shape", "text"), ("behaviour", "behaviour", "text"),
+             ("robots", "robots", "int"), ("labels", "shape labels", "int"), ("seed", "seed", "text"),
+             ("mode", "mode", "text"), ("ticks", "ticks", "tick"), ("wall_seconds", "wall time", "s"),
+             ("ticks_per_second", "ticks per second", "tps"),
+             ("robot_ticks_per_second", "robot-ticks per second", "tps"),
+             ("alive_at_end", "alive at end", "alive")]),
+    ("Formation and motion", [("formation_tick", "shape formed at", "tick"),
+                              ("shape_error_at_formation", "shape error at formation", "grid"),
+                              ("motion_start_tick", "motion started at", "tick"),
+                              ("goal_tick", "goal reached at", "tick"),
+                              ("shape_error_at_goal", "shape error at goal", "grid"),
+                              ("peak_distortion", "peak distortion (motion)", "grid"),
+                              ("mean_distortion", "mean distortion (motion)", "grid"),
+                              ("path_length", "path length of the centre", "m"),
+                              ("arrived", "robots arrived", "int")]),
+    ("Faults", [("deaths", "deaths", "list"), ("rejoins", "rejoins", "list"),
+                ("leader_changes", "leader changes", "int"), ("fragmentations", "fragmentations", "int"),
+                ("graph_rejoins", "graph rejoins", "int"), ("max_components", "most graph components", "int"),
+                ("command_verdicts", "commands clamped/dropped", "int")]),
+    ("Collisions (contact onsets)", [("collisions_robot_robot", "robot-robot", "int"),
+                                     ("collisions_robot_obstacle", "robot-obstacle", "int")]),
+    ("Reproducibility", [("trajectory_sha256", "trajectory sha256", "text")]),
+]
+HIDDEN = {"format", "version", "distortion"}  # plumbing, or series drawn in the pictures
+
+
+def _fmt(value, kind, summary, tick_rate):
+    if value is None:
+        return "not reached" if kind in ("tick", "grid") else "-"
+    if kind == "tick" and isinstance(value, (int, float)):
+        return f"{int(value)}  ({value / tick_rate:.1f} s)" if tick_rate else str(int(value))
+    if kind == "grid" and isinstance(value, (int, float)):
+        return f"{value:.3f} grid units"
+    if kind == "m" and isinstance(value, (int, float)):
+        return f"{value:.2f} m"
+    if kind == "s" and isinstance(value, (int, float)):
+        return f"{value:.2f} s"
+    if kind == "tps" and isinstance(value, (int, float)):
+        return f"{value:.1f}"
+    if kind == "alive" and isinstance(summary.get("robots"), int):
+        return f"{value} / {summary['robots']}"
+    if kind == "list" and isinstance(value, list):
+        if not value:
+            return "none"
+        items = [f"robot {d.get('id')} at tick {d.get('tick')}" if isinstance(d, dict) else str(d) for d in value]
+        return f"{len(value)}: " + ", ".join(items)
+    return str(value)
+
+
+def table(summary, tick_rate=None, title=None):
+    """The report as text lines."""
+    lines = [title] if title else []
+    width = max(len(label) for _, rows in LAYOUT for _, label, _ in rows)
+    known = set(HIDDEN)
+    for group, rows in LAYOUT:
+        present = [(k, label, kind) for k, label, kind in rows if k in summary]
+        known.update(k for k, _, _ in rows)
+        if not present:
+            continue
+        lines.append("")
+        lines.append(group)
+        for key, label, kind in present:
+            lines.append(f"  {label:<{width}}  {_fmt(summary[key], kind, summary, tick_rate)}")
+    other = [k for k in summary if k not in known]
+    if other:
+        lines.append("")
+        lines.append("Other")
+        for key in other:
+            lines.append(f"  {key:<{width}}  {_fmt(summary[key], 'text', summary, tick_rate)}")
+    return lines
+
+
+def report(run_dir, out=print):
+    """Prints the table; raises RecordingError when summary.json is missing or not valid."""
+    path = os.path.join(run_dir, "summary.json")
+    if not os.path.isdir(run_dir):
+        raise RecordingError(run_dir, None, "not a directory (expected a run directory)")
+    if not os.path.exists(path):
+        raise RecordingError(path, None, "missing: the run did not finish (it crashed or is still running); "
+                                         "`swarm replay` still draws what was recorded")
+    summary = read_json(path)
+    if not isinstance(summary, dict):
+        raise RecordingError(path, 1, "expected a JSON object")
+    tick_rate = None
+    world_path = os.path.join(run_dir, "world.json")
+    if os.path.exists(world_path):
+        try:
+            tick_rate = read_world(world_path).tick_rate
+        except RecordingError:
+            tick_rate = None  # the summary alone is still worth showing
+    for line in table(summary, tick_rate, f"swarmform run {run_dir}"):
+        out(line)

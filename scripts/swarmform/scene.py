@@ -1,0 +1,127 @@
+"""The arena at one tick, as the paper's Figs. 4-9 show it: walls, obstacles, the goal, robots coloured by state,
+parent links, the leader marked, dead robots as grey crosses.
+
+One Scene is built per figure: the static parts (arena, obstacles, goal, legend) are drawn once, and the few
+dynamic artists (robots, links, leader, title) are updated in place by `show(index)`. The animation reuses the
+same Scene with blitting, so a frame costs only the dynamic artists.
+"""
+
+import math
+
+import matplotlib
+
+matplotlib.use("Agg")  # headless: no display, ever
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.collections import LineCollection  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.patches import Circle, Polygon, Rectangle  # noqa: E402
+
+from .geometry import view_bounds  # noqa: E402
+from .recording import STATE_NAMES  # noqa: E402
+
+# One colour per controller state (common/robot_state.hpp), chosen to read in order: grey before a label,
+# warm while forming, green when ready, blue in motion, purple at the goal.
+STATE_COLOURS = {0: "#9e9e9e", 1: "#ff9800", 2: "#fdd835", 3: "#8bc34a", 4: "#2e7d32", 5: "#1e88e5",
+                 6: "#8e24aa"}
+UNKNOWN_COLOUR = "#000000"
+OBSTACLE_COLOUR = "#6d4c41"
+WALL_COLOUR = "#424242"
+
+
+def state_colours(states):
+    return [STATE_COLOURS.get(int(s), UNKNOWN_COLOUR) for s in states]
+
+
+def draw_static(ax, world, bounds):
+    """Walls, obstacles and the goal; the axes set to `bounds` with equal scales, in metres."""
+    x0, x1, y0, y1 = bounds
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    ax.set_aspect("equal", adjustable="box")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.grid(True, color="#e0e0e0", linewidth=0.5)
+    ax.set_axisbelow(True)
+    cx, cy = world.arena_centre
+    ax.add_patch(Rectangle((cx - world.arena_width / 2, cy - world.arena_height / 2), world.arena_width,
+                           world.arena_height, fill=False, edgecolor=WALL_COLOUR,
+                           linewidth=3.0 if world.walls else 0.8, linestyle="-" if world.walls else "--"))
+    for ob in world.obstacles:
+        if ob.kind == "cylinder":
+            ax.add_patch(Circle(ob.centre, ob.radius, facecolor=OBSTACLE_COLOUR, edgecolor="black", alpha=0.8))
+        else:
+            hx, hy = ob.half_extents
+            c, s = math.cos(ob.yaw), math.sin(ob.yaw)
+            corners = [(ob.centre[0] + c * dx - s * dy, ob.centre[1] + s * dx + c * dy)
+                       for dx, dy in ((-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy))]
+            ax.add_patch(Polygon(corners, closed=True, facecolor=OBSTACLE_COLOUR, edgecolor="black", alpha=0.8))
+    if world.goal:
+        gx, gy, gr = world.goal
+        ax.add_patch(Circle((gx, gy), gr, facecolor="#c8e6c9", edgecolor="#2e7d32", linestyle="--", alpha=0.7))
+        ax.plot([gx], [gy], marker="x", color="#2e7d32", markersize=8)
+        ax.annotate("goal", (gx, gy + gr), textcoords="offset points", xytext=(0, 3), ha="center",
+                    color="#2e7d32", fontsize=8)
+
+
+def legend_handles(states_present):
+    handles = [Line2D([], [], marker="o", linestyle="", markerfacecolor=STATE_COLOURS[s], markeredgecolor="black",
+                      markersize=7, label=STATE_NAMES[s]) for s in sorted(states_present) if s in STATE_COLOURS]
+    handles.append(Line2D([], [], marker="*", linestyle="", markerfacecolor="none", markeredgecolor="red",
+                          markersize=12, label="leader"))
+    handles.append(Line2D([], [], marker="x", linestyle="", color="#757575", markersize=7, label="dead"))
+    handles.append(Line2D([], [], color="#455a64", linewidth=0.8, label="parent link"))
+    return handles
+
+
+class Scene:
+    """A figure of the arena whose robots can be shown at any recorded tick."""
+
+    def __init__(self, rec, size_px=(900, 600), dpi=100, legend=True):
+        self.rec = rec
+        self.fig = plt.figure(figsize=(size_px[0] / dpi, size_px[1] / dpi), dpi=dpi)
+        self.ax = self.fig.add_axes([0.07, 0.09, 0.74 if legend else 0.9, 0.82])
+        self.bounds = view_bounds(rec)
+        draw_static(self.ax, rec.world, self.bounds)
+        if legend:
+            present = set(int(s) for s in np.unique(rec.track.state)) | {1, 4, 5}
+            self.fig.legend(handles=legend_handles(present), loc="center left", bbox_to_anchor=(0.82, 0.5),
+                            fontsize=8, frameon=False)
+        # Robots at true size, but never smaller than a few pixels (the arena is large, the robots small).
+        ppm = self.ax.get_window_extent().width / (self.bounds[1] - self.bounds[0]) * 72.0 / dpi  # points/m
+        diameter_pt = max(2 * rec.world.robot_radius * ppm, 5.0)
+        self.links = LineCollection([], colors="#455a64", linewidths=0.8, zorder=3)
+        self.ax.add_collection(self.links)
+        self.robots = self.ax.scatter([], [], s=diameter_pt ** 2, edgecolors="black", linewidths=0.4, zorder=4)
+        self.dead = self.ax.scatter([], [], s=diameter_pt ** 2, marker="x", c="#757575", linewidths=1.2,
+                                    zorder=4)
+        self.leader = self.ax.scatter([], [], s=(diameter_pt * 2.6) ** 2, marker="*", facecolors="none",
+                                      edgecolors="red", linewidths=1.2, zorder=5)
+        self.title = self.ax.set_title("", fontsize=11)
+        self.dynamic = [self.links, self.robots, self.dead, self.leader, self.title]
+
+    def show(self, i, caption=None):
+        """Updates the dynamic artists to recorded tick index `i`."""
+        t = self.rec.track
+        x, y, alive = t.x[i], t.y[i], t.alive[i]
+        live = np.nonzero(alive)[0]
+        self.robots.set_offsets(np.column_stack([x[live], y[live]]) if live.size else np.empty((0, 2)))
+        self.robots.set_facecolors(state_colours(t.state[i][live]))
+        deadi = np.nonzero(~alive)[0]
+        self.dead.set_offsets(np.column_stack([x[deadi], y[deadi]]) if deadi.size else np.empty((0, 2)))
+        lead = np.nonzero(alive & t.leader[i])[0]
+        self.leader.set_offsets(np.column_stack([x[lead], y[lead]]) if lead.size else np.empty((0, 2)))
+        segments = []
+        n = t.robots
+        for k in live:
+            p = int(t.parent[i][k])
+            if 0 <= p < n and p != k:
+                segments.append([(x[k], y[k]), (x[p], y[p])])
+        self.links.set_segments(segments)
+        tick = int(t.ticks[i])
+        seconds = tick / self.rec.world.tick_rate if self.rec.world.tick_rate > 0 else 0.0
+        text = f"t = {tick} ({seconds:.1f} s)   alive {len(live)}/{n}"
+        self.title.set_text(f"{text}: {caption}" if caption else text)
+
+    def close(self):
+        plt.close(self.fig)

@@ -1,0 +1,47 @@
+"""Shared bits of the scripts' tests: paths, running `scripts/swarm`, reading a PNG header, ffprobe."""
+
+import json
+import os
+import struct
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+SWARM = os.path.join(ROOT, "scripts", "swarm")
+FAKE_BUILD = os.path.join(HERE, "fake_build")
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+
+
+def swarm(*args, env=None, timeout=120, build_dir=FAKE_BUILD):
+    """Runs scripts/swarm without building; returns the CompletedProcess (text)."""
+    e = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=build_dir)
+    e.update(env or {})
+    return subprocess.run([SWARM] + list(args), capture_output=True, text=True, timeout=timeout, env=e)
+
+
+def png_size(path):
+    """(width, height) of a PNG, checking it is one: signature, IHDR first, IEND last."""
+    with open(path, "rb") as f:
+        data = f.read()
+    if data[:8] != b"\x89PNG\r\n\x1a\n" or data[12:16] != b"IHDR" or data[-8:-4] != b"IEND":
+        raise AssertionError(f"{path} is not a complete PNG")
+    return struct.unpack(">II", data[16:24])
+
+
+def video_frames(path):
+    """(width, height, frames counted by decoding) of the first video stream, from ffprobe."""
+    out = subprocess.run(["ffprobe", "-v", "error", "-count_frames", "-select_streams", "v:0", "-show_entries",
+                          "stream=width,height,nb_read_frames", "-of", "json", path],
+                         capture_output=True, text=True, timeout=120, check=True).stdout
+    s = json.loads(out)["streams"][0]
+    return s["width"], s["height"], int(s["nb_read_frames"])
+
+
+def pid_alive(pid):
+    """True if `pid` is a live (not zombie) process."""
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False

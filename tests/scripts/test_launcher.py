@@ -1,0 +1,172 @@
+"""The launcher's process handling, against stand-ins of world_server and robot_agent (tests/scripts/fake_build)
+that keep their command-line contract: agents started and handed to the world by pid, agents.json, the run
+directory and runs/latest, `swarm kill`, failures passed on, and no process left behind -- Ctrl-C included."""
+
+import json
+import os
+import shutil
+import signal
+import subprocess
+import tempfile
+import time
+import unittest
+
+import helpers
+
+
+def agent_pids(run_dir):
+    with open(os.path.join(run_dir, "agents.json")) as f:
+        return {int(k): v for k, v in json.load(f).items()}
+
+
+def wait_for(predicate, seconds):
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        if predicate():
+            return True
+        time.sleep(0.05)
+    return False
+
+
+class LauncherTest(unittest.TestCase):
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="swarm-launch-")
+        self.scenario = os.path.join(self.dir, "s.yaml")
+        with open(self.scenario, "w") as f:
+            f.write("robots: 4\n")
+        self.started = []
+
+    def tearDown(self):
+        for p in self.started:  # never leave a launcher behind, even when an assertion failed
+            if p.poll() is None:
+                p.kill()
+            p.communicate(timeout=30)
+        shutil.rmtree(self.dir)
+
+    def assert_all_gone(self, pids):
+        self.assertTrue(wait_for(lambda: not any(helpers.pid_alive(p) for p in pids), 5.0),
+                        f"left behind: {[p for p in pids if helpers.pid_alive(p)]}")
+
+    def test_run_hands_agent_pids_to_the_world_and_cleans_up(self):
+        out = os.path.join(self.dir, "run")
+        r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "3", "--max-ticks", "40", "--kill",
+                          "1@20", "--out", out, "--domain", "77", "--no-pictures",
+                          env={"FAKE_AGENT_EXIT_S": "0.5"})
+        self.assertEqual(r.returncode, 0, r.stderr)
+        pids = agent_pids(out)
+        self.assertEqual(sorted(pids), [0, 1, 2])
+        with open(os.path.join(out, "world_args.json")) as f:
+            world_args = json.load(f)
+        for rid, pid in pids.items():
+            self.assertIn(f"{rid}={pid}", world_args)
+        for flag in (["--kill", "1@20"], ["--domain", "77"], ["--robots", "3"], ["--out", out]):
+            i = world_args.index(flag[0])
+            self.assertEqual(world_args[i:i + 2], flag)
+        for rid in pids:
+            self.assertTrue(os.path.exists(os.path.join(out, "logs", f"agent-{rid}.log")))
+        self.assertIn("3 robot agents", r.stderr)
+        self.assertIn("40 ticks in", r.stderr)
+        self.assertNotIn("killed", r.stderr)  # the agents exited by themselves before the deadline
+        self.assertFalse(os.path.exists(os.path.join(out, "pictures")))
+        self.assert_all_gone(pids.values())
+
+    def test_stragglers_are_killed_after_the_deadline(self):
+        out = os.path.join(self.dir, "run")
+        r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "2", "--max-ticks", "10", "--out", out,
+                          "--no-pictures")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("2 agent(s) still running 5 s after the world ended were killed", r.stderr)
+        self.assert_all_gone(agent_pids(out).values())
+
+    def test_default_run_dir_and_latest_link_and_pictures(self):
+        runs = os.path.join(self.dir, "runs")
+        r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "2", "--max-ticks", "20",
+                          env={"SWARM_RUNS_DIR": runs, "FAKE_AGENT_EXIT_S": "0.3"})
+        self.assertEqual(r.returncode, 0, r.stderr)
+        latest = os.path.join(runs, "latest")
+        self.assertTrue(os.path.islink(latest))
+        target = os.readlink(latest)
+        self.assertRegex(target, r"^\d{8}-\d{6}(-\d+)?$")
+        self.assertTrue(os.path.exists(os.path.join(latest, "pictures", "animation.gif")))
+        self.assertIn("pictures: 12 files", r.stdout)
+
+    def test_failed_check_exits_2_with_the_worlds_message(self):
+        with open(self.scenario, "w") as f:
+            f.write("bad\n")
+        r = helpers.swarm("run", "--scenario", self.scenario, "--out", os.path.join(self.dir, "run"))
+        self.assertEqual(r.returncode, 2)
+        self.assertIn(f"{self.scenario}:1: not a scenario", r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(self.dir, "run")))
+
+    def test_world_failure_is_passed_on(self):
+        out = os.path.join(self.dir, "run")
+        r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "2", "--max-ticks", "40", "--out", out,
+                          env={"FAKE_WORLD_FAIL": "1"})
+        self.assertEqual(r.returncode, 3)
+        self.assertIn("world: world: something broke", r.stderr)
+        self.assertIn("world_server failed (exit 3)", r.stderr)
+        self.assert_all_gone(agent_pids(out).values())
+
+    def test_missing_executables_are_explained(self):
+        r = helpers.swarm("run", "--scenario", self.scenario, build_dir=os.path.join(self.dir, "nothing"))
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("world_server/world_server not found: build it first", r.stderr)
+
+    def start_long_run(self, out, robots=3):
+        env = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=helpers.FAKE_BUILD, FAKE_WORLD_SLOW="0.05")
+        p = subprocess.Popen([helpers.SWARM, "run", "--scenario", self.scenario, "--robots", str(robots),
+                              "--max-ticks", "100000", "--out", out, "--no-pictures"], env=env,
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        self.started.append(p)
+        self.assertTrue(wait_for(lambda: os.path.exists(os.path.join(out, "world_args.json")), 20.0))
+        return p
+
+    def test_ctrl_c_stops_everything_and_exits_130(self):
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            out = os.path.join(self.dir, f"run-{sig}")
+            p = self.start_long_run(out)
+            pids = agent_pids(out)
+            self.assertTrue(all(helpers.pid_alive(x) for x in pids.values()))
+            p.send_signal(sig)
+            _, err = p.communicate(timeout=30)
+            self.assertEqual(p.returncode, 130, err)
+            self.assertIn(f"{signal.Signals(sig).name}: stopping the world", err)
+            self.assert_all_gone(pids.values())
+
+    def test_even_a_sigkilled_launcher_leaves_nothing_behind(self):
+        out = os.path.join(self.dir, "run")
+        p = self.start_long_run(out, robots=2)
+        pids = list(agent_pids(out).values())
+        p.kill()
+        p.communicate(timeout=30)
+        self.assert_all_gone(pids)
+
+    def test_swarm_kill_kills_one_agent_of_the_running_swarm(self):
+        out = os.path.join(self.dir, "run")
+        p = self.start_long_run(out)
+        pids = agent_pids(out)
+        r = helpers.swarm("kill", "1", "--run", out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn(f"killed agent 1 (pid {pids[1]})", r.stdout)
+        self.assertTrue(wait_for(lambda: not helpers.pid_alive(pids[1]), 5.0))
+        self.assertTrue(helpers.pid_alive(pids[0]) and helpers.pid_alive(pids[2]))
+        r = helpers.swarm("kill", "1", "--run", out)
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("is not running", r.stderr)
+        r = helpers.swarm("kill", "9", "--run", out)
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("no agent with id 9", r.stderr)
+        p.send_signal(signal.SIGINT)
+        p.communicate(timeout=30)
+        self.assert_all_gone(pids.values())
+
+    def test_kill_refuses_a_pid_that_is_not_that_agent(self):
+        with open(os.path.join(self.dir, "agents.json"), "w") as f:
+            json.dump({"0": os.getpid()}, f)  # this test process: alive, but no robot_agent
+        r = helpers.swarm("kill", "0", "--run", self.dir)
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("is not robot_agent --id 0", r.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,158 @@
+"""The recording reader: round trip of a synthetic run, and every kind of damage reported as file:line."""
+
+import json
+import os
+import shutil
+import tempfile
+import unittest
+
+import helpers  # noqa: F401  (puts scripts/ on the path)
+import fixture
+from swarmform import geometry, recording
+
+
+class RecordingTest(unittest.TestCase):
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="swarm-rec-")
+        self.rows = fixture.make_run(self.dir, ticks=40, robots=7, death=(2, 30))
+
+    def tearDown(self):
+        shutil.rmtree(self.dir)
+
+    def path(self, name):
+        return os.path.join(self.dir, name)
+
+    def rewrite(self, name, fn):
+        with open(self.path(name)) as f:
+            lines = f.read().split("\n")
+        with open(self.path(name), "w") as f:
+            f.write(fn(lines))
+
+    def test_round_trip_gives_back_every_row(self):
+        rec = recording.load(self.dir)
+        t = rec.track
+        self.assertEqual(t.x.shape, (40, 7))
+        self.assertEqual(list(t.ticks), list(range(40)))
+        for (tick, rid, x, y, th, alive, state, label, parent, leader, force) in self.rows:
+            self.assertAlmostEqual(t.x[tick, rid], x)
+            self.assertAlmostEqual(t.y[tick, rid], y)
+            self.assertAlmostEqual(t.theta[tick, rid], th)
+            self.assertEqual(bool(t.alive[tick, rid]), bool(alive))
+            self.assertEqual(t.state[tick, rid], state)
+            self.assertEqual(t.label[tick, rid], label)
+            self.assertEqual(t.parent[tick, rid], parent)
+            self.assertEqual(bool(t.leader[tick, rid]), bool(leader))
+            self.assertAlmostEqual(t.net_force[tick, rid], force)
+        self.assertEqual(rec.warnings, [])
+        self.assertEqual(rec.world.robots, 7)
+        self.assertEqual(rec.world.goal, fixture.GOAL)
+        self.assertEqual([o.kind for o in rec.world.obstacles], ["box", "cylinder"])
+        self.assertEqual(rec.world.shape.label_count(), 6)
+        self.assertIn({"tick": 30, "kind": "death", "id": 2}, [{k: v for k, v in e.items() if k != "_line"}
+                                                                 for e in rec.events])
+        self.assertEqual(rec.summary["deaths"], [{"id": 2, "tick": 30}])
+
+    def test_shape_error_is_zero_for_the_exact_shape_and_grows_with_distortion(self):
+        places = {0: (0.0, 0.0), 1: (1.0, 0.0), 2: (0.0, 1.0)}
+        # The same triangle rotated by 0.7 rad and moved: a rigid fit removes both.
+        import math
+        c, s = math.cos(0.7), math.sin(0.7)
+        xs = [5 + c * px - s * py for px, py in places.values()]
+        ys = [2 + s * px + c * py for px, py in places.values()]
+        self.assertAlmostEqual(geometry.shape_error(places, [0, 1, 2], xs, ys, 1.0), 0.0, places=9)
+        xs[1] += 0.3
+        e = geometry.shape_error(places, [0, 1, 2], xs, ys, 1.0)
+        self.assertGreater(e, 0.05)
+        places2 = {k: (2 * px, 2 * py) for k, (px, py) in places.items()}  # a grid of spacing 2 m
+        self.assertAlmostEqual(geometry.shape_error(places2, [0, 1, 2], [2 * x for x in xs], [2 * y for y in ys],
+                                                    2.0), e, places=9)  # in grid units: the same error
+        self.assertIsNone(geometry.shape_error(places, [0], [0.0], [0.0], 1.0))
+
+    def test_half_written_last_line_is_dropped_with_a_warning(self):
+        with open(self.path("robots.csv"), "a") as f:
+            f.write("40,0,1.2")
+        rec = recording.load(self.dir)
+        self.assertEqual(len(rec.track.ticks), 40)
+        self.assertTrue(any("robots.csv:" in w and "half-written" in w for w in rec.warnings), rec.warnings)
+
+    def test_incomplete_last_tick_is_dropped_with_a_warning(self):
+        self.rewrite("robots.csv", lambda lines: "\n".join(lines[:-4]) + "\n")  # last tick: 4 of 7 rows
+        rec = recording.load(self.dir)
+        self.assertEqual(int(rec.track.ticks[-1]), 38)
+        self.assertTrue(any("last tick 39 has 4 of 7" in w for w in rec.warnings), rec.warnings)
+
+    def test_corrupt_row_in_the_middle_names_file_and_line(self):
+        self.rewrite("robots.csv", lambda lines: "\n".join(lines[:9] + ["3,2,abc,0,0,1,1,2,0,0,0"] + lines[10:]))
+        with self.assertRaises(recording.RecordingError) as cm:
+            recording.load(self.dir)
+        self.assertTrue(str(cm.exception).startswith(self.path("robots.csv") + ":10: column 'x'"), str(cm.exception))
+
+    def test_row_with_missing_fields_names_the_line(self):
+        self.rewrite("robots.csv", lambda lines: "\n".join(lines[:4] + ["0,3,1.0,2.0"] + lines[5:]))
+        with self.assertRaises(recording.RecordingError) as cm:
+            recording.load(self.dir)
+        self.assertIn("robots.csv:5: expected 11 comma-separated fields, got 4", str(cm.exception))
+
+    def test_missing_rows_in_the_middle_are_an_error(self):
+        self.rewrite("robots.csv", lambda lines: "\n".join(lines[:20] + lines[21:]))
+        with self.assertRaises(recording.RecordingError) as cm:
+            recording.load(self.dir)
+        self.assertIn("has rows for 6 of 7 robots", str(cm.exception))
+
+    def test_ticks_going_backwards_are_an_error(self):
+        self.rewrite("robots.csv", lambda lines: "\n".join(lines[:1] + lines[8:15] + lines[1:8] + lines[15:]))
+        with self.assertRaises(recording.RecordingError) as cm:
+            recording.load(self.dir)
+        self.assertIn("robots.csv:9: tick 0 comes after tick 1", str(cm.exception))
+
+    def test_bad_header(self):
+        self.rewrite("robots.csv", lambda lines: "\n".join(["tick,id,x,y"] + lines[1:]))
+        with self.assertRaises(recording.RecordingError) as cm:
+            recording.load(self.dir)
+        self.assertIn("robots.csv:1: header lacks column(s) theta", str(cm.exception))
+
+    def test_corrupt_world_json_names_the_line(self):
+        self.rewrite("world.json", lambda lines: "\n".join(lines[:3] + ["  oops"] + lines[3:]))
+        with self.assertRaises(recording.RecordingError) as cm:
+            recording.load(self.dir)
+        self.assertIn("world.json:4: not valid JSON", str(cm.exception))
+
+    def test_world_json_with_a_wrong_field(self):
+        with open(self.path("world.json")) as f:
+            doc = json.load(f)
+        doc["obstacles"][1]["kind"] = "pyramid"
+        with open(self.path("world.json"), "w") as f:
+            json.dump(doc, f)
+        with self.assertRaisesRegex(recording.RecordingError, "obstacles\\[1\\].kind: expected 'box' or 'cylinder'"):
+            recording.load(self.dir)
+
+    def test_corrupt_event_line_and_truncated_last_event(self):
+        with open(self.path("events.jsonl"), "a") as f:
+            f.write('{"tick": 39, "ki')
+        rec = recording.load(self.dir)
+        self.assertTrue(any("events.jsonl" in w for w in rec.warnings))
+        self.rewrite("events.jsonl", lambda lines: "\n".join(lines[:2] + ["{not json}"] + lines[2:]))
+        with self.assertRaisesRegex(recording.RecordingError, "events.jsonl:3: not valid JSON"):
+            recording.load(self.dir)
+
+    def test_missing_files(self):
+        os.remove(self.path("summary.json"))
+        rec = recording.load(self.dir)
+        self.assertIsNone(rec.summary)
+        self.assertTrue(any("summary.json: missing" in w for w in rec.warnings))
+        os.remove(self.path("robots.csv"))
+        with self.assertRaisesRegex(recording.RecordingError, "robots.csv: missing"):
+            recording.load(self.dir)
+        with self.assertRaisesRegex(recording.RecordingError, "not a directory"):
+            recording.load(self.path("nothing-here"))
+
+    def test_phases_come_from_the_states_without_a_summary(self):
+        os.remove(self.path("summary.json"))
+        ph = geometry.phases(recording.load(self.dir))
+        self.assertEqual(ph["motion"], 14)  # fixture: motion from ticks * 0.35
+        self.assertIsNotNone(ph["formation"])
+        self.assertLessEqual(ph["formation"], ph["motion"])
+
+
+if __name__ == "__main__":
+    unittest.main()
