@@ -28,16 +28,17 @@ std::vector<Vec2> label_places(const ShapeMatrix& shape, double spacing, double 
 namespace {
 
 // Link cost between two labels `d` apart; 0 = no link.
-int link_cost(double d, double spacing, double link_range) {
+int link_cost(double d, double spacing, double link_range, double far_range) {
   if (d <= 1.5 * spacing) return 1;
   if (d <= link_range) return kLongLinkCost;
+  if (d <= far_range) return kFarLinkCost;
   return 0;
 }
 
 }  // namespace
 
 ParentTree build_parent_tree(const std::vector<Vec2>& places, const std::vector<bool>& present, int root,
-                             double spacing, double link_range, double heading) {
+                             double spacing, double link_range, double far_range, double heading) {
   const std::size_t n = places.size();
   ParentTree tree;
   tree.root = root;
@@ -57,7 +58,7 @@ ParentTree build_parent_tree(const std::vector<Vec2>& places, const std::vector<
     if (cost != tree.cost[u]) continue;
     for (std::size_t v = 0; v < n; ++v) {
       if (v == u || !live(v)) continue;
-      const int w = link_cost(vnorm(vsub(places[v], places[u])), spacing, link_range);
+      const int w = link_cost(vnorm(vsub(places[v], places[u])), spacing, link_range, far_range);
       if (w == 0) continue;
       if (cost + w < tree.cost[v]) {
         tree.cost[v] = cost + w;
@@ -77,7 +78,7 @@ ParentTree build_parent_tree(const std::vector<Vec2>& places, const std::vector<
       if (u == v || !live(u) || tree.cost[u] == kUnreachable) continue;
       const Vec2 rel = vsub(places[u], places[v]);
       const double d = vnorm(rel);
-      const int w = link_cost(d, spacing, link_range);
+      const int w = link_cost(d, spacing, link_range, far_range);
       if (w == 0 || tree.cost[u] + w != tree.cost[v]) continue;
       const double ahead = vdot(rel, forward);
       constexpr double kEps = 1e-9;

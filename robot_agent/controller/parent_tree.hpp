@@ -8,7 +8,9 @@
 // label's parent label. Along a shortest-path tree the path cost strictly decreases towards the root, so no
 // choice can close a cycle. Links: two labels whose places are 8-neighbours in the grid (<= 1.5 grid
 // spacings) cost 1; labels further apart but within `link_range` (less than the radio range) cost
-// `kLongLinkCost`, so longer links are used only when a dead robot cuts the grid graph (a line, a ring).
+// `kLongLinkCost`, so longer links are used only when a dead robot cuts the grid graph (a line, a ring); and
+// labels up to `far_range` (the radio range) apart cost `kFarLinkCost`, a last resort (a V without one of
+// its arm's robots).
 // Among equally short paths the parent is chosen by distance (an orthogonal neighbour before a diagonal
 // one), then by relative azimuth (the one most ahead along the heading, so that robots trail their parent),
 // then by the smaller label. A dead robot is dropped from the inputs and every robot recomputes: its
@@ -27,6 +29,7 @@
 namespace swarmform::controller::motion {
 
 inline constexpr int kLongLinkCost = 4;
+inline constexpr int kFarLinkCost = 16;
 inline constexpr int kUnreachable = std::numeric_limits<int>::max();
 
 // Each label's place in the arena frame relative to the matrix's top-left cell: with `shape_heading` = pi/2
@@ -43,7 +46,7 @@ struct ParentTree {
 
 // `present[label]`: the label is held by a live robot. `heading`: common heading (rad, arena frame).
 ParentTree build_parent_tree(const std::vector<Vec2>& places, const std::vector<bool>& present, int root,
-                             double spacing, double link_range, double heading);
+                             double spacing, double link_range, double far_range, double heading);
 
 // True when `self` taking `candidate` as its parent would close a cycle in `parents` (id -> parent id; ids
 // absent from the map have no parent): i.e. when walking up from `candidate` reaches `self`.

@@ -147,7 +147,7 @@ void expect_tree(const ParentTree& t, const std::vector<bool>& present) {
 TEST(ParentTree, TriangleTreeIsRootedAtTheLeaderAndPrefersNearParentsAhead) {
   const auto places = label_places(triangle(), 1.0);
   std::vector<bool> present(places.size(), true);
-  const auto t = build_parent_tree(places, present, 5, 1.0, 2.7, 0.0);
+  const auto t = build_parent_tree(places, present, 5, 1.0, 2.7, 3.0, 0.0);
   expect_tree(t, present);
   EXPECT_EQ(t.parent[4], 5);  // straight behind the apex
   EXPECT_EQ(t.parent[2], 5);  // diagonal: the only neighbour one hop from the root
@@ -165,7 +165,7 @@ TEST(ParentTree, RemovingAnyOneRobotKeepsATreeOverTheRest) {
         if (static_cast<int>(dead) == root) continue;
         std::vector<bool> present(places.size(), true);
         present[dead] = false;
-        const auto t = build_parent_tree(places, present, root, 1.0, 2.7, 0.0);
+        const auto t = build_parent_tree(places, present, root, 1.0, 2.7, 3.0, 0.0);
         SCOPED_TRACE(testing::Message() << "root " << root << " dead " << dead);
         expect_tree(t, present);
       }

@@ -1,0 +1,284 @@
+#include "robot_agent/controller/motion_phase.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "robot_agent/controller/boundary.hpp"
+#include "robot_agent/controller/collision_avoidance.hpp"
+#include "robot_agent/controller/formation_forces.hpp"
+#include "robot_agent/controller/goal_force.hpp"
+#include "robot_agent/controller/leader_election.hpp"
+#include "robot_agent/controller/motion_math.hpp"
+#include "robot_agent/controller/motion_section.hpp"
+#include "robot_agent/controller/obstacle_forces.hpp"
+#include "robot_agent/controller/parent_tree.hpp"
+
+namespace swarmform::controller::motion {
+
+namespace {
+
+std::uint32_t boundary_key(RobotId id) {
+  return stig::key(stig::Ns::Boundary, id);
+}
+std::uint32_t parents_key(RobotId id) {
+  return stig::key(stig::Ns::Parents, id);
+}
+std::uint32_t leader_key() {
+  return stig::key(stig::Ns::Leader, 0);
+}
+
+bool marked_dead(const Stigmergy& s, RobotId id) {
+  return s.get(parents_key(id)) == kDeadMark;
+}
+
+// eq. (2)/(4): k_o r^2 (cos a, sin a) for the vector r (cos a, sin a).
+Vec2 spring(double k_o, Vec2 to_parent) {
+  return attractive_force(k_o, {vnorm(to_parent), std::atan2(to_parent.y, to_parent.x)});
+}
+
+std::optional<MotionSection> section_of(const Neighbour& n) {
+  return decode_motion_section(n.message.motion);
+}
+
+}  // namespace
+
+PaperMotion::PaperMotion(const FormationParams& params) : p_(motion_params(params)) {}
+
+void PaperMotion::on_ready(const FormationContext& ctx) {
+  state_ = RobotState::Ready;
+  ready_tick_ = ctx.tick;
+  boundary_written_ = false;
+  leader_.reset();
+  parent_.reset();
+  references_.clear();
+  last_position_.clear();
+  marked_dead_.clear();
+  wall_.reset();
+  net_force_ = 0.0;
+}
+
+MotionStep PaperMotion::step(const FormationContext& ctx) {
+  MotionStep out;
+  for (const auto& [id, n] : ctx.neighbours->all()) {
+    if (ctx.neighbours->fresh(id)) {
+      last_position_[id] = vadd({ctx.pose.x, ctx.pose.y}, vpolar(n.range, n.azimuth));
+    }
+  }
+  judge_boundary(ctx);
+  watch_for_the_dead(ctx);
+  choose_leader_and_parent(ctx, out);
+
+  Vec2 velocity;
+  net_force_ = 0.0;
+  if (state_ == RobotState::Ready) {
+    if (ctx.tick >= ready_tick_ + static_cast<Tick>(p_.ready_timeout)) {
+      record_references(ctx);
+      state_ = RobotState::Motion;
+      out.events.push_back("motion_started");
+    }
+  }
+  if (state_ == RobotState::Motion) velocity = motion_velocity(ctx, out);
+
+  // Collision avoidance, eq. (1), in every phase (also when the formation forces are zero).
+  std::vector<NeighbourPosition> near;
+  for (const auto& [id, n] : ctx.neighbours->all()) {
+    if (ctx.neighbours->fresh(id)) near.push_back({n.range, n.azimuth});
+  }
+  velocity = avoid_collisions(velocity, near, p_.k_collision, p_.r_o, p_.max_speed);
+
+  out.state = state_;
+  out.velocity = vclamp(velocity, p_.max_speed);
+  out.parent = parent_ ? static_cast<std::int32_t>(*parent_) : -1;
+  out.leader = leader_ == ctx.self;
+  out.net_force = net_force_;
+  MotionSection section;
+  section.leader = out.leader;
+  section.arrived = state_ == RobotState::Arrived;
+  section.wall_following = wall_.active();
+  section.parent = out.parent;
+  section.net_force = net_force_;
+  section.velocity = out.velocity;
+  out.message = encode_motion_section(section);
+  return out;
+}
+
+// Boundary role (boundary.hpp) from the shape neighbours heard, once the neighbour table has filled.
+void PaperMotion::judge_boundary(const FormationContext& ctx) {
+  Stigmergy& st = *ctx.stigmergy;
+  if (!boundary_written_ && ctx.tick >= ready_tick_ + static_cast<Tick>(p_.boundary_delay)) {
+    std::vector<NeighbourAzimuth> around;
+    for (const auto& [id, n] : ctx.neighbours->all()) {
+      if (ctx.members.count(id) != 0) around.push_back({id, n.range, n.azimuth});
+    }
+    const BoundaryRole role =
+        classify_boundary(around, ctx.common_heading, 1.5 * p_.spacing, p_.boundary_cone);
+    st.put(boundary_key(ctx.self), encode_boundary_entry(ctx.label, role));
+    boundary_written_ = true;
+  }
+}
+
+// A member we heard since Ready, last heard well inside radio range, silent for neighbour_timeout: dead.
+// A live robot marked dead by a mistaken neighbour rewrites its own entry (a newer version wins).
+void PaperMotion::watch_for_the_dead(const FormationContext& ctx) {
+  Stigmergy& st = *ctx.stigmergy;
+  for (const auto& [id, label] : ctx.members) {
+    if (id == ctx.self) continue;
+    const auto heard = ctx.neighbours->last_heard(id);
+    if (!heard || *heard < ready_tick_ || ctx.tick < *heard + static_cast<Tick>(p_.neighbour_timeout))
+      continue;
+    auto pos = last_position_.find(id);
+    if (pos == last_position_.end()) continue;
+    const double last_range = vnorm(vsub(pos->second, {ctx.pose.x, ctx.pose.y}));
+    if (last_range > 0.8 * p_.comm_range) continue;  // it may simply have drifted out of range
+    auto marked = marked_dead_.find(id);
+    if (marked != marked_dead_.end() && marked->second == *heard) continue;  // once per silence
+    marked_dead_[id] = *heard;
+    if (!marked_dead(st, id)) st.put(parents_key(id), kDeadMark);
+  }
+  if (marked_dead(st, ctx.self))
+    st.put(parents_key(ctx.self), parent_ ? static_cast<std::int64_t>(*parent_) : -1);
+}
+
+void PaperMotion::choose_leader_and_parent(const FormationContext& ctx, MotionStep& out) {
+  Stigmergy& st = *ctx.stigmergy;
+  // Candidates: the barrier's members, with the roles they shared, minus the dead.
+  std::vector<LeaderCandidate> candidates;
+  std::vector<bool> present(ctx.places.size(), false);
+  std::map<int, RobotId> holder;  // label -> live id
+  for (const auto& [id, label] : ctx.members) {
+    LeaderCandidate c;
+    c.id = id;
+    c.label = label;
+    if (auto b = st.get(boundary_key(id))) c.role = decode_boundary_entry(*b).role;
+    c.alive = !marked_dead(st, id);
+    candidates.push_back(c);
+    if (c.alive && label >= 0 && static_cast<std::size_t>(label) < present.size()) {
+      present[static_cast<std::size_t>(label)] = true;
+      if (holder.count(label) == 0) holder[label] = id;
+    }
+  }
+  const auto leader = elect_leader(candidates, ctx.places, ctx.common_heading);
+  if (leader != leader_) {
+    leader_ = leader;
+    if (leader_ == ctx.self) {
+      out.events.push_back("leader_elected " + std::to_string(ctx.self));
+      st.put(leader_key(), ctx.self);
+    }
+  }
+  if (!leader_) return;
+
+  std::optional<RobotId> parent;
+  if (*leader_ != ctx.self) {
+    const int root = ctx.members.count(*leader_) ? ctx.members.at(*leader_) : -1;
+    const auto tree = build_parent_tree(ctx.places, present, root, p_.spacing, p_.link_range, p_.comm_range,
+                                        ctx.common_heading);
+    if (ctx.label >= 0 && static_cast<std::size_t>(ctx.label) < tree.parent.size()) {
+      const int parent_label = tree.parent[static_cast<std::size_t>(ctx.label)];
+      if (parent_label >= 0 && holder.count(parent_label)) parent = holder.at(parent_label);
+    }
+  }
+  if (parent && parent != parent_) {
+    // The shared parents table guards against a cycle while views of the stigmergy still differ.
+    std::map<RobotId, RobotId> table;
+    for (const auto& [index, e] : st.in_namespace(stig::Ns::Parents)) {
+      if (e.value >= 0 && index != ctx.self) table[index] = static_cast<RobotId>(e.value);
+    }
+    if (would_close_cycle(table, ctx.self, *parent)) parent = parent_;
+  }
+  if (parent != parent_) {
+    parent_ = parent;
+    out.events.push_back("parent " + (parent_ ? std::to_string(*parent_) : std::string("none")));
+    if (parent_) parent_reference_ = reference_to(ctx, *parent_);
+  }
+  const std::int64_t entry = parent_ ? static_cast<std::int64_t>(*parent_) : -1;
+  if (st.get(parents_key(ctx.self)) != entry) st.put(parents_key(ctx.self), entry);
+}
+
+// eq. (2) at the end of Ready: the vector to every neighbour as it stands now.
+void PaperMotion::record_references(const FormationContext& ctx) {
+  for (const auto& [id, pos] : last_position_) {
+    if (ctx.members.count(id) != 0) references_[id] = vsub(pos, {ctx.pose.x, ctx.pose.y});
+  }
+  if (parent_) parent_reference_ = reference_to(ctx, *parent_);
+}
+
+// The reference vector to `id`: as recorded at Ready, else (a robot we did not hear then, or still in Ready)
+// the shape's own geometry between the two labels, else as it stands now.
+Vec2 PaperMotion::reference_to(const FormationContext& ctx, RobotId id) const {
+  if (auto it = references_.find(id); it != references_.end()) return it->second;
+  auto m = ctx.members.find(id);
+  if (m != ctx.members.end() && m->second >= 0 && ctx.label >= 0 &&
+      static_cast<std::size_t>(std::max(m->second, ctx.label)) < ctx.places.size()) {
+    return vsub(ctx.places[static_cast<std::size_t>(m->second)],
+                ctx.places[static_cast<std::size_t>(ctx.label)]);
+  }
+  if (auto it = last_position_.find(id); it != last_position_.end())
+    return vsub(it->second, {ctx.pose.x, ctx.pose.y});
+  return {};
+}
+
+Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) {
+  const Vec2 position{ctx.pose.x, ctx.pose.y};
+  Vec2 desired;
+  double m = p_.m_obstacle * p_.cruise_speed;  // eq. (7) for followers: the cruise |F_goal|
+  if (leader_ == ctx.self) {
+    // The leader takes the shape's centroid to the goal: its own target is the goal plus its place's offset
+    // from the centroid of the places.
+    Vec2 centroid;
+    for (const auto& pl : ctx.places) centroid = vadd(centroid, pl);
+    if (!ctx.places.empty()) centroid = vscale(centroid, 1.0 / static_cast<double>(ctx.places.size()));
+    Vec2 target = p_.goal;
+    if (ctx.label >= 0 && static_cast<std::size_t>(ctx.label) < ctx.places.size()) {
+      target = vadd(p_.goal, vsub(ctx.places[static_cast<std::size_t>(ctx.label)], centroid));
+    }
+    if (vnorm(vsub(target, position)) < p_.arrival_tolerance) {
+      state_ = RobotState::Arrived;
+      out.events.push_back("arrived");
+      wall_.reset();
+      return {};
+    }
+    desired = goal_force(position, target, p_.k_goal, p_.cruise_speed, 0.0);  // eq. (3)
+    m = p_.m_obstacle * vnorm(desired);                                       // eq. (7)
+  } else if (parent_) {
+    const Neighbour* n = ctx.neighbours->find(*parent_);
+    Vec2 to_parent;
+    if (n != nullptr && ctx.neighbours->fresh(*parent_)) {
+      to_parent = vpolar(n->range, n->azimuth);
+    } else if (auto it = last_position_.find(*parent_); it != last_position_.end()) {
+      to_parent = vsub(it->second, position);
+    }
+    const Vec2 f_net = net_force(spring(p_.k_o, to_parent), spring(p_.k_o, parent_reference_));  // eq. (5)
+    net_force_ = vnorm(f_net);
+    desired = vclamp(f_net, p_.max_speed);
+    const auto section = n != nullptr ? section_of(*n) : std::nullopt;
+    if (section && section->arrived && net_force_ < p_.arrival_net_force) {
+      state_ = RobotState::Arrived;
+      out.events.push_back("arrived");
+      wall_.reset();
+      return {};
+    }
+  }
+
+  // Obstacles: Algorithm 2's mask from the neighbours heard now, eq. (6)-(7), size discrimination.
+  std::vector<NeighbourBearing> bearings;
+  for (const auto& [id, n] : ctx.neighbours->all()) {
+    if (ctx.neighbours->fresh(id)) bearings.push_back({n.range, n.bearing});
+  }
+  UltrasonicArray readings = ctx.perception->ultrasonic;
+  const auto mask = mask_neighbour_directions(readings, bearings, p_.mask_angle, p_.mask_slack);
+  const auto sense = sense_obstacles(readings, mask, ctx.pose.theta,
+                                     {m, p_.obstacle_range, p_.fusion_range, p_.small_obstacle_width});
+  const bool was_following = wall_.active();
+  Vec2 around;
+  const WallFollowParams wf{p_.obstacle_range, p_.wall_distance, 0.5, p_.cruise_speed};
+  if (wall_.update(sense, desired, ctx.pose.theta, wf, around)) {
+    if (!was_following) out.events.push_back("wall_follow_start");
+    return around;
+  }
+  if (was_following) out.events.push_back("wall_follow_end");
+  return vadd(desired, sense.force);
+}
+
+}  // namespace swarmform::controller::motion

@@ -1,0 +1,64 @@
+// The motion phases behind motion_hooks.hpp (paper III.C 'Ready' to III.E, SPEC 5 items 5-9):
+//
+//   Ready    boundary role from the neighbours' azimuths -> stigmergy (boundary.hpp); leader elected from the
+//            shared entries (leader_election.hpp); parent from the shared shortest-path tree
+//            (parent_tree.hpp) -> parents table; after `ready_timeout` ticks the reference vectors to every
+//            neighbour are recorded, eq. (2), and the robot moves on to Motion.
+//   Motion   leader: F_goal (eq. 3) + obstacles (eq. 6-7) + collision avoidance (eq. 1); others: F_net
+//            (eq. 4-5) + obstacles + collision avoidance; a small obstacle ahead -> wall-following.
+//   Arrived  leader: its place in the shape lies where the goal puts it (the shape's centroid on the goal);
+//            followers: their parent has arrived and |F_net| is small. Formation and obstacle forces are
+//            zero (collision avoidance stays on).
+//   Failures a member silent for `neighbour_timeout` ticks (last heard well inside radio range) is marked
+//            dead in the parents table (value kDeadMark) by whoever noticed; a live robot that finds itself
+//            marked rewrites its own entry. Leader and tree are recomputed from the shared table every
+//            tick, so a dead parent's children re-parent and a dead leader's successor is elected by the
+//            same rule, and takes the goal (every robot holds the mission's goal; only the leader uses it).
+#pragma once
+
+#include <map>
+#include <optional>
+
+#include "robot_agent/controller/motion_hooks.hpp"
+#include "robot_agent/controller/motion_params.hpp"
+#include "robot_agent/controller/wall_follow.hpp"
+
+namespace swarmform::controller::motion {
+
+// Parents-table value of a robot found dead (ids are >= 0 and -1 means "no parent").
+inline constexpr std::int64_t kDeadMark = -2;
+
+class PaperMotion final : public MotionPhases {
+ public:
+  explicit PaperMotion(const FormationParams& params);
+  void on_ready(const FormationContext& ctx) override;
+  MotionStep step(const FormationContext& ctx) override;
+
+  // For tests: what this robot believes.
+  std::optional<RobotId> leader() const { return leader_; }
+  std::optional<RobotId> parent() const { return parent_; }
+
+ private:
+  struct Shared;  // this tick's reading of the stigmergy
+  void judge_boundary(const FormationContext& ctx);
+  void watch_for_the_dead(const FormationContext& ctx);
+  void choose_leader_and_parent(const FormationContext& ctx, MotionStep& out);
+  void record_references(const FormationContext& ctx);
+  Vec2 reference_to(const FormationContext& ctx, RobotId id) const;
+  Vec2 motion_velocity(const FormationContext& ctx, MotionStep& out);
+
+  MotionParams p_;
+  RobotState state_ = RobotState::Ready;
+  Tick ready_tick_ = 0;
+  bool boundary_written_ = false;
+  std::optional<RobotId> leader_;
+  std::optional<RobotId> parent_;
+  Vec2 parent_reference_;                  // eq. (2)'s r0 (cos a0, sin a0), arena frame
+  std::map<RobotId, Vec2> references_;     // the same to every neighbour, recorded at the end of Ready
+  std::map<RobotId, Vec2> last_position_;  // each neighbour's arena position when last heard
+  std::map<RobotId, Tick> marked_dead_;    // id -> last_heard when we marked it (mark once per silence)
+  WallFollower wall_;
+  double net_force_ = 0.0;
+};
+
+}  // namespace swarmform::controller::motion
