@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "common/input_error.hpp"
@@ -69,6 +71,21 @@ TEST(Scenario, EveryFileInScenariosLoads) {
     }) << entry.path();
   }
   EXPECT_GE(files, 3);
+}
+
+TEST(Scenario, TheFullExampleOfTheReadmeParses) {
+  std::ifstream in(kRepo + "/scenarios/README.md");
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string md = text.str();
+  const auto begin = md.find("```yaml\n");
+  ASSERT_NE(begin, std::string::npos);
+  const auto end = md.find("```", begin + 8);
+  const Scenario s = parse(md.substr(begin + 8, end - begin - 8));
+  EXPECT_EQ(s.robots.size(), 9u);
+  EXPECT_EQ(s.obstacles.size(), 2u);
+  EXPECT_EQ(s.kills.size(), 1u);
+  EXPECT_EQ(s.mission.params.size(), 2u);
 }
 
 TEST(Scenario, PaperScenarioIsThePapersRun) {

@@ -17,12 +17,19 @@ namespace swarmform::world {
 
 inline constexpr double kNoHit = std::numeric_limits<double>::infinity();
 
-// Wraps an angle to (-pi, pi] (the convention of common/types.hpp).
+// Wraps an angle to (-pi, pi] (the convention of common/types.hpp). Angles a few turns out (sums and
+// differences of wrapped angles) take the cheap path.
 inline double wrap_angle(double a) {
   constexpr double kPi = std::numbers::pi;
+  constexpr double kTwoPi = 2.0 * std::numbers::pi;
   if (a > -kPi && a <= kPi) return a;
-  a = std::remainder(a, 2.0 * kPi);  // in [-pi, pi]
-  return a <= -kPi ? a + 2.0 * kPi : a;
+  if (a > -4.0 * kPi && a <= 4.0 * kPi) {
+    while (a > kPi) a -= kTwoPi;
+    while (a <= -kPi) a += kTwoPi;
+    return a;
+  }
+  a = std::remainder(a, kTwoPi);  // in [-pi, pi]
+  return a <= -kPi ? a + kTwoPi : a;
 }
 
 // Distance along the ray o + t*d (d a unit vector, t >= 0) to the circle (c, r); kNoHit if it misses.

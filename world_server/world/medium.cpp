@@ -8,7 +8,7 @@ namespace swarmform::world {
 RangeBearing to_receiver_frame(const Pose2D& sender, const Pose2D& receiver) {
   const double dx = sender.x - receiver.x;
   const double dy = sender.y - receiver.y;
-  return RangeBearing{std::hypot(dx, dy), wrap_angle(std::atan2(dy, dx) - receiver.theta)};
+  return RangeBearing{std::sqrt(dx * dx + dy * dy), wrap_angle(std::atan2(dy, dx) - receiver.theta)};
 }
 
 Medium::Medium(const MediumParams& params, const std::vector<Obstacle>& statics, std::uint64_t seed)
@@ -34,7 +34,7 @@ void Medium::deliver(const std::vector<Pose2D>& poses, const std::vector<char>& 
     grid.for_each_near(poses[s].x, poses[s].y, params_.comm_range, [&](std::uint32_t r) {
       if (r != s && alive[r]) receivers_.push_back(r);
     });
-    std::sort(receivers_.begin(), receivers_.end());  // fixed draw order, whatever the grid's
+    // The grid's order is a fixed function of the positions, so the draws below replay exactly.
     for (std::uint32_t r : receivers_) {
       if (params_.occlusion && occluded(poses[s], poses[r])) continue;
       if (rng_.bernoulli(params_.packet_loss)) continue;

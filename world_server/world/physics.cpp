@@ -109,6 +109,8 @@ struct Physics::Impl {
     b.setLinearFactor(btVector3(1, 1, 0));
     b.setAngularFactor(btVector3(0, 0, 1));
     b.forceActivationState(DISABLE_DEACTIVATION);
+    // A cylinder spinning about its axis has no gyroscopic torque; skip Bullet's (costly) implicit term.
+    b.setFlags(b.getFlags() & ~BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY);
   }
 
   void apply_wheels() {

@@ -299,6 +299,7 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
   const Source src{origin};
   Scenario s;
   s.source = origin;
+  if (root.IsNull()) throw InputError(origin, 0, "the scenario is empty (it needs at least `shape: <file>`)");
   MapReader top(src, root, "");
 
   parse_arena(src, top, s);

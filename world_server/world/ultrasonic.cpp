@@ -8,6 +8,8 @@ namespace {
 
 // A ray from the centre must travel this far to see something at the maximum range from the surface.
 constexpr double kReach = kUltrasonicMaxRange + kRobotRadius;
+const double kCosCone = std::cos(kConeHalfAngle);
+const double kSinCone = std::sin(kConeHalfAngle);
 
 }  // namespace
 
@@ -15,10 +17,13 @@ Ultrasonic::Ultrasonic(const std::vector<Obstacle>& statics, double noise_sd, st
     : noise_sd_(noise_sd), rng_(seed, kSaltUltrasonic) {
   for (const Obstacle& o : statics) statics_.push_back(make_static_shape(o));
   for (std::size_t s = 0; s < kUltrasonicCount; ++s) {
+    axis_cos_[s] = std::cos(kUltrasonicAngles[s]);
+    axis_sin_[s] = std::sin(kUltrasonicAngles[s]);
     for (int r = 0; r < kRaysPerSensor; ++r) {
       const double f = kRaysPerSensor == 1 ? 0.0 : -1.0 + 2.0 * r / (kRaysPerSensor - 1);
-      ray_offsets_[s * kRaysPerSensor + static_cast<std::size_t>(r)] =
-          kUltrasonicAngles[s] + f * kConeHalfAngle;
+      const double angle = kUltrasonicAngles[s] + f * kConeHalfAngle;
+      ray_cos_[s * kRaysPerSensor + static_cast<std::size_t>(r)] = std::cos(angle);
+      ray_sin_[s * kRaysPerSensor + static_cast<std::size_t>(r)] = std::sin(angle);
     }
   }
 }
@@ -26,29 +31,59 @@ Ultrasonic::Ultrasonic(const std::vector<Obstacle>& statics, double noise_sd, st
 UltrasonicReading Ultrasonic::read(std::size_t self, const std::vector<Pose2D>& poses,
                                    const SpatialGrid& grid) const {
   const Pose2D& me = poses[self];
-  // Robots whose body can be within reach: centre within kReach + one radius.
-  candidates_.clear();
+  const double ch = std::cos(me.theta), sh = std::sin(me.theta);
+  // Each sensor's axis in the arena frame.
+  std::array<double, kUltrasonicCount> axis_x, axis_y;
+  for (std::size_t s = 0; s < kUltrasonicCount; ++s) {
+    axis_x[s] = ch * axis_cos_[s] - sh * axis_sin_[s];
+    axis_y[s] = sh * axis_cos_[s] + ch * axis_sin_[s];
+  }
+  // Robots whose body can be within reach go to the candidate list of every sensor whose cone can touch
+  // them: the angle between the sensor's axis and the robot's centre is at most the cone's half-angle plus
+  // the body's angular half-width asin(R/d). Each candidate is stored as its offset and |offset|^2 - R^2, so
+  // the ray test below is a dot product, a compare and (rarely) a square root.
+  for (auto& c : cands_) c.clear();
   grid.for_each_near(me.x, me.y, kReach + kRobotRadius, [&](std::uint32_t j) {
-    if (j != self) candidates_.push_back(j);
+    if (j == self) return;
+    const double dx = poses[j].x - me.x, dy = poses[j].y - me.y;
+    const double d2 = dx * dx + dy * dy;
+    const Candidate cand{dx, dy, d2 - kRobotRadius * kRobotRadius};
+    if (cand.c <= 0.0) {  // bodies overlap: every sensor reads the minimum
+      for (auto& c : cands_) c.push_back(cand);
+      return;
+    }
+    const double d = std::sqrt(d2);
+    const double sin_a = kRobotRadius / d;
+    const double cos_limit = kCosCone * std::sqrt(1.0 - sin_a * sin_a) - kSinCone * sin_a;  // cos(cone + a)
+    for (std::size_t s = 0; s < kUltrasonicCount; ++s) {
+      if (dx * axis_x[s] + dy * axis_y[s] >= d * cos_limit - 1e-12) cands_[s].push_back(cand);
+    }
   });
+  near_statics_.clear();
+  for (const StaticShape& st : statics_) {
+    const double cx = st.cx - me.x, cy = st.cy - me.y;
+    const double reach = kReach + st.bound;
+    if (cx * cx + cy * cy <= reach * reach) near_statics_.push_back(&st);
+  }
 
   UltrasonicReading out;
   for (std::size_t s = 0; s < kUltrasonicCount; ++s) {
     double nearest = kNoHit;
-    for (int r = 0; r < kRaysPerSensor; ++r) {
-      const double a = me.theta + ray_offsets_[s * kRaysPerSensor + static_cast<std::size_t>(r)];
-      const double dx = std::cos(a);
-      const double dy = std::sin(a);
-      for (std::uint32_t j : candidates_) {
-        nearest = std::min(nearest, ray_circle(me.x, me.y, dx, dy, poses[j].x, poses[j].y, kRobotRadius));
+    for (std::size_t r = 0; r < static_cast<std::size_t>(kRaysPerSensor); ++r) {
+      // The ray's direction: the robot-frame offset rotated by the heading.
+      const std::size_t k = s * kRaysPerSensor + r;
+      const double dx = ch * ray_cos_[k] - sh * ray_sin_[k];
+      const double dy = sh * ray_cos_[k] + ch * ray_sin_[k];
+      for (const Candidate& c : cands_[s]) {
+        // ray_circle with the ray starting at the origin.
+        const double along = c.x * dx + c.y * dy;
+        if (along <= 0.0) continue;
+        const double disc = along * along - c.c;
+        if (disc < 0.0) continue;
+        nearest = std::min(nearest, c.c <= 0.0 ? 0.0 : along - std::sqrt(disc));
       }
-      for (const StaticShape& st : statics_) {
-        // Skip shapes whose bounding circle is beyond reach.
-        const double cx = st.cx - me.x, cy = st.cy - me.y;
-        const double reach = kReach + st.bound;
-        if (cx * cx + cy * cy > reach * reach) continue;
-        nearest = std::min(nearest, ray_static(me.x, me.y, dx, dy, st));
-      }
+      for (const StaticShape* st : near_statics_)
+        nearest = std::min(nearest, ray_static(me.x, me.y, dx, dy, *st));
     }
     const double surface = nearest - kRobotRadius;
     out[s] = surface > kUltrasonicMaxRange ? kUltrasonicMaxRange

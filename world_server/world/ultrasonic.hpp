@@ -41,8 +41,16 @@ class Ultrasonic {
   std::vector<StaticShape> statics_;
   double noise_sd_;
   Rng rng_;
-  std::array<double, kUltrasonicCount * kRaysPerSensor> ray_offsets_{};  // robot-frame ray angles
-  mutable std::vector<std::uint32_t> candidates_;
+  // Robot-frame ray directions (cos, sin of each ray's angle), sensor by sensor.
+  std::array<double, kUltrasonicCount * kRaysPerSensor> ray_cos_{}, ray_sin_{};
+  std::array<double, kUltrasonicCount> axis_cos_{}, axis_sin_{};  // robot-frame sensor axes
+  // Scratch for read(), reused across calls (no allocation once warm): per sensor, the robots its cone may
+  // touch, as offsets from the reading robot and |offset|^2 - R^2.
+  struct Candidate {
+    double x, y, c;
+  };
+  mutable std::array<std::vector<Candidate>, kUltrasonicCount> cands_;
+  mutable std::vector<const StaticShape*> near_statics_;
 };
 
 }  // namespace swarmform::world
