@@ -19,7 +19,7 @@ Mission line_mission() {
   m.shape = ShapeMatrix{1, 3, {0, 1, 2}};
   m.grid_spacing = 1.0;
   m.goal = {5.0, 0.0};
-  m.goal_radius = 1.6;
+  m.goal_radius = 0.6;  // + the line's own radius 1.0: a goal region of 1.6 m
   return m;
 }
 
@@ -60,8 +60,8 @@ TEST(MetricsTracker, FormationMotionGoalAndPath) {
   }
   const Metrics& m = tracker.metrics();
   EXPECT_EQ(*m.motion_start_tick, 3u);
-  // The goal (5, 0) with radius 1.6 holds the three robots (x0..x0+2) once x0 >= 4.6 - 1.6... i.e. x0 = 3.4,
-  // k = 34, tick 37.
+  // The goal region, radius 1.6 about (5, 0), holds the three robots (x0..x0+2) once x0 >= 3.4: k = 34,
+  // tick 37.
   ASSERT_TRUE(m.goal_tick);
   EXPECT_EQ(*m.goal_tick, 37u);
   EXPECT_LT(*m.shape_error_at_goal, 1e-9);
@@ -74,6 +74,19 @@ TEST(MetricsTracker, FormationMotionGoalAndPath) {
   // and back (0.1 m each way in y).
   EXPECT_NEAR(m.path_length, 3.4 + 2 * std::hypot(0.1, 0.1) - 0.2, 1e-9);
   EXPECT_EQ(m.distortion.size(), t - 2);
+}
+
+TEST(MetricsTracker, GoalReachedWhenEveryShapeRobotReportsArrived) {
+  MetricsTracker tracker(line_mission());
+  tracker.observe(0, line_at(-10.0, kReady), {});
+  tracker.observe(1, line_at(-10.0, kMotion), {});
+  EXPECT_FALSE(tracker.metrics().goal_tick);  // far from the goal region
+  auto robots = line_at(-10.0, static_cast<std::int32_t>(RobotState::Arrived));
+  robots[3].telemetry.state = kSearching;  // the spare is no shape robot
+  tracker.observe(2, robots, {});
+  ASSERT_TRUE(tracker.metrics().goal_tick);
+  EXPECT_EQ(*tracker.metrics().goal_tick, 2u);
+  EXPECT_EQ(tracker.metrics().arrived, 0u);  // in the goal region: none
 }
 
 TEST(MetricsTracker, DeadRobotsAndContactsAndEvents) {

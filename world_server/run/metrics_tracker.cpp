@@ -8,11 +8,40 @@
 
 namespace swarmform::world {
 
+namespace {
+
+// The largest distance of a label's grid place from the centre of all of them, in m.
+double shape_radius(const ShapeMatrix& shape, double grid_spacing) {
+  double sx = 0.0;
+  double sy = 0.0;
+  int n = 0;
+  for (int row = 0; row < shape.rows; ++row) {
+    for (int col = 0; col < shape.cols; ++col) {
+      if (shape.at(row, col) < 0) continue;
+      sx += col;
+      sy += row;
+      ++n;
+    }
+  }
+  if (n == 0) return 0.0;
+  sx /= n;
+  sy /= n;
+  double r = 0.0;
+  for (int row = 0; row < shape.rows; ++row) {
+    for (int col = 0; col < shape.cols; ++col) {
+      if (shape.at(row, col) >= 0) r = std::max(r, std::hypot(col - sx, row - sy));
+    }
+  }
+  return r * grid_spacing;
+}
+
+}  // namespace
+
 MetricsTracker::MetricsTracker(const Mission& mission)
     : shape_(mission.shape),
       grid_spacing_(mission.grid_spacing),
       goal_(mission.goal),
-      goal_radius_(mission.goal_radius) {}
+      goal_region_radius_(mission.goal_radius + shape_radius(mission.shape, mission.grid_spacing)) {}
 
 bool MetricsTracker::in_motion_window(Tick tick) const {
   return metrics_.motion_start_tick && tick >= *metrics_.motion_start_tick &&
@@ -25,11 +54,13 @@ void MetricsTracker::observe(Tick tick, const std::vector<RobotTruth>& robots, C
 
   constexpr auto kReady = static_cast<std::int32_t>(RobotState::Ready);
   constexpr auto kMotion = static_cast<std::int32_t>(RobotState::Motion);
+  constexpr auto kArrived = static_cast<std::int32_t>(RobotState::Arrived);
 
   // One pass over the robots: the shape robots, whether all are ready, whether any is in motion.
   std::vector<LabelledPosition> shape_robots;
   std::vector<RobotId> shape_ids;
   bool all_ready = true;
+  bool all_arrived = true;
   bool any_motion = false;
   std::uint32_t at_goal = 0;
   Vec2 centroid;
@@ -40,7 +71,8 @@ void MetricsTracker::observe(Tick tick, const std::vector<RobotTruth>& robots, C
     shape_robots.push_back({r.telemetry.label, {r.pose.x, r.pose.y}});
     shape_ids.push_back(r.id);
     if (r.telemetry.state < kReady) all_ready = false;
-    if (std::hypot(r.pose.x - goal_.x, r.pose.y - goal_.y) <= goal_radius_) ++at_goal;
+    if (r.telemetry.state != kArrived) all_arrived = false;
+    if (std::hypot(r.pose.x - goal_.x, r.pose.y - goal_.y) <= goal_region_radius_) ++at_goal;
     centroid.x += r.pose.x;
     centroid.y += r.pose.y;
   }
@@ -69,7 +101,7 @@ void MetricsTracker::observe(Tick tick, const std::vector<RobotTruth>& robots, C
       }
     }
     metrics_.arrived = at_goal;
-    if (!metrics_.goal_tick && have_shape && at_goal == shape_robots.size()) {
+    if (!metrics_.goal_tick && have_shape && (at_goal == shape_robots.size() || all_arrived)) {
       metrics_.goal_tick = tick;
       metrics_.shape_error_at_goal = error;
     }

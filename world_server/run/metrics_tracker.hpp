@@ -7,7 +7,13 @@
 // - a "shape robot" is a live robot whose telemetry label is >= 0;
 // - formation_tick: the first tick with at least one shape robot and every shape robot in state >= Ready;
 // - motion ticks: from motion_start_tick (first tick any live robot is in Motion) to goal_tick inclusive;
-// - goal_tick: the first tick, at or after formation, with every shape robot within the goal radius;
+// - the goal region: the disc around the goal of radius goal_radius + the shape's own radius (the largest
+//   distance of a label's place from the label grid's centre). The leader is pulled to the goal, so the
+//   formation can never fit in the goal radius alone; a formation whose centre is within goal_radius of the
+//   goal has every robot in the region when it is in shape.
+// - goal_tick: the first tick, at or after formation, with every shape robot in the goal region, or every
+//   shape robot reporting Arrived (the controller's own judgement of arrival);
+// - arrived: the live shape robots in the goal region (at the last tick);
 // - path_length: the distance travelled by the shape robots' centroid over the motion ticks; a step in which
 //   the set of shape robots changed (a death, a label lost) is not counted, so a death is not a jump.
 #pragma once
@@ -35,6 +41,7 @@ class MetricsTracker {
   void note_components(std::size_t components);
 
   const Metrics& metrics() const { return metrics_; }
+  double goal_region_radius() const { return goal_region_radius_; }
 
  private:
   bool in_motion_window(Tick tick) const;
@@ -42,7 +49,7 @@ class MetricsTracker {
   ShapeMatrix shape_;
   double grid_spacing_;
   Vec2 goal_;
-  double goal_radius_;
+  double goal_region_radius_;  // m: goal_radius + the shape's radius
 
   Metrics metrics_;
   double distortion_sum_ = 0.0;

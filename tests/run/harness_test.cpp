@@ -1,0 +1,163 @@
+// RunSession on a real World, driven by the in-process harness with random-walk robots: the run directory
+// has every file, a killed robot's death is recorded, the trajectory hash is reproducible, independent of
+// recording, re-computable from robots.csv, and sensitive to one pose.
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "world_server/harness/harness.hpp"
+#include "world_server/run/recording_reader.hpp"
+#include "world_server/run/run_end.hpp"
+#include "world_server/run/sha256.hpp"
+
+namespace swarmform::harness {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kScenario = R"(
+shape: triangle.txt
+arena: {centre: [0.0, 0.0], width: 10.0, height: 10.0, walls: true}
+robots: {count: 8, region: {centre: [0.0, 0.0], width: 4.0, height: 4.0}}
+behaviour: random_walk
+goal: {x: 3.0, y: 0.0, radius: 0.5}
+seed: 3
+max_ticks: 100
+kills: [{id: 2, tick: 40}]
+)";
+
+world::Scenario scenario() {
+  return world::parse_scenario_text(kScenario, "<harness_test>");
+}
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("swarmform-harness-test-" + name + "-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  return dir;
+}
+
+TEST(Harness, RunWritesEveryFileAndTheKilledRobotsDeath) {
+  const auto dir = fresh_dir("files");
+  std::string sha;
+  {
+    Harness h(scenario(), {dir.string()});
+    h.run();
+    EXPECT_EQ(h.world().tick(), 100u);
+    EXPECT_FALSE(h.world().alive(2));
+    EXPECT_THROW(h.controller(2), std::logic_error);
+    h.finish(1.5);
+  }
+  for (const char* f : {"world.json", "robots.csv", "events.jsonl", "world.log", "summary.json"}) {
+    EXPECT_TRUE(fs::exists(dir / f)) << f;
+  }
+  const auto world_json = world::read_json_file((dir / "world.json").string());
+  EXPECT_EQ(world_json["robots"], 8);
+  EXPECT_EQ(world_json["mode"], "in-process");
+
+  const auto rows = world::read_robots_csv((dir / "robots.csv").string());
+  ASSERT_EQ(rows.size(), 101u * 8u);  // ticks 0..100
+  EXPECT_EQ(rows.front().tick, 0u);
+  EXPECT_EQ(rows.back().tick, 100u);
+  for (const auto& r : rows) {
+    // Robot 2 is killed at the start of tick 40, after tick 40's row was recorded.
+    const bool expected_alive = r.id != 2 || r.tick <= 40;
+    EXPECT_EQ(r.alive, expected_alive) << "robot " << r.id << " tick " << r.tick;
+  }
+
+  const auto events = world::read_events_jsonl((dir / "events.jsonl").string());
+  int deaths = 0;
+  for (const auto& e : events) {
+    if (e["kind"] == "death") {
+      ++deaths;
+      EXPECT_EQ(e["id"], 2);
+      EXPECT_EQ(e["tick"], 40);
+    }
+  }
+  EXPECT_EQ(deaths, 1);  // once, although both the harness and the world's alive flag tell of it
+
+  const auto summary = world::read_json_file((dir / "summary.json").string());
+  EXPECT_EQ(summary["ticks"], 100);
+  EXPECT_EQ(summary["alive_at_end"], 7);
+  ASSERT_EQ(summary["deaths"].size(), 1u);
+  EXPECT_EQ(summary["deaths"][0]["id"], 2);
+  EXPECT_EQ(summary["deaths"][0]["tick"], 40);
+  EXPECT_NEAR(summary["ticks_per_second"].get<double>(), 100 / 1.5, 1e-9);
+
+  // The hash is re-computable from the recording alone (documented definition, exact numbers).
+  world::Sha256 rehash;
+  for (const auto& r : rows) {
+    rehash.update_double(r.pose.x);
+    rehash.update_double(r.pose.y);
+    rehash.update_double(r.pose.theta);
+  }
+  EXPECT_EQ(summary["trajectory_sha256"], rehash.hex_digest());
+  fs::remove_all(dir);
+}
+
+TEST(Harness, TrajectoryHashIsReproducibleAndSeesOnePose) {
+  const auto s = scenario();
+  std::string a;
+  std::string b;
+  {
+    Harness h(s, {});
+    h.run();
+    a = nlohmann::json::parse(h.finish(0.0))["trajectory_sha256"];
+  }
+  const auto dir = fresh_dir("sha");
+  {
+    Harness h(s, {dir.string()});  // recording to disk changes nothing in the run
+    h.run();
+    b = nlohmann::json::parse(h.finish(0.0))["trajectory_sha256"];
+  }
+  EXPECT_EQ(a.size(), 64u);
+  EXPECT_EQ(a, b);
+  auto moved = s;
+  moved.robots[5].x += 1e-9;  // one robot, one nanometre
+  Harness h(moved, {});
+  h.run();
+  EXPECT_NE(nlohmann::json::parse(h.finish(0.0))["trajectory_sha256"], a);
+  fs::remove_all(dir);
+}
+
+TEST(Harness, RevivedRobotRejoinsWithAFreshController) {
+  auto s = scenario();
+  s.kills.clear();
+  Harness h(s, {});
+  for (int i = 0; i < 10; ++i) h.step();
+  h.kill(4);
+  for (int i = 0; i < 10; ++i) h.step();
+  const auto before = h.world().robots()[4].pose;
+  h.revive(4);
+  EXPECT_NO_THROW(h.controller(4));
+  for (int i = 0; i < 30; ++i) h.step();
+  EXPECT_TRUE(h.world().alive(4));
+  const auto after = h.world().robots()[4].pose;
+  EXPECT_GT(std::hypot(after.x - before.x, after.y - before.y), 0.05);  // it drives again
+  ASSERT_EQ(h.metrics().deaths.size(), 1u);
+  EXPECT_EQ(h.metrics().deaths[0].tick, 10u);
+  ASSERT_EQ(h.metrics().rejoins.size(), 1u);
+  EXPECT_EQ(h.metrics().rejoins[0].id, 4u);
+  EXPECT_EQ(h.metrics().rejoins[0].tick, 20u);
+}
+
+TEST(Harness, StopsOnThePredicate) {
+  Harness h(scenario(), {});
+  h.run([](const Harness& x) { return x.world().tick() >= 17; });
+  EXPECT_EQ(h.world().tick(), 17u);
+}
+
+TEST(RunEnd, MaxTicksOrTwentyTicksAfterTheGoal) {
+  world::Metrics m;
+  EXPECT_FALSE(world::run_complete(m, 99, 100));
+  EXPECT_TRUE(world::run_complete(m, 100, 100));
+  m.goal_tick = 50;
+  EXPECT_FALSE(world::run_complete(m, 50 + world::kTicksAfterGoal - 1, 1000));
+  EXPECT_TRUE(world::run_complete(m, 50 + world::kTicksAfterGoal, 1000));
+}
+
+}  // namespace
+}  // namespace swarmform::harness

@@ -1,0 +1,167 @@
+// swarm_inprocess: a whole run in one process (the world library + N controllers, no DDS), writing the same
+// run directory as `swarm run`. For users who want a quick answer and for the large-N benchmarks.
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <iostream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "common/input_error.hpp"
+#include "world_server/harness/harness.hpp"
+
+namespace {
+
+using namespace swarmform;
+namespace fs = std::filesystem;
+
+std::atomic<bool> g_interrupted{false};
+extern "C" void on_signal(int) {
+  g_interrupted = true;
+}
+
+// "ID@TICK" -> Kill; throws InputError naming the flag.
+world::Kill parse_kill(const std::string& text) {
+  const auto at = text.find('@');
+  const auto bad = [&] {
+    return InputError("command line", 0, "--kill '" + text + "': expected ID@TICK, e.g. 3@900");
+  };
+  if (at == std::string::npos || at == 0 || at + 1 == text.size()) throw bad();
+  try {
+    std::size_t used_id = 0;
+    std::size_t used_tick = 0;
+    const std::string id = text.substr(0, at);
+    const std::string tick = text.substr(at + 1);
+    if (id[0] == '-' || tick[0] == '-') throw bad();
+    const unsigned long long id_value = std::stoull(id, &used_id);
+    const unsigned long long tick_value = std::stoull(tick, &used_tick);
+    if (used_id != id.size() || used_tick != tick.size() || id_value > 0xffffffffULL) throw bad();
+    return {static_cast<RobotId>(id_value), static_cast<Tick>(tick_value)};
+  } catch (const std::logic_error&) {
+    throw bad();
+  }
+}
+
+// runs/<UTC yyyymmdd-hhmmss>[-k], unused.
+std::string default_run_dir() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char stamp[32];
+  std::strftime(stamp, sizeof(stamp), "%Y%m%d-%H%M%S", &utc);
+  std::string dir = std::string("runs/") + stamp;
+  for (int k = 2; fs::exists(dir); ++k) dir = std::string("runs/") + stamp + "-" + std::to_string(k);
+  return dir;
+}
+
+void point_latest_at(const std::string& run_dir) {
+  const fs::path dir(run_dir);
+  const fs::path latest = dir.parent_path() / "latest";
+  std::error_code ec;
+  fs::remove(latest, ec);
+  fs::create_directory_symlink(dir.filename(), latest, ec);
+  if (ec)
+    std::cerr << "swarm_inprocess: could not point " << latest.string() << " at the run: " << ec.message()
+              << "\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "swarm_inprocess: one run of the swarm in a single process (the world with every robot's controller, "
+      "no "
+      "DDS, no agent processes). Writes the run directory of `swarm run` (robots.csv, events.jsonl, "
+      "world.json, "
+      "world.log, summary.json; format in docs/recording-format.md) and prints summary.json on stdout."};
+  std::string scenario_path = "scenarios/paper.yaml";
+  std::string shape;
+  std::size_t robots = 0;
+  std::uint64_t seed = 0;
+  Tick max_ticks = 0;
+  std::string out;
+  std::string behaviour;
+  std::vector<std::string> kill_texts;
+  bool no_record = false;
+  bool quiet = false;
+  app.add_option("--scenario", scenario_path, "scenario file (YAML)")->capture_default_str();
+  app.add_option("--shape", shape, "shape file, instead of the scenario's");
+  app.add_option("--robots", robots, "number of robots (random placement), instead of the scenario's");
+  app.add_option("--seed", seed, "seed, instead of the scenario's");
+  app.add_option("--max-ticks", max_ticks, "stop after this many ticks at the latest");
+  app.add_option("--behaviour", behaviour, "controller: paper or random_walk, instead of the scenario's");
+  app.add_option("--out", out, "run directory (default runs/<UTC time>, and runs/latest points at it)");
+  app.add_option("--kill", kill_texts, "kill robot ID at tick TICK (ID@TICK); repeatable");
+  app.add_flag("--no-record", no_record, "write nothing (metrics only; for benchmarks)");
+  app.add_flag("--quiet", quiet, "no progress lines on stderr");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+
+  try {
+    world::ScenarioOverrides overrides;
+    if (!shape.empty()) overrides.shape_file = shape;
+    if (app.count("--robots") > 0) {
+      if (robots == 0) throw InputError("command line", 0, "--robots: must be at least 1");
+      overrides.robots = robots;
+    }
+    if (app.count("--seed") > 0) overrides.seed = seed;
+    if (app.count("--max-ticks") > 0) overrides.max_ticks = max_ticks;
+    for (const auto& k : kill_texts) overrides.kills.push_back(parse_kill(k));
+    world::Scenario scenario = world::load_scenario(scenario_path, overrides);
+    if (!behaviour.empty()) {
+      if (behaviour != "paper" && behaviour != "random_walk") {
+        throw InputError("command line", 0, "--behaviour '" + behaviour + "': expected paper or random_walk");
+      }
+      scenario.mission.behaviour = behaviour;
+    }
+
+    const bool default_out = out.empty();
+    const std::string run_dir = no_record ? std::string() : (default_out ? default_run_dir() : out);
+
+    std::signal(SIGINT, on_signal);
+    std::signal(SIGTERM, on_signal);
+
+    const auto start = std::chrono::steady_clock::now();
+    harness::Harness harness(scenario, {run_dir});
+    if (!run_dir.empty() && default_out) point_latest_at(run_dir);
+    auto last_print = start;
+    Tick last_tick = 0;
+    harness.run([&](const harness::Harness& h) {
+      const auto now = std::chrono::steady_clock::now();
+      if (!quiet && now - last_print >= std::chrono::seconds(1)) {
+        const double dt = std::chrono::duration<double>(now - last_print).count();
+        const Tick tick = h.world().tick();
+        std::size_t alive = 0;
+        for (const auto& r : h.world().robots()) alive += r.alive ? 1 : 0;
+        std::fprintf(stderr, "tick %llu/%llu  alive %zu/%zu  %.0f ticks/s\n",
+                     static_cast<unsigned long long>(tick),
+                     static_cast<unsigned long long>(scenario.max_ticks), alive, h.world().robot_count(),
+                     static_cast<double>(tick - last_tick) / dt);
+        last_print = now;
+        last_tick = tick;
+      }
+      return g_interrupted.load();
+    });
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const std::string summary = harness.finish(wall);
+    std::cout << summary << "\n";
+    if (!quiet) {
+      if (g_interrupted) std::cerr << "swarm_inprocess: interrupted; the run directory holds what was done\n";
+      if (!run_dir.empty()) std::cerr << "swarm_inprocess: run directory " << run_dir << "\n";
+    }
+    return g_interrupted ? 130 : 0;
+  } catch (const InputError& e) {
+    std::cerr << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "swarm_inprocess: " << e.what() << "\n";
+    return 1;
+  }
+}
