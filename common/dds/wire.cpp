@@ -325,7 +325,7 @@ void RobotChannels::wait_for_acks(dds_duration_t timeout) {
   for (const RobotChannel& c : impl_->robots) {
     const dds_duration_t left = std::max<dds_duration_t>(0, deadline - dds_time());
     // TIMEOUT is an answer, not a failure: a reader that died meanwhile never acknowledges.
-    const dds_return_t rc = dds_wait_for_acks(c.publisher.get(), left);
+    const dds_return_t rc = dds_wait_for_acks(c.sensor.get(), left);  // publishers: unsupported in 0.10
     if (rc != DDS_RETCODE_OK && rc != DDS_RETCODE_TIMEOUT) check(rc, "dds_wait_for_acks");
   }
 }
@@ -442,6 +442,7 @@ std::optional<ClaimAnswer> AgentInbox::take_claim_reply() {
 
 struct CommandWriter::Impl {
   Entity writer;
+  std::vector<char*> events;  // reused: points into the command's strings during dds_write
 };
 
 CommandWriter::CommandWriter(const Participant& participant) : impl_(std::make_unique<Impl>()) {
@@ -476,6 +477,11 @@ void CommandWriter::step(RobotId id, Tick tick, const Command& c) {
   s.parent = c.telemetry.parent;
   s.leader = c.telemetry.leader;
   s.net_force = c.telemetry.net_force;
+  auto& events = impl_->events;
+  events.clear();
+  for (const std::string& e : c.telemetry.events) events.push_back(const_cast<char*>(e.c_str()));
+  s.events._buffer = events.data();
+  s.events._length = s.events._maximum = static_cast<std::uint32_t>(events.size());
   check(dds_write(impl_->writer.get(), &s), "dds_write(command)");
 }
 
@@ -556,7 +562,14 @@ std::size_t CommandReader::take(std::vector<CommandSample>& buf) {
       c.command.left_speed = s.left_speed;
       c.command.right_speed = s.right_speed;
       assign_octets(c.command.message, s.message);
-      c.command.telemetry = Telemetry{s.state, s.label, s.parent, s.leader, s.net_force};
+      Telemetry& t = c.command.telemetry;
+      t.state = s.state;
+      t.label = s.label;
+      t.parent = s.parent;
+      t.leader = s.leader;
+      t.net_force = s.net_force;
+      t.events.resize(s.events._length);
+      for (std::uint32_t k = 0; k < s.events._length; ++k) t.events[k] = str(s.events._buffer[k]);
     }
     if (n < static_cast<int>(kTakeBatch)) break;
   }

@@ -1,0 +1,158 @@
+// The bare DDS bound of a lockstep round (issue 6 P1's baseline): a minimal world and N robot processes with
+// exactly the emulator's wire (common/dds: same Cyclone config, same QoS, same partition per robot, same
+// SensorPacket and Command types), and nothing else: no physics, no sensors, no controller, no recording.
+//
+//   bare_round world --robots N [--rounds R] [--warmup W] [--domain D] [--timeout SEC]
+//   bare_round robot --id K [--domain D]
+//
+// The world waits for N claims, then each round writes one SensorPacket per robot (with a few neighbour
+// messages, as the random walk's) and waits for every robot's Command of that round. It prints one JSON line:
+//   {"robots":N,"rounds":R,"seconds":S,"rounds_per_second":X}
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <iostream>
+#include <vector>
+
+#include "common/dds/signal_watch.hpp"
+#include "common/dds/wire.hpp"
+
+namespace {
+
+using namespace swarmform;
+
+int run_world(std::uint32_t robots, std::uint32_t rounds, std::uint32_t warmup, std::uint32_t domain,
+              double timeout_s, dds::SignalWatch& signals) {
+  dds::DdsSettings settings;
+  settings.domain = domain;
+  settings.role = dds::Role::World;
+  dds::Participant participant(settings);
+  dds::Waiter waiter(participant);
+  dds::RobotChannels channels(participant, robots);
+  dds::CommandReader commands(participant, waiter);
+  waiter.attach(commands.condition());
+  signals.notify(&waiter);
+
+  std::vector<dds::CommandSample> samples;
+  std::vector<std::uint8_t> seen(robots, 0);
+  std::uint32_t claimed = 0;
+  const dds_time_t connect_deadline = dds_time() + static_cast<dds_duration_t>(timeout_s * 1e9);
+  while (claimed < robots) {
+    if (signals.stop_requested()) return 130;
+    if (dds_time() >= connect_deadline) {
+      std::cerr << "bare_round world: " << robots - claimed << " robots missing after " << timeout_s
+                << " s\n";
+      return 3;
+    }
+    waiter.wait_until(connect_deadline);
+    const std::size_t n = commands.take(samples);
+    for (std::size_t i = 0; i < n; ++i) {
+      const RobotId id = samples[i].robot_id;
+      if (samples[i].kind == dds::CommandKind::Claim && id < robots && !seen[id]) {
+        seen[id] = 1;
+        ++claimed;
+      }
+    }
+  }
+
+  // A packet as the random walk's: pose, ultrasonics and a few neighbours' 4-byte messages.
+  Perception p;
+  p.ultrasonic.fill(2.0);
+  for (RobotId k = 0; k < 4; ++k) p.messages.push_back(RabReading{k, 1.0, 0.5, {0, 0, 0, 0}});
+
+  dds_time_t start = 0;
+  for (std::uint32_t round = 0; round < warmup + rounds; ++round) {
+    if (round == warmup) start = dds_time();
+    p.tick = round;
+    for (RobotId id = 0; id < robots; ++id) channels.write_packet(id, dds::PacketStatus::Run, p);
+    std::uint32_t replies = 0;
+    const dds_time_t deadline = dds_time() + DDS_SECS(5);
+    while (replies < robots) {
+      if (signals.stop_requested()) return 130;
+      if (dds_time() >= deadline) {
+        std::cerr << "bare_round world: round " << round << " incomplete after 5 s\n";
+        return 1;
+      }
+      const std::size_t n = commands.take(samples);
+      for (std::size_t i = 0; i < n; ++i) {
+        if (samples[i].kind == dds::CommandKind::Step && samples[i].tick == round) ++replies;
+      }
+      if (replies < robots) waiter.wait_until(deadline);
+    }
+  }
+  const double seconds = static_cast<double>(dds_time() - start) * 1e-9;
+  p.tick = warmup + rounds;
+  for (RobotId id = 0; id < robots; ++id) channels.write_packet(id, dds::PacketStatus::End, p);
+  channels.wait_for_acks(DDS_SECS(2));
+  std::printf("{\"robots\":%u,\"rounds\":%u,\"seconds\":%.4f,\"rounds_per_second\":%.2f}\n", robots, rounds,
+              seconds, rounds / seconds);
+  return 0;
+}
+
+int run_robot(RobotId id, std::uint32_t domain, double timeout_s, dds::SignalWatch& signals) {
+  dds::DdsSettings settings;
+  settings.domain = domain;
+  settings.role = dds::Role::Agent;
+  dds::Participant participant(settings);
+  dds::Waiter waiter(participant);
+  dds::AgentInbox inbox(participant, id, waiter);
+  dds::CommandWriter commands(participant);
+  waiter.attach(inbox.packet_condition());
+  signals.notify(&waiter);
+
+  dds::SensorSample packet;
+  std::uint64_t foreign = 0;
+  bool started = false;
+  dds_time_t resend = 0;
+  const dds_time_t give_up = dds_time() + static_cast<dds_duration_t>(timeout_s * 1e9);
+  Command reply;
+  for (;;) {
+    if (signals.stop_requested()) return 130;
+    if (inbox.take_packet(packet, foreign)) {
+      started = true;
+      if (packet.status == dds::PacketStatus::End) return 0;
+      commands.step(id, packet.perception.tick, reply);
+      continue;
+    }
+    const dds_time_t now = dds_time();
+    if (!started && now >= give_up) return 3;
+    if (started && inbox.world_writers_alive() == 0) return 3;
+    if (!started && now >= resend) {
+      commands.claim(id, 0, 0);
+      resend = now + DDS_MSECS(500);
+    }
+    waiter.wait_until(started ? now + DDS_SECS(1) : resend);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"bare_round: the bare DDS lockstep round rate with swarmform's wire (world + N robots)"};
+  app.require_subcommand(1);
+  std::uint32_t domain = 0;
+  double timeout_s = 60.0;
+  app.add_option("--domain", domain, "DDS domain id")->check(CLI::Range(0u, 232u));
+  app.add_option("--timeout", timeout_s, "seconds to wait for the other side")->check(CLI::PositiveNumber);
+  auto* world = app.add_subcommand("world", "the world side");
+  std::uint32_t robots = 16, rounds = 2000, warmup = 100;
+  world->add_option("--robots", robots, "robot processes to wait for")->check(CLI::Range(1u, 1024u));
+  world->add_option("--rounds", rounds, "measured rounds")->check(CLI::Range(1u, 100000000u));
+  world->add_option("--warmup", warmup, "rounds before measuring");
+  auto* robot = app.add_subcommand("robot", "one robot");
+  std::uint32_t id = 0;
+  robot->add_option("--id", id, "robot id")->required();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+  try {
+    dds::SignalWatch signals;
+    if (world->parsed()) return run_world(robots, rounds, warmup, domain, timeout_s, signals);
+    return run_robot(id, domain, timeout_s, signals);
+  } catch (const std::exception& e) {
+    std::cerr << "bare_round: " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,68 @@
+#include "world_server/agent_registry.hpp"
+
+namespace swarmform::server {
+
+AgentRegistry::AgentRegistry(std::size_t robots) : owners_(robots) {}
+
+ClaimResult AgentRegistry::claim(RobotId id, dds::PublicationHandle writer, std::uint32_t pid) {
+  if (id >= owners_.size()) {
+    return {ClaimOutcome::OutOfRange, "no robot " + std::to_string(id) + " in this run (ids 0.." +
+                                          std::to_string(owners_.size() - 1) + ")"};
+  }
+  Owner& o = owners_[id];
+  if (o.alive && o.writer == writer) return {ClaimOutcome::Repeated, ""};
+  if (o.alive) {
+    return {ClaimOutcome::Refused, "id " + std::to_string(id) + " is already owned by a live agent (pid " +
+                                       std::to_string(o.pid) + ")"};
+  }
+  const bool taken_over = o.ever;
+  if (o.writer != 0) by_writer_.erase(o.writer);
+  o = Owner{writer, pid, true, true};
+  by_writer_[writer] = id;
+  return {taken_over ? ClaimOutcome::TakenOver : ClaimOutcome::Accepted, ""};
+}
+
+bool AgentRegistry::owns(RobotId id, dds::PublicationHandle writer) const {
+  return id < owners_.size() && owners_[id].alive && owners_[id].writer == writer;
+}
+
+std::optional<RobotId> AgentRegistry::lose(dds::PublicationHandle writer) {
+  const auto it = by_writer_.find(writer);
+  if (it == by_writer_.end()) return std::nullopt;
+  const RobotId id = it->second;
+  by_writer_.erase(it);
+  owners_[id].alive = false;
+  return id;
+}
+
+std::size_t AgentRegistry::connected_count() const {
+  std::size_t n = 0;
+  for (const Owner& o : owners_) n += o.alive ? 1 : 0;
+  return n;
+}
+
+std::vector<RobotId> AgentRegistry::missing() const {
+  std::vector<RobotId> out;
+  for (std::size_t i = 0; i < owners_.size(); ++i) {
+    if (!owners_[i].alive) out.push_back(static_cast<RobotId>(i));
+  }
+  return out;
+}
+
+std::string_view to_string(ClaimOutcome outcome) {
+  switch (outcome) {
+    case ClaimOutcome::Accepted:
+      return "accepted";
+    case ClaimOutcome::Repeated:
+      return "repeated";
+    case ClaimOutcome::TakenOver:
+      return "taken_over";
+    case ClaimOutcome::Refused:
+      return "refused";
+    case ClaimOutcome::OutOfRange:
+      return "out_of_range";
+  }
+  return "unknown";
+}
+
+}  // namespace swarmform::server

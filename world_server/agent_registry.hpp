@@ -1,0 +1,59 @@
+// Who speaks for which robot. The first agent that claims an id owns it: the id is bound to the DDS writer
+// (its publication handle) that sent the claim. A second claimant while the owner lives is refused; a
+// claimant after the owner died takes the id over (a restarted agent rejoins). Commands are the owner's only
+// if they come from the owner's writer. Pure bookkeeping: no DDS, no World (the server acts on the answers).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "common/dds/wire.hpp"
+#include "common/types.hpp"
+
+namespace swarmform::server {
+
+enum class ClaimOutcome {
+  Accepted,    // a free id, now bound to this writer
+  Repeated,    // this writer already owns it (a re-sent claim): answer again
+  TakenOver,   // the previous owner had died: bound to this writer (a rejoin once the run is going)
+  Refused,     // a live writer owns it
+  OutOfRange,  // no such robot in this run
+};
+
+struct ClaimResult {
+  ClaimOutcome outcome = ClaimOutcome::Refused;
+  std::string reason;  // for the refused agent's message and the log
+};
+
+class AgentRegistry {
+ public:
+  explicit AgentRegistry(std::size_t robots);
+
+  ClaimResult claim(RobotId id, dds::PublicationHandle writer, std::uint32_t pid);
+  // The live owner of `id` is `writer`.
+  bool owns(RobotId id, dds::PublicationHandle writer) const;
+  // `writer` lost liveliness or went away: the robot it owned, if it owned one (then no longer owned).
+  std::optional<RobotId> lose(dds::PublicationHandle writer);
+
+  bool connected(RobotId id) const { return id < owners_.size() && owners_[id].alive; }
+  std::size_t connected_count() const;
+  std::vector<RobotId> missing() const;
+  std::uint32_t pid(RobotId id) const { return id < owners_.size() ? owners_[id].pid : 0; }
+
+ private:
+  struct Owner {
+    dds::PublicationHandle writer = 0;
+    std::uint32_t pid = 0;
+    bool alive = false;  // an owner whose writer is alive
+    bool ever = false;   // someone owned it once
+  };
+  std::vector<Owner> owners_;
+  std::unordered_map<dds::PublicationHandle, RobotId> by_writer_;
+};
+
+std::string_view to_string(ClaimOutcome outcome);
+
+}  // namespace swarmform::server

@@ -1,0 +1,32 @@
+#include "world_server/dds_bridge.hpp"
+
+namespace swarmform::server {
+
+WorldLink::WorldLink(const dds::DdsSettings& settings, std::size_t robot_count)
+    : participant(settings),
+      waiter(participant),
+      mission(participant),
+      robots(participant, robot_count),
+      commands(participant, waiter),
+      state(participant) {
+  waiter.attach(commands.condition());
+}
+
+dds::MissionAnnouncement mission_of(const world::Scenario& scenario, std::uint64_t run_nonce) {
+  dds::MissionAnnouncement a;
+  a.mission = scenario.mission;
+  a.robots = static_cast<std::uint32_t>(scenario.robots.size());
+  a.run_nonce = run_nonce;
+  return a;
+}
+
+void pose_rows(const world::World& world, std::vector<dds::RobotPoseRow>& rows) {
+  const auto& truth = world.robots();
+  rows.resize(truth.size());
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    const world::RobotTruth& t = truth[i];
+    rows[i] = dds::RobotPoseRow{t.id, t.pose, t.alive, t.telemetry.state, t.telemetry.label};
+  }
+}
+
+}  // namespace swarmform::server

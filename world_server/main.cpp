@@ -1,0 +1,147 @@
+// world_server: the world of a swarmform run as a DDS process. It loads the scenario, publishes the mission,
+// waits for every robot's agent to claim its id, then ticks (lockstep or realtime) until the run is complete,
+// and writes the run directory through RunSession. `--check` only loads and validates the scenario.
+//
+// Exit codes: 0 done (also after SIGINT/SIGTERM: the summary is written); 2 bad flags or a bad scenario/shape
+// (`file:line: what` on stderr); 3 agents missing at --connect-timeout; 1 anything else (a DDS failure).
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "common/dds/signal_watch.hpp"
+#include "common/input_error.hpp"
+#include "world_server/server.hpp"
+#include "world_server/world/scenario.hpp"
+
+namespace {
+
+using swarmform::RobotId;
+using swarmform::Tick;
+
+constexpr int kExitBadInput = 2;
+
+struct Options {
+  std::string scenario;
+  std::string shape;
+  std::optional<std::size_t> robots;
+  std::optional<std::uint64_t> seed;
+  std::string mode;
+  std::optional<Tick> max_ticks;
+  std::string out;
+  std::uint32_t domain = 0;
+  std::string interface_address = "127.0.0.1";
+  std::vector<std::string> kills;
+  std::vector<std::string> agent_pids;
+  double connect_timeout_s = 60.0;
+  bool check = false;
+};
+
+// "A<sep>B" with two unsigned integers; throws std::invalid_argument naming the flag.
+std::pair<std::uint64_t, std::uint64_t> split_pair(const std::string& flag, const std::string& value,
+                                                   char sep) {
+  const auto at = value.find(sep);
+  auto number = [&](const std::string& s) {
+    if (s.empty() || s.find_first_not_of("0123456789") != std::string::npos || s.size() > 18) {
+      throw std::invalid_argument(flag + " " + value + ": expected ID" + sep + "N with unsigned integers");
+    }
+    return std::stoull(s);
+  };
+  if (at == std::string::npos) throw std::invalid_argument(flag + " " + value + ": expected ID" + sep + "N");
+  return {number(value.substr(0, at)), number(value.substr(at + 1))};
+}
+
+swarmform::world::ScenarioOverrides overrides_of(const Options& o) {
+  swarmform::world::ScenarioOverrides ov;
+  if (!o.shape.empty()) ov.shape_file = o.shape;
+  ov.robots = o.robots;
+  ov.seed = o.seed;
+  ov.max_ticks = o.max_ticks;
+  if (o.mode == "lockstep") ov.mode = swarmform::world::Mode::Lockstep;
+  if (o.mode == "realtime") ov.mode = swarmform::world::Mode::Realtime;
+  for (const std::string& k : o.kills) {
+    const auto [id, tick] = split_pair("--kill", k, '@');
+    ov.kills.push_back(swarmform::world::Kill{static_cast<RobotId>(id), tick});
+  }
+  return ov;
+}
+
+int run(const Options& o) {
+  const swarmform::world::Scenario scenario = swarmform::world::load_scenario(o.scenario, overrides_of(o));
+  for (const auto& k : scenario.kills) {
+    if (k.id >= scenario.robots.size()) {
+      throw std::invalid_argument("--kill " + std::to_string(k.id) + "@" + std::to_string(k.tick) +
+                                  ": no robot " + std::to_string(k.id) + " in a run of " +
+                                  std::to_string(scenario.robots.size()));
+    }
+  }
+  if (o.check) {
+    const nlohmann::ordered_json j = {{"robots", scenario.robots.size()},
+                                      {"labels", scenario.mission.shape.label_count()},
+                                      {"mode", std::string(swarmform::world::to_string(scenario.mode))},
+                                      {"max_ticks", scenario.max_ticks},
+                                      {"seed", scenario.seed}};
+    std::cout << j.dump() << std::endl;
+    return 0;
+  }
+  if (o.out.empty()) throw std::invalid_argument("--out DIR is required for a run (the run directory)");
+
+  swarmform::server::ServerOptions so;
+  so.run_dir = o.out;
+  so.dds.domain = o.domain;
+  so.dds.role = swarmform::dds::Role::World;
+  so.dds.interface_address = o.interface_address;
+  so.connect_timeout_s = o.connect_timeout_s;
+  for (const std::string& p : o.agent_pids) {
+    const auto [id, pid] = split_pair("--agent-pid", p, '=');
+    if (pid == 0 || pid > 4194304) throw std::invalid_argument("--agent-pid " + p + ": not a process id");
+    so.agent_pids[static_cast<RobotId>(id)] = static_cast<pid_t>(pid);
+  }
+  swarmform::dds::SignalWatch signals;  // before any DDS thread: they inherit the blocked signal mask
+  swarmform::server::Server server(scenario, std::move(so), signals);
+  return server.run();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  CLI::App app{"world_server: the world of a swarmform run (Bullet physics, sensors, medium) over DDS"};
+  app.add_option("--scenario", o.scenario, "scenario file (YAML, scenarios/README.md)")->required();
+  app.add_option("--shape", o.shape, "shape file, overrides the scenario's");
+  app.add_option("--robots", o.robots, "number of robots, overrides the scenario's")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--seed", o.seed, "seed, overrides the scenario's");
+  app.add_option("--mode", o.mode, "lockstep or realtime, overrides the scenario's")
+      ->check(CLI::IsMember({"lockstep", "realtime"}));
+  app.add_option("--max-ticks", o.max_ticks, "ticks to run at most, overrides the scenario's")
+      ->check(CLI::Range(Tick{1}, Tick{1000000000}));
+  app.add_option("--out", o.out, "run directory to write (required for a run)");
+  app.add_option("--domain", o.domain, "DDS domain id (0..232)")->check(CLI::Range(0u, 232u));
+  app.add_option("--interface", o.interface_address,
+                 "local interface address (agents on other hosts: this "
+                 "host's address; default loopback)");
+  app.add_option("--kill", o.kills, "ID@TICK: SIGKILL agent ID at TICK (needs --agent-pid ID=PID)");
+  app.add_option("--agent-pid", o.agent_pids, "ID=PID: the process of agent ID, for --kill");
+  app.add_option("--connect-timeout", o.connect_timeout_s, "seconds to wait for every agent (default 60)")
+      ->check(CLI::PositiveNumber);
+  app.add_flag("--check", o.check, "load and validate the scenario, print a JSON line, exit");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : kExitBadInput;
+  }
+  try {
+    return run(o);
+  } catch (const swarmform::InputError& e) {
+    std::cerr << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "world_server: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "world_server: " << e.what() << "\n";
+    return 1;
+  }
+}

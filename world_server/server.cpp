@@ -1,0 +1,333 @@
+#include "world_server/server.hpp"
+
+#include <signal.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+#include <random>
+
+#include "world_server/run/run_end.hpp"
+
+namespace swarmform::server {
+
+namespace {
+
+dds_time_t seconds(double s) {
+  return static_cast<dds_duration_t>(s * 1e9);
+}
+double to_s(dds_duration_t d) {
+  return static_cast<double>(d) * 1e-9;
+}
+
+std::uint64_t fresh_nonce() {
+  std::random_device rd;
+  return (static_cast<std::uint64_t>(rd()) << 32) ^ rd() ^ static_cast<std::uint64_t>(dds_time());
+}
+
+// Observers get the world state at most this often (it is for viewers; agents never read it).
+constexpr dds_duration_t kStatePeriod = DDS_MSECS(50);
+
+}  // namespace
+
+Server::Server(const world::Scenario& scenario, ServerOptions options, dds::SignalWatch& signals)
+    : scenario_(scenario),
+      options_(std::move(options)),
+      signals_(signals),
+      world_(scenario),
+      session_(world_, world::RunOptions{options_.run_dir, std::string(world::to_string(scenario.mode))}),
+      registry_(scenario.robots.size()),
+      link_(options_.dds, scenario.robots.size()) {
+  const std::size_t n = scenario.robots.size();
+  latest_.resize(n);
+  latest_tick_.assign(n, 0);
+  fresh_.assign(n, 0);
+  waiting_.assign(n, 0);
+  for (const world::Kill& k : scenario.kills) kills_.emplace(k.tick, k.id);
+  signals_.notify(&link_.waiter);
+}
+
+Server::~Server() {
+  signals_.notify(nullptr);
+}
+
+bool Server::stopping() const {
+  return signals_.stop_requested();
+}
+
+int Server::run() {
+  link_.mission.publish(mission_of(scenario_, fresh_nonce()));
+  if (!connect_agents()) {
+    announce_end();
+    session_.finish(0.0);
+    return stopping() ? kExitOk : kExitAgentsMissing;
+  }
+  start_ = last_progress_ = dds_time();
+  if (scenario_.mode == world::Mode::Lockstep) {
+    run_lockstep();
+  } else {
+    run_realtime();
+  }
+  const double wall = to_s(dds_time() - start_);
+  announce_end();
+  progress(true);
+  session_.finish(wall);
+  if (stopping())
+    std::cerr << "world_server: stopped by signal " << signals_.signal() << ", summary written\n";
+  if (missed_ticks_ > 0) std::cerr << "world_server: " << missed_ticks_ << " missed ticks (see events)\n";
+  std::cout << "done ticks=" << world_.tick() << " run_dir=" << options_.run_dir << std::endl;
+  return kExitOk;
+}
+
+// ---- connecting -------------------------------------------------------------------------------------------
+
+bool Server::connect_agents() {
+  const std::size_t n = scenario_.robots.size();
+  const dds_time_t deadline = dds_time() + seconds(options_.connect_timeout_s);
+  dds_time_t next_report = dds_time() + DDS_SECS(5);
+  for (;;) {
+    pump(false);
+    if (registry_.connected_count() == n) return true;
+    if (stopping()) return false;
+    const dds_time_t now = dds_time();
+    if (now >= deadline || now >= next_report) {
+      std::string who;
+      for (RobotId id : registry_.missing()) {
+        if (!who.empty()) who += ' ';
+        who += std::to_string(id);
+      }
+      if (now >= deadline) {
+        std::cerr << "world_server: " << n - registry_.connected_count() << " of " << n
+                  << " agents missing after " << options_.connect_timeout_s << " s: " << who << "\n";
+        return false;
+      }
+      std::cout << "connecting " << registry_.connected_count() << "/" << n << std::endl;
+      next_report = now + DDS_SECS(5);
+    }
+    link_.waiter.wait_until(std::min(deadline, next_report));
+  }
+}
+
+// ---- the DDS side, whenever the server wakes --------------------------------------------------------------
+
+void Server::pump(bool running) {
+  lost_.clear();
+  link_.commands.take_lost_writers(lost_);
+  // Commands before losses: a dying agent's last command for this round still counts.
+  const std::size_t n = link_.commands.take(samples_);
+  for (std::size_t i = 0; i < n; ++i) {
+    const dds::CommandSample& s = samples_[i];
+    if (s.kind == dds::CommandKind::Claim) {
+      on_claim(s, running);
+    } else if (running) {
+      on_command(s);
+    }
+  }
+  for (dds::PublicationHandle w : lost_) on_lost(w, running);
+}
+
+void Server::on_claim(const dds::CommandSample& s, bool running) {
+  const ClaimResult r = registry_.claim(s.robot_id, s.writer, s.pid);
+  const bool accepted = r.outcome == ClaimOutcome::Accepted || r.outcome == ClaimOutcome::Repeated ||
+                        r.outcome == ClaimOutcome::TakenOver;
+  link_.robots.reply_claim(dds::ClaimAnswer{s.robot_id, s.nonce, accepted, r.reason});
+  if (!accepted) {
+    std::cerr << "world_server: refused a claim of id " << s.robot_id << " (pid " << s.pid
+              << "): " << r.reason << "\n";
+    session_.record_event(s.robot_id, "claim_refused", r.reason + "; claimant pid " + std::to_string(s.pid));
+    return;
+  }
+  if (r.outcome == ClaimOutcome::Repeated) return;
+  session_.record_event(s.robot_id, "agent_connected", "pid " + std::to_string(s.pid));
+  if (r.outcome == ClaimOutcome::TakenOver && running && !world_.alive(s.robot_id)) {
+    world_.revive(s.robot_id);
+    session_.record_rejoin(s.robot_id);
+    fresh_[s.robot_id] = 0;
+    std::cout << "rejoin id=" << s.robot_id << " tick=" << world_.tick() << std::endl;
+  }
+}
+
+void Server::on_command(const dds::CommandSample& s) {
+  if (!registry_.owns(s.robot_id, s.writer)) {
+    session_.record_event(s.robot_id, "spoofed_command",
+                          "dropped a command for id " + std::to_string(s.robot_id) +
+                              " from a writer that does " + "not own it (claimed pid " +
+                              std::to_string(s.pid) + ")");
+    return;
+  }
+  const RobotId id = s.robot_id;
+  const Tick now = world_.tick();
+  // Lockstep takes only this round's command; realtime takes the newest, however old (a slow agent acts on
+  // stale data, as a real robot would).
+  const bool usable = scenario_.mode == world::Mode::Lockstep ? s.tick == now : s.tick <= now;
+  if (!usable || (fresh_[id] && s.tick < latest_tick_[id])) return;
+  latest_[id] = s.command;  // copy-assign: reuses the message buffer's capacity
+  latest_tick_[id] = s.tick;
+  fresh_[id] = 1;
+  if (s.tick == now && waiting_[id]) {
+    waiting_[id] = 0;
+    --waiting_count_;
+  }
+}
+
+void Server::on_lost(dds::PublicationHandle writer, bool running) {
+  const auto id = registry_.lose(writer);
+  if (!id) return;  // not an owner (a refused claimant, a spoofer, a test program)
+  if (!running) {
+    session_.record_event(*id, "agent_lost", "before the run started");
+    return;
+  }
+  if (waiting_[*id]) {
+    waiting_[*id] = 0;
+    --waiting_count_;
+  }
+  if (!world_.alive(*id)) return;
+  world_.kill(*id);
+  session_.record_death(*id);
+  std::string detail = "liveliness lost at tick " + std::to_string(world_.tick());
+  if (const auto k = kill_sent_.find(*id); k != kill_sent_.end()) {
+    detail += "; detected " + std::to_string((dds_time() - k->second) / 1000000) + " ms after SIGKILL";
+    kill_sent_.erase(k);
+  }
+  session_.record_event(*id, "death_detected", detail);
+  std::cout << "death id=" << *id << " tick=" << world_.tick() << std::endl;
+}
+
+// ---- rounds -----------------------------------------------------------------------------------------------
+
+void Server::begin_round() {
+  const Tick t = world_.tick();
+  for (auto [it, end] = kills_.equal_range(t); it != end; ++it) {
+    const RobotId id = it->second;
+    const auto pid = options_.agent_pids.find(id);
+    if (pid != options_.agent_pids.end()) {
+      // The agent dies as any crash would; DDS liveliness tells the world (on_lost), nothing else.
+      if (::kill(pid->second, SIGKILL) == 0) {
+        kill_sent_[id] = dds_time();
+        session_.record_event(id, "kill_sent", "SIGKILL pid " + std::to_string(pid->second));
+      } else {
+        session_.record_event(id, "kill_failed", "SIGKILL pid " + std::to_string(pid->second) + " failed");
+      }
+    } else if (world_.alive(id)) {
+      // No process to kill: the robot dies in the world; its agent gets no more packets.
+      world_.kill(id);
+      session_.record_death(id);
+      session_.record_event(id, "killed", "no --agent-pid for it: the robot was killed in the world");
+    }
+  }
+  waiting_count_ = 0;
+  const std::size_t n = scenario_.robots.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto id = static_cast<RobotId>(i);
+    const bool live = world_.alive(id) && registry_.connected(id);
+    waiting_[i] = live ? 1 : 0;
+    waiting_count_ += live ? 1 : 0;
+    if (live) link_.robots.write_packet(id, dds::PacketStatus::Run, world_.perception(id));
+  }
+}
+
+bool Server::end_round() {
+  const std::size_t n = scenario_.robots.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!fresh_[i]) continue;
+    fresh_[i] = 0;
+    const auto id = static_cast<RobotId>(i);
+    if (!world_.alive(id)) continue;
+    const world::CommandVerdict v = world_.apply_command(id, latest_[i]);
+    if (v != world::CommandVerdict::Ok) session_.record_command_verdict(id, v);
+  }
+  world_.step();
+  session_.record_tick();
+  const dds_time_t now = dds_time();
+  if (now - last_state_ >= kStatePeriod) {
+    pose_rows(world_, rows_);
+    std::uint32_t alive = 0;
+    for (const auto& r : rows_) alive += r.alive ? 1 : 0;
+    link_.state.publish(world_.tick(), false, alive, rows_);
+    last_state_ = now;
+  }
+  progress(false);
+  return world::run_complete(session_.metrics(), world_.tick(), scenario_.max_ticks);
+}
+
+void Server::run_lockstep() {
+  const dds_duration_t deadline_span = seconds(scenario_.lockstep_deadline_s);
+  for (;;) {
+    begin_round();
+    const dds_time_t deadline = dds_time() + deadline_span;
+    for (;;) {
+      pump(true);
+      if (waiting_count_ == 0 || stopping()) break;
+      if (dds_time() >= deadline) {
+        for (std::size_t i = 0; i < waiting_.size(); ++i) {
+          if (waiting_[i]) {
+            session_.record_event(static_cast<RobotId>(i), "command_late",
+                                  "no command for tick " + std::to_string(world_.tick()) + " within the " +
+                                      "lockstep deadline");
+          }
+        }
+        break;
+      }
+      link_.waiter.wait_until(deadline);
+    }
+    if (stopping()) return;  // the round in flight is not stepped: every recorded tick is a whole one
+    if (end_round()) return;
+  }
+}
+
+void Server::run_realtime() {
+  const dds_duration_t period = seconds(1.0 / scenario_.tick_rate);
+  dds_time_t next = dds_time() + period;
+  begin_round();
+  for (;;) {
+    pump(true);
+    if (stopping()) return;
+    const dds_time_t now = dds_time();
+    if (now < next) {
+      link_.waiter.wait_until(next);
+      continue;
+    }
+    // A missed tick: a live agent's command for tick t not in before tick t+1.
+    for (std::size_t i = 0; i < waiting_.size(); ++i) {
+      if (!waiting_[i]) continue;
+      ++missed_ticks_;
+      session_.record_event(static_cast<RobotId>(i), "missed_tick",
+                            "no command for tick " + std::to_string(world_.tick()) + " before the next tick");
+    }
+    if (end_round()) return;
+    next += period;
+    if (next < now) next = now + period;  // fell behind by more than a period: do not try to catch up
+    begin_round();
+  }
+}
+
+void Server::announce_end() {
+  // Every agent that holds an id hears the end (dead robots' agents are gone; refused ones left already).
+  Perception end;
+  end.tick = world_.tick();
+  for (std::size_t i = 0; i < scenario_.robots.size(); ++i) {
+    const auto id = static_cast<RobotId>(i);
+    if (registry_.connected(id)) link_.robots.write_packet(id, dds::PacketStatus::End, end);
+  }
+  pose_rows(world_, rows_);
+  std::uint32_t alive = 0;
+  for (const auto& r : rows_) alive += r.alive ? 1 : 0;
+  link_.state.publish(world_.tick(), true, alive, rows_);
+  link_.robots.wait_for_acks(DDS_SECS(2));
+}
+
+void Server::progress(bool force) {
+  const dds_time_t now = dds_time();
+  if (!force && now - last_progress_ < DDS_SECS(1)) return;
+  const double dt = to_s(now - last_progress_);
+  const double tps = dt > 0 ? static_cast<double>(world_.tick() - last_progress_tick_) / dt : 0.0;
+  std::size_t alive = 0;
+  for (const auto& r : world_.robots()) alive += r.alive ? 1 : 0;
+  std::printf("progress tick=%llu alive=%zu/%zu tps=%.1f\n", static_cast<unsigned long long>(world_.tick()),
+              alive, world_.robots().size(), tps);
+  std::fflush(stdout);
+  last_progress_ = now;
+  last_progress_tick_ = world_.tick();
+}
+
+}  // namespace swarmform::server

@@ -1,0 +1,94 @@
+// The DDS world server's run: connect the agents, then tick in lockstep or realtime until the run is complete
+// or a signal comes, then announce the end. The tick order is World's (world.hpp); this file decides only
+// when a tick happens and which commands go into it:
+//
+//   round t:  scheduled kills -> publish SensorPacket(t) to every live robot -> collect Command(t)
+//             (lockstep: every live owner's, until the deadline; realtime: whatever came within the period)
+//             -> apply in id order -> World::step -> RunSession::record_tick
+//
+// Claims, deaths (liveliness lost) and spoofed commands are handled whenever the server wakes, in any phase.
+#pragma once
+
+#include <sys/types.h>
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "common/dds/signal_watch.hpp"
+#include "world_server/agent_registry.hpp"
+#include "world_server/dds_bridge.hpp"
+#include "world_server/run/run_session.hpp"
+#include "world_server/world/scenario.hpp"
+#include "world_server/world/world.hpp"
+
+namespace swarmform::server {
+
+struct ServerOptions {
+  std::string run_dir;
+  dds::DdsSettings dds;                 // role World
+  double connect_timeout_s = 60.0;      // every agent must have claimed its id by then
+  std::map<RobotId, pid_t> agent_pids;  // for --kill: the world SIGKILLs these processes
+};
+
+// Exit codes of a run.
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitAgentsMissing = 3;
+
+class Server {
+ public:
+  Server(const world::Scenario& scenario, ServerOptions options, dds::SignalWatch& signals);
+  ~Server();
+  Server(const Server&) = delete;
+  Server& operator=(const Server&) = delete;
+
+  int run();
+
+ private:
+  bool connect_agents();
+  void run_lockstep();
+  void run_realtime();
+
+  // One round's start: kills due now, packets out, the set of robots whose command is awaited.
+  void begin_round();
+  // Applies the commands of this round (id order), steps the world, records; true when the run is complete.
+  bool end_round();
+  // Takes what DDS has: claims, commands, lost writers. `running`: the world is ticking (deaths and rejoins
+  // act on the world).
+  void pump(bool running);
+  void on_claim(const dds::CommandSample& s, bool running);
+  void on_command(const dds::CommandSample& s);
+  void on_lost(dds::PublicationHandle writer, bool running);
+  void announce_end();
+  void progress(bool force);
+  bool stopping() const;
+
+  const world::Scenario& scenario_;
+  ServerOptions options_;
+  dds::SignalWatch& signals_;
+  world::World world_;
+  world::RunSession session_;
+  AgentRegistry registry_;
+  WorldLink link_;
+
+  // Per robot, reused every tick.
+  std::vector<Command> latest_;        // the newest command taken
+  std::vector<Tick> latest_tick_;      // its tick
+  std::vector<std::uint8_t> fresh_;    // taken since the last apply
+  std::vector<std::uint8_t> waiting_;  // lockstep: command for this round still awaited
+  std::size_t waiting_count_ = 0;
+  std::vector<dds::CommandSample> samples_;
+  std::vector<dds::PublicationHandle> lost_;
+  std::vector<dds::RobotPoseRow> rows_;
+  std::multimap<Tick, RobotId> kills_;
+  std::map<RobotId, dds_time_t> kill_sent_;  // wall time of a SIGKILL, to report the detection delay
+
+  dds_time_t start_ = 0;
+  dds_time_t last_progress_ = 0;
+  Tick last_progress_tick_ = 0;
+  dds_time_t last_state_ = 0;
+  std::uint64_t missed_ticks_ = 0;
+};
+
+}  // namespace swarmform::server
