@@ -1,11 +1,27 @@
 // For information, not a test: the wall time of World::step for N robots with no controllers (every robot
 // drives slowly forward and broadcasts 32 bytes every tick). Usage: world_step_timing [N] [ticks]
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <new>
 
 #include "world_server/world/placement.hpp"
 #include "world_server/world/world.hpp"
+
+// Counts heap allocations, to show the step does not churn memory once warm.
+static std::atomic<std::size_t> g_allocations{0};
+void* operator new(std::size_t size) {
+  ++g_allocations;
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
 
 int main(int argc, char** argv) {
   using namespace swarmform;
@@ -28,18 +44,22 @@ int main(int argc, char** argv) {
   c.right_speed = 0.06;
   c.message.assign(32, 7);
   double total = 0.0;
+  std::size_t allocations_after_warmup = 0;
   for (int t = 0; t < ticks; ++t) {
+    if (t == 5) allocations_after_warmup = g_allocations;
     for (RobotId i = 0; i < n; ++i) w.apply_command(i, c);
     const auto t0 = std::chrono::steady_clock::now();
     w.step();
     total += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
+  allocations_after_warmup = g_allocations - allocations_after_warmup;
   std::size_t heard = 0;
   for (RobotId i = 0; i < n; ++i) heard += w.perception(i).messages.size();
   std::printf(
       "N=%zu region %.1f m square: World::step %.2f ms/tick, %.2f us/robot-tick, %.0f robot-ticks/s; "
-      "%.1f messages heard per robot\n",
+      "%.1f messages heard per robot; %.1f heap allocations per tick after 5 ticks\n",
       n, region.width, 1e3 * total / ticks, 1e6 * total / (ticks * static_cast<double>(n)),
-      ticks * static_cast<double>(n) / total, static_cast<double>(heard) / static_cast<double>(n));
+      ticks * static_cast<double>(n) / total, static_cast<double>(heard) / static_cast<double>(n),
+      ticks > 5 ? static_cast<double>(allocations_after_warmup) / (ticks - 5) : 0.0);
   return 0;
 }

@@ -23,36 +23,47 @@ bool Medium::occluded(const Pose2D& a, const Pose2D& b) const {
   return false;
 }
 
+// Receiver by receiver (each inbox is filled in one go, which keeps the writes local in memory); a sender is
+// heard when it is alive, said something, is within range of the receiver (the test is symmetric) and, with
+// occlusion on, in its line of sight. The grid's order is a fixed function of the positions, so the random
+// draws replay exactly.
 void Medium::deliver(const std::vector<Pose2D>& poses, const std::vector<char>& alive,
                      const std::vector<Outbox>& outboxes, const SpatialGrid& grid,
                      std::vector<Perception>& perceptions) {
   const std::size_t n = poses.size();
-  used_.assign(n, 0);
-  for (std::size_t s = 0; s < n; ++s) {
-    if (!alive[s] || !outboxes[s].has_message) continue;
-    receivers_.clear();
-    grid.for_each_near(poses[s].x, poses[s].y, params_.comm_range, [&](std::uint32_t r) {
-      if (r != s && alive[r]) receivers_.push_back(r);
-    });
-    // The grid's order is a fixed function of the positions, so the draws below replay exactly.
-    for (std::uint32_t r : receivers_) {
-      if (params_.occlusion && occluded(poses[s], poses[r])) continue;
-      if (rng_.bernoulli(params_.packet_loss)) continue;
-      RangeBearing rb = to_receiver_frame(poses[s], poses[r]);
-      rb.range = std::max(0.0, rb.range + rng_.gaussian(params_.range_noise_sd));
-      rb.bearing = wrap_angle(rb.bearing + rng_.gaussian(params_.bearing_noise_sd));
-      // Reuse the receiver's previous RabReading objects (and their data buffers) where there are some.
-      std::vector<RabReading>& inbox = perceptions[r].messages;
-      const std::size_t k = used_[r]++;
-      if (k == inbox.size()) inbox.emplace_back();
-      RabReading& m = inbox[k];
-      m.sender = static_cast<RobotId>(s);
-      m.range = rb.range;
-      m.bearing = rb.bearing;
-      m.data.assign(outboxes[s].data.begin(), outboxes[s].data.end());
+  spare_.resize(n);
+  for (std::size_t r = 0; r < n; ++r) {
+    std::vector<RabReading>& inbox = perceptions[r].messages;
+    std::vector<RabReading>& spare = spare_[r];
+    std::size_t used = 0;
+    if (alive[r]) {
+      grid.for_each_near(poses[r].x, poses[r].y, params_.comm_range, [&](std::uint32_t s) {
+        if (s == r || !alive[s] || !outboxes[s].has_message) return;
+        if (params_.occlusion && occluded(poses[s], poses[r])) return;
+        if (rng_.bernoulli(params_.packet_loss)) return;
+        RangeBearing rb = to_receiver_frame(poses[s], poses[r]);
+        rb.range = std::max(0.0, rb.range + rng_.gaussian(params_.range_noise_sd));
+        rb.bearing = wrap_angle(rb.bearing + rng_.gaussian(params_.bearing_noise_sd));
+        // Reuse the receiver's earlier RabReading objects (and their data buffers) where there are some.
+        if (used == inbox.size()) {
+          if (spare.empty()) {
+            inbox.emplace_back();
+          } else {
+            inbox.push_back(std::move(spare.back()));
+            spare.pop_back();
+          }
+        }
+        RabReading& m = inbox[used++];
+        m.sender = s;
+        m.range = rb.range;
+        m.bearing = rb.bearing;
+        m.data.assign(outboxes[s].data.begin(), outboxes[s].data.end());
+      });
     }
+    // Readings not needed this tick are parked (with their buffers) for a later tick, not freed.
+    for (std::size_t k = used; k < inbox.size(); ++k) spare.push_back(std::move(inbox[k]));
+    inbox.resize(used);
   }
-  for (std::size_t r = 0; r < n; ++r) perceptions[r].messages.resize(used_[r]);
 }
 
 }  // namespace swarmform::world

@@ -57,8 +57,7 @@ class Medium {
   MediumParams params_;
   std::vector<StaticShape> statics_;
   Rng rng_;
-  std::vector<std::uint32_t> receivers_;
-  std::vector<std::size_t> used_;  // messages filled per receiver this tick
+  std::vector<std::vector<RabReading>> spare_;  // per receiver: readings kept for reuse (no churn)
 };
 
 }  // namespace swarmform::world
