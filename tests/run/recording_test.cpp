@@ -213,6 +213,13 @@ TEST(Recording, SummaryHasEveryKeyNullWhereNotReached) {
   EXPECT_TRUE(j["peak_distortion"].is_null());
   EXPECT_EQ(j["deaths"][0]["id"], 2);
   EXPECT_EQ(j["deaths"][0]["tick"], 7);
+
+  // The text form keeps the long distortion series on one line and parses back to the same document.
+  m.distortion = {{40, 0.05}, {41, 0.0625}};
+  const auto with_series = make_summary(in);
+  const std::string text = summary_text(with_series);
+  EXPECT_EQ(nlohmann::ordered_json::parse(text), with_series);
+  EXPECT_NE(text.find("\"distortion\": [[40,0.05],[41,0.0625]]"), std::string::npos) << text;
 }
 
 TEST(Sha256, StandardVectorsAndIncrementalUse) {

@@ -1,5 +1,7 @@
 #include "world_server/run/recorder.hpp"
 
+#include "world_server/run/recording_format.hpp"
+
 #include <cerrno>
 #include <charconv>
 #include <cstring>
@@ -128,7 +130,7 @@ void RecordingWriter::flush() {
 void RecordingWriter::write_summary(const nlohmann::ordered_json& summary) {
   flush();
   close_streams();
-  write_file_atomically("summary.json", summary.dump(2) + "\n");
+  write_file_atomically("summary.json", summary_text(summary));
 }
 
 }  // namespace swarmform::world

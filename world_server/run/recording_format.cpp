@@ -118,7 +118,24 @@ ojson make_summary(const SummaryInputs& in) {
   j["arrived"] = m.arrived;
   j["command_verdicts"] = in.command_verdicts;
   j["trajectory_sha256"] = in.trajectory_sha256.empty() ? ojson(nullptr) : ojson(in.trajectory_sha256);
+  ojson series = ojson::array();
+  for (const auto& [tick, error] : m.distortion) series.push_back(ojson::array({tick, error}));
+  j["distortion"] = std::move(series);
   return j;
+}
+
+std::string summary_text(const ojson& summary) {
+  ojson head = summary;
+  const auto it = head.find("distortion");
+  if (it == head.end() || head.size() == 1) return summary.dump(2) + "\n";
+  const std::string series = it->dump();
+  head.erase(it);
+  std::string text = head.dump(2);  // ends with "\n}"
+  text.resize(text.size() - 2);
+  text.append(",\n  \"distortion\": ");
+  text.append(series);
+  text.append("\n}\n");
+  return text;
 }
 
 }  // namespace swarmform::world

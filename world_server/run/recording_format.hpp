@@ -30,7 +30,9 @@ struct SummaryInputs {
   std::uint64_t command_verdicts = 0;  // commands not taken as they came (clamped, rejected, dropped)
 };
 
-// summary.json: every metric, null where not reached.
+// summary.json: every metric, null where not reached; `distortion` is the (tick, shape error) series.
 nlohmann::ordered_json make_summary(const SummaryInputs& in);
+// The summary as text: indented, except the long `distortion` series, which goes on one line at the end.
+std::string summary_text(const nlohmann::ordered_json& summary);
 
 }  // namespace swarmform::world

@@ -160,7 +160,7 @@ std::string RunSession::finish(double wall_seconds) {
     impl_->writer->write_summary(summary);
   }
   impl_->finished = true;
-  return summary.dump(2);
+  return summary_text(summary);
 }
 
 }  // namespace swarmform::world
