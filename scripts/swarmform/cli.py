@@ -177,10 +177,10 @@ def main(argv=None):
             return 0
         code = launcher.run(args, render_pictures)
         if args.command == "demo" and code == 0:
-            where = os.path.join(args.out or os.path.join("runs", "latest"), "pictures")
-            print(f"demo done. Pictures: {where}/ (snapshot_t*.png, trajectories.png, residual_force.png, "
-                  f"shape_error.png, animation.mp4, animation.gif); `scripts/swarm report "
-                  f"{os.path.dirname(where)}` for the numbers")
+            where = os.path.relpath(args.run_dir)
+            print(f"demo done. Pictures: {where}/pictures/ (snapshot_t*.png, trajectories.png, residual_force.png,"
+                  f" shape_error.png, animation.mp4, animation.gif)")
+            print(f"The numbers: scripts/swarm report {where}")
         return code
     if args.command == "kill":
         run_dir = args.run or os.path.join(os.environ.get("SWARM_RUNS_DIR") or

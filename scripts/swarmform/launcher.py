@@ -255,7 +255,7 @@ class Status:
             self.dirty = False
 
 
-def _follow(proc, stop, status, console_log, max_ticks):
+def _follow(proc, stop, status, console_log, max_ticks, prefix="world"):
     """Reads the world's output until it exits or a stop is asked; returns the `done` line's fields or None."""
     fd = proc.stdout.fileno()
     os.set_blocking(fd, False)
@@ -273,7 +273,7 @@ def _follow(proc, stop, status, console_log, max_ticks):
         if m:
             done = (int(m[1]), m[2])
         elif line.strip():
-            status.line(f"world: {line}")
+            status.line(f"{prefix}: {line}")
 
     while not stop:
         ready, _, _ = select.select([fd], [], [], 0.2)
@@ -309,7 +309,7 @@ def run(args, render_pictures):
         info = check_scenario(world_exe, args)
         n = info["robots"]
         max_ticks = info.get("max_ticks")
-        run_dir = make_run_dir(args.out)
+        run_dir = args.run_dir = make_run_dir(args.out)
         logs = os.path.join(run_dir, "logs")
         os.makedirs(logs, exist_ok=True)
         status.line(f"swarm: {n} robot agents, {info.get('mode', '?')} mode, up to {max_ticks} ticks, "
@@ -370,27 +370,33 @@ def _interrupted(procs, stop, status, run_dir):
 
 
 def _run_in_process(args, stop, status, render_pictures):
-    """--in-process: the same scenario in one process (no DDS), the same run directory."""
+    """--in-process: the same scenario in one process (no DDS), the same run directory. Its stdout (the
+    summary) goes to the log; its stderr carries the progress lines and messages."""
     exe = executable("inprocess")
-    run_dir = make_run_dir(args.out)
     help_text = subprocess.run([exe, "--help"], capture_output=True, text=True, timeout=30).stdout
-    cmd = [exe]
-    flags = overrides(args)
-    i = 0
-    while i < len(flags):  # pass only the flags this runner documents
+    cmd, flags, dropped = [exe], overrides(args), []
+    for i in range(0, len(flags), 2):  # pass only the flags this runner documents
         if flags[i] == "--scenario" or flags[i] in help_text:
             cmd += flags[i:i + 2]
-        i += 2
+        else:
+            dropped.append(flags[i])
+    if args.domain is not None:
+        dropped.append("--domain")
+    if dropped:
+        status.line(f"swarm: {', '.join(sorted(set(dropped)))} do(es) not apply to an in-process run; ignored")
+    run_dir = args.run_dir = make_run_dir(args.out)
     cmd += ["--out", run_dir]
     procs = Processes()
     with open(os.path.join(run_dir, "inprocess_console.log"), "ab") as console_log:
-        procs.world = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                                       stderr=subprocess.STDOUT, process_group=0, preexec_fn=_die_with_parent)
+        procs.world = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=console_log, stderr=subprocess.PIPE,
+                                       process_group=0, preexec_fn=_die_with_parent)
+        procs.world.stdout = procs.world.stderr  # _follow reads .stdout
         try:
-            _follow(procs.world, stop, status, console_log, args.max_ticks)
+            _follow(procs.world, stop, status, console_log, args.max_ticks, prefix="in-process")
         finally:
             status.end()
             code = procs.stop_world(WORLD_STOP_DEADLINE_S) if stop else procs.world.wait()
+            procs.world.stderr.close()
     if stop:
         status.line(f"swarm: stopped; what was recorded is in {run_dir}")
         return EXIT_INTERRUPTED

@@ -176,13 +176,15 @@ def shape_error(rec, path):
         ax.text(0.5, 0.5, "no labelled robots in this run (no shape to measure)", transform=ax.transAxes,
                 ha="center", va="center")
     ax.set_xlim(float(rec.track.ticks[0]), max(float(rec.track.ticks[-1]), float(rec.track.ticks[0]) + 1))
-    for key, label, colour in (("formation", "formed", "#2e7d32"), ("motion", "motion", "#1e88e5"),
-                               ("goal", "goal", "#8e24aa")):
-        tick = geometry.phases(rec)[key]
-        if tick is not None:
-            ax.axvline(tick, color=colour, linestyle=":", linewidth=1.0)
-            ax.annotate(label, (tick, 1.0), xycoords=("data", "axes fraction"), textcoords="offset points",
-                        xytext=(2, -10), fontsize=8, color=colour)
+    marks = [(tick, label, colour) for key, label, colour in (("formation", "formed", "#2e7d32"),
+                                                               ("motion", "motion starts", "#1e88e5"),
+                                                               ("goal", "goal", "#8e24aa"))
+             if (tick := geometry.phases(rec)[key]) is not None]
+    marks += [(e["tick"], f"robot {e.get('id')} dies", "#c62828") for e in rec.events if e["kind"] == "death"]
+    for n, (tick, label, colour) in enumerate(sorted(marks, key=lambda m: m[0])):
+        ax.axvline(tick, color=colour, linestyle=":", linewidth=1.0)
+        ax.annotate(label, (tick, 1.0), xycoords=("data", "axes fraction"), textcoords="offset points",
+                    xytext=(2, -10 - 11 * (n % 3)), fontsize=8, color=colour)  # staggered: ticks may be close
     source = "summary.json" if (rec.summary or {}).get("distortion") else "computed from robots.csv"
     ax.set_title(f"Shape error after the best rigid fit ({source})", fontsize=11)
     return _save(fig, path)

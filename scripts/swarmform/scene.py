@@ -97,7 +97,12 @@ class Scene:
                                     zorder=4)
         self.leader = self.ax.scatter([], [], s=(diameter_pt * 2.6) ** 2, marker="*", facecolors="none",
                                       edgecolors="red", linewidths=1.2, zorder=5)
-        self.title = self.ax.set_title("", fontsize=11)
+        # The caption is a figure text just above the axes as drawn (after the equal-aspect shrink): an axes
+        # title would be moved by matplotlib only during a full draw, which blitted frames never do.
+        self.ax.apply_aspect()
+        box = self.ax.get_position()
+        self.title = self.fig.text((box.x0 + box.x1) / 2, box.y1 + 0.015, "", ha="center", va="bottom",
+                                   fontsize=11)
         self.dynamic = [self.links, self.robots, self.dead, self.leader, self.title]
 
     def show(self, i, caption=None):

@@ -90,6 +90,30 @@ class LauncherTest(unittest.TestCase):
         self.assertTrue(os.path.exists(os.path.join(latest, "pictures", "animation.gif")))
         self.assertIn("pictures: 12 files", r.stdout)
 
+    def test_demo_runs_the_paper_scenario_and_says_where_the_pictures_are(self):
+        runs = os.path.join(self.dir, "runs")
+        r = helpers.swarm("demo", "--robots", "2", "--max-ticks", "20",
+                          env={"SWARM_RUNS_DIR": runs, "FAKE_AGENT_EXIT_S": "0.3"})
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(os.path.join(runs, "latest", "world_args.json")) as f:
+            world_args = json.load(f)
+        self.assertTrue(world_args[world_args.index("--scenario") + 1].endswith("scenarios/paper.yaml"))
+        run_dir = os.path.relpath(os.path.realpath(os.path.join(runs, "latest")))
+        self.assertIn(f"demo done. Pictures: {run_dir}/pictures/", r.stdout)
+
+    def test_in_process_passes_the_flags_the_runner_takes(self):
+        out = os.path.join(self.dir, "run")
+        r = helpers.swarm("run", "--in-process", "--scenario", self.scenario, "--robots", "3", "--mode",
+                          "realtime", "--domain", "9", "--kill", "1@5", "--max-ticks", "25", "--out", out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(os.path.join(out, "inprocess_args.json")) as f:
+            self.assertEqual(json.load(f), ["--scenario", self.scenario, "--robots", "3", "--max-ticks", "25",
+                                            "--kill", "1@5", "--out", out])
+        self.assertIn("--domain, --mode do(es) not apply to an in-process run", r.stderr)
+        with open(os.path.join(out, "inprocess_console.log")) as f:
+            self.assertIn('"robots": 3', f.read())  # its stdout (the summary) goes to the log, not the terminal
+        self.assertTrue(os.path.exists(os.path.join(out, "pictures", "animation.mp4")))
+
     def test_failed_check_exits_2_with_the_worlds_message(self):
         with open(self.scenario, "w") as f:
             f.write("bad\n")
