@@ -104,9 +104,9 @@ def trajectories(rec, path):
     fig = _figure("trajectories")
     ax = fig.add_axes([0.08, 0.09, 0.88, 0.82])
     draw_static(ax, rec.world, geometry.view_bounds(rec))
-    cmap = plt.get_cmap("tab20")
+    cmap = plt.get_cmap("tab10" if t.robots <= 10 else "tab20")  # tab20 pairs look alike: only when needed
     for k in range(t.robots):
-        colour = cmap(k % 20)
+        colour = cmap(k % cmap.N)
         ever_alive = np.nonzero(t.alive[:, k])[0]
         upto = ever_alive[-1] + 1 if ever_alive.size else len(t.ticks)
         xs, ys = t.x[:upto, k], t.y[:upto, k]
@@ -123,7 +123,7 @@ def residual_force(rec, path):
     """Fig. 3: the net force |F_net| summed over the robots, on the path of the formation's centre (top, as
     colour) and against the distance that centre travelled (bottom). The paper reads obstacles off its peaks."""
     t = rec.track
-    total = (t.net_force * t.alive).sum(axis=1)
+    total = np.nansum(t.net_force * t.alive, axis=1)
     centre = geometry.formation_centre(t)
     ph = geometry.phases(rec)
     start = t.index_of(ph["motion"]) if ph["motion"] is not None else 0

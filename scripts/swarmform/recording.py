@@ -285,6 +285,16 @@ def read_robots(path, expected_robots, warnings):
                 raise RecordingError(path, no, _describe_bad_row(text, names, col))
             data[i] = values
     line_numbers = np.array([no for no, _ in rows])
+    # The format allows nan/inf only when the physics produced them: kept as gaps (nan), with a warning.
+    floats = [ROBOT_COLUMNS.index(c) for c in ROBOT_COLUMNS if c not in INT_COLUMNS]
+    bad = ~np.isfinite(data[:, floats])
+    if bad.any():
+        first = int(np.nonzero(bad.any(axis=1))[0][0])
+        warnings.append(f"{path}:{line_numbers[first]}: {int(bad.sum())} nan/inf value(s) in x, y, theta or "
+                        "net_force; drawn as gaps")
+        sub = data[:, floats]
+        sub[bad] = np.nan
+        data[:, floats] = sub
     return _to_track(path, data, line_numbers, expected_robots, warnings)
 
 
@@ -298,7 +308,7 @@ def _parse_fast(rows, names, col):
         return None
     data = table[:, [col[c] for c in ROBOT_COLUMNS]]
     ints = data[:, [ROBOT_COLUMNS.index(c) for c in INT_COLUMNS]]
-    if not np.isfinite(data).all() or (ints != np.round(ints)).any():
+    if not np.isfinite(ints).all() or (ints != np.round(ints)).any():
         return None
     return data
 
@@ -309,10 +319,7 @@ def _cell(text, name):
         low = text.lower()
         if low in ("true", "false"):
             return 1.0 if low == "true" else 0.0
-    v = float(text) if name not in INT_COLUMNS else float(int(text))
-    if not math.isfinite(v):
-        raise ValueError
-    return v
+    return float(text) if name not in INT_COLUMNS else float(int(text))  # nan/inf: see read_robots
 
 
 def _parse_row(text, width, col):
@@ -333,7 +340,7 @@ def _describe_bad_row(text, names, col):
         try:
             _cell(parts[col[c]], c)
         except ValueError:
-            kind = "an integer" if c in INT_COLUMNS else "a finite number"
+            kind = "an integer" if c in INT_COLUMNS else "a number"
             return f"column '{c}': expected {kind}, got '{parts[col[c]].strip()}'"
     return f"cannot read '{text[:80]}'"
 

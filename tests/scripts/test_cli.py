@@ -86,7 +86,7 @@ class CliTest(unittest.TestCase):
             f.write("\n".join(lines) + "\n")
         r = helpers.swarm("replay", self.dir, "--no-animation")
         self.assertEqual(r.returncode, 1)
-        self.assertIn(f"{path}:7: column 'y': expected a finite number, got 'NOPE'", r.stderr)
+        self.assertIn(f"{path}:7: column 'y': expected a number, got 'NOPE'", r.stderr)
         self.assertNotIn("Traceback", r.stderr)
 
     def test_replay_of_a_crashed_run_warns_and_draws(self):

@@ -6,6 +6,8 @@ import shutil
 import tempfile
 import unittest
 
+import numpy as np
+
 import helpers  # noqa: F401  (puts scripts/ on the path)
 import fixture
 from swarmform import geometry, recording
@@ -86,6 +88,18 @@ class RecordingTest(unittest.TestCase):
         with self.assertRaises(recording.RecordingError) as cm:
             recording.load(self.dir)
         self.assertTrue(str(cm.exception).startswith(self.path("robots.csv") + ":10: column 'x'"), str(cm.exception))
+
+    def test_nan_positions_are_kept_as_gaps_with_a_warning(self):
+        self.rewrite("robots.csv", lambda lines: "\n".join(lines[:11] + ["1,3,nan,inf,0,1,1,3,1,0,0"] + lines[12:]))
+        rec = recording.load(self.dir)
+        self.assertTrue(any("robots.csv:12: 2 nan/inf value(s)" in w for w in rec.warnings), rec.warnings)
+        self.assertTrue(np.isnan(rec.track.x[1, 3]) and np.isnan(rec.track.y[1, 3]))
+        d = tempfile.mkdtemp(prefix="swarm-nan-")
+        try:  # and the pictures still draw
+            from swarmform import pictures
+            self.assertEqual(len(pictures.render_all(rec, d, animate=False, log=lambda m: None)), 10)
+        finally:
+            shutil.rmtree(d)
 
     def test_row_with_missing_fields_names_the_line(self):
         self.rewrite("robots.csv", lambda lines: "\n".join(lines[:4] + ["0,3,1.0,2.0"] + lines[5:]))
