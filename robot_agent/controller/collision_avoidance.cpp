@@ -19,23 +19,28 @@ Vec2 collision_force(const std::vector<NeighbourPosition>& neighbours, double k_
 
 Vec2 avoid_collisions(Vec2 desired, const std::vector<NeighbourPosition>& neighbours, double k_collision,
                       double r_o, double max_speed) {
-  bool inside = false;
+  bool near = false;
   Vec2 v = desired;
-  Vec2 slide;
+  const double speed = norm(desired);
   for (const auto& n : neighbours) {
-    if (!(n.range < r_o)) continue;
-    inside = true;
+    if (!(n.range < r_o + kAwarenessMargin)) continue;
+    near = true;
     const Vec2 towards = unit(n.azimuth);
     const double closing = v.x * towards.x + v.y * towards.y;
-    if (closing > 0.0) {
-      v = v - closing * towards;  // no more progress into the neighbour
-      // Pass it on the right: the slide is as strong as the progress that was removed.
-      slide = slide + closing * Vec2{towards.y, -towards.x};
-    }
+    if (closing <= 0.0) continue;
+    // No more progress into the neighbour: go round it, at the desired speed, on the side the goal is on
+    // (on the right when the goal is straight behind it, so two robots meeting head-on do not mirror each
+    // other).
+    const Vec2 right{towards.y, -towards.x};
+    const double side = v.x * right.x + v.y * right.y;
+    const Vec2 tangent = side >= -0.2 * closing ? right : Vec2{-right.x, -right.y};
+    v = v - closing * towards;
+    v = v - (v.x * tangent.x + v.y * tangent.y) * tangent + speed * tangent;
   }
-  if (!inside) return desired;
-  const Vec2 out = v + slide + collision_force(neighbours, k_collision, r_o);
-  return limit(out, max_speed);
+  if (!near) return desired;
+  // eq. (1), capped at the speed limit so that going round still has a say (the sum is limited below).
+  const Vec2 repulsion = limit(collision_force(neighbours, k_collision, r_o), max_speed);
+  return limit(v + repulsion, max_speed);
 }
 
 }  // namespace swarmform::controller

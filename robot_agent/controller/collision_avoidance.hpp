@@ -7,10 +7,11 @@
 // As printed, the magnitude is infinite at r_ij = r_o; we floor |r_ij - r_o| at kSingularityFloor (so the
 // push at the threshold is k/floor^2, 0.8 m/s with the defaults, i.e. the speed limit) and write it down in
 // robot_agent/README.md. The paper: "the task changes from reaching the desired position to avoiding
-// collision as a combined force could lead to an equilibrium point" -- so while any neighbour is inside r_o
-// the desired velocity loses its component towards that neighbour and gains a sideways slide (every robot
-// passes on the right, so two robots meeting head-on do not mirror each other forever), and the repulsion is
-// added.
+// collision as a combined force could lead to an equilibrium point" -- so while any neighbour is within r_o
+// (plus kAwarenessMargin, so that a robot does not chatter in and out of the threshold) the desired velocity
+// loses its component towards that neighbour and goes round it at the desired speed, on the side of the goal
+// (on the right when the goal is right behind it, so two robots meeting head-on do not mirror each other
+// forever); inside r_o the repulsion, capped at the speed limit, is added.
 #pragma once
 
 #include <vector>
@@ -21,6 +22,8 @@ namespace swarmform::controller {
 
 // |r_ij - r_o| is floored at this, m.
 inline constexpr double kSingularityFloor = 0.05;
+// The slide starts this much beyond r_o, m.
+inline constexpr double kAwarenessMargin = 0.15;
 
 struct NeighbourPosition {
   double range = 0.0;    // m

@@ -80,7 +80,7 @@ std::vector<std::uint8_t> encode_message(const RobotMessage& m) {
   const std::size_t n_free = std::min(m.free_labels.size(), kMaxFreeLabels);
   const std::size_t n_entries = std::min(m.entries.size(), kMaxEntriesPerMessage);
   const std::size_t n_motion = std::min(m.motion.size(), kMaxMotionBytes);
-  out.reserve(46 + 2 * n_free + 20 * n_entries + n_motion);
+  out.reserve(kMessageFixedBytes + 2 * n_free + 20 * n_entries + n_motion);
   Writer w(out);
   w.u8(kMessageMagic);
   w.u8(kMessageVersion);

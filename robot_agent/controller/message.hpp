@@ -14,8 +14,8 @@
 //   u8  stigmergy entry count (<= kMaxEntriesPerMessage) then per entry
 //                                u32 key, i64 value, u32 version, u32 writer    (20 bytes)
 //   u16 motion section length    then the bytes (the motion phases' own codec, opaque here)
-// Size: 46 bytes + 2 per free label + 20 per entry + the motion section; with the bound of 24 entries and
-// no motion section at most 542 bytes, well under the 1 KiB the world accepts.
+// Size: 42 bytes + 2 per free label + 20 per entry + the motion section; with the bound of 24 entries and
+// no motion section at most 538 bytes, well under the 1 KiB the world accepts.
 #pragma once
 
 #include <cstdint>
@@ -33,6 +33,7 @@ inline constexpr std::uint8_t kMessageVersion = 1;
 inline constexpr std::size_t kMaxFreeLabels = 8;          // a 3x3 grid has 8 cells around its centre
 inline constexpr std::size_t kMaxEntriesPerMessage = 24;  // stigmergy entries carried per message
 inline constexpr std::size_t kMaxMotionBytes = 1024;
+inline constexpr std::size_t kMessageFixedBytes = 42;  // everything but the free labels, entries and motion bytes
 
 struct StigmergyEntry {
   std::uint32_t key = 0;

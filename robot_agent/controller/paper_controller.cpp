@@ -426,7 +426,7 @@ RobotMessage PaperController::compose_message(const Perception& p, const std::ve
   if (m.free_labels.size() > kMaxFreeLabels) m.free_labels.resize(kMaxFreeLabels);
   m.motion = motion;
   // What is left of the world's message limit goes to the stigmergy.
-  const std::size_t fixed = 46 + 2 * m.free_labels.size() + m.motion.size();
+  const std::size_t fixed = kMessageFixedBytes + 2 * m.free_labels.size() + m.motion.size();
   const std::size_t budget = params_.max_message_bytes > fixed ? params_.max_message_bytes - fixed : 0;
   m.entries = stigmergy_.outgoing(std::min(kMaxEntriesPerMessage, budget / 20));
   return m;

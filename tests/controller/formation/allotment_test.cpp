@@ -1,0 +1,206 @@
+// Label allotment, conflicts, dead holders and the barrier: the functions, then one controller fed crafted
+// messages.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+
+#include "common/shape.hpp"
+#include "robot_agent/controller/allotment.hpp"
+#include "robot_agent/controller/barrier.hpp"
+#include "robot_agent/controller/controller.hpp"
+#include "robot_agent/controller/message.hpp"
+#include "robot_agent/controller/paper_controller.hpp"
+
+namespace swarmform::controller {
+namespace {
+
+ShapeMatrix triangle_shape() {
+  return load_shape_file(std::string(SWARMFORM_SHAPES_DIR) + "/triangle.txt");
+}
+
+Mission triangle_mission() {
+  Mission m;
+  m.behaviour = "paper";
+  m.shape = triangle_shape();
+  return m;
+}
+
+// A message from robot `id` at `pose` as the medium would deliver it to a robot at `self_pose`.
+RabReading reading(const RobotMessage& m, const Pose2D& self_pose) {
+  const double dx = m.pose.x - self_pose.x, dy = m.pose.y - self_pose.y;
+  return {m.sender, std::hypot(dx, dy), std::atan2(dy, dx) - self_pose.theta, encode_message(m)};
+}
+
+RobotMessage shape_robot(RobotId id, int label, Vec2 at, std::vector<int> free_labels) {
+  RobotMessage m;
+  m.sender = id;
+  m.state = RobotState::Reached;
+  m.label = label;
+  m.pose = {at.x, at.y, 1.5707963};
+  m.has_origin = true;
+  m.origin = {0.0, 0.0};
+  m.free_labels = std::move(free_labels);
+  return m;
+}
+
+Perception perceive(Tick t, Pose2D pose, const std::vector<RobotMessage>& heard) {
+  Perception p;
+  p.tick = t;
+  p.pose = pose;
+  p.ultrasonic.fill(kUltrasonicMaxRange);
+  for (const auto& m : heard) p.messages.push_back(reading(m, pose));
+  return p;
+}
+
+bool has_event(const Command& c, const std::string& prefix) {
+  return std::any_of(c.telemetry.events.begin(), c.telemetry.events.end(),
+                     [&](const std::string& e) { return e.rfind(prefix, 0) == 0; });
+}
+
+TEST(Allotment, ConflictRuleKeepsTheHigherId) {
+  EXPECT_TRUE(keeps_label(9, 5));
+  EXPECT_FALSE(keeps_label(5, 9));
+}
+
+TEST(Allotment, ChooseOfferPairsClosestFirst) {
+  // Two offers, two searchers: the one closer to label 2's place gets it even though the other is
+  // closer to both in sum; the other takes label 1.
+  std::vector<LabelOffer> offers{{1, 0, 0, {}, {-1.0, -1.0}}, {2, 0, 0, {}, {0.0, -1.0}}};
+  std::vector<Searcher> searchers{{3, {0.0, -1.2}}, {4, {-0.4, -1.3}}};
+  EXPECT_EQ(choose_offer(offers, searchers, 3)->label, 2);
+  EXPECT_EQ(choose_offer(offers, searchers, 4)->label, 1);
+  // More searchers than offers: the farthest gets none.
+  searchers.push_back({5, {5.0, 5.0}});
+  EXPECT_FALSE(choose_offer(offers, searchers, 5).has_value());
+}
+
+TEST(Allotment, FreeGridLabelsLeaveOutHeldAndHeardLabels) {
+  const ShapeTable table(triangle_shape(), 1.0);
+  Stigmergy s(0);
+  NeighbourTable nb;
+  EXPECT_EQ(free_grid_labels(table, 0, s, nb), (std::vector<int>{1, 2, 3}));
+  put_label_holder(s, 2, 7);
+  EXPECT_EQ(free_grid_labels(table, 0, s, nb), (std::vector<int>{1, 3}));
+  put_label_freed(s, 2, 100);  // freed again: offered again
+  EXPECT_EQ(free_grid_labels(table, 0, s, nb), (std::vector<int>{1, 2, 3}));
+  Perception p = perceive(5, {}, {shape_robot(8, 3, {1, -1}, {})});
+  nb.update(p, 0);
+  EXPECT_EQ(free_grid_labels(table, 0, s, nb), (std::vector<int>{1, 2}));
+}
+
+TEST(Allotment, LabelsOfSilentHoldersAreFreedAfterTheTimeout) {
+  const ShapeTable table(triangle_shape(), 1.0);
+  Stigmergy s(0);
+  put_label_holder(s, 2, 7);
+  put_label_holder(s, 4, 8);  // not in label 0's grid: not ours to free
+  NeighbourTable nb(20);
+  std::map<int, Tick> since{{2, 0}};
+  // Never heard: never freed.
+  EXPECT_TRUE(labels_to_free(table, 0, s, nb, since, 0, 500, 40).empty());
+  nb.update(perceive(100, {}, {shape_robot(7, 2, {0, -1}, {}), shape_robot(8, 4, {-2, -2}, {})}), 0);
+  EXPECT_TRUE(labels_to_free(table, 0, s, nb, since, 0, 139, 40).empty());
+  EXPECT_EQ(labels_to_free(table, 0, s, nb, since, 0, 140, 40), (std::vector<int>{2}));
+  // A holder that took the label late gets its full timeout from then.
+  since[2] = 130;
+  EXPECT_TRUE(labels_to_free(table, 0, s, nb, since, 0, 169, 40).empty());
+}
+
+TEST(Barrier, CountsEntriesWhoseLabelTheyStillHoldAndDropsAbandonedLabels) {
+  Stigmergy s(0);
+  for (RobotId id = 0; id < 9; ++id) put_label_holder(s, static_cast<int>(id), id);
+  for (RobotId id = 0; id < 8; ++id) barrier_enter(s, id, static_cast<int>(id));
+  auto v = read_barrier(s, 9, 1000, 40);
+  EXPECT_EQ(v.count, 8);
+  EXPECT_EQ(v.threshold, 9);
+  EXPECT_FALSE(v.passed());
+  // Robot 8 dies before reaching; its label is freed at 1000 and nobody takes it.
+  put_label_freed(s, 8, 1000);
+  EXPECT_FALSE(read_barrier(s, 9, 1039, 40).passed());
+  v = read_barrier(s, 9, 1040, 40);
+  EXPECT_EQ(v.threshold, 8);
+  EXPECT_EQ(v.abandoned, (std::vector<int>{8}));
+  EXPECT_TRUE(v.passed());
+  // Robot 3 died after entering, and a spare (id 20) took label 3: 3's entry no longer counts, 20's does.
+  put_label_holder(s, 3, 20);
+  EXPECT_EQ(read_barrier(s, 9, 1040, 40).count, 7);
+  barrier_enter(s, 20, 3);
+  v = read_barrier(s, 9, 1040, 40);
+  EXPECT_EQ(v.count, 8);
+  EXPECT_TRUE(v.members.contains(20));
+  EXPECT_FALSE(v.members.contains(3));
+}
+
+TEST(Allotment, ASearcherTakesTheClosestOfferedLabelAndLosesItToAHigherId) {
+  PaperController c;
+  c.init(triangle_mission(), 5);
+  const Pose2D me{0.1, -1.3, 0.0};  // closest to label 2's place (0, -1)
+  const auto seed = shape_robot(0, 0, {0, 0}, {1, 2, 3});
+  Command cmd = c.step(perceive(1, me, {seed}));
+  ASSERT_EQ(c.state(), RobotState::Moving);
+  EXPECT_EQ(c.label(), 2);
+  EXPECT_TRUE(has_event(cmd, "label_taken 2"));
+  EXPECT_EQ(cmd.telemetry.parent, -1);  // the seed's label is not yet in its stigmergy
+
+  // Robot 9 claims label 2 too, at the same version: the higher id keeps it.
+  auto rival = shape_robot(9, 2, {0.5, -1.5}, {});
+  rival.state = RobotState::Moving;
+  rival.entries = {{stig::key(stig::Ns::Labels, 2), 9, 1, 9}};
+  cmd = c.step(perceive(2, me, {seed, rival}));
+  EXPECT_EQ(c.state(), RobotState::Searching);
+  EXPECT_EQ(c.label(), -1);
+  EXPECT_TRUE(has_event(cmd, "label_lost 2 to 9"));
+}
+
+TEST(Allotment, AHolderKeepsItsLabelAgainstALowerIdAndReassertsIt) {
+  PaperController c;
+  c.init(triangle_mission(), 5);
+  const Pose2D me{0.1, -1.3, 0.0};
+  const auto seed = shape_robot(0, 0, {0, 0}, {1, 2, 3});
+  c.step(perceive(1, me, {seed}));
+  ASSERT_EQ(c.label(), 2);
+  auto rival = shape_robot(3, 2, {0.5, -1.5}, {});
+  rival.state = RobotState::Moving;
+  rival.entries = {{stig::key(stig::Ns::Labels, 2), 3, 2, 3}};  // even with a newer version
+  const Command cmd = c.step(perceive(2, me, {seed, rival}));
+  EXPECT_EQ(c.state(), RobotState::Moving);
+  EXPECT_EQ(c.label(), 2);
+  const auto s = label_status(c.stigmergy(), 2);
+  EXPECT_EQ(s.holder, 5u);
+  EXPECT_EQ(c.stigmergy().entry(stig::key(stig::Ns::Labels, 2))->version, 3u);
+  // The re-assertion goes out at once.
+  const auto out = decode_message(cmd.message);
+  ASSERT_TRUE(out.has_value());
+  EXPECT_TRUE(std::any_of(out->entries.begin(), out->entries.end(), [](const StigmergyEntry& e) {
+    return e.key == stig::key(stig::Ns::Labels, 2) && e.value == 5 && e.version == 3;
+  }));
+  EXPECT_EQ(out->label, 2);
+}
+
+TEST(Allotment, SimultaneousClaimsOnTwoControllersEndWithOneHolder) {
+  // Two searchers equally placed hear the same single offer and both... the pairing gives it to one; the
+  // other hears nothing for itself. Even when both claim (crafted), the exchange leaves the higher id.
+  PaperController a, b;
+  a.init(triangle_mission(), 4);
+  b.init(triangle_mission(), 6);
+  const auto seed = shape_robot(0, 0, {0, 0}, {2});
+  const Pose2D pa{-0.2, -1.3, 0.0}, pb{0.2, -1.3, 0.0};
+  // Each hears the seed but not the other (as if the other's message was lost): both claim label 2.
+  Command ca = a.step(perceive(1, pa, {seed}));
+  Command cb = b.step(perceive(1, pb, {seed}));
+  ASSERT_EQ(a.label(), 2);
+  ASSERT_EQ(b.label(), 2);
+  for (Tick t = 2; t < 6; ++t) {
+    auto ma = *decode_message(ca.message);
+    auto mb = *decode_message(cb.message);
+    ca = a.step(perceive(t, pa, {seed, mb}));
+    cb = b.step(perceive(t, pb, {seed, ma}));
+  }
+  EXPECT_EQ(a.state(), RobotState::Searching);
+  EXPECT_EQ(b.label(), 2);
+  EXPECT_EQ(label_status(a.stigmergy(), 2).holder, 6u);
+  EXPECT_EQ(label_status(b.stigmergy(), 2).holder, 6u);
+}
+
+}  // namespace
+}  // namespace swarmform::controller

@@ -1,0 +1,135 @@
+// Virtual stigmergy: Buzz semantics, multi-hop flooding under loss, one conflict rule everywhere.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <vector>
+
+#include "robot_agent/controller/stigmergy.hpp"
+
+namespace swarmform::controller {
+namespace {
+
+TEST(Stigmergy, PutBumpsTheVersionAndRecordsTheWriter) {
+  Stigmergy s(5);
+  s.put(stig::key(stig::Ns::Labels, 3), 5);
+  EXPECT_EQ(s.entry(stig::key(stig::Ns::Labels, 3))->version, 1u);
+  s.merge({stig::key(stig::Ns::Labels, 3), 9, 7, 9});
+  s.put(stig::key(stig::Ns::Labels, 3), 5);
+  const auto* e = s.entry(stig::key(stig::Ns::Labels, 3));
+  EXPECT_EQ(e->version, 8u);
+  EXPECT_EQ(e->writer, 5u);
+  EXPECT_EQ(e->value, 5);
+}
+
+TEST(Stigmergy, MergeKeepsTheNewerEntry) {
+  Stigmergy s(1);
+  const std::uint32_t k = 42;
+  EXPECT_TRUE(s.merge({k, 10, 2, 3}));
+  EXPECT_FALSE(s.merge({k, 11, 1, 9}));  // older version loses even with a higher writer
+  EXPECT_TRUE(s.merge({k, 12, 2, 4}));   // same version: the higher writer wins
+  EXPECT_FALSE(s.merge({k, 13, 2, 2}));
+  EXPECT_TRUE(s.merge({k, 14, 2, 4}));   // same version and writer: the higher value
+  EXPECT_FALSE(s.merge({k, 14, 2, 4}));  // identical: no change
+  EXPECT_EQ(*s.get(k), 14);
+}
+
+TEST(Stigmergy, NamespacesAreKeyRanges) {
+  Stigmergy s(1);
+  s.put(stig::key(stig::Ns::Barrier, 0), 4);
+  s.put(stig::key(stig::Ns::Barrier, 65535), 5);
+  s.put(stig::key(stig::Ns::Labels, 0), 1);
+  const auto barrier = s.in_namespace(stig::Ns::Barrier);
+  ASSERT_EQ(barrier.size(), 2u);
+  EXPECT_EQ(barrier.at(65535).value, 5);
+  EXPECT_EQ(s.in_namespace(stig::Ns::Labels).size(), 1u);
+  EXPECT_EQ(s.in_namespace(stig::Ns::Parents).size(), 0u);
+}
+
+TEST(Stigmergy, OutgoingSendsChangesFirstThenRoundRobin) {
+  Stigmergy s(1);
+  for (std::uint32_t i = 0; i < 10; ++i) s.merge({i, 0, 1, 2});
+  for (int i = 0; i < Stigmergy::kResendCount; ++i) (void)s.outgoing(100);  // drain the pending changes
+  s.put(7, 99);
+  const auto first = s.outgoing(3);
+  ASSERT_EQ(first.size(), 3u);
+  EXPECT_EQ(first[0].key, 7u);
+  // The round-robin visits every key within a few messages.
+  std::set<std::uint32_t> seen;
+  for (int i = 0; i < 10; ++i) {
+    for (const auto& e : s.outgoing(2)) seen.insert(e.key);
+  }
+  EXPECT_EQ(seen.size(), 10u);
+}
+
+// A chain of robots, each hearing only its two neighbours, every copy lost with probability `loss`.
+struct Chain {
+  explicit Chain(int n, double loss_probability, std::uint32_t seed) : loss(loss_probability), rng(seed) {
+    for (int i = 0; i < n; ++i) robots.emplace_back(static_cast<RobotId>(i));
+  }
+  void tick(std::size_t quota) {
+    std::vector<std::vector<StigmergyEntry>> sent;
+    for (auto& r : robots) sent.push_back(r.outgoing(quota));
+    std::bernoulli_distribution lost(loss);
+    for (std::size_t i = 0; i < robots.size(); ++i) {
+      for (std::size_t j : {i - 1, i + 1}) {
+        if (j >= robots.size() || lost(rng)) continue;
+        robots[j].merge_all(sent[i]);
+      }
+    }
+  }
+  bool agree(std::uint32_t key) const {
+    for (const auto& r : robots) {
+      if (!r.entry(key) || !(*r.entry(key) == *robots.front().entry(key))) return false;
+    }
+    return true;
+  }
+  double loss;
+  std::mt19937 rng;
+  std::vector<Stigmergy> robots;
+};
+
+TEST(Stigmergy, FloodsAlongAMultiHopChainWithTwentyPercentLoss) {
+  for (std::uint32_t seed = 1; seed <= 5; ++seed) {
+    Chain chain(12, 0.2, seed);
+    // Many keys, more than one message carries, so the round-robin has to do its part.
+    for (std::uint32_t k = 0; k < 40; ++k) chain.robots[k % 12].put(1000 + k, k);
+    int ticks = 0;
+    auto all_agree = [&] {
+      for (std::uint32_t k = 0; k < 40; ++k) {
+        if (!chain.agree(1000 + k)) return false;
+      }
+      return true;
+    };
+    while (!all_agree() && ticks < 400) {
+      chain.tick(8);
+      ++ticks;
+    }
+    EXPECT_LT(ticks, 400) << "seed " << seed;
+    EXPECT_EQ(chain.robots.back().size(), 40u);
+  }
+}
+
+TEST(Stigmergy, AConflictResolvesTheSameWayOnEveryRobot) {
+  for (std::uint32_t seed = 1; seed <= 10; ++seed) {
+    Chain chain(10, 0.2, seed);
+    const std::uint32_t key = stig::key(stig::Ns::Labels, 4);
+    // The two ends claim label 4 at the same version; a robot in the middle claims it too, later.
+    chain.robots[0].put(key, 0);
+    chain.robots[9].put(key, 9);
+    for (int t = 0; t < 3; ++t) chain.tick(4);
+    chain.robots[5].put(key, 5);  // version 1 or 2 depending on what reached it
+    for (int t = 0; t < 300 && !chain.agree(key); ++t) chain.tick(4);
+    ASSERT_TRUE(chain.agree(key)) << "seed " << seed;
+    const auto& e = *chain.robots[3].entry(key);
+    // Whatever the order of arrival: the highest (version, writer, value) everyone has seen.
+    const StigmergyEntry a{key, 0, 1, 0}, b{key, 9, 1, 9};
+    EXPECT_FALSE(stigmergy_newer(a, e));
+    EXPECT_FALSE(stigmergy_newer(b, e));
+    if (e.version == 1) {
+      EXPECT_EQ(e.writer, 9u);  // equal versions: the higher writer
+    }
+  }
+}
+
+}  // namespace
+}  // namespace swarmform::controller
