@@ -19,7 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* kScenario = R"(
-shape: triangle.txt
+shape: SHAPES/triangle.txt
 arena: {centre: [0.0, 0.0], width: 10.0, height: 10.0, walls: true}
 robots: {count: 8, region: {centre: [0.0, 0.0], width: 4.0, height: 4.0}}
 behaviour: random_walk
@@ -29,8 +29,11 @@ max_ticks: 100
 kills: [{id: 2, tick: 40}]
 )";
 
+// The shape by absolute path, so the test runs from any working directory.
 world::Scenario scenario() {
-  return world::parse_scenario_text(kScenario, "<harness_test>");
+  std::string text = kScenario;
+  text.replace(text.find("SHAPES"), 6, std::string(SWARMFORM_REPO_DIR) + "/shapes");
+  return world::parse_scenario_text(text, "<harness_test>");
 }
 
 fs::path fresh_dir(const std::string& name) {
