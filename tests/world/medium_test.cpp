@@ -144,6 +144,18 @@ TEST(Medium, NoiseHasTheRightStandardDeviation) {
   EXPECT_NEAR(std::sqrt(sb2 / n - (sb / n) * (sb / n)), 0.05, 0.005);
 }
 
+TEST(Medium, RobotsFarApartStillFoundByTheCoarsenedGrid) {
+  // Two clusters 5 km apart: the grid coarsens rather than allocating millions of cells, and stays exact.
+  Swarm s({Pose2D{0, 0, 0}, Pose2D{1, 0, 0}, Pose2D{5000, 0, 0}, Pose2D{5002, 1, 0}, Pose2D{5004, 2, 0}});
+  for (std::size_t i = 0; i < 5; ++i) s.say(i, {1});
+  Medium m(MediumParams{}, {}, 1);
+  m.deliver(s.poses, s.alive, s.out, s.grid, s.perceptions);
+  EXPECT_EQ(s.perceptions[0].messages.size(), 1u);
+  EXPECT_EQ(s.perceptions[2].messages.size(), 1u);
+  EXPECT_EQ(s.perceptions[3].messages.size(), 2u);
+  EXPECT_EQ(s.perceptions[4].messages.size(), 1u);
+}
+
 TEST(Medium, LargeSwarmMatchesBruteForce) {
   // The grid finds exactly the robots a brute-force range test finds.
   std::vector<Pose2D> poses;

@@ -205,7 +205,7 @@ TEST(Scenario, RejectsOutOfRangeValues) {
   expect_rejected("shape: triangle.txt\npacket_loss: 1.0\n", 2, "packet_loss: must be in [0, 1)");
   expect_rejected("shape: triangle.txt\nmax_speed: 0\n", 2, "max_speed: must be > 0");
   expect_rejected("shape: triangle.txt\ntick_rate: -10\n", 2, "tick_rate");
-  expect_rejected("shape: triangle.txt\ngoal: {x: 40, y: 0}\n", 2, "goal: lies outside");
+  expect_rejected("shape: triangle.txt\ngoal: {x: 40, y: 0}\n", 2, "goal: (40, 0) lies outside");
 }
 
 TEST(Scenario, RejectsOverlappingListedRobots) {
@@ -245,6 +245,46 @@ TEST(Scenario, RejectsARegionTooSmallForItsRobots) {
   expect_rejected(
       "shape: triangle.txt\nrobots:\n  count: 50\n  region: {centre: [0, 0], width: 1, height: 1}\n", 3,
       "cannot place 50 robots");
+}
+
+TEST(Scenario, RandomRobotsKeepClearOfObstaclesAndWalls) {
+  const Scenario s = parse(R"(shape: triangle.txt
+arena: {centre: [0, 0], width: 6, height: 6}
+obstacles: [{type: box, centre: [0, 0], size: [2, 2], yaw: 0.3}, {type: cylinder, centre: [2, 2], radius: 0.5}]
+robots: {count: 60, region: {centre: [0, 0], width: 6, height: 6}}
+goal: {x: 2, y: -2}
+)");
+  ASSERT_EQ(s.robots.size(), 60u);
+  for (const Pose2D& p : s.robots) {
+    EXPECT_LE(std::abs(p.x), 3.0 - kRobotRadius);
+    EXPECT_LE(std::abs(p.y), 3.0 - kRobotRadius);
+    EXPECT_GE(std::hypot(p.x - 2.0, p.y - 2.0), 0.5 + kRobotRadius);
+    // Outside the rotated 2 x 2 box: its bounding circle is sqrt(2); inside that, check in the box frame.
+    const double lx = std::cos(0.3) * p.x + std::sin(0.3) * p.y;
+    const double ly = -std::sin(0.3) * p.x + std::cos(0.3) * p.y;
+    EXPECT_TRUE(std::abs(lx) > 1.0 + kRobotRadius || std::abs(ly) > 1.0 + kRobotRadius) << p.x << " " << p.y;
+  }
+  EXPECT_TRUE(connected(s.robots, s.comm_range));
+}
+
+TEST(Scenario, CommandLineOverridesAreCheckedToo) {
+  ScenarioOverrides ov;
+  ov.kills.push_back(Kill{12, 5});
+  try {
+    parse("shape: triangle.txt\n", ov);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "command line");
+    EXPECT_NE(std::string(e.what()).find("--kill"), std::string::npos);
+  }
+  ScenarioOverrides shape;
+  shape.shape_file = "square.txt";  // found in the repository's shapes/
+  const Scenario s = parse("shape: triangle.txt\n", shape);
+  EXPECT_NE(s.shape_file.find("square.txt"), std::string::npos);
+  EXPECT_EQ(s.robots.size(), static_cast<std::size_t>(s.mission.shape.label_count()));
+  ScenarioOverrides missing;
+  missing.shape_file = "nope.txt";
+  EXPECT_THROW(parse("shape: triangle.txt\n", missing), InputError);
 }
 
 TEST(Scenario, LoadReportsAnUnreadableFile) {

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <new>
+#include <string>
 
 #include "world_server/world/placement.hpp"
 #include "world_server/world/world.hpp"
@@ -26,6 +27,14 @@ void operator delete(void* p, std::size_t) noexcept {
 int main(int argc, char** argv) {
   using namespace swarmform;
   using namespace swarmform::world;
+  if (argc > 1 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h")) {
+    std::printf(
+        "usage: %s [N=1000] [TICKS=50]\n  prints the cost of World::step for N robots placed at random, "
+        "each\n"
+        "  driving an arc and broadcasting 32 bytes every tick (no controllers). For information only.\n",
+        argv[0]);
+    return 0;
+  }
   const std::size_t n = argc > 1 ? std::strtoul(argv[1], nullptr, 10) : 1000;
   const int ticks = argc > 2 ? std::atoi(argv[2]) : 50;
   Scenario s;

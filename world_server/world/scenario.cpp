@@ -382,7 +382,10 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
 
   // Goal inside the walls (else the formation can never get there).
   if (s.walls && !inside_arena(s, s.mission.goal)) {
-    throw InputError(origin, goal_line, "goal: lies outside the arena's walls");
+    std::ostringstream what;
+    what << "goal: (" << s.mission.goal.x << ", " << s.mission.goal.y << ")"
+         << (goal_line == 0 ? " (the default)" : "") << " lies outside the arena's walls";
+    throw InputError(origin, goal_line, what.str());
   }
 
   resolve_robots(src, robots, ov, s);
