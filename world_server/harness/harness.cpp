@@ -14,7 +14,10 @@ namespace swarmform::harness {
 
 struct Harness::Impl {
   Impl(const world::Scenario& s, HarnessOptions o)
-      : scenario(s), options(std::move(o)), world(scenario), session(world, {options.run_dir, "in-process"}) {
+      : scenario(s),
+        options(std::move(o)),
+        world(scenario),
+        session(world, {options.run_dir, "in-process", options.fragment_range}) {
     controllers.reserve(scenario.robots.size());
     for (RobotId id = 0; id < scenario.robots.size(); ++id) {
       controllers.push_back(controller::make_controller(scenario.mission, id));

@@ -15,7 +15,8 @@
 namespace swarmform::harness {
 
 struct HarnessOptions {
-  std::string run_dir;  // empty: no files written
+  std::string run_dir;          // empty: no files written
+  double fragment_range = 0.0;  // m, see world::RunOptions::fragment_range (0: the comm range)
 };
 
 class Harness {

@@ -86,6 +86,7 @@ int main(int argc, char** argv) {
   std::string out;
   std::string behaviour;
   std::vector<std::string> kill_texts;
+  double fragment_range = 0.0;
   bool no_record = false;
   bool quiet = false;
   app.add_option("--scenario", scenario_path, "scenario file (YAML)")->capture_default_str();
@@ -96,6 +97,9 @@ int main(int argc, char** argv) {
   app.add_option("--behaviour", behaviour, "controller: paper or random_walk, instead of the scenario's");
   app.add_option("--out", out, "run directory (default runs/<UTC time>, and runs/latest points at it)");
   app.add_option("--kill", kill_texts, "kill robot ID at tick TICK (ID@TICK); repeatable");
+  app.add_option("--fragment-range", fragment_range,
+                 "m: range of the shape robots' graph for fragment events (default: the comm range)")
+      ->check(CLI::NonNegativeNumber);
   app.add_flag("--no-record", no_record, "write nothing (metrics only; for benchmarks)");
   app.add_flag("--quiet", quiet, "no progress lines on stderr");
   try {
@@ -129,7 +133,7 @@ int main(int argc, char** argv) {
     std::signal(SIGTERM, on_signal);
 
     const auto start = std::chrono::steady_clock::now();
-    harness::Harness harness(scenario, {run_dir});
+    harness::Harness harness(scenario, {run_dir, fragment_range});
     if (!run_dir.empty() && default_out) point_latest_at(run_dir);
     auto last_print = start;
     Tick last_tick = 0;

@@ -40,10 +40,16 @@ std::string log_line(const Event& e) {
 
 struct RunSession::Impl {
   Impl(const World& w, RunOptions o)
-      : world(w), options(std::move(o)), tracker(w.scenario().mission), events(w.scenario().comm_range) {
+      : world(w),
+        options(std::move(o)),
+        tracker(w.scenario().mission),
+        fragment_range(options.fragment_range > 0.0 ? options.fragment_range : w.scenario().comm_range),
+        events(fragment_range) {
     if (!options.run_dir.empty()) {
       writer.emplace(options.run_dir);
-      writer->write_world(describe_world(world.scenario(), options.mode));
+      auto description = describe_world(world.scenario(), options.mode);
+      description["fragment_range"] = fragment_range;
+      writer->write_world(description);
       writer->log(world.tick(), "run starts: " + std::to_string(world.robot_count()) + " robots, scenario " +
                                     world.scenario().source + ", mode " + options.mode);
     }
@@ -86,6 +92,7 @@ struct RunSession::Impl {
   const World& world;
   RunOptions options;
   MetricsTracker tracker;
+  double fragment_range;  // m
   EventDeriver events;
   Sha256 sha;
   std::vector<unsigned char> pose_bytes;

@@ -18,6 +18,10 @@ namespace swarmform::world {
 struct RunOptions {
   std::string run_dir;  // created if missing; empty = record nothing to disk (metrics still computed)
   std::string mode = "in-process";  // "lockstep", "realtime" or "in-process", for the summary
+  // m: the shape robots' graph for the fragment/rejoin_graph events joins robots this close; 0 = the
+  // scenario's comm_range (who can hear whom). E.g. 1.5 x grid spacing watches the formation's own neighbour
+  // links.
+  double fragment_range = 0.0;
 };
 
 class RunSession {
