@@ -139,6 +139,7 @@ void Server::on_claim(const dds::CommandSample& s, bool running) {
   }
   if (r.outcome == ClaimOutcome::Repeated) return;
   session_.record_event(s.robot_id, "agent_connected", "pid " + std::to_string(s.pid));
+  std::cerr << "world_server: id " << s.robot_id << " claimed by pid " << s.pid << "\n";
   if (r.outcome == ClaimOutcome::TakenOver && running && !world_.alive(s.robot_id)) {
     world_.revive(s.robot_id);
     session_.record_rejoin(s.robot_id);

@@ -1,0 +1,247 @@
+// Multi-process integration tests (issue 2): the real world_server and robot_agent executables over DDS on
+// loopback. Each test has its own DDS domain (kDomainBase + k), kills every process it started by pid
+// (Process's destructor) and bounds every wait. The scenario: 8 random walkers, lockstep, 300 ticks
+// (random_walk_8.yaml).
+#include <gtest/gtest.h>
+#include <stdlib.h>
+
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "tests/integration/process.hpp"
+
+namespace {
+
+using swarmform::testing::eventually;
+using swarmform::testing::Process;
+using swarmform::testing::read_file;
+using Json = nlohmann::json;
+
+constexpr int kDomainBase = 100;
+constexpr int kRobots = 8;
+constexpr double kRunDeadline = 60.0;  // s, for one whole run (it takes ~2 s)
+
+const std::string kWorld = WORLD_SERVER_EXE;
+const std::string kAgent = ROBOT_AGENT_EXE;
+const std::string kRogue = ROGUE_AGENT_EXE;
+const std::string kScenario = INTEGRATION_SCENARIO;
+
+class MultiProcess : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = std::filesystem::temp_directory_path() /
+           ("swarmform-it-" + std::string(info->name()) + "-" + std::to_string(getpid()));
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override {
+    processes_.clear();  // SIGKILL whatever still runs
+    if (!HasFailure()) std::filesystem::remove_all(dir_);
+  }
+
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  Process& start(const std::vector<std::string>& argv, const std::string& name) {
+    processes_.push_back(std::make_unique<Process>(argv, path(name)));
+    return *processes_.back();
+  }
+  Process& world(int domain, const std::string& run, std::vector<std::string> extra = {}) {
+    std::vector<std::string> argv = {
+        kWorld,     "--scenario",           kScenario,           "--out", path(run),
+        "--domain", std::to_string(domain), "--connect-timeout", "30"};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    return start(argv, run + "-world");
+  }
+  Process& agent(int domain, int id, const std::string& tag) {
+    return start({kAgent, "--id", std::to_string(id), "--domain", std::to_string(domain), "--timeout", "30"},
+                 tag + "-agent" + std::to_string(id));
+  }
+
+  Json summary(const std::string& run) const { return Json::parse(read_file(path(run) + "/summary.json")); }
+  std::vector<Json> events(const std::string& run) const {
+    std::vector<Json> out;
+    std::istringstream in(read_file(path(run) + "/events.jsonl"));
+    for (std::string line; std::getline(in, line);) {
+      if (!line.empty()) out.push_back(Json::parse(line));
+    }
+    return out;
+  }
+  std::vector<Json> events_of(const std::string& run, const std::string& kind) const {
+    std::vector<Json> out;
+    for (Json& e : events(run)) {
+      if (e.value("kind", "") == kind) out.push_back(std::move(e));
+    }
+    return out;
+  }
+  bool has_event(const std::string& run, const std::string& kind, int id) const {
+    for (const Json& e : events_of(run, kind)) {
+      if (e.value("id", -1) == id) return true;
+    }
+    return false;
+  }
+
+  // A whole clean run: world + 8 agents; returns the trajectory hash. Checks every agent saw only its own
+  // packets, every process exited 0, the run completed.
+  std::string clean_run(int domain, const std::string& run, Process* also = nullptr) {
+    Process& w = world(domain, run);
+    std::vector<Process*> agents;
+    for (int i = 0; i < kRobots; ++i) agents.push_back(&agent(domain, i, run));
+    EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+    EXPECT_NE(w.out().find("done ticks=300 run_dir=" + path(run)), std::string::npos) << w.out();
+    for (int i = 0; i < kRobots; ++i) {
+      EXPECT_EQ(agents[i]->wait_for(10.0), 0) << "agent " << i << ": " << agents[i]->err();
+      // The last tick's packet is followed by the END packet: 301 packets, none of another robot.
+      EXPECT_NE(agents[i]->out().find("agent id=" + std::to_string(i) + " packets=301 foreign_packets=0"),
+                std::string::npos)
+          << agents[i]->out();
+    }
+    if (also != nullptr) {
+      EXPECT_TRUE(also->wait_for(10.0).has_value());
+    }
+    const Json s = summary(run);
+    EXPECT_EQ(s["ticks"], 300);
+    EXPECT_EQ(s["robots"], kRobots);
+    EXPECT_EQ(s["alive_at_end"], kRobots);
+    EXPECT_EQ(events_of(run, "agent_connected").size(), static_cast<std::size_t>(kRobots));
+    return s.value("trajectory_sha256", "");
+  }
+
+  std::filesystem::path dir_;
+  std::vector<std::unique_ptr<Process>> processes_;
+};
+
+TEST_F(MultiProcess, EightAgentsInLockstepGetOnlyTheirOwnPacketsAndRepeatBitForBit) {
+  const int domain = kDomainBase + 1;
+  const std::string first = clean_run(domain, "first");
+  const std::string second = clean_run(domain, "second");
+  EXPECT_EQ(first.size(), 64u);
+  EXPECT_EQ(first, second);
+}
+
+TEST_F(MultiProcess, KilledAgentIsDetectedWithinOneSecondAndARestartedOneRejoins) {
+  const int domain = kDomainBase + 2;
+  std::vector<Process*> agents;
+  for (int i = 0; i < kRobots; ++i) agents.push_back(&agent(domain, i, "kill"));
+  Process& w = world(
+      domain, "kill",
+      {"--max-ticks", "3000", "--kill", "3@100", "--agent-pid", "3=" + std::to_string(agents[3]->pid())});
+  ASSERT_TRUE(eventually(kRunDeadline, [&] { return has_event("kill", "death", 3) || !w.running(); }));
+  EXPECT_EQ(agents[3]->wait_for(1.0), 128 + 9);  // it was SIGKILLed
+  Process& again = agent(domain, 3, "kill-again");
+  EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_EQ(again.wait_for(10.0), 0) << again.err();
+
+  const Json s = summary("kill");
+  ASSERT_EQ(s["deaths"].size(), 1u);
+  EXPECT_EQ(s["deaths"][0]["id"], 3);
+  // Lockstep waits for the dead agent until DDS liveliness says it is gone, so its death is recorded at the
+  // tick of the kill, or at most one second's worth of ticks (tick_rate 10) later.
+  EXPECT_GE(s["deaths"][0]["tick"].get<int>(), 100);
+  EXPECT_LE(s["deaths"][0]["tick"].get<int>(), 110);
+  const auto detected = events_of("kill", "death_detected");
+  ASSERT_EQ(detected.size(), 1u);
+  std::smatch m;
+  const std::string detail = detected[0]["detail"];
+  ASSERT_TRUE(std::regex_search(detail, m, std::regex("detected ([0-9]+) ms after SIGKILL"))) << detail;
+  EXPECT_LE(std::stoi(m[1]), 1000) << detail;
+  // The restarted agent with the same id came back as a fresh robot.
+  ASSERT_EQ(s["rejoins"].size(), 1u);
+  EXPECT_EQ(s["rejoins"][0]["id"], 3);
+  EXPECT_EQ(s["alive_at_end"], kRobots);
+}
+
+TEST_F(MultiProcess, SecondAgentWithATakenIdIsRefused) {
+  const int domain = kDomainBase + 3;
+  Process& w = world(domain, "dup");
+  Process& first = agent(domain, 2, "dup");
+  ASSERT_TRUE(eventually(30.0, [&] { return w.err().find("id 2 claimed by pid") != std::string::npos; }));
+  Process& second = agent(domain, 2, "dup-second");
+  const auto code = second.wait_for(20.0);
+  EXPECT_EQ(code, 4) << second.err();
+  EXPECT_NE(second.err().find("refused: id 2 is already owned by a live agent"), std::string::npos)
+      << second.err();
+  for (int i = 0; i < kRobots; ++i) {
+    if (i != 2) agent(domain, i, "dup");
+  }
+  EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_EQ(first.wait_for(10.0), 0) << first.err();
+  EXPECT_EQ(summary("dup")["alive_at_end"], kRobots);
+  EXPECT_TRUE(has_event("dup", "claim_refused", 2));
+}
+
+TEST_F(MultiProcess, CommandsFromAWriterThatDoesNotOwnTheIdAreDroppedAndLogged) {
+  const int domain = kDomainBase + 4;
+  const std::string baseline = clean_run(domain, "baseline");
+  Process& spoofer = start(
+      {kRogue, "--domain", std::to_string(domain), "--timeout", "60", "spoof", "--target", "5"}, "spoofer");
+  const std::string spoofed = clean_run(domain, "spoofed", &spoofer);
+  EXPECT_FALSE(events_of("spoofed", "spoofed_command").empty());
+  for (const Json& e : events_of("spoofed", "spoofed_command")) EXPECT_EQ(e["id"], 5);
+  // Ignored means ignored: the robot moved exactly as without the spoofer.
+  EXPECT_EQ(spoofed, baseline);
+}
+
+TEST_F(MultiProcess, NonFiniteAndOversizeCommandsAreRejectedLoggedAndTheRunGoesOn) {
+  const int domain = kDomainBase + 5;
+  Process& w = world(domain, "nan");
+  for (int i = 0; i < kRobots - 1; ++i) agent(domain, i, "nan");
+  Process& rogue =
+      start({kRogue, "--domain", std::to_string(domain), "--timeout", "60", "nan", "--id", "7"}, "rogue");
+  EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_EQ(rogue.wait_for(10.0), 0) << rogue.err();
+  std::set<std::string> verdicts;
+  for (const Json& e : events_of("nan", "command")) {
+    EXPECT_EQ(e["id"], 7);
+    verdicts.insert(e.value("verdict", ""));
+  }
+  EXPECT_TRUE(verdicts.count("rejected_non_finite")) << verdicts.size();
+  EXPECT_TRUE(verdicts.count("message_dropped") || verdicts.count("clamped"));
+  const Json s = summary("nan");
+  EXPECT_EQ(s["ticks"], 300);
+  EXPECT_EQ(s["alive_at_end"], kRobots);
+}
+
+TEST_F(MultiProcess, WorldNamesTheAgentsMissingAtTheConnectTimeout) {
+  const int domain = kDomainBase + 6;
+  Process& w = start({kWorld, "--scenario", kScenario, "--out", path("missing"), "--domain",
+                      std::to_string(domain), "--connect-timeout", "1"},
+                     "missing-world");
+  agent(domain, 0, "missing");
+  EXPECT_EQ(w.wait_for(20.0), 3);
+  EXPECT_NE(w.err().find("7 of 8 agents missing after 1 s: 1 2 3 4 5 6 7"), std::string::npos) << w.err();
+}
+
+TEST_F(MultiProcess, AgentGivesUpWhenNoWorldShowsUp) {
+  Process& a =
+      start({kAgent, "--id", "0", "--domain", std::to_string(kDomainBase + 7), "--timeout", "1"}, "lonely");
+  EXPECT_EQ(a.wait_for(15.0), 3);
+  EXPECT_NE(a.err().find("no world on DDS domain"), std::string::npos) << a.err();
+}
+
+TEST_F(MultiProcess, CheckPrintsTheScenarioAndBadInputExitsTwo) {
+  Process& ok = start({kWorld, "--scenario", kScenario, "--robots", "5", "--seed", "9", "--check"}, "check");
+  EXPECT_EQ(ok.wait_for(15.0), 0) << ok.err();
+  EXPECT_EQ(ok.out(), "{\"robots\":5,\"labels\":16,\"mode\":\"lockstep\",\"max_ticks\":300,\"seed\":9}\n");
+  const std::string bad = path("bad.yaml");
+  {
+    std::ofstream f(bad);
+    f << "mode: lockstep\nseed: 1\ntick_rate: -3\n";
+  }
+  Process& b = start({kWorld, "--scenario", bad, "--check"}, "bad");
+  EXPECT_EQ(b.wait_for(15.0), 2);
+  EXPECT_NE(b.err().find(bad + ":3:"), std::string::npos) << b.err();
+  Process& flag = start({kWorld, "--scenario", kScenario, "--kill", "3-100"}, "badflag");
+  EXPECT_EQ(flag.wait_for(15.0), 2);
+  EXPECT_NE(flag.err().find("--kill 3-100"), std::string::npos) << flag.err();
+  Process& noout = start({kWorld, "--scenario", kScenario}, "noout");
+  EXPECT_EQ(noout.wait_for(15.0), 2);
+  EXPECT_NE(noout.err().find("--out DIR is required"), std::string::npos) << noout.err();
+}
+
+}  // namespace

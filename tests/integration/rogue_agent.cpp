@@ -1,0 +1,139 @@
+// A misbehaving participant for the integration tests, on swarmform's own wire (common/dds):
+//
+//   rogue_agent spoof --target K --domain D [--timeout SEC]
+//       never claims anything; follows the world state and writes full-speed Commands for robot K for the
+//       current and next few ticks. The world must drop every one of them (they are not from K's owner) and
+//       log them; the run must be bit-identical to one without the spoofer.
+//   rogue_agent nan --id K --domain D [--timeout SEC]
+//       claims K as an agent would, then answers every packet with NaN wheel speeds and an oversize message.
+//       The world must reject/clamp and log them, and the run go on.
+//
+// Exits 0 when the world announces the end (nan) or finishes (spoof), 3 on --timeout.
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <iostream>
+#include <limits>
+
+#include "common/dds/signal_watch.hpp"
+#include "common/dds/wire.hpp"
+
+namespace {
+
+using namespace swarmform;
+
+dds_time_t after(double s) {
+  return dds_time() + static_cast<dds_duration_t>(s * 1e9);
+}
+
+int spoof(dds::Participant& participant, RobotId target, double timeout_s) {
+  dds::Waiter waiter(participant);
+  dds::WorldStateReader state(participant);
+  dds::CommandWriter commands(participant);
+  waiter.attach(state.condition());
+  Command fake;
+  fake.left_speed = fake.right_speed = 0.1;
+  fake.message = {0xde, 0xad};
+  const dds_time_t deadline = after(timeout_s);
+  std::uint64_t sent = 0;
+  while (dds_time() < deadline) {
+    if (auto s = state.take()) {
+      if (s->finished) {
+        std::cout << "spoof sent=" << sent << std::endl;
+        return 0;
+      }
+      for (Tick t = s->tick; t < s->tick + 4; ++t, ++sent) commands.step(target, t, fake);
+    }
+    waiter.wait_until(deadline);
+  }
+  std::cout << "spoof sent=" << sent << " (timeout)" << std::endl;
+  return 3;
+}
+
+int nan_agent(dds::Participant& participant, RobotId id, double timeout_s) {
+  dds::Waiter waiter(participant);
+  dds::AgentInbox inbox(participant, id, waiter);
+  dds::CommandWriter commands(participant);
+  waiter.attach(inbox.packet_condition());
+  waiter.attach(inbox.claim_condition());
+  const dds_time_t deadline = after(timeout_s);
+  const std::uint64_t nonce = 0x5eed0000u + id;
+  dds_time_t resend = 0;
+  bool owned = false;
+  while (!owned) {
+    if (dds_time() >= deadline) return 3;
+    if (auto a = inbox.take_claim_reply(); a && a->nonce == nonce) {
+      if (!a->accepted) {
+        std::cerr << "rogue_agent: refused: " << a->reason << "\n";
+        return 4;
+      }
+      owned = true;
+      break;
+    }
+    if (dds_time() >= resend) {
+      commands.claim(id, nonce, 0);
+      resend = after(1.0);
+    }
+    waiter.wait_until(std::min(deadline, resend));
+  }
+  Command bad;
+  bad.left_speed = std::numeric_limits<double>::quiet_NaN();
+  bad.right_speed = std::numeric_limits<double>::infinity();
+  dds::SensorSample packet;
+  std::uint64_t foreign = 0;
+  std::uint64_t sent = 0;
+  for (;;) {
+    if (inbox.take_packet(packet, foreign)) {
+      if (packet.status == dds::PacketStatus::End) {
+        std::cout << "nan sent=" << sent << std::endl;
+        return 0;
+      }
+      // Every other tick an oversize message with finite but excessive speeds instead of NaN.
+      if (packet.perception.tick % 2 == 1) {
+        Command big;
+        big.left_speed = big.right_speed = 50.0;
+        big.message.assign(100000, 0x55);
+        commands.step(id, packet.perception.tick, big);
+      } else {
+        commands.step(id, packet.perception.tick, bad);
+      }
+      ++sent;
+      continue;
+    }
+    if (dds_time() >= deadline) return 3;
+    waiter.wait_until(deadline);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"rogue_agent: a spoofing or NaN-sending participant for the integration tests"};
+  app.require_subcommand(1);
+  std::uint32_t domain = 0;
+  double timeout_s = 60.0;
+  app.add_option("--domain", domain, "DDS domain id")->check(CLI::Range(0u, 232u));
+  app.add_option("--timeout", timeout_s, "give up after this many seconds");
+  auto* sp = app.add_subcommand("spoof", "write commands for another robot's id");
+  std::uint32_t target = 0;
+  sp->add_option("--target", target, "the robot to impersonate")->required();
+  auto* na = app.add_subcommand("nan", "own an id and send NaN/oversize commands");
+  std::uint32_t id = 0;
+  na->add_option("--id", id, "the id to claim")->required();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+  try {
+    dds::SignalWatch signals;
+    dds::DdsSettings settings;
+    settings.domain = domain;
+    settings.role = dds::Role::Agent;
+    dds::Participant participant(settings);
+    return sp->parsed() ? spoof(participant, target, timeout_s) : nan_agent(participant, id, timeout_s);
+  } catch (const std::exception& e) {
+    std::cerr << "rogue_agent: " << e.what() << "\n";
+    return 1;
+  }
+}
