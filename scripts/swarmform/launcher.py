@@ -142,7 +142,7 @@ class Processes:
         try:
             p = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
                                  process_group=group, preexec_fn=_die_with_parent)
-        except subprocess.SubprocessError:  # the group is gone (its members all died): start a new one
+        except (subprocess.SubprocessError, OSError):  # the group is gone (its members all died): a new one
             p = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
                                  process_group=0, preexec_fn=_die_with_parent)
         self.groups.add(os.getpgid(p.pid) if p.poll() is None else p.pid)
@@ -307,6 +307,8 @@ def run(args, render_pictures):
             return _run_in_process(args, stop, status, render_pictures)
         world_exe, agent_exe = executable("world"), executable("agent")
         info = check_scenario(world_exe, args)
+        if stop:
+            return EXIT_INTERRUPTED
         n = info["robots"]
         max_ticks = info.get("max_ticks")
         run_dir = args.run_dir = make_run_dir(args.out)

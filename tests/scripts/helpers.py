@@ -45,3 +45,12 @@ def pid_alive(pid):
             return f.read().rsplit(")", 1)[1].split()[0] != "Z"
     except OSError:
         return False
+
+
+def video_frame(path, index, width, height):
+    """Frame `index` of a video as a numpy array [height, width, 3] (uint8 RGB), decoded by ffmpeg."""
+    import numpy as np
+    raw = subprocess.run(["ffmpeg", "-v", "error", "-i", path, "-vf", f"select=eq(n\\,{index})", "-frames:v", "1",
+                          "-f", "rawvideo", "-pix_fmt", "rgb24", "-"], capture_output=True, timeout=120,
+                         check=True).stdout
+    return np.frombuffer(raw, dtype=np.uint8).reshape(height, width, 3)

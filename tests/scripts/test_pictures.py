@@ -7,6 +7,8 @@ import tempfile
 import time
 import unittest
 
+import numpy as np
+
 import helpers
 import fixture
 from swarmform import animation, pictures, recording
@@ -51,6 +53,14 @@ class PicturesTest(unittest.TestCase):
         w, h, n = helpers.video_frames(os.path.join(out, "animation.gif"))
         self.assertEqual((w, n), (animation.GIF_WIDTH, animation.gif_frame_count(80, gif_every)))
         self.assertLessEqual(os.path.getsize(os.path.join(out, "animation.gif")), animation.GIF_LIMIT_BYTES)
+
+    def test_animation_frames_show_the_run_moving_with_a_caption(self):
+        mp4 = os.path.join(self.dir, "pictures", "animation.mp4")
+        w, h = animation.MP4_SIZE
+        first, last = helpers.video_frame(mp4, 0, w, h), helpers.video_frame(mp4, 79, w, h)
+        self.assertGreater(int(np.abs(first.astype(int) - last.astype(int)).sum()), 1000, "the robots moved")
+        top = first[: h // 10, w // 4: w // 2]  # the caption ("t = 0 ...") sits above the arena
+        self.assertLess(int(top.min()), 100, "a blitted frame lost its caption")
 
     def test_frame_plan_subsamples_long_runs_and_ends_on_the_last_tick(self):
         frames, gif_every, fps = animation.frame_plan(3001)
