@@ -8,7 +8,7 @@ namespace swarmform::world {
 RangeBearing to_receiver_frame(const Pose2D& sender, const Pose2D& receiver) {
   const double dx = sender.x - receiver.x;
   const double dy = sender.y - receiver.y;
-  return RangeBearing{std::sqrt(dx * dx + dy * dy), wrap_angle(std::atan2(dy, dx) - receiver.theta)};
+  return RangeBearing{std::sqrt(dx * dx + dy * dy), wrap_angle(fast_atan2(dy, dx) - receiver.theta)};
 }
 
 Medium::Medium(const MediumParams& params, const std::vector<Obstacle>& statics, std::uint64_t seed)

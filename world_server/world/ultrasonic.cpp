@@ -59,11 +59,10 @@ UltrasonicReading Ultrasonic::read(std::size_t self, const std::vector<Pose2D>& 
       if (dx * axis_x[s] + dy * axis_y[s] >= d * cos_limit - 1e-12) cands_[s].push_back(cand);
     }
   });
+  // Static bodies within reach (by their true distance: a wall's bounding circle would hold everyone).
   near_statics_.clear();
   for (const StaticShape& st : statics_) {
-    const double cx = st.cx - me.x, cy = st.cy - me.y;
-    const double reach = kReach + st.bound;
-    if (cx * cx + cy * cy <= reach * reach) near_statics_.push_back(&st);
+    if (point_clearance(me.x, me.y, st) <= kReach) near_statics_.push_back(&st);
   }
 
   UltrasonicReading out;
