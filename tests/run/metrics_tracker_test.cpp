@@ -130,44 +130,69 @@ TEST(EventDeriver, StateLabelLeaderDeathAndGraph) {
 
   robots[0].telemetry.state = kReady;
   robots[3].telemetry.label = 7;
-  robots[1].telemetry.leader = true;
-  robots[2].telemetry.leader = true;  // two claim it: the lowest id is taken
   auto events = deriver.observe(1, robots, false, components);
-  ASSERT_EQ(kinds(events), (std::vector<std::string>{"state", "label", "leader"}));
+  ASSERT_EQ(kinds(events), (std::vector<std::string>{"state", "label"}));
   EXPECT_EQ(events[0]["from"], kReached);
   EXPECT_EQ(events[0]["to_name"], "ready");
   EXPECT_EQ(events[1]["to"], 7);
-  EXPECT_EQ(events[2]["id"], 1);
-  EXPECT_EQ(events[2]["previous"], -1);
 
-  // The leader dies: the world's alive flag is enough for a death event; the other claimant takes over.
+  // An election: 1 and 2 both claim for a while (no leader yet), then 1 alone; it is taken after
+  // kLeaderSettleTicks ticks alone, with `since` = its first tick alone.
+  robots[1].telemetry.leader = true;
+  robots[2].telemetry.leader = true;
+  Tick t = 2;
+  for (; t < 10; ++t) EXPECT_TRUE(deriver.observe(t, robots, false, components).empty());
+  robots[2].telemetry.leader = false;
+  const Tick alone_since = t;
+  for (; t < alone_since + kLeaderSettleTicks - 1; ++t) {
+    EXPECT_TRUE(deriver.observe(t, robots, false, components).empty());
+  }
+  events = deriver.observe(t, robots, false, components);
+  ASSERT_EQ(kinds(events), (std::vector<std::string>{"leader"}));
+  EXPECT_EQ(events[0]["id"], 1);
+  EXPECT_EQ(events[0]["previous"], -1);
+  EXPECT_EQ(events[0]["since"], alone_since);
+  // A second claimant while the incumbent still claims changes nothing.
+  robots[2].telemetry.leader = true;
+  EXPECT_TRUE(deriver.observe(++t, robots, false, components).empty());
+
+  // The leader dies: the world's alive flag is enough for a death event, the title is lost at once, and the
+  // other claimant takes over once it has claimed alone long enough.
   robots[1].alive = false;
-  events = deriver.observe(2, robots, false, components);
-  ASSERT_EQ(kinds(events), (std::vector<std::string>{"death", "leader"}));
-  EXPECT_EQ(events[1]["id"], 2);
-  EXPECT_EQ(events[1]["previous"], 1);
+  events = deriver.observe(++t, robots, false, components);
+  ASSERT_EQ(kinds(events), (std::vector<std::string>{"death", "leader_lost"}));
+  EXPECT_EQ(events[1]["id"], 1);
+  const Tick lost = t;
+  do {
+    events = deriver.observe(++t, robots, false, components);
+  } while (events.empty() && t < lost + 20);
+  ASSERT_EQ(kinds(events), (std::vector<std::string>{"leader"}));
+  EXPECT_EQ(events[0]["id"], 2);
+  EXPECT_EQ(events[0]["previous"], 1);
+  EXPECT_EQ(events[0]["since"], lost);
+  EXPECT_EQ(t, lost + kLeaderSettleTicks - 1);
   // The front end reporting the same death afterwards does not count it twice; a new one does.
-  EXPECT_FALSE(deriver.death(2, 1).has_value());
-  EXPECT_TRUE(deriver.death(3, 0).has_value());
+  EXPECT_FALSE(deriver.death(t, 1).has_value());
+  EXPECT_TRUE(deriver.death(t, 0).has_value());
   robots[0].alive = false;
-  EXPECT_TRUE(deriver.observe(3, robots, false, components).empty());
-  EXPECT_TRUE(deriver.rejoin(4, 0).has_value());
+  EXPECT_TRUE(deriver.observe(++t, robots, false, components).empty());
+  EXPECT_TRUE(deriver.rejoin(t, 0).has_value());
   robots[0].alive = true;
-  EXPECT_TRUE(deriver.observe(4, robots, false, components).empty());
+  EXPECT_TRUE(deriver.observe(++t, robots, false, components).empty());
 
   // Graph: robots 0 and 2 (1 is dead) are 2 m apart: one component with a 3 m range.
   robots[3].telemetry.label = -1;
-  events = deriver.observe(5, robots, true, components);
+  events = deriver.observe(++t, robots, true, components);
   EXPECT_EQ(components, 1u);
   ASSERT_EQ(kinds(events), (std::vector<std::string>{"label"}));
   robots[2].pose.x = 10.0;
-  events = deriver.observe(6, robots, true, components);
+  events = deriver.observe(++t, robots, true, components);
   EXPECT_EQ(components, 2u);
   ASSERT_EQ(kinds(events), (std::vector<std::string>{"fragment"}));
   EXPECT_EQ(events[0]["components"], nlohmann::ordered_json::parse("[[0],[2]]"));
-  EXPECT_TRUE(deriver.observe(7, robots, true, components).empty());  // still split: no new event
+  EXPECT_TRUE(deriver.observe(++t, robots, true, components).empty());  // still split: no new event
   robots[2].pose.x = 2.5;
-  events = deriver.observe(8, robots, true, components);
+  events = deriver.observe(++t, robots, true, components);
   ASSERT_EQ(kinds(events), (std::vector<std::string>{"rejoin_graph"}));
 }
 

@@ -68,29 +68,43 @@ std::vector<Event> EventDeriver::observe(Tick tick, const std::vector<RobotTruth
   return out;
 }
 
-// The leader is the robot that says so. Several may say so for a while during an election: the current leader
-// keeps the title while it is alive and claims it; otherwise the lowest claiming id takes it.
+// The leader is the robot that says so. The incumbent keeps the title while it is alive and claims it. When
+// it dies or stops claiming, `leader_lost` is recorded at once; a robot becomes the new leader after claiming
+// it alone for kLeaderSettleTicks ticks (the event is written then, with `since` = the first of those ticks).
 void EventDeriver::observe_leader(Tick tick, const std::vector<RobotTruth>& robots, std::vector<Event>& out) {
   const auto claims = [&](RobotId id) {
     return id < robots.size() && robots[id].alive && robots[id].telemetry.leader;
   };
-  if (leader_ && claims(*leader_)) return;
-  std::optional<RobotId> next;
-  for (const auto& r : robots) {
-    if (r.alive && r.telemetry.leader) {
-      next = r.id;
-      break;
-    }
+  if (leader_ && claims(*leader_)) {
+    candidate_.reset();
+    return;
   }
-  if (next) {
-    Event e = make_event(tick, "leader", *next);
-    e["previous"] = last_leader_ ? static_cast<std::int64_t>(*last_leader_) : std::int64_t{-1};
-    out.push_back(std::move(e));
-    last_leader_ = next;
-  } else if (leader_) {
+  if (leader_) {
     out.push_back(make_event(tick, "leader_lost", *leader_));
+    leader_.reset();
   }
-  leader_ = next;
+  std::optional<RobotId> only;
+  for (const auto& r : robots) {
+    if (!r.alive || !r.telemetry.leader) continue;
+    if (only) {  // contested: nobody yet
+      candidate_.reset();
+      return;
+    }
+    only = r.id;
+  }
+  if (!only) {
+    candidate_.reset();
+    return;
+  }
+  if (!candidate_ || candidate_->id != *only) candidate_ = Candidate{*only, tick};
+  if (tick + 1 - candidate_->since < kLeaderSettleTicks) return;
+  Event e = make_event(tick, "leader", *only);
+  e["previous"] = last_leader_ ? static_cast<std::int64_t>(*last_leader_) : std::int64_t{-1};
+  e["since"] = candidate_->since;
+  out.push_back(std::move(e));
+  leader_ = only;
+  last_leader_ = only;
+  candidate_.reset();
 }
 
 void EventDeriver::observe_graph(Tick tick, const std::vector<RobotTruth>& robots, std::vector<Event>& out,

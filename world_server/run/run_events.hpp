@@ -16,6 +16,10 @@ namespace swarmform::world {
 
 using Event = nlohmann::ordered_json;
 
+// A robot is taken as the new leader once it has been the only live robot claiming it for this many ticks in
+// a row: during an election several robots claim it for a tick or two, which is not a change of leader.
+inline constexpr Tick kLeaderSettleTicks = 5;
+
 // {"tick": tick, "kind": kind, "id": id}; more fields are added by the caller. id -1: no single robot.
 Event make_event(Tick tick, std::string_view kind, std::int64_t id);
 
@@ -23,9 +27,9 @@ class EventDeriver {
  public:
   explicit EventDeriver(double comm_range) : comm_range_(comm_range) {}
 
-  // Compares this tick's truth with what was seen before. The first call only sets the baseline (plus the
-  // leader, if one is already reported). With `track_graph` the shape robots' communication graph is checked
-  // and its component count is put in `components` (0 when not tracked or no shape robot).
+  // Compares this tick's truth with what was seen before. The first call only sets the baseline. With
+  // `track_graph` the shape robots' communication graph is checked and its component count is put in
+  // `components` (0 when not tracked or no shape robot).
   std::vector<Event> observe(Tick tick, const std::vector<RobotTruth>& robots, bool track_graph,
                              std::size_t& components);
 
@@ -45,8 +49,13 @@ class EventDeriver {
   double comm_range_;
   std::vector<Seen> seen_;  // by id
   bool baseline_ = false;
+  struct Candidate {
+    RobotId id = 0;
+    Tick since = 0;  // first tick of its run as the only claimant
+  };
   std::optional<RobotId> leader_;       // the robot taken as leader now
   std::optional<RobotId> last_leader_;  // the last one there was (for "previous")
+  std::optional<Candidate> candidate_;  // the only claimant, not yet settled
   std::size_t components_ = 0;          // of the last tracked tick
 };
 
