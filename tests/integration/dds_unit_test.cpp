@@ -1,0 +1,82 @@
+// Unit tests (no processes, no network) of the DDS front end's pure parts: the identity registry and the
+// generated Cyclone configuration.
+#include <gtest/gtest.h>
+
+#include "common/dds/cyclone_config.hpp"
+#include "world_server/agent_registry.hpp"
+
+namespace {
+
+using swarmform::dds::cyclone_config_xml;
+using swarmform::dds::DdsSettings;
+using swarmform::dds::Role;
+using swarmform::server::AgentRegistry;
+using swarmform::server::ClaimOutcome;
+
+TEST(AgentRegistry, FirstClaimantOwnsTheIdAndASecondIsRefused) {
+  AgentRegistry r(4);
+  EXPECT_EQ(r.claim(2, 100, 11).outcome, ClaimOutcome::Accepted);
+  EXPECT_EQ(r.claim(2, 100, 11).outcome, ClaimOutcome::Repeated);
+  const auto refused = r.claim(2, 200, 22);
+  EXPECT_EQ(refused.outcome, ClaimOutcome::Refused);
+  EXPECT_NE(refused.reason.find("already owned by a live agent (pid 11)"), std::string::npos);
+  EXPECT_TRUE(r.owns(2, 100));
+  EXPECT_FALSE(r.owns(2, 200));
+  EXPECT_FALSE(r.owns(1, 100));
+  EXPECT_EQ(r.connected_count(), 1u);
+  EXPECT_EQ(r.missing(), (std::vector<swarmform::RobotId>{0, 1, 3}));
+}
+
+TEST(AgentRegistry, ALostOwnerFreesTheIdForATakeOver) {
+  AgentRegistry r(3);
+  ASSERT_EQ(r.claim(1, 100, 11).outcome, ClaimOutcome::Accepted);
+  EXPECT_FALSE(r.lose(999).has_value());  // a writer that owns nothing
+  EXPECT_EQ(r.lose(100), std::optional<swarmform::RobotId>(1));
+  EXPECT_FALSE(r.connected(1));
+  EXPECT_FALSE(r.owns(1, 100));
+  EXPECT_FALSE(r.lose(100).has_value());  // reported once
+  EXPECT_EQ(r.claim(1, 300, 33).outcome, ClaimOutcome::TakenOver);
+  EXPECT_TRUE(r.owns(1, 300));
+}
+
+TEST(AgentRegistry, AnIdOutsideTheRunIsRefused) {
+  AgentRegistry r(3);
+  const auto res = r.claim(3, 100, 11);
+  EXPECT_EQ(res.outcome, ClaimOutcome::OutOfRange);
+  EXPECT_NE(res.reason.find("no robot 3"), std::string::npos);
+}
+
+TEST(CycloneConfig, WorldTakesIndexZeroAndAgentsPeerOnlyWithIt) {
+  DdsSettings world;
+  world.domain = 7;
+  world.role = Role::World;
+  const std::string w = cyclone_config_xml(world);
+  EXPECT_NE(w.find("<ParticipantIndex>0</ParticipantIndex>"), std::string::npos);
+  EXPECT_EQ(w.find("<Peer "), std::string::npos);
+  EXPECT_NE(w.find("<NetworkInterface address=\"127.0.0.1\"/>"), std::string::npos);
+  EXPECT_NE(w.find("<LeaseDuration>1s</LeaseDuration>"), std::string::npos);
+  EXPECT_NE(w.find("<SharedMemory><Enable>false</Enable></SharedMemory>"), std::string::npos);
+
+  DdsSettings agent;
+  agent.domain = 7;
+  const std::string a = cyclone_config_xml(agent);
+  EXPECT_NE(a.find("<ParticipantIndex>none</ParticipantIndex>"), std::string::npos);
+  EXPECT_NE(a.find("<Peer address=\"127.0.0.1:" + std::to_string(7400 + 250 * 7 + 10) + "\"/>"),
+            std::string::npos);
+
+  agent.world_host = "10.0.0.5";  // another host: no loopback pinning, that host as the peer
+  const std::string remote = cyclone_config_xml(agent);
+  EXPECT_EQ(remote.find("127.0.0.1"), std::string::npos);
+  EXPECT_NE(remote.find("10.0.0.5:9160"), std::string::npos);
+}
+
+TEST(CycloneConfig, BadDomainOrAddressIsRefused) {
+  DdsSettings s;
+  s.domain = 233;
+  EXPECT_THROW(cyclone_config_xml(s), std::invalid_argument);
+  s.domain = 0;
+  s.world_host = "host\"/><x";
+  EXPECT_THROW(cyclone_config_xml(s), std::invalid_argument);
+}
+
+}  // namespace
