@@ -1,5 +1,7 @@
 // The recording format: what RecordingWriter writes, the reader gets back exactly; world.json and
 // summary.json carry every documented key; the SHA-256 helper is the standard one.
+#include <unistd.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -20,10 +22,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Per process: other build folders may run the same tests at the same time.
 fs::path fresh_dir(const std::string& name) {
   const fs::path dir =
-      fs::temp_directory_path() / ("swarmform-run-test-" + name + "-" +
-                                   std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+      fs::temp_directory_path() / ("swarmform-run-test-" + name + "-" + std::to_string(::getpid()));
   fs::remove_all(dir);
   return dir;
 }
