@@ -27,7 +27,7 @@ constexpr std::uint64_t kStaticFlag = 1ULL << 63;
 double yaw_of(const btTransform& t) {
   const btQuaternion q = t.getRotation();
   return wrap_angle(
-      std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()), 1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z())));
+      fast_atan2(2.0 * (q.w() * q.z() + q.x() * q.y()), 1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z())));
 }
 
 // btDiscreteDynamicsWorld without the two per-body passes our robots do not need (together ~30% of the
