@@ -108,6 +108,21 @@ TEST(World, KilledRobotStopsAndRevivedRobotDrivesAgain) {
   ASSERT_EQ(w.perception(1).messages.size(), 1u);
 }
 
+TEST(World, SensorsSeeTheArenaWallsAndThePoseIsTheTruth) {
+  Scenario s = open_scenario({Pose2D{1.0 - kRobotRadius - 1.0, 0.5, 0.0}});
+  s.walls = true;
+  s.arena_centre = Vec2{0, 0};
+  s.arena_width = 2.0;  // east wall's inner face at x = 1: 1.00 m ahead of the robot's surface
+  s.arena_height = 4.0;
+  World w(s);
+  EXPECT_NEAR(w.perception(0).ultrasonic[2], 1.0, 0.01);
+  w.step();
+  EXPECT_NEAR(w.perception(0).ultrasonic[2], 1.0, 0.01);
+  EXPECT_EQ(w.perception(0).pose.x, w.robots()[0].pose.x);
+  EXPECT_EQ(w.perception(0).pose.theta, w.robots()[0].pose.theta);
+  EXPECT_EQ(w.perception(0).tick, 1u);
+}
+
 TEST(World, TelemetryFromTheLastCommandIsKept) {
   World w(open_scenario({Pose2D{0, 0, 0}}));
   Command c = drive(0, 0);
