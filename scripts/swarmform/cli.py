@@ -178,6 +178,7 @@ def main(argv=None):
         code = launcher.run(args, render_pictures)
         if args.command == "demo" and code == 0:
             where = os.path.relpath(args.run_dir)
+            where = args.run_dir if where.startswith("..") else where
             print(f"demo done. Pictures: {where}/pictures/ (snapshot_t*.png, trajectories.png, residual_force.png,"
                   f" shape_error.png, animation.mp4, animation.gif)")
             print(f"The numbers: scripts/swarm report {where}")

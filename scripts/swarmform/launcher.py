@@ -32,6 +32,7 @@ CHECK_TIMEOUT_S = 60
 AGENT_EXIT_DEADLINE_S = 5.0
 WORLD_STOP_DEADLINE_S = 10.0
 EXIT_INTERRUPTED = 130
+REPEATS_SHOWN = 3
 
 
 class LaunchError(Exception):
@@ -260,6 +261,8 @@ def _follow(proc, stop, status, console_log, max_ticks, prefix="world"):
     fd = proc.stdout.fileno()
     os.set_blocking(fd, False)
     buf, done = b"", None
+    seen = {}  # a line's pattern (digits blanked) -> times shown: "id 7 claimed by pid 123" x 256 shows 3
+
 
     def handle(raw):
         nonlocal done
@@ -273,7 +276,12 @@ def _follow(proc, stop, status, console_log, max_ticks, prefix="world"):
         if m:
             done = (int(m[1]), m[2])
         elif line.strip():
-            status.line(f"{prefix}: {line}")
+            pattern = re.sub(r"\d+", "#", line)
+            seen[pattern] = seen.get(pattern, 0) + 1
+            if seen[pattern] <= REPEATS_SHOWN:
+                status.line(f"{prefix}: {line}")
+            elif seen[pattern] == REPEATS_SHOWN + 1:
+                status.line(f"{prefix}: ... (more lines like this in {os.path.basename(console_log.name)})")
 
     while not stop:
         ready, _, _ = select.select([fd], [], [], 0.2)

@@ -133,6 +133,9 @@ def residual_force(rec, path):
     ax = fig.add_axes([0.08, 0.42, 0.80, 0.52])
     cax = fig.add_axes([0.90, 0.42, 0.02, 0.52])
     draw_static(ax, rec.world, geometry.view_bounds(rec))
+    ax.apply_aspect()  # the colour bar as tall as the arena drawn at equal scales
+    box = ax.get_position()
+    cax.set_position([0.90, box.y0, 0.02, box.height])
     ax2 = fig.add_axes([0.08, 0.07, 0.80, 0.26])
     ax2.set_xlabel("distance travelled by the formation's centre (m)")
     ax2.set_ylabel("\u03a3 |F_net|")

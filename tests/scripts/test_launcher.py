@@ -70,6 +70,16 @@ class LauncherTest(unittest.TestCase):
         self.assertFalse(os.path.exists(os.path.join(out, "pictures")))
         self.assert_all_gone(pids.values())
 
+    def test_repeated_world_lines_are_shown_three_times_and_logged_all(self):
+        out = os.path.join(self.dir, "run")
+        r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "6", "--max-ticks", "10", "--out", out,
+                          "--no-pictures", env={"FAKE_AGENT_EXIT_S": "0.3"})
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(r.stderr.count("claimed by pid"), 3)
+        self.assertIn("world: ... (more lines like this in world_console.log)", r.stderr)
+        with open(os.path.join(out, "logs", "world_console.log")) as f:
+            self.assertEqual(f.read().count("claimed by pid"), 6)
+
     def test_stragglers_are_killed_after_the_deadline(self):
         out = os.path.join(self.dir, "run")
         r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "2", "--max-ticks", "10", "--out", out,
@@ -98,8 +108,9 @@ class LauncherTest(unittest.TestCase):
         with open(os.path.join(runs, "latest", "world_args.json")) as f:
             world_args = json.load(f)
         self.assertTrue(world_args[world_args.index("--scenario") + 1].endswith("scenarios/paper.yaml"))
-        run_dir = os.path.relpath(os.path.realpath(os.path.join(runs, "latest")))
+        run_dir = os.path.realpath(os.path.join(runs, "latest"))  # outside the working directory: absolute
         self.assertIn(f"demo done. Pictures: {run_dir}/pictures/", r.stdout)
+        self.assertIn(f"The numbers: scripts/swarm report {run_dir}", r.stdout)
 
     def test_in_process_passes_the_flags_the_runner_takes(self):
         out = os.path.join(self.dir, "run")
