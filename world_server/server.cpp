@@ -74,6 +74,15 @@ int Server::run() {
   session_.finish(wall);
   if (stopping())
     std::cerr << "world_server: stopped by signal " << signals_.signal() << ", summary written\n";
+  if (profile_.rounds > 0) {
+    const double r = static_cast<double>(profile_.rounds) * 1e3;  // ns -> us per round
+    std::fprintf(
+        stderr,
+        "world_server: per round (us): publish %.1f, collect %.1f, step %.1f, record %.1f (%llu rounds)\n",
+        static_cast<double>(profile_.publish) / r, static_cast<double>(profile_.collect) / r,
+        static_cast<double>(profile_.step) / r, static_cast<double>(profile_.record) / r,
+        static_cast<unsigned long long>(profile_.rounds));
+  }
   if (missed_ticks_ > 0) std::cerr << "world_server: " << missed_ticks_ << " missed ticks (see events)\n";
   std::cout << "done ticks=" << world_.tick() << " run_dir=" << options_.run_dir << std::endl;
   return kExitOk;
@@ -83,11 +92,16 @@ int Server::run() {
 
 bool Server::connect_agents() {
   const std::size_t n = scenario_.robots.size();
-  const dds_time_t deadline = dds_time() + seconds(options_.connect_timeout_s);
+  const dds_time_t begin = dds_time();
+  const dds_time_t deadline = begin + seconds(options_.connect_timeout_s);
   dds_time_t next_report = dds_time() + DDS_SECS(5);
   for (;;) {
     pump(false);
-    if (registry_.connected_count() == n) return true;
+    if (registry_.connected_count() == n) {
+      std::printf("connected agents=%zu seconds=%.2f\n", n, to_s(dds_time() - begin));
+      std::fflush(stdout);
+      return true;
+    }
     if (stopping()) return false;
     const dds_time_t now = dds_time();
     if (now >= deadline || now >= next_report) {
@@ -197,6 +211,7 @@ void Server::on_lost(dds::PublicationHandle writer, bool running) {
 // ---- rounds -----------------------------------------------------------------------------------------------
 
 void Server::begin_round() {
+  const dds_time_t t0 = dds_time();
   const Tick t = world_.tick();
   for (auto [it, end] = kills_.equal_range(t); it != end; ++it) {
     const RobotId id = it->second;
@@ -225,9 +240,11 @@ void Server::begin_round() {
     waiting_count_ += live ? 1 : 0;
     if (live) link_.robots.write_packet(id, dds::PacketStatus::Run, world_.perception(id));
   }
+  profile_.publish += dds_time() - t0;
 }
 
 bool Server::end_round() {
+  const dds_time_t t0 = dds_time();
   const std::size_t n = scenario_.robots.size();
   for (std::size_t i = 0; i < n; ++i) {
     if (!fresh_[i]) continue;
@@ -238,6 +255,7 @@ bool Server::end_round() {
     if (v != world::CommandVerdict::Ok) session_.record_command_verdict(id, v);
   }
   world_.step();
+  const dds_time_t t1 = dds_time();
   session_.record_tick();
   const dds_time_t now = dds_time();
   if (now - last_state_ >= kStatePeriod) {
@@ -248,6 +266,9 @@ bool Server::end_round() {
     last_state_ = now;
   }
   progress(false);
+  profile_.step += t1 - t0;
+  profile_.record += dds_time() - t1;
+  ++profile_.rounds;
   return world::run_complete(session_.metrics(), world_.tick(), scenario_.max_ticks);
 }
 
@@ -255,7 +276,8 @@ void Server::run_lockstep() {
   const dds_duration_t deadline_span = seconds(scenario_.lockstep_deadline_s);
   for (;;) {
     begin_round();
-    const dds_time_t deadline = dds_time() + deadline_span;
+    const dds_time_t collect_start = dds_time();
+    const dds_time_t deadline = collect_start + deadline_span;
     for (;;) {
       pump(true);
       if (waiting_count_ == 0 || stopping()) break;
@@ -271,6 +293,7 @@ void Server::run_lockstep() {
       }
       link_.waiter.wait_until(deadline);
     }
+    profile_.collect += dds_time() - collect_start;
     if (stopping()) return;  // the round in flight is not stepped: every recorded tick is a whole one
     if (end_round()) return;
   }

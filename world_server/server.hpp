@@ -89,6 +89,15 @@ class Server {
   Tick last_progress_tick_ = 0;
   dds_time_t last_state_ = 0;
   std::uint64_t missed_ticks_ = 0;
+
+  // Where a round's wall time goes (printed on stderr at the end; issue 6 P1's first question).
+  struct Profile {
+    dds_duration_t publish = 0;  // kills + SensorPackets out
+    dds_duration_t collect = 0;  // waiting for and taking the commands
+    dds_duration_t step = 0;     // apply + World::step
+    dds_duration_t record = 0;   // RunSession::record_tick + world state + progress
+    std::uint64_t rounds = 0;
+  } profile_;
 };
 
 }  // namespace swarmform::server
