@@ -5,7 +5,10 @@ is left behind. Each test has its own DDS domain and every wait a deadline."""
 import json
 import os
 import shutil
+import signal
+import subprocess
 import tempfile
+import time
 import unittest
 
 import helpers
@@ -82,6 +85,61 @@ class LauncherEndToEndTest(unittest.TestCase):
         self.assertFalse(rec.track.alive[-1, 1])
         self.assertTrue(rec.track.alive[-1, [0, 2, 3]].all())
         self.assertEqual(rec.summary["alive_at_end"], 3)
+
+    def start_long_run(self, domain):
+        env = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=BUILD_DIR)
+        p = subprocess.Popen([helpers.SWARM, "run", "--scenario", SCENARIO, "--robots", "4", "--max-ticks",
+                              "1000000", "--no-pictures", "--domain", str(domain), "--out", self.out], env=env,
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        # Running once the recording has rows past tick 20 (the agents connected, the world stepping).
+        ok = wait_for(lambda: os.path.exists(os.path.join(self.out, "robots.csv")) and
+                      os.path.getsize(os.path.join(self.out, "robots.csv")) > 4 * 20 * 40, 60.0)
+        if not ok:
+            p.kill()
+            out, err = p.communicate(timeout=30)
+            self.fail(f"the run did not start within 60 s:\n{err}")
+        return p
+
+    def test_ctrl_c_closes_the_recording_and_leaves_nothing(self):
+        p = self.start_long_run(domain=152)
+        with open(os.path.join(self.out, "agents.json")) as f:
+            pids = list(json.load(f).values())
+        p.send_signal(signal.SIGINT)
+        _, err = p.communicate(timeout=60)
+        self.assertEqual(p.returncode, 130, err)
+        self.assertTrue(os.path.exists(os.path.join(self.out, "summary.json")), "the world wrote its summary")
+        rec = recording.load(self.out)
+        self.assertGreater(len(rec.track.ticks), 20)
+        self.assertEqual([x for x in pids if helpers.pid_alive(x)], [])
+        self.assertEqual(processes_mentioning(self.out), [])
+
+    def test_swarm_kill_kills_an_agent_and_the_world_records_it(self):
+        p = self.start_long_run(domain=153)
+        try:
+            r = helpers.swarm("kill", "2", "--run", self.out, build_dir=BUILD_DIR)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            deaths = os.path.join(self.out, "events.jsonl")
+            self.assertTrue(wait_for(lambda: '"kind":"death","id":2' in read_text(deaths).replace(" ", ""), 20.0),
+                            "death of robot 2 recorded within the deadline")
+        finally:
+            p.send_signal(signal.SIGINT)
+            p.communicate(timeout=60)
+        self.assertEqual(p.returncode, 130)
+        self.assertEqual(processes_mentioning(self.out), [])
+
+
+def read_text(path):
+    with open(path) as f:
+        return f.read()
+
+
+def wait_for(predicate, seconds):
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        if predicate():
+            return True
+        time.sleep(0.1)
+    return False
 
 
 if __name__ == "__main__":
