@@ -3,7 +3,7 @@
 Speed is the design: one Scene (scene.py) is drawn once, its background kept, and each frame only restores
 that background and redraws the few dynamic artists (blitting on the Agg canvas); the raw RGBA frames are piped
 straight into two ffmpeg processes at once. Frames are subsampled so the video has at most MAX_FRAMES frames
-(about ten seconds) and the GIF at most MAX_GIF_FRAMES at a quarter of the pixels with a 64-colour palette.
+(about ten seconds) and the GIF at most MAX_GIF_FRAMES, 640 px wide, with a 128-colour palette.
 """
 
 import math
@@ -14,7 +14,7 @@ import tempfile
 from .scene import Scene
 
 MP4_SIZE = (960, 540)  # even sizes: H.264 with yuv420p needs them
-GIF_WIDTH = 480
+GIF_WIDTH = 640
 MAX_FRAMES = 300
 MAX_GIF_FRAMES = 150
 GIF_LIMIT_BYTES = 3 * 1024 * 1024
@@ -58,7 +58,7 @@ def _raw_input(size, fps):
 
 
 def _gif_filter(width, colours):
-    return (f"scale={width}:-2:flags=lanczos,split[a][b];[a]palettegen=max_colors={colours}:stats_mode=diff[p];"
+    return (f"scale={width}:-2:flags=lanczos,split[a][b];[a]palettegen=max_colors={colours}:stats_mode=full[p];"
             f"[b][p]paletteuse=dither=bayer:bayer_scale=4:diff_mode=rectangle")
 
 
@@ -74,7 +74,7 @@ def render(rec, out_dir, log=print, max_frames=MAX_FRAMES):
         p_mp4 = _ffmpeg(_raw_input(MP4_SIZE, fps) + ["-c:v", "libx264", "-preset", "veryfast", "-crf", "26",
                                                      "-pix_fmt", "yuv420p", "-movflags", "+faststart", mp4],
                         err_mp4)
-        p_gif = _ffmpeg(_raw_input(MP4_SIZE, gif_fps) + ["-vf", _gif_filter(GIF_WIDTH, 64), gif], err_gif)
+        p_gif = _ffmpeg(_raw_input(MP4_SIZE, gif_fps) + ["-vf", _gif_filter(GIF_WIDTH, 128), gif], err_gif)
         try:
             # Background: everything but the dynamic artists, drawn once.
             for a in scene.dynamic:

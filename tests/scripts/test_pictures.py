@@ -96,6 +96,24 @@ class PicturesTest(unittest.TestCase):
             shutil.rmtree(d)
 
 
+class GifLimitTest(unittest.TestCase):
+    def test_a_gif_over_the_limit_is_made_again_smaller_with_the_same_frames(self):
+        d = tempfile.mkdtemp(prefix="swarm-gif-")
+        limit = animation.GIF_LIMIT_BYTES
+        try:
+            fixture.make_run(d, ticks=40, robots=5, death=None)
+            animation.GIF_LIMIT_BYTES = 1000  # every GIF is over it
+            messages = []
+            mp4, gif = animation.render(recording.load(d), d, log=messages.append)
+            w, _, n = helpers.video_frames(gif)
+            frames, gif_every, _ = animation.frame_plan(40)
+            self.assertEqual((w, n), (360, animation.gif_frame_count(len(frames), gif_every)))
+            self.assertTrue(messages and "made again at 360 px" in messages[0], messages)
+        finally:
+            animation.GIF_LIMIT_BYTES = limit
+            shutil.rmtree(d)
+
+
 class SpeedTest(unittest.TestCase):
     def test_3000_ticks_of_30_robots_render_well_under_a_minute(self):
         d = tempfile.mkdtemp(prefix="swarm-speed-")
