@@ -11,6 +11,7 @@ Every figure has a fixed pixel size (PICTURE_SIZES), so a README or a test can r
 """
 
 import os
+import re
 
 import matplotlib
 
@@ -68,6 +69,9 @@ def render_all(rec, out_dir=None, extra_ticks=(), animate=True, log=print):
     """Writes every picture; returns the list of paths written."""
     out_dir = out_dir or os.path.join(rec.run_dir, "pictures")
     os.makedirs(out_dir, exist_ok=True)
+    for name in os.listdir(out_dir):  # snapshots of an earlier drawing (other ticks) would mislead
+        if re.fullmatch(r"snapshot_t\d+\.png", name):
+            os.remove(os.path.join(out_dir, name))
     written = []
     ticks = snapshot_ticks(rec, extra_ticks)
     scene = Scene(rec, PICTURE_SIZES["snapshot"], DPI)

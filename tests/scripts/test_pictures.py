@@ -70,6 +70,15 @@ class PicturesTest(unittest.TestCase):
         self.assertLessEqual(animation.gif_frame_count(len(frames), gif_every), animation.MAX_GIF_FRAMES)
         self.assertTrue(5 <= fps <= 30)
 
+    def test_a_second_drawing_replaces_the_snapshots_of_the_first(self):
+        out = os.path.join(self.dir, "again")
+        rec = recording.load(self.dir)
+        pictures.render_all(rec, out, [5, 6], animate=False, log=lambda m: None)
+        self.assertTrue(os.path.exists(os.path.join(out, "snapshot_t00005.png")))
+        pictures.render_all(rec, out, [], animate=False, log=lambda m: None)
+        self.assertFalse(os.path.exists(os.path.join(out, "snapshot_t00005.png")))
+        self.assertTrue(os.path.exists(os.path.join(out, "snapshot_t00000.png")))
+
     def test_tick_outside_the_recording_is_a_clear_error(self):
         r = helpers.swarm("replay", self.dir, "--ticks", "5000", "--no-animation", "--out",
                           os.path.join(self.dir, "other"))
