@@ -63,6 +63,8 @@ inline constexpr std::array kControllerParams = {
     ParamSpec{"arrival_net_force", 0.01, 0.0, 1.0,
               "a follower whose parent has arrived stops once |F_net| is below this, m/s"},
     ParamSpec{"boundary_delay", 10, 1, 1e6, "ticks in 'ready' before a robot judges its boundary role"},
+    ParamSpec{"strain_scale", 0.2, 0.0, 10.0,
+              "the leader slows by 1 + (largest lag in the tree - 2 cruise) / this, at most 3x; 0: never, m/s"},
 };
 
 inline const ParamSpec* find_param(std::string_view name) {

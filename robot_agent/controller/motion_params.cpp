@@ -22,6 +22,7 @@ MotionParams motion_params(const FormationParams& p) {
   m.k_o = p.k_o;
   m.k_goal = p.k_goal;
   m.cruise_speed = value("cruise_fraction") * p.max_speed;
+  m.strain_scale = value("strain_scale");
   m.m_obstacle = p.m_obstacle;
   m.obstacle_range = p.obstacle_range;
   m.mask_angle = p.neighbour_mask_angle;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,35 @@ std::optional<MotionSection> section_of(const Neighbour& n) {
   return decode_motion_section(n.message.motion);
 }
 
+// Which way round an obstacle in direction `o` (unit, arena frame) leads away from the neighbours: +1 turning
+// left of `o`, -1 right, 0 when both sides are alike. Each neighbour within `reach` weighs by how much it
+// stands on that side, nearer ones more.
+int side_away_from_neighbours(const NeighbourTable& table, Vec2 o, double reach) {
+  double left = 0.0, right = 0.0;
+  const Vec2 t_left = vrotate(o, std::numbers::pi / 2);
+  for (const auto& [id, n] : table.all()) {
+    if (!table.fresh(id) || n.range > reach) continue;
+    const double side = vdot(vpolar(1.0, n.azimuth), t_left) / std::max(n.range, 0.3);
+    (side > 0 ? left : right) += std::abs(side);
+  }
+  constexpr double kAlike = 0.05;
+  if (left + kAlike < right) return 1;
+  if (right + kAlike < left) return -1;
+  return 0;
+}
+
+// Motion always drives forwards, turning towards the desired velocity first: the ultrasonic sensors cover
+// only the front half, so a robot must face where it goes (drive.hpp's reversing would make it blind).
+WheelSpeeds forward_wheels(Vec2 v, double theta, double max_speed) {
+  constexpr double kTurnGain = 2.0;  // 1/s
+  const double speed = vnorm(v);
+  if (speed < 1e-3) return {};
+  const double error = wrap_angle(std::atan2(v.y, v.x) - theta);
+  const double forward = speed * std::max(0.0, std::cos(error));
+  const double omega = kTurnGain * error;
+  return clamp_wheels({forward - omega * kWheelSpacing / 2, forward + omega * kWheelSpacing / 2}, max_speed);
+}
+
 }  // namespace
 
 PaperMotion::PaperMotion(const FormationParams& params) : p_(motion_params(params)) {}
@@ -54,6 +84,8 @@ void PaperMotion::on_ready(const FormationContext& ctx) {
   parent_.reset();
   references_.clear();
   last_position_.clear();
+  last_velocity_.clear();
+  large_until_ = 0;
   marked_dead_.clear();
   wall_.reset();
   net_force_ = 0.0;
@@ -64,6 +96,16 @@ MotionStep PaperMotion::step(const FormationContext& ctx) {
   for (const auto& [id, n] : ctx.neighbours->all()) {
     if (ctx.neighbours->fresh(id)) {
       last_position_[id] = vadd({ctx.pose.x, ctx.pose.y}, vpolar(n.range, n.azimuth));
+      const auto section = section_of(n);
+      last_velocity_[id] = section ? section->velocity : Vec2{};
+    }
+  }
+  children_strain_ = 0.0;
+  for (const auto& [id, n] : ctx.neighbours->all()) {
+    if (!ctx.neighbours->fresh(id)) continue;
+    const auto section = section_of(n);
+    if (section && section->parent == static_cast<std::int32_t>(ctx.self)) {
+      children_strain_ = std::max(children_strain_, section->strain);
     }
   }
   judge_boundary(ctx);
@@ -72,6 +114,7 @@ MotionStep PaperMotion::step(const FormationContext& ctx) {
 
   Vec2 velocity;
   net_force_ = 0.0;
+  lag_ = 0.0;
   if (state_ == RobotState::Ready) {
     if (ctx.tick >= ready_tick_ + static_cast<Tick>(p_.ready_timeout)) {
       record_references(ctx);
@@ -90,6 +133,7 @@ MotionStep PaperMotion::step(const FormationContext& ctx) {
 
   out.state = state_;
   out.velocity = vclamp(velocity, p_.max_speed);
+  out.wheels = forward_wheels(out.velocity, ctx.pose.theta, p_.max_speed);
   out.parent = parent_ ? static_cast<std::int32_t>(*parent_) : -1;
   out.leader = leader_ == ctx.self;
   out.net_force = net_force_;
@@ -100,6 +144,7 @@ MotionStep PaperMotion::step(const FormationContext& ctx) {
   section.parent = out.parent;
   section.net_force = net_force_;
   section.velocity = out.velocity;
+  section.strain = std::max(lag_, children_strain_);
   out.message = encode_motion_section(section);
   return out;
 }
@@ -239,18 +284,32 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
       wall_.reset();
       return {};
     }
-    desired = goal_force(position, target, p_.k_goal, p_.cruise_speed, 0.0);  // eq. (3)
-    m = p_.m_obstacle * vnorm(desired);                                       // eq. (7)
+    double cruise = p_.cruise_speed;
+    if (p_.strain_scale > 0.0) {
+      // Never below a third of the cruise: a shape held by an obstacle on a follower's place must move on.
+      cruise /=
+          std::min(3.0, 1.0 + std::max(0.0, children_strain_ - 2.0 * p_.cruise_speed) / p_.strain_scale);
+    }
+    desired = goal_force(position, target, p_.k_goal, cruise, 0.0);  // eq. (3)
+    m = p_.m_obstacle * vnorm(desired);                              // eq. (7)
   } else if (parent_) {
     const Neighbour* n = ctx.neighbours->find(*parent_);
     Vec2 to_parent;
     if (n != nullptr && ctx.neighbours->fresh(*parent_)) {
       to_parent = vpolar(n->range, n->azimuth);
     } else if (auto it = last_position_.find(*parent_); it != last_position_.end()) {
-      to_parent = vsub(it->second, position);
+      // Not heard this tick (lost copies, or it drifted out of range behind an obstacle): where it was, moved
+      // on at the velocity it last said it had.
+      const auto heard = ctx.neighbours->last_heard(*parent_).value_or(ctx.tick);
+      const double dt = static_cast<double>(ctx.tick - std::min(heard, ctx.tick)) / ctx.params->tick_rate;
+      to_parent = vsub(vadd(it->second, vscale(last_velocity_[*parent_], dt)), position);
     }
     const Vec2 f_net = net_force(spring(p_.k_o, to_parent), spring(p_.k_o, parent_reference_));  // eq. (5)
     net_force_ = vnorm(f_net);
+    // How far behind along the direction of travel (the parent's velocity): what the leader waits for.
+    if (auto it = last_velocity_.find(*parent_); it != last_velocity_.end() && vnorm(it->second) > 1e-3) {
+      lag_ = std::max(0.0, vdot(f_net, vscale(it->second, 1.0 / vnorm(it->second))));
+    }
     desired = vclamp(f_net, p_.max_speed);
     const auto section = n != nullptr ? section_of(*n) : std::nullopt;
     if (section && section->arrived && net_force_ < p_.arrival_net_force) {
@@ -268,16 +327,56 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
   }
   UltrasonicArray readings = ctx.perception->ultrasonic;
   const auto mask = mask_neighbour_directions(readings, bearings, p_.mask_angle, p_.mask_slack);
-  const auto sense = sense_obstacles(readings, mask, ctx.pose.theta,
-                                     {m, p_.obstacle_range, p_.fusion_range, p_.small_obstacle_width});
+  auto sense = sense_obstacles(readings, mask, ctx.pose.theta,
+                               {m, p_.obstacle_range, p_.fusion_range, p_.small_obstacle_width});
+  // Size latch: once a large obstacle is seen, whatever is seen next without a break of kLargeLatchTicks is
+  // still that obstacle (sliding along a wall, only the side sensor sees it, which alone would read as a
+  // post).
+  constexpr Tick kLargeLatchTicks = 30;
+  if (!wall_.active()) {
+    if (sense.size == ObstacleSize::Large) large_until_ = ctx.tick + kLargeLatchTicks;
+    if (sense.size == ObstacleSize::Small && ctx.tick < large_until_) {
+      sense.size = ObstacleSize::Large;
+      large_until_ = ctx.tick + kLargeLatchTicks;
+    }
+  }
   const bool was_following = wall_.active();
   Vec2 around;
   const WallFollowParams wf{p_.obstacle_range, p_.wall_distance, 0.5, p_.cruise_speed};
-  if (wall_.update(sense, desired, ctx.pose.theta, wf, around)) {
+  const Vec2 o = vpolar(1.0, ctx.pose.theta + sense.nearest_bearing);
+  const int away = side_away_from_neighbours(*ctx.neighbours, o, 1.5 * p_.spacing);
+  // A small obstacle: round it on the side away from the neighbours (the robot leaves the shape and
+  // rejoins it).
+  // The formation's direction of travel: the parent's broadcast velocity (the leader: its own pull).
+  Vec2 travel = desired;
+  if (leader_ != ctx.self && parent_) {
+    if (auto it = last_velocity_.find(*parent_); it != last_velocity_.end() && vnorm(it->second) > 0.01) {
+      travel = it->second;
+    }
+  }
+  if (wall_.update(sense, desired, travel, ctx.pose.theta, wf, around, away)) {
     if (!was_following) out.events.push_back("wall_follow_start");
     return around;
   }
   if (was_following) out.events.push_back("wall_follow_end");
+  // A large one: eq. (6) repulsion, and the part of the desired motion that pushes into the obstacle is
+  // dropped, so the robot slides along it instead of stalling against it; head-on, it slides towards its
+  // neighbours: the perimeter gives way inwards and the shape shrinks on that side.
+  const double f_obs = vnorm(sense.force);
+  const double d_norm = vnorm(desired);
+  if (f_obs > 1e-9 && d_norm > 1e-9) {
+    const Vec2 n = vscale(sense.force, 1.0 / f_obs);
+    const double into = vdot(desired, n);
+    if (into < 0.0) {
+      Vec2 slide = vsub(desired, vscale(n, into));
+      if (vnorm(slide) < 0.5 * d_norm) {
+        const int side = away != 0 ? -away : (vdot(slide, vrotate(n, std::numbers::pi / 2)) >= 0 ? 1 : -1);
+        // Turning "left of o" is turning right of n (n = -o).
+        slide = vadd(slide, vscale(vrotate(n, -side * std::numbers::pi / 2), 0.5 * d_norm));
+      }
+      desired = slide;
+    }
+  }
   return vadd(desired, sense.force);
 }
 

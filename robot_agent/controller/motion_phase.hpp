@@ -9,6 +9,10 @@
 //   Arrived  leader: its place in the shape lies where the goal puts it (the shape's centroid on the goal);
 //            followers: their parent has arrived and |F_net| is small. Formation and obstacle forces are
 //            zero (collision avoidance stays on).
+//            The leader also waits for the shape: its cruise speed is divided by
+//            min(3, 1 + max(0, strain - 2 v_cruise) / strain_scale), where the strain is the largest |F_net|
+//            of the tree, passed up from child to parent in the motion section (the paper is silent; without
+//            it a robot held back by an obstacle may never catch up with a leader at constant speed).
 //   Failures a member silent for `neighbour_timeout` ticks (last heard well inside radio range) is marked
 //            dead in the parents table (value kDeadMark) by whoever noticed; a live robot that finds itself
 //            marked rewrites its own entry. Leader and tree are recomputed from the shared table every
@@ -56,9 +60,13 @@ class PaperMotion final : public MotionPhases {
   Vec2 parent_reference_;                  // eq. (2)'s r0 (cos a0, sin a0), arena frame
   std::map<RobotId, Vec2> references_;     // the same to every neighbour, recorded at the end of Ready
   std::map<RobotId, Vec2> last_position_;  // each neighbour's arena position when last heard
+  std::map<RobotId, Vec2> last_velocity_;  // and the velocity it said it had then
+  Tick large_until_ = 0;                   // a large obstacle was seen lately: no wall-following
+  double children_strain_ = 0.0;           // max strain the children reported (motion_section.hpp)
   std::map<RobotId, Tick> marked_dead_;    // id -> last_heard when we marked it (mark once per silence)
   WallFollower wall_;
   double net_force_ = 0.0;
+  double lag_ = 0.0;  // the part of F_net along the direction of travel (>= 0): this robot's strain
 };
 
 }  // namespace swarmform::controller::motion

@@ -9,7 +9,7 @@ namespace swarmform::controller::motion {
 namespace {
 
 constexpr std::uint8_t kVersion = 1;
-constexpr std::size_t kSize = 18;
+constexpr std::size_t kSize = 22;
 
 void put_u32(std::vector<std::uint8_t>& out, std::uint32_t v) {
   for (int i = 0; i < 4; ++i) out.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
@@ -38,6 +38,7 @@ std::vector<std::uint8_t> encode_motion_section(const MotionSection& s) {
   put_f32(out, s.net_force);
   put_f32(out, s.velocity.x);
   put_f32(out, s.velocity.y);
+  put_f32(out, s.strain);
   return out;
 }
 
@@ -50,7 +51,9 @@ std::optional<MotionSection> decode_motion_section(std::span<const std::uint8_t>
   s.parent = static_cast<std::int32_t>(get_u32(b, 2));
   s.net_force = get_f32(b, 6);
   s.velocity = {get_f32(b, 10), get_f32(b, 14)};
-  if (!std::isfinite(s.net_force) || !std::isfinite(s.velocity.x) || !std::isfinite(s.velocity.y))
+  s.strain = get_f32(b, 18);
+  if (!std::isfinite(s.net_force) || !std::isfinite(s.velocity.x) || !std::isfinite(s.velocity.y) ||
+      !std::isfinite(s.strain))
     return std::nullopt;
   return s;
 }

@@ -63,7 +63,17 @@ ObstacleSense sense_obstacles(const UltrasonicArray& readings, const SensorMask&
       span = std::max(span, vnorm(vsub(pa, pb)));
     }
   }
-  out.size = (lo == hi || span < params.small_obstacle_width) ? ObstacleSize::Small : ObstacleSize::Large;
+  // One sensor: small. Three or more adjacent: large (a post never fills three cones 45 degrees apart).
+  // Two: small only if their echoes are nearly as far (the near side of something round; a plane seen by
+  // two sensors gives readings in the ratio of the cosines, about 1.4 head-on) and close together.
+  const std::size_t run = hi - lo + 1;
+  bool small = run == 1;
+  if (run == 2) {
+    const double ratio =
+        std::max(readings[lo], readings[hi]) / std::max(std::min(readings[lo], readings[hi]), 1e-9);
+    small = ratio < kRoundRatio && span < params.small_obstacle_width;
+  }
+  out.size = small ? ObstacleSize::Small : ObstacleSize::Large;
   return out;
 }
 

@@ -15,10 +15,14 @@
 //   |bearing_j - a_s| < neighbour_mask_angle + atan(robot radius / range_j) (the neighbour's own angular
 //   half-size) AND the echo is no nearer than that neighbour's near side, r_s >= range_j - 2 radius - slack.
 //   An echo clearly nearer than the neighbour is something between us, so it stays.
-// - Size discrimination by ultrasonic fusion: the unmasked echoes nearer than `fusion_range` are turned into
-//   points in the body frame; if they come from one sensor, or the points of the nearest run of adjacent
-//   sensors span less than `small_obstacle_width`, the obstacle is SMALL (the affected robot wall-follows
-//   around it); otherwise it is LARGE (eq. 6 repulsion, the perimeter gives way).
+// - Size discrimination by ultrasonic fusion: take the run of adjacent unmasked sensors whose echoes are
+//   nearer than `fusion_range` and that holds the nearest echo. One sensor: SMALL. Three or more: LARGE (a
+//   post never fills three cones 45 degrees apart). Two: SMALL only if their readings are within
+//   kRoundRatio of each other (the near side of something round; a plane seen head-on by sensors at 0 and
+//   45 degrees reads in the ratio 1 : 1.41) and their echo points lie closer than `small_obstacle_width`.
+//   SMALL: the affected robot wall-follows around it; LARGE: eq. (6) repulsion, the perimeter gives way.
+//   (The motion phase also latches LARGE for a while, so that a wall seen end-on for a tick is not taken
+//   for a post.)
 #pragma once
 
 #include <array>
@@ -43,6 +47,8 @@ SensorMask mask_neighbour_directions(const UltrasonicArray& readings,
                                      double slack);
 
 enum class ObstacleSize { None, Small, Large };
+
+inline constexpr double kRoundRatio = 1.15;
 
 struct ObstacleSense {
   Vec2 force;  // eq. (6), arena frame (already rotated by the robot's heading)

@@ -124,24 +124,24 @@ TEST(WallFollow, GoesRoundASmallObstacleOnTheSideTheFormationLeansToAndLeavesPas
   auto sense = sense_obstacles(r, {}, 0.0, params());
   Vec2 v;
   // The desired motion leans slightly left (+y): go round on the left.
-  ASSERT_TRUE(wf.update(sense, {0.07, 0.01}, 0.0, p, v));
+  ASSERT_TRUE(wf.update(sense, {0.07, 0.01}, {}, 0.0, p, v));
   EXPECT_GT(v.y, 0.06);
   EXPECT_NEAR(v.x, 0.5 * (0.5 - 0.4), 1e-9);  // radial: closing to the wall distance
   // Now beside it (the echo at -90 degrees, robot facing +y while circling), still ahead of the desired +x.
   r = clear();
   r[0] = 0.4;
   sense = sense_obstacles(r, {}, kPi / 2, params());
-  ASSERT_TRUE(wf.update(sense, {0.07, 0.01}, kPi / 2, p, v));  // echo at +x: still ahead
+  ASSERT_TRUE(wf.update(sense, {0.07, 0.01}, {}, kPi / 2, p, v));  // echo at +x: still ahead
   EXPECT_GT(v.y, 0.0);
   // Past it: the echo is behind the desired motion.
   sense = sense_obstacles(r, {}, kPi, params());  // echo at +y... robot facing -x, echo to its right = +y
-  EXPECT_FALSE(wf.update(sense, {0.07, -0.05}, kPi, p, v));
+  EXPECT_FALSE(wf.update(sense, {0.07, -0.05}, {}, kPi, p, v));
   EXPECT_FALSE(wf.active());
   // A large obstacle never starts wall-following.
   r = clear();
   r[2] = 0.5;
   r[1] = r[3] = 0.7;
-  EXPECT_FALSE(wf.update(sense_obstacles(r, {}, 0.0, params()), {0.07, 0}, 0.0, p, v));
+  EXPECT_FALSE(wf.update(sense_obstacles(r, {}, 0.0, params()), {0.07, 0}, {}, 0.0, p, v));
 }
 
 }  // namespace
