@@ -1,0 +1,219 @@
+#!/usr/bin/python3
+"""Issue 6 P2: N agent processes and the world on this machine, realtime mode; prints one JSON line.
+
+  bench/scale/scale_run.py [--robots 256] [--ticks 600] [--scenario bench/scale/realtime.yaml]
+                           [--domain 180] [--connect-timeout 60] [--build-dir build]
+
+What it measures, in one run (agents and world started together, as `scripts/swarm run` does):
+  connect_seconds   from the first agent's spawn until the world had every agent connected. The world says
+                    nothing at that moment, but in realtime mode its clock starts then and its first
+                    `progress tick=T` line comes T periods later, so connected = arrival of that line - T/rate
+                    (read from its stdout as it comes; error ~ a few ms);
+  missed_ticks      the world's own count: its `missed_tick` events in events.jsonl (a live agent's command
+                    for tick t not in before tick t+1; world_server/server.cpp), checked against the
+                    "K missed ticks" line it prints on stderr;
+  rss_mib           VmRSS of every agent (/proc/PID/status) sampled mid-run: max, median, mean; and the world's;
+  cpu               utime+stime (/proc/PID/stat) of the agents together and of the world over the middle of the
+                    run, as % of one core. The agents are idle but for one control step and one DDS round
+                    trip per 100 ms, so the agents' figure is reported as the idle CPU;
+  achieved_ticks_per_second  ticks / wall time from the run's summary.json.
+Every process started here is killed by its pid at the end (and gets PR_SET_PDEATHSIG); every wait has a
+deadline.
+"""
+import argparse
+import ctypes
+import json
+import os
+import signal
+import statistics
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+CLK_TCK = os.sysconf("SC_CLK_TCK")
+_libc = ctypes.CDLL("libc.so.6", use_errno=True)
+
+children = []
+
+
+def _die_with_parent():
+    _libc.prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+
+
+def spawn(argv, **kw):
+    p = subprocess.Popen(argv, preexec_fn=_die_with_parent, **kw)
+    children.append(p)
+    return p
+
+
+def kill_all():
+    for p in children:
+        if p.poll() is None:
+            try:
+                os.kill(p.pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+    for p in children:
+        try:
+            p.wait(timeout=5)
+        except subprocess.TimeoutExpired:
+            pass
+    children.clear()
+
+
+def cpu_seconds(pid):
+    """utime + stime of a live process, in seconds (None when it is gone)."""
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            fields = f.read().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / CLK_TCK
+    except (OSError, IndexError, ValueError):
+        return None
+
+
+def rss_mib(pid):
+    try:
+        with open(f"/proc/{pid}/status") as f:
+            for line in f:
+                if line.startswith("VmRSS:"):
+                    return int(line.split()[1]) / 1024.0
+    except OSError:
+        return None
+    return None
+
+
+def read_world(world, lines, first_progress):
+    """Reads the world's stdout as it comes; notes when the first progress line arrived."""
+    for line in world.stdout:
+        now = time.monotonic()
+        lines.append(line.rstrip("\n"))
+        if not first_progress and line.startswith("progress tick="):
+            first_progress.append((now, int(line.split()[1].split("=")[1])))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__)
+    ap.add_argument("--robots", type=int, default=256)
+    ap.add_argument("--ticks", type=int, default=600)
+    ap.add_argument("--scenario", default=os.path.join(ROOT, "bench", "scale", "realtime.yaml"))
+    ap.add_argument("--domain", type=int, default=180, help="DDS domain id (0..232)")
+    ap.add_argument("--connect-timeout", type=float, default=60.0)
+    ap.add_argument("--build-dir", default=os.environ.get("BUILD_DIR", os.path.join(ROOT, "build")))
+    a = ap.parse_args()
+    if a.robots < 1 or a.ticks < 20 or not 0 <= a.domain <= 232:
+        print("scale_run: --robots >= 1, --ticks >= 20, --domain 0..232", file=sys.stderr)
+        return 2
+    world_exe = os.path.join(a.build_dir, "world_server", "world_server")
+    agent_exe = os.path.join(a.build_dir, "robot_agent", "robot_agent")
+    for exe in (world_exe, agent_exe):
+        if not os.access(exe, os.X_OK):
+            print(f"scale_run: {exe} is missing (build it, or pass --build-dir)", file=sys.stderr)
+            return 2
+    check = subprocess.run([world_exe, "--check", "--scenario", a.scenario, "--robots", str(a.robots)],
+                           capture_output=True, text=True, timeout=60)
+    if check.returncode != 0:
+        print(check.stderr.strip(), file=sys.stderr)
+        return 2
+    rate = None
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
+    try:
+        with tempfile.TemporaryDirectory(prefix="bench-scale-") as tmp:
+            run_dir = os.path.join(tmp, "run")
+            timeout = a.connect_timeout + 10
+            t0 = time.monotonic()
+            agents = [spawn([agent_exe, "--id", str(i), "--domain", str(a.domain), "--timeout", str(timeout)],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL) for i in range(a.robots)]
+            spawned = time.monotonic() - t0
+            world_err = open(os.path.join(tmp, "world.err"), "w+")
+            world = spawn([world_exe, "--scenario", a.scenario, "--robots", str(a.robots), "--mode", "realtime",
+                           "--max-ticks", str(a.ticks), "--out", run_dir, "--domain", str(a.domain),
+                           "--connect-timeout", str(a.connect_timeout)],
+                          stdout=subprocess.PIPE, stderr=world_err, text=True)
+            lines, first = [], []
+            reader = threading.Thread(target=read_world, args=(world, lines, first), daemon=True)
+            reader.start()
+            with open(a.scenario) as f:
+                rate = 10.0
+                for line in f:
+                    if line.startswith("tick_rate:"):
+                        rate = float(line.split(":", 1)[1].split("#")[0])
+            # Wait for the first progress line (the run started), with a deadline.
+            deadline = time.monotonic() + a.connect_timeout + 5
+            while not first and world.poll() is None and time.monotonic() < deadline:
+                time.sleep(0.02)
+            if not first:
+                raise RuntimeError(f"the world did not start ticking (exit {world.poll()}); "
+                                   f"last lines: {lines[-3:]}")
+            connect_seconds = first[0][0] - first[0][1] / rate - t0
+            # CPU over the middle of the run: from 20% to 80% of its ticks; RSS sampled at the end of it.
+            run_seconds = a.ticks / rate
+            started = first[0][0] - first[0][1] / rate
+            time.sleep(max(0.0, started + 0.2 * run_seconds - time.monotonic()))
+            pids = [p.pid for p in agents]
+            c0 = [cpu_seconds(p) for p in pids]
+            w0 = cpu_seconds(world.pid)
+            m0 = time.monotonic()
+            time.sleep(max(0.0, started + 0.8 * run_seconds - time.monotonic()))
+            c1 = [cpu_seconds(p) for p in pids]
+            w1 = cpu_seconds(world.pid)
+            window = time.monotonic() - m0
+            rss = [r for r in (rss_mib(p) for p in pids) if r is not None]
+            world_rss = rss_mib(world.pid)
+            live = [(b - a_) for a_, b in zip(c0, c1) if a_ is not None and b is not None]
+            try:
+                world.wait(timeout=run_seconds + 60)
+            except subprocess.TimeoutExpired:
+                raise RuntimeError("the world did not finish in time")
+            reader.join(timeout=5)
+            world_err.seek(0)
+            err = world_err.read()
+            if world.returncode != 0:
+                raise RuntimeError(f"world_server exited {world.returncode}: {err.strip()[-500:]}")
+            with open(os.path.join(run_dir, "summary.json")) as f:
+                summary = json.load(f)
+            missed = 0
+            with open(os.path.join(run_dir, "events.jsonl")) as f:
+                for line in f:
+                    if json.loads(line).get("kind") == "missed_tick":
+                        missed += 1
+            said = 0
+            for line in err.splitlines():
+                if line.endswith("missed ticks (see events)"):
+                    said = int(line.split()[1])
+            if said != missed:
+                raise RuntimeError(f"the world said {said} missed ticks, its events hold {missed}")
+            result = {
+                "robots": a.robots, "ticks": summary["ticks"], "tick_rate": rate, "behaviour": "random_walk",
+                "spawn_seconds": round(spawned, 3),
+                "connect_seconds": round(connect_seconds, 3),
+                "missed_ticks": missed,
+                "achieved_ticks_per_second": summary["ticks_per_second"],
+                "rss_mib": {"agents_max": round(max(rss), 2) if rss else None,
+                            "agents_median": round(statistics.median(rss), 2) if rss else None,
+                            "agents_mean": round(statistics.mean(rss), 2) if rss else None,
+                            "agents_sampled": len(rss),
+                            "world": round(world_rss, 2) if world_rss is not None else None},
+                "cpu_percent_of_one_core": {
+                    "agents_total": round(100.0 * sum(live) / window, 1),
+                    "agent_mean": round(100.0 * sum(live) / window / max(1, len(live)), 3),
+                    "world": round(100.0 * (w1 - w0) / window, 1) if w0 is not None and w1 is not None
+                    else None,
+                    "window_seconds": round(window, 1)},
+            }
+    except KeyboardInterrupt:
+        return 130
+    except (RuntimeError, OSError, ValueError, KeyError) as e:
+        print(f"scale_run: {e}", file=sys.stderr)
+        return 1
+    finally:
+        kill_all()
+    print(json.dumps(result), flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

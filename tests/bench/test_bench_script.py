@@ -1,0 +1,78 @@
+"""scripts/bench --quick: every part runs and bench.json holds well-formed, positive, finite figures.
+
+No speed is asserted (a quick run on a shared 2-core machine measures nothing); a part that breaks (a program
+that no longer starts, a changed output format, a world that stops counting missed ticks) fails here.
+Domains 216..224 are this test's own.
+"""
+import json
+import math
+import os
+import subprocess
+import tempfile
+import unittest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def positive(x):
+    return isinstance(x, (int, float)) and math.isfinite(x) and x > 0
+
+
+class BenchScript(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory(prefix="bench-test-")
+        cls.out = os.path.join(cls.tmp.name, "bench.json")
+        cls.proc = subprocess.run([os.path.join(ROOT, "scripts", "bench"), "--quick", "--out", cls.out,
+                                   "--domain", "216"], capture_output=True, text=True, timeout=150)
+        cls.doc = None
+        if os.path.exists(cls.out):
+            with open(cls.out) as f:
+                cls.doc = json.load(f)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_runs_and_prints_the_table(self):
+        self.assertEqual(self.proc.returncode, 0, self.proc.stderr)
+        for heading in ("P1 lockstep", "P2 scale", "P3 in-process", "wrote "):
+            self.assertIn(heading, self.proc.stdout)
+
+    def test_machine_and_targets_recorded(self):
+        self.assertIsNotNone(self.doc)
+        m = self.doc["machine"]
+        self.assertTrue(positive(m["nproc"]) and positive(m["ram_gib"]) and m["cpu_model"])
+        self.assertEqual(self.doc["targets"]["p1_ratio_at_64"], 0.7)
+        self.assertTrue(self.doc["quick"])
+
+    def test_p1_ratio_is_emulator_over_bare(self):
+        rows = self.doc["parts"]["p1"]["results"]
+        self.assertEqual([r["robots"] for r in rows], [4, 8])
+        for r in rows:
+            self.assertTrue(positive(r["emulator_ticks_per_second"]) and positive(r["bare_rounds_per_second"]))
+            self.assertAlmostEqual(r["ratio"], r["emulator_ticks_per_second"] / r["bare_rounds_per_second"],
+                                   delta=0.01 * r["ratio"] + 0.002)
+
+    def test_p2_figures(self):
+        p2 = self.doc["parts"]["p2"]
+        self.assertEqual((p2["robots"], p2["ticks"]), (8, 30))
+        self.assertTrue(positive(p2["connect_seconds"]) and p2["connect_seconds"] < 60)
+        self.assertIsInstance(p2["missed_ticks"], int)
+        self.assertGreaterEqual(p2["missed_ticks"], 0)
+        self.assertEqual(p2["rss_mib"]["agents_sampled"], 8)
+        self.assertTrue(positive(p2["rss_mib"]["agents_max"]) and positive(p2["rss_mib"]["world"]))
+        self.assertGreaterEqual(p2["cpu_percent_of_one_core"]["agents_total"], 0)
+
+    def test_p3_figures(self):
+        rows = self.doc["parts"]["p3"]["results"]
+        self.assertEqual([(r["robots"], r["behaviour"]) for r in rows], [(100, "paper"), (100, "random_walk")])
+        for r in rows:
+            self.assertTrue(all(positive(x) for x in r["samples"]))
+            self.assertEqual(r["best"], max(r["samples"]))
+            self.assertTrue(all(positive(v) for v in r["split_us_per_robot_tick"].values()))
+            self.assertGreater(r["messages_per_robot"], 0)
+
+
+if __name__ == "__main__":
+    unittest.main()
