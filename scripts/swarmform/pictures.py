@@ -7,7 +7,8 @@
   shape_error.png       shape error (RMS after a rigid fit, grid units) over time
   animation.mp4/.gif    the whole run (animation.py)
 
-Every figure has a fixed pixel size (PICTURE_SIZES), so a README or a test can rely on it.
+Every figure has a known pixel size (picture_size): the arena figures are 900 px wide and as tall as the view
+needs at equal scales; the plots have fixed sizes (PICTURE_SIZES); the videos too (animation.py).
 """
 
 import os
@@ -20,12 +21,20 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
 
-from . import animation, geometry  # noqa: E402
+from . import animation, geometry, scene  # noqa: E402
 from .scene import Scene, draw_static  # noqa: E402
 
 DPI = 100
-PICTURE_SIZES = {"snapshot": (900, 600), "trajectories": (900, 600), "residual_force": (900, 800),
-                 "shape_error": (900, 450)}
+PICTURE_SIZES = {"residual_force": (900, 800), "shape_error": (900, 450)}
+
+
+def picture_size(rec, kind):
+    """(width, height) px of a picture: "snapshot", "trajectories", "residual_force" or "shape_error"."""
+    if kind == "snapshot":
+        return scene.arena_figure_size(geometry.view_bounds(rec), scene.LEGEND_AXES)
+    if kind == "trajectories":
+        return scene.arena_figure_size(geometry.view_bounds(rec), scene.PLAIN_AXES)
+    return PICTURE_SIZES[kind]
 
 
 class PictureError(Exception):
@@ -74,15 +83,15 @@ def render_all(rec, out_dir=None, extra_ticks=(), animate=True, log=print):
             os.remove(os.path.join(out_dir, name))
     written = []
     ticks = snapshot_ticks(rec, extra_ticks)
-    scene = Scene(rec, PICTURE_SIZES["snapshot"], DPI)
+    view = Scene(rec, picture_size(rec, "snapshot"), DPI)
     try:
         for tick, caption in ticks:
-            scene.show(rec.track.index_of(tick), caption)
+            view.show(rec.track.index_of(tick), caption)
             path = os.path.join(out_dir, f"snapshot_t{tick:05d}.png")
-            scene.fig.savefig(path, dpi=DPI)
+            view.fig.savefig(path, dpi=DPI)
             written.append(path)
     finally:
-        scene.close()
+        view.close()
     written.append(trajectories(rec, os.path.join(out_dir, "trajectories.png")))
     written.append(residual_force(rec, os.path.join(out_dir, "residual_force.png")))
     written.append(shape_error(rec, os.path.join(out_dir, "shape_error.png")))
@@ -91,9 +100,8 @@ def render_all(rec, out_dir=None, extra_ticks=(), animate=True, log=print):
     return written
 
 
-def _figure(kind):
-    w, h = PICTURE_SIZES[kind]
-    return plt.figure(figsize=(w / DPI, h / DPI), dpi=DPI)
+def _figure(size):
+    return plt.figure(figsize=(size[0] / DPI, size[1] / DPI), dpi=DPI)
 
 
 def _save(fig, path):
@@ -105,8 +113,9 @@ def _save(fig, path):
 def trajectories(rec, path):
     """Fig. 10: each robot's path from start (circle) to end (square; a cross where it died)."""
     t = rec.track
-    fig = _figure("trajectories")
-    ax = fig.add_axes([0.08, 0.09, 0.88, 0.82])
+    size = picture_size(rec, "trajectories")
+    fig = _figure(size)
+    ax = fig.add_axes(scene.arena_axes_rect(size, scene.PLAIN_AXES))
     draw_static(ax, rec.world, geometry.view_bounds(rec))
     cmap = plt.get_cmap("tab10" if t.robots <= 10 else "tab20")  # tab20 pairs look alike: only when needed
     for k in range(t.robots):
@@ -133,7 +142,7 @@ def residual_force(rec, path):
     start = t.index_of(ph["motion"]) if ph["motion"] is not None else 0
     sel = np.arange(start, len(t.ticks))
     sel = sel[np.isfinite(centre[sel]).all(axis=1)]
-    fig = _figure("residual_force")
+    fig = _figure(PICTURE_SIZES["residual_force"])
     ax = fig.add_axes([0.08, 0.42, 0.80, 0.52])
     cax = fig.add_axes([0.90, 0.42, 0.02, 0.52])
     draw_static(ax, rec.world, geometry.view_bounds(rec))
@@ -167,7 +176,7 @@ def residual_force(rec, path):
 def shape_error(rec, path):
     """Shape error (SPEC section 6) over time, with the formation, motion-start and goal ticks marked."""
     ticks, errors = geometry.distortion_series(rec)
-    fig = _figure("shape_error")
+    fig = _figure(PICTURE_SIZES["shape_error"])
     ax = fig.add_axes([0.08, 0.13, 0.88, 0.77])
     ax.set_xlabel("tick")
     ax.set_ylabel("shape error (grid units)")

@@ -29,6 +29,27 @@ OBSTACLE_COLOUR = "#6d4c41"
 WALL_COLOUR = "#424242"
 
 
+# Arena figures (snapshots, trajectories) are 900 px wide and as tall as the view needs at equal scales
+# (clamped), so a wide arena does not leave half the picture blank. Margins in pixels: axis labels, caption.
+ARENA_WIDTH_PX = 900
+MARGIN_BOTTOM_PX, MARGIN_TOP_PX = 55, 45
+LEGEND_AXES = (0.07, 0.74)  # left, width (fractions): room for the legend on the right
+PLAIN_AXES = (0.08, 0.88)
+
+
+def arena_figure_size(bounds, axes=LEGEND_AXES, width_px=ARENA_WIDTH_PX, min_h=360, max_h=900):
+    """(width, height) px of a figure whose axes (left, width fractions) show `bounds` at equal scales."""
+    x0, x1, y0, y1 = bounds
+    h = width_px * axes[1] * (y1 - y0) / (x1 - x0) + MARGIN_BOTTOM_PX + MARGIN_TOP_PX
+    h = int(round(min(max(h, min_h), max_h)))
+    return width_px, h + h % 2
+
+
+def arena_axes_rect(size_px, axes=LEGEND_AXES):
+    h = size_px[1]
+    return [axes[0], MARGIN_BOTTOM_PX / h, axes[1], (h - MARGIN_BOTTOM_PX - MARGIN_TOP_PX) / h]
+
+
 def state_colours(states):
     return [STATE_COLOURS.get(int(s), UNKNOWN_COLOUR) for s in states]
 
@@ -77,11 +98,14 @@ def legend_handles(states_present):
 class Scene:
     """A figure of the arena whose robots can be shown at any recorded tick."""
 
-    def __init__(self, rec, size_px=(900, 600), dpi=100, legend=True):
+    def __init__(self, rec, size_px=None, dpi=100, legend=True):
+        """size_px None: 900 px wide and as tall as the view needs (arena_figure_size)."""
         self.rec = rec
-        self.fig = plt.figure(figsize=(size_px[0] / dpi, size_px[1] / dpi), dpi=dpi)
-        self.ax = self.fig.add_axes([0.07, 0.09, 0.74 if legend else 0.9, 0.82])
         self.bounds = view_bounds(rec)
+        axes = LEGEND_AXES if legend else PLAIN_AXES
+        self.size_px = size_px or arena_figure_size(self.bounds, axes)
+        self.fig = plt.figure(figsize=(self.size_px[0] / dpi, self.size_px[1] / dpi), dpi=dpi)
+        self.ax = self.fig.add_axes(arena_axes_rect(self.size_px, axes))
         draw_static(self.ax, rec.world, self.bounds)
         if legend:
             present = set(int(s) for s in np.unique(rec.track.state)) | {1, 4, 5}

@@ -36,9 +36,12 @@ class PicturesTest(unittest.TestCase):
         self.assertIn("snapshot_t00079.png", expected)
         self.assertGreaterEqual(len(expected), 7)  # start, formation, motion, 3 during, end (+ 33)
         for name in expected:
-            self.assertEqual(helpers.png_size(os.path.join(out, name)), pictures.PICTURE_SIZES["snapshot"], name)
+            self.assertEqual(helpers.png_size(os.path.join(out, name)), pictures.picture_size(rec, "snapshot"), name)
         for kind in ("trajectories", "residual_force", "shape_error"):
-            self.assertEqual(helpers.png_size(os.path.join(out, kind + ".png")), pictures.PICTURE_SIZES[kind])
+            self.assertEqual(helpers.png_size(os.path.join(out, kind + ".png")), pictures.picture_size(rec, kind))
+        w, h = pictures.picture_size(rec, "snapshot")
+        self.assertEqual(w, 900)
+        self.assertTrue(360 <= h <= 900 and h % 2 == 0, h)
         names = sorted(os.listdir(out))
         self.assertEqual(names, sorted(expected + ["trajectories.png", "residual_force.png", "shape_error.png",
                                                    "animation.mp4", "animation.gif"]))
