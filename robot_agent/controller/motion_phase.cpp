@@ -78,7 +78,8 @@ PaperMotion::PaperMotion(const FormationParams& params) : p_(motion_params(param
 
 void PaperMotion::on_ready(const FormationContext& ctx) {
   state_ = RobotState::Ready;
-  ready_tick_ = ctx.tick;
+  ready_tick_ = ctx.ready_tick;
+  started_ = true;
   boundary_written_ = false;
   leader_.reset();
   parent_.reset();
@@ -92,6 +93,9 @@ void PaperMotion::on_ready(const FormationContext& ctx) {
 }
 
 MotionStep PaperMotion::step(const FormationContext& ctx) {
+  // The hook promises on_ready before the first step; a caller that skips it (or enters Ready again, a new
+  // ready_tick) still gets a clean Ready phase.
+  if (!started_ || ctx.ready_tick != ready_tick_) on_ready(ctx);
   MotionStep out;
   for (const auto& [id, n] : ctx.neighbours->all()) {
     if (ctx.neighbours->fresh(id)) {

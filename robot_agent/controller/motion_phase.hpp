@@ -53,7 +53,8 @@ class PaperMotion final : public MotionPhases {
 
   MotionParams p_;
   RobotState state_ = RobotState::Ready;
-  Tick ready_tick_ = 0;
+  bool started_ = false;  // on_ready has run
+  Tick ready_tick_ = 0;   // FormationContext::ready_tick of this Ready phase
   bool boundary_written_ = false;
   std::optional<RobotId> leader_;
   std::optional<RobotId> parent_;
