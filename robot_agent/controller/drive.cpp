@@ -15,9 +15,22 @@ constexpr double kTurnGain = 3.0;
 }  // namespace
 
 double wrap_angle(double a) {
-  if (!std::isfinite(a)) return 0.0;
-  a = std::remainder(a, 2.0 * std::numbers::pi);  // [-pi, pi]
-  if (a <= -std::numbers::pi) a += 2.0 * std::numbers::pi;
+  constexpr double kPi = std::numbers::pi;
+  constexpr double kTwoPi = 2.0 * std::numbers::pi;
+  // Fast paths, bit-identical to std::remainder (which costs ~100 instructions and was 7% of an in-process
+  // tick at N=1000): for |a| <= pi it returns a; for pi < |a| < 2.5 pi it takes exactly one 2 pi off, and
+  // that subtraction is exact in floating point there (Sterbenz). Sums of two wrapped angles land here.
+  if (a > -kPi && a <= kPi) return a;
+  if (a > kPi && a < 2.5 * kPi) {
+    a -= kTwoPi;
+  } else if (a < -kPi && a > -2.5 * kPi) {
+    a += kTwoPi;
+    if (a == 0.0) a = -0.0;  // remainder keeps the sign of a: wrap(-2 pi) is -0
+  } else {
+    if (!std::isfinite(a)) return 0.0;
+    a = std::remainder(a, kTwoPi);  // [-pi, pi]
+  }
+  if (a <= -kPi) a += kTwoPi;
   return a;
 }
 
