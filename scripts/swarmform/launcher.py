@@ -341,16 +341,20 @@ def run(args, render_pictures):
         with open(os.path.join(logs, "world_console.log"), "ab") as console_log:
             procs.start_world(cmd)
             done = _follow(procs.world, stop, status, console_log, max_ticks)
+            while procs.world.poll() is None and not stop:  # its output closed; it should be exiting
+                time.sleep(0.1)
         status.end()
         if stop:
             return _interrupted(procs, stop, status, run_dir)
-        code = procs.world.wait()
+        code = procs.world.returncode
         stragglers = procs.wait_agents(AGENT_EXIT_DEADLINE_S)
         if stragglers:
             status.line(f"swarm: {stragglers} agent(s) still running {AGENT_EXIT_DEADLINE_S:.0f} s after the world "
                         "ended were killed")
         if code != 0:
             status.line(f"swarm: world_server failed (exit {code}); its output is in {logs}/world_console.log")
+            if os.path.exists(os.path.join(run_dir, "robots.csv")):
+                status.line(f"swarm: what it recorded can be drawn: scripts/swarm replay {run_dir}")
             return code if code > 0 else 1
         ticks = done[0] if done else "?"
         status.line(f"swarm: {ticks} ticks in {time.monotonic() - started:.1f} s; run directory {run_dir}")
@@ -403,6 +407,8 @@ def _run_in_process(args, stop, status, render_pictures):
         procs.world.stdout = procs.world.stderr  # _follow reads .stdout
         try:
             _follow(procs.world, stop, status, console_log, args.max_ticks, prefix="in-process")
+            while procs.world.poll() is None and not stop:
+                time.sleep(0.1)
         finally:
             status.end()
             code = procs.stop_world(WORLD_STOP_DEADLINE_S) if stop else procs.world.wait()
