@@ -83,8 +83,9 @@ def _add_run_flags(p, demo=False):
     if not demo:
         p.add_argument("--scenario", type=_existing_file(), default=None, metavar="FILE",
                        help=f"scenario file (YAML; scenarios/README.md). Default: {DEFAULT_SCENARIO}")
-    p.add_argument("--shape", type=_existing_file(), metavar="FILE",
-                   help="shape matrix file, instead of the scenario's (shapes/README.md)")
+    p.add_argument("--shape", metavar="FILE",  # the world resolves it (also against shapes/) and checks it
+                   help="shape matrix file, instead of the scenario's (shapes/README.md); a bare name is "
+                        "looked up in shapes/")
     p.add_argument("--robots", type=_int_at_least(1), metavar="N",
                    help="number of robots (default: the scenario's, or the shape's label count)")
     p.add_argument("--seed", type=_int_at_least(0), metavar="S", help="random seed (placement, noise)")
