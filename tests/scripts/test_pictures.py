@@ -2,6 +2,7 @@
 count, a GIF small enough for a README, and a long run rendered fast."""
 
 import os
+import resource
 import shutil
 import tempfile
 import time
@@ -126,16 +127,23 @@ class GifLimitTest(unittest.TestCase):
             shutil.rmtree(d)
 
 
+def cpu_seconds():
+    me, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return me.ru_utime + me.ru_stime + children.ru_utime + children.ru_stime
+
+
 class SpeedTest(unittest.TestCase):
     def test_3000_ticks_of_30_robots_render_well_under_a_minute(self):
         d = tempfile.mkdtemp(prefix="swarm-speed-")
         try:
             fixture.make_run(d, ticks=3000, robots=30, death=(4, 1500))
-            start = time.monotonic()
+            # CPU time (ours and ffmpeg's), not wall time: the test must not fail because the machine is busy.
+            start, cpu0 = time.monotonic(), cpu_seconds()
             written = pictures.render_all(recording.load(d), log=lambda m: None)
-            seconds = time.monotonic() - start
-            print(f"\n3000 ticks x 30 robots: every picture and the animation in {seconds:.1f} s")
-            self.assertLess(seconds, 40.0)
+            cpu, seconds = cpu_seconds() - cpu0, time.monotonic() - start
+            print(f"\n3000 ticks x 30 robots: every picture and the animation in {seconds:.1f} s "
+                  f"({cpu:.1f} s of CPU)")
+            self.assertLess(cpu, 40.0)
             _, _, n = helpers.video_frames(os.path.join(d, "pictures", "animation.mp4"))
             self.assertEqual(n, animation.MAX_FRAMES)
             self.assertEqual(len(written), 12)
