@@ -89,6 +89,8 @@ void PaperMotion::on_ready(const FormationContext& ctx) {
   large_until_ = 0;
   marked_dead_.clear();
   wall_.reset();
+  echoes_.clear();
+  slide_side_ = 0;
   net_force_ = 0.0;
 }
 
@@ -346,7 +348,8 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
   }
   const bool was_following = wall_.active();
   Vec2 around;
-  const WallFollowParams wf{p_.obstacle_range, p_.wall_distance, 0.5, p_.cruise_speed};
+  const WallFollowParams wf{p_.obstacle_range, p_.wall_distance, 0.5, p_.cruise_speed,
+                            p_.small_obstacle_width / 2};
   const Vec2 o = vpolar(1.0, ctx.pose.theta + sense.nearest_bearing);
   const int away = side_away_from_neighbours(*ctx.neighbours, o, 1.5 * p_.spacing);
   // A small obstacle: round it on the side away from the neighbours (the robot leaves the shape and
@@ -358,7 +361,7 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
       travel = it->second;
     }
   }
-  if (wall_.update(sense, desired, travel, ctx.pose.theta, wf, around, away)) {
+  if (wall_.update(sense, desired, travel, ctx.pose, wf, around, away)) {
     if (!was_following) out.events.push_back("wall_follow_start");
     return around;
   }
@@ -366,7 +369,16 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
   // A large one: eq. (6) repulsion, and the part of the desired motion that pushes into the obstacle is
   // dropped, so the robot slides along it instead of stalling against it; head-on, it slides towards its
   // neighbours: the perimeter gives way inwards and the shape shrinks on that side.
+  // eq. (6) over the echoes remembered for a moment (obstacle_forces.hpp: EchoMemory).
+  constexpr Tick kEchoMemoryTicks = 15;
+  echoes_.add(readings, mask, ctx.pose, ctx.tick, p_.obstacle_range);
+  sense.force = echoes_.force(position, ctx.tick, m, p_.obstacle_range, kEchoMemoryTicks);
   const double f_obs = vnorm(sense.force);
+  if (f_obs > 1e-9) {
+    last_obstacle_tick_ = ctx.tick;
+  } else if (ctx.tick > last_obstacle_tick_ + kEchoMemoryTicks) {
+    slide_side_ = 0;
+  }
   const double d_norm = vnorm(desired);
   if (f_obs > 1e-9 && d_norm > 1e-9) {
     const Vec2 n = vscale(sense.force, 1.0 / f_obs);
@@ -374,9 +386,14 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
     if (into < 0.0) {
       Vec2 slide = vsub(desired, vscale(n, into));
       if (vnorm(slide) < 0.5 * d_norm) {
-        const int side = away != 0 ? -away : (vdot(slide, vrotate(n, std::numbers::pi / 2)) >= 0 ? 1 : -1);
-        // Turning "left of o" is turning right of n (n = -o).
-        slide = vadd(slide, vscale(vrotate(n, -side * std::numbers::pi / 2), 0.5 * d_norm));
+        // The side is judged against the remembered obstacle (-n, stable while the robot turns) and kept
+        // until the obstacle is gone, so that a robot never swings from one side to the other.
+        if (slide_side_ == 0) {
+          const int toward = side_away_from_neighbours(*ctx.neighbours, vscale(n, -1.0), 1.5 * p_.spacing);
+          slide_side_ = toward != 0 ? -toward : (vdot(slide, vrotate(n, std::numbers::pi / 2)) >= 0 ? -1 : 1);
+        }
+        // +1: left of the obstacle direction -n, i.e. n turned by -pi/2.
+        slide = vadd(slide, vscale(vrotate(n, -slide_side_ * std::numbers::pi / 2), 0.5 * d_norm));
       }
       desired = slide;
     }

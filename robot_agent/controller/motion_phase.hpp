@@ -25,6 +25,7 @@
 
 #include "robot_agent/controller/motion_hooks.hpp"
 #include "robot_agent/controller/motion_params.hpp"
+#include "robot_agent/controller/obstacle_forces.hpp"
 #include "robot_agent/controller/wall_follow.hpp"
 
 namespace swarmform::controller::motion {
@@ -66,6 +67,9 @@ class PaperMotion final : public MotionPhases {
   double children_strain_ = 0.0;           // max strain the children reported (motion_section.hpp)
   std::map<RobotId, Tick> marked_dead_;    // id -> last_heard when we marked it (mark once per silence)
   WallFollower wall_;
+  EchoMemory echoes_;
+  int slide_side_ = 0;  // head-on give-way side, kept while the obstacle is near (0: none yet)
+  Tick last_obstacle_tick_ = 0;
   double net_force_ = 0.0;
   double lag_ = 0.0;  // the part of F_net along the direction of travel (>= 0): this robot's strain
 };

@@ -1,6 +1,8 @@
 #include "robot_agent/controller/obstacle_forces.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "robot_agent/controller/motion_math.hpp"
 
@@ -75,6 +77,41 @@ ObstacleSense sense_obstacles(const UltrasonicArray& readings, const SensorMask&
   }
   out.size = small ? ObstacleSize::Small : ObstacleSize::Large;
   return out;
+}
+
+void EchoMemory::add(const UltrasonicArray& readings, const SensorMask& mask, const Pose2D& pose, Tick tick,
+                     double max_range) {
+  for (std::size_t s = 0; s < kUltrasonicCount; ++s) {
+    if (mask[s] || readings[s] >= max_range) continue;
+    const double from_centre = std::max(readings[s], kUltrasonicMinRange) + kRobotRadius;
+    echoes_.push_back({vadd({pose.x, pose.y}, vpolar(from_centre, pose.theta + kUltrasonicAngles[s])), tick});
+  }
+}
+
+Vec2 EchoMemory::force(Vec2 position, Tick tick, double m, double obstacle_range, Tick max_age) {
+  std::erase_if(echoes_, [&](const Echo& e) { return e.tick + max_age < tick; });
+  constexpr int kSectors = 8;
+  std::array<double, kSectors> nearest;
+  nearest.fill(obstacle_range);
+  std::array<Vec2, kSectors> direction{};
+  for (const auto& e : echoes_) {
+    const Vec2 rel = vsub(e.point, position);
+    const double r = std::max(vnorm(rel) - kRobotRadius, kUltrasonicMinRange);
+    if (r >= obstacle_range) continue;
+    const double a = std::atan2(rel.y, rel.x);
+    const int k =
+        static_cast<int>(std::floor((a + std::numbers::pi) / (2 * std::numbers::pi) * kSectors)) % kSectors;
+    if (r < nearest[static_cast<std::size_t>(k)]) {
+      nearest[static_cast<std::size_t>(k)] = r;
+      direction[static_cast<std::size_t>(k)] = vpolar(1.0, a);
+    }
+  }
+  Vec2 f;
+  for (std::size_t k = 0; k < kSectors; ++k) {
+    if (nearest[k] >= obstacle_range) continue;
+    f = vsub(f, vscale(direction[k], m * (1.0 / nearest[k] - 1.0 / obstacle_range)));  // eq. (6)
+  }
+  return f;
 }
 
 }  // namespace swarmform::controller::motion

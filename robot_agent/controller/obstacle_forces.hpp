@@ -69,4 +69,25 @@ struct ObstacleParams {
 ObstacleSense sense_obstacles(const UltrasonicArray& readings, const SensorMask& mask, double theta,
                               const ObstacleParams& params);
 
+// eq. (6) with a short memory. A differential-drive robot turns while it avoids, and its five cones sweep:
+// an obstacle beside it is seen one tick and lost the next, and a force that comes and goes makes the robot
+// dither on the spot. So the echoes of the last `max_age` ticks are kept as points in the arena frame, and
+// eq. (6) sums, over eight 45-degree sectors around the robot, the nearest remembered echo of each sector
+// (like eight sensors all round, each reading what was last seen there). Masked directions (Algorithm 2)
+// are never remembered.
+class EchoMemory {
+ public:
+  void add(const UltrasonicArray& readings, const SensorMask& mask, const Pose2D& pose, Tick tick,
+           double max_range);
+  Vec2 force(Vec2 position, Tick tick, double m, double obstacle_range, Tick max_age);
+  void clear() { echoes_.clear(); }
+
+ private:
+  struct Echo {
+    Vec2 point;  // arena frame, on the obstacle's surface
+    Tick tick;
+  };
+  std::vector<Echo> echoes_;
+};
+
 }  // namespace swarmform::controller::motion

@@ -8,42 +8,43 @@
 
 namespace swarmform::controller::motion {
 
-bool WallFollower::update(const ObstacleSense& sense, Vec2 desired, Vec2 travel, double theta,
+bool WallFollower::update(const ObstacleSense& sense, Vec2 desired, Vec2 travel, const Pose2D& pose,
                           const WallFollowParams& params, Vec2& velocity, int side_hint) {
-  const bool seen = sense.size != ObstacleSize::None && sense.nearest < kUltrasonicMaxRange;
+  const Vec2 position{pose.x, pose.y};
   const double d_norm = vnorm(desired);
-  const Vec2 d_hat = d_norm > 1e-9 ? vscale(desired, 1.0 / d_norm) : vpolar(1.0, theta);
-  const Vec2 t_hat = vnorm(travel) > 1e-9 ? vscale(travel, 1.0 / vnorm(travel)) : d_hat;
-  double distance = sense.nearest;
-  if (seen) {
-    last_o_ = vpolar(1.0, theta + sense.nearest_bearing);  // towards the nearest echo, arena frame
-    unseen_ = 0;
-  }
+  const Vec2 d_hat = d_norm > 1e-9 ? vscale(desired, 1.0 / d_norm) : vpolar(1.0, pose.theta);
+  const Vec2 t_hat = vnorm(travel) > 1e-9 ? vscale(travel, 1.0 / vnorm(travel)) : (active_ ? travel_ : d_hat);
 
   if (!active_) {
-    // Only what the front sensors see blocks the way (something seen only at +-90 degrees is beside us).
-    const bool in_front = std::abs(sense.nearest_bearing) < 1.0;
-    const bool ahead = vdot(last_o_, d_hat) > 0.0 && vdot(last_o_, t_hat) > 0.0;
-    if (!seen || sense.size != ObstacleSize::Small || sense.nearest >= params.enter_range || !ahead ||
-        !in_front) {
+    const bool seen = sense.size != ObstacleSize::None && sense.nearest < kUltrasonicMaxRange;
+    if (!seen) return false;
+    const Vec2 o = vpolar(1.0, pose.theta + sense.nearest_bearing);  // towards the echo, arena frame
+    const bool in_front = std::abs(sense.nearest_bearing) < 1.0;     // 0 or +-45 degrees
+    const bool ahead = vdot(o, d_hat) > 0.0 && vdot(o, t_hat) > 0.0;
+    if (sense.size != ObstacleSize::Small || sense.nearest >= params.enter_range || !ahead || !in_front) {
       return false;
     }
     active_ = true;
-    // The side the desired motion leans to, seen from the obstacle direction (left when exactly behind it).
-    const double cross = last_o_.x * d_hat.y - last_o_.y * d_hat.x;
-    side_ = side_hint != 0 ? side_hint : (cross >= 0.0 ? 1 : -1);
-  } else {
-    // Out of sight for a moment (it fell between two cones while turning): keep going round where it was,
-    // curving in towards it to find it again.
-    if (!seen && ++unseen_ > kLostTicks) active_ = false;
-    if (vdot(last_o_, t_hat) < 0.0) active_ = false;  // past it along the direction of travel
-    if (!active_) return false;
-    if (!seen) distance = params.wall_distance + 0.1;
+    centre_ = vadd(position, vscale(o, sense.nearest + kRobotRadius + params.obstacle_radius));
+    travel_ = t_hat;
+    // Left of the obstacle direction is where the desired motion leans (when no hint).
+    const double cross = o.x * d_hat.y - o.y * d_hat.x;
+    const int pass_left = side_hint != 0 ? side_hint : (cross >= 0.0 ? 1 : -1);
+    side_ = pass_left;
   }
-  const Vec2 tangent = vrotate(last_o_, side_ * std::numbers::pi / 2.0);
+  const Vec2 rel = vsub(position, centre_);
+  if (vdot(rel, t_hat) > 0.0) {  // past the obstacle along the direction of travel
+    active_ = false;
+    return false;
+  }
+  const double dist = std::max(vnorm(rel), 1e-6);
+  const Vec2 u = vscale(rel, 1.0 / dist);
+  const double radius = params.obstacle_radius + kRobotRadius + params.wall_distance;
+  // Passing on the left of the obstacle (seen from the robot, side +1) is going round it clockwise: the
+  // tangent is u turned by -pi/2.
+  const Vec2 tangent = vrotate(u, -side_ * std::numbers::pi / 2.0);
   const double speed = std::max(d_norm, params.speed);
-  velocity =
-      vadd(vscale(tangent, speed), vscale(last_o_, params.radial_gain * (distance - params.wall_distance)));
+  velocity = vsub(vscale(tangent, speed), vscale(u, params.radial_gain * (dist - radius)));
   return true;
 }
 

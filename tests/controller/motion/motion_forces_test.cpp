@@ -116,32 +116,39 @@ TEST(ObstacleForces, SizeFromTheUltrasonicFusion) {
   EXPECT_EQ(sense_obstacles(r, {}, 0.0, params()).size, ObstacleSize::Small);
 }
 
-TEST(WallFollow, GoesRoundASmallObstacleOnTheSideTheFormationLeansToAndLeavesPastIt) {
+TEST(WallFollow, GoesRoundASmallObstacleOnTheChosenSideAndLeavesPastIt) {
   WallFollower wf;
-  const WallFollowParams p{0.6, 0.4, 0.5, 0.07};
+  const WallFollowParams p{0.6, 0.4, 0.5, 0.07, 0.25};
   auto r = clear();
-  r[2] = 0.5;  // small post ahead, robot facing +x
-  auto sense = sense_obstacles(r, {}, 0.0, params());
+  r[2] = 0.5;  // small post ahead, robot at the origin facing +x: its centre is at 0.5 + radius + 0.25
   Vec2 v;
-  // The desired motion leans slightly left (+y): go round on the left.
-  ASSERT_TRUE(wf.update(sense, {0.07, 0.01}, {}, 0.0, p, v));
+  // The desired motion leans slightly left (+y), no hint: round it on the left, i.e. first towards +y.
+  ASSERT_TRUE(wf.update(sense_obstacles(r, {}, 0.0, params()), {0.07, 0.01}, {}, {0, 0, 0}, p, v));
+  EXPECT_NEAR(wf.centre().x, 0.5 + kRobotRadius + 0.25, 1e-9);
   EXPECT_GT(v.y, 0.06);
-  EXPECT_NEAR(v.x, 0.5 * (0.5 - 0.4), 1e-9);  // radial: closing to the wall distance
-  // Now beside it (the echo at -90 degrees, robot facing +y while circling), still ahead of the desired +x.
-  r = clear();
-  r[0] = 0.4;
-  sense = sense_obstacles(r, {}, kPi / 2, params());
-  ASSERT_TRUE(wf.update(sense, {0.07, 0.01}, {}, kPi / 2, p, v));  // echo at +x: still ahead
-  EXPECT_GT(v.y, 0.0);
-  // Past it: the echo is behind the desired motion.
-  sense = sense_obstacles(r, {}, kPi, params());  // echo at +y... robot facing -x, echo to its right = +y
-  EXPECT_FALSE(wf.update(sense, {0.07, -0.05}, {}, kPi, p, v));
+  // The hint wins over the lean: -1 passes it on the right.
+  WallFollower right;
+  ASSERT_TRUE(right.update(sense_obstacles(r, {}, 0.0, params()), {0.07, 0.01}, {}, {0, 0, 0}, p, v, -1));
+  EXPECT_LT(v.y, -0.06);
+  // Beside the obstacle, on the circle, still short of its centre along the travel: keeps going, now along
+  // +x, whatever the sensors say (none here).
+  const Vec2 c = wf.centre();
+  const double radius = 0.25 + kRobotRadius + 0.4;
+  ASSERT_TRUE(wf.update(sense_obstacles(clear(), {}, 0.0, params()), {0.07, 0.0}, {1, 0},
+                        {c.x - 0.05, c.y + radius, 0}, p, v));
+  EXPECT_GT(v.x, 0.06);
+  // Past its centre along the travel: leaves.
+  EXPECT_FALSE(wf.update(sense_obstacles(clear(), {}, 0.0, params()), {0.07, 0.0}, {1, 0},
+                         {c.x + 0.1, c.y + radius, 0}, p, v));
   EXPECT_FALSE(wf.active());
-  // A large obstacle never starts wall-following.
+  // A large obstacle never starts it; neither does a post behind the direction of travel.
   r = clear();
   r[2] = 0.5;
   r[1] = r[3] = 0.7;
-  EXPECT_FALSE(wf.update(sense_obstacles(r, {}, 0.0, params()), {0.07, 0}, {}, 0.0, p, v));
+  EXPECT_FALSE(wf.update(sense_obstacles(r, {}, 0.0, params()), {0.07, 0}, {}, {0, 0, 0}, p, v));
+  r = clear();
+  r[2] = 0.5;
+  EXPECT_FALSE(wf.update(sense_obstacles(r, {}, 0.0, params()), {0.07, 0}, {-1, 0}, {0, 0, 0}, p, v));
 }
 
 }  // namespace
