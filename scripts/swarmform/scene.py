@@ -108,7 +108,7 @@ class Scene:
         self.ax = self.fig.add_axes(arena_axes_rect(self.size_px, axes))
         draw_static(self.ax, rec.world, self.bounds)
         if legend:
-            present = set(int(s) for s in np.unique(rec.track.state)) | {1, 4, 5}
+            present = set(int(s) for s in np.unique(rec.track.state))  # only the states this run shows
             self.fig.legend(handles=legend_handles(present), loc="center left", bbox_to_anchor=(0.82, 0.5),
                             fontsize=8, frameon=False)
         # Robots at true size, but never smaller than a few pixels (the arena is large, the robots small).
