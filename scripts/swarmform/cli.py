@@ -98,6 +98,8 @@ def _add_run_flags(p, demo=False):
                    help="SIGKILL agent ID at tick TICK (repeatable)")
     p.add_argument("--domain", type=_domain, metavar="D", help="DDS domain id (default: the programs' own)")
     p.add_argument("--no-pictures", action="store_true", help="do not draw the pictures at the end")
+    p.add_argument("--ticks", type=_int_at_least(0), nargs="+", default=[], metavar="T",
+                   help="also draw snapshots at these ticks")
     p.add_argument("--in-process", action="store_true",
                    help="run every robot's controller inside one process (swarm_inprocess; no DDS, "
                         "deterministic, fast); same run directory")
@@ -176,7 +178,7 @@ def main(argv=None):
                 parser.error(f"the default scenario {DEFAULT_SCENARIO} is missing")
         if os.environ.get("SWARM_PARSE_ONLY") == "1":  # scripts/swarm checks the flags before it builds
             return 0
-        code = launcher.run(args, render_pictures)
+        code = launcher.run(args, lambda run_dir: render_pictures(run_dir, args.ticks))
         if args.command == "demo" and code == 0:
             where = os.path.relpath(args.run_dir)
             where = args.run_dir if where.startswith("..") else where

@@ -90,15 +90,16 @@ class LauncherTest(unittest.TestCase):
 
     def test_default_run_dir_and_latest_link_and_pictures(self):
         runs = os.path.join(self.dir, "runs")
-        r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "2", "--max-ticks", "20",
+        r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "2", "--max-ticks", "20", "--ticks", "3",
                           env={"SWARM_RUNS_DIR": runs, "FAKE_AGENT_EXIT_S": "0.3"})
         self.assertEqual(r.returncode, 0, r.stderr)
         latest = os.path.join(runs, "latest")
+        self.assertTrue(os.path.exists(os.path.join(latest, "pictures", "snapshot_t00003.png")))
         self.assertTrue(os.path.islink(latest))
         target = os.readlink(latest)
         self.assertRegex(target, r"^\d{8}-\d{6}(-\d+)?$")
         self.assertTrue(os.path.exists(os.path.join(latest, "pictures", "animation.gif")))
-        self.assertIn("pictures: 12 files", r.stdout)
+        self.assertIn("pictures: 13 files", r.stdout)
 
     def test_demo_runs_the_paper_scenario_and_says_where_the_pictures_are(self):
         runs = os.path.join(self.dir, "runs")
