@@ -445,7 +445,8 @@ def kill(rid, run_dir):
     except OSError:
         zombie = True
     if zombie:
-        raise LaunchError(f"agent {rid} (pid {pid}) is not running (it has exited)")
+        raise LaunchError(f"agent {rid} (pid {pid}) of {run_dir} is not running (it has exited; "
+                          "another run: --run DIR)")
     names = [os.path.basename(a.decode(errors="replace")) for a in argv[:2]]  # [interpreter,] program
     if not any(n.startswith("robot_agent") for n in names) or str(rid).encode() not in argv:
         raise LaunchError(f"pid {pid} is not robot_agent --id {rid} (the swarm has ended; the pid is reused)")
