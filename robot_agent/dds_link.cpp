@@ -31,7 +31,6 @@ AgentLink::AgentLink(const dds::DdsSettings& settings, RobotId self, dds::Signal
       commands_(participant_) {
   waiter_.attach(mission_.condition());
   waiter_.attach(inbox_.packet_condition());
-  waiter_.attach(inbox_.claim_condition());
   signals_.notify(&waiter_);
 }
 
@@ -69,9 +68,10 @@ WaitResult AgentLink::claim(double timeout_s, dds::ClaimAnswer& out) {
     const dds_time_t now = dds_time();
     if (now >= deadline) return WaitResult::Timeout;
     if (now >= resend) {
-      // Re-sent every second: a claim written before the world matched our writer is lost (volatile).
+      // Re-sent every 0.5 s: a claim written before the world matched our writer is lost, and so is an answer
+      // written before the world matched our reader (both volatile).
       commands_.claim(self_, nonce, static_cast<std::uint32_t>(getpid()));
-      resend = now + DDS_SECS(1);
+      resend = now + DDS_MSECS(500);
     }
     waiter_.wait_until(std::min(deadline, resend));
   }

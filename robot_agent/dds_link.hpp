@@ -26,7 +26,7 @@ class AgentLink {
   AgentLink& operator=(const AgentLink&) = delete;
 
   WaitResult wait_mission(double timeout_s, dds::MissionAnnouncement& out);
-  // Sends a claim (again every second) until the world answers this attempt or `timeout_s` passes.
+  // Sends a claim (again every 0.5 s) until the world answers this attempt or `timeout_s` passes.
   WaitResult claim(double timeout_s, dds::ClaimAnswer& out);
   // The next packet of this robot. While the world is alive this waits as long as it takes (the world may be
   // waiting for other agents); `idle_timeout_s` bounds the wait only while no world writer is alive.

@@ -22,11 +22,6 @@ Qos make_qos(Channel channel) {
       dds_qset_durability(q, DDS_DURABILITY_VOLATILE);
       dds_qset_history(q, DDS_HISTORY_KEEP_ALL, 0);
       break;
-    case Channel::ClaimReply:
-      dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
-      dds_qset_durability(q, DDS_DURABILITY_TRANSIENT_LOCAL);
-      dds_qset_history(q, DDS_HISTORY_KEEP_LAST, 1);
-      break;
     case Channel::WorldState:
       dds_qset_reliability(q, DDS_RELIABILITY_BEST_EFFORT, 0);
       dds_qset_durability(q, DDS_DURABILITY_VOLATILE);

@@ -8,10 +8,10 @@ namespace swarmform::dds {
 
 enum class Channel {
   Mission,     // world -> agents: reliable, transient-local, keep-last 1 (agents started late still get it)
-  Sensor,      // world -> agent: reliable, volatile, keep-last 1 (only the newest perception matters)
+  Sensor,      // world -> agent: reliable, volatile, keep-last 1 per instance (only the newest perception
+               // matters; claim answers are another instance, re-sent when the agent re-sends its claim)
   Command,     // agents -> world: reliable, volatile, keep-all (a flood of spoofed samples for an id can
                // never push the owner's command out of the world's reader before it is taken)
-  ClaimReply,  // world -> agent: reliable, transient-local, keep-last 1 (a reader matched late still gets it)
   WorldState,  // world -> viewers: best effort, keep-last 1
 };
 

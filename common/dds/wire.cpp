@@ -9,6 +9,7 @@
 #include <cstring>
 #include <map>
 #include <mutex>
+#include <utility>
 
 #include "common/dds/qos.hpp"
 #include "common/input_error.hpp"
@@ -17,7 +18,7 @@
 namespace swarmform::dds {
 
 struct Participant::Topics {
-  Entity mission, sensor, command, claim_reply, world_state;
+  Entity mission, sensor, command, world_state;
 };
 
 struct Participant::Impl {
@@ -31,7 +32,6 @@ namespace {
 constexpr const char* kMissionTopic = "sf_mission";
 constexpr const char* kSensorTopic = "sf_sensor";
 constexpr const char* kCommandTopic = "sf_command";
-constexpr const char* kClaimReplyTopic = "sf_claim_reply";
 constexpr const char* kWorldStateTopic = "sf_world_state";
 
 constexpr std::uint32_t kTakeBatch = 64;
@@ -121,7 +121,6 @@ Participant::Participant(const DdsSettings& settings) : impl_(std::make_unique<I
   impl_->topics.mission = make_topic(p, &sfdds_Mission_desc, kMissionTopic);
   impl_->topics.sensor = make_topic(p, &sfdds_SensorPacket_desc, kSensorTopic);
   impl_->topics.command = make_topic(p, &sfdds_Command_desc, kCommandTopic);
-  impl_->topics.claim_reply = make_topic(p, &sfdds_ClaimReply_desc, kClaimReplyTopic);
   impl_->topics.world_state = make_topic(p, &sfdds_WorldState_desc, kWorldStateTopic);
 }
 
@@ -251,14 +250,13 @@ std::optional<MissionAnnouncement> MissionReader::take() {
 
 namespace {
 struct RobotChannel {
-  Entity publisher, sensor, claim_reply;
+  Entity publisher, sensor;
 };
 
 RobotChannel make_robot_channel(const Participant& p, RobotId id) {
   RobotChannel c;
   c.publisher = make_partitioned(p.get(), robot_partition(id), true);
   c.sensor = make_writer(c.publisher.get(), p.topics().sensor.get(), Channel::Sensor);
-  c.claim_reply = make_writer(c.publisher.get(), p.topics().claim_reply.get(), Channel::ClaimReply);
   return c;
 }
 }  // namespace
@@ -289,8 +287,10 @@ void RobotChannels::write_packet(RobotId id, PacketStatus status, const Percepti
   }
   sfdds_SensorPacket s{};
   s.robot_id = id;
+  s.lane = sfdds_LANE_PERCEPTION;
   s.tick = p.tick;
   s.status = static_cast<std::uint8_t>(status);
+  s.note = const_cast<char*>("");
   s.x = p.pose.x;
   s.y = p.pose.y;
   s.theta = p.pose.theta;
@@ -312,12 +312,13 @@ void RobotChannels::reply_claim(const ClaimAnswer& a) {
     }
     c = &it->second;
   }
-  sfdds_ClaimReply s{};
+  sfdds_SensorPacket s{};
   s.robot_id = a.robot_id;
-  s.nonce = a.nonce;
-  s.accepted = a.accepted;
-  s.reason = const_cast<char*>(a.reason.c_str());
-  check(dds_write(c->claim_reply.get(), &s), "dds_write(claim reply)");
+  s.lane = sfdds_LANE_CLAIM;
+  s.status = a.accepted ? sfdds_CLAIM_ACCEPTED : sfdds_CLAIM_REFUSED;
+  s.claim_nonce = a.nonce;
+  s.note = const_cast<char*>(a.reason.c_str());
+  check(dds_write(c->sensor.get(), &s), "dds_write(claim answer)");
 }
 
 void RobotChannels::wait_for_acks(dds_duration_t timeout) {
@@ -337,7 +338,12 @@ struct AgentInbox::Impl {
   Waiter* waiter = nullptr;
   std::atomic<std::uint32_t> alive{0};
   std::atomic<bool> seen{false};
-  Entity subscriber, packets, packet_condition, replies, reply_condition;
+  Entity subscriber, packets, packet_condition;
+  // What poll() took and the callers have not asked for yet (swapped out: no allocation once warm).
+  SensorSample staged;
+  bool has_packet = false;
+  std::optional<ClaimAnswer> reply;
+  std::uint64_t foreign = 0;
 
   static void on_liveliness(dds_entity_t, const dds_liveliness_changed_status_t status, void* arg) {
     auto* self = static_cast<Impl*>(arg);
@@ -347,6 +353,44 @@ struct AgentInbox::Impl {
       self->waiter->wake();
     } catch (const DdsError&) {
       // Only possible while tearing down; nobody is waiting then.
+    }
+  }
+
+  // Takes everything available: the newest own perception into `staged`, the newest claim answer into
+  // `reply`.
+  void poll() {
+    void* ptrs[8] = {};
+    dds_sample_info_t infos[8];
+    const int n = check(dds_take(packets.get(), ptrs, infos, 8, 8), "dds_take(sensor)");
+    Loan loan(packets.get(), ptrs, n);
+    for (int i = 0; i < n; ++i) {
+      if (!infos[i].valid_data) continue;
+      const auto& s = *static_cast<const sfdds_SensorPacket*>(ptrs[i]);
+      if (s.robot_id != self) {
+        ++foreign;
+        continue;
+      }
+      if (s.lane == sfdds_LANE_CLAIM) {
+        reply = ClaimAnswer{s.robot_id, s.claim_nonce, s.status == sfdds_CLAIM_ACCEPTED, str(s.note)};
+        continue;
+      }
+      if (has_packet && s.tick < staged.perception.tick) continue;
+      has_packet = true;
+      staged.robot_id = s.robot_id;
+      staged.status = s.status == sfdds_PACKET_END ? PacketStatus::End : PacketStatus::Run;
+      Perception& p = staged.perception;
+      p.tick = s.tick;
+      p.pose = Pose2D{s.x, s.y, s.theta};
+      std::copy(std::begin(s.ultrasonic), std::end(s.ultrasonic), p.ultrasonic.begin());
+      p.messages.resize(s.messages._length);
+      for (std::uint32_t k = 0; k < s.messages._length; ++k) {
+        const sfdds_RabReading& r = s.messages._buffer[k];
+        RabReading& m = p.messages[k];
+        m.sender = r.sender;
+        m.range = r.range;
+        m.bearing = r.bearing;
+        assign_octets(m.data, r.data);
+      }
     }
   }
 };
@@ -367,9 +411,6 @@ AgentInbox::AgentInbox(const Participant& participant, RobotId self, Waiter& wai
   }
   dds_delete_listener(listener);
   impl_->packet_condition = make_condition(impl_->packets.get());
-  impl_->replies =
-      make_reader(impl_->subscriber.get(), participant.topics().claim_reply.get(), Channel::ClaimReply);
-  impl_->reply_condition = make_condition(impl_->replies.get());
 }
 
 AgentInbox::~AgentInbox() {
@@ -380,9 +421,6 @@ AgentInbox::~AgentInbox() {
 dds_entity_t AgentInbox::packet_condition() const {
   return impl_->packet_condition.get();
 }
-dds_entity_t AgentInbox::claim_condition() const {
-  return impl_->reply_condition.get();
-}
 std::uint32_t AgentInbox::world_writers_alive() const {
   return impl_->alive.load();
 }
@@ -391,51 +429,17 @@ bool AgentInbox::world_seen() const {
 }
 
 bool AgentInbox::take_packet(SensorSample& own, std::uint64_t& foreign) {
-  void* ptrs[4] = {};
-  dds_sample_info_t infos[4];
-  const int n = check(dds_take(impl_->packets.get(), ptrs, infos, 4, 4), "dds_take(sensor)");
-  Loan loan(impl_->packets.get(), ptrs, n);
-  bool got = false;
-  for (int i = 0; i < n; ++i) {
-    if (!infos[i].valid_data) continue;
-    const auto& s = *static_cast<const sfdds_SensorPacket*>(ptrs[i]);
-    if (s.robot_id != impl_->self) {
-      ++foreign;
-      continue;
-    }
-    if (got && s.tick < own.perception.tick) continue;
-    got = true;
-    own.robot_id = s.robot_id;
-    own.status = s.status == sfdds_PACKET_END ? PacketStatus::End : PacketStatus::Run;
-    Perception& p = own.perception;
-    p.tick = s.tick;
-    p.pose = Pose2D{s.x, s.y, s.theta};
-    std::copy(std::begin(s.ultrasonic), std::end(s.ultrasonic), p.ultrasonic.begin());
-    p.messages.resize(s.messages._length);
-    for (std::uint32_t k = 0; k < s.messages._length; ++k) {
-      const sfdds_RabReading& r = s.messages._buffer[k];
-      RabReading& m = p.messages[k];
-      m.sender = r.sender;
-      m.range = r.range;
-      m.bearing = r.bearing;
-      assign_octets(m.data, r.data);
-    }
-  }
-  return got;
+  impl_->poll();
+  foreign += std::exchange(impl_->foreign, 0);
+  if (!impl_->has_packet) return false;
+  impl_->has_packet = false;
+  std::swap(own, impl_->staged);
+  return true;
 }
 
 std::optional<ClaimAnswer> AgentInbox::take_claim_reply() {
-  void* ptrs[4] = {};
-  dds_sample_info_t infos[4];
-  const int n = check(dds_take(impl_->replies.get(), ptrs, infos, 4, 4), "dds_take(claim reply)");
-  Loan loan(impl_->replies.get(), ptrs, n);
-  std::optional<ClaimAnswer> out;
-  for (int i = 0; i < n; ++i) {
-    if (!infos[i].valid_data) continue;
-    const auto& s = *static_cast<const sfdds_ClaimReply*>(ptrs[i]);
-    out = ClaimAnswer{s.robot_id, s.nonce, s.accepted, str(s.reason)};
-  }
-  return out;
+  impl_->poll();
+  return std::exchange(impl_->reply, std::nullopt);
 }
 
 // ---- Commands ---------------------------------------------------------------------------------------------

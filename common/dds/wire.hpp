@@ -108,7 +108,7 @@ struct ClaimAnswer {
   std::string reason;
 };
 
-// World side: for each robot a publisher in partition robot/K with its SensorPacket and ClaimReply writers.
+// World side: for each robot a publisher in partition robot/K with its SensorPacket writer.
 class RobotChannels {
  public:
   RobotChannels(const Participant& participant, std::size_t robots);
@@ -118,7 +118,9 @@ class RobotChannels {
 
   // No allocation after the first ticks (scratch buffers are reused; sequences point into the perception).
   void write_packet(RobotId id, PacketStatus status, const Perception& perception);
-  // Answers a claim in the claimant's partition (a channel is made on demand for an id outside the run).
+  // Answers a claim in the claimant's partition, on the packets' claim lane (a channel is made on demand for
+  // an id outside the run). Volatile: an answer to a reader not matched yet is lost, and the agent's re-sent
+  // claim gets it again.
   void reply_claim(const ClaimAnswer& answer);
   // Waits until every packet written so far is acknowledged by its matched readers, up to `timeout`.
   void wait_for_acks(dds_duration_t timeout);
@@ -134,8 +136,8 @@ struct SensorSample {
   Perception perception;
 };
 
-// Agent side: a subscriber in partition robot/K with a SensorPacket reader and a ClaimReply reader. The
-// liveliness of the world's packet writer is followed by a listener (world_alive), which wakes `waiter`.
+// Agent side: a subscriber in partition robot/K with a SensorPacket reader (perceptions and claim answers).
+// The liveliness of the world's packet writer is followed by a listener (world_alive), which wakes `waiter`.
 class AgentInbox {
  public:
   AgentInbox(const Participant& participant, RobotId self, Waiter& waiter);
@@ -144,7 +146,6 @@ class AgentInbox {
   AgentInbox& operator=(const AgentInbox&) = delete;
 
   dds_entity_t packet_condition() const;
-  dds_entity_t claim_condition() const;
   // Takes every packet available: `own` receives the newest of robot `self` (true if there was one);
   // `foreign` is increased by the number of packets for any other robot (never expected).
   bool take_packet(SensorSample& own, std::uint64_t& foreign);

@@ -54,7 +54,6 @@ int nan_agent(dds::Participant& participant, RobotId id, double timeout_s) {
   dds::AgentInbox inbox(participant, id, waiter);
   dds::CommandWriter commands(participant);
   waiter.attach(inbox.packet_condition());
-  waiter.attach(inbox.claim_condition());
   const dds_time_t deadline = after(timeout_s);
   const std::uint64_t nonce = 0x5eed0000u + id;
   dds_time_t resend = 0;
