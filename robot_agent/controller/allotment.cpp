@@ -137,17 +137,16 @@ std::optional<LabelOffer> choose_offer(const std::vector<LabelOffer>& offers,
 }
 
 std::vector<int> labels_to_free(const ShapeTable& table, int own_label, const Stigmergy& stigmergy,
-                                const NeighbourTable& neighbours, const std::map<int, Tick>& holder_since,
+                                const NeighbourTable& neighbours, const std::map<int, Tick>& entry_changed,
                                 RobotId self, Tick now, int label_timeout) {
   std::vector<int> out;
   for (const auto& nb : table.neighbours(own_label)) {
     const auto status = label_status(stigmergy, nb.label);
     if (status.kind != LabelStatus::Kind::Held || status.holder == self) continue;
-    const auto heard = neighbours.last_heard(status.holder);
-    if (!heard) continue;  // never heard: maybe still on its way from afar; not ours to judge
-    Tick quiet_since = *heard;
-    if (auto it = holder_since.find(nb.label); it != holder_since.end())
-      quiet_since = std::max(quiet_since, it->second);
+    auto changed = entry_changed.find(nb.label);
+    if (changed == entry_changed.end()) continue;  // not tracked yet
+    Tick quiet_since = changed->second;
+    if (const auto heard = neighbours.last_heard(status.holder)) quiet_since = std::max(quiet_since, *heard);
     if (now >= quiet_since + static_cast<Tick>(label_timeout)) out.push_back(nb.label);
   }
   return out;

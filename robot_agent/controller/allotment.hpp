@@ -17,10 +17,12 @@
 // - Conflicts (paper: "the bot with a higher ID gets the label while the other bots go back to searching"):
 //   keeps_label(). Through the stigmergy an equal-version tie also goes to the higher writer id, so the
 //   table agrees with the rule; a holder that sees a lower id in its label's entry re-puts itself.
-// - A dead holder: a robot of the shape whose own label is in the 3x3 grid of label L, and which had heard
-//   L's holder before, frees L when that holder has been silent for `label_timeout` ticks: it puts
-//   kLabelFreedBase - tick. L is then offered again. A freed label nobody takes within another
-//   `label_timeout` ticks is abandoned: the barrier no longer waits for it (barrier.hpp).
+// - A dead holder: a holder in Moving or Reached re-puts its labels entry every label_timeout / 3 ticks (a
+//   heartbeat that floods multi-hop, so a holder out of radio range is still known alive). A robot of the
+//   shape whose own label is in the 3x3 grid of label L frees L when L's holder has neither been heard nor
+//   refreshed its entry for `label_timeout` ticks: it puts kLabelFreedBase - tick. L is then offered again.
+//   A holder that is alive and sees its label freed re-puts itself. A freed label nobody takes within
+//   another `label_timeout` ticks is abandoned: the barrier no longer waits for it (barrier.hpp).
 #pragma once
 
 #include <cstdint>
@@ -96,12 +98,11 @@ struct Searcher {
 std::optional<LabelOffer> choose_offer(const std::vector<LabelOffer>& offers,
                                        const std::vector<Searcher>& searchers, RobotId self);
 
-// The rule that frees a dead holder's label: the labels of `own_label`'s 3x3 grid whose holder was heard
-// before and has been silent for `label_timeout` ticks, counted from the last time it was heard or from
-// `holder_since[label]` (the tick this robot first saw the current holder), whichever is later -- so a robot
-// heard long ago that has just taken the label from afar gets its full timeout.
+// The rule that frees a dead holder's label: the labels of `own_label`'s 3x3 grid whose holder has been
+// silent for `label_timeout` ticks, counted from the later of the last time it was heard directly and
+// `entry_changed[label]`, the tick this robot last saw that label's entry change (a claim or a heartbeat).
 std::vector<int> labels_to_free(const ShapeTable& table, int own_label, const Stigmergy& stigmergy,
-                                const NeighbourTable& neighbours, const std::map<int, Tick>& holder_since,
+                                const NeighbourTable& neighbours, const std::map<int, Tick>& entry_changed,
                                 RobotId self, Tick now, int label_timeout);
 
 }  // namespace swarmform::controller

@@ -33,7 +33,8 @@ inline constexpr std::uint8_t kMessageVersion = 1;
 inline constexpr std::size_t kMaxFreeLabels = 8;          // a 3x3 grid has 8 cells around its centre
 inline constexpr std::size_t kMaxEntriesPerMessage = 24;  // stigmergy entries carried per message
 inline constexpr std::size_t kMaxMotionBytes = 1024;
-inline constexpr std::size_t kMessageFixedBytes = 42;  // everything but the free labels, entries and motion bytes
+inline constexpr std::size_t kMessageFixedBytes =
+    42;  // everything but the free labels, entries and motion bytes
 
 struct StigmergyEntry {
   std::uint32_t key = 0;

@@ -63,7 +63,8 @@ void PaperController::reset() {
   blocked_ticks_ = 0;
   ready_tick_ = 0;
   holder_since_.clear();
-  holder_seen_.clear();
+  holder_version_.clear();
+  last_heartbeat_ = 0;
   neighbours_ = NeighbourTable(params_.neighbour_timeout);
   stigmergy_ = Stigmergy(self_);
   election_.reset();
@@ -230,8 +231,7 @@ void PaperController::take_label(int label, int parent_label, Vec2 origin, const
   origin_ = origin;
   has_origin_ = true;
   put_label_holder(stigmergy_, label, self_);
-  holder_seen_[label] = self_;
-  holder_since_[label] = tick_;
+  last_heartbeat_ = tick_;
   state_ = RobotState::Moving;
   blocked_ticks_ = 0;
   event(why + " " + std::to_string(label) +
@@ -260,6 +260,12 @@ void PaperController::keep_label() {
     put_label_holder(stigmergy_, label_, self_);  // the higher id re-asserts
   } else if (s.kind != LabelStatus::Kind::Held) {
     put_label_holder(stigmergy_, label_, self_);  // freed while alive (a false alarm): still here
+    last_heartbeat_ = tick_;
+  } else if (tick_ >= last_heartbeat_ + static_cast<Tick>(heartbeat_period())) {
+    // The heartbeat: a fresh version of our entry floods the swarm, so robots out of radio range know we
+    // are alive (allotment.hpp, dead holders).
+    put_label_holder(stigmergy_, label_, self_);
+    last_heartbeat_ = tick_;
   }
   for (const auto& [id, n] : neighbours_.all()) {
     if (n.last_heard == tick_ && n.message.label == label_ && in_shape_before_ready(n.message.state) &&
@@ -272,15 +278,11 @@ void PaperController::keep_label() {
 
 void PaperController::track_holders() {
   for (int l = 0; l < table_.size(); ++l) {
-    const auto s = label_status(stigmergy_, l);
-    if (s.kind != LabelStatus::Kind::Held) {
-      holder_seen_.erase(l);
-      holder_since_.erase(l);
-      continue;
-    }
-    auto it = holder_seen_.find(l);
-    if (it == holder_seen_.end() || it->second != s.holder) {
-      holder_seen_[l] = s.holder;
+    const auto* e = stigmergy_.entry(stig::key(stig::Ns::Labels, static_cast<std::uint32_t>(l)));
+    if (!e) continue;
+    auto it = holder_version_.find(l);
+    if (it == holder_version_.end() || it->second != e->version) {
+      holder_version_[l] = e->version;
       holder_since_[l] = tick_;
     }
   }

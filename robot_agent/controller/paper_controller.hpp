@@ -9,6 +9,7 @@
 // motion phases through motion_hooks.hpp) -> wheels (drive.hpp) -> broadcast (message.hpp) -> telemetry.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -58,6 +59,8 @@ class PaperController final : public Controller {
   void keep_label();
   void free_dead_labels();
   void track_holders();
+  // Ticks between two re-puts of our labels entry while in Moving/Reached: a third of label_timeout.
+  int heartbeat_period() const { return std::max(1, params_.label_timeout / 3); }
   void take_label(int label, int parent_label, Vec2 origin, const std::string& why);
   void lose_label(const std::string& why);
   void enter_ready();
@@ -84,8 +87,9 @@ class PaperController final : public Controller {
   Tick last_offer_tick_ = 0;  // last tick an offer was heard
   int blocked_ticks_ = 0;     // Moving: ticks in front of a blocked place
   Tick ready_tick_ = 0;
-  std::map<int, Tick> holder_since_;    // label -> tick this robot first saw its current holder
-  std::map<int, RobotId> holder_seen_;  // label -> that holder
+  std::map<int, Tick> holder_since_;  // label -> tick its labels entry last changed here (claim, heartbeat)
+  std::map<int, std::uint32_t> holder_version_;  // label -> that entry's version
+  Tick last_heartbeat_ = 0;                      // last re-put of our own label entry
 
   NeighbourTable neighbours_;
   Stigmergy stigmergy_;

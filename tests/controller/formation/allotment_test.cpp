@@ -95,15 +95,20 @@ TEST(Allotment, LabelsOfSilentHoldersAreFreedAfterTheTimeout) {
   put_label_holder(s, 2, 7);
   put_label_holder(s, 4, 8);  // not in label 0's grid: not ours to free
   NeighbourTable nb(20);
-  std::map<int, Tick> since{{2, 0}};
-  // Never heard: never freed.
-  EXPECT_TRUE(labels_to_free(table, 0, s, nb, since, 0, 500, 40).empty());
+  std::map<int, Tick> changed{{2, 0}, {4, 0}};
+  // Entry seen at tick 0, holder never heard: freed after the timeout from then.
+  EXPECT_TRUE(labels_to_free(table, 0, s, nb, changed, 0, 39, 40).empty());
+  EXPECT_EQ(labels_to_free(table, 0, s, nb, changed, 0, 40, 40), (std::vector<int>{2}));
+  // Heard at 100: the timeout runs from then.
   nb.update(perceive(100, {}, {shape_robot(7, 2, {0, -1}, {}), shape_robot(8, 4, {-2, -2}, {})}), 0);
-  EXPECT_TRUE(labels_to_free(table, 0, s, nb, since, 0, 139, 40).empty());
-  EXPECT_EQ(labels_to_free(table, 0, s, nb, since, 0, 140, 40), (std::vector<int>{2}));
-  // A holder that took the label late gets its full timeout from then.
-  since[2] = 130;
-  EXPECT_TRUE(labels_to_free(table, 0, s, nb, since, 0, 169, 40).empty());
+  EXPECT_TRUE(labels_to_free(table, 0, s, nb, changed, 0, 139, 40).empty());
+  EXPECT_EQ(labels_to_free(table, 0, s, nb, changed, 0, 140, 40), (std::vector<int>{2}));
+  // A heartbeat (the entry changed at 130) counts like being heard.
+  changed[2] = 130;
+  EXPECT_TRUE(labels_to_free(table, 0, s, nb, changed, 0, 169, 40).empty());
+  EXPECT_EQ(labels_to_free(table, 0, s, nb, changed, 0, 170, 40), (std::vector<int>{2}));
+  // Our own label and untracked labels are never freed.
+  EXPECT_TRUE(labels_to_free(table, 0, s, nb, {}, 0, 10000, 40).empty());
 }
 
 TEST(Barrier, CountsEntriesWhoseLabelTheyStillHoldAndDropsAbandonedLabels) {

@@ -43,21 +43,36 @@ struct Outcome {
   std::optional<double> shape_error;
   std::uint32_t robot_contacts = 0;
   std::uint32_t obstacle_contacts = 0;
+  int conflicts = 0;  // label_lost events (a conflict settled by id)
+  int frees = 0;      // label_freed events (a silent holder's label freed)
 };
 
 Outcome run_to_formation(harness::Harness& h, Tick max_ticks) {
-  while (h.world().tick() < max_ticks && !h.metrics().formation_tick) h.step();
-  return {h.metrics().formation_tick, h.metrics().shape_error_at_formation,
-          h.metrics().collisions_robot_robot, h.metrics().collisions_robot_obstacle};
+  Outcome o;
+  while (h.world().tick() < max_ticks && !h.metrics().formation_tick) {
+    h.step();
+    for (const auto& r : h.world().robots()) {
+      for (const auto& e : r.telemetry.events) {
+        if (e.rfind("label_lost", 0) == 0) ++o.conflicts;
+        if (e.rfind("label_freed", 0) == 0) ++o.frees;
+      }
+    }
+  }
+  o.formation_tick = h.metrics().formation_tick;
+  o.shape_error = h.metrics().shape_error_at_formation;
+  o.robot_contacts = h.metrics().collisions_robot_robot;
+  o.obstacle_contacts = h.metrics().collisions_robot_obstacle;
+  return o;
 }
 
 void report(const std::string& what, std::uint64_t seed, const Outcome& o) {
   if (!std::getenv("FORMATION_SIM_REPORT")) return;
   std::printf(
-      "FORMATION %s seed %llu formation_tick %lld shape_error %.4f robot_contacts %u obstacle_contacts %u\n",
+      "FORMATION %s seed %llu formation_tick %lld shape_error %.4f robot_contacts %u obstacle_contacts %u "
+      "conflicts %d frees %d\n",
       what.c_str(), static_cast<unsigned long long>(seed),
       o.formation_tick ? static_cast<long long>(*o.formation_tick) : -1LL,
-      o.shape_error ? *o.shape_error : -1.0, o.robot_contacts, o.obstacle_contacts);
+      o.shape_error ? *o.shape_error : -1.0, o.robot_contacts, o.obstacle_contacts, o.conflicts, o.frees);
 }
 
 int state_of(const harness::Harness& h, RobotId id) {
