@@ -132,6 +132,7 @@ std::optional<RobotMessage> decode_message(std::span<const std::uint8_t> bytes) 
   m.seed_distance = r.f32();
   const std::size_t n_free = r.u8();
   if (n_free > kMaxFreeLabels) return std::nullopt;
+  m.free_labels.reserve(n_free);  // one allocation, not one per doubling (decoding is the hottest path)
   for (std::size_t i = 0; i < n_free && r.ok(); ++i) {
     const int label = r.i16();
     if (label < 0) return std::nullopt;
@@ -139,6 +140,7 @@ std::optional<RobotMessage> decode_message(std::span<const std::uint8_t> bytes) 
   }
   const std::size_t n_entries = r.u8();
   if (n_entries > kMaxEntriesPerMessage) return std::nullopt;
+  m.entries.reserve(n_entries);
   for (std::size_t i = 0; i < n_entries && r.ok(); ++i) {
     StigmergyEntry e;
     e.key = r.u32();
