@@ -137,7 +137,7 @@ class LauncherTest(unittest.TestCase):
     def test_world_failure_is_passed_on(self):
         out = os.path.join(self.dir, "run")
         r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "2", "--max-ticks", "40", "--out", out,
-                          env={"FAKE_WORLD_FAIL": "1"})
+                          env={"FAKE_WORLD_FAIL": "1", "FAKE_AGENT_EXIT_S": "0.5"})
         self.assertEqual(r.returncode, 3)
         self.assertIn("world: world: something broke", r.stderr)
         self.assertIn("world_server failed (exit 3)", r.stderr)
