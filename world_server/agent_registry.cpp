@@ -16,7 +16,10 @@ ClaimResult AgentRegistry::claim(RobotId id, dds::PublicationHandle writer, std:
                                        std::to_string(o.pid) + ")"};
   }
   const bool taken_over = o.ever;
-  if (o.writer != 0) by_writer_.erase(o.writer);
+  if (o.writer != 0) {
+    by_writer_.erase(o.writer);
+    lost_writer_.erase(o.writer);
+  }
   o = Owner{writer, pid, true, true};
   by_writer_[writer] = id;
   return {taken_over ? ClaimOutcome::TakenOver : ClaimOutcome::Accepted, ""};
@@ -31,7 +34,18 @@ std::optional<RobotId> AgentRegistry::lose(dds::PublicationHandle writer) {
   if (it == by_writer_.end()) return std::nullopt;
   const RobotId id = it->second;
   by_writer_.erase(it);
+  lost_writer_[writer] = id;
   owners_[id].alive = false;
+  return id;
+}
+
+std::optional<RobotId> AgentRegistry::regain(dds::PublicationHandle writer) {
+  const auto it = lost_writer_.find(writer);
+  if (it == lost_writer_.end()) return std::nullopt;
+  const RobotId id = it->second;
+  lost_writer_.erase(it);
+  owners_[id].alive = true;
+  by_writer_[writer] = id;
   return id;
 }
 

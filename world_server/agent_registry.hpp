@@ -37,6 +37,9 @@ class AgentRegistry {
   bool owns(RobotId id, dds::PublicationHandle writer) const;
   // `writer` lost liveliness or went away: the robot it owned, if it owned one (then no longer owned).
   std::optional<RobotId> lose(dds::PublicationHandle writer);
+  // `writer`'s liveliness came back (a stalled agent, not a dead one): the robot, if `writer` was its owner
+  // when it was lost and nobody has taken the id over since (then owned by it again).
+  std::optional<RobotId> regain(dds::PublicationHandle writer);
 
   bool connected(RobotId id) const { return id < owners_.size() && owners_[id].alive; }
   std::size_t connected_count() const;
@@ -51,7 +54,8 @@ class AgentRegistry {
     bool ever = false;   // someone owned it once
   };
   std::vector<Owner> owners_;
-  std::unordered_map<dds::PublicationHandle, RobotId> by_writer_;
+  std::unordered_map<dds::PublicationHandle, RobotId> by_writer_;    // live owners
+  std::unordered_map<dds::PublicationHandle, RobotId> lost_writer_;  // owners lost, their id not taken over
 };
 
 std::string_view to_string(ClaimOutcome outcome);

@@ -125,8 +125,8 @@ bool Server::connect_agents() {
 // ---- the DDS side, whenever the server wakes --------------------------------------------------------------
 
 void Server::pump(bool running) {
-  lost_.clear();
-  link_.commands.take_lost_writers(lost_);
+  liveliness_.clear();
+  link_.commands.take_liveliness_changes(liveliness_);
   // Commands before losses: a dying agent's last command for this round still counts.
   const std::size_t n = link_.commands.take(samples_);
   for (std::size_t i = 0; i < n; ++i) {
@@ -137,7 +137,13 @@ void Server::pump(bool running) {
       on_command(s);
     }
   }
-  for (dds::PublicationHandle w : lost_) on_lost(w, running);
+  for (const auto& change : liveliness_) {
+    if (change.alive) {
+      on_regained(change.writer, running);
+    } else {
+      on_lost(change.writer, running);
+    }
+  }
 }
 
 void Server::on_claim(const dds::CommandSample& s, bool running) {
@@ -206,6 +212,21 @@ void Server::on_lost(dds::PublicationHandle writer, bool running) {
   }
   session_.record_event(*id, "death_detected", detail);
   std::cout << "death id=" << *id << " tick=" << world_.tick() << std::endl;
+}
+
+void Server::on_regained(dds::PublicationHandle writer, bool running) {
+  // An owner declared dead whose writer turns out alive was stalled (starved of CPU past the lease), not
+  // dead: its robot comes back as on a rejoin, rather than leaving a live agent without packets until the
+  // end.
+  const auto id = registry_.regain(writer);
+  if (!id) return;  // a new writer, or one whose id was taken over meanwhile
+  session_.record_event(*id, "liveliness_regained", "the owner's writer is alive again");
+  if (running && !world_.alive(*id)) {
+    world_.revive(*id);
+    session_.record_rejoin(*id);
+    fresh_[*id] = 0;
+    std::cout << "rejoin id=" << *id << " tick=" << world_.tick() << std::endl;
+  }
 }
 
 // ---- rounds -----------------------------------------------------------------------------------------------

@@ -60,6 +60,7 @@ class Server {
   void on_claim(const dds::CommandSample& s, bool running);
   void on_command(const dds::CommandSample& s);
   void on_lost(dds::PublicationHandle writer, bool running);
+  void on_regained(dds::PublicationHandle writer, bool running);
   void announce_end();
   void progress(bool force);
   bool stopping() const;
@@ -79,7 +80,7 @@ class Server {
   std::vector<std::uint8_t> waiting_;  // lockstep: command for this round still awaited
   std::size_t waiting_count_ = 0;
   std::vector<dds::CommandSample> samples_;
-  std::vector<dds::PublicationHandle> lost_;
+  std::vector<dds::CommandReader::LivelinessChange> liveliness_;
   std::vector<dds::RobotPoseRow> rows_;
   std::multimap<Tick, RobotId> kills_;
   std::map<RobotId, dds_time_t> kill_sent_;  // wall time of a SIGKILL, to report the detection delay

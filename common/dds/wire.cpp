@@ -492,16 +492,18 @@ void CommandWriter::step(RobotId id, Tick tick, const Command& c) {
 struct CommandReader::Impl {
   Waiter* waiter = nullptr;
   std::mutex mutex;
-  std::vector<PublicationHandle> lost;  // guarded by mutex
+  std::vector<LivelinessChange> changes;  // guarded by mutex
   Entity reader, condition;
 
   static void on_liveliness(dds_entity_t, const dds_liveliness_changed_status_t status, void* arg) {
     auto* self = static_cast<Impl*>(arg);
-    // alive_count falls when a writer loses liveliness (not_alive rises) or goes away (deleted, unmatched).
-    if (status.alive_count_change >= 0) return;
+    // alive_count falls when a writer loses liveliness (not_alive rises) or goes away (deleted, unmatched),
+    // and rises when a writer appears or its liveliness comes back.
+    if (status.alive_count_change == 0) return;
     {
       std::lock_guard lock(self->mutex);
-      self->lost.push_back(status.last_publication_handle);
+      self->changes.push_back(
+          LivelinessChange{status.last_publication_handle, status.alive_count_change > 0});
     }
     try {
       self->waiter->wake();
@@ -538,10 +540,10 @@ dds_entity_t CommandReader::condition() const {
   return impl_->condition.get();
 }
 
-void CommandReader::take_lost_writers(std::vector<PublicationHandle>& out) {
+void CommandReader::take_liveliness_changes(std::vector<LivelinessChange>& out) {
   std::lock_guard lock(impl_->mutex);
-  out.insert(out.end(), impl_->lost.begin(), impl_->lost.end());
-  impl_->lost.clear();
+  out.insert(out.end(), impl_->changes.begin(), impl_->changes.end());
+  impl_->changes.clear();
 }
 
 std::size_t CommandReader::take(std::vector<CommandSample>& buf) {

@@ -202,8 +202,13 @@ class CommandReader {
   dds_entity_t condition() const;
   // Takes what is available into buf[0..n) (grown as needed, elements reused: no allocation once warm).
   std::size_t take(std::vector<CommandSample>& buf);
-  // Writers whose liveliness was lost, or which went away, since the last call (appended to `out`).
-  void take_lost_writers(std::vector<PublicationHandle>& out);
+  // Liveliness changes of command writers since the last call, in the order they happened (appended to
+  // `out`): alive = false when a writer lost liveliness or went away, true when one appeared or came back.
+  struct LivelinessChange {
+    PublicationHandle writer = 0;
+    bool alive = false;
+  };
+  void take_liveliness_changes(std::vector<LivelinessChange>& out);
 
  private:
   struct Impl;

@@ -39,6 +39,21 @@ TEST(AgentRegistry, ALostOwnerFreesTheIdForATakeOver) {
   EXPECT_TRUE(r.owns(1, 300));
 }
 
+TEST(AgentRegistry, AStalledOwnerWhoseLivelinessComesBackOwnsItsIdAgain) {
+  AgentRegistry r(3);
+  ASSERT_EQ(r.claim(0, 100, 11).outcome, ClaimOutcome::Accepted);
+  ASSERT_EQ(r.claim(1, 200, 22).outcome, ClaimOutcome::Accepted);
+  EXPECT_FALSE(r.regain(100).has_value());  // never lost: nothing to regain
+  ASSERT_TRUE(r.lose(100).has_value());
+  EXPECT_EQ(r.regain(100), std::optional<swarmform::RobotId>(0));
+  EXPECT_TRUE(r.owns(0, 100));
+  // Once the id is taken over by another writer, the old one coming back gets nothing.
+  ASSERT_TRUE(r.lose(200).has_value());
+  ASSERT_EQ(r.claim(1, 300, 33).outcome, ClaimOutcome::TakenOver);
+  EXPECT_FALSE(r.regain(200).has_value());
+  EXPECT_TRUE(r.owns(1, 300));
+}
+
 TEST(AgentRegistry, AnIdOutsideTheRunIsRefused) {
   AgentRegistry r(3);
   const auto res = r.claim(3, 100, 11);
