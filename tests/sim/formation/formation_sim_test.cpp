@@ -75,6 +75,18 @@ void report(const std::string& what, std::uint64_t seed, const Outcome& o) {
       o.shape_error ? *o.shape_error : -1.0, o.robot_contacts, o.obstacle_contacts, o.conflicts, o.frees);
 }
 
+// Where everyone stands: printed when a run did not form, to see why.
+std::string snapshot(const harness::Harness& h) {
+  std::string out;
+  for (const auto& r : h.world().robots()) {
+    char line[160];
+    std::snprintf(line, sizeof line, "  robot %u %s state %d label %d at (%.2f, %.2f)\n", r.id,
+                  r.alive ? "alive" : "dead", r.telemetry.state, r.telemetry.label, r.pose.x, r.pose.y);
+    out += line;
+  }
+  return out;
+}
+
 int state_of(const harness::Harness& h, RobotId id) {
   return h.world().robots()[id].telemetry.state;
 }
@@ -97,7 +109,8 @@ TEST_P(EveryShape, ReachesReadyWithSmallShapeErrorAndNoContact) {
   harness::Harness h(scenario(c.shape, c.seed, std::nullopt, kMaxTicks));
   const Outcome o = run_to_formation(h, kMaxTicks);
   report(c.shape, c.seed, o);
-  ASSERT_TRUE(o.formation_tick.has_value()) << c.shape << " seed " << c.seed << " never formed";
+  ASSERT_TRUE(o.formation_tick.has_value()) << c.shape << " seed " << c.seed << " never formed\n"
+                                            << snapshot(h);
   ASSERT_TRUE(o.shape_error.has_value());
   EXPECT_LE(*o.shape_error, 0.1);
   EXPECT_EQ(o.robot_contacts, 0u);
@@ -130,7 +143,7 @@ TEST(FormationSim, ThreeSparesStaySearchingAndKeepClear) {
   harness::Harness h(scenario("triangle.txt", 11, 12, kMaxTicks));
   const Outcome o = run_to_formation(h, kMaxTicks);
   report("triangle+3spares", 11, o);
-  ASSERT_TRUE(o.formation_tick.has_value());
+  ASSERT_TRUE(o.formation_tick.has_value()) << snapshot(h);
   EXPECT_LE(*o.shape_error, 0.1);
   EXPECT_EQ(o.robot_contacts, 0u);
   int searching = 0;
@@ -165,7 +178,7 @@ TEST(FormationSim, ADeadRobotsLabelIsTakenByASpare) {
   h.kill(*victim);
   const Outcome o = run_to_formation(h, kMaxTicks);
   report("triangle+1spare,kill", 12, o);
-  ASSERT_TRUE(o.formation_tick.has_value());
+  ASSERT_TRUE(o.formation_tick.has_value()) << snapshot(h);
   EXPECT_LE(*o.shape_error, 0.1);
   EXPECT_EQ(o.robot_contacts, 0u);
   int holders = 0;
@@ -184,7 +197,7 @@ TEST(FormationSim, WithNoSpareTheShapeCompletesWithoutTheDeadRobot) {
   h.kill(*victim);
   const Outcome o = run_to_formation(h, kMaxTicks);
   report("triangle,kill,no spare", 13, o);
-  ASSERT_TRUE(o.formation_tick.has_value());
+  ASSERT_TRUE(o.formation_tick.has_value()) << snapshot(h);
   EXPECT_LE(*o.shape_error, 0.1);
   EXPECT_EQ(o.robot_contacts, 0u);
   int ready = 0;
