@@ -22,9 +22,14 @@ Vec2 avoid_collisions(Vec2 desired, const std::vector<NeighbourPosition>& neighb
   bool near = false;
   Vec2 v = desired;
   const double speed = norm(desired);
+  const double inner = r_o + kAwarenessMargin;
+  const double outer = inner + kBlendWidth;
   for (const auto& n : neighbours) {
-    if (!(n.range < r_o + kAwarenessMargin)) continue;
+    if (!(n.range < outer)) continue;
     near = true;
+    // Full go-round inside `inner`, none beyond `outer`, a linear blend between: the velocity is continuous
+    // across the band, so a differential-drive robot does not flip 90 degrees each tick at its edge.
+    const double w = std::clamp((outer - n.range) / kBlendWidth, 0.0, 1.0);
     const Vec2 towards = unit(n.azimuth);
     const double closing = v.x * towards.x + v.y * towards.y;
     if (closing <= 0.0) continue;
@@ -34,8 +39,9 @@ Vec2 avoid_collisions(Vec2 desired, const std::vector<NeighbourPosition>& neighb
     const Vec2 right{towards.y, -towards.x};
     const double side = v.x * right.x + v.y * right.y;
     const Vec2 tangent = side >= -0.2 * closing ? right : Vec2{-right.x, -right.y};
-    v = v - closing * towards;
-    v = v - (v.x * tangent.x + v.y * tangent.y) * tangent + speed * tangent;
+    Vec2 g = v - closing * towards;
+    g = g - (g.x * tangent.x + g.y * tangent.y) * tangent + speed * tangent;
+    v = (1.0 - w) * v + w * g;
   }
   if (!near) return desired;
   // eq. (1), capped at the speed limit so that going round still has a say (the sum is limited below).

@@ -24,6 +24,8 @@ namespace swarmform::controller {
 inline constexpr double kSingularityFloor = 0.05;
 // The slide starts this much beyond r_o, m.
 inline constexpr double kAwarenessMargin = 0.15;
+// ...blended in over this much more, m.
+inline constexpr double kBlendWidth = 0.15;
 
 struct NeighbourPosition {
   double range = 0.0;    // m
