@@ -25,7 +25,7 @@ const std::string kRepo = SWARMFORM_REPO_DIR;
 // Formation only: no obstacles, a roomy arena, a long ready_timeout (the motion phases must not start
 // moving before the last robot is ready: the metric is taken at formation).
 world::Scenario scenario(const std::string& shape, std::uint64_t seed, std::optional<std::size_t> robots,
-                         Tick max_ticks) {
+                         Tick max_ticks, const std::string& extra_yaml = "") {
   std::string yaml = "shape: " + kRepo + "/shapes/" + shape +
                      "\n"
                      "arena: {centre: [0.0, 0.0], width: 16.0, height: 16.0}\n"
@@ -35,6 +35,7 @@ world::Scenario scenario(const std::string& shape, std::uint64_t seed, std::opti
                      "\n"
                      "controller: {ready_timeout: 100000}\n";
   if (robots) yaml += "robots: {count: " + std::to_string(*robots) + "}\n";
+  yaml += extra_yaml;
   return world::parse_scenario_text(yaml, "<formation_sim_test>");
 }
 
@@ -154,6 +155,19 @@ TEST(FormationSim, ThreeSparesStaySearchingAndKeepClear) {
     }
   }
   EXPECT_EQ(searching, 3);
+}
+
+// ---- A lossy, noisy medium ----
+
+TEST(FormationSim, FormsUnderTwentyPercentLossAndSensorNoise) {
+  constexpr Tick kMaxTicks = 6000;
+  harness::Harness h(scenario("square.txt", 21, std::nullopt, kMaxTicks,
+                              "packet_loss: 0.2\nnoise: {range: 0.02, bearing: 0.05, ultrasonic: 0.01}\n"));
+  const Outcome o = run_to_formation(h, kMaxTicks);
+  report("square,loss0.2+noise", 21, o);
+  ASSERT_TRUE(o.formation_tick.has_value()) << snapshot(h);
+  EXPECT_LE(*o.shape_error, 0.1);
+  EXPECT_EQ(o.robot_contacts, 0u);
 }
 
 // ---- A robot dying during formation ----
