@@ -310,6 +310,7 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
       const double dt = static_cast<double>(ctx.tick - std::min(heard, ctx.tick)) / ctx.params->tick_rate;
       to_parent = vsub(vadd(it->second, vscale(last_velocity_[*parent_], dt)), position);
     }
+    to_parent_ = to_parent;
     const Vec2 f_net = net_force(spring(p_.k_o, to_parent), spring(p_.k_o, parent_reference_));  // eq. (5)
     net_force_ = vnorm(f_net);
     // How far behind along the direction of travel (the parent's velocity): what the leader waits for.
@@ -389,8 +390,17 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
         // The side is judged against the remembered obstacle (-n, stable while the robot turns) and kept
         // until the obstacle is gone, so that a robot never swings from one side to the other.
         if (slide_side_ == 0) {
-          const int toward = side_away_from_neighbours(*ctx.neighbours, vscale(n, -1.0), 1.5 * p_.spacing);
-          slide_side_ = toward != 0 ? -toward : (vdot(slide, vrotate(n, std::numbers::pi / 2)) >= 0 ? -1 : 1);
+          // Towards the parent's side (it stands inside the shape, where the way is clear); the leader, which
+          // has none, towards its neighbours.
+          const Vec2 to_obstacle = vscale(n, -1.0);
+          const double parent_side = to_obstacle.x * to_parent_.y - to_obstacle.y * to_parent_.x;
+          const int toward = side_away_from_neighbours(*ctx.neighbours, to_obstacle, 1.5 * p_.spacing);
+          if (parent_ && std::abs(parent_side) > 0.05) {
+            slide_side_ = parent_side > 0 ? 1 : -1;
+          } else {
+            slide_side_ =
+                toward != 0 ? -toward : (vdot(slide, vrotate(n, std::numbers::pi / 2)) >= 0 ? -1 : 1);
+          }
         }
         // +1: left of the obstacle direction -n, i.e. n turned by -pi/2.
         slide = vadd(slide, vscale(vrotate(n, -slide_side_ * std::numbers::pi / 2), 0.5 * d_norm));

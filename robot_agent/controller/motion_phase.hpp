@@ -68,6 +68,7 @@ class PaperMotion final : public MotionPhases {
   std::map<RobotId, Tick> marked_dead_;    // id -> last_heard when we marked it (mark once per silence)
   WallFollower wall_;
   EchoMemory echoes_;
+  Vec2 to_parent_;      // this tick's vector to the parent, arena frame
   int slide_side_ = 0;  // head-on give-way side, kept while the obstacle is near (0: none yet)
   Tick last_obstacle_tick_ = 0;
   double net_force_ = 0.0;

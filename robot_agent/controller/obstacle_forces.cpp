@@ -69,6 +69,7 @@ ObstacleSense sense_obstacles(const UltrasonicArray& readings, const SensorMask&
   // Two: small only if their echoes are nearly as far (the near side of something round; a plane seen by
   // two sensors gives readings in the ratio of the cosines, about 1.4 head-on) and close together.
   const std::size_t run = hi - lo + 1;
+  out.run_length = static_cast<int>(run);
   bool small = run == 1;
   if (run == 2) {
     const double ratio =

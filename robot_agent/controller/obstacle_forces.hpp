@@ -56,6 +56,7 @@ struct ObstacleSense {
   double nearest = kUltrasonicMaxRange;  // m, nearest unmasked echo
   double nearest_bearing = 0.0;          // rad, body frame, of that echo's sensor
   int sensors_seeing = 0;                // unmasked sensors with an echo nearer than fusion_range
+  int run_length = 0;                    // adjacent seeing sensors in the run that holds the nearest echo
 };
 
 struct ObstacleParams {

@@ -32,6 +32,11 @@ bool WallFollower::update(const ObstacleSense& sense, Vec2 desired, Vec2 travel,
     const int pass_left = side_hint != 0 ? side_hint : (cross >= 0.0 ? 1 : -1);
     side_ = pass_left;
   }
+  // Three adjacent cones at once: no post is that wide (a wall's corner was taken for one); give it up.
+  if (sense.run_length >= 3) {
+    active_ = false;
+    return false;
+  }
   const Vec2 rel = vsub(position, centre_);
   if (vdot(rel, t_hat) > 0.0) {  // past the obstacle along the direction of travel
     active_ = false;

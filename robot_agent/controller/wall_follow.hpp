@@ -14,7 +14,9 @@
 //          outside), else the side the desired motion leans to. The circle is followed from the positioning
 //          sensor, not from the echoes: a differential-drive robot turning round a post sweeps its cones over
 //          it, and echoes that come and go would make it dither on the spot.
-//   leave: past the centre along the direction of travel, (p - c) . travel > 0.
+//   leave: past the centre along the direction of travel, (p - c) . travel > 0; or at once when three
+//          adjacent cones see it (no post is that wide: it was a wall's corner, which the motion phase then
+//          treats as a large obstacle).
 #pragma once
 
 #include "common/types.hpp"
