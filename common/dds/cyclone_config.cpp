@@ -23,7 +23,7 @@ void check_address(const std::string& what, const std::string& value) {
 }  // namespace
 
 std::uint16_t world_discovery_port(std::uint32_t domain) {
-  return static_cast<std::uint16_t>(7400 + 250 * domain + 10);
+  return static_cast<std::uint16_t>(kPortBase + kDomainGain * domain + 10);
 }
 
 std::string cyclone_config_xml(const DdsSettings& s) {
@@ -39,6 +39,11 @@ std::string cyclone_config_xml(const DdsSettings& s) {
   if (!iface.empty()) xml += "<Interfaces><NetworkInterface address=\"" + iface + "\"/></Interfaces>";
   // Loopback has no multicast flag; say so rather than let Cyclone find out, on every interface alike.
   xml += "<AllowMulticast>false</AllowMulticast></General><Discovery>";
+  // A domain gain of 100 (RTPS default 250) keeps every domain's fixed ports below Linux's ephemeral range
+  // (32768-60999): with 250, a domain above ~100 puts the world's port among the ephemeral ones that any
+  // agent socket may hold, and the world then fails to start ("failed to create unicast sockets"), as seen.
+  xml += "<Ports><Base>" + std::to_string(kPortBase) + "</Base><DomainGain>" + std::to_string(kDomainGain) +
+         "</DomainGain></Ports>";
   if (s.role == Role::World) {
     xml += "<ParticipantIndex>0</ParticipantIndex>";
   } else {

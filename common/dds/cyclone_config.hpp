@@ -20,7 +20,7 @@ enum class Role {
 };
 
 struct DdsSettings {
-  std::uint32_t domain = 0;  // DDS domain id, 0..kMaxDomain (the port mapping needs 250 ports a domain)
+  std::uint32_t domain = 0;  // DDS domain id, 0..kMaxDomain
   Role role = Role::Agent;
   // Agents: the world's address, their only discovery peer. Loopback by default; another host's address for
   // agents on other hosts (no code change, just this).
@@ -31,8 +31,10 @@ struct DdsSettings {
 };
 
 inline constexpr std::uint32_t kMaxDomain = 232;
+inline constexpr std::uint32_t kPortBase = 7400;
+inline constexpr std::uint32_t kDomainGain = 100;  // ports per domain: all fixed ports stay below 32768
 
-// The world's SPDP unicast port for a domain (RTPS port mapping: 7400 + 250*domain + 10 + 2*index, index 0).
+// The world's SPDP unicast port for a domain (RTPS port mapping: base + gain*domain + 10 + 2*index, index 0).
 std::uint16_t world_discovery_port(std::uint32_t domain);
 
 // The XML configuration for these settings (throws std::invalid_argument on a bad domain or address).

@@ -76,13 +76,18 @@ TEST(CycloneConfig, WorldTakesIndexZeroAndAgentsPeerOnlyWithIt) {
   agent.domain = 7;
   const std::string a = cyclone_config_xml(agent);
   EXPECT_NE(a.find("<ParticipantIndex>none</ParticipantIndex>"), std::string::npos);
-  EXPECT_NE(a.find("<Peer address=\"127.0.0.1:" + std::to_string(7400 + 250 * 7 + 10) + "\"/>"),
+  EXPECT_NE(a.find("<Peer address=\"127.0.0.1:" + std::to_string(7400 + 100 * 7 + 10) + "\"/>"),
             std::string::npos);
 
   agent.world_host = "10.0.0.5";  // another host: no loopback pinning, that host as the peer
   const std::string remote = cyclone_config_xml(agent);
   EXPECT_EQ(remote.find("127.0.0.1"), std::string::npos);
-  EXPECT_NE(remote.find("10.0.0.5:9160"), std::string::npos);
+  EXPECT_NE(remote.find("10.0.0.5:8110"), std::string::npos);
+}
+
+TEST(CycloneConfig, EveryDomainsFixedPortsStayBelowTheEphemeralRange) {
+  EXPECT_LT(swarmform::dds::world_discovery_port(swarmform::dds::kMaxDomain) + 2, 32768);
+  EXPECT_NE(cyclone_config_xml(DdsSettings{}).find("<DomainGain>100</DomainGain>"), std::string::npos);
 }
 
 TEST(CycloneConfig, BadDomainOrAddressIsRefused) {
