@@ -112,8 +112,18 @@ std::string robot_partition(RobotId id) {
 
 Participant::Participant(const DdsSettings& settings) : impl_(std::make_unique<Impl>()) {
   const std::string xml = cyclone_config_xml(settings);
-  impl_->domain = Entity(dds_create_domain(static_cast<dds_domainid_t>(settings.domain), xml.c_str()),
-                         "dds_create_domain");
+  const dds_entity_t domain = dds_create_domain(static_cast<dds_domainid_t>(settings.domain), xml.c_str());
+  if (domain < 0) {
+    // The usual cause is a port in use: say which, rather than Cyclone's bare "Error".
+    const std::string what =
+        "dds_create_domain(domain " + std::to_string(settings.domain) +
+        (settings.role == Role::World
+             ? "; is another world_server on this domain? its port " +
+                   std::to_string(world_discovery_port(settings.domain)) + " may be taken)"
+             : ")");
+    throw DdsError(what, domain);
+  }
+  impl_->domain = Entity(domain, "dds_create_domain");
   impl_->participant =
       Entity(dds_create_participant(static_cast<dds_domainid_t>(settings.domain), nullptr, nullptr),
              "dds_create_participant");
