@@ -1,5 +1,6 @@
 #include "world_server/run/run_events.hpp"
 
+#include <array>
 #include <string>
 
 #include "common/robot_state.hpp"
@@ -16,7 +17,45 @@ std::string state_name(std::int32_t s) {
   return std::string(to_string(static_cast<RobotState>(s)));
 }
 
+// The kinds the recorder derives itself or the front end reports with fixed meanings
+// (docs/recording-format.md); a controller's event may not pose as one of them.
+constexpr std::array<std::string_view, 9> kReservedKinds = {
+    "state", "label", "leader", "leader_lost", "death", "rejoin", "fragment", "rejoin_graph", "command"};
+
+bool is_space(char c) {
+  return c == ' ' || c == '\t' || c == '\n' || c == '\r';
+}
+
 }  // namespace
+
+std::vector<Event> controller_events(Tick tick, const std::vector<RobotTruth>& robots) {
+  std::vector<Event> out;
+  for (const auto& r : robots) {
+    if (r.telemetry.events.empty() || r.telemetry_tick + 1 != tick) continue;
+    for (const std::string& text : r.telemetry.events) {
+      std::size_t b = 0;
+      while (b < text.size() && is_space(text[b])) ++b;
+      std::size_t e = b;
+      while (e < text.size() && !is_space(text[e])) ++e;
+      std::string kind = text.substr(b, e - b);
+      if (kind.empty()) kind = "controller_event";
+      for (const auto reserved : kReservedKinds) {
+        if (kind == reserved) {
+          kind.insert(0, "controller_");
+          break;
+        }
+      }
+      while (e < text.size() && is_space(text[e])) ++e;
+      std::size_t end = text.size();
+      while (end > e && is_space(text[end - 1])) --end;
+      Event ev = make_event(tick, kind, r.id);
+      ev["detail"] = text.substr(e, end - e);
+      ev["source"] = "controller";
+      out.push_back(std::move(ev));
+    }
+  }
+  return out;
+}
 
 Event make_event(Tick tick, std::string_view kind, std::int64_t id) {
   Event e;

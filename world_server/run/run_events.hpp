@@ -23,6 +23,14 @@ inline constexpr Tick kLeaderSettleTicks = 5;
 // {"tick": tick, "kind": kind, "id": id}; more fields are added by the caller. id -1: no single robot.
 Event make_event(Tick tick, std::string_view kind, std::int64_t id);
 
+// The events a robot's controller reported itself (Telemetry::events, "<kind> <detail>"), as events of the
+// recorded tick `tick`: kind the first word, `detail` the rest (empty if none), `source` "controller". Only
+// telemetry applied just before this tick's step (RobotTruth::telemetry_tick + 1 == tick) counts: a robot
+// whose command did not come keeps its old telemetry, and its events are not news. A first word that is one
+// of the kinds derived here (state, label, leader, ...) becomes "controller_<word>" so that it can never be
+// counted as one of them (e.g. in leader_changes).
+std::vector<Event> controller_events(Tick tick, const std::vector<RobotTruth>& robots);
+
 class EventDeriver {
  public:
   explicit EventDeriver(double comm_range) : comm_range_(comm_range) {}

@@ -72,6 +72,8 @@ struct RunSession::Impl {
     const bool track_graph = tracker.metrics().formation_tick.has_value();
     std::size_t components = 0;
     for (const auto& e : events.observe(tick, robots, track_graph, components)) emit(e);
+    // What the controllers said happened (label taken/lost/freed, barrier, leader elected, parent...).
+    for (const auto& e : controller_events(tick, robots)) emit(e);
     if (track_graph) tracker.note_components(components);
     // x, y, theta of every robot in id order, each as its 8-byte little-endian bit pattern; one update a
     // tick.

@@ -159,6 +159,7 @@ CommandVerdict World::apply_command(RobotId id, const Command& command) {
     out.data.assign(command.message.begin(), command.message.end());
   }
   m.truth[id].telemetry = command.telemetry;
+  m.truth[id].telemetry_tick = m.tick;
   return verdict;
 }
 

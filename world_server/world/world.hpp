@@ -24,6 +24,10 @@ struct RobotTruth {
   Pose2D pose;
   bool alive = true;
   Telemetry telemetry;  // what its controller last reported
+  // The tick at which `telemetry` was applied (apply_command before the step to telemetry_tick + 1). The
+  // recorder writes telemetry.events only when they are new (telemetry_tick + 1 == the recorded tick): a
+  // robot whose command did not come keeps its old telemetry, whose events must not be logged twice.
+  Tick telemetry_tick = 0;
 };
 
 // What the world did with a command (anything but Ok is logged as an event by the caller's recorder).
