@@ -1,0 +1,228 @@
+// The paper's behaviour with real processes (issues 3 and 4): world_server plus 9 robot_agent processes over
+// DDS on loopback, scenarios/paper.yaml in lockstep. The triangle forms and two runs repeat bit for bit; a
+// real SIGKILL of the leader mid-way gives a new leader within 50 ticks and the swarm arrives; a real SIGKILL
+// of a parent makes its children re-parent and arrive. Whom to kill and when comes from a clean run of the
+// same deterministic scenario (lockstep: the killed run is that run up to the kill). Each test has its own
+// DDS domain (181..183), kills every process it started by pid (Process's destructor), bounds every wait.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "tests/integration/process.hpp"
+
+namespace {
+
+using swarmform::testing::Process;
+using swarmform::testing::read_file;
+using Json = nlohmann::json;
+
+constexpr int kDomainBase = 180;
+constexpr int kRobots = 9;
+constexpr double kRunDeadline = 90.0;  // s, one whole run (it takes ~5 s on a quiet 2-core machine)
+constexpr int kNewLeaderWithin = 50;   // ticks from the leader's death to its successor's `since` (issue 4)
+
+const std::string kWorld = WORLD_SERVER_EXE;
+const std::string kAgent = ROBOT_AGENT_EXE;
+const std::string kScenario = PAPER_SCENARIO;
+
+struct Row {
+  int tick = 0, id = 0, alive = 0, state = 0, label = -1, parent = -1, leader = 0;
+};
+
+class PaperMultiProcess : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = std::filesystem::temp_directory_path() /
+           ("swarmform-paper-it-" + std::string(info->name()) + "-" + std::to_string(getpid()));
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override {
+    processes_.clear();  // SIGKILL whatever still runs
+    if (!HasFailure()) std::filesystem::remove_all(dir_);
+  }
+
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  Process& start(const std::vector<std::string>& argv, const std::string& name) {
+    processes_.push_back(std::make_unique<Process>(argv, path(name)));
+    return *processes_.back();
+  }
+
+  // A whole run: 9 agents, then the world (given the agents' pids for a kill). `kill` = {id, tick} or none.
+  // The world and every agent but the killed one exit 0; the killed one died of SIGKILL.
+  Json run(int domain, const std::string& name, std::optional<std::pair<int, int>> kill = std::nullopt) {
+    std::vector<Process*> agents;
+    for (int i = 0; i < kRobots; ++i) {
+      agents.push_back(
+          &start({kAgent, "--id", std::to_string(i), "--domain", std::to_string(domain), "--timeout", "30"},
+                 name + "-agent" + std::to_string(i)));
+    }
+    std::vector<std::string> argv = {
+        kWorld,     "--scenario",           kScenario,           "--out", path(name),
+        "--domain", std::to_string(domain), "--connect-timeout", "30"};
+    if (kill) {
+      const auto [id, tick] = *kill;
+      argv.insert(argv.end(), {"--kill", std::to_string(id) + "@" + std::to_string(tick), "--agent-pid",
+                               std::to_string(id) + "=" + std::to_string(agents[id]->pid())});
+    }
+    Process& w = start(argv, name + "-world");
+    EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+    for (int i = 0; i < kRobots; ++i) {
+      const int expected = kill && kill->first == i ? 128 + 9 : 0;
+      EXPECT_EQ(agents[i]->wait_for(10.0), expected) << "agent " << i << ": " << agents[i]->err();
+    }
+    return Json::parse(read_file(path(name) + "/summary.json"));
+  }
+
+  std::vector<Json> events_of(const std::string& run, const std::string& kind) const {
+    std::vector<Json> out;
+    std::istringstream in(read_file(path(run) + "/events.jsonl"));
+    for (std::string line; std::getline(in, line);) {
+      if (line.empty()) continue;
+      Json e = Json::parse(line);
+      if (e.value("kind", "") == kind) out.push_back(std::move(e));
+    }
+    return out;
+  }
+
+  // robots.csv rows (the columns the tests need), in file order.
+  std::vector<Row> rows(const std::string& run) const {
+    std::vector<Row> out;
+    std::istringstream in(read_file(path(run) + "/robots.csv"));
+    std::string line;
+    std::getline(in, line);  // header: tick,id,x,y,theta,alive,state,label,parent,leader,net_force
+    while (std::getline(in, line)) {
+      std::vector<std::string> c;
+      std::istringstream cells(line);
+      for (std::string cell; std::getline(cells, cell, ',');) c.push_back(cell);
+      if (c.size() < 11) continue;
+      out.push_back({std::stoi(c[0]), std::stoi(c[1]), std::stoi(c[5]), std::stoi(c[6]), std::stoi(c[7]),
+                     std::stoi(c[8]), std::stoi(c[9])});
+    }
+    return out;
+  }
+
+  // The clean run's leader, and a kill tick half-way between the start of motion and the goal.
+  struct Plan {
+    int leader = -1;
+    int kill_tick = 0;
+  };
+  Plan plan(const Json& clean, const std::string& run) const {
+    Plan p;
+    const auto leaders = events_of(run, "leader");
+    EXPECT_FALSE(leaders.empty());
+    if (!leaders.empty()) p.leader = leaders.front()["id"];
+    EXPECT_FALSE(clean["motion_start_tick"].is_null());
+    EXPECT_FALSE(clean["goal_tick"].is_null());
+    if (clean["goal_tick"].is_null() || clean["motion_start_tick"].is_null()) return p;
+    p.kill_tick = (clean["motion_start_tick"].get<int>() + clean["goal_tick"].get<int>()) / 2;
+    return p;
+  }
+
+  // Every live shape robot arrived, none but the killed one died.
+  static void expect_arrival_without(const Json& s, int dead) {
+    EXPECT_FALSE(s["goal_tick"].is_null()) << s.dump();
+    EXPECT_EQ(s["alive_at_end"], kRobots - 1);
+    EXPECT_EQ(s["arrived"], kRobots - 1);
+    ASSERT_EQ(s["deaths"].size(), 1u);
+    EXPECT_EQ(s["deaths"][0]["id"], dead);
+  }
+
+  std::filesystem::path dir_;
+  std::vector<std::unique_ptr<Process>> processes_;
+};
+
+TEST_F(PaperMultiProcess, TriangleFormsWithRealAgentsAndTwoLockstepRunsRepeatBitForBit) {
+  const int domain = kDomainBase + 1;
+  const Json first = run(domain, "first");
+  const Json second = run(domain, "second");
+  ASSERT_FALSE(first["formation_tick"].is_null()) << first.dump();
+  EXPECT_LE(first["shape_error_at_formation"].get<double>(), 0.1);
+  EXPECT_EQ(first["collisions_robot_robot"], 0);
+  EXPECT_FALSE(first["goal_tick"].is_null());
+  EXPECT_EQ(first["formation_tick"], second["formation_tick"]);
+  EXPECT_EQ(first["goal_tick"], second["goal_tick"]);
+  EXPECT_EQ(first["trajectory_sha256"].get<std::string>().size(), 64u);
+  EXPECT_EQ(first["trajectory_sha256"], second["trajectory_sha256"]);
+  // The controllers' own events are recorded (label allotment and the barrier).
+  EXPECT_FALSE(events_of("first", "label_taken").empty());
+  EXPECT_FALSE(events_of("first", "barrier_passed").empty());
+  std::cout << "formation_tick=" << first["formation_tick"] << " goal_tick=" << first["goal_tick"]
+            << " sha=" << first["trajectory_sha256"] << "\n";
+}
+
+TEST_F(PaperMultiProcess, LeaderKilledMidWayGetsASuccessorWithin50TicksAndTheSwarmArrives) {
+  const int domain = kDomainBase + 2;
+  const Json clean = run(domain, "clean");
+  const Plan p = plan(clean, "clean");
+  ASSERT_GE(p.leader, 0);
+  ASSERT_GT(p.kill_tick, 0);
+  const Json s = run(domain, "leader-killed", std::pair{p.leader, p.kill_tick});
+  expect_arrival_without(s, p.leader);
+  const int death = s["deaths"][0]["tick"];
+  EXPECT_GE(death, p.kill_tick);
+  std::optional<int> since;
+  for (const Json& e : events_of("leader-killed", "leader")) {
+    if (e["previous"] == p.leader && e["id"] != p.leader) {
+      since = e["since"].get<int>();
+      std::cout << "leader " << p.leader << " killed at tick " << p.kill_tick << ", death tick " << death
+                << "; new leader " << e["id"] << " since " << *since << " (" << *since - death
+                << " ticks); goal_tick=" << s["goal_tick"] << "\n";
+      break;
+    }
+  }
+  ASSERT_TRUE(since.has_value()) << "no leader after " << p.leader;
+  EXPECT_LE(*since - death, kNewLeaderWithin);
+  EXPECT_GE(s["leader_changes"].get<int>(), 1);
+}
+
+TEST_F(PaperMultiProcess, ParentKilledMidWayHasItsChildrenReparentAndArrive) {
+  const int domain = kDomainBase + 3;
+  const Json clean = run(domain, "clean");
+  const Plan p = plan(clean, "clean");
+  ASSERT_GT(p.kill_tick, 0);
+  // The parent to kill: the non-leader robot with the most children at the kill tick (lowest id on a tie).
+  std::map<int, std::set<int>> children;
+  for (const Row& r : rows("clean")) {
+    if (r.tick == p.kill_tick && r.alive && r.parent >= 0 && r.parent != p.leader) {
+      children[r.parent].insert(r.id);
+    }
+  }
+  ASSERT_FALSE(children.empty()) << "no parent but the leader at tick " << p.kill_tick;
+  int parent = children.begin()->first;
+  for (const auto& [id, kids] : children) {
+    if (kids.size() > children[parent].size()) parent = id;
+  }
+  const std::set<int> kids = children[parent];
+
+  const Json s = run(domain, "parent-killed", std::pair{parent, p.kill_tick});
+  expect_arrival_without(s, parent);
+  const int death = s["deaths"][0]["tick"];
+  std::map<int, int> reparented;  // child -> first tick after the death with another parent
+  std::map<int, Row> last;
+  for (const Row& r : rows("parent-killed")) {
+    if (!kids.contains(r.id)) continue;
+    last[r.id] = r;
+    if (r.tick > death && r.parent >= 0 && r.parent != parent && !reparented.contains(r.id)) {
+      reparented[r.id] = r.tick;
+    }
+  }
+  for (const int kid : kids) {
+    ASSERT_TRUE(reparented.contains(kid)) << "child " << kid << " of " << parent << " never re-parented";
+    EXPECT_NE(last[kid].parent, parent) << "child " << kid;
+    EXPECT_EQ(last[kid].alive, 1);
+    std::cout << "parent " << parent << " killed at tick " << p.kill_tick << " (death " << death
+              << "): child " << kid << " re-parented at tick " << reparented[kid] << " ("
+              << reparented[kid] - death << " ticks), its parent at the end " << last[kid].parent
+              << "; goal_tick=" << s["goal_tick"] << "\n";
+  }
+}
+
+}  // namespace
