@@ -13,7 +13,7 @@
 #include <set>
 #include <sstream>
 
-#include "tests/integration/process.hpp"
+#include "tests/integration/process_fixture.hpp"
 
 namespace {
 
@@ -31,26 +31,9 @@ const std::string kAgent = ROBOT_AGENT_EXE;
 const std::string kRogue = ROGUE_AGENT_EXE;
 const std::string kScenario = INTEGRATION_SCENARIO;
 
-class MultiProcess : public ::testing::Test {
+class MultiProcess : public swarmform::testing::ProcessFixture {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = std::filesystem::temp_directory_path() /
-           ("swarmform-it-" + std::string(info->name()) + "-" + std::to_string(getpid()));
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override {
-    processes_.clear();  // SIGKILL whatever still runs
-    if (!HasFailure()) std::filesystem::remove_all(dir_);
-  }
-
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
-  Process& start(const std::vector<std::string>& argv, const std::string& name) {
-    processes_.push_back(std::make_unique<Process>(argv, path(name)));
-    return *processes_.back();
-  }
+  MultiProcess() : ProcessFixture("swarmform-it") {}
   Process& world(int domain, const std::string& run, std::vector<std::string> extra = {}) {
     std::vector<std::string> argv = {
         kWorld,     "--scenario",           kScenario,           "--out", path(run),
@@ -111,9 +94,6 @@ class MultiProcess : public ::testing::Test {
     EXPECT_EQ(events_of(run, "agent_connected").size(), static_cast<std::size_t>(kRobots));
     return s.value("trajectory_sha256", "");
   }
-
-  std::filesystem::path dir_;
-  std::vector<std::unique_ptr<Process>> processes_;
 };
 
 TEST_F(MultiProcess, EightAgentsInLockstepGetOnlyTheirOwnPacketsAndRepeatBitForBit) {

@@ -14,7 +14,7 @@
 #include <set>
 #include <sstream>
 
-#include "tests/integration/process.hpp"
+#include "tests/integration/process_fixture.hpp"
 
 namespace {
 
@@ -35,25 +35,9 @@ struct Row {
   int tick = 0, id = 0, alive = 0, state = 0, label = -1, parent = -1, leader = 0;
 };
 
-class PaperMultiProcess : public ::testing::Test {
+class PaperMultiProcess : public swarmform::testing::ProcessFixture {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = std::filesystem::temp_directory_path() /
-           ("swarmform-paper-it-" + std::string(info->name()) + "-" + std::to_string(getpid()));
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override {
-    processes_.clear();  // SIGKILL whatever still runs
-    if (!HasFailure()) std::filesystem::remove_all(dir_);
-  }
-
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  Process& start(const std::vector<std::string>& argv, const std::string& name) {
-    processes_.push_back(std::make_unique<Process>(argv, path(name)));
-    return *processes_.back();
-  }
+  PaperMultiProcess() : ProcessFixture("swarmform-paper-it") {}
 
   // A whole run: 9 agents, then the world (given the agents' pids for a kill). `kill` = {id, tick} or none.
   // The world and every agent but the killed one exit 0; the killed one died of SIGKILL.
@@ -134,9 +118,6 @@ class PaperMultiProcess : public ::testing::Test {
     ASSERT_EQ(s["deaths"].size(), 1u);
     EXPECT_EQ(s["deaths"][0]["id"], dead);
   }
-
-  std::filesystem::path dir_;
-  std::vector<std::unique_ptr<Process>> processes_;
 };
 
 TEST_F(PaperMultiProcess, TriangleFormsWithRealAgentsAndTwoLockstepRunsRepeatBitForBit) {

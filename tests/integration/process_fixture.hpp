@@ -1,0 +1,47 @@
+// The fixture every multi-process test shares: a fresh folder per test for the processes' output and run
+// directories (kept when the test fails, for the post-mortem), and the processes it started, all SIGKILLed
+// and reaped by pid when the test ends, whatever happened.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "tests/integration/process.hpp"
+
+namespace swarmform::testing {
+
+class ProcessFixture : public ::testing::Test {
+ protected:
+  explicit ProcessFixture(std::string prefix) : prefix_(std::move(prefix)) {}
+
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = std::filesystem::temp_directory_path() /
+           (prefix_ + "-" + std::string(info->name()) + "-" + std::to_string(getpid()));
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override {
+    processes_.clear();  // SIGKILL whatever still runs
+    if (!HasFailure()) std::filesystem::remove_all(dir_);
+  }
+
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  Process& start(const std::vector<std::string>& argv, const std::string& name) {
+    processes_.push_back(std::make_unique<Process>(argv, path(name)));
+    return *processes_.back();
+  }
+
+  std::filesystem::path dir_;
+  std::vector<std::unique_ptr<Process>> processes_;
+
+ private:
+  std::string prefix_;
+};
+
+}  // namespace swarmform::testing
