@@ -1,7 +1,10 @@
 // The in-process harness: the tick order of the DDS world_server without DDS. One tick:
 //   scheduled kills due now -> every live robot's controller steps on its perception -> the commands go to
 //   the world (verdicts other than Ok are recorded) -> world.step() -> the session records the new tick.
-// The controllers run one after the other in id order, so a run is deterministic for a scenario and seed.
+// The controllers step on the worker pool (world_server/world/parallel_for.hpp): each reads only its own
+// perception and writes only its own command slot; the commands then go to the world one after the other in
+// id order, exactly as a serial loop would, so a run is deterministic for a scenario and seed whatever the
+// worker count.
 #include "world_server/harness/harness.hpp"
 
 #include <algorithm>
@@ -9,6 +12,7 @@
 #include <string>
 
 #include "world_server/run/run_end.hpp"
+#include "world_server/world/parallel_for.hpp"
 
 namespace swarmform::harness {
 
@@ -54,10 +58,20 @@ struct Harness::Impl {
       kill(kills[next_kill].id);
       ++next_kill;
     }
-    for (RobotId id = 0; id < controllers.size(); ++id) {
-      if (!controllers[id] || !world.alive(id)) continue;
-      const Command command = controllers[id]->step(world.perception(id));
-      const auto verdict = world.apply_command(id, command);
+    const std::size_t n = controllers.size();
+    commands.resize(n);
+    stepped.assign(n, 0);
+    parallel::for_range(n, [&](std::size_t begin, std::size_t end, std::size_t) {
+      for (std::size_t i = begin; i < end; ++i) {
+        const auto id = static_cast<RobotId>(i);
+        if (!controllers[i] || !world.alive(id)) continue;
+        commands[i] = controllers[i]->step(world.perception(id));
+        stepped[i] = 1;
+      }
+    });
+    for (RobotId id = 0; id < n; ++id) {
+      if (!stepped[id]) continue;
+      const auto verdict = world.apply_command(id, commands[id]);
       if (verdict != world::CommandVerdict::Ok) session.record_command_verdict(id, verdict);
     }
     world.step();
@@ -70,6 +84,8 @@ struct Harness::Impl {
   world::RunSession session;
   std::vector<std::unique_ptr<controller::Controller>> controllers;  // null: dead
   std::vector<world::Kill> kills;                                    // by tick
+  std::vector<Command> commands;  // this tick's, one slot per robot (kept: their message buffers are reused)
+  std::vector<char> stepped;      // 1: commands[id] is this tick's
   std::size_t next_kill = 0;
 };
 

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+
+#include "world_server/world/parallel_for.hpp"
 
 namespace swarmform::world {
 
@@ -25,45 +28,72 @@ bool Medium::occluded(const Pose2D& a, const Pose2D& b) const {
 
 // Receiver by receiver (each inbox is filled in one go, which keeps the writes local in memory); a sender is
 // heard when it is alive, said something, is within range of the receiver (the test is symmetric) and, with
-// occlusion on, in its line of sight. The grid's order is a fixed function of the positions, so the random
-// draws replay exactly.
+// occlusion on, in its line of sight. Two passes, so that the result does not depend on the worker count:
+//   1. on the worker pool, each receiver's inbox gets every heard sender's noiseless reading (only its own
+//      inbox and spare list are written);
+//   2. on the calling thread, receivers by id and readings in the grid's order (a fixed function of the
+//      positions), the loss and noise draws, in the same order as a single loop would draw them.
 void Medium::deliver(const std::vector<Pose2D>& poses, const std::vector<char>& alive,
                      const std::vector<Outbox>& outboxes, const SpatialGrid& grid,
                      std::vector<Perception>& perceptions) {
   const std::size_t n = poses.size();
   spare_.resize(n);
+  parallel::for_range(n, [&](std::size_t begin, std::size_t end, std::size_t) {
+    for (std::size_t r = begin; r < end; ++r)
+      gather(r, poses, alive, outboxes, grid, perceptions[r].messages);
+  });
+  const bool random =
+      params_.packet_loss > 0.0 || params_.range_noise_sd > 0.0 || params_.bearing_noise_sd > 0.0;
+  if (!random) return;
   for (std::size_t r = 0; r < n; ++r) {
     std::vector<RabReading>& inbox = perceptions[r].messages;
-    std::vector<RabReading>& spare = spare_[r];
-    std::size_t used = 0;
-    if (alive[r]) {
-      grid.for_each_near(poses[r].x, poses[r].y, params_.comm_range, [&](std::uint32_t s) {
-        if (s == r || !alive[s] || !outboxes[s].has_message) return;
-        if (params_.occlusion && occluded(poses[s], poses[r])) return;
-        if (rng_.bernoulli(params_.packet_loss)) return;
-        RangeBearing rb = to_receiver_frame(poses[s], poses[r]);
-        rb.range = std::max(0.0, rb.range + rng_.gaussian(params_.range_noise_sd));
-        rb.bearing = wrap_angle(rb.bearing + rng_.gaussian(params_.bearing_noise_sd));
-        // Reuse the receiver's earlier RabReading objects (and their data buffers) where there are some.
-        if (used == inbox.size()) {
-          if (spare.empty()) {
-            inbox.emplace_back();
-          } else {
-            inbox.push_back(std::move(spare.back()));
-            spare.pop_back();
-          }
-        }
-        RabReading& m = inbox[used++];
-        m.sender = s;
-        m.range = rb.range;
-        m.bearing = rb.bearing;
-        m.data.assign(outboxes[s].data.begin(), outboxes[s].data.end());
-      });
+    std::size_t kept = 0;
+    for (std::size_t k = 0; k < inbox.size(); ++k) {
+      if (rng_.bernoulli(params_.packet_loss)) continue;
+      RabReading& m = inbox[k];
+      m.range = std::max(0.0, m.range + rng_.gaussian(params_.range_noise_sd));
+      m.bearing = wrap_angle(m.bearing + rng_.gaussian(params_.bearing_noise_sd));
+      if (kept != k) std::swap(inbox[kept], m);  // swap: the lost reading's buffer stays for reuse
+      ++kept;
     }
-    // Readings not needed this tick are parked (with their buffers) for a later tick, not freed.
-    for (std::size_t k = used; k < inbox.size(); ++k) spare.push_back(std::move(inbox[k]));
-    inbox.resize(used);
+    park(r, inbox, kept);
   }
+}
+
+void Medium::gather(std::size_t r, const std::vector<Pose2D>& poses, const std::vector<char>& alive,
+                    const std::vector<Outbox>& outboxes, const SpatialGrid& grid,
+                    std::vector<RabReading>& inbox) {
+  std::vector<RabReading>& spare = spare_[r];
+  std::size_t used = 0;
+  if (alive[r]) {
+    grid.for_each_near(poses[r].x, poses[r].y, params_.comm_range, [&](std::uint32_t s) {
+      if (s == r || !alive[s] || !outboxes[s].has_message) return;
+      if (params_.occlusion && occluded(poses[s], poses[r])) return;
+      const RangeBearing rb = to_receiver_frame(poses[s], poses[r]);
+      // Reuse the receiver's earlier RabReading objects (and their data buffers) where there are some.
+      if (used == inbox.size()) {
+        if (spare.empty()) {
+          inbox.emplace_back();
+        } else {
+          inbox.push_back(std::move(spare.back()));
+          spare.pop_back();
+        }
+      }
+      RabReading& m = inbox[used++];
+      m.sender = s;
+      m.range = rb.range;
+      m.bearing = rb.bearing;
+      m.data.assign(outboxes[s].data.begin(), outboxes[s].data.end());
+    });
+  }
+  park(r, inbox, used);
+}
+
+// Readings past `used` are parked (with their buffers) for a later tick, not freed.
+void Medium::park(std::size_t r, std::vector<RabReading>& inbox, std::size_t used) {
+  std::vector<RabReading>& spare = spare_[r];
+  for (std::size_t k = used; k < inbox.size(); ++k) spare.push_back(std::move(inbox[k]));
+  inbox.resize(used);
 }
 
 }  // namespace swarmform::world

@@ -3,7 +3,8 @@
 // decides WHAT is perceived (range and bearing in the receiver's frame, with noise). Messages given to
 // deliver() are those of tick t; they land in the perceptions of tick t+1, only of live robots, never of the
 // sender itself, never from a dead sender. All randomness comes from one seeded stream, drawn in a fixed
-// order (senders by id, then receivers by id), so a run replays exactly.
+// order (receivers by id, then senders in the grid's order), so a run replays exactly, whatever the worker
+// count (the geometry runs on the worker pool, the draws on the calling thread).
 #pragma once
 
 #include <cstdint>
@@ -54,6 +55,11 @@ class Medium {
   const MediumParams& params() const { return params_; }
 
  private:
+  // One receiver's noiseless inbox (pass 1 of deliver; touches only inbox and spare_[r]).
+  void gather(std::size_t r, const std::vector<Pose2D>& poses, const std::vector<char>& alive,
+              const std::vector<Outbox>& outboxes, const SpatialGrid& grid, std::vector<RabReading>& inbox);
+  void park(std::size_t r, std::vector<RabReading>& inbox, std::size_t used);
+
   MediumParams params_;
   std::vector<StaticShape> statics_;
   Rng rng_;

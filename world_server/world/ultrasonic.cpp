@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "world_server/world/parallel_for.hpp"
+
 namespace swarmform::world {
 namespace {
 
@@ -30,6 +32,11 @@ Ultrasonic::Ultrasonic(const std::vector<Obstacle>& statics, double noise_sd, st
 
 UltrasonicReading Ultrasonic::read(std::size_t self, const std::vector<Pose2D>& poses,
                                    const SpatialGrid& grid) const {
+  return read_with(self, poses, grid, scratch_[0]);
+}
+
+UltrasonicReading Ultrasonic::read_with(std::size_t self, const std::vector<Pose2D>& poses,
+                                        const SpatialGrid& grid, Scratch& scratch) const {
   const Pose2D& me = poses[self];
   const double ch = std::cos(me.theta), sh = std::sin(me.theta);
   // Each sensor's axis in the arena frame.
@@ -42,27 +49,27 @@ UltrasonicReading Ultrasonic::read(std::size_t self, const std::vector<Pose2D>& 
   // them: the angle between the sensor's axis and the robot's centre is at most the cone's half-angle plus
   // the body's angular half-width asin(R/d). Each candidate is stored as its offset and |offset|^2 - R^2, so
   // the ray test below is a dot product, a compare and (rarely) a square root.
-  for (auto& c : cands_) c.clear();
+  for (auto& c : scratch.cands) c.clear();
   grid.for_each_near(me.x, me.y, kReach + kRobotRadius, [&](std::uint32_t j) {
     if (j == self) return;
     const double dx = poses[j].x - me.x, dy = poses[j].y - me.y;
     const double d2 = dx * dx + dy * dy;
     const Candidate cand{dx, dy, d2 - kRobotRadius * kRobotRadius};
     if (cand.c <= 0.0) {  // bodies overlap: every sensor reads the minimum
-      for (auto& c : cands_) c.push_back(cand);
+      for (auto& c : scratch.cands) c.push_back(cand);
       return;
     }
     const double d = std::sqrt(d2);
     const double sin_a = kRobotRadius / d;
     const double cos_limit = kCosCone * std::sqrt(1.0 - sin_a * sin_a) - kSinCone * sin_a;  // cos(cone + a)
     for (std::size_t s = 0; s < kUltrasonicCount; ++s) {
-      if (dx * axis_x[s] + dy * axis_y[s] >= d * cos_limit - 1e-12) cands_[s].push_back(cand);
+      if (dx * axis_x[s] + dy * axis_y[s] >= d * cos_limit - 1e-12) scratch.cands[s].push_back(cand);
     }
   });
   // Static bodies within reach (by their true distance: a wall's bounding circle would hold everyone).
-  near_statics_.clear();
+  scratch.near_statics.clear();
   for (const StaticShape& st : statics_) {
-    if (point_clearance(me.x, me.y, st) <= kReach) near_statics_.push_back(&st);
+    if (point_clearance(me.x, me.y, st) <= kReach) scratch.near_statics.push_back(&st);
   }
 
   UltrasonicReading out;
@@ -73,7 +80,7 @@ UltrasonicReading Ultrasonic::read(std::size_t self, const std::vector<Pose2D>& 
       const std::size_t k = s * kRaysPerSensor + r;
       const double dx = ch * ray_cos_[k] - sh * ray_sin_[k];
       const double dy = sh * ray_cos_[k] + ch * ray_sin_[k];
-      for (const Candidate& c : cands_[s]) {
+      for (const Candidate& c : scratch.cands[s]) {
         // ray_circle with the ray starting at the origin.
         const double along = c.x * dx + c.y * dy;
         if (along <= 0.0) continue;
@@ -81,7 +88,7 @@ UltrasonicReading Ultrasonic::read(std::size_t self, const std::vector<Pose2D>& 
         if (disc < 0.0) continue;
         nearest = std::min(nearest, c.c <= 0.0 ? 0.0 : along - std::sqrt(disc));
       }
-      for (const StaticShape* st : near_statics_)
+      for (const StaticShape* st : scratch.near_statics)
         nearest = std::min(nearest, ray_static(me.x, me.y, dx, dy, *st));
     }
     const double surface = nearest - kRobotRadius;
@@ -94,10 +101,15 @@ UltrasonicReading Ultrasonic::read(std::size_t self, const std::vector<Pose2D>& 
 void Ultrasonic::sense_all(const std::vector<Pose2D>& poses, const std::vector<char>& alive,
                            const SpatialGrid& grid, std::vector<UltrasonicReading>& out) {
   out.resize(poses.size());
-  for (std::size_t i = 0; i < poses.size(); ++i) {
+  scratch_.resize(std::max<std::size_t>(1, parallel::worker_count()));
+  parallel::for_range(poses.size(), [&](std::size_t begin, std::size_t end, std::size_t worker) {
+    for (std::size_t i = begin; i < end; ++i) {
+      if (alive[i]) out[i] = read_with(i, poses, grid, scratch_[worker]);
+    }
+  });
+  if (noise_sd_ <= 0.0) return;
+  for (std::size_t i = 0; i < poses.size(); ++i) {  // id order: the stream of the serial loop before
     if (!alive[i]) continue;
-    out[i] = read(i, poses, grid);
-    if (noise_sd_ <= 0.0) continue;
     for (double& v : out[i]) {
       if (v >= kUltrasonicMaxRange) continue;  // "nothing seen" stays exact
       v = std::clamp(v + rng_.gaussian(noise_sd_), kUltrasonicMinRange, kUltrasonicMaxRange);

@@ -32,8 +32,9 @@ class Ultrasonic {
   // or dead: every body is seen).
   UltrasonicReading read(std::size_t self, const std::vector<Pose2D>& poses, const SpatialGrid& grid) const;
 
-  // Readings for every robot with alive[i] != 0, in id order (so the noise stream is reproducible); others'
-  // entries are left as they were.
+  // Readings for every robot with alive[i] != 0; others' entries are left as they were. The noiseless
+  // readings are computed on the worker pool (parallel_for.hpp), each robot's into its own slot; the noise is
+  // then drawn in id order on the calling thread, so the stream is the same whatever the worker count.
   void sense_all(const std::vector<Pose2D>& poses, const std::vector<char>& alive, const SpatialGrid& grid,
                  std::vector<UltrasonicReading>& out);
 
@@ -44,13 +45,18 @@ class Ultrasonic {
   // Robot-frame ray directions (cos, sin of each ray's angle), sensor by sensor.
   std::array<double, kUltrasonicCount * kRaysPerSensor> ray_cos_{}, ray_sin_{};
   std::array<double, kUltrasonicCount> axis_cos_{}, axis_sin_{};  // robot-frame sensor axes
-  // Scratch for read(), reused across calls (no allocation once warm): per sensor, the robots its cone may
-  // touch, as offsets from the reading robot and |offset|^2 - R^2.
+  // Scratch for a read, reused across calls (no allocation once warm): per sensor, the robots its cone may
+  // touch, as offsets from the reading robot and |offset|^2 - R^2. One per pool worker.
   struct Candidate {
     double x, y, c;
   };
-  mutable std::array<std::vector<Candidate>, kUltrasonicCount> cands_;
-  mutable std::vector<const StaticShape*> near_statics_;
+  struct alignas(64) Scratch {  // own cache lines: workers push to their vectors at once
+    std::array<std::vector<Candidate>, kUltrasonicCount> cands;
+    std::vector<const StaticShape*> near_statics;
+  };
+  UltrasonicReading read_with(std::size_t self, const std::vector<Pose2D>& poses, const SpatialGrid& grid,
+                              Scratch& scratch) const;
+  mutable std::vector<Scratch> scratch_{1};  // [0] also serves read()
 };
 
 }  // namespace swarmform::world

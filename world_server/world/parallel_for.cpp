@@ -1,0 +1,151 @@
+#include "world_server/world/parallel_for.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <cstdlib>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace swarmform::parallel {
+namespace {
+
+thread_local bool t_in_body = false;  // nested calls run serially (no deadlock on the pool)
+
+std::size_t default_workers() {
+  if (const char* env = std::getenv("SWARMFORM_WORKERS")) {
+    const long v = std::strtol(env, nullptr, 10);
+    if (v >= 1) return static_cast<std::size_t>(std::min(v, 64L));
+  }
+  const unsigned hw = std::thread::hardware_concurrency();
+  return std::clamp<std::size_t>(hw, 1, 2);
+}
+
+// workers - 1 threads sleep on a condition variable between runs; the caller is worker 0.
+class Pool {
+ public:
+  explicit Pool(std::size_t workers) : workers_(workers) {
+    for (std::size_t w = 1; w < workers; ++w) {
+      threads_.emplace_back([this, w] { loop(w); });
+    }
+  }
+  ~Pool() {
+    {
+      std::lock_guard lock(m_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    threads_.clear();  // jthread joins
+  }
+  std::size_t size() const { return workers_; }
+
+  void run(std::size_t n, const RangeBody& body) {
+    {
+      std::lock_guard lock(m_);
+      body_ = &body;
+      n_ = n;
+      // ~8 chunks per worker: balance when another process takes a core for a while.
+      chunk_ = std::max<std::size_t>(1, n / (workers_ * 8));
+      next_.store(0);
+      busy_ = workers_ - 1;
+      error_ = nullptr;
+      ++generation_;
+    }
+    wake_.notify_all();
+    drain(0);
+    std::unique_lock lock(m_);
+    done_.wait(lock, [this] { return busy_ == 0; });
+    body_ = nullptr;
+    if (error_) std::rethrow_exception(error_);
+  }
+
+ private:
+  void loop(std::size_t w) {
+    std::uint64_t seen = 0;
+    for (;;) {
+      {
+        std::unique_lock lock(m_);
+        wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
+        if (stop_) return;
+        seen = generation_;
+      }
+      drain(w);
+      {
+        std::lock_guard lock(m_);
+        --busy_;
+      }
+      done_.notify_one();
+    }
+  }
+
+  void drain(std::size_t w) {
+    t_in_body = true;
+    try {
+      for (;;) {
+        const std::size_t begin = next_.fetch_add(chunk_);
+        if (begin >= n_) break;
+        (*body_)(begin, std::min(n_, begin + chunk_), w);
+      }
+    } catch (...) {
+      std::lock_guard lock(m_);
+      if (!error_) error_ = std::current_exception();
+      next_.store(n_);  // the others stop taking chunks
+    }
+    t_in_body = false;
+  }
+
+  const std::size_t workers_;
+  std::mutex m_;
+  std::condition_variable wake_, done_;
+  std::uint64_t generation_ = 0;
+  std::size_t busy_ = 0;
+  bool stop_ = false;
+  const RangeBody* body_ = nullptr;
+  std::size_t n_ = 0, chunk_ = 1;
+  std::atomic<std::size_t> next_{0};
+  std::exception_ptr error_;
+  std::vector<std::jthread> threads_;  // last: joined before the members above go
+};
+
+std::mutex g_run;             // one run at a time across the process
+std::size_t g_requested = 0;  // 0: default
+std::unique_ptr<Pool> g_pool;
+
+std::size_t wanted() {
+  return g_requested != 0 ? g_requested : default_workers();
+}
+
+}  // namespace
+
+std::size_t worker_count() {
+  std::lock_guard lock(g_run);
+  return wanted();
+}
+
+void set_worker_count(std::size_t workers) {
+  std::lock_guard lock(g_run);
+  g_requested = workers;
+  if (g_pool && g_pool->size() != wanted()) g_pool.reset();
+}
+
+void for_range(std::size_t n, const RangeBody& body) {
+  if (n == 0) return;
+  if (t_in_body) {
+    body(0, n, 0);
+    return;
+  }
+  std::lock_guard lock(g_run);
+  const std::size_t workers = wanted();
+  if (workers <= 1 || n == 1) {
+    body(0, n, 0);
+    return;
+  }
+  if (!g_pool || g_pool->size() != workers) g_pool = std::make_unique<Pool>(workers);
+  g_pool->run(n, body);
+}
+
+}  // namespace swarmform::parallel
