@@ -139,14 +139,19 @@ def load(run_dir):
 # --- world.json -------------------------------------------------------------------------------------------
 
 
-def read_json(path):
+def _read_text(path):
+    """The whole file as text; a missing or unreadable file is a RecordingError naming it."""
     try:
         with open(path, encoding="utf-8") as f:
-            text = f.read()
+            return f.read()
     except FileNotFoundError:
         raise RecordingError(path, None, "missing (is this a run directory?)") from None
     except (OSError, UnicodeDecodeError) as e:
         raise RecordingError(path, None, f"cannot read: {e}") from None
+
+
+def read_json(path):
+    text = _read_text(path)
     try:
         return json.loads(text)
     except json.JSONDecodeError as e:
@@ -245,13 +250,7 @@ def _read_shape(sh, path):
 
 def _read_lines(path):
     """The file's non-blank lines as (line number, text), and whether its last line lacks a newline."""
-    try:
-        with open(path, encoding="utf-8") as f:
-            text = f.read()
-    except FileNotFoundError:
-        raise RecordingError(path, None, "missing (is this a run directory?)") from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise RecordingError(path, None, f"cannot read: {e}") from None
+    text = _read_text(path)
     lines = text.split("\n")
     truncated = not text.endswith("\n") and lines[-1] != ""
     numbered = [(i + 1, s.rstrip("\r")) for i, s in enumerate(lines) if s.strip()]
