@@ -8,9 +8,10 @@ void NeighbourTable::update(const Perception& perception, RobotId self) {
   now_ = perception.tick;
   for (const auto& reading : perception.messages) {
     if (reading.sender == self) continue;
-    auto decoded = decode_message(reading.data);
+    // Decode into the scratch message and swap it in: the vectors' capacity circulates between the scratch
+    // and the neighbours, so a tick of ~73 messages allocates nothing once they have grown.
     // A message whose inner sender is not the one the medium saw is a forgery or a bug: ignore it.
-    if (!decoded || decoded->sender != reading.sender) {
+    if (!decode_message_into(reading.data, scratch_) || scratch_.sender != reading.sender) {
       ++dropped_;
       continue;
     }
@@ -19,7 +20,7 @@ void NeighbourTable::update(const Perception& perception, RobotId self) {
     n.range = reading.range;
     n.bearing = reading.bearing;
     n.azimuth = wrap_angle(perception.pose.theta + reading.bearing);
-    n.message = std::move(*decoded);
+    std::swap(n.message, scratch_);
     n.last_heard = now_;
     ever_heard_[reading.sender] = now_;
   }

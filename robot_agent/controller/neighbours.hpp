@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <unordered_map>
 
 #include "common/types.hpp"
 #include "robot_agent/controller/message.hpp"
@@ -46,7 +47,8 @@ class NeighbourTable {
   int timeout_;
   Tick now_ = 0;
   std::map<RobotId, Neighbour> live_;
-  std::map<RobotId, Tick> ever_heard_;
+  std::unordered_map<RobotId, Tick> ever_heard_;  // looked up per message: hashed, never iterated
+  RobotMessage scratch_;                          // decode target (see update)
   std::uint64_t dropped_ = 0;
 };
 

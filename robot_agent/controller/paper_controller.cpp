@@ -82,7 +82,9 @@ Command PaperController::step(const Perception& p) {
   neighbours_.update(p, self_);
   for (const auto& [id, n] : neighbours_.all()) {
     if (n.last_heard != tick_) continue;
-    stigmergy_.merge_all(n.message.entries);
+    // Same digest, same table: its entries would change nothing here (stigmergy.hpp). 0 is "no digest".
+    const std::uint64_t digest = n.message.table_digest;
+    if (digest == 0 || digest != stigmergy_.digest()) stigmergy_.merge_all(n.message.entries);
     if (!has_origin_ && n.message.has_origin) {
       has_origin_ = true;
       origin_ = n.message.origin;
@@ -431,6 +433,7 @@ RobotMessage PaperController::compose_message(const Perception& p, const std::ve
   const std::size_t fixed = kMessageFixedBytes + 2 * m.free_labels.size() + m.motion.size();
   const std::size_t budget = params_.max_message_bytes > fixed ? params_.max_message_bytes - fixed : 0;
   m.entries = stigmergy_.outgoing(std::min(kMaxEntriesPerMessage, budget / 20));
+  m.table_digest = stigmergy_.digest();
   return m;
 }
 

@@ -18,6 +18,7 @@ RobotMessage full_message(std::size_t entries) {
   m.origin = {0.5, -0.25};
   m.seed_candidate = 7;
   m.seed_distance = 0.125;
+  m.table_digest = 0xF00DCAFE12345678ULL;
   m.free_labels = {1, 2, 3, 27, 28, 0, 5, 6};
   for (std::size_t i = 0; i < entries; ++i) {
     m.entries.push_back({static_cast<std::uint32_t>(0x20000 + i),
@@ -43,6 +44,7 @@ TEST(MessageCodec, RoundTrips) {
   EXPECT_EQ(back->origin.x, m.origin.x);
   EXPECT_EQ(back->seed_candidate, 7u);
   EXPECT_EQ(back->seed_distance, 0.125);
+  EXPECT_EQ(back->table_digest, m.table_digest);
   EXPECT_EQ(back->free_labels, m.free_labels);
   EXPECT_EQ(back->entries, m.entries);
   EXPECT_EQ(back->motion, m.motion);
@@ -79,7 +81,7 @@ TEST(MessageCodec, RejectsBadMagicVersionStateAndNonFiniteNumbers) {
   bad[0] ^= 0xFF;
   EXPECT_FALSE(decode_message(bad));
   bad = good;
-  bad[1] = 2;
+  bad[1] = kMessageVersion + 1;
   EXPECT_FALSE(decode_message(bad));
   bad = good;
   bad[6] = 200;  // state
@@ -91,6 +93,20 @@ TEST(MessageCodec, RejectsBadMagicVersionStateAndNonFiniteNumbers) {
   bad[11] = 0xC0;
   bad[12] = 0x7F;
   EXPECT_FALSE(decode_message(bad));
+}
+
+TEST(MessageCodec, DecodingIntoAReusedMessageLeavesNothingOfThePreviousOne) {
+  RobotMessage reused;
+  ASSERT_TRUE(decode_message_into(encode_message(full_message(kMaxEntriesPerMessage)), reused));
+  RobotMessage small;
+  small.sender = 9;
+  small.entries = {{0x20001, 5, 1, 9}};
+  ASSERT_TRUE(decode_message_into(encode_message(small), reused));
+  EXPECT_EQ(reused.sender, 9u);
+  EXPECT_TRUE(reused.free_labels.empty());
+  EXPECT_EQ(reused.entries, small.entries);
+  EXPECT_TRUE(reused.motion.empty());
+  EXPECT_EQ(reused.table_digest, 0u);
 }
 
 TEST(MessageCodec, RandomGarbageNeverCrashes) {
