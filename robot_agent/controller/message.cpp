@@ -170,8 +170,8 @@ bool decode_message_into(std::span<const std::uint8_t> bytes, RobotMessage& m) {
   }
   const std::size_t n_entries = r.u8();
   if (n_entries > kMaxEntriesPerMessage || !r.has(n_entries * Reader::kEntryBytes)) return false;
-  m.entries.clear();
-  for (std::size_t i = 0; i < n_entries; ++i) m.entries.push_back(r.entry_unchecked());
+  m.entries.resize(n_entries);
+  for (auto& e : m.entries) e = r.entry_unchecked();
   const std::size_t n_motion = r.u16();
   if (n_motion > kMaxMotionBytes) return false;
   r.bytes(n_motion, m.motion);

@@ -1,5 +1,7 @@
 #include "robot_agent/controller/neighbours.hpp"
 
+#include <algorithm>
+
 #include "robot_agent/controller/drive.hpp"
 
 namespace swarmform::controller {
@@ -15,7 +17,11 @@ void NeighbourTable::update(const Perception& perception, RobotId self) {
       ++dropped_;
       continue;
     }
-    Neighbour& n = live_[reading.sender];
+    auto it = std::lower_bound(live_.begin(), live_.end(), reading.sender,
+                               [](const auto& entry, RobotId id) { return entry.first < id; });
+    if (it == live_.end() || it->first != reading.sender)
+      it = live_.insert(it, {reading.sender, Neighbour{}});
+    Neighbour& n = it->second;
     n.id = reading.sender;
     n.range = reading.range;
     n.bearing = reading.bearing;
@@ -24,18 +30,15 @@ void NeighbourTable::update(const Perception& perception, RobotId self) {
     n.last_heard = now_;
     ever_heard_[reading.sender] = now_;
   }
-  for (auto it = live_.begin(); it != live_.end();) {
-    if (now_ - it->second.last_heard >= static_cast<Tick>(timeout_)) {
-      it = live_.erase(it);
-    } else {
-      ++it;
-    }
-  }
+  std::erase_if(live_, [&](const auto& entry) {
+    return now_ - entry.second.last_heard >= static_cast<Tick>(timeout_);
+  });
 }
 
 const Neighbour* NeighbourTable::find(RobotId id) const {
-  auto it = live_.find(id);
-  return it == live_.end() ? nullptr : &it->second;
+  auto it = std::lower_bound(live_.begin(), live_.end(), id,
+                             [](const auto& entry, RobotId key) { return entry.first < key; });
+  return it == live_.end() || it->first != id ? nullptr : &it->second;
 }
 
 bool NeighbourTable::fresh(RobotId id) const {
