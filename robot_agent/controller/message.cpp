@@ -77,6 +77,8 @@ class Reader {
     p_ += kEntryBytes;
     return e;
   }
+  // Past `n` bytes; the caller has checked has(n).
+  void skip_unchecked(std::size_t n) { p_ += n; }
   void bytes(std::size_t n, std::vector<std::uint8_t>& out) {
     out.clear();
     if (!has(n)) return;
@@ -140,7 +142,8 @@ std::vector<std::uint8_t> encode_message(const RobotMessage& m) {
   return out;
 }
 
-bool decode_message_into(std::span<const std::uint8_t> bytes, RobotMessage& m) {
+bool decode_message_into(std::span<const std::uint8_t> bytes, RobotMessage& m,
+                         std::uint64_t skip_entries_digest) {
   Reader r(bytes);
   if (r.u8() != kMessageMagic || r.u8() != kMessageVersion || !r.ok()) return false;
   m.sender = r.u32();
@@ -170,8 +173,13 @@ bool decode_message_into(std::span<const std::uint8_t> bytes, RobotMessage& m) {
   }
   const std::size_t n_entries = r.u8();
   if (n_entries > kMaxEntriesPerMessage || !r.has(n_entries * Reader::kEntryBytes)) return false;
-  m.entries.resize(n_entries);
-  for (auto& e : m.entries) e = r.entry_unchecked();
+  if (skip_entries_digest != 0 && m.table_digest == skip_entries_digest) {
+    m.entries.clear();
+    r.skip_unchecked(n_entries * Reader::kEntryBytes);
+  } else {
+    m.entries.resize(n_entries);
+    for (auto& e : m.entries) e = r.entry_unchecked();
+  }
   const std::size_t n_motion = r.u16();
   if (n_motion > kMaxMotionBytes) return false;
   r.bytes(n_motion, m.motion);

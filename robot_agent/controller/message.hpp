@@ -68,7 +68,10 @@ struct RobotMessage {
 std::vector<std::uint8_t> encode_message(const RobotMessage& m);
 std::optional<RobotMessage> decode_message(std::span<const std::uint8_t> bytes);
 // The same into an existing message, reusing its vectors' capacity (no allocation once they have grown):
-// true when `bytes` is a valid message; on false `m` holds garbage.
-bool decode_message_into(std::span<const std::uint8_t> bytes, RobotMessage& m);
+// true when `bytes` is a valid message; on false `m` holds garbage. When `skip_entries_digest` is not 0 and
+// equals the message's table digest, the stigmergy entries are checked for length but not copied
+// (`m.entries` is left empty): a receiver whose own table has that digest could learn nothing from them.
+bool decode_message_into(std::span<const std::uint8_t> bytes, RobotMessage& m,
+                         std::uint64_t skip_entries_digest = 0);
 
 }  // namespace swarmform::controller

@@ -6,14 +6,32 @@
 
 namespace swarmform::controller {
 
-void NeighbourTable::update(const Perception& perception, RobotId self) {
+namespace {
+// Swaps what a decode writes, field by field: cheaper than std::swap's three moves of the whole message.
+void swap_message(RobotMessage& a, RobotMessage& b) {
+  std::swap(a.sender, b.sender);
+  std::swap(a.state, b.state);
+  std::swap(a.label, b.label);
+  std::swap(a.pose, b.pose);
+  std::swap(a.has_origin, b.has_origin);
+  std::swap(a.origin, b.origin);
+  std::swap(a.seed_candidate, b.seed_candidate);
+  std::swap(a.seed_distance, b.seed_distance);
+  std::swap(a.table_digest, b.table_digest);
+  a.free_labels.swap(b.free_labels);
+  a.entries.swap(b.entries);
+  a.motion.swap(b.motion);
+}
+}  // namespace
+
+void NeighbourTable::update(const Perception& perception, RobotId self, std::uint64_t own_digest) {
   now_ = perception.tick;
   for (const auto& reading : perception.messages) {
     if (reading.sender == self) continue;
     // Decode into the scratch message and swap it in: the vectors' capacity circulates between the scratch
     // and the neighbours, so a tick of ~73 messages allocates nothing once they have grown.
     // A message whose inner sender is not the one the medium saw is a forgery or a bug: ignore it.
-    if (!decode_message_into(reading.data, scratch_) || scratch_.sender != reading.sender) {
+    if (!decode_message_into(reading.data, scratch_, own_digest) || scratch_.sender != reading.sender) {
       ++dropped_;
       continue;
     }
@@ -26,12 +44,13 @@ void NeighbourTable::update(const Perception& perception, RobotId self) {
     n.range = reading.range;
     n.bearing = reading.bearing;
     n.azimuth = wrap_angle(perception.pose.theta + reading.bearing);
-    std::swap(n.message, scratch_);
+    swap_message(n.message, scratch_);
     n.last_heard = now_;
-    ever_heard_[reading.sender] = now_;
   }
   std::erase_if(live_, [&](const auto& entry) {
-    return now_ - entry.second.last_heard >= static_cast<Tick>(timeout_);
+    if (now_ - entry.second.last_heard < static_cast<Tick>(timeout_)) return false;
+    expired_[entry.first] = entry.second.last_heard;
+    return true;
   });
 }
 
@@ -47,14 +66,15 @@ bool NeighbourTable::fresh(RobotId id) const {
 }
 
 std::optional<Tick> NeighbourTable::last_heard(RobotId id) const {
-  auto it = ever_heard_.find(id);
-  if (it == ever_heard_.end()) return std::nullopt;
+  if (const Neighbour* n = find(id)) return n->last_heard;
+  auto it = expired_.find(id);
+  if (it == expired_.end()) return std::nullopt;
   return it->second;
 }
 
 void NeighbourTable::clear() {
   live_.clear();
-  ever_heard_.clear();
+  expired_.clear();
   now_ = 0;
   dropped_ = 0;
 }

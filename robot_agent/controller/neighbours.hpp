@@ -34,8 +34,11 @@ class NeighbourTable {
   explicit NeighbourTable(int timeout_ticks = 20) : timeout_(timeout_ticks) {}
 
   // Takes this tick's readings: decodes each message (undecodable ones, and our own id, are dropped and
-  // counted), then expires the neighbours silent for the timeout.
-  void update(const Perception& perception, RobotId self);
+  // counted), then expires the neighbours silent for the timeout. `own_digest`: the receiver's stigmergy
+  // digest before it merges this tick's entries; a message whose table has that digest keeps no entries
+  // (decode_message_into: every entry it carries is already in the receiver's table, or older, so merging
+  // it after the others' newer entries still changes nothing). 0 keeps every message's entries.
+  void update(const Perception& perception, RobotId self, std::uint64_t own_digest = 0);
 
   // Neighbours heard within the timeout.
   const NeighbourList& all() const { return live_; }
@@ -53,8 +56,10 @@ class NeighbourTable {
   int timeout_;
   Tick now_ = 0;
   NeighbourList live_;
-  std::unordered_map<RobotId, Tick> ever_heard_;  // looked up per message: hashed, never iterated
-  RobotMessage scratch_;                          // decode target (see update)
+  // The tick each expired neighbour was last heard (a live one's is in live_): written only on expiry,
+  // not for each message heard.
+  std::unordered_map<RobotId, Tick> expired_;
+  RobotMessage scratch_;  // decode target (see update)
   std::uint64_t dropped_ = 0;
 };
 

@@ -79,7 +79,7 @@ Command PaperController::step(const Perception& p) {
   tick_ = p.tick;
 
   // Hear: neighbour table, stigmergy entries, the shape's origin.
-  neighbours_.update(p, self_);
+  neighbours_.update(p, self_, stigmergy_.digest());
   for (const auto& [id, n] : neighbours_.all()) {
     if (n.last_heard != tick_) continue;
     // Same digest, same table: its entries would change nothing here (stigmergy.hpp). 0 is "no digest".

@@ -109,6 +109,20 @@ TEST(MessageCodec, DecodingIntoAReusedMessageLeavesNothingOfThePreviousOne) {
   EXPECT_EQ(reused.table_digest, 0u);
 }
 
+TEST(MessageCodec, SkipsTheEntriesOfATableWithTheGivenDigestButStillChecksTheirLength) {
+  const RobotMessage m = full_message(5);
+  const auto bytes = encode_message(m);
+  RobotMessage out;
+  ASSERT_TRUE(decode_message_into(bytes, out, m.table_digest));
+  EXPECT_TRUE(out.entries.empty());
+  EXPECT_EQ(out.motion, m.motion);  // what follows the entries is still read
+  ASSERT_TRUE(decode_message_into(bytes, out, m.table_digest + 1));
+  EXPECT_EQ(out.entries, m.entries);
+  auto truncated = bytes;
+  truncated.resize(kMessageFixedBytes + 2 * m.free_labels.size() + 20 * 3);  // inside the entries
+  EXPECT_FALSE(decode_message_into(truncated, out, m.table_digest));
+}
+
 TEST(MessageCodec, RandomGarbageNeverCrashes) {
   std::mt19937 rng(1);
   const auto good = encode_message(full_message(3));

@@ -1,0 +1,83 @@
+// The neighbour table (Buzz's `neighbors`): id order, expiry, the tick last heard after expiry, forged
+// senders, and the entries it leaves out when the sender's stigmergy digest is the receiver's own.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "robot_agent/controller/message.hpp"
+#include "robot_agent/controller/neighbours.hpp"
+
+namespace swarmform::controller {
+namespace {
+
+RobotMessage message_from(RobotId id, std::uint64_t digest = 0) {
+  RobotMessage m;
+  m.sender = id;
+  m.state = RobotState::Searching;
+  m.pose = {static_cast<double>(id), 0.0, 0.0};
+  m.table_digest = digest;
+  m.entries = {{0x20000u + id, 5, 1, id}, {0x20100u + id, 6, 2, id}};
+  return m;
+}
+
+Perception heard(Tick tick, const std::vector<RobotMessage>& messages) {
+  Perception p;
+  p.tick = tick;
+  for (const auto& m : messages) p.messages.push_back({m.sender, 1.0, 0.5, encode_message(m)});
+  return p;
+}
+
+std::vector<RobotId> ids(const NeighbourTable& t) {
+  std::vector<RobotId> out;
+  for (const auto& [id, n] : t.all()) out.push_back(id);
+  return out;
+}
+
+TEST(NeighbourTable, IteratesInIdOrderWhateverOrderTheyWereHeard) {
+  NeighbourTable t(20);
+  t.update(heard(1, {message_from(9), message_from(3), message_from(7)}), 0);
+  t.update(heard(2, {message_from(5), message_from(1), message_from(9)}), 0);
+  EXPECT_EQ(ids(t), (std::vector<RobotId>{1, 3, 5, 7, 9}));
+  ASSERT_NE(t.find(7), nullptr);
+  EXPECT_EQ(t.find(7)->message.pose.x, 7.0);
+  EXPECT_EQ(t.find(4), nullptr);
+  EXPECT_TRUE(t.fresh(9));
+  EXPECT_FALSE(t.fresh(3));  // heard at tick 1, not 2
+}
+
+TEST(NeighbourTable, ExpiresTheSilentButRemembersWhenTheyWereLastHeard) {
+  NeighbourTable t(20);
+  t.update(heard(10, {message_from(3), message_from(4)}), 0);
+  t.update(heard(29, {message_from(4)}), 0);
+  EXPECT_EQ(ids(t), (std::vector<RobotId>{3, 4}));  // 19 ticks silent: still there
+  t.update(heard(30, {message_from(4)}), 0);
+  EXPECT_EQ(ids(t), (std::vector<RobotId>{4}));  // 20 ticks silent: gone
+  EXPECT_EQ(t.last_heard(3), Tick{10});          // but remembered
+  EXPECT_EQ(t.last_heard(4), Tick{30});
+  EXPECT_FALSE(t.last_heard(5).has_value());
+  t.update(heard(31, {message_from(3)}), 0);  // back again
+  EXPECT_EQ(t.last_heard(3), Tick{31});
+}
+
+TEST(NeighbourTable, DropsOwnAndForgedAndUndecodableMessages) {
+  NeighbourTable t(20);
+  Perception p = heard(1, {message_from(0), message_from(2)});
+  p.messages[1].sender = 8;  // robot 8's message claims to be robot 2's
+  p.messages.push_back({6, 1.0, 0.0, {1, 2, 3}});
+  t.update(p, 0);
+  EXPECT_TRUE(t.all().empty());
+  EXPECT_EQ(t.dropped_messages(), 2u);  // our own is skipped, not counted
+}
+
+TEST(NeighbourTable, LeavesOutTheEntriesOfATableWithTheReceiversOwnDigest) {
+  NeighbourTable t(20);
+  t.update(heard(1, {message_from(2, 77), message_from(3, 78), message_from(4, 0)}), 0, 77);
+  EXPECT_TRUE(t.find(2)->message.entries.empty());   // same digest: nothing to learn
+  EXPECT_EQ(t.find(3)->message.entries.size(), 2u);  // another table
+  EXPECT_EQ(t.find(4)->message.entries.size(), 2u);  // no digest
+  t.update(heard(2, {message_from(2, 77)}), 0);      // 0: keep every message's entries
+  EXPECT_EQ(t.find(2)->message.entries, message_from(2).entries);
+}
+
+}  // namespace
+}  // namespace swarmform::controller
