@@ -59,13 +59,18 @@ class Reader {
   }
   std::uint8_t u8() { return get<std::uint8_t>(); }
   std::uint16_t u16() { return get<std::uint16_t>(); }
-  std::uint32_t u32() { return get<std::uint32_t>(); }
-  std::int16_t i16() { return get<std::int16_t>(); }
-  std::uint64_t u64() { return get<std::uint64_t>(); }
-  double f32() {
-    const float f = std::bit_cast<float>(u32());
+  // Unchecked reads: the caller has checked has() for them.
+  template <class T>
+  T take() {
+    const T v = load_le<T>(p_);
+    p_ += sizeof(T);
+    return v;
+  }
+  // A non-finite number marks the input bad (checked by ok() at the end).
+  double take_f32() {
+    const float f = std::bit_cast<float>(take<std::uint32_t>());
     if (!std::isfinite(f)) ok_ = false;
-    return ok_ ? static_cast<double>(f) : 0.0;
+    return static_cast<double>(f);
   }
   // A stigmergy entry; the caller has checked has(kEntryBytes).
   StigmergyEntry entry_unchecked() {
@@ -102,6 +107,9 @@ class Reader {
 };
 
 constexpr std::uint8_t kFlagHasOrigin = 0x01;
+// magic, version, sender, state, label, pose, flags, origin, seed candidate and distance, table digest,
+// free label count.
+constexpr std::size_t kHeaderBytes = 48;
 constexpr std::uint8_t kMaxStateValue = static_cast<std::uint8_t>(RobotState::Arrived);
 
 }  // namespace
@@ -144,30 +152,32 @@ std::vector<std::uint8_t> encode_message(const RobotMessage& m) {
 
 bool decode_message_into(std::span<const std::uint8_t> bytes, RobotMessage& m,
                          std::uint64_t skip_entries_digest) {
+  // The fixed header is bounds-checked once, then read field by field without further checks.
   Reader r(bytes);
-  if (r.u8() != kMessageMagic || r.u8() != kMessageVersion || !r.ok()) return false;
-  m.sender = r.u32();
-  const std::uint8_t state = r.u8();
+  if (!r.has(kHeaderBytes)) return false;
+  if (r.take<std::uint8_t>() != kMessageMagic || r.take<std::uint8_t>() != kMessageVersion) return false;
+  m.sender = r.take<std::uint32_t>();
+  const std::uint8_t state = r.take<std::uint8_t>();
   if (state > kMaxStateValue) return false;
   m.state = static_cast<RobotState>(state);
-  m.label = r.i16();
+  m.label = r.take<std::int16_t>();
   if (m.label < -1) return false;
-  m.pose.x = r.f32();
-  m.pose.y = r.f32();
-  m.pose.theta = r.f32();
-  const std::uint8_t flags = r.u8();
+  m.pose.x = r.take_f32();
+  m.pose.y = r.take_f32();
+  m.pose.theta = r.take_f32();
+  const std::uint8_t flags = r.take<std::uint8_t>();
   if ((flags & ~kFlagHasOrigin) != 0) return false;
   m.has_origin = (flags & kFlagHasOrigin) != 0;
-  m.origin.x = r.f32();
-  m.origin.y = r.f32();
-  m.seed_candidate = r.u32();
-  m.seed_distance = r.f32();
-  m.table_digest = r.u64();
-  const std::size_t n_free = r.u8();
-  if (n_free > kMaxFreeLabels) return false;
-  m.free_labels.clear();
-  for (std::size_t i = 0; i < n_free && r.ok(); ++i) {
-    const int label = r.i16();
+  m.origin.x = r.take_f32();
+  m.origin.y = r.take_f32();
+  m.seed_candidate = r.take<std::uint32_t>();
+  m.seed_distance = r.take_f32();
+  m.table_digest = r.take<std::uint64_t>();
+  const std::size_t n_free = r.take<std::uint8_t>();
+  if (n_free > kMaxFreeLabels || !r.has(2 * n_free) || !r.ok()) return false;
+  m.free_labels.clear();  // clear + push_back: inlined, where resize is an out-of-line call
+  for (std::size_t i = 0; i < n_free; ++i) {
+    const int label = r.take<std::int16_t>();
     if (label < 0) return false;
     m.free_labels.push_back(label);
   }
@@ -177,8 +187,8 @@ bool decode_message_into(std::span<const std::uint8_t> bytes, RobotMessage& m,
     m.entries.clear();
     r.skip_unchecked(n_entries * Reader::kEntryBytes);
   } else {
-    m.entries.resize(n_entries);
-    for (auto& e : m.entries) e = r.entry_unchecked();
+    m.entries.clear();
+    for (std::size_t i = 0; i < n_entries; ++i) m.entries.push_back(r.entry_unchecked());
   }
   const std::size_t n_motion = r.u16();
   if (n_motion > kMaxMotionBytes) return false;
