@@ -35,10 +35,11 @@ void NeighbourTable::update(const Perception& perception, RobotId self, std::uin
       ++dropped_;
       continue;
     }
-    auto it = std::lower_bound(live_.begin(), live_.end(), reading.sender,
-                               [](const auto& entry, RobotId id) { return entry.first < id; });
-    if (it == live_.end() || it->first != reading.sender)
+    auto it = locate(reading.sender);
+    if (it == live_.end() || it->first != reading.sender) {
       it = live_.insert(it, {reading.sender, Neighbour{}});
+      slot_[reading.sender % kSlotCount] = static_cast<std::uint32_t>(it - live_.begin());
+    }
     Neighbour& n = it->second;
     n.id = reading.sender;
     n.range = reading.range;
@@ -52,6 +53,15 @@ void NeighbourTable::update(const Perception& perception, RobotId self, std::uin
     expired_[entry.first] = entry.second.last_heard;
     return true;
   });
+}
+
+NeighbourList::iterator NeighbourTable::locate(RobotId id) {
+  std::uint32_t& slot = slot_[id % kSlotCount];
+  if (slot < live_.size() && live_[slot].first == id) return live_.begin() + slot;
+  auto it = std::lower_bound(live_.begin(), live_.end(), id,
+                             [](const auto& entry, RobotId key) { return entry.first < key; });
+  slot = static_cast<std::uint32_t>(it - live_.begin());
+  return it;
 }
 
 const Neighbour* NeighbourTable::find(RobotId id) const {

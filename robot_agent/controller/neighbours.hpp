@@ -4,6 +4,7 @@
 // know that a robot was heard once and then fell silent (allotment.hpp).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <unordered_map>
@@ -53,9 +54,16 @@ class NeighbourTable {
   void clear();
 
  private:
+  NeighbourList::iterator locate(RobotId id);  // the entry of `id`, or where it would be inserted
+
   int timeout_;
   Tick now_ = 0;
   NeighbourList live_;
+  // Where each id was last found in live_, direct-mapped by the id's low bits. Checked before use (an
+  // insert or expiry shifts entries), so a stale slot only costs the binary search it would have saved;
+  // in a crowd the neighbours change little from tick to tick and almost every lookup hits.
+  static constexpr std::size_t kSlotCount = 256;
+  std::array<std::uint32_t, kSlotCount> slot_{};
   // The tick each expired neighbour was last heard (a live one's is in live_): written only on expiry,
   // not for each message heard.
   std::unordered_map<RobotId, Tick> expired_;

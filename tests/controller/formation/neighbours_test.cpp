@@ -45,6 +45,31 @@ TEST(NeighbourTable, IteratesInIdOrderWhateverOrderTheyWereHeard) {
   EXPECT_FALSE(t.fresh(3));  // heard at tick 1, not 2
 }
 
+TEST(NeighbourTable, KeepsEachMessageWithItsSenderThroughInsertsExpiriesAndSharedLookupSlots) {
+  // Ids 256 apart share a lookup slot; inserts before them and expiries shift their places.
+  NeighbourTable t(3);
+  std::vector<RobotId> heard_ids = {513, 257, 1};
+  for (Tick tick = 1; tick <= 12; ++tick) {
+    if (tick == 4) heard_ids.push_back(0);     // an insert in front of all of them
+    if (tick == 6) heard_ids = {513, 1, 769};  // 257 and 0 fall silent and expire at 9
+    std::vector<RobotMessage> messages;
+    for (RobotId id : heard_ids) {
+      RobotMessage m = message_from(id);
+      m.pose.y = static_cast<double>(tick);
+      messages.push_back(m);
+    }
+    t.update(heard(tick, messages), 999);
+    for (RobotId id : heard_ids) {
+      const Neighbour* n = t.find(id);
+      ASSERT_NE(n, nullptr) << "id " << id << " tick " << tick;
+      EXPECT_EQ(n->message.sender, id);
+      EXPECT_EQ(n->message.pose.x, static_cast<double>(id));
+      EXPECT_EQ(n->message.pose.y, static_cast<double>(tick));
+    }
+  }
+  EXPECT_EQ(ids(t), (std::vector<RobotId>{1, 513, 769}));
+}
+
 TEST(NeighbourTable, ExpiresTheSilentButRemembersWhenTheyWereLastHeard) {
   NeighbourTable t(20);
   t.update(heard(10, {message_from(3), message_from(4)}), 0);
