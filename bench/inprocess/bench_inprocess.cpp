@@ -14,6 +14,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -83,6 +84,36 @@ Split timed_split(const world::Scenario& scenario, int warmup, int ticks, double
   return split;
 }
 
+// FNV-1a over every bit the world shows the robots (pose, ultrasonics, messages with their bytes) and the
+// contact onsets at every tick of one fresh run: two builds that print the same digest ran the same
+// simulation bit for bit.
+std::uint64_t run_digest(const world::Scenario& scenario, int ticks, std::uint64_t& contact_onsets) {
+  std::uint64_t h = 1469598103934665603ULL;
+  auto put = [&h](const void* p, std::size_t n) {
+    const auto* b = static_cast<const unsigned char*>(p);
+    for (std::size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ULL;
+  };
+  harness::Harness run(scenario);
+  for (int t = 0; t < ticks; ++t) {
+    run.step();
+    const world::ContactCounts contacts = run.world().last_contacts();
+    put(&contacts, sizeof contacts);
+    contact_onsets += contacts.robot_robot + contacts.robot_obstacle;
+    for (RobotId id = 0; id < run.world().robot_count(); ++id) {
+      const Perception& p = run.world().perception(id);
+      put(&p.pose, sizeof p.pose);
+      put(p.ultrasonic.data(), sizeof(double) * p.ultrasonic.size());
+      for (const RabReading& m : p.messages) {
+        put(&m.sender, sizeof m.sender);
+        put(&m.range, sizeof m.range);
+        put(&m.bearing, sizeof m.bearing);
+        put(m.data.data(), m.data.size());
+      }
+    }
+  }
+  return h;
+}
+
 double median_of(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const std::size_t n = v.size();
@@ -101,6 +132,7 @@ int main(int argc, char** argv) {
   int ticks = 100, warmup = 10, samples = 3;
   std::uint64_t seed = 1;
   bool no_split = false;
+  bool digest = false;
   app.add_option("--scenario", scenario_path, "scenario file (YAML)")->capture_default_str();
   app.add_option("--robots", robots, "robots (random placement at the default density)")
       ->check(CLI::Range(std::size_t{1}, std::size_t{100000}))
@@ -117,6 +149,10 @@ int main(int argc, char** argv) {
   app.add_option("--samples", samples, "fresh runs timed")->check(CLI::Range(1, 100))->capture_default_str();
   app.add_option("--seed", seed, "placement seed")->capture_default_str();
   app.add_flag("--no-split", no_split, "skip the timed pass that splits controllers / world / session");
+  app.add_flag(
+      "--digest", digest,
+      "also print \"digest\": a hash of everything the robots perceived over warmup + ticks ticks of "
+      "one more run (compares two builds bit for bit)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -157,6 +193,14 @@ int main(int argc, char** argv) {
       j["split_us_per_robot_tick"] = {
           {"controllers", sp.controllers * per}, {"world", sp.world * per}, {"session", sp.session * per}};
       j["messages_per_robot"] = messages;
+    }
+    if (digest) {
+      char hex[17];
+      std::uint64_t onsets = 0;
+      std::snprintf(hex, sizeof hex, "%016llx",
+                    static_cast<unsigned long long>(run_digest(scenario, warmup + ticks, onsets)));
+      j["digest"] = hex;
+      j["digest_contact_onsets"] = onsets;
     }
     std::cout << j.dump() << std::endl;
     return 0;

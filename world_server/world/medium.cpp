@@ -8,12 +8,6 @@
 
 namespace swarmform::world {
 
-RangeBearing to_receiver_frame(const Pose2D& sender, const Pose2D& receiver) {
-  const double dx = sender.x - receiver.x;
-  const double dy = sender.y - receiver.y;
-  return RangeBearing{std::sqrt(dx * dx + dy * dy), wrap_angle(fast_atan2(dy, dx) - receiver.theta)};
-}
-
 Medium::Medium(const MediumParams& params, const std::vector<Obstacle>& statics, std::uint64_t seed)
     : params_(params), rng_(seed, kSaltMedium) {
   for (const Obstacle& o : statics) statics_.push_back(make_static_shape(o));
@@ -66,25 +60,29 @@ void Medium::gather(std::size_t r, const std::vector<Pose2D>& poses, const std::
   std::vector<RabReading>& spare = spare_[r];
   std::size_t used = 0;
   if (alive[r]) {
-    grid.for_each_near(poses[r].x, poses[r].y, params_.comm_range, [&](std::uint32_t s) {
-      if (s == r || !alive[s] || !outboxes[s].has_message) return;
-      if (params_.occlusion && occluded(poses[s], poses[r])) return;
-      const RangeBearing rb = to_receiver_frame(poses[s], poses[r]);
-      // Reuse the receiver's earlier RabReading objects (and their data buffers) where there are some.
-      if (used == inbox.size()) {
-        if (spare.empty()) {
-          inbox.emplace_back();
-        } else {
-          inbox.push_back(std::move(spare.back()));
-          spare.pop_back();
-        }
-      }
-      RabReading& m = inbox[used++];
-      m.sender = s;
-      m.range = rb.range;
-      m.bearing = rb.bearing;
-      m.data.assign(outboxes[s].data.begin(), outboxes[s].data.end());
-    });
+    const Pose2D& me = poses[r];
+    // The grid hands over the sender's offset (sender - receiver), so the reading is to_receiver_frame's
+    // without reading the sender's pose again.
+    grid.for_each_near_offset(
+        me.x, me.y, params_.comm_range, [&](std::uint32_t s, double dx, double dy, double d2) {
+          if (s == r || !alive[s] || !outboxes[s].has_message) return;
+          if (params_.occlusion && occluded(poses[s], me)) return;
+          // Reuse the receiver's earlier RabReading objects (and their data buffers) where there are some.
+          if (used == inbox.size()) {
+            if (spare.empty()) {
+              inbox.emplace_back();
+            } else {
+              inbox.push_back(std::move(spare.back()));
+              spare.pop_back();
+            }
+          }
+          RabReading& m = inbox[used++];
+          m.sender = s;
+          m.range = std::sqrt(d2);
+          m.bearing = bearing_in_frame(dx, dy, me.theta);
+          const std::vector<std::uint8_t>& bytes = outboxes[s].data;
+          m.data.assign(bytes.begin(), bytes.end());  // within the buffer's capacity once warm: a memcpy
+        });
   }
   park(r, inbox, used);
 }

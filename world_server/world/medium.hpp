@@ -7,6 +7,7 @@
 // count (the geometry runs on the worker pool, the draws on the calling thread).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -30,8 +31,18 @@ struct RangeBearing {
   double bearing = 0.0;  // rad, in the receiver's frame, CCW from its heading, (-pi, pi]
 };
 
+// The bearing of the offset (dx, dy) = sender - receiver (arena frame) in the frame of a receiver heading
+// `theta`: one atan2, no sin/cos of the heading.
+inline double bearing_in_frame(double dx, double dy, double theta) {
+  return wrap_angle(fast_atan2(dy, dx) - theta);
+}
+
 // The sender's position as the receiver perceives it (no noise).
-RangeBearing to_receiver_frame(const Pose2D& sender, const Pose2D& receiver);
+inline RangeBearing to_receiver_frame(const Pose2D& sender, const Pose2D& receiver) {
+  const double dx = sender.x - receiver.x;
+  const double dy = sender.y - receiver.y;
+  return RangeBearing{std::sqrt(dx * dx + dy * dy), bearing_in_frame(dx, dy, receiver.theta)};
+}
 
 // One robot's outgoing message of this tick.
 struct Outbox {

@@ -10,12 +10,15 @@
 //  - bodies added in a fixed order: static bodies, then robots by id.
 #include "world_server/world/physics.hpp"
 
+#include <BulletCollision/CollisionDispatch/btSimulationIslandManager.h>
 #include <btBulletDynamicsCommon.h>
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "world_server/world/geometry.hpp"
+#include "world_server/world/parallel_for.hpp"
 
 namespace swarmform::world {
 namespace {
@@ -30,19 +33,83 @@ double yaw_of(const btTransform& t) {
       fast_atan2(2.0 * (q.w() * q.z() + q.x() * q.y()), 1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z())));
 }
 
-// btDiscreteDynamicsWorld without the two per-body passes our robots do not need (together ~30% of the
-// physics): predictUnconstraintMotion (applies damping, which is zero, with two pow() calls per body, and
-// predicts a transform that only continuous collision detection and motion states read), and
-// createPredictiveContacts (predicts every body again, for CCD only). Continuous collision detection is off
-// (dispatch info m_useContinuous = false): at 10 ms substeps discrete contacts do not tunnel up to 3 m/s
-// (NOTES-DEPENDENCIES.md; tests/world/physics_test.cpp drives at 1 m/s into a 2 cm wall).
+// btDiscreteDynamicsWorld without the per-body work our planar robots do not need, and with the per-body
+// integration on the worker pool:
+//  - predictUnconstraintMotion is skipped: it applies damping (zero, with two pow() calls per body) and
+//    predicts a transform that only continuous collision detection and motion states read;
+//  - createPredictiveContacts is skipped: it predicts every body again, for CCD only. Continuous collision
+//    detection is off (dispatch info m_useContinuous = false): at 10 ms substeps discrete contacts do not
+//    tunnel up to 3 m/s (NOTES-DEPENDENCIES.md; tests/world/physics_test.cpp drives at 1 m/s into a 2 cm
+//    wall);
+//  - solveConstraints hands the solver only the islands that have contact manifolds. Bullet's own callback
+//    also batches every lone body (a robot touching nothing is an island of one) into the solver, which
+//    copies its velocities into a solver body and back unchanged: ~6,000 instructions per robot and tick
+//    for nothing. Islands are solved independently (the batches only group them), so the contacts' results
+//    are Bullet's; the islands are visited in Bullet's own (sorted) order;
+//  - integrateTransforms runs Bullet's integrateTransformsInternal (documented "can be called in parallel":
+//    each body reads and writes only itself when CCD is off) over slices of the bodies on the worker pool,
+//    then calls `after_integrate` on the same slice, which re-sets the velocities of the next substep from
+//    the wheels (each body's new heading is known as soon as its own integration is done).
 class PlanarDynamicsWorld : public btDiscreteDynamicsWorld {
  public:
   using btDiscreteDynamicsWorld::btDiscreteDynamicsWorld;
 
+  // Called on each slice of the non-static bodies right after their integration (null: nothing).
+  std::function<void(btRigidBody* const* bodies, int count)> after_integrate;
+
  protected:
   void predictUnconstraintMotion(btScalar) override {}
   void createPredictiveContacts(btScalar) override { releasePredictiveContacts(); }
+
+  void integrateTransforms(btScalar dt) override {
+    const int n = m_nonStaticRigidBodies.size();
+    if (n == 0) return;
+    btRigidBody** bodies = &m_nonStaticRigidBodies[0];
+    parallel::for_range(static_cast<std::size_t>(n), [&](std::size_t begin, std::size_t end, std::size_t) {
+      const int count = static_cast<int>(end - begin);
+      integrateTransformsInternal(bodies + begin, count, dt);
+      if (after_integrate) after_integrate(bodies + begin, count);
+    });
+  }
+
+  void solveConstraints(btContactSolverInfo& info) override {
+    // Our world has no typed constraints (joints), only contacts.
+    ContactIslands islands(info, m_constraintSolver, getDispatcher());
+    m_constraintSolver->prepareSolve(getNumCollisionObjects(), getDispatcher()->getNumManifolds());
+    m_islandManager->buildAndProcessIslands(getDispatcher(), this, &islands);
+    islands.flush();
+    m_constraintSolver->allSolved(info, getDebugDrawer());
+  }
+
+ private:
+  // Bullet's InplaceSolverIslandCallback (btDiscreteDynamicsWorld.cpp) without joints, skipping islands
+  // with no manifold.
+  struct ContactIslands : btSimulationIslandManager::IslandCallback {
+    ContactIslands(btContactSolverInfo& i, btConstraintSolver* s, btDispatcher* d)
+        : info(i), solver(s), dispatcher(d) {}
+    void processIsland(btCollisionObject** b, int nb, btPersistentManifold** m, int nm, int island) override {
+      if (island < 0) {  // islands not split: everything at once (not our configuration)
+        solver->solveGroup(b, nb, m, nm, nullptr, 0, info, nullptr, dispatcher);
+        return;
+      }
+      if (nm == 0) return;  // lone bodies: nothing to solve
+      for (int i = 0; i < nb; ++i) bodies.push_back(b[i]);
+      for (int i = 0; i < nm; ++i) manifolds.push_back(m[i]);
+      if (manifolds.size() > info.m_minimumSolverBatchSize) flush();
+    }
+    void flush() {
+      if (manifolds.size() == 0) return;
+      solver->solveGroup(&bodies[0], bodies.size(), &manifolds[0], manifolds.size(), nullptr, 0, info,
+                         nullptr, dispatcher);
+      bodies.resize(0);
+      manifolds.resize(0);
+    }
+    btContactSolverInfo& info;
+    btConstraintSolver* solver;
+    btDispatcher* dispatcher;
+    btAlignedObjectArray<btCollisionObject*> bodies;
+    btAlignedObjectArray<btPersistentManifold*> manifolds;
+  };
 };
 
 }  // namespace
@@ -65,6 +132,7 @@ struct Physics::Impl {
     double left = 0.0, right = 0.0;
   };
   std::vector<Wheels> wheels;
+  std::vector<double> v, w;  // this tick's linear (m/s) and angular (rad/s) body velocities, by robot
   std::vector<char> dead;
   double substep_s = 0.01;
   int substeps = 10;
@@ -128,15 +196,22 @@ struct Physics::Impl {
     b.setFlags(b.getFlags() & ~BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY);
   }
 
-  void apply_wheels() {
-    for (std::size_t i = 0; i < robots.size(); ++i) {
-      if (dead[i]) continue;
-      btRigidBody& b = *robots[i];
-      const double theta = yaw_of(b.getWorldTransform());
-      const double v = 0.5 * (wheels[i].left + wheels[i].right);
-      const double w = (wheels[i].right - wheels[i].left) / kWheelSpacing;
-      b.setLinearVelocity(btVector3(v * std::cos(theta), v * std::sin(theta), 0.0));
-      b.setAngularVelocity(btVector3(0.0, 0.0, w));
+  // The body velocities for the wheel speeds of this tick (SPEC: v = (l+r)/2 along the heading,
+  // w = (r-l)/wheel_spacing), from the body's heading now. v and w are the same for every substep of a tick.
+  void apply_wheels(btRigidBody& b, std::size_t i) const {
+    if (dead[i]) return;
+    const double theta = yaw_of(b.getWorldTransform());
+    b.setLinearVelocity(btVector3(v[i] * std::cos(theta), v[i] * std::sin(theta), 0.0));
+    b.setAngularVelocity(btVector3(0.0, 0.0, w[i]));
+  }
+
+  // v and w of every robot for this tick, from the wheel speeds set by set_wheels.
+  void wheels_to_velocities() {
+    v.resize(wheels.size());
+    w.resize(wheels.size());
+    for (std::size_t i = 0; i < wheels.size(); ++i) {
+      v[i] = 0.5 * (wheels[i].left + wheels[i].right);
+      w[i] = (wheels[i].right - wheels[i].left) / kWheelSpacing;
     }
   }
 
@@ -205,14 +280,27 @@ void Physics::set_wheels(RobotId id, double left, double right) {
   impl_->wheels[id] = {left, right};
 }
 
+// Substep k's velocities are set from each body's heading at the start of substep k: before the first
+// substep here, and for the next ones at the end of the previous substep's integration (the last thing that
+// moves a body within a substep; PlanarDynamicsWorld::integrateTransforms), both on the worker pool (each
+// body written by one worker only, so the result does not depend on the worker count).
 void Physics::tick_forward() {
   Impl& m = *impl_;
+  m.wheels_to_velocities();
+  parallel::for_range(m.robots.size(), [&m](std::size_t begin, std::size_t end, std::size_t) {
+    for (std::size_t i = begin; i < end; ++i) m.apply_wheels(*m.robots[i], i);
+  });
+  const auto next_substep = [&m](btRigidBody* const* bodies, int count) {
+    for (int k = 0; k < count; ++k)
+      m.apply_wheels(*bodies[k], static_cast<std::size_t>(bodies[k]->getUserIndex()));
+  };
   for (int k = 0; k < m.substeps; ++k) {
-    m.apply_wheels();
+    m.dyn.after_integrate = k + 1 < m.substeps ? std::function(next_substep) : nullptr;
     // maxSubSteps = 0: exactly one internal step of substep_s (no interpolation, no accumulator).
     m.dyn.stepSimulation(m.substep_s, 0);
     m.collect_contacts();
   }
+  m.dyn.after_integrate = nullptr;
   m.count_onsets();
 }
 

@@ -3,8 +3,8 @@
 namespace swarmform::world {
 
 void SpatialGrid::build(const std::vector<Pose2D>& poses, double cell_size) {
-  poses_ = &poses;
   const std::size_t n = poses.size();
+  items_.clear();
   if (n == 0) return;
   double xmin = poses[0].x, xmax = poses[0].x, ymin = poses[0].y, ymax = poses[0].y;
   for (const Pose2D& p : poses) {
@@ -38,6 +38,12 @@ void SpatialGrid::build(const std::vector<Pose2D>& poses, double cell_size) {
   for (std::size_t i = 0; i < n; ++i) items_[start_[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
   for (std::size_t c = cells; c > 0; --c) start_[c] = start_[c - 1];
   start_[0] = 0;
+  xs_.resize(n);
+  ys_.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    xs_[k] = poses[items_[k]].x;
+    ys_[k] = poses[items_[k]].y;
+  }
 }
 
 }  // namespace swarmform::world

@@ -23,21 +23,38 @@ class SpatialGrid {
   // exact distance here). Indices come in cell order, and in increasing order within a cell.
   template <typename Fn>
   void for_each_near(double x, double y, double radius, Fn&& fn) const {
-    if (poses_ == nullptr || poses_->empty()) return;
-    const int cx0 = cell_x(x - radius);
-    const int cx1 = cell_x(x + radius);
+    for_each_near_offset(x, y, radius, [&](std::uint32_t i, double, double, double) { fn(i); });
+  }
+
+  // The same, calling fn(index, dx, dy, d2) with the offset of the position from (x, y) (dx = px - x,
+  // dy = py - y, computed as written) and d2 = dx * dx + dy * dy, so callers need not read the pose again.
+  //
+  // Only the cells a circle of `radius` can reach are walked: row by row, the span of cells within the
+  // circle's chord over that row (rows are contiguous in items_, so a span is one run of the arrays). The
+  // cells skipped hold no position within `radius`, so the calls and their order are those of walking the
+  // whole bounding square. Positions are read from xs_/ys_, copies in cell order (no indirection).
+  template <typename Fn>
+  void for_each_near_offset(double x, double y, double radius, Fn&& fn) const {
+    if (items_.empty()) return;
+    // Slack for the rounding of the strip bounds against the cell index computed by division: a superset
+    // only costs a distance test.
+    constexpr double kSlack = 1e-6;
     const int cy0 = cell_y(y - radius);
     const int cy1 = cell_y(y + radius);
     const double r2 = radius * radius;
     for (int cy = cy0; cy <= cy1; ++cy) {
-      for (int cx = cx0; cx <= cx1; ++cx) {
-        const std::size_t cell = static_cast<std::size_t>(cy) * static_cast<std::size_t>(nx_) + cx;
-        for (std::uint32_t k = start_[cell]; k < start_[cell + 1]; ++k) {
-          const std::uint32_t i = items_[k];
-          const double dx = (*poses_)[i].x - x;
-          const double dy = (*poses_)[i].y - y;
-          if (dx * dx + dy * dy <= r2) fn(i);
-        }
+      const double lo = y0_ + static_cast<double>(cy) * cell_;
+      const double gap = std::max({0.0, lo - y, y - (lo + cell_)}) - kSlack;  // y to the row's strip
+      const double half = gap > 0.0 ? std::sqrt(std::max(0.0, r2 - gap * gap)) + kSlack : radius;
+      if (gap > radius) continue;
+      const std::size_t row = static_cast<std::size_t>(cy) * static_cast<std::size_t>(nx_);
+      const std::uint32_t k0 = start_[row + static_cast<std::size_t>(cell_x(x - half))];
+      const std::uint32_t k1 = start_[row + static_cast<std::size_t>(cell_x(x + half)) + 1];
+      for (std::uint32_t k = k0; k < k1; ++k) {
+        const double dx = xs_[k] - x;
+        const double dy = ys_[k] - y;
+        const double d2 = dx * dx + dy * dy;
+        if (d2 <= r2) fn(items_[k], dx, dy, d2);
       }
     }
   }
@@ -52,12 +69,12 @@ class SpatialGrid {
     return std::clamp(static_cast<int>(std::floor((y - y0_) / cell_)), 0, ny_ - 1);
   }
 
-  const std::vector<Pose2D>* poses_ = nullptr;
   double x0_ = 0.0, y0_ = 0.0, cell_ = 1.0;
   int nx_ = 1, ny_ = 1;
   std::vector<std::uint32_t> start_;  // nx*ny+1 offsets into items_
   std::vector<std::uint32_t> items_;  // position indices, grouped by cell
   std::vector<std::uint32_t> cell_of_;
+  std::vector<double> xs_, ys_;  // the positions of items_, in the same order
 };
 
 }  // namespace swarmform::world

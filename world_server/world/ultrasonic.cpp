@@ -50,22 +50,22 @@ UltrasonicReading Ultrasonic::read_with(std::size_t self, const std::vector<Pose
   // the body's angular half-width asin(R/d). Each candidate is stored as its offset and |offset|^2 - R^2, so
   // the ray test below is a dot product, a compare and (rarely) a square root.
   for (auto& c : scratch.cands) c.clear();
-  grid.for_each_near(me.x, me.y, kReach + kRobotRadius, [&](std::uint32_t j) {
-    if (j == self) return;
-    const double dx = poses[j].x - me.x, dy = poses[j].y - me.y;
-    const double d2 = dx * dx + dy * dy;
-    const Candidate cand{dx, dy, d2 - kRobotRadius * kRobotRadius};
-    if (cand.c <= 0.0) {  // bodies overlap: every sensor reads the minimum
-      for (auto& c : scratch.cands) c.push_back(cand);
-      return;
-    }
-    const double d = std::sqrt(d2);
-    const double sin_a = kRobotRadius / d;
-    const double cos_limit = kCosCone * std::sqrt(1.0 - sin_a * sin_a) - kSinCone * sin_a;  // cos(cone + a)
-    for (std::size_t s = 0; s < kUltrasonicCount; ++s) {
-      if (dx * axis_x[s] + dy * axis_y[s] >= d * cos_limit - 1e-12) scratch.cands[s].push_back(cand);
-    }
-  });
+  grid.for_each_near_offset(
+      me.x, me.y, kReach + kRobotRadius, [&](std::uint32_t j, double dx, double dy, double d2) {
+        if (j == self) return;
+        const Candidate cand{dx, dy, d2 - kRobotRadius * kRobotRadius};
+        if (cand.c <= 0.0) {  // bodies overlap: every sensor reads the minimum
+          for (auto& c : scratch.cands) c.push_back(cand);
+          return;
+        }
+        const double d = std::sqrt(d2);
+        const double sin_a = kRobotRadius / d;
+        const double cos_limit =
+            kCosCone * std::sqrt(1.0 - sin_a * sin_a) - kSinCone * sin_a;  // cos(cone + a)
+        for (std::size_t s = 0; s < kUltrasonicCount; ++s) {
+          if (dx * axis_x[s] + dy * axis_y[s] >= d * cos_limit - 1e-12) scratch.cands[s].push_back(cand);
+        }
+      });
   // Static bodies within reach (by their true distance: a wall's bounding circle would hold everyone).
   scratch.near_statics.clear();
   for (const StaticShape& st : statics_) {
