@@ -54,11 +54,12 @@ Split timed_split(const world::Scenario& scenario, int warmup, int ticks, double
   Split split;
   std::size_t heard = 0;
   std::vector<Command> commands(controllers.size());
+  world::World::PerceptionCopy copy;  // as the harness's workers do
   for (int t = 0; t < warmup + ticks; ++t) {
     const bool timed = t >= warmup;
     auto t0 = Clock::now();
     for (RobotId id = 0; id < controllers.size(); ++id) {
-      if (w.alive(id)) commands[id] = controllers[id]->step(w.perception(id));
+      if (w.alive(id)) commands[id] = controllers[id]->step(w.copy_perception(id, copy));
     }
     const double c = seconds_since(t0);
     t0 = Clock::now();

@@ -39,6 +39,44 @@ TEST(World, MessageOfTickTArrivesAtTickTPlusOneOnly) {
   EXPECT_TRUE(w.perception(1).messages.empty());
 }
 
+// The bytes of a perception's messages are copied in when it is read (World::perception) or straight into a
+// caller's buffer (World::copy_perception); both must show the bytes sent at the last tick, also when the
+// sender has already given its next command (the harness and the DDS world apply commands robot by robot).
+TEST(World, MessageBytesAreThoseOfTheLastTickWhenReadLateOrCopied) {
+  World w(open_scenario({Pose2D{0, 0, 0}, Pose2D{1, 0, 0}, Pose2D{0, 1, 0}}));
+  w.apply_command(0, drive(0, 0, {1, 2, 3}));
+  w.apply_command(2, drive(0, 0, std::vector<std::uint8_t>(500, 9)));
+  w.step();
+  // Robot 0 and 2 speak again before robot 1's perception is read or copied.
+  w.apply_command(0, drive(0, 0, {4, 5}));
+  w.apply_command(2, drive(0, 0, {}));
+  World::PerceptionCopy copy;
+  // A copy made from a buffer that held more readings before (they go to its spare list).
+  copy.perception.messages.resize(5);
+  const Perception& c = w.copy_perception(1, copy);
+  ASSERT_EQ(c.messages.size(), 2u);
+  const Perception& p = w.perception(1);
+  ASSERT_EQ(p.messages.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    const std::vector<std::uint8_t> sent =
+        p.messages[k].sender == 0 ? std::vector<std::uint8_t>{1, 2, 3} : std::vector<std::uint8_t>(500, 9);
+    EXPECT_EQ(p.messages[k].data, sent);
+    EXPECT_EQ(c.messages[k].sender, p.messages[k].sender);
+    EXPECT_EQ(c.messages[k].range, p.messages[k].range);
+    EXPECT_EQ(c.messages[k].bearing, p.messages[k].bearing);
+    EXPECT_EQ(c.messages[k].data, sent);
+  }
+  EXPECT_EQ(c.pose.x, p.pose.x);
+  EXPECT_EQ(c.ultrasonic, p.ultrasonic);
+  EXPECT_EQ(c.tick, p.tick);
+  // Once read (bytes filled in), a copy is still the same; then the next tick brings the new messages.
+  EXPECT_EQ(w.copy_perception(1, copy).messages[0].data, p.messages[0].data);
+  w.step();
+  ASSERT_EQ(w.copy_perception(1, copy).messages.size(), 1u);
+  EXPECT_EQ(copy.perception.messages[0].data, (std::vector<std::uint8_t>{4, 5}));
+  EXPECT_EQ(w.perception(1).messages[0].data, (std::vector<std::uint8_t>{4, 5}));
+}
+
 TEST(World, NonFiniteCommandIsRejectedAndTheRobotKeepsStill) {
   World w(open_scenario({Pose2D{0, 0, 0}, Pose2D{1, 0, 0}}));
   w.apply_command(0, drive(0.1, 0.1));

@@ -2,9 +2,9 @@
 //   scheduled kills due now -> every live robot's controller steps on its perception -> the commands go to
 //   the world (verdicts other than Ok are recorded) -> world.step() -> the session records the new tick.
 // The controllers step on the worker pool (world_server/world/parallel_for.hpp): each reads only its own
-// perception and writes only its own command slot; the commands then go to the world one after the other in
-// id order, exactly as a serial loop would, so a run is deterministic for a scenario and seed whatever the
-// worker count.
+// perception (copied into its worker's buffer) and writes only its own command slot; the commands then go to
+// the world one after the other in id order, exactly as a serial loop would, so a run is deterministic for a
+// scenario and seed whatever the worker count.
 #include "world_server/harness/harness.hpp"
 
 #include <algorithm>
@@ -61,11 +61,13 @@ struct Harness::Impl {
     const std::size_t n = controllers.size();
     commands.resize(n);
     stepped.assign(n, 0);
-    parallel::for_range(n, [&](std::size_t begin, std::size_t end, std::size_t) {
+    copies.resize(parallel::worker_count());
+    parallel::for_range(n, [&](std::size_t begin, std::size_t end, std::size_t worker) {
+      world::World::PerceptionCopy& copy = copies[worker].copy;
       for (std::size_t i = begin; i < end; ++i) {
         const auto id = static_cast<RobotId>(i);
         if (!controllers[i] || !world.alive(id)) continue;
-        commands[i] = controllers[i]->step(world.perception(id));
+        commands[i] = controllers[i]->step(world.copy_perception(id, copy));
         stepped[i] = 1;
       }
     });
@@ -86,6 +88,12 @@ struct Harness::Impl {
   std::vector<world::Kill> kills;                                    // by tick
   std::vector<Command> commands;  // this tick's, one slot per robot (kept: their message buffers are reused)
   std::vector<char> stepped;      // 1: commands[id] is this tick's
+  // One perception copy per worker: a controller steps on its robot's perception copied into its worker's
+  // buffers, which stay in that core's cache from robot to robot (World::copy_perception says why).
+  struct alignas(64) WorkerCopy {
+    world::World::PerceptionCopy copy;
+  };
+  std::vector<WorkerCopy> copies;
   std::size_t next_kill = 0;
 };
 

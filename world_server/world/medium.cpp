@@ -29,12 +29,12 @@ bool Medium::occluded(const Pose2D& a, const Pose2D& b) const {
 //      positions), the loss and noise draws, in the same order as a single loop would draw them.
 void Medium::deliver(const std::vector<Pose2D>& poses, const std::vector<char>& alive,
                      const std::vector<Outbox>& outboxes, const SpatialGrid& grid,
-                     std::vector<Perception>& perceptions) {
+                     std::vector<Perception>& perceptions, bool with_bytes) {
   const std::size_t n = poses.size();
   spare_.resize(n);
   parallel::for_range(n, [&](std::size_t begin, std::size_t end, std::size_t) {
     for (std::size_t r = begin; r < end; ++r)
-      gather(r, poses, alive, outboxes, grid, perceptions[r].messages);
+      gather(r, poses, alive, outboxes, grid, perceptions[r].messages, with_bytes);
   });
   const bool random =
       params_.packet_loss > 0.0 || params_.range_noise_sd > 0.0 || params_.bearing_noise_sd > 0.0;
@@ -56,35 +56,35 @@ void Medium::deliver(const std::vector<Pose2D>& poses, const std::vector<char>& 
 
 void Medium::gather(std::size_t r, const std::vector<Pose2D>& poses, const std::vector<char>& alive,
                     const std::vector<Outbox>& outboxes, const SpatialGrid& grid,
-                    std::vector<RabReading>& inbox) {
+                    std::vector<RabReading>& inbox, bool with_bytes) {
   std::vector<RabReading>& spare = spare_[r];
   std::size_t used = 0;
   if (alive[r]) {
     const Pose2D& me = poses[r];
     // The grid hands over the sender's offset (sender - receiver), so the reading is to_receiver_frame's
     // without reading the sender's pose again.
-    grid.for_each_near_offset(
-        me.x, me.y, params_.comm_range, [&](std::uint32_t s, double dx, double dy, double d2) {
-          if (s == r || !alive[s] || !outboxes[s].has_message) return;
-          if (params_.occlusion && occluded(poses[s], me)) return;
-          // Reuse the receiver's earlier RabReading objects (and their data buffers) where there are some.
-          if (used == inbox.size()) {
-            if (spare.empty()) {
-              inbox.emplace_back();
-            } else {
-              inbox.push_back(std::move(spare.back()));
-              spare.pop_back();
-            }
-          }
-          RabReading& m = inbox[used++];
-          m.sender = s;
-          m.range = std::sqrt(d2);
-          m.bearing = bearing_in_frame(dx, dy, me.theta);
-          const std::vector<std::uint8_t>& bytes = outboxes[s].data;
-          m.data.assign(bytes.begin(), bytes.end());  // within the buffer's capacity once warm: a memcpy
-        });
+    grid.for_each_near_offset(me.x, me.y, params_.comm_range,
+                              [&](std::uint32_t s, double dx, double dy, double d2) {
+                                if (s == r || !alive[s] || !outboxes[s].has_message) return;
+                                if (params_.occlusion && occluded(poses[s], me)) return;
+                                // Reuse the receiver's earlier RabReading objects (and their data buffers)
+                                // where there are some.
+                                if (used == inbox.size()) {
+                                  if (spare.empty()) {
+                                    inbox.emplace_back();
+                                  } else {
+                                    inbox.push_back(std::move(spare.back()));
+                                    spare.pop_back();
+                                  }
+                                }
+                                RabReading& m = inbox[used++];
+                                m.sender = s;
+                                m.range = std::sqrt(d2);
+                                m.bearing = bearing_in_frame(dx, dy, me.theta);
+                              });
   }
   park(r, inbox, used);
+  if (with_bytes) fill_bytes(inbox, outboxes);
 }
 
 // Readings past `used` are parked (with their buffers) for a later tick, not freed.

@@ -55,10 +55,21 @@ class Medium {
   Medium(const MediumParams& params, const std::vector<Obstacle>& statics, std::uint64_t seed);
 
   // Fills perceptions[i].messages for every robot (cleared first; dead receivers get none). `grid` holds
-  // `poses`. Reuses the perceptions' buffers.
+  // `poses`. Reuses the perceptions' buffers. With `with_bytes` false only sender, range and bearing are
+  // written and each reading's `data` is left as it was: the caller fills it later with fill_bytes (the
+  // World does, when a perception is read: copying every message's bytes into every receiver's inbox at once
+  // streams tens of MB a tick through memory at N = 1000, which the controllers then read back cold).
   void deliver(const std::vector<Pose2D>& poses, const std::vector<char>& alive,
                const std::vector<Outbox>& outboxes, const SpatialGrid& grid,
-               std::vector<Perception>& perceptions);
+               std::vector<Perception>& perceptions, bool with_bytes = true);
+
+  // Copies into each reading of `inbox` its sender's bytes from `outboxes` (those given to deliver()).
+  static void fill_bytes(std::vector<RabReading>& inbox, const std::vector<Outbox>& outboxes) {
+    for (RabReading& m : inbox) {
+      const std::vector<std::uint8_t>& bytes = outboxes[m.sender].data;
+      m.data.assign(bytes.begin(), bytes.end());  // within the buffer's capacity once warm: a memcpy
+    }
+  }
 
   // True when the straight line between a and b crosses a static body (used when occlusion is on).
   bool occluded(const Pose2D& a, const Pose2D& b) const;
@@ -68,7 +79,8 @@ class Medium {
  private:
   // One receiver's noiseless inbox (pass 1 of deliver; touches only inbox and spare_[r]).
   void gather(std::size_t r, const std::vector<Pose2D>& poses, const std::vector<char>& alive,
-              const std::vector<Outbox>& outboxes, const SpatialGrid& grid, std::vector<RabReading>& inbox);
+              const std::vector<Outbox>& outboxes, const SpatialGrid& grid, std::vector<RabReading>& inbox,
+              bool with_bytes);
   void park(std::size_t r, std::vector<RabReading>& inbox, std::size_t used);
 
   MediumParams params_;

@@ -5,7 +5,9 @@
 //     1. act      the stored wheel speeds of every live robot go to the physics
 //     2. physics  `substeps` Bullet steps; contact onsets counted
 //     3. truth    poses read back into RobotTruth; spatial grid rebuilt
-//     4. medium   messages of tick t -> perceptions of tick t+1 (at the new positions)
+//     4. medium   messages of tick t -> perceptions of tick t+1 (at the new positions); the bytes of each
+//                 perception's messages are copied in when it is first read (perception()), or straight
+//                 into the caller's buffer (copy_perception()), from `sent` (the outboxes of tick t)
 //     5. sense    pose and ultrasonics of every live robot
 //     6. tick t+1
 #include "world_server/world/world.hpp"
@@ -64,7 +66,9 @@ struct World::Impl {
 
   std::vector<Pose2D> poses;
   std::vector<char> alive;
-  std::vector<Outbox> outboxes;
+  std::vector<Outbox> outboxes;     // this tick's messages, written by apply_command
+  std::vector<Outbox> sent;         // last tick's, delivered by step(): the bytes perceptions refer to
+  std::vector<char> bytes_pending;  // 1: perceptions[i].messages have their readings but not their bytes yet
   std::vector<Perception> perceptions;
   std::vector<UltrasonicReading> sonar;
   std::vector<RobotTruth> truth;
@@ -78,6 +82,8 @@ struct World::Impl {
     const std::size_t n = scenario.robots.size();
     alive.assign(n, 1);
     outboxes.resize(n);
+    sent.resize(n);
+    bytes_pending.assign(n, 0);
     perceptions.resize(n);
     truth.resize(n);
     for (std::size_t i = 0; i < n; ++i) truth[i].id = static_cast<RobotId>(i);
@@ -93,8 +99,12 @@ struct World::Impl {
     }
     grid.build(poses, kGridCell);
     if (with_medium) {
-      medium.deliver(poses, alive, outboxes, grid, perceptions);
+      // The messages of this tick become `sent` (a swap: no copy), and the outboxes are free for the next.
+      std::swap(outboxes, sent);
       for (Outbox& o : outboxes) o.has_message = false;
+      medium.deliver(poses, alive, sent, grid, perceptions, /*with_bytes=*/false);
+      for (std::size_t i = 0; i < perceptions.size(); ++i)
+        bytes_pending[i] = !perceptions[i].messages.empty();
     }
     ultrasonic.sense_all(poses, alive, grid, sonar);
     for (std::size_t i = 0; i < poses.size(); ++i) {
@@ -119,7 +129,46 @@ std::size_t World::robot_count() const {
   return impl_->poses.size();
 }
 const Perception& World::perception(RobotId id) const {
-  return impl_->perceptions.at(id);
+  Impl& m = *impl_;
+  Perception& p = m.perceptions.at(id);
+  if (m.bytes_pending[id]) {
+    Medium::fill_bytes(p.messages, m.sent);
+    m.bytes_pending[id] = 0;
+  }
+  return p;
+}
+
+const Perception& World::copy_perception(RobotId id, PerceptionCopy& copy) const {
+  const Impl& m = *impl_;
+  const Perception& src = m.perceptions.at(id);
+  Perception& dst = copy.perception;
+  dst.tick = src.tick;
+  dst.pose = src.pose;
+  dst.ultrasonic = src.ultrasonic;
+  const std::size_t n = src.messages.size();
+  while (dst.messages.size() > n) {
+    copy.spare.push_back(std::move(dst.messages.back()));
+    dst.messages.pop_back();
+  }
+  while (dst.messages.size() < n) {
+    if (copy.spare.empty()) {
+      dst.messages.emplace_back();
+    } else {
+      dst.messages.push_back(std::move(copy.spare.back()));
+      copy.spare.pop_back();
+    }
+  }
+  const bool pending = m.bytes_pending[id] != 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const RabReading& from = src.messages[k];
+    RabReading& to = dst.messages[k];
+    to.sender = from.sender;
+    to.range = from.range;
+    to.bearing = from.bearing;
+    const std::vector<std::uint8_t>& bytes = pending ? m.sent[from.sender].data : from.data;
+    to.data.assign(bytes.begin(), bytes.end());
+  }
+  return dst;
 }
 const std::vector<RobotTruth>& World::robots() const {
   return impl_->truth;
@@ -179,6 +228,7 @@ void World::kill(RobotId id) {
   m.physics.set_dead(id, true);
   m.outboxes[id].has_message = false;
   m.perceptions[id].messages.clear();
+  m.bytes_pending[id] = 0;
   m.truth[id].alive = false;
 }
 
@@ -193,6 +243,7 @@ void World::revive(RobotId id) {
   // Its perception for this tick: fresh sensors, no messages (it heard nothing while dead).
   Perception& p = m.perceptions[id];
   p.messages.clear();
+  m.bytes_pending[id] = 0;
   p.ultrasonic = m.ultrasonic.read(id, m.poses, m.grid);
 }
 
