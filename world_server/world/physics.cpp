@@ -41,11 +41,16 @@ double yaw_of(const btTransform& t) {
 //    detection is off (dispatch info m_useContinuous = false): at 10 ms substeps discrete contacts do not
 //    tunnel up to 3 m/s (NOTES-DEPENDENCIES.md; tests/world/physics_test.cpp drives at 1 m/s into a 2 cm
 //    wall);
-//  - solveConstraints hands the solver only the islands that have contact manifolds. Bullet's own callback
-//    also batches every lone body (a robot touching nothing is an island of one) into the solver, which
-//    copies its velocities into a solver body and back unchanged: ~6,000 instructions per robot and tick
-//    for nothing. Islands are solved independently (the batches only group them), so the contacts' results
-//    are Bullet's; the islands are visited in Bullet's own (sorted) order;
+//  - solveConstraints hands the solver only the contact manifolds, without Bullet's island pass over every
+//    body (btSimulationIslandManager::buildAndProcessIslands sorts all N bodies by island each substep, then
+//    batches every island, lone robots included, into the solver, which copies a lone robot's velocities
+//    into a solver body and back unchanged: ~6,000 instructions per robot and tick for nothing). The
+//    manifolds are those Bullet would solve, in the order Bullet solves them: the same list (dispatcher
+//    order, filtered by needsResponse) sorted by the same predicate with the same btAlignedObjectArray
+//    quickSort, using the island tags calculateSimulationIslands stored (kept). Islands do not interact
+//    in the solver, so one solveGroup over them all equals Bullet's batches of islands;
+//  - updateAabbs computes the bodies' bounding boxes on the worker pool (each body's own, read-only), then
+//    hands them to the broadphase in Bullet's order on the calling thread (the broadphase is shared);
 //  - integrateTransforms runs Bullet's integrateTransformsInternal (documented "can be called in parallel":
 //    each body reads and writes only itself when CCD is off) over slices of the bodies on the worker pool,
 //    then calls `after_integrate` on the same slice, which re-sets the velocities of the next substep from
@@ -73,43 +78,82 @@ class PlanarDynamicsWorld : public btDiscreteDynamicsWorld {
   }
 
   void solveConstraints(btContactSolverInfo& info) override {
-    // Our world has no typed constraints (joints), only contacts.
-    ContactIslands islands(info, m_constraintSolver, getDispatcher());
-    m_constraintSolver->prepareSolve(getNumCollisionObjects(), getDispatcher()->getNumManifolds());
-    m_islandManager->buildAndProcessIslands(getDispatcher(), this, &islands);
-    islands.flush();
+    btDispatcher* dispatcher = getDispatcher();
+    // btSimulationIslandManager::buildIslands's list (no kinematic bodies here, so nothing to wake).
+    manifolds_.resize(0);
+    const int count = dispatcher->getNumManifolds();
+    for (int i = 0; i < count; ++i) {
+      btPersistentManifold* m = dispatcher->getManifoldByIndexInternal(i);
+      const btCollisionObject* a = m->getBody0();
+      const btCollisionObject* b = m->getBody1();
+      if (a->getActivationState() == ISLAND_SLEEPING && b->getActivationState() == ISLAND_SLEEPING) continue;
+      if (dispatcher->needsResponse(a, b)) manifolds_.push_back(m);
+    }
+    // btSimulationIslandManager::processIslands's order (m_deterministicOverlappingPairs is off).
+    manifolds_.quickSort(ByIsland());
+    // The moving bodies the manifolds touch (static ones are the solver's fixed body).
+    bodies_.resize(0);
+    in_bodies_.assign(static_cast<std::size_t>(getNumCollisionObjects()), 0);
+    for (int i = 0; i < manifolds_.size(); ++i) {
+      for (const btCollisionObject* o : {manifolds_[i]->getBody0(), manifolds_[i]->getBody1()}) {
+        const auto k = static_cast<std::size_t>(o->getWorldArrayIndex());
+        if (o->isStaticOrKinematicObject() || in_bodies_[k]) continue;
+        in_bodies_[k] = 1;
+        bodies_.push_back(const_cast<btCollisionObject*>(o));
+      }
+    }
+    m_constraintSolver->prepareSolve(getNumCollisionObjects(), dispatcher->getNumManifolds());
+    if (manifolds_.size() > 0) {
+      m_constraintSolver->solveGroup(bodies_.size() > 0 ? &bodies_[0] : nullptr, bodies_.size(),
+                                     &manifolds_[0], manifolds_.size(), nullptr, 0, info, getDebugDrawer(),
+                                     dispatcher);
+    }
     m_constraintSolver->allSolved(info, getDebugDrawer());
   }
 
- private:
-  // Bullet's InplaceSolverIslandCallback (btDiscreteDynamicsWorld.cpp) without joints, skipping islands
-  // with no manifold.
-  struct ContactIslands : btSimulationIslandManager::IslandCallback {
-    ContactIslands(btContactSolverInfo& i, btConstraintSolver* s, btDispatcher* d)
-        : info(i), solver(s), dispatcher(d) {}
-    void processIsland(btCollisionObject** b, int nb, btPersistentManifold** m, int nm, int island) override {
-      if (island < 0) {  // islands not split: everything at once (not our configuration)
-        solver->solveGroup(b, nb, m, nm, nullptr, 0, info, nullptr, dispatcher);
-        return;
+  void updateAabbs() override {
+    const int n = m_collisionObjects.size();
+    aabb_min_.resize(n);
+    aabb_max_.resize(n);
+    // btCollisionWorld::updateSingleAabb, split: the boxes in parallel, then the broadphase in order.
+    parallel::for_range(static_cast<std::size_t>(n), [&](std::size_t begin, std::size_t end, std::size_t) {
+      const btVector3 threshold(gContactBreakingThreshold, gContactBreakingThreshold,
+                                gContactBreakingThreshold);
+      for (std::size_t k = begin; k < end; ++k) {
+        const int i = static_cast<int>(k);
+        const btCollisionObject* o = m_collisionObjects[i];
+        if (!m_forceUpdateAllAabbs && !o->isActive()) continue;
+        o->getCollisionShape()->getAabb(o->getWorldTransform(), aabb_min_[i], aabb_max_[i]);
+        aabb_min_[i] -= threshold;
+        aabb_max_[i] += threshold;
       }
-      if (nm == 0) return;  // lone bodies: nothing to solve
-      for (int i = 0; i < nb; ++i) bodies.push_back(b[i]);
-      for (int i = 0; i < nm; ++i) manifolds.push_back(m[i]);
-      if (manifolds.size() > info.m_minimumSolverBatchSize) flush();
+    });
+    for (int i = 0; i < n; ++i) {
+      btCollisionObject* o = m_collisionObjects[i];
+      if (!m_forceUpdateAllAabbs && !o->isActive()) continue;
+      if (o->isStaticObject() || (aabb_max_[i] - aabb_min_[i]).length2() < btScalar(1e12)) {
+        m_broadphasePairCache->setAabb(o->getBroadphaseHandle(), aabb_min_[i], aabb_max_[i], m_dispatcher1);
+      } else {
+        o->setActivationState(DISABLE_SIMULATION);  // Bullet's answer to an overflowing box
+      }
     }
-    void flush() {
-      if (manifolds.size() == 0) return;
-      solver->solveGroup(&bodies[0], bodies.size(), &manifolds[0], manifolds.size(), nullptr, 0, info,
-                         nullptr, dispatcher);
-      bodies.resize(0);
-      manifolds.resize(0);
+  }
+
+ private:
+  // btSimulationIslandManager.cpp's btPersistentManifoldSortPredicate.
+  struct ByIsland {
+    static int island(const btPersistentManifold* m) {
+      return m->getBody0()->getIslandTag() >= 0 ? m->getBody0()->getIslandTag()
+                                                : m->getBody1()->getIslandTag();
     }
-    btContactSolverInfo& info;
-    btConstraintSolver* solver;
-    btDispatcher* dispatcher;
-    btAlignedObjectArray<btCollisionObject*> bodies;
-    btAlignedObjectArray<btPersistentManifold*> manifolds;
+    bool operator()(const btPersistentManifold* a, const btPersistentManifold* b) const {
+      return island(a) < island(b);
+    }
   };
+  btAlignedObjectArray<btPersistentManifold*> manifolds_;
+  btAlignedObjectArray<btCollisionObject*> bodies_;
+  std::vector<char> in_bodies_;  // by world array index: already in bodies_
+  btAlignedObjectArray<btVector3> aabb_min_, aabb_max_;
 };
 
 }  // namespace
