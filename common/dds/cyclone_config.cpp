@@ -53,7 +53,12 @@ std::string cyclone_config_xml(const DdsSettings& s) {
     // Re-announce every second so an agent started before the world is matched soon after it comes up.
     xml += "<SPDPInterval>1s</SPDPInterval>";
   }
-  xml += "<LeaseDuration>1s</LeaseDuration></Discovery>";
+  // Participant leases. An agent's is short (1 s) so a SIGKILLed agent is forgotten soon; the world's is long
+  // because Cyclone re-announces a participant to every peer each 0.8 x its lease: 1 s on the world cost 1.25
+  // SPDP messages a second to each of 256 agents. Agents notice a dead world by its writers' liveliness
+  // (qos.hpp).
+  xml += s.role == Role::World ? "<LeaseDuration>5s</LeaseDuration></Discovery>"
+                               : "<LeaseDuration>1s</LeaseDuration></Discovery>";
   // iceoryx shared memory is compiled in but loses samples with keep-last 1 and ignores partitions in 0.10.2.
   xml += "<SharedMemory><Enable>false</Enable></SharedMemory>";
   xml += "</Domain></CycloneDDS>";

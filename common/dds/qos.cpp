@@ -5,7 +5,13 @@ namespace swarmform::dds {
 Qos make_qos(Channel channel) {
   Qos qos;
   dds_qos_t* q = qos.get();
-  dds_qset_liveliness(q, DDS_LIVELINESS_AUTOMATIC, kLivelinessLease);
+  // Agents' writers carry the short lease (the world must see a dead agent fast); the world's writers the
+  // long one (an agent only needs to notice, eventually, that the world went away). A participant asserts
+  // AUTOMATIC liveliness by a reliable message to every peer each (shortest lease of its writers - 0.1 s):
+  // 500 ms on the world would be 2.5 messages a second to each of 256 agents and as many acknowledgements
+  // back.
+  dds_qset_liveliness(q, DDS_LIVELINESS_AUTOMATIC,
+                      channel == Channel::Command ? kLivelinessLease : kWorldLivelinessLease);
   switch (channel) {
     case Channel::Mission:
       dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));

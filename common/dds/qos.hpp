@@ -15,8 +15,12 @@ enum class Channel {
   WorldState,  // world -> viewers: best effort, keep-last 1
 };
 
-// Liveliness on every endpoint: AUTOMATIC, this lease (NOTES-DEPENDENCIES "Death detection").
+// Liveliness of the agents' command writers (and the world's command reader): AUTOMATIC, this lease, so
+// the world sees a SIGKILLed agent within ~0.5 s (NOTES-DEPENDENCIES "Death detection").
 inline constexpr dds_duration_t kLivelinessLease = DDS_MSECS(500);
+// Liveliness of the world's writers (mission, packets, world state): an agent notices a dead world within
+// this. Longer than the agents' lease because the world asserts its liveliness to every agent (see qos.cpp).
+inline constexpr dds_duration_t kWorldLivelinessLease = DDS_SECS(2);
 
 // The QoS for readers and writers of `channel` (the same object serves both sides).
 Qos make_qos(Channel channel);
