@@ -69,13 +69,16 @@ TEST(CycloneConfig, WorldTakesIndexZeroAndAgentsPeerOnlyWithIt) {
   EXPECT_NE(w.find("<ParticipantIndex>0</ParticipantIndex>"), std::string::npos);
   EXPECT_EQ(w.find("<Peer "), std::string::npos);
   EXPECT_NE(w.find("<NetworkInterface address=\"127.0.0.1\"/>"), std::string::npos);
-  EXPECT_NE(w.find("<LeaseDuration>1s</LeaseDuration>"), std::string::npos);
+  // The world's participant lease is long (it is re-announced to every agent each 0.8 x lease); an agent's
+  // is short, so a dead agent is forgotten soon.
+  EXPECT_NE(w.find("<LeaseDuration>5s</LeaseDuration>"), std::string::npos);
   EXPECT_NE(w.find("<SharedMemory><Enable>false</Enable></SharedMemory>"), std::string::npos);
 
   DdsSettings agent;
   agent.domain = 7;
   const std::string a = cyclone_config_xml(agent);
   EXPECT_NE(a.find("<ParticipantIndex>none</ParticipantIndex>"), std::string::npos);
+  EXPECT_NE(a.find("<LeaseDuration>1s</LeaseDuration>"), std::string::npos);
   EXPECT_NE(a.find("<Peer address=\"127.0.0.1:" + std::to_string(7400 + 100 * 7 + 10) + "\"/>"),
             std::string::npos);
 
