@@ -25,7 +25,11 @@ std::size_t default_workers() {
   return std::clamp<std::size_t>(hw, 1, 2);
 }
 
-// workers - 1 threads sleep on a condition variable between runs; the caller is worker 0.
+// workers - 1 threads sleep on a condition variable between runs; the caller is worker 0 and takes chunks
+// too. A worker that wakes after the caller has taken the last chunk does not hold the run up: the caller
+// closes the run once it finds no chunk left and then waits only for the workers that joined before (each
+// is finishing a chunk it took). On a shared, loaded machine a woken worker may not be scheduled for
+// milliseconds; the run then simply completes on the caller's thread, as with one worker.
 class Pool {
  public:
   explicit Pool(std::size_t workers) : workers_(workers) {
@@ -51,14 +55,16 @@ class Pool {
       // ~8 chunks per worker: balance when another process takes a core for a while.
       chunk_ = std::max<std::size_t>(1, n / (workers_ * 8));
       next_.store(0);
-      busy_ = workers_ - 1;
+      open_ = true;
+      joined_ = 0;
       error_ = nullptr;
       ++generation_;
     }
     wake_.notify_all();
     drain(0);
     std::unique_lock lock(m_);
-    done_.wait(lock, [this] { return busy_ == 0; });
+    open_ = false;  // no chunk is left: workers that wake from now on stay out of this run
+    done_.wait(lock, [this] { return joined_ == 0; });
     body_ = nullptr;
     if (error_) std::rethrow_exception(error_);
   }
@@ -72,11 +78,13 @@ class Pool {
         wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
         if (stop_) return;
         seen = generation_;
+        if (!open_) continue;  // woke too late for this run
+        ++joined_;
       }
       drain(w);
       {
         std::lock_guard lock(m_);
-        --busy_;
+        --joined_;
       }
       done_.notify_one();
     }
@@ -102,7 +110,8 @@ class Pool {
   std::mutex m_;
   std::condition_variable wake_, done_;
   std::uint64_t generation_ = 0;
-  std::size_t busy_ = 0;
+  std::size_t joined_ = 0;  // workers other than the caller inside the current run
+  bool open_ = false;       // the current run still takes workers
   bool stop_ = false;
   const RangeBody* body_ = nullptr;
   std::size_t n_ = 0, chunk_ = 1;

@@ -18,7 +18,6 @@
 #include <functional>
 
 #include "world_server/world/geometry.hpp"
-#include "world_server/world/parallel_for.hpp"
 
 namespace swarmform::world {
 namespace {
@@ -33,8 +32,7 @@ double yaw_of(const btTransform& t) {
       fast_atan2(2.0 * (q.w() * q.z() + q.x() * q.y()), 1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z())));
 }
 
-// btDiscreteDynamicsWorld without the per-body work our planar robots do not need, and with the per-body
-// integration on the worker pool:
+// btDiscreteDynamicsWorld without the per-body work our planar robots do not need:
 //  - predictUnconstraintMotion is skipped: it applies damping (zero, with two pow() calls per body) and
 //    predicts a transform that only continuous collision detection and motion states read;
 //  - createPredictiveContacts is skipped: it predicts every body again, for CCD only. Continuous collision
@@ -49,32 +47,28 @@ double yaw_of(const btTransform& t) {
 //    order, filtered by needsResponse) sorted by the same predicate with the same btAlignedObjectArray
 //    quickSort, using the island tags calculateSimulationIslands stored (kept). Islands do not interact
 //    in the solver, so one solveGroup over them all equals Bullet's batches of islands;
-//  - updateAabbs computes the bodies' bounding boxes on the worker pool (each body's own, read-only), then
-//    hands them to the broadphase in Bullet's order on the calling thread (the broadphase is shared);
-//  - integrateTransforms runs Bullet's integrateTransformsInternal (documented "can be called in parallel":
-//    each body reads and writes only itself when CCD is off) over slices of the bodies on the worker pool,
-//    then calls `after_integrate` on the same slice, which re-sets the velocities of the next substep from
-//    the wheels (each body's new heading is known as soon as its own integration is done).
+//  - integrateTransforms runs Bullet's integrateTransformsInternal body by body and calls `after_integrate`
+//    on each body right after its integration (Physics re-sets the velocities of the next substep from the
+//    wheels there: the body's new heading is known, and it is still in cache). The physics stays on one
+//    thread: measured, integrating slices of the bodies on the worker pool made the physics slower (1.9 ->
+//    2.7 ms a tick at N = 1000), as every substep then moves each body's state from core to core and back
+//    for ~250 ns of work on it.
 class PlanarDynamicsWorld : public btDiscreteDynamicsWorld {
  public:
   using btDiscreteDynamicsWorld::btDiscreteDynamicsWorld;
 
-  // Called on each slice of the non-static bodies right after their integration (null: nothing).
-  std::function<void(btRigidBody* const* bodies, int count)> after_integrate;
+  // Called on each non-static body right after its integration (null: nothing).
+  std::function<void(btRigidBody& body)> after_integrate;
 
  protected:
   void predictUnconstraintMotion(btScalar) override {}
   void createPredictiveContacts(btScalar) override { releasePredictiveContacts(); }
 
   void integrateTransforms(btScalar dt) override {
-    const int n = m_nonStaticRigidBodies.size();
-    if (n == 0) return;
-    btRigidBody** bodies = &m_nonStaticRigidBodies[0];
-    parallel::for_range(static_cast<std::size_t>(n), [&](std::size_t begin, std::size_t end, std::size_t) {
-      const int count = static_cast<int>(end - begin);
-      integrateTransformsInternal(bodies + begin, count, dt);
-      if (after_integrate) after_integrate(bodies + begin, count);
-    });
+    for (int i = 0; i < m_nonStaticRigidBodies.size(); ++i) {
+      integrateTransformsInternal(&m_nonStaticRigidBodies[i], 1, dt);
+      if (after_integrate) after_integrate(*m_nonStaticRigidBodies[i]);
+    }
   }
 
   void solveConstraints(btContactSolverInfo& info) override {
@@ -111,34 +105,6 @@ class PlanarDynamicsWorld : public btDiscreteDynamicsWorld {
     m_constraintSolver->allSolved(info, getDebugDrawer());
   }
 
-  void updateAabbs() override {
-    const int n = m_collisionObjects.size();
-    aabb_min_.resize(n);
-    aabb_max_.resize(n);
-    // btCollisionWorld::updateSingleAabb, split: the boxes in parallel, then the broadphase in order.
-    parallel::for_range(static_cast<std::size_t>(n), [&](std::size_t begin, std::size_t end, std::size_t) {
-      const btVector3 threshold(gContactBreakingThreshold, gContactBreakingThreshold,
-                                gContactBreakingThreshold);
-      for (std::size_t k = begin; k < end; ++k) {
-        const int i = static_cast<int>(k);
-        const btCollisionObject* o = m_collisionObjects[i];
-        if (!m_forceUpdateAllAabbs && !o->isActive()) continue;
-        o->getCollisionShape()->getAabb(o->getWorldTransform(), aabb_min_[i], aabb_max_[i]);
-        aabb_min_[i] -= threshold;
-        aabb_max_[i] += threshold;
-      }
-    });
-    for (int i = 0; i < n; ++i) {
-      btCollisionObject* o = m_collisionObjects[i];
-      if (!m_forceUpdateAllAabbs && !o->isActive()) continue;
-      if (o->isStaticObject() || (aabb_max_[i] - aabb_min_[i]).length2() < btScalar(1e12)) {
-        m_broadphasePairCache->setAabb(o->getBroadphaseHandle(), aabb_min_[i], aabb_max_[i], m_dispatcher1);
-      } else {
-        o->setActivationState(DISABLE_SIMULATION);  // Bullet's answer to an overflowing box
-      }
-    }
-  }
-
  private:
   // btSimulationIslandManager.cpp's btPersistentManifoldSortPredicate.
   struct ByIsland {
@@ -153,7 +119,6 @@ class PlanarDynamicsWorld : public btDiscreteDynamicsWorld {
   btAlignedObjectArray<btPersistentManifold*> manifolds_;
   btAlignedObjectArray<btCollisionObject*> bodies_;
   std::vector<char> in_bodies_;  // by world array index: already in bodies_
-  btAlignedObjectArray<btVector3> aabb_min_, aabb_max_;
 };
 
 }  // namespace
@@ -325,18 +290,14 @@ void Physics::set_wheels(RobotId id, double left, double right) {
 }
 
 // Substep k's velocities are set from each body's heading at the start of substep k: before the first
-// substep here, and for the next ones at the end of the previous substep's integration (the last thing that
-// moves a body within a substep; PlanarDynamicsWorld::integrateTransforms), both on the worker pool (each
-// body written by one worker only, so the result does not depend on the worker count).
+// substep here, and for the next ones right after the body's integration in the previous substep (the last
+// thing that moves a body within a substep; PlanarDynamicsWorld::integrateTransforms).
 void Physics::tick_forward() {
   Impl& m = *impl_;
   m.wheels_to_velocities();
-  parallel::for_range(m.robots.size(), [&m](std::size_t begin, std::size_t end, std::size_t) {
-    for (std::size_t i = begin; i < end; ++i) m.apply_wheels(*m.robots[i], i);
-  });
-  const auto next_substep = [&m](btRigidBody* const* bodies, int count) {
-    for (int k = 0; k < count; ++k)
-      m.apply_wheels(*bodies[k], static_cast<std::size_t>(bodies[k]->getUserIndex()));
+  for (std::size_t i = 0; i < m.robots.size(); ++i) m.apply_wheels(*m.robots[i], i);
+  const auto next_substep = [&m](btRigidBody& b) {
+    m.apply_wheels(b, static_cast<std::size_t>(b.getUserIndex()));
   };
   for (int k = 0; k < m.substeps; ++k) {
     m.dyn.after_integrate = k + 1 < m.substeps ? std::function(next_substep) : nullptr;
