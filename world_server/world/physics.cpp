@@ -47,6 +47,11 @@ double yaw_of(const btTransform& t) {
 //    order, filtered by needsResponse) sorted by the same predicate with the same btAlignedObjectArray
 //    quickSort, using the island tags calculateSimulationIslands stored (kept). Islands do not interact
 //    in the solver, so one solveGroup over them all equals Bullet's batches of islands;
+//  - step_once is stepSimulation(dt, 0) without what it adds around the one internal step for other worlds
+//    (each a loop over every body): saving kinematic states (none here), applying gravity (zero: adds
+//    exactly 0 to forces that are 0), motion states (none), clearing forces (still 0), profiling;
+//  - updateActivationState does nothing: every moving body is DISABLE_DEACTIVATION (make_dynamic_flags), for
+//    which Bullet's loop changes nothing;
 //  - integrateTransforms runs Bullet's integrateTransformsInternal body by body and calls `after_integrate`
 //    on each body right after its integration (Physics re-sets the velocities of the next substep from the
 //    wheels there: the body's new heading is known, and it is still in cache). The physics stays on one
@@ -57,12 +62,16 @@ class PlanarDynamicsWorld : public btDiscreteDynamicsWorld {
  public:
   using btDiscreteDynamicsWorld::btDiscreteDynamicsWorld;
 
+  // One internal step of dt (what stepSimulation(dt, 0) does in this world, see above).
+  void step_once(btScalar dt) { internalSingleStepSimulation(dt); }
+
   // Called on each non-static body right after its integration (null: nothing).
   std::function<void(btRigidBody& body)> after_integrate;
 
  protected:
   void predictUnconstraintMotion(btScalar) override {}
   void createPredictiveContacts(btScalar) override { releasePredictiveContacts(); }
+  void updateActivationState(btScalar) override {}
 
   void integrateTransforms(btScalar dt) override {
     for (int i = 0; i < m_nonStaticRigidBodies.size(); ++i) {
@@ -301,8 +310,7 @@ void Physics::tick_forward() {
   };
   for (int k = 0; k < m.substeps; ++k) {
     m.dyn.after_integrate = k + 1 < m.substeps ? std::function(next_substep) : nullptr;
-    // maxSubSteps = 0: exactly one internal step of substep_s (no interpolation, no accumulator).
-    m.dyn.stepSimulation(m.substep_s, 0);
+    m.dyn.step_once(m.substep_s);  // stepSimulation(substep_s, 0): exactly one internal step
     m.collect_contacts();
   }
   m.dyn.after_integrate = nullptr;
