@@ -216,10 +216,12 @@ struct Physics::Impl {
 
   // The body velocities for the wheel speeds of this tick (SPEC: v = (l+r)/2 along the heading,
   // w = (r-l)/wheel_spacing), from the body's heading now. v and w are the same for every substep of a tick.
+  // The heading's direction is the body's x axis, the first column of its rotation (cos, sin of the yaw for
+  // a body turning about z only): no atan2, sin or cos per body and substep.
   void apply_wheels(btRigidBody& b, std::size_t i) const {
     if (dead[i]) return;
-    const double theta = yaw_of(b.getWorldTransform());
-    b.setLinearVelocity(btVector3(v[i] * std::cos(theta), v[i] * std::sin(theta), 0.0));
+    const btMatrix3x3& r = b.getWorldTransform().getBasis();
+    b.setLinearVelocity(btVector3(v[i] * r[0][0], v[i] * r[1][0], 0.0));
     b.setAngularVelocity(btVector3(0.0, 0.0, w[i]));
   }
 
