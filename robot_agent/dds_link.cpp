@@ -22,15 +22,8 @@ std::uint64_t fresh_nonce() {
 }  // namespace
 
 AgentLink::AgentLink(const dds::DdsSettings& settings, RobotId self, dds::SignalWatch& signals)
-    : self_(self),
-      signals_(signals),
-      participant_(settings),
-      waiter_(participant_),
-      mission_(participant_),
-      inbox_(participant_, self, waiter_),
-      commands_(participant_) {
+    : self_(self), signals_(signals), participant_(settings), waiter_(participant_), mission_(participant_) {
   waiter_.attach(mission_.condition());
-  waiter_.attach(inbox_.packet_condition());
   signals_.notify(&waiter_);
 }
 
@@ -43,6 +36,11 @@ WaitResult AgentLink::wait_mission(double timeout_s, dds::MissionAnnouncement& o
   for (;;) {
     if (auto m = mission_.take()) {
       out = std::move(*m);
+      if (!inbox_) {
+        inbox_.emplace(participant_, self_, waiter_, out.realtime);
+        waiter_.attach(inbox_->packet_condition());
+        commands_.emplace(participant_, out.realtime);
+      }
       return WaitResult::Ok;
     }
     if (signals_.stop_requested()) return WaitResult::Stopped;
@@ -55,8 +53,9 @@ WaitResult AgentLink::claim(double timeout_s, dds::ClaimAnswer& out) {
   const dds_time_t deadline = after(timeout_s);
   const std::uint64_t nonce = fresh_nonce();
   dds_time_t resend = 0;
+  int attempts = 0;
   for (;;) {
-    while (auto answer = inbox_.take_claim_reply()) {
+    while (auto answer = inbox_->take_claim_reply()) {
       // A reply to an earlier attempt (ours or a previous agent's with this id) is not an answer to this one.
       if (answer->nonce == nonce) {
         out = std::move(*answer);
@@ -70,8 +69,10 @@ WaitResult AgentLink::claim(double timeout_s, dds::ClaimAnswer& out) {
     if (now >= resend) {
       // Re-sent every 0.5 s: a claim written before the world matched our writer is lost, and so is an answer
       // written before the world matched our reader (both volatile).
-      commands_.claim(self_, nonce, static_cast<std::uint32_t>(getpid()));
-      resend = now + DDS_MSECS(500);
+      commands_->claim(self_, nonce, static_cast<std::uint32_t>(getpid()));
+      // The first answers come quickly: the endpoints were just made, and an answer written before the world
+      // matched them is lost (best effort or volatile); then every 0.5 s.
+      resend = now + (++attempts < 5 ? DDS_MSECS(100) : DDS_MSECS(500));
     }
     waiter_.wait_until(std::min(deadline, resend));
   }
@@ -80,15 +81,15 @@ WaitResult AgentLink::claim(double timeout_s, dds::ClaimAnswer& out) {
 WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out) {
   dds_time_t idle_deadline = after(idle_timeout_s);
   for (;;) {
-    if (inbox_.take_packet(out, foreign_)) {
+    if (inbox_->take_packet(out, foreign_)) {
       ++packets_;
       return WaitResult::Ok;
     }
     (void)mission_.take();
-    (void)inbox_.take_claim_reply();
+    (void)inbox_->take_claim_reply();
     if (signals_.stop_requested()) return WaitResult::Stopped;
-    const std::uint32_t alive = inbox_.world_writers_alive();
-    if (alive == 0 && inbox_.world_seen()) return WaitResult::WorldGone;
+    const std::uint32_t alive = inbox_->world_writers_alive();
+    if (alive == 0 && inbox_->world_seen()) return WaitResult::WorldGone;
     const dds_time_t now = dds_time();
     if (alive > 0) {
       idle_deadline = now + static_cast<dds_duration_t>(idle_timeout_s * 1e9);
@@ -101,7 +102,7 @@ WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out)
 }
 
 void AgentLink::send(Tick tick, const Command& command) {
-  commands_.step(self_, tick, command);
+  commands_->step(self_, tick, command);
 }
 
 }  // namespace swarmform::agent

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "common/dds/signal_watch.hpp"
@@ -25,6 +26,8 @@ class AgentLink {
   AgentLink(const AgentLink&) = delete;
   AgentLink& operator=(const AgentLink&) = delete;
 
+  // Also creates the endpoints of the per-tick topics: their QoS follows the mission's pace (realtime: best
+  // effort), so they cannot exist before it. claim(), next_packet() and send() need a mission first.
   WaitResult wait_mission(double timeout_s, dds::MissionAnnouncement& out);
   // Sends a claim (again every 0.5 s) until the world answers this attempt or `timeout_s` passes.
   WaitResult claim(double timeout_s, dds::ClaimAnswer& out);
@@ -42,8 +45,8 @@ class AgentLink {
   dds::Participant participant_;
   dds::Waiter waiter_;
   dds::MissionReader mission_;
-  dds::AgentInbox inbox_;
-  dds::CommandWriter commands_;
+  std::optional<dds::AgentInbox> inbox_;        // made by wait_mission
+  std::optional<dds::CommandWriter> commands_;  // made by wait_mission
   std::uint64_t packets_ = 0;
   std::uint64_t foreign_ = 0;
 };

@@ -2,12 +2,12 @@
 
 namespace swarmform::server {
 
-WorldLink::WorldLink(const dds::DdsSettings& settings, std::size_t robot_count)
+WorldLink::WorldLink(const dds::DdsSettings& settings, std::size_t robot_count, bool realtime)
     : participant(settings),
       waiter(participant),
       mission(participant),
-      robots(participant, robot_count),
-      commands(participant, waiter),
+      robots(participant, robot_count, realtime),
+      commands(participant, waiter, realtime),
       state(participant) {
   waiter.attach(commands.condition());
 }
@@ -17,6 +17,7 @@ dds::MissionAnnouncement mission_of(const world::Scenario& scenario, std::uint64
   a.mission = scenario.mission;
   a.robots = static_cast<std::uint32_t>(scenario.robots.size());
   a.run_nonce = run_nonce;
+  a.realtime = scenario.mode == world::Mode::Realtime;
   return a;
 }
 

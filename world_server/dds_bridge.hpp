@@ -14,7 +14,8 @@ namespace swarmform::server {
 
 // Declared in the order they must be built (participant first) and torn down (in reverse).
 struct WorldLink {
-  WorldLink(const dds::DdsSettings& settings, std::size_t robots);
+  // realtime: the per-tick topics are best effort (common/dds/qos.hpp Pace), as the mission tells the agents.
+  WorldLink(const dds::DdsSettings& settings, std::size_t robots, bool realtime);
 
   dds::Participant participant;
   dds::Waiter waiter;

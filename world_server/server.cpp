@@ -37,7 +37,7 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
       world_(scenario),
       session_(world_, world::RunOptions{options_.run_dir, std::string(world::to_string(scenario.mode))}),
       registry_(scenario.robots.size()),
-      link_(options_.dds, scenario.robots.size()) {
+      link_(options_.dds, scenario.robots.size(), scenario.mode == world::Mode::Realtime) {
   const std::size_t n = scenario.robots.size();
   latest_.resize(n);
   latest_tick_.assign(n, 0);

@@ -2,7 +2,7 @@
 """Issue 6 P2: N agent processes and the world on this machine, realtime mode; prints one JSON line.
 
   bench/scale/scale_run.py [--robots 256] [--ticks 600] [--scenario bench/scale/realtime.yaml]
-                           [--domain 180] [--connect-timeout 60] [--build-dir build]
+                           [--domain 180] [--connect-timeout 60] [--build-dir build] [--keep DIR]
 
 What it measures, in one run (agents and world started together, as `scripts/swarm run` does):
   connect_seconds   from the first agent's spawn until the world had every agent connected. The world says
@@ -24,6 +24,7 @@ import argparse
 import ctypes
 import json
 import os
+import shutil
 import signal
 import statistics
 import subprocess
@@ -102,6 +103,7 @@ def main():
     ap.add_argument("--scenario", default=os.path.join(ROOT, "bench", "scale", "realtime.yaml"))
     ap.add_argument("--domain", type=int, default=180, help="DDS domain id (0..232)")
     ap.add_argument("--connect-timeout", type=float, default=60.0)
+    ap.add_argument("--keep", metavar="DIR", help="copy the world's run folder (events.jsonl, summary.json) here")
     ap.add_argument("--build-dir", default=os.environ.get("BUILD_DIR", os.path.join(ROOT, "build")))
     a = ap.parse_args()
     if a.robots < 1 or a.ticks < 20 or not 0 <= a.domain <= 232:
@@ -179,11 +181,19 @@ def main():
                 raise RuntimeError(f"world_server exited {world.returncode}: {err.strip()[-500:]}")
             with open(os.path.join(run_dir, "summary.json")) as f:
                 summary = json.load(f)
+            if a.keep:
+                shutil.copytree(run_dir, a.keep, dirs_exist_ok=True)
+                with open(os.path.join(a.keep, "world.err"), "w") as f:
+                    f.write(err)
             missed = 0
+            missed_by_tenth = [0] * 10  # where in the run the misses fell (tenths of --ticks)
             with open(os.path.join(run_dir, "events.jsonl")) as f:
                 for line in f:
-                    if json.loads(line).get("kind") == "missed_tick":
+                    event = json.loads(line)
+                    if event.get("kind") == "missed_tick":
                         missed += 1
+                        tick = int(event.get("tick", 0))
+                        missed_by_tenth[min(9, max(0, tick * 10 // a.ticks))] += 1
             said = 0
             for line in err.splitlines():
                 if line.endswith("missed ticks (see events)"):
@@ -195,6 +205,7 @@ def main():
                 "spawn_seconds": round(spawned, 3),
                 "connect_seconds": round(connect_seconds, 3),
                 "missed_ticks": missed,
+                "missed_ticks_by_tenth_of_run": missed_by_tenth,
                 "achieved_ticks_per_second": summary["ticks_per_second"],
                 "rss_mib": {"agents_max": round(max(rss), 2) if rss else None,
                             "agents_median": round(statistics.median(rss), 2) if rss else None,

@@ -2,7 +2,7 @@
 
 namespace swarmform::dds {
 
-Qos make_qos(Channel channel) {
+Qos make_qos(Channel channel, Pace pace) {
   Qos qos;
   dds_qos_t* q = qos.get();
   // Agents' writers carry the short lease (the world must see a dead agent fast); the world's writers the
@@ -12,6 +12,8 @@ Qos make_qos(Channel channel) {
   // back.
   dds_qset_liveliness(q, DDS_LIVELINESS_AUTOMATIC,
                       channel == Channel::Command ? kLivelinessLease : kWorldLivelinessLease);
+  const dds_reliability_kind_t per_tick =
+      pace == Pace::Realtime ? DDS_RELIABILITY_BEST_EFFORT : DDS_RELIABILITY_RELIABLE;
   switch (channel) {
     case Channel::Mission:
       dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
@@ -19,12 +21,12 @@ Qos make_qos(Channel channel) {
       dds_qset_history(q, DDS_HISTORY_KEEP_LAST, 1);
       break;
     case Channel::Sensor:
-      dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+      dds_qset_reliability(q, per_tick, DDS_SECS(1));
       dds_qset_durability(q, DDS_DURABILITY_VOLATILE);
       dds_qset_history(q, DDS_HISTORY_KEEP_LAST, 1);
       break;
     case Channel::Command:
-      dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+      dds_qset_reliability(q, per_tick, DDS_SECS(1));
       dds_qset_durability(q, DDS_DURABILITY_VOLATILE);
       dds_qset_history(q, DDS_HISTORY_KEEP_ALL, 0);
       break;

@@ -6,6 +6,11 @@
 
 namespace swarmform::dds {
 
+// Sensor and Command are reliable in lockstep (a lost sample would stall the round until its deadline and
+// change the run) and best effort in realtime (a lost sample is a missed tick, and reliability costs every
+// process a heartbeat, an acknowledgement and two more thread wake-ups a tick: see README.md).
+enum class Pace { Lockstep, Realtime };
+
 enum class Channel {
   Mission,     // world -> agents: reliable, transient-local, keep-last 1 (agents started late still get it)
   Sensor,      // world -> agent: reliable, volatile, keep-last 1 per instance (only the newest perception
@@ -23,6 +28,6 @@ inline constexpr dds_duration_t kLivelinessLease = DDS_MSECS(500);
 inline constexpr dds_duration_t kWorldLivelinessLease = DDS_SECS(2);
 
 // The QoS for readers and writers of `channel` (the same object serves both sides).
-Qos make_qos(Channel channel);
+Qos make_qos(Channel channel, Pace pace = Pace::Lockstep);
 
 }  // namespace swarmform::dds

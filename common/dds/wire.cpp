@@ -48,14 +48,18 @@ Entity make_partitioned(dds_entity_t participant, const std::string& partition, 
   return Entity(dds_create_subscriber(participant, qos.get(), nullptr), "dds_create_subscriber");
 }
 
-Entity make_writer(dds_entity_t parent, dds_entity_t topic, Channel channel) {
-  Qos qos = make_qos(channel);
+Pace pace_of(bool realtime) {
+  return realtime ? Pace::Realtime : Pace::Lockstep;
+}
+
+Entity make_writer(dds_entity_t parent, dds_entity_t topic, Channel channel, Pace pace = Pace::Lockstep) {
+  Qos qos = make_qos(channel, pace);
   return Entity(dds_create_writer(parent, topic, qos.get(), nullptr), "dds_create_writer");
 }
 
 Entity make_reader(dds_entity_t parent, dds_entity_t topic, Channel channel,
-                   const dds_listener_t* listener = nullptr) {
-  Qos qos = make_qos(channel);
+                   const dds_listener_t* listener = nullptr, Pace pace = Pace::Lockstep) {
+  Qos qos = make_qos(channel, pace);
   return Entity(dds_create_reader(parent, topic, qos.get(), listener), "dds_create_reader");
 }
 
@@ -207,6 +211,7 @@ void MissionWriter::publish(const MissionAnnouncement& a) {
   s.seed = m.seed;
   s.params._buffer = params.data();
   s.params._length = s.params._maximum = static_cast<std::uint32_t>(params.size());
+  s.realtime = a.realtime;
   check(dds_write(writer_.get(), &s), "dds_write(mission)");
 }
 
@@ -226,6 +231,7 @@ std::optional<MissionAnnouncement> MissionReader::take() {
     MissionAnnouncement a;
     a.run_nonce = s.run_nonce;
     a.robots = s.robots;
+    a.realtime = s.realtime;
     Mission& m = a.mission;
     m.behaviour = str(s.behaviour);
     if (s.rows < 0 || s.cols < 0 ||
@@ -263,26 +269,27 @@ struct RobotChannel {
   Entity publisher, sensor;
 };
 
-RobotChannel make_robot_channel(const Participant& p, RobotId id) {
+RobotChannel make_robot_channel(const Participant& p, RobotId id, Pace pace) {
   RobotChannel c;
   c.publisher = make_partitioned(p.get(), robot_partition(id), true);
-  c.sensor = make_writer(c.publisher.get(), p.topics().sensor.get(), Channel::Sensor);
+  c.sensor = make_writer(c.publisher.get(), p.topics().sensor.get(), Channel::Sensor, pace);
   return c;
 }
 }  // namespace
 
 struct RobotChannels::Impl {
   const Participant& participant;
+  Pace pace;
   std::vector<RobotChannel> robots;
   std::map<RobotId, RobotChannel> extra;  // claimants with an id outside the run, answered then left
   std::vector<sfdds_RabReading> scratch;  // reused for every packet
 };
 
-RobotChannels::RobotChannels(const Participant& participant, std::size_t robots)
-    : impl_(std::make_unique<Impl>(Impl{participant, {}, {}, {}})) {
+RobotChannels::RobotChannels(const Participant& participant, std::size_t robots, bool realtime)
+    : impl_(std::make_unique<Impl>(Impl{participant, pace_of(realtime), {}, {}, {}})) {
   impl_->robots.reserve(robots);
   for (std::size_t i = 0; i < robots; ++i) {
-    impl_->robots.push_back(make_robot_channel(participant, static_cast<RobotId>(i)));
+    impl_->robots.push_back(make_robot_channel(participant, static_cast<RobotId>(i), impl_->pace));
   }
 }
 
@@ -318,7 +325,8 @@ void RobotChannels::reply_claim(const ClaimAnswer& a) {
   } else {
     auto it = impl_->extra.find(a.robot_id);
     if (it == impl_->extra.end()) {
-      it = impl_->extra.emplace(a.robot_id, make_robot_channel(impl_->participant, a.robot_id)).first;
+      it = impl_->extra.emplace(a.robot_id, make_robot_channel(impl_->participant, a.robot_id, impl_->pace))
+               .first;
     }
     c = &it->second;
   }
@@ -405,7 +413,7 @@ struct AgentInbox::Impl {
   }
 };
 
-AgentInbox::AgentInbox(const Participant& participant, RobotId self, Waiter& waiter)
+AgentInbox::AgentInbox(const Participant& participant, RobotId self, Waiter& waiter, bool realtime)
     : impl_(std::make_unique<Impl>()) {
   impl_->self = self;
   impl_->waiter = &waiter;
@@ -413,8 +421,8 @@ AgentInbox::AgentInbox(const Participant& participant, RobotId self, Waiter& wai
   dds_listener_t* listener = dds_create_listener(impl_.get());
   dds_lset_liveliness_changed(listener, &Impl::on_liveliness);
   try {
-    impl_->packets =
-        make_reader(impl_->subscriber.get(), participant.topics().sensor.get(), Channel::Sensor, listener);
+    impl_->packets = make_reader(impl_->subscriber.get(), participant.topics().sensor.get(), Channel::Sensor,
+                                 listener, pace_of(realtime));
   } catch (...) {
     dds_delete_listener(listener);
     throw;
@@ -459,8 +467,10 @@ struct CommandWriter::Impl {
   std::vector<char*> events;  // reused: points into the command's strings during dds_write
 };
 
-CommandWriter::CommandWriter(const Participant& participant) : impl_(std::make_unique<Impl>()) {
-  impl_->writer = make_writer(participant.get(), participant.topics().command.get(), Channel::Command);
+CommandWriter::CommandWriter(const Participant& participant, bool realtime)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->writer =
+      make_writer(participant.get(), participant.topics().command.get(), Channel::Command, pace_of(realtime));
 }
 CommandWriter::~CommandWriter() = default;
 dds_entity_t CommandWriter::get() const {
@@ -523,14 +533,14 @@ struct CommandReader::Impl {
   }
 };
 
-CommandReader::CommandReader(const Participant& participant, Waiter& waiter)
+CommandReader::CommandReader(const Participant& participant, Waiter& waiter, bool realtime)
     : impl_(std::make_unique<Impl>()) {
   impl_->waiter = &waiter;
   dds_listener_t* listener = dds_create_listener(impl_.get());
   dds_lset_liveliness_changed(listener, &Impl::on_liveliness);
   try {
-    impl_->reader =
-        make_reader(participant.get(), participant.topics().command.get(), Channel::Command, listener);
+    impl_->reader = make_reader(participant.get(), participant.topics().command.get(), Channel::Command,
+                                listener, pace_of(realtime));
   } catch (...) {
     dds_delete_listener(listener);
     throw;

@@ -70,6 +70,7 @@ struct MissionAnnouncement {
   Mission mission;
   std::uint32_t robots = 0;     // robots in the run (ids 0..robots-1)
   std::uint64_t run_nonce = 0;  // random per world start
+  bool realtime = false;  // the pace of sf_sensor / sf_command (qos.hpp): an agent creates them after this
 };
 
 class MissionWriter {
@@ -111,7 +112,7 @@ struct ClaimAnswer {
 // World side: for each robot a publisher in partition robot/K with its SensorPacket writer.
 class RobotChannels {
  public:
-  RobotChannels(const Participant& participant, std::size_t robots);
+  RobotChannels(const Participant& participant, std::size_t robots, bool realtime = false);
   ~RobotChannels();
   RobotChannels(const RobotChannels&) = delete;
   RobotChannels& operator=(const RobotChannels&) = delete;
@@ -140,7 +141,7 @@ struct SensorSample {
 // The liveliness of the world's packet writer is followed by a listener (world_alive), which wakes `waiter`.
 class AgentInbox {
  public:
-  AgentInbox(const Participant& participant, RobotId self, Waiter& waiter);
+  AgentInbox(const Participant& participant, RobotId self, Waiter& waiter, bool realtime = false);
   ~AgentInbox();
   AgentInbox(const AgentInbox&) = delete;
   AgentInbox& operator=(const AgentInbox&) = delete;
@@ -178,7 +179,7 @@ struct CommandSample {
 
 class CommandWriter {
  public:
-  explicit CommandWriter(const Participant& participant);
+  explicit CommandWriter(const Participant& participant, bool realtime = false);
   ~CommandWriter();
   CommandWriter(const CommandWriter&) = delete;
   CommandWriter& operator=(const CommandWriter&) = delete;
@@ -194,7 +195,7 @@ class CommandWriter {
 // World side. A listener follows the liveliness of every command writer and wakes `waiter` when one is lost.
 class CommandReader {
  public:
-  CommandReader(const Participant& participant, Waiter& waiter);
+  CommandReader(const Participant& participant, Waiter& waiter, bool realtime = false);
   ~CommandReader();
   CommandReader(const CommandReader&) = delete;
   CommandReader& operator=(const CommandReader&) = delete;
