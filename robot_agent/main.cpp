@@ -11,6 +11,7 @@
 #include <iostream>
 #include <memory>
 
+#include "common/dds/robot_process.hpp"
 #include "common/dds/signal_watch.hpp"
 #include "common/input_error.hpp"
 #include "robot_agent/controller/controller.hpp"
@@ -118,6 +119,7 @@ int main(int argc, char** argv) {
     return e.get_exit_code() == 0 ? app.exit(e) : (app.exit(e), 2);
   }
 
+  (void)swarmform::dds::yield_to_world_on_wakeup();  // before any thread exists: they all inherit it
   try {
     swarmform::dds::SignalWatch signals;  // first: every DDS thread inherits the blocked signal mask
     return run(o, signals);

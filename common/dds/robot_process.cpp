@@ -1,0 +1,13 @@
+#include "common/dds/robot_process.hpp"
+
+#include <sched.h>
+
+namespace swarmform::dds {
+
+bool yield_to_world_on_wakeup() {
+  sched_param param{};
+  param.sched_priority = 0;  // the only priority SCHED_BATCH takes; no privilege is needed
+  return sched_setscheduler(0, SCHED_BATCH, &param) == 0;
+}
+
+}  // namespace swarmform::dds
