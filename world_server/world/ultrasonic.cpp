@@ -48,24 +48,35 @@ UltrasonicReading Ultrasonic::read_with(std::size_t self, const std::vector<Pose
   // Robots whose body can be within reach go to the candidate list of every sensor whose cone can touch
   // them: the angle between the sensor's axis and the robot's centre is at most the cone's half-angle plus
   // the body's angular half-width asin(R/d). Each candidate is stored as its offset and |offset|^2 - R^2, so
-  // the ray test below is a dot product, a compare and (rarely) a square root.
-  for (auto& c : scratch.cands) c.clear();
+  // the ray test below is a dot product, a compare and (rarely) a square root. Two passes, so that the
+  // second has no branch to mispredict: every robot within reach with its cone bound (computed once), then
+  // each sensor's list filled without branches (a slot written for every robot, kept when the test holds).
+  scratch.reach.clear();
   grid.for_each_near_offset(
       me.x, me.y, kReach + kRobotRadius, [&](std::uint32_t j, double dx, double dy, double d2) {
         if (j == self) return;
-        const Candidate cand{dx, dy, d2 - kRobotRadius * kRobotRadius};
-        if (cand.c <= 0.0) {  // bodies overlap: every sensor reads the minimum
-          for (auto& c : scratch.cands) c.push_back(cand);
-          return;
+        const double c = d2 - kRobotRadius * kRobotRadius;
+        double bound = -kNoHit;  // bodies overlap: every sensor reads the minimum
+        if (c > 0.0) {
+          const double d = std::sqrt(d2);
+          const double sin_a = kRobotRadius / d;
+          const double cos_limit =
+              kCosCone * std::sqrt(1.0 - sin_a * sin_a) - kSinCone * sin_a;  // cos(cone + a)
+          bound = d * cos_limit - 1e-12;
         }
-        const double d = std::sqrt(d2);
-        const double sin_a = kRobotRadius / d;
-        const double cos_limit =
-            kCosCone * std::sqrt(1.0 - sin_a * sin_a) - kSinCone * sin_a;  // cos(cone + a)
-        for (std::size_t s = 0; s < kUltrasonicCount; ++s) {
-          if (dx * axis_x[s] + dy * axis_y[s] >= d * cos_limit - 1e-12) scratch.cands[s].push_back(cand);
-        }
+        scratch.reach.push_back(Reach{Candidate{dx, dy, c}, bound});
       });
+  const std::size_t in_reach = scratch.reach.size();
+  for (std::size_t s = 0; s < kUltrasonicCount; ++s) {
+    std::vector<Candidate>& list = scratch.cands[s];
+    if (list.size() < in_reach) list.resize(in_reach);
+    std::size_t kept = 0;
+    for (const Reach& r : scratch.reach) {
+      list[kept] = r.cand;
+      kept += r.cand.x * axis_x[s] + r.cand.y * axis_y[s] >= r.bound ? 1 : 0;
+    }
+    scratch.count[s] = kept;
+  }
   // Static bodies within reach (by their true distance: a wall's bounding circle would hold everyone).
   scratch.near_statics.clear();
   for (const StaticShape& st : statics_) {
@@ -80,7 +91,8 @@ UltrasonicReading Ultrasonic::read_with(std::size_t self, const std::vector<Pose
       const std::size_t k = s * kRaysPerSensor + r;
       const double dx = ch * ray_cos_[k] - sh * ray_sin_[k];
       const double dy = sh * ray_cos_[k] + ch * ray_sin_[k];
-      for (const Candidate& c : scratch.cands[s]) {
+      for (std::size_t q = 0; q < scratch.count[s]; ++q) {
+        const Candidate& c = scratch.cands[s][q];
         // ray_circle with the ray starting at the origin.
         const double along = c.x * dx + c.y * dy;
         if (along <= 0.0) continue;

@@ -50,8 +50,14 @@ class Ultrasonic {
   struct Candidate {
     double x, y, c;
   };
+  struct Reach {
+    Candidate cand;
+    double bound;  // the cone test: a sensor whose axis . offset >= bound may see it (-inf: overlapping)
+  };
   struct alignas(64) Scratch {  // own cache lines: workers push to their vectors at once
-    std::array<std::vector<Candidate>, kUltrasonicCount> cands;
+    std::vector<Reach> reach;   // every robot within reach
+    std::array<std::vector<Candidate>, kUltrasonicCount> cands;  // per sensor: buffers, count[s] used
+    std::array<std::size_t, kUltrasonicCount> count{};
     std::vector<const StaticShape*> near_statics;
   };
   UltrasonicReading read_with(std::size_t self, const std::vector<Pose2D>& poses, const SpatialGrid& grid,
