@@ -26,6 +26,7 @@
 #include "robot_agent/controller/controller.hpp"
 #include "world_server/harness/harness.hpp"
 #include "world_server/run/run_session.hpp"
+#include "world_server/world/perception_bytes.hpp"
 #include "world_server/world/scenario.hpp"
 #include "world_server/world/world.hpp"
 
@@ -101,15 +102,7 @@ std::uint64_t run_digest(const world::Scenario& scenario, int ticks, std::uint64
     put(&contacts, sizeof contacts);
     contact_onsets += contacts.robot_robot + contacts.robot_obstacle;
     for (RobotId id = 0; id < run.world().robot_count(); ++id) {
-      const Perception& p = run.world().perception(id);
-      put(&p.pose, sizeof p.pose);
-      put(p.ultrasonic.data(), sizeof(double) * p.ultrasonic.size());
-      for (const RabReading& m : p.messages) {
-        put(&m.sender, sizeof m.sender);
-        put(&m.range, sizeof m.range);
-        put(&m.bearing, sizeof m.bearing);
-        put(m.data.data(), m.data.size());
-      }
+      world::put_perception_bytes(run.world().perception(id), put);
     }
   }
   return h;

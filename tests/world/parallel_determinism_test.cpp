@@ -12,6 +12,7 @@
 
 #include "world_server/harness/harness.hpp"
 #include "world_server/world/parallel_for.hpp"
+#include "world_server/world/perception_bytes.hpp"
 
 namespace swarmform {
 namespace {
@@ -48,15 +49,7 @@ std::vector<unsigned char> trace(std::size_t workers, int ticks) {
   for (int t = 0; t < ticks; ++t) {
     h.step();
     for (RobotId id = 0; id < h.world().robot_count(); ++id) {
-      const Perception& p = h.world().perception(id);
-      put(&p.pose, sizeof p.pose);
-      put(p.ultrasonic.data(), sizeof(double) * p.ultrasonic.size());
-      for (const RabReading& m : p.messages) {
-        put(&m.sender, sizeof m.sender);
-        put(&m.range, sizeof m.range);
-        put(&m.bearing, sizeof m.bearing);
-        put(m.data.data(), m.data.size());
-      }
+      world::put_perception_bytes(h.world().perception(id), put);
     }
   }
   parallel::set_worker_count(0);

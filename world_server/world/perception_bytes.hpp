@@ -1,0 +1,24 @@
+// One definition of "the same perception", for run digests and determinism tests: every field the world
+// computes for a robot (pose, ultrasonic ranges, and each reading with its bytes), fed in a fixed order to
+// `put(const void* bytes, std::size_t count)`.
+#pragma once
+
+#include <cstddef>
+
+#include "common/types.hpp"
+
+namespace swarmform::world {
+
+template <class Put>
+void put_perception_bytes(const Perception& p, Put&& put) {
+  put(&p.pose, sizeof p.pose);
+  put(p.ultrasonic.data(), sizeof(double) * p.ultrasonic.size());
+  for (const RabReading& m : p.messages) {
+    put(&m.sender, sizeof m.sender);
+    put(&m.range, sizeof m.range);
+    put(&m.bearing, sizeof m.bearing);
+    put(m.data.data(), m.data.size());
+  }
+}
+
+}  // namespace swarmform::world
