@@ -3,19 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/splitmix64.hpp"
 #include "robot_agent/controller/collision_avoidance.hpp"
 #include "robot_agent/controller/drive.hpp"
 
 namespace swarmform::controller {
 
 namespace {
-
-std::uint64_t mix(std::uint64_t x) {  // splitmix64
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
 
 Vec2 position(const Pose2D& p) {
   return {p.x, p.y};
@@ -51,7 +45,7 @@ void PaperController::init(const Mission& mission, RobotId self) {
 }
 
 void PaperController::reset() {
-  rng_.seed(mix(mission_.seed ^ static_cast<std::uint64_t>(self_)));
+  rng_.seed(splitmix64(mission_.seed ^ static_cast<std::uint64_t>(self_)));
   state_ = RobotState::Searching;
   label_ = -1;
   parent_label_ = -1;

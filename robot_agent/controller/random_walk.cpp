@@ -3,22 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/splitmix64.hpp"
 #include "robot_agent/controller/drive.hpp"
 #include "robot_agent/controller/message.hpp"
 
 namespace swarmform::controller {
-
-namespace {
-
-// splitmix64: spreads seed ^ id so that neighbouring ids get unrelated streams.
-std::uint64_t mix(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
-}  // namespace
 
 void RandomWalk::init(const Mission& mission, RobotId self) {
   mission_ = mission;
@@ -27,7 +16,7 @@ void RandomWalk::init(const Mission& mission, RobotId self) {
 }
 
 void RandomWalk::reset() {
-  rng_.seed(mix(mission_.seed ^ static_cast<std::uint64_t>(self_)));
+  rng_.seed(splitmix64(mission_.seed ^ static_cast<std::uint64_t>(self_)));
   avoid_sign_ = 0;
   leg_ticks_left_ = 0;
   turn_rate_ = 0.0;

@@ -2,52 +2,40 @@
 
 #include <algorithm>
 
+#include "common/splitmix64.hpp"
+
 namespace swarmform::controller {
 
+std::uint64_t stigmergy_entry_hash(const StigmergyEntry& e) {
+  const std::uint64_t kv = splitmix64((static_cast<std::uint64_t>(e.key) << 32) | e.version);
+  const std::uint64_t wv = splitmix64(kv ^ ((static_cast<std::uint64_t>(e.writer) << 32) | 0x5354u));
+  return splitmix64(wv ^ static_cast<std::uint64_t>(e.value));
+}
+
 namespace {
-// splitmix64's finaliser: every input bit moves about half the output bits.
-std::uint64_t mix(std::uint64_t x) {
-  x ^= x >> 30;
-  x *= 0xbf58476d1ce4e5b9ULL;
-  x ^= x >> 27;
-  x *= 0x94d049bb133111ebULL;
-  x ^= x >> 31;
-  return x;
+// The entry of the key-sorted `table` with `key`, or where it would be inserted (const or not).
+template <class Table>
+auto first_not_below(Table& table, std::uint32_t key) {
+  return std::lower_bound(table.begin(), table.end(), key,
+                          [](const StigmergyEntry& e, std::uint32_t k) { return e.key < k; });
 }
 }  // namespace
 
-std::uint64_t stigmergy_entry_hash(const StigmergyEntry& e) {
-  const std::uint64_t kv = mix((static_cast<std::uint64_t>(e.key) << 32) | e.version);
-  const std::uint64_t wv = mix(kv ^ ((static_cast<std::uint64_t>(e.writer) << 32) | 0x5354u));
-  return mix(wv ^ static_cast<std::uint64_t>(e.value));
-}
-
-std::vector<StigmergyEntry>::iterator Stigmergy::lower_bound(std::uint32_t key) {
-  return std::lower_bound(table_.begin(), table_.end(), key,
-                          [](const StigmergyEntry& e, std::uint32_t k) { return e.key < k; });
-}
-
-std::vector<StigmergyEntry>::const_iterator Stigmergy::lower_bound(std::uint32_t key) const {
-  return std::lower_bound(table_.begin(), table_.end(), key,
-                          [](const StigmergyEntry& e, std::uint32_t k) { return e.key < k; });
-}
-
-void Stigmergy::put(std::uint32_t key, std::int64_t value) {
-  auto it = lower_bound(key);
-  StigmergyEntry e;
-  e.key = key;
-  e.value = value;
-  e.writer = self_;
-  if (it != table_.end() && it->key == key) {
-    e.version = it->version + 1u;
+void Stigmergy::store(std::vector<StigmergyEntry>::iterator it, const StigmergyEntry& e) {
+  if (it != table_.end() && it->key == e.key) {
     digest_ -= stigmergy_entry_hash(*it);
     *it = e;
   } else {
-    e.version = 1u;
     table_.insert(it, e);
   }
   digest_ += stigmergy_entry_hash(e);
-  mark_changed(key);
+  mark_changed(e.key);
+}
+
+void Stigmergy::put(std::uint32_t key, std::int64_t value) {
+  auto it = first_not_below(table_, key);
+  const bool held = it != table_.end() && it->key == key;
+  store(it, StigmergyEntry{key, value, held ? it->version + 1u : 1u, self_});
 }
 
 std::optional<std::int64_t> Stigmergy::get(std::uint32_t key) const {
@@ -57,21 +45,14 @@ std::optional<std::int64_t> Stigmergy::get(std::uint32_t key) const {
 }
 
 const StigmergyEntry* Stigmergy::entry(std::uint32_t key) const {
-  auto it = lower_bound(key);
+  auto it = first_not_below(table_, key);
   return it != table_.end() && it->key == key ? &*it : nullptr;
 }
 
 bool Stigmergy::merge(const StigmergyEntry& e) {
-  auto it = lower_bound(e.key);
-  if (it != table_.end() && it->key == e.key) {
-    if (!stigmergy_newer(e, *it)) return false;
-    digest_ -= stigmergy_entry_hash(*it);
-    *it = e;
-  } else {
-    table_.insert(it, e);
-  }
-  digest_ += stigmergy_entry_hash(e);
-  mark_changed(e.key);
+  auto it = first_not_below(table_, e.key);
+  if (it != table_.end() && it->key == e.key && !stigmergy_newer(e, *it)) return false;
+  store(it, e);
   return true;
 }
 
@@ -103,7 +84,7 @@ std::vector<StigmergyEntry> Stigmergy::outgoing(std::size_t max_entries) {
   };
   // Round-robin over the table from the cursor, wrapping once.
   if (!table_.empty() && out.size() < max_entries) {
-    auto it = lower_bound(cursor_);
+    auto it = first_not_below(table_, cursor_);
     for (std::size_t visited = 0; visited < table_.size() && out.size() < max_entries; ++visited) {
       if (it == table_.end()) it = table_.begin();
       if (!chosen(it->key)) out.push_back(*it);
@@ -116,7 +97,8 @@ std::vector<StigmergyEntry> Stigmergy::outgoing(std::size_t max_entries) {
 
 std::map<std::uint32_t, StigmergyEntry> Stigmergy::in_namespace(std::uint32_t ns) const {
   std::map<std::uint32_t, StigmergyEntry> out;
-  for (auto it = lower_bound(stig::key(ns, 0)); it != table_.end() && stig::ns_of(it->key) == ns; ++it) {
+  for (auto it = first_not_below(table_, stig::key(ns, 0)); it != table_.end() && stig::ns_of(it->key) == ns;
+       ++it) {
     out.emplace(stig::index_of(it->key), *it);
   }
   return out;

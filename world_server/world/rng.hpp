@@ -10,11 +10,13 @@
 #include <numbers>
 #include <random>
 
+#include "common/splitmix64.hpp"
+
 namespace swarmform::world {
 
 class Rng {
  public:
-  explicit Rng(std::uint64_t seed, std::uint64_t salt) : engine_(mix(seed ^ mix(salt))) {}
+  explicit Rng(std::uint64_t seed, std::uint64_t salt) : engine_(splitmix64(seed ^ splitmix64(salt))) {}
 
   // Uniform in [0, 1), 53 random bits.
   double uniform() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }
@@ -38,13 +40,6 @@ class Rng {
   double gaussian(double sd) { return sd > 0.0 ? sd * gaussian() : 0.0; }
 
  private:
-  // splitmix64 finaliser: decorrelates nearby seeds.
-  static std::uint64_t mix(std::uint64_t z) {
-    z += 0x9e3779b97f4a7c15ULL;
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  }
   std::mt19937_64 engine_;
   double spare_ = 0.0;
   bool has_spare_ = false;
