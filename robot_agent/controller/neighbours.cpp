@@ -22,6 +22,13 @@ void swap_message(RobotMessage& a, RobotMessage& b) {
   a.entries.swap(b.entries);
   a.motion.swap(b.motion);
 }
+
+// The entry of the id-sorted `list` with `id`, or where it would be inserted (const or not).
+template <class List>
+auto first_not_below(List& list, RobotId id) {
+  return std::lower_bound(list.begin(), list.end(), id,
+                          [](const auto& entry, RobotId key) { return entry.first < key; });
+}
 }  // namespace
 
 void NeighbourTable::update(const Perception& perception, RobotId self, std::uint64_t own_digest) {
@@ -58,15 +65,13 @@ void NeighbourTable::update(const Perception& perception, RobotId self, std::uin
 NeighbourList::iterator NeighbourTable::locate(RobotId id) {
   std::uint32_t& slot = slot_[id % kSlotCount];
   if (slot < live_.size() && live_[slot].first == id) return live_.begin() + slot;
-  auto it = std::lower_bound(live_.begin(), live_.end(), id,
-                             [](const auto& entry, RobotId key) { return entry.first < key; });
+  auto it = first_not_below(live_, id);
   slot = static_cast<std::uint32_t>(it - live_.begin());
   return it;
 }
 
 const Neighbour* NeighbourTable::find(RobotId id) const {
-  auto it = std::lower_bound(live_.begin(), live_.end(), id,
-                             [](const auto& entry, RobotId key) { return entry.first < key; });
+  auto it = first_not_below(live_, id);
   return it == live_.end() || it->first != id ? nullptr : &it->second;
 }
 

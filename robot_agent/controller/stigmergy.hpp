@@ -97,9 +97,8 @@ class Stigmergy {
 
  private:
   void mark_changed(std::uint32_t key);
-  // The entry with `key`, or where it would be inserted (the first with a greater key).
-  std::vector<StigmergyEntry>::iterator lower_bound(std::uint32_t key);
-  std::vector<StigmergyEntry>::const_iterator lower_bound(std::uint32_t key) const;
+  // Writes `e` over the entry at `it` (same key) or inserts it there, keeping the digest; marks it changed.
+  void store(std::vector<StigmergyEntry>::iterator it, const StigmergyEntry& e);
 
   RobotId self_;
   // Sorted by key. A flat table, not a std::map: a robot merges ~24 entries from each of up to ~73
