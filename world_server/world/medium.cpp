@@ -50,7 +50,7 @@ void Medium::deliver(const std::vector<Pose2D>& poses, const std::vector<char>& 
       if (kept != k) std::swap(inbox[kept], m);  // swap: the lost reading's buffer stays for reuse
       ++kept;
     }
-    park(r, inbox, kept);
+    resize_reusing(inbox, kept, spare_[r]);
   }
 }
 
@@ -69,29 +69,15 @@ void Medium::gather(std::size_t r, const std::vector<Pose2D>& poses, const std::
                                 if (params_.occlusion && occluded(poses[s], me)) return;
                                 // Reuse the receiver's earlier RabReading objects (and their data buffers)
                                 // where there are some.
-                                if (used == inbox.size()) {
-                                  if (spare.empty()) {
-                                    inbox.emplace_back();
-                                  } else {
-                                    inbox.push_back(std::move(spare.back()));
-                                    spare.pop_back();
-                                  }
-                                }
+                                if (used == inbox.size()) resize_reusing(inbox, used + 1, spare);
                                 RabReading& m = inbox[used++];
                                 m.sender = s;
                                 m.range = std::sqrt(d2);
                                 m.bearing = bearing_in_frame(dx, dy, me.theta);
                               });
   }
-  park(r, inbox, used);
+  resize_reusing(inbox, used, spare);
   if (with_bytes) fill_bytes(inbox, outboxes);
-}
-
-// Readings past `used` are parked (with their buffers) for a later tick, not freed.
-void Medium::park(std::size_t r, std::vector<RabReading>& inbox, std::size_t used) {
-  std::vector<RabReading>& spare = spare_[r];
-  for (std::size_t k = used; k < inbox.size(); ++k) spare.push_back(std::move(inbox[k]));
-  inbox.resize(used);
 }
 
 }  // namespace swarmform::world

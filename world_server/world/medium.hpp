@@ -71,6 +71,23 @@ class Medium {
     }
   }
 
+  // Resizes `inbox` to `n` readings without freeing or allocating buffers where it can: readings past `n`
+  // are parked in `spare` (with their data buffers), and new ones are taken from `spare` first.
+  static void resize_reusing(std::vector<RabReading>& inbox, std::size_t n, std::vector<RabReading>& spare) {
+    while (inbox.size() > n) {
+      spare.push_back(std::move(inbox.back()));
+      inbox.pop_back();
+    }
+    while (inbox.size() < n) {
+      if (spare.empty()) {
+        inbox.emplace_back();
+      } else {
+        inbox.push_back(std::move(spare.back()));
+        spare.pop_back();
+      }
+    }
+  }
+
   // True when the straight line between a and b crosses a static body (used when occlusion is on).
   bool occluded(const Pose2D& a, const Pose2D& b) const;
 
@@ -81,7 +98,6 @@ class Medium {
   void gather(std::size_t r, const std::vector<Pose2D>& poses, const std::vector<char>& alive,
               const std::vector<Outbox>& outboxes, const SpatialGrid& grid, std::vector<RabReading>& inbox,
               bool with_bytes);
-  void park(std::size_t r, std::vector<RabReading>& inbox, std::size_t used);
 
   MediumParams params_;
   std::vector<StaticShape> statics_;

@@ -146,18 +146,7 @@ const Perception& World::copy_perception(RobotId id, PerceptionCopy& copy) const
   dst.pose = src.pose;
   dst.ultrasonic = src.ultrasonic;
   const std::size_t n = src.messages.size();
-  while (dst.messages.size() > n) {
-    copy.spare.push_back(std::move(dst.messages.back()));
-    dst.messages.pop_back();
-  }
-  while (dst.messages.size() < n) {
-    if (copy.spare.empty()) {
-      dst.messages.emplace_back();
-    } else {
-      dst.messages.push_back(std::move(copy.spare.back()));
-      copy.spare.pop_back();
-    }
-  }
+  Medium::resize_reusing(dst.messages, n, copy.spare);
   const bool pending = m.bytes_pending[id] != 0;
   for (std::size_t k = 0; k < n; ++k) {
     const RabReading& from = src.messages[k];
