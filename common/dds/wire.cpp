@@ -1,17 +1,21 @@
 // The one translation unit that includes the idlc-generated header: conversions between the IDL samples and
 // the plain types, and the endpoints that carry them. Writes point the IDL sequences straight into the plain
-// structs' storage (Cyclone serialises during dds_write), and takes use loans, so the hot path copies each
-// byte once and allocates nothing once the reused buffers are warm.
+// structs' storage (Cyclone serialises during dds_write), except a packet's readings, packed into one reused
+// blob first (readings_blob.hpp); takes use loans and copy into reused plain structs, so the hot path
+// allocates nothing once the reused buffers are warm.
 #include "common/dds/wire.hpp"
 
 #include <algorithm>
 #include <atomic>
 #include <cstring>
+#include <iostream>
 #include <map>
 #include <mutex>
+#include <span>
 #include <utility>
 
 #include "common/dds/qos.hpp"
+#include "common/dds/readings_blob.hpp"
 #include "common/input_error.hpp"
 #include "swarmform.h"
 
@@ -282,7 +286,7 @@ struct RobotChannels::Impl {
   Pace pace;
   std::vector<RobotChannel> robots;
   std::map<RobotId, RobotChannel> extra;  // claimants with an id outside the run, answered then left
-  std::vector<sfdds_RabReading> scratch;  // reused for every packet
+  std::vector<std::uint8_t> readings;     // the packed readings, reused for every packet
 };
 
 RobotChannels::RobotChannels(const Participant& participant, std::size_t robots, bool realtime)
@@ -296,12 +300,7 @@ RobotChannels::RobotChannels(const Participant& participant, std::size_t robots,
 RobotChannels::~RobotChannels() = default;
 
 void RobotChannels::write_packet(RobotId id, PacketStatus status, const Perception& p) {
-  auto& scratch = impl_->scratch;
-  scratch.resize(p.messages.size());
-  for (std::size_t k = 0; k < p.messages.size(); ++k) {
-    const RabReading& r = p.messages[k];
-    scratch[k] = sfdds_RabReading{r.sender, r.range, r.bearing, octets(r.data)};
-  }
+  encode_readings(p.messages, impl_->readings);
   sfdds_SensorPacket s{};
   s.robot_id = id;
   s.lane = sfdds_LANE_PERCEPTION;
@@ -312,9 +311,7 @@ void RobotChannels::write_packet(RobotId id, PacketStatus status, const Percepti
   s.y = p.pose.y;
   s.theta = p.pose.theta;
   std::copy(p.ultrasonic.begin(), p.ultrasonic.end(), s.ultrasonic);
-  s.messages._buffer = scratch.data();
-  s.messages._length = s.messages._maximum = static_cast<std::uint32_t>(scratch.size());
-  s.messages._release = false;
+  s.readings = octets(impl_->readings);
   check(dds_write(impl_->robots.at(id).sensor.get(), &s), "dds_write(sensor)");
 }
 
@@ -393,6 +390,16 @@ struct AgentInbox::Impl {
         continue;
       }
       if (has_packet && s.tick < staged.perception.tick) continue;
+      // Decoded first: a malformed blob leaves `staged` as it was, and the sample is dropped like a foreign
+      // one (in lockstep the world's round deadline covers the missing command). Said on stderr, as it means
+      // a writer that does not speak this format.
+      const std::string bad = decode_readings(
+          std::span<const std::uint8_t>(s.readings._buffer, s.readings._length), staged.perception.messages);
+      if (!bad.empty()) {
+        std::cerr << "swarmform dds: dropped the packet of robot " << s.robot_id << " tick " << s.tick << ": "
+                  << bad << "\n";
+        continue;
+      }
       has_packet = true;
       staged.robot_id = s.robot_id;
       staged.status = s.status == sfdds_PACKET_END ? PacketStatus::End : PacketStatus::Run;
@@ -400,15 +407,6 @@ struct AgentInbox::Impl {
       p.tick = s.tick;
       p.pose = Pose2D{s.x, s.y, s.theta};
       std::copy(std::begin(s.ultrasonic), std::end(s.ultrasonic), p.ultrasonic.begin());
-      p.messages.resize(s.messages._length);
-      for (std::uint32_t k = 0; k < s.messages._length; ++k) {
-        const sfdds_RabReading& r = s.messages._buffer[k];
-        RabReading& m = p.messages[k];
-        m.sender = r.sender;
-        m.range = r.range;
-        m.bearing = r.bearing;
-        assign_octets(m.data, r.data);
-      }
     }
   }
 };
