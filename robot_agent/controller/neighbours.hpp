@@ -34,8 +34,9 @@ class NeighbourTable {
  public:
   explicit NeighbourTable(int timeout_ticks = 20) : timeout_(timeout_ticks) {}
 
-  // Takes this tick's readings: decodes each message (undecodable ones, and our own id, are dropped and
-  // counted), then expires the neighbours silent for the timeout. `own_digest`: the receiver's stigmergy
+  // Takes this tick's readings: decodes each message (our own id is skipped; an undecodable or forged one
+  // is dropped and counted, and its sender with it, remembered as last heard at its last good tick), then
+  // expires the neighbours silent for the timeout. `own_digest`: the receiver's stigmergy
   // digest before it merges this tick's entries; a message whose table has that digest keeps no entries
   // (decode_message_into: every entry it carries is already in the receiver's table, or older, so merging
   // it after the others' newer entries still changes nothing). 0 keeps every message's entries.
@@ -67,7 +68,6 @@ class NeighbourTable {
   // The tick each expired neighbour was last heard (a live one's is in live_): written only on expiry,
   // not for each message heard.
   std::unordered_map<RobotId, Tick> expired_;
-  RobotMessage scratch_;  // decode target (see update)
   std::uint64_t dropped_ = 0;
 };
 

@@ -94,6 +94,24 @@ TEST(NeighbourTable, DropsOwnAndForgedAndUndecodableMessages) {
   EXPECT_EQ(t.dropped_messages(), 2u);  // our own is skipped, not counted
 }
 
+TEST(NeighbourTable, ABadMessageFromAKnownNeighbourDropsItAsLastHeardAtItsLastGoodTick) {
+  NeighbourTable t(20);
+  t.update(heard(5, {message_from(2), message_from(3)}), 0);
+  Perception p = heard(6, {message_from(2), message_from(3)});
+  p.messages[0].data.push_back(0);  // a trailing byte: refused after the message was read into 2's entry
+  p.messages[1].sender = 4;         // robot 4's message claims to be robot 3's
+  t.update(p, 0);
+  EXPECT_EQ(t.dropped_messages(), 2u);
+  EXPECT_EQ(ids(t), (std::vector<RobotId>{3}));  // 3 itself was not heard at 6, but is still live
+  EXPECT_EQ(t.last_heard(2), Tick{5});           // remembered at its last good message
+  EXPECT_FALSE(t.last_heard(4).has_value());     // a forger never heard well is not remembered
+  EXPECT_EQ(t.find(3)->message.sender, 3u);
+  EXPECT_EQ(t.find(3)->last_heard, Tick{5});
+  t.update(heard(7, {message_from(2)}), 0);  // a good message brings it back
+  ASSERT_NE(t.find(2), nullptr);
+  EXPECT_EQ(t.find(2)->message.pose.x, message_from(2).pose.x);
+}
+
 TEST(NeighbourTable, LeavesOutTheEntriesOfATableWithTheReceiversOwnDigest) {
   NeighbourTable t(20);
   t.update(heard(1, {message_from(2, 77), message_from(3, 78), message_from(4, 0)}), 0, 77);
