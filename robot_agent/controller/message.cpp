@@ -176,6 +176,9 @@ bool decode_message_into(std::span<const std::uint8_t> bytes, RobotMessage& m,
   const std::size_t n_free = r.take<std::uint8_t>();
   if (n_free > kMaxFreeLabels || !r.has(2 * n_free) || !r.ok()) return false;
   m.free_labels.clear();  // clear + push_back: inlined, where resize is an out-of-line call
+  // A vector that must grow takes the bound at once: a receiver decodes into each neighbour's own message,
+  // and growing by doublings cost every newcomer up to six allocations (6 a step in a crowd, BENCHMARKS.md).
+  if (m.free_labels.capacity() < n_free) m.free_labels.reserve(kMaxFreeLabels);
   for (std::size_t i = 0; i < n_free; ++i) {
     const int label = r.take<std::int16_t>();
     if (label < 0) return false;
@@ -188,6 +191,7 @@ bool decode_message_into(std::span<const std::uint8_t> bytes, RobotMessage& m,
     r.skip_unchecked(n_entries * Reader::kEntryBytes);
   } else {
     m.entries.clear();
+    if (m.entries.capacity() < n_entries) m.entries.reserve(kMaxEntriesPerMessage);
     for (std::size_t i = 0; i < n_entries; ++i) m.entries.push_back(r.entry_unchecked());
   }
   const std::size_t n_motion = r.u16();

@@ -310,7 +310,7 @@ Vec2 PaperController::moving_step(const Perception& p) {
 
   // A place held by something that is not a robot we hear (a dead robot's body): stop short of it, and
   // after a while take the spot as reached.
-  const auto neighbours = fresh_neighbour_positions();
+  const auto& neighbours = fresh_neighbour_positions();
   const double bearing = wrap_angle(std::atan2(error.y, error.x) - p.pose.theta);
   bool blocked = false;
   if (distance < 0.4 && std::abs(bearing) <= kUltrasonicAngles.back() + 0.3) {
@@ -397,13 +397,12 @@ FormationContext PaperController::context(const Perception& p) const {
 
 // ---- Helpers ----
 
-std::vector<NeighbourPosition> PaperController::fresh_neighbour_positions() const {
-  std::vector<NeighbourPosition> out;
-  out.reserve(neighbours_.all().size());  // one allocation, not one per doubling (~73 neighbours in a crowd)
+const std::vector<NeighbourPosition>& PaperController::fresh_neighbour_positions() {
+  positions_.clear();  // a member, reused: no allocation per step once it has grown (~73 in a crowd)
   for (const auto& [id, n] : neighbours_.all()) {
-    if (n.last_heard == tick_) out.push_back({n.range, n.azimuth});
+    if (n.last_heard == tick_) positions_.push_back({n.range, n.azimuth});
   }
-  return out;
+  return positions_;
 }
 
 std::int32_t PaperController::parent_id() const {

@@ -65,7 +65,8 @@ class PaperController final : public Controller {
   void lose_label(const std::string& why);
   void enter_ready();
   FormationContext context(const Perception& p) const;
-  std::vector<NeighbourPosition> fresh_neighbour_positions() const;
+  // The neighbours heard this tick, as range and azimuth; refilled on each call (valid until the next).
+  const std::vector<NeighbourPosition>& fresh_neighbour_positions();
   void event(std::string text) { events_.push_back(std::move(text)); }
   RobotMessage compose_message(const Perception& p, const std::vector<std::uint8_t>& motion);
   std::int32_t parent_id() const;
@@ -97,6 +98,7 @@ class PaperController final : public Controller {
   BarrierView barrier_at_ready_;
   std::vector<std::string> events_;
   MotionStep last_motion_;
+  std::vector<NeighbourPosition> positions_;  // fresh_neighbour_positions
 };
 
 }  // namespace swarmform::controller
