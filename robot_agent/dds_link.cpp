@@ -9,6 +9,8 @@ namespace swarmform::agent {
 
 namespace {
 
+constexpr dds_duration_t kReclaimPeriod = DDS_SECS(1);  // see next_packet in the header
+
 dds_time_t after(double seconds) {
   return dds_time() + static_cast<dds_duration_t>(seconds * 1e9);
 }
@@ -59,6 +61,7 @@ WaitResult AgentLink::claim(double timeout_s, dds::ClaimAnswer& out) {
       // A reply to an earlier attempt (ours or a previous agent's with this id) is not an answer to this one.
       if (answer->nonce == nonce) {
         out = std::move(*answer);
+        claim_nonce_ = nonce;
         return WaitResult::Ok;
       }
     }
@@ -80,6 +83,7 @@ WaitResult AgentLink::claim(double timeout_s, dds::ClaimAnswer& out) {
 
 WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out) {
   dds_time_t idle_deadline = after(idle_timeout_s);
+  dds_time_t reclaim = packets_ == 0 ? dds_time() + kReclaimPeriod : DDS_NEVER;
   for (;;) {
     if (inbox_->take_packet(out, foreign_)) {
       ++packets_;
@@ -96,8 +100,12 @@ WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out)
     } else if (now >= idle_deadline) {
       return WaitResult::Timeout;
     }
+    if (now >= reclaim) {  // before the first packet only (see the header)
+      commands_->claim(self_, claim_nonce_, static_cast<std::uint32_t>(getpid()));
+      reclaim = now + kReclaimPeriod;
+    }
     // Wake at least once a second to re-check the world's liveliness against the idle deadline.
-    waiter_.wait_until(std::min(idle_deadline, now + DDS_SECS(1)));
+    waiter_.wait_until(std::min({idle_deadline, now + DDS_SECS(1), reclaim}));
   }
 }
 

@@ -33,6 +33,11 @@ class AgentLink {
   WaitResult claim(double timeout_s, dds::ClaimAnswer& out);
   // The next packet of this robot. While the world is alive this waits as long as it takes (the world may be
   // waiting for other agents); `idle_timeout_s` bounds the wait only while no world writer is alive.
+  // Until the first packet it re-sends the accepted claim every second (kReclaimPeriod): an agent stalled
+  // past its writer's lease after its claim (starved of CPU while 256 agents discover the world) is lost to
+  // the world, and Cyclone reports its liveliness back only when the writer sends again; an agent that sends
+  // nothing before the run would then never be counted. The world answers a claim it already holds as a
+  // repeat, and takes a lost owner's claim back.
   WaitResult next_packet(double idle_timeout_s, dds::SensorSample& out);
   void send(Tick tick, const Command& command);
 
@@ -49,6 +54,7 @@ class AgentLink {
   std::optional<dds::CommandWriter> commands_;  // made by wait_mission
   std::uint64_t packets_ = 0;
   std::uint64_t foreign_ = 0;
+  std::uint64_t claim_nonce_ = 0;  // of the accepted claim, re-sent before the first packet
 };
 
 }  // namespace swarmform::agent

@@ -3,6 +3,7 @@
 // (Process's destructor) and bounds every wait. The scenario: 8 random walkers, lockstep, 300 ticks
 // (random_walk_8.yaml).
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <stdlib.h>
 
 #include <filesystem>
@@ -12,6 +13,7 @@
 #include <regex>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include "tests/integration/process_fixture.hpp"
 
@@ -202,6 +204,31 @@ TEST_F(MultiProcess, AgentGivesUpWhenNoWorldShowsUp) {
       start({kAgent, "--id", "0", "--domain", std::to_string(kDomainBase + 7), "--timeout", "1"}, "lonely");
   EXPECT_EQ(a.wait_for(15.0), 3);
   EXPECT_NE(a.err().find("no world on DDS domain"), std::string::npos) << a.err();
+}
+
+// An agent stalled after its claim, before the run, for longer than its command writer's liveliness lease
+// (500 ms) but not its participant's (1 s): SIGSTOP here, CPU starvation while 256 agents discover the world
+// in bench/scale. The world takes it for lost; Cyclone reports the writer alive again only when it sends, so
+// the agent re-sends its claim until its first packet, and the world takes it back
+// (robot_agent/dds_link.hpp).
+TEST_F(MultiProcess, AgentStalledPastItsWriterLeaseBeforeTheRunIsCountedAgain) {
+  const int domain = kDomainBase + 8;
+  Process& w =
+      start({kWorld, "--scenario", kScenario, "--out", path("stalled"), "--domain", std::to_string(domain),
+             "--connect-timeout", "20", "--robots", "2", "--max-ticks", "30"},
+            "stalled-world");
+  Process& first = agent(domain, 0, "stalled");
+  ASSERT_TRUE(eventually(20.0, [&] { return w.err().find("id 0 claimed by pid") != std::string::npos; }))
+      << w.err();
+  ASSERT_EQ(::kill(first.pid(), SIGSTOP), 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(750));
+  ASSERT_EQ(::kill(first.pid(), SIGCONT), 0);
+  Process& second = agent(domain, 1, "stalled");
+  ASSERT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_NE(w.out().find("done ticks=30"), std::string::npos) << w.out();
+  EXPECT_EQ(first.wait_for(10.0), 0) << first.err();
+  EXPECT_EQ(second.wait_for(10.0), 0) << second.err();
+  EXPECT_TRUE(has_event("stalled", "agent_lost", 0));  // the stall did cost it its lease
 }
 
 TEST_F(MultiProcess, CheckPrintsTheScenarioAndBadInputExitsTwo) {
