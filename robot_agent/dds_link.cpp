@@ -90,7 +90,11 @@ WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out)
       return WaitResult::Ok;
     }
     (void)mission_.take();
-    (void)inbox_->take_claim_reply();
+    if (auto answer = inbox_->take_claim_reply();
+        answer && answer->nonce == claim_nonce_ && !answer->accepted) {
+      // Another agent took the id over while we were lost: stop claiming it (the world says why once).
+      reclaim = DDS_NEVER;
+    }
     if (signals_.stop_requested()) return WaitResult::Stopped;
     const std::uint32_t alive = inbox_->world_writers_alive();
     if (alive == 0 && inbox_->world_seen()) return WaitResult::WorldGone;
