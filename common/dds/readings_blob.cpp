@@ -5,28 +5,18 @@
 #include <limits>
 #include <stdexcept>
 
+#include "common/little_endian.hpp"
+
 namespace swarmform::dds {
 
 namespace {
 
-// Byte by byte, so the layout does not depend on the host's order; GCC merges these into single loads and
-// stores on a little-endian host.
-void put_u32(std::uint8_t* p, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) p[i] = static_cast<std::uint8_t>(v >> (8 * i));
-}
+// Doubles travel as their IEEE-754 bits (little_endian.hpp).
 void put_f64(std::uint8_t* p, double d) {
-  const auto v = std::bit_cast<std::uint64_t>(d);
-  for (int i = 0; i < 8; ++i) p[i] = static_cast<std::uint8_t>(v >> (8 * i));
-}
-std::uint32_t get_u32(const std::uint8_t* p) {
-  std::uint32_t v = 0;
-  for (int i = 0; i < 4; ++i) v |= static_cast<std::uint32_t>(p[i]) << (8 * i);
-  return v;
+  store_le(p, std::bit_cast<std::uint64_t>(d));
 }
 double get_f64(const std::uint8_t* p) {
-  std::uint64_t v = 0;
-  for (int i = 0; i < 8; ++i) v |= static_cast<std::uint64_t>(p[i]) << (8 * i);
-  return std::bit_cast<double>(v);
+  return std::bit_cast<double>(load_le<std::uint64_t>(p));
 }
 
 std::uint32_t checked_u32(std::size_t n, const char* what) {
@@ -44,13 +34,13 @@ void encode_readings(const std::vector<RabReading>& readings, std::vector<std::u
   // resize, not clear + resize: only bytes beyond the old size are zero-filled, and all are overwritten.
   blob.resize(total);
   std::uint8_t* p = blob.data();
-  put_u32(p, checked_u32(readings.size(), "the count"));
+  store_le<std::uint32_t>(p, checked_u32(readings.size(), "the count"));
   p += kReadingsCountBytes;
   for (const RabReading& r : readings) {
-    put_u32(p, r.sender);
+    store_le<std::uint32_t>(p, r.sender);
     put_f64(p + 4, r.range);
     put_f64(p + 12, r.bearing);
-    put_u32(p + 20, checked_u32(r.data.size(), "a message's length"));
+    store_le<std::uint32_t>(p + 20, checked_u32(r.data.size(), "a message's length"));
     p += kReadingHeaderBytes;
     if (!r.data.empty()) std::copy(r.data.begin(), r.data.end(), p);
     p += r.data.size();
@@ -63,7 +53,7 @@ std::string decode_readings(std::span<const std::uint8_t> blob, std::vector<RabR
   if (size < kReadingsCountBytes) {
     return "readings blob of " + std::to_string(size) + " bytes is shorter than its count";
   }
-  const std::uint32_t count = get_u32(b);
+  const std::uint32_t count = load_le<std::uint32_t>(b);
   // Every reading takes at least its header: a count beyond that is refused before anything is sized by it.
   if (count > (size - kReadingsCountBytes) / kReadingHeaderBytes) {
     return "readings blob of " + std::to_string(size) + " bytes cannot hold its count of " +
@@ -75,7 +65,7 @@ std::string decode_readings(std::span<const std::uint8_t> blob, std::vector<RabR
     if (size - pos < kReadingHeaderBytes) {
       return "readings blob truncated in the header of reading " + std::to_string(k);
     }
-    const std::uint32_t length = get_u32(b + pos + 20);
+    const std::uint32_t length = load_le<std::uint32_t>(b + pos + 20);
     pos += kReadingHeaderBytes;
     if (length > size - pos) {
       return "readings blob: reading " + std::to_string(k) + " has " + std::to_string(length) +
@@ -92,10 +82,10 @@ std::string decode_readings(std::span<const std::uint8_t> blob, std::vector<RabR
   pos = kReadingsCountBytes;
   for (RabReading& r : out) {
     const std::uint8_t* h = b + pos;
-    r.sender = get_u32(h);
+    r.sender = load_le<std::uint32_t>(h);
     r.range = get_f64(h + 4);
     r.bearing = get_f64(h + 12);
-    const std::uint32_t length = get_u32(h + 20);
+    const std::uint32_t length = load_le<std::uint32_t>(h + 20);
     pos += kReadingHeaderBytes;
     r.data.assign(b + pos, b + pos + length);
     pos += length;

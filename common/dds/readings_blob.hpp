@@ -1,7 +1,7 @@
 // The messages a robot heard in one tick, packed into one byte blob for SensorPacket.readings. Cyclone
 // serialised a sequence<RabReading>, each with its own sequence<octet>, element by element through its
 // generic op-code interpreter; one octet sequence is a single memcpy. Plain C++: no DDS here, so the format
-// is unit-tested on its own (tests/integration/dds_unit_test.cpp).
+// is unit-tested on its own (tests/integration/readings_blob_test.cpp).
 //
 // Layout (little-endian whatever the host, no padding; doubles as their IEEE-754 bits):
 //   u32 count

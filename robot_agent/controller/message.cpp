@@ -2,8 +2,8 @@
 
 #include <bit>
 #include <cmath>
-#include <cstring>
-#include <type_traits>
+
+#include "common/little_endian.hpp"
 
 namespace swarmform::controller {
 
@@ -29,22 +29,6 @@ class Writer {
   }
   std::vector<std::uint8_t>& out_;
 };
-
-// Little-endian loads. Every field is bounds-checked before it is read; a fixed-size load through memcpy
-// compiles to one move, where a byte loop cost ~3 instructions a byte (decoding ~73 neighbours' messages a
-// tick is the controller's hottest path, BENCHMARKS.md).
-template <class T>
-T load_le(const std::uint8_t* p) {
-  if constexpr (std::endian::native == std::endian::little) {
-    T v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
-  } else {
-    std::make_unsigned_t<T> v = 0;
-    for (std::size_t i = 0; i < sizeof v; ++i) v |= static_cast<std::make_unsigned_t<T>>(p[i]) << (8 * i);
-    return static_cast<T>(v);
-  }
-}
 
 class Reader {
  public:
