@@ -75,6 +75,10 @@ class MultiProcess : public swarmform::testing::ProcessFixture {
   // packets, every process exited 0, the run completed.
   std::string clean_run(int domain, const std::string& run, Process* also = nullptr) {
     Process& w = world(domain, run);
+    if (also != nullptr) {
+      EXPECT_TRUE(eventually(20.0, [&] { return also->out().find("spoof ready") != std::string::npos; }))
+          << also->err();
+    }
     std::vector<Process*> agents;
     for (int i = 0; i < kRobots; ++i) agents.push_back(&agent(domain, i, run));
     EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();

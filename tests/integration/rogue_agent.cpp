@@ -2,14 +2,16 @@
 //
 //   rogue_agent spoof --target K --domain D [--timeout SEC]
 //       never claims anything; follows the world state and writes full-speed Commands for robot K for the
-//       current and next few ticks. The world must drop every one of them (they are not from K's owner) and
-//       log them; the run must be bit-identical to one without the spoofer.
+//       current and next few ticks; prints "spoof ready" once its writer has matched the world's command
+//       reader (the test starts the run only then). The world must drop every one of them (they are not from
+//       K's owner) and log them; the run must be bit-identical to one without the spoofer.
 //   rogue_agent nan --id K --domain D [--timeout SEC]
 //       claims K as an agent would, then answers every packet with NaN wheel speeds and an oversize message.
 //       The world must reject/clamp and log them, and the run go on.
 //
 // Exits 0 when the world announces the end (nan) or finishes (spoof), 3 on --timeout.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <limits>
@@ -30,10 +32,22 @@ int spoof(dds::Participant& participant, RobotId target, double timeout_s) {
   dds::WorldStateReader state(participant);
   dds::CommandWriter commands(participant);
   waiter.attach(state.condition());
+  const dds_time_t deadline = after(timeout_s);
+  // Ready once the world's command reader is matched (its state writer is announced with it): the test
+  // starts the run's agents only then, or a short lockstep run could end before the spoofer has joined.
+  for (;;) {
+    dds_publication_matched_status_t matched{};
+    if (dds_get_publication_matched_status(commands.get(), &matched) == DDS_RETCODE_OK &&
+        matched.current_count > 0) {
+      break;
+    }
+    if (dds_time() >= deadline) return 3;
+    waiter.wait_until(std::min(deadline, after(0.05)));
+  }
+  std::cout << "spoof ready" << std::endl;
   Command fake;
   fake.left_speed = fake.right_speed = 0.1;
   fake.message = {0xde, 0xad};
-  const dds_time_t deadline = after(timeout_s);
   std::uint64_t sent = 0;
   while (dds_time() < deadline) {
     if (auto s = state.take()) {
