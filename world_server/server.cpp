@@ -1,6 +1,8 @@
 #include "world_server/server.hpp"
 
 #include <signal.h>
+#include <sys/resource.h>
+#include <time.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -23,6 +25,20 @@ double to_s(dds_duration_t d) {
 std::uint64_t fresh_nonce() {
   std::random_device rd;
   return (static_cast<std::uint64_t>(rd()) << 32) ^ rd() ^ static_cast<std::uint64_t>(dds_time());
+}
+
+// The calling thread's CPU time (ns) and involuntary context switches so far (0 where unsupported).
+struct ThreadClock {
+  dds_duration_t cpu = 0;
+  std::uint64_t preempted = 0;
+};
+ThreadClock thread_clock() {
+  ThreadClock c;
+  timespec ts{};
+  if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) == 0) c.cpu = DDS_SECS(ts.tv_sec) + ts.tv_nsec;
+  rusage ru{};
+  if (getrusage(RUSAGE_THREAD, &ru) == 0) c.preempted = static_cast<std::uint64_t>(ru.ru_nivcsw);
+  return c;
 }
 
 // Observers get the world state at most this often (it is for viewers; agents never read it).
@@ -78,10 +94,12 @@ int Server::run() {
     const double r = static_cast<double>(profile_.rounds) * 1e3;  // ns -> us per round
     std::fprintf(
         stderr,
-        "world_server: per round (us): publish %.1f, collect %.1f, step %.1f, record %.1f (%llu rounds)\n",
-        static_cast<double>(profile_.publish) / r, static_cast<double>(profile_.collect) / r,
-        static_cast<double>(profile_.step) / r, static_cast<double>(profile_.record) / r,
-        static_cast<unsigned long long>(profile_.rounds));
+        "world_server: per round (us): publish %.1f (on CPU %.1f, preempted %.2f times), collect %.1f, step "
+        "%.1f, record %.1f (%llu rounds)\n",
+        static_cast<double>(profile_.publish) / r, static_cast<double>(profile_.publish_cpu) / r,
+        static_cast<double>(profile_.publish_preempted) / static_cast<double>(profile_.rounds),
+        static_cast<double>(profile_.collect) / r, static_cast<double>(profile_.step) / r,
+        static_cast<double>(profile_.record) / r, static_cast<unsigned long long>(profile_.rounds));
   }
   if (missed_ticks_ > 0) std::cerr << "world_server: " << missed_ticks_ << " missed ticks (see events)\n";
   std::cout << "done ticks=" << world_.tick() << " run_dir=" << options_.run_dir << std::endl;
@@ -232,6 +250,7 @@ void Server::on_regained(dds::PublicationHandle writer, bool running) {
 // ---- rounds -----------------------------------------------------------------------------------------------
 
 void Server::begin_round() {
+  const ThreadClock c0 = thread_clock();
   const dds_time_t t0 = dds_time();
   const Tick t = world_.tick();
   for (auto [it, end] = kills_.equal_range(t); it != end; ++it) {
@@ -262,6 +281,9 @@ void Server::begin_round() {
     if (live) link_.robots.write_packet(id, dds::PacketStatus::Run, world_.perception(id));
   }
   profile_.publish += dds_time() - t0;
+  const ThreadClock c1 = thread_clock();
+  profile_.publish_cpu += c1.cpu - c0.cpu;
+  profile_.publish_preempted += c1.preempted - c0.preempted;
 }
 
 bool Server::end_round() {

@@ -94,6 +94,11 @@ class Server {
   // Where a round's wall time goes (printed on stderr at the end; issue 6 P1's first question).
   struct Profile {
     dds_duration_t publish = 0;  // kills + SensorPackets out
+    // Of the publish phase: the main thread's CPU time and how often it was preempted. At N = 256 in
+    // realtime the phase took ~30 ms of wall time a round with ~5 ms on the CPU: the rest is waiting for a
+    // CPU among the agents it wakes (BENCHMARKS.md, P2).
+    dds_duration_t publish_cpu = 0;
+    std::uint64_t publish_preempted = 0;
     dds_duration_t collect = 0;  // waiting for and taking the commands
     dds_duration_t step = 0;     // apply + World::step
     dds_duration_t record = 0;   // RunSession::record_tick + world state + progress
