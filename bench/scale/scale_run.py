@@ -16,7 +16,13 @@ What it measures, in one run (agents and world started together, as `scripts/swa
   cpu               utime+stime (/proc/PID/stat) of the agents together and of the world over the middle of the
                     run, as % of one core. The agents are idle but for one control step and one DDS round
                     trip per 100 ms, so the agents' figure is reported as the idle CPU;
-  achieved_ticks_per_second  ticks / wall time from the run's summary.json.
+  achieved_ticks_per_second  ticks / wall time from the run's summary.json;
+  ticks_with_a_miss, most_misses_in_one_tick  how the misses fell: a few ticks with many agents each (a late
+                    publish phase) or one here and there;
+  world_publish_per_round  the world's own profile line: the publish phase's wall time, its main thread's CPU
+                    time in it and its preemptions, per round;
+  udp_receive_buffer_errors  datagrams the kernel dropped on full UDP receive buffers during the run
+                    (/proc/net/snmp RcvbufErrors; machine-wide, so other processes' drops count too).
 Every process started here is killed by its pid at the end (the world also gets PR_SET_PDEATHSIG; the agents
 give up by themselves after --timeout without a world); every wait has a deadline.
 """
@@ -24,6 +30,7 @@ import argparse
 import ctypes
 import json
 import os
+import re
 import shutil
 import signal
 import statistics
@@ -86,6 +93,27 @@ def rss_mib(pid):
     return None
 
 
+def udp_receive_buffer_errors():
+    """Datagrams the kernel dropped because a UDP socket's receive buffer was full, machine-wide since boot
+    (/proc/net/snmp); None where unreadable."""
+    try:
+        with open("/proc/net/snmp") as f:
+            rows = [line.split() for line in f if line.startswith("Udp:")]
+        return int(rows[1][rows[0].index("RcvbufErrors")])
+    except (OSError, IndexError, ValueError):
+        return None
+
+
+def publish_phase(err):
+    """The world's publish phase per round from its profile line on stderr (world_server/server.cpp):
+    wall and main-thread CPU in ms, and its preemptions; None if the line is missing."""
+    m = re.search(r"per round \(us\): publish ([0-9.]+) \(on CPU ([0-9.]+), preempted ([0-9.]+) times\)", err)
+    if not m:
+        return None
+    return {"wall_ms": round(float(m.group(1)) / 1e3, 3), "on_cpu_ms": round(float(m.group(2)) / 1e3, 3),
+            "preempted": float(m.group(3))}
+
+
 def read_world(world, lines, first_progress):
     """Reads the world's stdout as it comes; notes when the first progress line arrived."""
     for line in world.stdout:
@@ -126,6 +154,7 @@ def main():
         with tempfile.TemporaryDirectory(prefix="bench-scale-") as tmp:
             run_dir = os.path.join(tmp, "run")
             timeout = a.connect_timeout + 10
+            drops0 = udp_receive_buffer_errors()
             t0 = time.monotonic()
             # No preexec_fn for the agents: it forces Python to fork itself 256 times (11 s on a loaded 2-core
             # machine, against 1.5 s with vfork), which would be measured as the swarm's start-up. An agent
@@ -175,6 +204,7 @@ def main():
             except subprocess.TimeoutExpired:
                 raise RuntimeError("the world did not finish in time")
             reader.join(timeout=5)
+            drops1 = udp_receive_buffer_errors()
             world_err.seek(0)
             err = world_err.read()
             if world.returncode != 0:
@@ -187,6 +217,7 @@ def main():
                     f.write(err)
             missed = 0
             missed_by_tenth = [0] * 10  # where in the run the misses fell (tenths of --ticks)
+            missed_by_tick = {}
             with open(os.path.join(run_dir, "events.jsonl")) as f:
                 for line in f:
                     event = json.loads(line)
@@ -194,6 +225,7 @@ def main():
                         missed += 1
                         tick = int(event.get("tick", 0))
                         missed_by_tenth[min(9, max(0, tick * 10 // a.ticks))] += 1
+                        missed_by_tick[tick] = missed_by_tick.get(tick, 0) + 1
             said = 0
             for line in err.splitlines():
                 if line.endswith("missed ticks (see events)"):
@@ -206,6 +238,14 @@ def main():
                 "connect_seconds": round(connect_seconds, 3),
                 "missed_ticks": missed,
                 "missed_ticks_by_tenth_of_run": missed_by_tenth,
+                # Bursts: few ticks with many agents each (the world's publish phase ran late), or a spread.
+                "ticks_with_a_miss": len(missed_by_tick),
+                "most_misses_in_one_tick": max(missed_by_tick.values(), default=0),
+                "world_publish_per_round": publish_phase(err),
+                # Machine-wide, start to end of the run: the world's discovery socket overflows while 256
+                # agents discover it (BENCHMARKS.md, P2); other processes' drops count too.
+                "udp_receive_buffer_errors": (drops1 - drops0) if drops0 is not None and drops1 is not None
+                else None,
                 "achieved_ticks_per_second": summary["ticks_per_second"],
                 "rss_mib": {"agents_max": round(max(rss), 2) if rss else None,
                             "agents_median": round(statistics.median(rss), 2) if rss else None,

@@ -63,6 +63,12 @@ class BenchScript(unittest.TestCase):
         self.assertEqual(p2["rss_mib"]["agents_sampled"], 8)
         self.assertTrue(positive(p2["rss_mib"]["agents_max"]) and positive(p2["rss_mib"]["world"]))
         self.assertGreaterEqual(p2["cpu_percent_of_one_core"]["agents_total"], 0)
+        self.assertLessEqual(p2["ticks_with_a_miss"], p2["missed_ticks"])
+        self.assertLessEqual(p2["most_misses_in_one_tick"], 8)
+        pub = p2["world_publish_per_round"]  # parsed from the world's profile line: None if it changed shape
+        self.assertTrue(positive(pub["wall_ms"]) and 0 <= pub["on_cpu_ms"] <= pub["wall_ms"] * 1.05 + 0.05)
+        self.assertGreaterEqual(pub["preempted"], 0)
+        self.assertGreaterEqual(p2["udp_receive_buffer_errors"], 0)
 
     def test_p3_figures(self):
         rows = self.doc["parts"]["p3"]["results"]
