@@ -9,6 +9,7 @@
 // messages, as the random walk's) and waits for every robot's Command of that round. It prints one JSON line:
 //   {"robots":N,"rounds":R,"seconds":S,"rounds_per_second":X}
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <vector>
@@ -121,7 +122,9 @@ int run_robot(RobotId id, std::uint32_t domain, double timeout_s, dds::SignalWat
       commands.claim(id, 0, 0);
       resend = now + DDS_MSECS(500);
     }
-    waiter.wait_until(started ? now + DDS_SECS(1) : resend);
+    // Kept alive as an agent keeps itself (its command writer's liveliness is manual, common/dds/qos.hpp),
+    // so both sides of P1's ratio carry the same liveliness traffic.
+    waiter.wait_until(std::min(started ? now + DDS_SECS(1) : resend, commands.keep_alive(now)));
   }
 }
 

@@ -77,7 +77,7 @@ WaitResult AgentLink::claim(double timeout_s, dds::ClaimAnswer& out) {
       // matched them is lost (best effort or volatile); then every 0.5 s.
       resend = now + (++attempts < 5 ? DDS_MSECS(100) : DDS_MSECS(500));
     }
-    waiter_.wait_until(std::min(deadline, resend));
+    waiter_.wait_until(std::min({deadline, resend, commands_->keep_alive(now)}));
   }
 }
 
@@ -108,8 +108,9 @@ WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out)
       commands_->claim(self_, claim_nonce_, static_cast<std::uint32_t>(getpid()));
       reclaim = now + kReclaimPeriod;
     }
-    // Wake at least once a second to re-check the world's liveliness against the idle deadline.
-    waiter_.wait_until(std::min({idle_deadline, now + DDS_SECS(1), reclaim}));
+    // Wake at least once a second to re-check the world's liveliness against the idle deadline, and to keep
+    // our own alive while the world sends nothing (before the run, or a slow lockstep round).
+    waiter_.wait_until(std::min({idle_deadline, now + DDS_SECS(1), reclaim, commands_->keep_alive(now)}));
   }
 }
 

@@ -53,12 +53,12 @@ std::string cyclone_config_xml(const DdsSettings& s) {
     // Re-announce every second so an agent started before the world is matched soon after it comes up.
     xml += "<SPDPInterval>1s</SPDPInterval>";
   }
-  // Participant leases. An agent's is short (1 s) so a SIGKILLed agent is forgotten soon; the world's is long
-  // because Cyclone re-announces a participant to every peer each 0.8 x its lease: 1 s on the world cost 1.25
-  // SPDP messages a second to each of 256 agents. Agents notice a dead world by its writers' liveliness
-  // (qos.hpp).
-  xml += s.role == Role::World ? "<LeaseDuration>5s</LeaseDuration></Discovery>"
-                               : "<LeaseDuration>1s</LeaseDuration></Discovery>";
+  // Participant leases: 5 s on every process. Death is told by the writers' liveliness (qos.hpp: an agent's
+  // command writer, 500 ms; the world's writers, 2 s), not by the participant lease. A participant without
+  // AUTOMATIC writers still sends a reliable liveliness message (with heartbeat and acknowledgement) to every
+  // peer each 0.8 x its lease: an agent's 1 s lease cost the world ~1,000 datagrams a second from 256 agents
+  // (tcpdump, BENCHMARKS.md).
+  xml += "<LeaseDuration>5s</LeaseDuration></Discovery>";
   // iceoryx shared memory is compiled in but loses samples with keep-last 1 and ignores partitions in 0.10.2.
   xml += "<SharedMemory><Enable>false</Enable></SharedMemory>";
   xml += "</Domain></CycloneDDS>";

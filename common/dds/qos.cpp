@@ -5,13 +5,16 @@ namespace swarmform::dds {
 Qos make_qos(Channel channel, Pace pace) {
   Qos qos;
   dds_qos_t* q = qos.get();
-  // Agents' writers carry the short lease (the world must see a dead agent fast); the world's writers the
-  // long one (an agent only needs to notice, eventually, that the world went away). A participant asserts
-  // AUTOMATIC liveliness by a reliable message to every peer each (shortest lease of its writers - 0.1 s):
-  // 500 ms on the world would be 2.5 messages a second to each of 256 agents and as many acknowledgements
-  // back.
-  dds_qset_liveliness(q, DDS_LIVELINESS_AUTOMATIC,
-                      channel == Channel::Command ? kLivelinessLease : kWorldLivelinessLease);
+  // Agents' writers carry the short lease (the world must see a dead agent fast), renewed by what they write
+  // (MANUAL_BY_TOPIC, qos.hpp); the world's writers the long one (an agent only needs to notice, eventually,
+  // that the world went away). A participant asserts AUTOMATIC liveliness by a reliable message to every
+  // peer each (shortest lease of its writers - 0.1 s): 500 ms on the world would be 2.5 messages a second to
+  // each of 256 agents and as many acknowledgements back.
+  if (channel == Channel::Command) {
+    dds_qset_liveliness(q, DDS_LIVELINESS_MANUAL_BY_TOPIC, kLivelinessLease);
+  } else {
+    dds_qset_liveliness(q, DDS_LIVELINESS_AUTOMATIC, kWorldLivelinessLease);
+  }
   const dds_reliability_kind_t per_tick =
       pace == Pace::Realtime ? DDS_RELIABILITY_BEST_EFFORT : DDS_RELIABILITY_RELIABLE;
   switch (channel) {

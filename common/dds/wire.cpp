@@ -463,6 +463,7 @@ std::optional<ClaimAnswer> AgentInbox::take_claim_reply() {
 struct CommandWriter::Impl {
   Entity writer;
   std::vector<char*> events;  // reused: points into the command's strings during dds_write
+  dds_time_t alive_at = 0;    // the last write or assertion (each renews the liveliness lease)
 };
 
 CommandWriter::CommandWriter(const Participant& participant, bool realtime)
@@ -484,6 +485,15 @@ void CommandWriter::claim(RobotId id, std::uint64_t nonce, std::uint32_t pid) {
   s.label = -1;
   s.parent = -1;
   check(dds_write(impl_->writer.get(), &s), "dds_write(claim)");
+  impl_->alive_at = dds_time();
+}
+
+dds_time_t CommandWriter::keep_alive(dds_time_t now) {
+  if (now - impl_->alive_at >= kLivelinessAssertPeriod) {
+    check(dds_assert_liveliness(impl_->writer.get()), "dds_assert_liveliness(command writer)");
+    impl_->alive_at = now;
+  }
+  return impl_->alive_at + kLivelinessAssertPeriod;
 }
 
 void CommandWriter::step(RobotId id, Tick tick, const Command& c) {
@@ -505,6 +515,7 @@ void CommandWriter::step(RobotId id, Tick tick, const Command& c) {
   s.events._buffer = events.data();
   s.events._length = s.events._maximum = static_cast<std::uint32_t>(events.size());
   check(dds_write(impl_->writer.get(), &s), "dds_write(command)");
+  impl_->alive_at = dds_time();
 }
 
 struct CommandReader::Impl {

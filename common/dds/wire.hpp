@@ -186,6 +186,10 @@ class CommandWriter {
   void claim(RobotId id, std::uint64_t nonce, std::uint32_t pid);
   void step(RobotId id, Tick tick, const Command& command);
   dds_entity_t get() const;
+  // Asserts the writer's liveliness if nothing was written or asserted for kLivelinessAssertPeriod (its
+  // liveliness is MANUAL_BY_TOPIC: a writer idle for its lease is taken for dead). Returns when it is next
+  // due: an idle agent wakes by then.
+  dds_time_t keep_alive(dds_time_t now);
 
  private:
   struct Impl;

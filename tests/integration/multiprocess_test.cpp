@@ -235,6 +235,26 @@ TEST_F(MultiProcess, AgentStalledPastItsWriterLeaseBeforeTheRunIsCountedAgain) {
   EXPECT_TRUE(has_event("stalled", "agent_lost", 0));  // the stall did cost it its lease
 }
 
+// An agent's command writer has manual liveliness (common/dds/qos.hpp): an agent with nothing to write while
+// it waits for the run asserts it, and is not taken for lost, however long the others take to come.
+TEST_F(MultiProcess, AgentWaitingForTheRunKeepsItsLiveliness) {
+  const int domain = kDomainBase + 9;
+  Process& w =
+      start({kWorld, "--scenario", kScenario, "--out", path("waiting"), "--domain", std::to_string(domain),
+             "--connect-timeout", "20", "--robots", "2", "--max-ticks", "30"},
+            "waiting-world");
+  Process& first = agent(domain, 0, "waiting");
+  ASSERT_TRUE(eventually(20.0, [&] { return w.err().find("id 0 claimed by pid") != std::string::npos; }))
+      << w.err();
+  std::this_thread::sleep_for(std::chrono::seconds(3));  // six writer leases with nothing to write
+  Process& second = agent(domain, 1, "waiting");
+  ASSERT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_EQ(first.wait_for(10.0), 0) << first.err();
+  EXPECT_EQ(second.wait_for(10.0), 0) << second.err();
+  EXPECT_FALSE(has_event("waiting", "agent_lost", 0));
+  EXPECT_EQ(events_of("waiting", "agent_connected").size(), 2u);  // each connected once, never re-counted
+}
+
 TEST_F(MultiProcess, CheckPrintsTheScenarioAndBadInputExitsTwo) {
   Process& ok = start({kWorld, "--scenario", kScenario, "--robots", "5", "--seed", "9", "--check"}, "check");
   EXPECT_EQ(ok.wait_for(15.0), 0) << ok.err();
