@@ -10,6 +10,9 @@ namespace swarmform::agent {
 namespace {
 
 constexpr dds_duration_t kReclaimPeriod = DDS_SECS(1);  // see next_packet in the header
+// How long the world's writers must stay not alive before the agent takes the world for gone (see
+// next_packet in the header): a dead world is noticed within its writer lease (2 s) + this.
+constexpr dds_duration_t kWorldGoneGrace = DDS_SECS(3);
 
 dds_time_t after(double seconds) {
   return dds_time() + static_cast<dds_duration_t>(seconds * 1e9);
@@ -84,6 +87,7 @@ WaitResult AgentLink::claim(double timeout_s, dds::ClaimAnswer& out) {
 WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out) {
   dds_time_t idle_deadline = after(idle_timeout_s);
   dds_time_t reclaim = packets_ == 0 ? dds_time() + kReclaimPeriod : DDS_NEVER;
+  dds_time_t world_silent_since = DDS_NEVER;
   for (;;) {
     if (inbox_->take_packet(out, foreign_)) {
       ++packets_;
@@ -97,8 +101,16 @@ WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out)
     }
     if (signals_.stop_requested()) return WaitResult::Stopped;
     const std::uint32_t alive = inbox_->world_writers_alive();
-    if (alive == 0 && inbox_->world_seen()) return WaitResult::WorldGone;
     const dds_time_t now = dds_time();
+    if (alive == 0 && inbox_->world_seen()) {
+      // Gone only if it stays silent for kWorldGoneGrace: an agent that was itself stalled past the world's
+      // writer lease (2 s) finds that lease expired when it resumes, until the world's next liveliness
+      // message comes in (within its lease).
+      if (world_silent_since == DDS_NEVER) world_silent_since = now;
+      if (now - world_silent_since >= kWorldGoneGrace) return WaitResult::WorldGone;
+    } else {
+      world_silent_since = DDS_NEVER;
+    }
     if (alive > 0) {
       idle_deadline = now + static_cast<dds_duration_t>(idle_timeout_s * 1e9);
     } else if (now >= idle_deadline) {
@@ -110,7 +122,10 @@ WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out)
     }
     // Wake at least once a second to re-check the world's liveliness against the idle deadline, and to keep
     // our own alive while the world sends nothing (before the run, or a slow lockstep round).
-    waiter_.wait_until(std::min({idle_deadline, now + DDS_SECS(1), reclaim, commands_->keep_alive(now)}));
+    const dds_time_t gone_check =
+        world_silent_since == DDS_NEVER ? DDS_NEVER : world_silent_since + kWorldGoneGrace;
+    waiter_.wait_until(
+        std::min({idle_deadline, now + DDS_SECS(1), reclaim, gone_check, commands_->keep_alive(now)}));
   }
 }
 

@@ -37,7 +37,9 @@ class AgentLink {
   // past its writer's lease after its claim (starved of CPU while 256 agents discover the world) is lost to
   // the world, and Cyclone reports its liveliness back only when the writer sends again; an agent that sends
   // nothing before the run would then never be counted. The world answers a claim it already holds as a
-  // repeat, and takes a lost owner's claim back.
+  // repeat, and takes a lost owner's claim back. WorldGone only after the world's writers have stayed not
+  // alive for 3 s: an agent stalled past their 2 s lease finds it expired when it resumes, until the world's
+  // next liveliness message arrives.
   WaitResult next_packet(double idle_timeout_s, dds::SensorSample& out);
   void send(Tick tick, const Command& command);
 

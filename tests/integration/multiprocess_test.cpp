@@ -71,6 +71,30 @@ class MultiProcess : public swarmform::testing::ProcessFixture {
     return false;
   }
 
+  // An agent stalled after its claim, before the run, for longer than its command writer's liveliness lease
+  // (500 ms): SIGSTOP here, CPU starvation while 256 agents discover the world in bench/scale. The world
+  // takes it for lost; Cyclone reports the writer alive again only when it writes, so the agent re-sends its
+  // claim until its first packet and asserts its liveliness while it waits (robot_agent/dds_link.hpp), and
+  // the world takes it back. Run `run` on `domain`, stalling agent 0 for `stall`.
+  void stalled_before_the_run(int domain, const std::string& run, std::chrono::milliseconds stall) {
+    Process& w =
+        start({kWorld, "--scenario", kScenario, "--out", path(run), "--domain", std::to_string(domain),
+               "--connect-timeout", "20", "--robots", "2", "--max-ticks", "30"},
+              run + "-world");
+    Process& first = agent(domain, 0, run);
+    ASSERT_TRUE(eventually(20.0, [&] { return w.err().find("id 0 claimed by pid") != std::string::npos; }))
+        << w.err();
+    ASSERT_EQ(::kill(first.pid(), SIGSTOP), 0);
+    std::this_thread::sleep_for(stall);
+    ASSERT_EQ(::kill(first.pid(), SIGCONT), 0);
+    Process& second = agent(domain, 1, run);
+    ASSERT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+    EXPECT_NE(w.out().find("done ticks=30"), std::string::npos) << w.out();
+    EXPECT_EQ(first.wait_for(10.0), 0) << first.err();
+    EXPECT_EQ(second.wait_for(10.0), 0) << second.err();
+    EXPECT_TRUE(has_event(run, "agent_lost", 0));  // the stall did cost it its lease
+  }
+
   // A whole clean run: world + 8 agents; returns the trajectory hash. Checks every agent saw only its own
   // packets, every process exited 0, the run completed.
   std::string clean_run(int domain, const std::string& run, Process* also = nullptr) {
@@ -210,29 +234,14 @@ TEST_F(MultiProcess, AgentGivesUpWhenNoWorldShowsUp) {
   EXPECT_NE(a.err().find("no world on DDS domain"), std::string::npos) << a.err();
 }
 
-// An agent stalled after its claim, before the run, for longer than its command writer's liveliness lease
-// (500 ms) but not its participant's (1 s): SIGSTOP here, CPU starvation while 256 agents discover the world
-// in bench/scale. The world takes it for lost; Cyclone reports the writer alive again only when it sends, so
-// the agent re-sends its claim until its first packet, and the world takes it back
-// (robot_agent/dds_link.hpp).
 TEST_F(MultiProcess, AgentStalledPastItsWriterLeaseBeforeTheRunIsCountedAgain) {
-  const int domain = kDomainBase + 8;
-  Process& w =
-      start({kWorld, "--scenario", kScenario, "--out", path("stalled"), "--domain", std::to_string(domain),
-             "--connect-timeout", "20", "--robots", "2", "--max-ticks", "30"},
-            "stalled-world");
-  Process& first = agent(domain, 0, "stalled");
-  ASSERT_TRUE(eventually(20.0, [&] { return w.err().find("id 0 claimed by pid") != std::string::npos; }))
-      << w.err();
-  ASSERT_EQ(::kill(first.pid(), SIGSTOP), 0);
-  std::this_thread::sleep_for(std::chrono::milliseconds(750));
-  ASSERT_EQ(::kill(first.pid(), SIGCONT), 0);
-  Process& second = agent(domain, 1, "stalled");
-  ASSERT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
-  EXPECT_NE(w.out().find("done ticks=30"), std::string::npos) << w.out();
-  EXPECT_EQ(first.wait_for(10.0), 0) << first.err();
-  EXPECT_EQ(second.wait_for(10.0), 0) << second.err();
-  EXPECT_TRUE(has_event("stalled", "agent_lost", 0));  // the stall did cost it its lease
+  stalled_before_the_run(kDomainBase + 8, "stalled", std::chrono::milliseconds(750));
+}
+
+// 3 s: past what was the agent's participant lease (1 s), after which the world forgot the participant and
+// never heard the agent again; within the 5 s it is now (common/dds/cyclone_config.cpp).
+TEST_F(MultiProcess, AgentStalledForThreeSecondsBeforeTheRunIsCountedAgain) {
+  stalled_before_the_run(kDomainBase + 10, "stalled-long", std::chrono::milliseconds(3000));
 }
 
 // An agent's command writer has manual liveliness (common/dds/qos.hpp): an agent with nothing to write while
