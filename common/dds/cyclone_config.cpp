@@ -56,7 +56,7 @@ std::string cyclone_config_xml(const DdsSettings& s) {
   // Participant leases: 5 s on every process. Death is told by the writers' liveliness (qos.hpp: an agent's
   // command writer, 500 ms; the world's writers, 2 s), not by the participant lease. A participant without
   // AUTOMATIC writers still sends a reliable liveliness message (with heartbeat and acknowledgement) to every
-  // peer each 0.8 x its lease: an agent's 1 s lease cost the world ~1,000 datagrams a second from 256 agents
+  // peer each 0.8 x its lease: an agent's 1 s lease cost the world ~840 submessages a second from 256 agents
   // (tcpdump, BENCHMARKS.md).
   xml += "<LeaseDuration>5s</LeaseDuration></Discovery>";
   // iceoryx shared memory is compiled in but loses samples with keep-last 1 and ignores partitions in 0.10.2.

@@ -24,8 +24,9 @@ enum class Channel {
 // so the world sees a SIGKILLed agent within ~0.5 s (NOTES-DEPENDENCIES "Death detection"). Every command
 // written renews it at the world; an agent with nothing to write asserts it every kLivelinessAssertPeriod
 // (CommandWriter::keep_alive). AUTOMATIC cost a reliable participant message with its heartbeat and
-// acknowledgement every 0.4 s per agent, whatever the agent wrote: at 256 agents ~2,000 of the ~4,700
-// datagrams a second at the world's discovery socket while they connect, and ~1,300 a second during the run.
+// acknowledgement every 0.4 s per agent, whatever the agent wrote: at 256 agents ~1,960 submessages a second
+// in the ~4,700 datagrams a second at the world's discovery socket while they connect, and ~850 of its 1,166
+// datagrams a second during the run (BENCHMARKS.md).
 inline constexpr dds_duration_t kLivelinessLease = DDS_MSECS(500);
 // Three assertions per lease: a lost one (they are best effort) does not cost the agent its liveliness.
 inline constexpr dds_duration_t kLivelinessAssertPeriod = kLivelinessLease / 3;
