@@ -5,8 +5,8 @@
 // mesh of 128 processes takes minutes to converge. So the world takes ParticipantIndex 0 (a fixed discovery
 // port), every agent takes ParticipantIndex none (an ephemeral port, no limit of 9 a host) and has the world
 // as its only peer: agents never discover each other, and the world discovers each agent once. Death
-// detection: a participant lease of 1 s, with the writers' AUTOMATIC liveliness of 500 ms (qos.cpp), makes a
-// SIGKILLed agent's writer lose liveliness at the world within ~0.5 s (measured 0.14-0.5 s).
+// detection is the agents' command writers' liveliness (MANUAL_BY_TOPIC, 500 ms, qos.hpp): a SIGKILLed
+// agent's writer loses liveliness at the world within ~0.5 s. Participant leases (5 s) tell no death.
 #pragma once
 
 #include <cstdint>
