@@ -102,19 +102,18 @@ WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out)
     if (signals_.stop_requested()) return WaitResult::Stopped;
     const std::uint32_t alive = inbox_->world_writers_alive();
     const dds_time_t now = dds_time();
-    if (alive == 0 && inbox_->world_seen()) {
-      // Gone only if it stays silent for kWorldGoneGrace: an agent that was itself stalled past the world's
-      // writer lease (2 s) finds that lease expired when it resumes, until the world's next liveliness
-      // message comes in (within its lease).
-      if (world_silent_since == DDS_NEVER) world_silent_since = now;
-      if (now - world_silent_since >= kWorldGoneGrace) return WaitResult::WorldGone;
-    } else {
-      world_silent_since = DDS_NEVER;
-    }
     if (alive > 0) {
       idle_deadline = now + static_cast<dds_duration_t>(idle_timeout_s * 1e9);
-    } else if (now >= idle_deadline) {
-      return WaitResult::Timeout;
+      world_silent_since = DDS_NEVER;
+    } else {
+      if (inbox_->world_seen()) {
+        // Gone only if it stays silent for kWorldGoneGrace: an agent that was itself stalled past the world's
+        // writer lease (2 s) finds that lease expired when it resumes, until the world's next liveliness
+        // message comes in (within its lease).
+        if (world_silent_since == DDS_NEVER) world_silent_since = now;
+        if (now - world_silent_since >= kWorldGoneGrace) return WaitResult::WorldGone;
+      }
+      if (now >= idle_deadline) return WaitResult::Timeout;
     }
     if (now >= reclaim) {  // before the first packet only (see the header)
       commands_->claim(self_, claim_nonce_, static_cast<std::uint32_t>(getpid()));

@@ -215,17 +215,17 @@ def main():
                 shutil.copytree(run_dir, a.keep, dirs_exist_ok=True)
                 with open(os.path.join(a.keep, "world.err"), "w") as f:
                     f.write(err)
-            missed = 0
-            missed_by_tenth = [0] * 10  # where in the run the misses fell (tenths of --ticks)
             missed_by_tick = {}
             with open(os.path.join(run_dir, "events.jsonl")) as f:
                 for line in f:
                     event = json.loads(line)
                     if event.get("kind") == "missed_tick":
-                        missed += 1
                         tick = int(event.get("tick", 0))
-                        missed_by_tenth[min(9, max(0, tick * 10 // a.ticks))] += 1
                         missed_by_tick[tick] = missed_by_tick.get(tick, 0) + 1
+            missed = sum(missed_by_tick.values())
+            missed_by_tenth = [0] * 10  # where in the run the misses fell (tenths of --ticks)
+            for tick, n in missed_by_tick.items():
+                missed_by_tenth[min(9, max(0, tick * 10 // a.ticks))] += n
             said = 0
             for line in err.splitlines():
                 if line.endswith("missed ticks (see events)"):
