@@ -11,6 +11,7 @@
 #include <iostream>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <utility>
 
@@ -65,6 +66,18 @@ Entity make_reader(dds_entity_t parent, dds_entity_t topic, Channel channel,
                    const dds_listener_t* listener = nullptr, Pace pace = Pace::Lockstep) {
   Qos qos = make_qos(channel, pace);
   return Entity(dds_create_reader(parent, topic, qos.get(), listener), "dds_create_reader");
+}
+
+// Registers the instance of `key` with `writer` for the writer's lifetime. Cyclone keeps an instance in its
+// key map only while something holds it: an unregistered instance whose sample has left the writer's history
+// (at once for best effort, on acknowledgement for reliable) is removed after the write, and its memory goes
+// to the domain's gc thread through a request, which wakes that thread when its queue was empty. So each
+// write allocated, hashed and freed the instance, and the first write of each publish phase woke a thread
+// that preempted the world's (perf: 173 of its preemptions in a 256-agent run, BENCHMARKS.md). A registered
+// instance stays, so a write finds it in place.
+void keep_instance(dds_entity_t writer, const void* key) {
+  dds_instance_handle_t handle = 0;
+  check(dds_register_instance(writer, &handle, key), "dds_register_instance");
 }
 
 Entity make_condition(dds_entity_t reader) {
@@ -273,10 +286,20 @@ struct RobotChannel {
   Entity publisher, sensor;
 };
 
+sfdds_SensorPacket perception_key(RobotId id) {
+  sfdds_SensorPacket key{};
+  key.robot_id = id;
+  key.lane = sfdds_LANE_PERCEPTION;
+  key.note = const_cast<char*>("");
+  return key;
+}
+
 RobotChannel make_robot_channel(const Participant& p, RobotId id, Pace pace) {
   RobotChannel c;
   c.publisher = make_partitioned(p.get(), robot_partition(id), true);
   c.sensor = make_writer(c.publisher.get(), p.topics().sensor.get(), Channel::Sensor, pace);
+  const sfdds_SensorPacket key = perception_key(id);
+  keep_instance(c.sensor.get(), &key);
   return c;
 }
 }  // namespace
@@ -334,6 +357,11 @@ void RobotChannels::reply_claim(const ClaimAnswer& a) {
   s.claim_nonce = a.nonce;
   s.note = const_cast<char*>(a.reason.c_str());
   check(dds_write(c->sensor.get(), &s), "dds_write(claim answer)");
+}
+
+bool RobotChannels::holds_instance(RobotId id) const {
+  const sfdds_SensorPacket key = perception_key(id);
+  return dds_lookup_instance(impl_->robots.at(id).sensor.get(), &key) != DDS_HANDLE_NIL;
 }
 
 void RobotChannels::wait_for_acks(dds_duration_t timeout) {
@@ -462,8 +490,9 @@ std::optional<ClaimAnswer> AgentInbox::take_claim_reply() {
 
 struct CommandWriter::Impl {
   Entity writer;
-  std::vector<char*> events;  // reused: points into the command's strings during dds_write
-  dds_time_t alive_at = 0;    // the last write or assertion (each renews the liveliness lease)
+  std::vector<char*> events;          // reused: points into the command's strings during dds_write
+  dds_time_t alive_at = 0;            // the last write or assertion (each renews the liveliness lease)
+  std::optional<RobotId> registered;  // the id whose instance is kept (keep_instance), from the first claim
 };
 
 CommandWriter::CommandWriter(const Participant& participant, bool realtime)
@@ -477,6 +506,12 @@ dds_entity_t CommandWriter::get() const {
 }
 
 void CommandWriter::claim(RobotId id, std::uint64_t nonce, std::uint32_t pid) {
+  if (impl_->registered != id) {
+    sfdds_Command key{};
+    key.robot_id = id;
+    keep_instance(impl_->writer.get(), &key);
+    impl_->registered = id;
+  }
   sfdds_Command s{};
   s.robot_id = id;
   s.kind = sfdds_COMMAND_CLAIM;
@@ -494,6 +529,12 @@ dds_time_t CommandWriter::keep_alive(dds_time_t now) {
     impl_->alive_at = now;
   }
   return impl_->alive_at + kLivelinessAssertPeriod;
+}
+
+bool CommandWriter::holds_instance(RobotId id) const {
+  sfdds_Command key{};
+  key.robot_id = id;
+  return dds_lookup_instance(impl_->writer.get(), &key) != DDS_HANDLE_NIL;
 }
 
 void CommandWriter::step(RobotId id, Tick tick, const Command& c) {

@@ -125,6 +125,9 @@ class RobotChannels {
   void reply_claim(const ClaimAnswer& answer);
   // Waits until every packet written so far is acknowledged by its matched readers, up to `timeout`.
   void wait_for_acks(dds_duration_t timeout);
+  // True while Cyclone's key map holds robot `id`'s perception instance (kept registered, so that a write
+  // finds it in place rather than creating and freeing it; wire.cpp keep_instance). For tests.
+  bool holds_instance(RobotId id) const;
 
  private:
   struct Impl;
@@ -190,6 +193,9 @@ class CommandWriter {
   // liveliness is MANUAL_BY_TOPIC: a writer idle for its lease is taken for dead). Returns when it is next
   // due: an idle agent wakes by then.
   dds_time_t keep_alive(dds_time_t now);
+  // True while Cyclone's key map holds robot `id`'s command instance (kept from the first claim, as
+  // RobotChannels::holds_instance). For tests.
+  bool holds_instance(RobotId id) const;
 
  private:
   struct Impl;
