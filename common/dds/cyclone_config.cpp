@@ -38,7 +38,14 @@ std::string cyclone_config_xml(const DdsSettings& s) {
   std::string xml = "<CycloneDDS><Domain id=\"any\"><General>";
   if (!iface.empty()) xml += "<Interfaces><NetworkInterface address=\"" + iface + "\"/></Interfaces>";
   // Loopback has no multicast flag; say so rather than let Cyclone find out, on every interface alike.
-  xml += "<AllowMulticast>false</AllowMulticast></General><Discovery>";
+  xml += "<AllowMulticast>false</AllowMulticast>";
+  // Retransmissions packed up to the normal message size (14720 B) rather than Cyclone's 1456 B. An agent
+  // learns the world's ~260 endpoints (a packet writer per robot) from retransmissions of the world's SEDP
+  // history, ~450 B each: 3 to a datagram made 256 agents receive ~190,000 SEDP submessages in ~60,000
+  // datagrams while they connected (tcpdump, BENCHMARKS.md), and their receive threads the largest share of
+  // their CPU. Measured: connected 17.0-21.2 s -> 9.9-11.9 s.
+  xml += "<MaxRexmitMessageSize>" + std::to_string(kMaxRexmitMessageBytes) + "B</MaxRexmitMessageSize>";
+  xml += "</General><Discovery>";
   // A domain gain of 100 (RTPS default 250) keeps every domain's fixed ports below Linux's ephemeral range
   // (32768-60999): with 250, a domain above ~100 puts the world's port among the ephemeral ones that any
   // agent socket may hold, and the world then fails to start ("failed to create unicast sockets"), as seen.

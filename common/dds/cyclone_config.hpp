@@ -31,6 +31,7 @@ struct DdsSettings {
 };
 
 inline constexpr std::uint32_t kMaxDomain = 232;
+inline constexpr std::uint32_t kMaxRexmitMessageBytes = 14720;  // Cyclone's MaxMessageSize default
 inline constexpr std::uint32_t kPortBase = 7400;
 inline constexpr std::uint32_t kDomainGain = 100;  // ports per domain: all fixed ports stay below 32768
 

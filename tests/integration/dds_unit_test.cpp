@@ -88,6 +88,15 @@ TEST(CycloneConfig, WorldTakesIndexZeroAndAgentsPeerOnlyWithIt) {
   EXPECT_NE(remote.find("10.0.0.5:8110"), std::string::npos);
 }
 
+TEST(CycloneConfig, RetransmissionsArePackedIntoFullSizeMessagesOnEveryProcess) {
+  for (const Role role : {Role::World, Role::Agent}) {
+    DdsSettings s;
+    s.role = role;
+    EXPECT_NE(cyclone_config_xml(s).find("<MaxRexmitMessageSize>14720B</MaxRexmitMessageSize>"),
+              std::string::npos);
+  }
+}
+
 TEST(CycloneConfig, EveryDomainsFixedPortsStayBelowTheEphemeralRange) {
   EXPECT_LT(swarmform::dds::world_discovery_port(swarmform::dds::kMaxDomain) + 2, 32768);
   EXPECT_NE(cyclone_config_xml(DdsSettings{}).find("<DomainGain>100</DomainGain>"), std::string::npos);
