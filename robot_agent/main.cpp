@@ -1,6 +1,8 @@
 // robot_agent --id K: one robot's process. It takes the mission from the world's durable topic, makes its
 // controller, claims its id, then each tick reads its own SensorPacket (partition robot/K), steps the
 // controller and writes its Command, until the world announces the end (exit 0).
+// robot_agent --id K --count N: robots K..K+N-1, each its own process forked from this one, which supervises
+// them (agent_block.hpp: the way to start many agents on one machine).
 //
 // Exit codes: 0 the run ended (or --help); 2 bad flags or an unusable mission; 3 no world within --timeout,
 // or the world went away mid-run; 4 the id was refused; 1 anything else (a DDS failure, a controller
@@ -9,11 +11,13 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <memory>
 
 #include "common/dds/robot_process.hpp"
 #include "common/dds/signal_watch.hpp"
 #include "common/input_error.hpp"
+#include "robot_agent/agent_block.hpp"
 #include "robot_agent/controller/controller.hpp"
 #include "robot_agent/dds_link.hpp"
 
@@ -22,12 +26,16 @@ namespace {
 using swarmform::agent::AgentLink;
 using swarmform::agent::WaitResult;
 
+// At most this many robots in one --count block: a bound on what one command may fork.
+constexpr std::uint32_t kMaxBlock = 4096;
+
 struct Options {
   std::uint32_t id = 0;
   std::uint32_t domain = 0;
   std::string world_host = "127.0.0.1";
   std::string interface_address;
   double timeout_s = 60.0;
+  std::uint32_t count = 1;
 };
 
 int run(const Options& o, swarmform::dds::SignalWatch& signals) {
@@ -101,6 +109,21 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
   }
 }
 
+// One agent, in this process.
+int run_agent(const Options& o) {
+  (void)swarmform::dds::yield_to_world_on_wakeup();  // before any thread exists: they all inherit it
+  try {
+    swarmform::dds::SignalWatch signals;  // first: every DDS thread inherits the blocked signal mask
+    return run(o, signals);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "robot_agent: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "robot_agent " << o.id << ": " << e.what() << "\n";
+    return 1;
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -113,21 +136,34 @@ int main(int argc, char** argv) {
                  "local interface address to use (default: loopback when the world is on loopback)");
   app.add_option("--timeout", o.timeout_s, "seconds to wait for the world (mission, claim answer, packets)")
       ->check(CLI::PositiveNumber);
+  app.add_option("--count", o.count,
+                 "run this many robots, ids --id..--id+count-1, each its own process forked from this one "
+                 "(faster to start than as many executables); this process supervises them and prints "
+                 "'robot_agent: id K pid P' for each")
+      ->check(CLI::Range(1u, kMaxBlock));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return e.get_exit_code() == 0 ? app.exit(e) : (app.exit(e), 2);
   }
-
-  (void)swarmform::dds::yield_to_world_on_wakeup();  // before any thread exists: they all inherit it
-  try {
-    swarmform::dds::SignalWatch signals;  // first: every DDS thread inherits the blocked signal mask
-    return run(o, signals);
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "robot_agent: " << e.what() << "\n";
+  if (o.count == 1) return run_agent(o);
+  if (o.id > std::numeric_limits<std::uint32_t>::max() - (o.count - 1)) {
+    std::cerr << "robot_agent: --id " << o.id << " --count " << o.count << ": the ids pass 2^32 - 1\n";
     return 2;
+  }
+  (void)swarmform::dds::yield_to_world_on_wakeup();  // inherited by every child
+  try {
+    return swarmform::agent::run_agent_block(
+        o.id, o.count,
+        [&o](std::uint32_t id) {
+          Options one = o;
+          one.id = id;
+          one.count = 1;
+          return run_agent(one);
+        },
+        std::cout);
   } catch (const std::exception& e) {
-    std::cerr << "robot_agent " << o.id << ": " << e.what() << "\n";
+    std::cerr << "robot_agent: " << e.what() << "\n";
     return 1;
   }
 }

@@ -3,9 +3,15 @@
 
   bench/scale/scale_run.py [--robots 256] [--ticks 600] [--scenario bench/scale/realtime.yaml]
                            [--domain 180] [--connect-timeout 60] [--build-dir build] [--keep DIR]
+                           [--launch block|each]
 
-What it measures, in one run (agents and world started together, as `scripts/swarm run` does):
-  connect_seconds   from the first agent's spawn until the world had every agent connected. The world says
+How the agents start (--launch): `block` (default) is one `robot_agent --id 0 --count N`, whose N robots are N
+processes forked from it (robot_agent/agent_block.hpp: the way to start many agents on one machine, without
+each paying ~20 ms of CPU to load the DDS libraries); `each` is N `robot_agent --id K` executables. Then the
+world, as `scripts/swarm run` does.
+
+What it measures, in one run:
+  connect_seconds   from the start of the first agent until the world had every agent connected. The world says
                     nothing at that moment, but in realtime mode its clock starts then and its first
                     `progress tick=T` line comes T periods later, so connected = arrival of that line - T/rate
                     (read from its stdout as it comes; error ~ a few ms);
@@ -45,6 +51,18 @@ CLK_TCK = os.sysconf("SC_CLK_TCK")
 _libc = ctypes.CDLL("libc.so.6", use_errno=True)
 
 children = []
+forked = []  # pids of the agents a block forked: killed by pid too, at the end
+
+
+def read_block_pids(path, n):
+    """The pids a `robot_agent --count` block printed ("robot_agent: id K pid P"), by id, once all n are there."""
+    pids = {}
+    with open(path) as f:
+        for line in f:
+            m = re.match(r"robot_agent: id (\d+) pid (\d+)", line)
+            if m:
+                pids[int(m.group(1))] = int(m.group(2))
+    return [pids[i] for i in range(n)] if len(pids) == n else None
 
 
 def _die_with_parent():
@@ -58,6 +76,12 @@ def spawn(argv, die_with_parent=True, **kw):
 
 
 def kill_all():
+    for pid in forked:
+        try:
+            os.kill(pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+    forked.clear()
     for p in children:
         if p.poll() is None:
             try:
@@ -133,6 +157,8 @@ def main():
     ap.add_argument("--connect-timeout", type=float, default=60.0)
     ap.add_argument("--keep", metavar="DIR", help="copy the world's run folder (events.jsonl, summary.json) here")
     ap.add_argument("--build-dir", default=os.environ.get("BUILD_DIR", os.path.join(ROOT, "build")))
+    ap.add_argument("--launch", choices=("block", "each"), default="block",
+                    help="one robot_agent --count N forking the agents (default), or N executables")
     a = ap.parse_args()
     if a.robots < 1 or a.ticks < 20 or not 0 <= a.domain <= 232:
         print("scale_run: --robots >= 1, --ticks >= 20, --domain 0..232", file=sys.stderr)
@@ -159,9 +185,26 @@ def main():
             # No preexec_fn for the agents: it forces Python to fork itself 256 times (11 s on a loaded 2-core
             # machine, against 1.5 s with vfork), which would be measured as the swarm's start-up. An agent
             # left behind by a SIGKILLed benchmark gives up by itself after --timeout without its world.
-            agents = [spawn([agent_exe, "--id", str(i), "--domain", str(a.domain), "--timeout", str(timeout)],
-                            die_with_parent=False, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-                      for i in range(a.robots)]
+            if a.launch == "each":
+                agents = [spawn([agent_exe, "--id", str(i), "--domain", str(a.domain), "--timeout",
+                                 str(timeout)], die_with_parent=False, stdout=subprocess.DEVNULL,
+                                stderr=subprocess.DEVNULL)
+                          for i in range(a.robots)]
+                agent_pids = [p.pid for p in agents]
+            else:
+                block_out = os.path.join(tmp, "block.out")
+                with open(block_out, "w") as out:
+                    block = spawn([agent_exe, "--id", "0", "--count", str(a.robots), "--domain", str(a.domain),
+                                   "--timeout", str(timeout)], stdout=out, stderr=subprocess.DEVNULL)
+                agent_pids = None
+                deadline = time.monotonic() + 60
+                while agent_pids is None and block.poll() is None and time.monotonic() < deadline:
+                    time.sleep(0.01)
+                    agent_pids = read_block_pids(block_out, a.robots)
+                if agent_pids is None:
+                    raise RuntimeError(f"robot_agent --count {a.robots} did not start its agents "
+                                       f"(exit {block.poll()})")
+                forked.extend(agent_pids)
             spawned = time.monotonic() - t0
             world_err = open(os.path.join(tmp, "world.err"), "w+")
             world = spawn([world_exe, "--scenario", a.scenario, "--robots", str(a.robots), "--mode", "realtime",
@@ -188,7 +231,7 @@ def main():
             run_seconds = a.ticks / rate
             started = first[0][0] - first[0][1] / rate
             time.sleep(max(0.0, started + 0.2 * run_seconds - time.monotonic()))
-            pids = [p.pid for p in agents]
+            pids = agent_pids
             c0 = [cpu_seconds(p) for p in pids]
             w0 = cpu_seconds(world.pid)
             m0 = time.monotonic()
@@ -234,6 +277,7 @@ def main():
                 raise RuntimeError(f"the world said {said} missed ticks, its events hold {missed}")
             result = {
                 "robots": a.robots, "ticks": summary["ticks"], "tick_rate": rate, "behaviour": "random_walk",
+                "launch": a.launch,
                 "spawn_seconds": round(spawned, 3),
                 "connect_seconds": round(connect_seconds, 3),
                 "missed_ticks": missed,

@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <regex>
@@ -262,6 +263,76 @@ TEST_F(MultiProcess, AgentWaitingForTheRunKeepsItsLiveliness) {
   EXPECT_EQ(second.wait_for(10.0), 0) << second.err();
   EXPECT_FALSE(has_event("waiting", "agent_lost", 0));
   EXPECT_EQ(events_of("waiting", "agent_connected").size(), 2u);  // each connected once, never re-counted
+}
+
+// robot_agent --count: the robots of a block each run as their own process (forked from the one started),
+// each killable by its pid as any agent, and the block's pid stops them all.
+std::map<int, pid_t> block_pids(const Process& block) {
+  std::map<int, pid_t> out;
+  std::istringstream in(block.out());
+  const std::regex line("robot_agent: id ([0-9]+) pid ([0-9]+)");
+  std::smatch m;
+  for (std::string l; std::getline(in, l);) {
+    if (std::regex_search(l, m, line)) out[std::stoi(m[1])] = static_cast<pid_t>(std::stol(m[2]));
+  }
+  return out;
+}
+
+// Gone, or a zombie nobody has reaped yet (the container's init may not reap): either way not running.
+bool not_running(pid_t pid) {
+  std::ifstream f("/proc/" + std::to_string(pid) + "/stat");
+  std::string stat;
+  if (!std::getline(f, stat)) return true;
+  const auto close = stat.rfind(')');
+  return close != std::string::npos && close + 2 < stat.size() && stat[close + 2] == 'Z';
+}
+
+TEST_F(MultiProcess, AgentBlockRunsEachRobotAsItsOwnProcessAndAKilledOneIsDetected) {
+  const int domain = kDomainBase + 12;
+  Process& block = start({kAgent, "--id", "0", "--count", std::to_string(kRobots), "--domain",
+                          std::to_string(domain), "--timeout", "30"},
+                         "block");
+  ASSERT_TRUE(eventually(20.0, [&] { return block_pids(block).size() == kRobots; })) << block.out();
+  const std::map<int, pid_t> pids = block_pids(block);
+  std::set<pid_t> distinct;
+  for (const auto& [id, pid] : pids) distinct.insert(pid);
+  EXPECT_EQ(distinct.size(), static_cast<std::size_t>(kRobots));
+  EXPECT_EQ(distinct.count(block.pid()), 0u);
+  Process& w = world(domain, "block", {"--kill", "3@50", "--agent-pid", "3=" + std::to_string(pids.at(3))});
+  ASSERT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_EQ(block.wait_for(10.0), 128 + SIGKILL) << block.err();  // the highest child exit: robot 3's
+  for (int i = 0; i < kRobots; ++i) {
+    if (i == 3) continue;
+    EXPECT_NE(block.out().find("agent id=" + std::to_string(i) + " packets=301 foreign_packets=0"),
+              std::string::npos)
+        << block.out();
+  }
+  const Json s = summary("block");
+  ASSERT_EQ(s["deaths"].size(), 1u);
+  EXPECT_EQ(s["deaths"][0]["id"], 3);
+  EXPECT_EQ(s["alive_at_end"], kRobots - 1);
+  EXPECT_EQ(events_of("block", "agent_connected").size(), static_cast<std::size_t>(kRobots));
+}
+
+TEST_F(MultiProcess, StoppingOrKillingAnAgentBlockStopsEveryRobotInIt) {
+  const int domain = kDomainBase + 13;  // no world: the robots wait for one
+  for (const int sig : {SIGTERM, SIGKILL}) {
+    const std::string tag = sig == SIGTERM ? "term" : "kill";
+    Process& block =
+        start({kAgent, "--id", "5", "--count", "4", "--domain", std::to_string(domain), "--timeout", "30"},
+              "block-" + tag);
+    ASSERT_TRUE(eventually(20.0, [&] { return block_pids(block).size() == 4u; })) << block.out();
+    const std::map<int, pid_t> pids = block_pids(block);
+    EXPECT_EQ(pids.begin()->first, 5);
+    EXPECT_EQ(pids.rbegin()->first, 8);
+    ASSERT_EQ(::kill(block.pid(), sig), 0);
+    // SIGTERM: forwarded to each robot, which stops as a lone agent would (128 + 15), and so does the block.
+    // SIGKILL: the block cannot forward it; each robot gets SIGTERM when its parent dies.
+    EXPECT_EQ(block.wait_for(10.0), 128 + sig) << block.err();
+    for (const auto& [id, pid] : pids) {
+      EXPECT_TRUE(eventually(10.0, [pid = pid] { return not_running(pid); })) << "robot " << id << " " << tag;
+    }
+  }
 }
 
 TEST_F(MultiProcess, CheckPrintsTheScenarioAndBadInputExitsTwo) {
