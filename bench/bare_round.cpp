@@ -3,7 +3,7 @@
 // SensorPacket and Command types), and nothing else: no physics, no sensors, no controller, no recording.
 //
 //   bare_round world --robots N [--rounds R] [--warmup W] [--domain D] [--timeout SEC]
-//   bare_round robot --id K [--domain D]
+//   bare_round robot --id K [--count N] [--domain D]   (--count: robots K..K+N-1, forked from one process)
 //
 // The world waits for N claims, then each round writes one SensorPacket per robot (with a few neighbour
 // messages, as the random walk's) and waits for every robot's Command of that round. It prints one JSON line:
@@ -12,8 +12,10 @@
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <vector>
 
+#include "common/dds/robot_block.hpp"
 #include "common/dds/robot_process.hpp"
 #include "common/dds/signal_watch.hpp"
 #include "common/dds/wire.hpp"
@@ -145,6 +147,12 @@ int main(int argc, char** argv) {
   auto* robot = app.add_subcommand("robot", "one robot");
   std::uint32_t id = 0;
   robot->add_option("--id", id, "robot id")->required();
+  std::uint32_t count = 1;
+  robot
+      ->add_option("--count", count,
+                   "robots --id..--id+count-1, each its own process forked from this one (as robot_agent "
+                   "--count, so that P1 compares like with like)")
+      ->check(CLI::Range(1u, 4096u));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -154,6 +162,29 @@ int main(int argc, char** argv) {
   // Robots are scheduled as robot_agent schedules itself (common/dds/robot_process.hpp), so P1's ratio
   // compares like with like.
   if (robot->parsed()) (void)dds::yield_to_world_on_wakeup();
+  if (robot->parsed() && count > 1) {
+    if (id > std::numeric_limits<std::uint32_t>::max() - (count - 1)) {
+      std::cerr << "bare_round: --id " << id << " --count " << count << ": the ids pass 2^32 - 1\n";
+      return 2;
+    }
+    try {
+      return dds::run_robot_block(
+          "bare_round", id, count,
+          [&](std::uint32_t one) {
+            try {
+              dds::SignalWatch signals;
+              return run_robot(one, domain, timeout_s, signals);
+            } catch (const std::exception& e) {
+              std::cerr << "bare_round: " << e.what() << "\n";
+              return 1;
+            }
+          },
+          std::cout);
+    } catch (const std::exception& e) {
+      std::cerr << "bare_round: " << e.what() << "\n";
+      return 1;
+    }
+  }
   try {
     dds::SignalWatch signals;
     if (world->parsed()) return run_world(robots, rounds, warmup, domain, timeout_s, signals);

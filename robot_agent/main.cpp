@@ -2,7 +2,7 @@
 // controller, claims its id, then each tick reads its own SensorPacket (partition robot/K), steps the
 // controller and writes its Command, until the world announces the end (exit 0).
 // robot_agent --id K --count N: robots K..K+N-1, each its own process forked from this one, which supervises
-// them (agent_block.hpp: the way to start many agents on one machine).
+// them (common/dds/robot_block.hpp: the way to start many agents on one machine).
 //
 // Exit codes: 0 the run ended (or --help); 2 bad flags or an unusable mission; 3 no world within --timeout,
 // or the world went away mid-run; 4 the id was refused; 1 anything else (a DDS failure, a controller
@@ -14,10 +14,10 @@
 #include <limits>
 #include <memory>
 
+#include "common/dds/robot_block.hpp"
 #include "common/dds/robot_process.hpp"
 #include "common/dds/signal_watch.hpp"
 #include "common/input_error.hpp"
-#include "robot_agent/agent_block.hpp"
 #include "robot_agent/controller/controller.hpp"
 #include "robot_agent/dds_link.hpp"
 
@@ -153,8 +153,8 @@ int main(int argc, char** argv) {
   }
   (void)swarmform::dds::yield_to_world_on_wakeup();  // inherited by every child
   try {
-    return swarmform::agent::run_agent_block(
-        o.id, o.count,
+    return swarmform::dds::run_robot_block(
+        "robot_agent", o.id, o.count,
         [&o](std::uint32_t id) {
           Options one = o;
           one.id = id;

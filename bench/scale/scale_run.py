@@ -6,7 +6,7 @@
                            [--launch block|each]
 
 How the agents start (--launch): `block` (default) is one `robot_agent --id 0 --count N`, whose N robots are N
-processes forked from it (robot_agent/agent_block.hpp: the way to start many agents on one machine, without
+processes forked from it (common/dds/robot_block.hpp: the way to start many agents on one machine, without
 each paying ~20 ms of CPU to load the DDS libraries); `each` is N `robot_agent --id K` executables. Then the
 world, as `scripts/swarm run` does.
 
@@ -51,7 +51,7 @@ CLK_TCK = os.sysconf("SC_CLK_TCK")
 _libc = ctypes.CDLL("libc.so.6", use_errno=True)
 
 children = []
-forked = []  # pids of the agents a block forked: killed by pid too, at the end
+forked = []  # (block process, pids of the agents it forked): killed by pid too, at the end
 
 
 def read_block_pids(path, n):
@@ -76,11 +76,14 @@ def spawn(argv, die_with_parent=True, **kw):
 
 
 def kill_all():
-    for pid in forked:
-        try:
-            os.kill(pid, signal.SIGKILL)
-        except ProcessLookupError:
-            pass
+    for block, pids in forked:
+        if block.poll() is not None:
+            continue  # it reaped its agents before it exited: their pids may belong to others by now
+        for pid in pids:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
     forked.clear()
     for p in children:
         if p.poll() is None:
@@ -204,7 +207,7 @@ def main():
                 if agent_pids is None:
                     raise RuntimeError(f"robot_agent --count {a.robots} did not start its agents "
                                        f"(exit {block.poll()})")
-                forked.extend(agent_pids)
+                forked.append((block, agent_pids))
             spawned = time.monotonic() - t0
             world_err = open(os.path.join(tmp, "world.err"), "w+")
             world = spawn([world_exe, "--scenario", a.scenario, "--robots", str(a.robots), "--mode", "realtime",

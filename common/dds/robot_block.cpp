@@ -1,4 +1,4 @@
-#include "robot_agent/agent_block.hpp"
+#include "common/dds/robot_block.hpp"
 
 #include <sys/prctl.h>
 #include <sys/wait.h>
@@ -15,7 +15,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace swarmform::agent {
+namespace swarmform::dds {
 
 namespace {
 
@@ -27,8 +27,8 @@ int exit_code_of(int status) {
 
 }  // namespace
 
-int run_agent_block(std::uint32_t first, std::uint32_t count, const std::function<int(std::uint32_t)>& agent,
-                    std::ostream& out) {
+int run_robot_block(const char* name, std::uint32_t first, std::uint32_t count,
+                    const std::function<int(std::uint32_t)>& robot, std::ostream& out) {
   // The signals the parent takes with sigwait (never a handler); blocked before the first fork so that none
   // is lost between forks. Each child restores the mask it had.
   sigset_t taken, before;
@@ -51,8 +51,8 @@ int run_agent_block(std::uint32_t first, std::uint32_t count, const std::functio
     std::fflush(nullptr);
     const pid_t pid = fork();
     if (pid < 0) {
-      std::cerr << "robot_agent: fork for id " << id << " failed: " << std::strerror(errno)
-                << "; stopping the " << running.size() << " agents started\n";
+      std::cerr << name << ": fork for id " << id << " failed: " << std::strerror(errno) << "; stopping the "
+                << running.size() << " robots started\n";
       forward(SIGTERM);
       worst = 1;
       break;
@@ -62,12 +62,12 @@ int run_agent_block(std::uint32_t first, std::uint32_t count, const std::functio
       prctl(PR_SET_PDEATHSIG, SIGTERM);
       if (getppid() != parent) std::_Exit(128 + SIGTERM);
       sigprocmask(SIG_SETMASK, &before, nullptr);
-      const int code = agent(id);
+      const int code = robot(id);
       std::cout.flush();
       std::exit(code);
     }
     running[pid] = id;
-    out << "robot_agent: id " << id << " pid " << pid << std::endl;
+    out << name << ": id " << id << " pid " << pid << std::endl;
   }
 
   while (!running.empty()) {
@@ -91,4 +91,4 @@ int run_agent_block(std::uint32_t first, std::uint32_t count, const std::functio
   return worst;
 }
 
-}  // namespace swarmform::agent
+}  // namespace swarmform::dds

@@ -1,4 +1,5 @@
-// robot_agent --id K --count N: N robots, ids K..K+N-1, each its own OS process, forked from this one.
+// `robot_agent --id K --count N` (and `bare_round robot --id K --count N`, so that P1's ratio compares like
+// with like): N robots, ids K..K+N-1, each its own OS process, forked from this one.
 //
 // Why fork rather than start N executables: each start of robot_agent spends ~20 ms of CPU, mostly in the
 // dynamic loader, relocating libddsc and what Debian links it with (libcrypto, libssl, iceoryx): `perf stat
@@ -19,11 +20,11 @@
 #include <functional>
 #include <iosfwd>
 
-namespace swarmform::agent {
+namespace swarmform::dds {
 
-// Forks `count` children; child i runs agent(first + i) and exits with its result. Prints one line per child
-// to `out` ("robot_agent: id K pid P") so a caller can kill a given robot. Returns the block's exit code.
-int run_agent_block(std::uint32_t first, std::uint32_t count, const std::function<int(std::uint32_t)>& agent,
-                    std::ostream& out);
+// Forks `count` children; child i runs robot(first + i) and exits with its result. Prints one line per child
+// to `out` ("<name>: id K pid P") so a caller can kill a given robot. Returns the block's exit code.
+int run_robot_block(const char* name, std::uint32_t first, std::uint32_t count,
+                    const std::function<int(std::uint32_t)>& robot, std::ostream& out);
 
-}  // namespace swarmform::agent
+}  // namespace swarmform::dds
