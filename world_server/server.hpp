@@ -47,6 +47,7 @@ class Server {
 
  private:
   bool connect_agents();
+  bool every_reader_matched() const;  // every robot's packet writer has matched a reader
   void run_lockstep();
   void run_realtime();
 

@@ -359,6 +359,13 @@ void RobotChannels::reply_claim(const ClaimAnswer& a) {
   check(dds_write(c->sensor.get(), &s), "dds_write(claim answer)");
 }
 
+bool RobotChannels::reader_matched(RobotId id) const {
+  dds_publication_matched_status_t st{};
+  check(dds_get_publication_matched_status(impl_->robots.at(id).sensor.get(), &st),
+        "dds_get_publication_matched_status");
+  return st.current_count > 0;
+}
+
 bool RobotChannels::holds_instance(RobotId id) const {
   const sfdds_SensorPacket key = perception_key(id);
   return dds_lookup_instance(impl_->robots.at(id).sensor.get(), &key) != DDS_HANDLE_NIL;

@@ -125,6 +125,9 @@ class RobotChannels {
   void reply_claim(const ClaimAnswer& answer);
   // Waits until every packet written so far is acknowledged by its matched readers, up to `timeout`.
   void wait_for_acks(dds_duration_t timeout);
+  // True once robot `id`'s packet writer has matched a reader (its agent's, in partition robot/K); before
+  // that a packet is written to nobody and lost.
+  bool reader_matched(RobotId id) const;
   // True while Cyclone's key map holds robot `id`'s perception instance (kept registered, so that a write
   // finds it in place rather than creating and freeing it; wire.cpp keep_instance). For tests.
   bool holds_instance(RobotId id) const;
