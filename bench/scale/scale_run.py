@@ -29,8 +29,9 @@ What it measures, in one run:
                     time in it and its preemptions, per round;
   udp_receive_buffer_errors  datagrams the kernel dropped on full UDP receive buffers during the run
                     (/proc/net/snmp RcvbufErrors; machine-wide, so other processes' drops count too).
-Every process started here is killed by its pid at the end (the world also gets PR_SET_PDEATHSIG; the agents
-give up by themselves after --timeout without a world); every wait has a deadline.
+Every process started here is killed by its pid at the end, a block's agents too while the block runs (the
+world and the block also get PR_SET_PDEATHSIG, the block's agents get SIGTERM when it dies; executables started
+with --launch each give up by themselves after --timeout without a world); every wait has a deadline.
 """
 import argparse
 import ctypes
