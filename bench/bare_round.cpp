@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
-#include <limits>
 #include <vector>
 
 #include "common/dds/robot_block.hpp"
@@ -152,7 +151,7 @@ int main(int argc, char** argv) {
       ->add_option("--count", count,
                    "robots --id..--id+count-1, each its own process forked from this one (as robot_agent "
                    "--count, so that P1 compares like with like)")
-      ->check(CLI::Range(1u, 4096u));
+      ->check(CLI::Range(1u, dds::kMaxRobotBlock));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -163,7 +162,7 @@ int main(int argc, char** argv) {
   // compares like with like.
   if (robot->parsed()) (void)dds::yield_to_world_on_wakeup();
   if (robot->parsed() && count > 1) {
-    if (id > std::numeric_limits<std::uint32_t>::max() - (count - 1)) {
+    if (!dds::block_ids_fit(id, count)) {
       std::cerr << "bare_round: --id " << id << " --count " << count << ": the ids pass 2^32 - 1\n";
       return 2;
     }

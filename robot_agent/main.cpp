@@ -11,7 +11,6 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
-#include <limits>
 #include <memory>
 
 #include "common/dds/robot_block.hpp"
@@ -25,9 +24,6 @@ namespace {
 
 using swarmform::agent::AgentLink;
 using swarmform::agent::WaitResult;
-
-// At most this many robots in one --count block: a bound on what one command may fork.
-constexpr std::uint32_t kMaxBlock = 4096;
 
 struct Options {
   std::uint32_t id = 0;
@@ -140,14 +136,14 @@ int main(int argc, char** argv) {
                  "run this many robots, ids --id..--id+count-1, each its own process forked from this one "
                  "(faster to start than as many executables); this process supervises them and prints "
                  "'robot_agent: id K pid P' for each")
-      ->check(CLI::Range(1u, kMaxBlock));
+      ->check(CLI::Range(1u, swarmform::dds::kMaxRobotBlock));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return e.get_exit_code() == 0 ? app.exit(e) : (app.exit(e), 2);
   }
   if (o.count == 1) return run_agent(o);
-  if (o.id > std::numeric_limits<std::uint32_t>::max() - (o.count - 1)) {
+  if (!swarmform::dds::block_ids_fit(o.id, o.count)) {
     std::cerr << "robot_agent: --id " << o.id << " --count " << o.count << ": the ids pass 2^32 - 1\n";
     return 2;
   }

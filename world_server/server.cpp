@@ -138,9 +138,16 @@ bool Server::connect_agents() {
       }
       if (now >= deadline) {
         if (claimed) {
-          std::cerr << "world_server: every agent claimed its id, but not every packet writer matched its "
-                       "agent's reader within "
-                    << options_.connect_timeout_s << " s\n";
+          std::string unmatched;
+          for (std::size_t i = 0; i < n; ++i) {
+            if (link_.robots.reader_matched(static_cast<RobotId>(i))) continue;
+            if (!unmatched.empty()) unmatched += ' ';
+            unmatched += std::to_string(i);
+          }
+          std::cerr
+              << "world_server: every agent claimed its id, but these robots' packet writers matched no "
+                 "reader within "
+              << options_.connect_timeout_s << " s: " << unmatched << "\n";
         } else {
           std::cerr << "world_server: " << n - registry_.connected_count() << " of " << n
                     << " agents missing after " << options_.connect_timeout_s << " s: " << who << "\n";

@@ -22,6 +22,14 @@
 
 namespace swarmform::dds {
 
+// At most this many robots in one block: a bound on what one command may fork.
+inline constexpr std::uint32_t kMaxRobotBlock = 4096;
+
+// True when ids first..first+count-1 all fit in 32 bits (count >= 1).
+inline bool block_ids_fit(std::uint32_t first, std::uint32_t count) {
+  return count >= 1 && first <= UINT32_MAX - (count - 1);
+}
+
 // Forks `count` children; child i runs robot(first + i) and exits with its result. Prints one line per child
 // to `out` ("<name>: id K pid P") so a caller can kill a given robot. Returns the block's exit code.
 int run_robot_block(const char* name, std::uint32_t first, std::uint32_t count,

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "common/dds/cyclone_config.hpp"
+#include "common/dds/robot_block.hpp"
 #include "world_server/agent_registry.hpp"
 
 namespace {
@@ -86,6 +87,16 @@ TEST(CycloneConfig, WorldTakesIndexZeroAndAgentsPeerOnlyWithIt) {
   const std::string remote = cyclone_config_xml(agent);
   EXPECT_EQ(remote.find("127.0.0.1"), std::string::npos);
   EXPECT_NE(remote.find("10.0.0.5:8110"), std::string::npos);
+}
+
+TEST(RobotBlock, IdsMustFitIn32Bits) {
+  using swarmform::dds::block_ids_fit;
+  EXPECT_TRUE(block_ids_fit(0, swarmform::dds::kMaxRobotBlock));
+  EXPECT_TRUE(block_ids_fit(UINT32_MAX, 1));
+  EXPECT_TRUE(block_ids_fit(UINT32_MAX - 3, 4));
+  EXPECT_FALSE(block_ids_fit(UINT32_MAX - 3, 5));
+  EXPECT_FALSE(block_ids_fit(UINT32_MAX, 2));
+  EXPECT_FALSE(block_ids_fit(5, 0));
 }
 
 TEST(CycloneConfig, RetransmissionsArePackedIntoFullSizeMessagesOnEveryProcess) {
