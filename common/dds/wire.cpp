@@ -71,10 +71,9 @@ Entity make_reader(dds_entity_t parent, dds_entity_t topic, Channel channel,
 // Registers the instance of `key` with `writer` for the writer's lifetime. Cyclone keeps an instance in its
 // key map only while something holds it: an unregistered instance whose sample has left the writer's history
 // (at once for best effort, on acknowledgement for reliable) is removed after the write, and its memory goes
-// to the domain's gc thread through a request, which wakes that thread when its queue was empty. So each
-// write allocated, hashed and freed the instance, and the first write of each publish phase woke a thread
-// that preempted the world's (perf: 173 of its preemptions in a 256-agent run, BENCHMARKS.md). A registered
-// instance stays, so a write finds it in place.
+// to the domain's gc thread through a request. So each write allocated, hashed and freed the instance, and
+// queued work for a thread whose wake-ups preempted the world's in its publish phase (perf: 173 of its
+// preemptions in a 256-agent run, BENCHMARKS.md). A registered instance stays, so a write finds it in place.
 void keep_instance(dds_entity_t writer, const void* key) {
   dds_instance_handle_t handle = 0;
   check(dds_register_instance(writer, &handle, key), "dds_register_instance");
