@@ -41,6 +41,16 @@ ThreadClock thread_clock() {
   return c;
 }
 
+// "3 7 12": robot ids for a message.
+std::string ids_text(const std::vector<RobotId>& ids) {
+  std::string out;
+  for (RobotId id : ids) {
+    if (!out.empty()) out += ' ';
+    out += std::to_string(id);
+  }
+  return out;
+}
+
 // Observers get the world state at most this often (it is for viewers; agents never read it).
 constexpr dds_duration_t kStatePeriod = DDS_MSECS(50);
 // connect_agents, once every claim is in but a packet writer has not matched its reader yet.
@@ -123,37 +133,26 @@ bool Server::connect_agents() {
     // the run starts once every writer has its reader too; matching raises no event the waiter sees, so
     // this last stretch is polled.
     const bool claimed = registry_.connected_count() == n;
-    if (claimed && every_reader_matched()) {
+    if (claimed && unmatched_robots().empty()) {
       std::printf("connected agents=%zu seconds=%.2f\n", n, to_s(dds_time() - begin));
       std::fflush(stdout);
       return true;
     }
     if (stopping()) return false;
     const dds_time_t now = dds_time();
-    if (now >= deadline || now >= next_report) {
-      std::string who;
-      for (RobotId id : registry_.missing()) {
-        if (!who.empty()) who += ' ';
-        who += std::to_string(id);
+    if (now >= deadline) {
+      if (claimed) {
+        std::cerr << "world_server: every agent claimed its id, but these robots' packet writers matched no "
+                     "reader within "
+                  << options_.connect_timeout_s << " s: " << ids_text(unmatched_robots()) << "\n";
+      } else {
+        std::cerr << "world_server: " << n - registry_.connected_count() << " of " << n
+                  << " agents missing after " << options_.connect_timeout_s
+                  << " s: " << ids_text(registry_.missing()) << "\n";
       }
-      if (now >= deadline) {
-        if (claimed) {
-          std::string unmatched;
-          for (std::size_t i = 0; i < n; ++i) {
-            if (link_.robots.reader_matched(static_cast<RobotId>(i))) continue;
-            if (!unmatched.empty()) unmatched += ' ';
-            unmatched += std::to_string(i);
-          }
-          std::cerr
-              << "world_server: every agent claimed its id, but these robots' packet writers matched no "
-                 "reader within "
-              << options_.connect_timeout_s << " s: " << unmatched << "\n";
-        } else {
-          std::cerr << "world_server: " << n - registry_.connected_count() << " of " << n
-                    << " agents missing after " << options_.connect_timeout_s << " s: " << who << "\n";
-        }
-        return false;
-      }
+      return false;
+    }
+    if (now >= next_report) {
       std::cout << "connecting " << registry_.connected_count() << "/" << n << std::endl;
       next_report = now + DDS_SECS(5);
     }
@@ -163,11 +162,13 @@ bool Server::connect_agents() {
   }
 }
 
-bool Server::every_reader_matched() const {
+std::vector<RobotId> Server::unmatched_robots() const {
+  std::vector<RobotId> out;
   for (std::size_t i = 0; i < scenario_.robots.size(); ++i) {
-    if (!link_.robots.reader_matched(static_cast<RobotId>(i))) return false;
+    const auto id = static_cast<RobotId>(i);
+    if (!link_.robots.reader_matched(id)) out.push_back(id);
   }
-  return true;
+  return out;
 }
 
 // ---- the DDS side, whenever the server wakes --------------------------------------------------------------

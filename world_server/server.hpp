@@ -47,7 +47,7 @@ class Server {
 
  private:
   bool connect_agents();
-  bool every_reader_matched() const;  // every robot's packet writer has matched a reader
+  std::vector<RobotId> unmatched_robots() const;  // robots whose packet writer has matched no reader yet
   void run_lockstep();
   void run_realtime();
 

@@ -127,6 +127,12 @@ std::string robot_partition(RobotId id) {
   return "robot/" + std::to_string(id);
 }
 
+bool writer_matched(dds_entity_t writer) {
+  dds_publication_matched_status_t st{};
+  check(dds_get_publication_matched_status(writer, &st), "dds_get_publication_matched_status");
+  return st.current_count > 0;
+}
+
 // ---- Participant
 // -------------------------------------------------------------------------------------------
 
@@ -359,10 +365,7 @@ void RobotChannels::reply_claim(const ClaimAnswer& a) {
 }
 
 bool RobotChannels::reader_matched(RobotId id) const {
-  dds_publication_matched_status_t st{};
-  check(dds_get_publication_matched_status(impl_->robots.at(id).sensor.get(), &st),
-        "dds_get_publication_matched_status");
-  return st.current_count > 0;
+  return writer_matched(impl_->robots.at(id).sensor.get());
 }
 
 bool RobotChannels::holds_instance(RobotId id) const {

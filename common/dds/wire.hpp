@@ -29,6 +29,8 @@ namespace swarmform::dds {
 using PublicationHandle = std::uint64_t;  // dds_instance_handle_t of a remote writer, as a reader sees it
 
 std::string robot_partition(RobotId id);  // "robot/<id>"
+// True once `writer` has matched at least one reader (before that, what it writes goes to nobody).
+bool writer_matched(dds_entity_t writer);
 
 // The domain (created from cyclone_config_xml), the participant and the five topics.
 class Participant {

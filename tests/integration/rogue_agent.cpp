@@ -35,12 +35,7 @@ int spoof(dds::Participant& participant, RobotId target, double timeout_s) {
   const dds_time_t deadline = after(timeout_s);
   // Ready once the world's command reader is matched (its state writer is announced with it): the test
   // starts the run's agents only then, or a short lockstep run could end before the spoofer has joined.
-  for (;;) {
-    dds_publication_matched_status_t matched{};
-    if (dds_get_publication_matched_status(commands.get(), &matched) == DDS_RETCODE_OK &&
-        matched.current_count > 0) {
-      break;
-    }
+  while (!dds::writer_matched(commands.get())) {
     if (dds_time() >= deadline) return 3;
     waiter.wait_until(std::min(deadline, after(0.05)));
   }
