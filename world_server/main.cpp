@@ -34,6 +34,7 @@ struct Options {
   std::vector<std::string> kills;
   std::vector<std::string> agent_pids;
   double connect_timeout_s = 60.0;
+  Tick warmup_ticks = 100;
   bool check = false;
 };
 
@@ -92,6 +93,7 @@ int run(const Options& o) {
   so.dds.role = swarmform::dds::Role::World;
   so.dds.interface_address = o.interface_address;
   so.connect_timeout_s = o.connect_timeout_s;
+  so.warmup_ticks = o.warmup_ticks;
   for (const std::string& p : o.agent_pids) {
     const auto [id, pid] = split_pair("--agent-pid", p, '=');
     if (pid == 0 || pid > 4194304) throw std::invalid_argument("--agent-pid " + p + ": not a process id");
@@ -125,6 +127,10 @@ int main(int argc, char** argv) {
   app.add_option("--agent-pid", o.agent_pids, "ID=PID: the process of agent ID, for --kill");
   app.add_option("--connect-timeout", o.connect_timeout_s, "seconds to wait for every agent (default 60)")
       ->check(CLI::PositiveNumber);
+  app.add_option("--warmup-ticks", o.warmup_ticks,
+                 "ticks left out of summary.json's steady_ticks_per_second (default 100; the first ticks of "
+                 "freshly started agents are slower)")
+      ->check(CLI::Range(Tick{0}, Tick{1000000000}));
   app.add_flag("--check", o.check, "load and validate the scenario, print a JSON line, exit");
   try {
     app.parse(argc, argv);

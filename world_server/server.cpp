@@ -91,15 +91,18 @@ int Server::run() {
     return stopping() ? kExitOk : kExitAgentsMissing;
   }
   start_ = last_progress_ = dds_time();
+  if (options_.warmup_ticks == 0) steady_start_ = start_;
   if (scenario_.mode == world::Mode::Lockstep) {
     run_lockstep();
   } else {
     run_realtime();
   }
-  const double wall = to_s(dds_time() - start_);
+  const dds_time_t end = dds_time();
+  const double wall = to_s(end - start_);
   announce_end();
   progress(true);
-  session_.finish(wall);
+  session_.finish(
+      wall, world::SteadyWindow{options_.warmup_ticks, steady_start_ ? to_s(end - steady_start_) : 0.0});
   if (stopping())
     std::cerr << "world_server: stopped by signal " << signals_.signal() << ", summary written\n";
   if (profile_.rounds > 0) {
@@ -339,6 +342,7 @@ bool Server::end_round() {
     link_.state.publish(world_.tick(), false, alive, rows_);
     last_state_ = now;
   }
+  if (world_.tick() == options_.warmup_ticks) steady_start_ = now;
   progress(false);
   profile_.step += t1 - t0;
   profile_.record += dds_time() - t1;

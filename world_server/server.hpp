@@ -30,6 +30,7 @@ struct ServerOptions {
   dds::DdsSettings dds;                 // role World
   double connect_timeout_s = 60.0;      // every agent must have claimed its id by then
   std::map<RobotId, pid_t> agent_pids;  // for --kill: the world SIGKILLs these processes
+  Tick warmup_ticks = 100;              // left out of summary.json's steady_ticks_per_second
 };
 
 // Exit codes of a run.
@@ -87,6 +88,7 @@ class Server {
   std::map<RobotId, dds_time_t> kill_sent_;  // wall time of a SIGKILL, to report the detection delay
 
   dds_time_t start_ = 0;
+  dds_time_t steady_start_ = 0;  // the end of tick options_.warmup_ticks; 0 until then
   dds_time_t last_progress_ = 0;
   Tick last_progress_tick_ = 0;
   dds_time_t last_state_ = 0;

@@ -51,6 +51,9 @@ class BenchScript(unittest.TestCase):
         self.assertEqual([r["robots"] for r in rows], [4, 8])
         for r in rows:
             self.assertTrue(positive(r["emulator_ticks_per_second"]) and positive(r["bare_rounds_per_second"]))
+            self.assertTrue(positive(r["emulator_whole_run_ticks_per_second"]))
+            self.assertEqual(len(r["pair_ratios"]), 2)  # --quick runs two pairs; the median one is reported
+            self.assertIn(r["ratio"], r["pair_ratios"])
             self.assertAlmostEqual(r["ratio"], r["emulator_ticks_per_second"] / r["bare_rounds_per_second"],
                                    delta=0.01 * r["ratio"] + 0.002)
 

@@ -122,6 +122,15 @@ class MultiProcess : public swarmform::testing::ProcessFixture {
     EXPECT_EQ(s["ticks"], 300);
     EXPECT_EQ(s["robots"], kRobots);
     EXPECT_EQ(s["alive_at_end"], kRobots);
+    // The steady rate leaves out the default 100 warm-up ticks: its 200 ticks took part of the run's wall
+    // time.
+    EXPECT_EQ(s["steady_from_tick"], 100);
+    EXPECT_TRUE(s["steady_ticks_per_second"].is_number()) << s.dump();
+    if (s["steady_ticks_per_second"].is_number()) {
+      const double steady_seconds = 200.0 / s["steady_ticks_per_second"].get<double>();
+      EXPECT_GT(steady_seconds, 0.0);
+      EXPECT_LT(steady_seconds, s["wall_seconds"].get<double>());
+    }
     EXPECT_EQ(events_of(run, "agent_connected").size(), static_cast<std::size_t>(kRobots));
     return s.value("trajectory_sha256", "");
   }

@@ -209,6 +209,8 @@ TEST(Recording, SummaryHasEveryKeyNullWhereNotReached) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
   EXPECT_EQ(j["ticks_per_second"], 50.0);
+  EXPECT_EQ(j["steady_from_tick"], 0);
+  EXPECT_TRUE(j["steady_ticks_per_second"].is_null());  // no steady window measured
   EXPECT_EQ(j["alive_at_end"], 3);
   EXPECT_EQ(j["formation_tick"], 40);
   EXPECT_TRUE(j["goal_tick"].is_null());
@@ -222,6 +224,30 @@ TEST(Recording, SummaryHasEveryKeyNullWhereNotReached) {
   const std::string text = summary_text(with_series);
   EXPECT_EQ(nlohmann::ordered_json::parse(text), with_series);
   EXPECT_NE(text.find("\"distortion\": [[40,0.05],[41,0.0625]]"), std::string::npos) << text;
+}
+
+TEST(Recording, SummarySteadyRateLeavesTheWarmupTicksOut) {
+  const Scenario s = small_scenario();
+  const auto robots = robots_at(3);
+  Metrics m;
+  SummaryInputs in;
+  in.scenario = &s;
+  in.mode = "lockstep";
+  in.ticks = 700;
+  in.wall_seconds = 3.0;
+  in.robots = &robots;
+  in.metrics = &m;
+  in.steady = SteadyWindow{100, 2.4};  // 600 ticks in the last 2.4 s
+  auto j = make_summary(in);
+  EXPECT_EQ(j["steady_from_tick"], 100);
+  EXPECT_DOUBLE_EQ(j["steady_ticks_per_second"].get<double>(), 250.0);
+  EXPECT_DOUBLE_EQ(j["ticks_per_second"].get<double>(), 700 / 3.0);  // the whole run's, unchanged
+
+  in.ticks = 100;  // the run ended at the warm-up's last tick: nothing to measure
+  EXPECT_TRUE(make_summary(in)["steady_ticks_per_second"].is_null());
+  in.ticks = 700;
+  in.steady.seconds = 0.0;  // never reached
+  EXPECT_TRUE(make_summary(in)["steady_ticks_per_second"].is_null());
 }
 
 TEST(Sha256, StandardVectorsAndIncrementalUse) {

@@ -98,6 +98,12 @@ ojson make_summary(const SummaryInputs& in) {
   j["wall_seconds"] = in.wall_seconds;
   j["ticks_per_second"] = timed ? ojson(tps) : ojson(nullptr);
   j["robot_ticks_per_second"] = timed ? ojson(tps * static_cast<double>(in.robots->size())) : ojson(nullptr);
+  const bool steady =
+      in.steady.seconds > 0.0 && std::isfinite(in.steady.seconds) && in.ticks > in.steady.from_tick;
+  j["steady_from_tick"] = in.steady.from_tick;
+  j["steady_ticks_per_second"] =
+      steady ? ojson(static_cast<double>(in.ticks - in.steady.from_tick) / in.steady.seconds)
+             : ojson(nullptr);
   j["alive_at_end"] = alive;
   j["deaths"] = deaths_json(m.deaths);
   j["rejoins"] = deaths_json(m.rejoins);

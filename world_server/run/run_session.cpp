@@ -153,12 +153,13 @@ std::string RunSession::trajectory_sha256() const {
   return impl_->sha.hex_digest();
 }
 
-std::string RunSession::finish(double wall_seconds) {
+std::string RunSession::finish(double wall_seconds, const SteadyWindow& steady) {
   SummaryInputs in;
   in.scenario = &impl_->world.scenario();
   in.mode = impl_->options.mode;
   in.ticks = impl_->last_recorded_tick;
   in.wall_seconds = wall_seconds;
+  in.steady = steady;
   in.robots = &impl_->world.robots();
   in.metrics = &impl_->tracker.metrics();
   in.trajectory_sha256 = trajectory_sha256();

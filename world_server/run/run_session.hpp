@@ -11,6 +11,7 @@
 
 #include "common/types.hpp"
 #include "world_server/run/metrics.hpp"
+#include "world_server/run/recording_format.hpp"
 #include "world_server/world/world.hpp"
 
 namespace swarmform::world {
@@ -44,9 +45,10 @@ class RunSession {
 
   const Metrics& metrics() const;
 
-  // Writes summary.json (the metrics plus robots, seed, mode, ticks, wall_seconds, ticks_per_second,
-  // alive_at_end, trajectory_sha256) and closes the recording. Returns the summary as JSON text.
-  std::string finish(double wall_seconds);
+  // Writes summary.json (the metrics plus robots, seed, mode, ticks, wall_seconds, ticks_per_second, the
+  // steady rate when `steady` was measured, alive_at_end, trajectory_sha256) and closes the recording.
+  // Returns the summary as JSON text.
+  std::string finish(double wall_seconds, const SteadyWindow& steady = {});
 
   // SHA-256 over the recorded poses so far (bit patterns of x, y, theta of every robot every tick).
   std::string trajectory_sha256() const;
