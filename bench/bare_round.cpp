@@ -23,8 +23,16 @@ namespace {
 
 using namespace swarmform;
 
-int run_world(std::uint32_t robots, std::uint32_t rounds, std::uint32_t warmup, std::uint32_t domain,
-              double timeout_s, dds::SignalWatch& signals) {
+// What each packet carries (world) and each reply (robot). By default a few neighbours' 4-byte messages and
+// an empty reply.
+struct Payload {
+  std::uint32_t readings = 4;       // world: neighbours' messages in each packet
+  std::uint32_t message_bytes = 4;  // world: bytes of each of them
+  std::uint32_t reply_bytes = 0;    // robot: bytes of the message in its Command
+};
+
+int run_world(std::uint32_t robots, std::uint32_t rounds, std::uint32_t warmup, const Payload& payload,
+              std::uint32_t domain, double timeout_s, dds::SignalWatch& signals) {
   dds::DdsSettings settings;
   settings.domain = domain;
   settings.role = dds::Role::World;
@@ -57,10 +65,12 @@ int run_world(std::uint32_t robots, std::uint32_t rounds, std::uint32_t warmup, 
     }
   }
 
-  // A packet as the random walk's: pose, ultrasonics and a few neighbours' 4-byte messages.
+  // A packet: pose, ultrasonics and `payload.readings` neighbours' messages.
   Perception p;
   p.ultrasonic.fill(2.0);
-  for (RobotId k = 0; k < 4; ++k) p.messages.push_back(RabReading{k, 1.0, 0.5, {0, 0, 0, 0}});
+  for (RobotId k = 0; k < payload.readings; ++k) {
+    p.messages.push_back(RabReading{k, 1.0, 0.5, std::vector<std::uint8_t>(payload.message_bytes, 0)});
+  }
 
   dds_time_t start = 0;
   for (std::uint32_t round = 0; round < warmup + rounds; ++round) {
@@ -91,7 +101,8 @@ int run_world(std::uint32_t robots, std::uint32_t rounds, std::uint32_t warmup, 
   return 0;
 }
 
-int run_robot(RobotId id, std::uint32_t domain, double timeout_s, dds::SignalWatch& signals) {
+int run_robot(RobotId id, const Payload& payload, std::uint32_t domain, double timeout_s,
+              dds::SignalWatch& signals) {
   dds::DdsSettings settings;
   settings.domain = domain;
   settings.role = dds::Role::Agent;
@@ -108,6 +119,7 @@ int run_robot(RobotId id, std::uint32_t domain, double timeout_s, dds::SignalWat
   dds_time_t resend = 0;
   const dds_time_t give_up = dds_time() + static_cast<dds_duration_t>(timeout_s * 1e9);
   Command reply;
+  reply.message.assign(payload.reply_bytes, 0);
   for (;;) {
     if (signals.stop_requested()) return 130;
     if (inbox.take_packet(packet, foreign)) {
@@ -143,9 +155,20 @@ int main(int argc, char** argv) {
   world->add_option("--robots", robots, "robot processes to wait for")->check(CLI::Range(1u, 1024u));
   world->add_option("--rounds", rounds, "measured rounds")->check(CLI::Range(1u, 100000000u));
   world->add_option("--warmup", warmup, "rounds before measuring");
+  Payload payload;
+  world->add_option("--readings", payload.readings, "neighbours' messages in each packet (default 4)")
+      ->check(CLI::Range(0u, 1000u));
+  world->add_option("--message-bytes", payload.message_bytes, "bytes of each neighbour's message (default 4)")
+      ->check(CLI::Range(0u, 65536u));
   auto* robot = app.add_subcommand("robot", "one robot");
   std::uint32_t id = 0;
   robot->add_option("--id", id, "robot id")->required();
+  robot
+      ->add_option(
+          "--reply-bytes", payload.reply_bytes,
+          "bytes of the message in each reply (default 0). Against world_server the world delivers it "
+          "to the neighbours in range, as a robot's broadcast")
+      ->check(CLI::Range(0u, 65536u));
   std::uint32_t count = 1;
   robot
       ->add_option("--count", count,
@@ -172,7 +195,7 @@ int main(int argc, char** argv) {
           [&](std::uint32_t one) {
             try {
               dds::SignalWatch signals;
-              return run_robot(one, domain, timeout_s, signals);
+              return run_robot(one, payload, domain, timeout_s, signals);
             } catch (const std::exception& e) {
               std::cerr << "bare_round: " << e.what() << "\n";
               return 1;
@@ -186,8 +209,8 @@ int main(int argc, char** argv) {
   }
   try {
     dds::SignalWatch signals;
-    if (world->parsed()) return run_world(robots, rounds, warmup, domain, timeout_s, signals);
-    return run_robot(id, domain, timeout_s, signals);
+    if (world->parsed()) return run_world(robots, rounds, warmup, payload, domain, timeout_s, signals);
+    return run_robot(id, payload, domain, timeout_s, signals);
   } catch (const std::exception& e) {
     std::cerr << "bare_round: " << e.what() << "\n";
     return 1;

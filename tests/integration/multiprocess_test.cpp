@@ -32,6 +32,7 @@ constexpr double kRunDeadline = 60.0;  // s, for one whole run (it takes ~2 s)
 const std::string kWorld = WORLD_SERVER_EXE;
 const std::string kAgent = ROBOT_AGENT_EXE;
 const std::string kRogue = ROGUE_AGENT_EXE;
+const std::string kBare = BARE_ROUND_EXE;
 const std::string kScenario = INTEGRATION_SCENARIO;
 
 class MultiProcess : public swarmform::testing::ProcessFixture {
@@ -340,6 +341,31 @@ TEST_F(MultiProcess, StoppingOrKillingAnAgentBlockStopsEveryRobotInIt) {
     EXPECT_EQ(block.wait_for(10.0), 128 + sig) << block.err();
     for (const auto& [id, pid] : pids) {
       EXPECT_TRUE(eventually(10.0, [pid = pid] { return not_running(pid); })) << "robot " << id << " " << tag;
+    }
+  }
+}
+
+// bench/bare_round's robots stand in for agents against the real world (how BENCHMARKS.md splits P1's gap
+// between the world and the agents): they claim, answer every packet, and their --reply-bytes message reaches
+// the world. 2000 bytes is over the scenario's max_message_bytes (1024), so every command is then counted as
+// not taken as it came; 50 bytes (the random walk's broadcast) is within it.
+TEST_F(MultiProcess, BareRoundRobotsAnswerTheRealWorldWithTheirReplyMessage) {
+  const int domain = kDomainBase + 14;
+  for (const auto& [bytes, oversize] : {std::pair{"50", false}, std::pair{"2000", true}}) {
+    const std::string run = std::string("bare-") + bytes;
+    Process& robots = start({kBare, "--domain", std::to_string(domain), "--timeout", "30", "robot", "--id",
+                             "0", "--count", "4", "--reply-bytes", bytes},
+                            run + "-robots");
+    Process& w = world(domain, run, {"--robots", "4", "--max-ticks", "40"});
+    ASSERT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+    EXPECT_EQ(robots.wait_for(10.0), 0) << robots.err();
+    const Json s = summary(run);
+    EXPECT_EQ(s["ticks"], 40);
+    EXPECT_EQ(s["alive_at_end"], 4);
+    if (oversize) {
+      EXPECT_GE(s["command_verdicts"].get<int>(), 4 * 40) << s.dump();
+    } else {
+      EXPECT_EQ(s["command_verdicts"], 0) << s.dump();
     }
   }
 }
