@@ -168,6 +168,20 @@ TEST(Recording, WorldJsonHasTheDocumentedFields) {
   EXPECT_EQ(j["shape"]["cells"].size(), 4u);
 }
 
+// A lockstep run's summary inputs: `ticks` ticks in `wall_seconds`, the rest pointing at the caller's
+// objects.
+SummaryInputs lockstep_inputs(const Scenario& s, const std::vector<RobotTruth>& robots, const Metrics& m,
+                              Tick ticks, double wall_seconds) {
+  SummaryInputs in;
+  in.scenario = &s;
+  in.mode = "lockstep";
+  in.ticks = ticks;
+  in.wall_seconds = wall_seconds;
+  in.robots = &robots;
+  in.metrics = &m;
+  return in;
+}
+
 TEST(Recording, SummaryHasEveryKeyNullWhereNotReached) {
   const Scenario s = small_scenario();
   const auto robots = robots_at(3);
@@ -175,13 +189,7 @@ TEST(Recording, SummaryHasEveryKeyNullWhereNotReached) {
   m.formation_tick = 40;
   m.shape_error_at_formation = 0.05;
   m.deaths.push_back({2, 7});
-  SummaryInputs in;
-  in.scenario = &s;
-  in.mode = "lockstep";
-  in.ticks = 100;
-  in.wall_seconds = 2.0;
-  in.robots = &robots;
-  in.metrics = &m;
+  SummaryInputs in = lockstep_inputs(s, robots, m, 100, 2.0);
   in.trajectory_sha256 = std::string(64, 'a');
   const auto j = make_summary(in);
   for (const char* key : {"robots",
@@ -229,14 +237,8 @@ TEST(Recording, SummaryHasEveryKeyNullWhereNotReached) {
 TEST(Recording, SummarySteadyRateLeavesTheWarmupTicksOut) {
   const Scenario s = small_scenario();
   const auto robots = robots_at(3);
-  Metrics m;
-  SummaryInputs in;
-  in.scenario = &s;
-  in.mode = "lockstep";
-  in.ticks = 700;
-  in.wall_seconds = 3.0;
-  in.robots = &robots;
-  in.metrics = &m;
+  const Metrics m;
+  SummaryInputs in = lockstep_inputs(s, robots, m, 700, 3.0);
   in.steady = SteadyWindow{100, 2.4};  // 600 ticks in the last 2.4 s
   auto j = make_summary(in);
   EXPECT_EQ(j["steady_from_tick"], 100);

@@ -19,10 +19,8 @@ inline constexpr int kRecordingVersion = 1;
 // "in-process".
 nlohmann::ordered_json describe_world(const Scenario& scenario, const std::string& mode);
 
-// The steady part of a run's wall clock: the time after its first `from_tick` ticks. A run's first ticks
-// are slower than the rest (freshly started agents touch their memory for the first time: at N = 64 in
-// lockstep the first 100 ticks ran at ~205 ticks/s, the next 600 at ~300), so a rate to compare with another
-// (bench-lockstep against bare_round, which also leaves out its first rounds) is taken after them.
+// The steady part of a run's wall clock: the time after its first `from_tick` ticks, which are slower than
+// the rest (world_server --warmup-ticks says why). bench-lockstep compares this rate with bare_round's.
 struct SteadyWindow {
   Tick from_tick = 0;
   double seconds = 0.0;  // wall time from the end of tick from_tick to the end of the run; 0: not measured
