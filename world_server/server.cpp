@@ -65,8 +65,10 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
       world_(scenario),
       session_(world_, world::RunOptions{options_.run_dir, std::string(world::to_string(scenario.mode))}),
       registry_(scenario.robots.size()),
-      link_(options_.dds, scenario.robots.size(), scenario.mode == world::Mode::Realtime) {
+      link_(options_.dds, scenario.robots.size(), scenario.mode == world::Mode::Realtime),
+      late_(scenario.robots.size()) {
   const std::size_t n = scenario.robots.size();
+  written_at_.assign(n, 0);
   latest_.resize(n);
   latest_tick_.assign(n, 0);
   fresh_.assign(n, 0);
@@ -116,7 +118,10 @@ int Server::run() {
         static_cast<double>(profile_.collect) / r, static_cast<double>(profile_.step) / r,
         static_cast<double>(profile_.record) / r, static_cast<unsigned long long>(profile_.rounds));
   }
-  if (missed_ticks_ > 0) std::cerr << "world_server: " << missed_ticks_ << " missed ticks (see events)\n";
+  if (missed_ticks_ > 0) {
+    std::cerr << "world_server: " << missed_ticks_ << " missed ticks (see events); " << late_.summary()
+              << "\n";
+  }
   std::cout << "done ticks=" << world_.tick() << " run_dir=" << options_.run_dir << std::endl;
   return kExitOk;
 }
@@ -230,6 +235,18 @@ void Server::on_command(const dds::CommandSample& s) {
   }
   const RobotId id = s.robot_id;
   const Tick now = world_.tick();
+  if (scenario_.mode == world::Mode::Realtime && s.tick < now) {
+    if (const auto late = late_.arrived(id, s.tick, s.sent_at, dds_time())) {
+      char detail[256];
+      std::snprintf(
+          detail, sizeof detail,
+          "tick %llu: packet written %.1f ms into the round, answered %.1f ms after it, transit %.1f "
+          "ms; received %.1f ms after the deadline",
+          static_cast<unsigned long long>(s.tick), late->written_ms, late->answered_ms, late->transit_ms,
+          late->late_ms);
+      session_.record_event(id, "late_command", detail);
+    }
+  }
   // Lockstep takes only this round's command; realtime takes the newest, however old (a slow agent acts on
   // stale data, as a real robot would).
   const bool usable = scenario_.mode == world::Mode::Lockstep ? s.tick == now : s.tick <= now;
@@ -286,6 +303,7 @@ void Server::on_regained(dds::PublicationHandle writer, bool running) {
 void Server::begin_round() {
   const ThreadClock c0 = thread_clock();
   const dds_time_t t0 = dds_time();
+  round_start_ = t0;
   const Tick t = world_.tick();
   for (auto [it, end] = kills_.equal_range(t); it != end; ++it) {
     const RobotId id = it->second;
@@ -312,7 +330,10 @@ void Server::begin_round() {
     const bool live = world_.alive(id) && registry_.connected(id);
     waiting_[i] = live ? 1 : 0;
     waiting_count_ += live ? 1 : 0;
-    if (live) link_.robots.write_packet(id, dds::PacketStatus::Run, world_.perception(id));
+    if (live) {
+      link_.robots.write_packet(id, dds::PacketStatus::Run, world_.perception(id));
+      written_at_[i] = dds_time();
+    }
   }
   profile_.publish += dds_time() - t0;
   const ThreadClock c1 = thread_clock();
@@ -393,6 +414,7 @@ void Server::run_realtime() {
     for (std::size_t i = 0; i < waiting_.size(); ++i) {
       if (!waiting_[i]) continue;
       ++missed_ticks_;
+      late_.missed(static_cast<RobotId>(i), world_.tick(), round_start_, written_at_[i], next);
       session_.record_event(static_cast<RobotId>(i), "missed_tick",
                             "no command for tick " + std::to_string(world_.tick()) + " before the next tick");
     }

@@ -19,6 +19,7 @@
 #include "common/dds/signal_watch.hpp"
 #include "world_server/agent_registry.hpp"
 #include "world_server/dds_bridge.hpp"
+#include "world_server/late_commands.hpp"
 #include "world_server/run/run_session.hpp"
 #include "world_server/world/scenario.hpp"
 #include "world_server/world/world.hpp"
@@ -93,6 +94,11 @@ class Server {
   Tick last_progress_tick_ = 0;
   dds_time_t last_state_ = 0;
   std::uint64_t missed_ticks_ = 0;
+  // Realtime: when this round started and each robot's packet went out, and where a missed command's time
+  // went.
+  dds_time_t round_start_ = 0;
+  std::vector<dds_time_t> written_at_;
+  LateCommands late_;
 
   // Where a round's wall time goes (printed on stderr at the end; issue 6 P1's first question).
   struct Profile {

@@ -25,6 +25,9 @@ What it measures, in one run:
   achieved_ticks_per_second  ticks / wall time from the run's summary.json;
   ticks_with_a_miss, most_misses_in_one_tick  how the misses fell: a few ticks with many agents each (a late
                     publish phase) or one here and there;
+  late_commands     for the commands that came in after their tick (null if none): how many, how many were
+                    sent after the deadline already, and median / max of when their packet was written in
+                    the round, how long the agent took to answer it, and the transit (world's own line);
   world_publish_per_round  the world's own profile line: the publish phase's wall time, its main thread's CPU
                     time in it and its preemptions, per round;
   udp_receive_buffer_errors  datagrams the kernel dropped on full UDP receive buffers during the run
@@ -140,6 +143,20 @@ def publish_phase(err):
         return None
     return {"wall_ms": round(float(m.group(1)) / 1e3, 3), "on_cpu_ms": round(float(m.group(2)) / 1e3, 3),
             "preempted": float(m.group(3))}
+
+
+def late_commands(err):
+    """Where the late commands' time went, from the world's missed-ticks line (world_server/late_commands.hpp):
+    count, how many were sent after the deadline, and median / max ms of each part; None without late ones."""
+    m = re.search(r"(\d+) late commands \((\d+) sent after the deadline\): packet written ([0-9.]+) ms \(median; "
+                  r"max ([0-9.]+)\) into the round, answered ([0-9.]+) ms \(median; max ([0-9.]+)\) after it, "
+                  r"transit ([0-9.]+) ms \(median; max ([0-9.]+)\)", err)
+    if not m:
+        return None
+    v = [float(x) for x in m.groups()]
+    return {"count": int(v[0]), "sent_after_deadline": int(v[1]),
+            "written_ms": {"median": v[2], "max": v[3]}, "answered_ms": {"median": v[4], "max": v[5]},
+            "transit_ms": {"median": v[6], "max": v[7]}}
 
 
 def read_world(world, lines, first_progress):
@@ -290,6 +307,7 @@ def main():
                 "ticks_with_a_miss": len(missed_by_tick),
                 "most_misses_in_one_tick": max(missed_by_tick.values(), default=0),
                 "world_publish_per_round": publish_phase(err),
+                "late_commands": late_commands(err),
                 # Machine-wide, start to end of the run: the world's discovery socket overflows while 256
                 # agents discover it (BENCHMARKS.md, P2); other processes' drops count too.
                 "udp_receive_buffer_errors": (drops1 - drops0) if drops0 is not None and drops1 is not None

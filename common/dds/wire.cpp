@@ -644,6 +644,7 @@ std::size_t CommandReader::take(std::vector<CommandSample>& buf) {
       c.nonce = s.nonce;
       c.pid = s.pid;
       c.writer = infos[i].publication_handle;
+      c.sent_at = infos[i].source_timestamp;
       c.command.left_speed = s.left_speed;
       c.command.right_speed = s.right_speed;
       assign_octets(c.command.message, s.message);

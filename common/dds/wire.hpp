@@ -183,6 +183,7 @@ struct CommandSample {
   std::uint32_t pid = 0;
   Command command;
   PublicationHandle writer = 0;  // who sent it (the identity)
+  std::int64_t sent_at = 0;      // the writer's source timestamp (ns, dds_time() on the sender's host)
 };
 
 class CommandWriter {

@@ -68,6 +68,10 @@ class BenchScript(unittest.TestCase):
         self.assertGreaterEqual(p2["cpu_percent_of_one_core"]["agents_total"], 0)
         self.assertLessEqual(p2["ticks_with_a_miss"], p2["missed_ticks"])
         self.assertLessEqual(p2["most_misses_in_one_tick"], 8)
+        late = p2["late_commands"]  # None when no command came in after its tick
+        if late is not None:
+            self.assertLessEqual(late["sent_after_deadline"], late["count"])
+            self.assertGreaterEqual(late["answered_ms"]["max"], late["answered_ms"]["median"])
         pub = p2["world_publish_per_round"]  # parsed from the world's profile line: None if it changed shape
         self.assertTrue(positive(pub["wall_ms"]) and 0 <= pub["on_cpu_ms"] <= pub["wall_ms"] * 1.05 + 0.05)
         self.assertGreaterEqual(pub["preempted"], 0)

@@ -370,6 +370,34 @@ TEST_F(MultiProcess, BareRoundRobotsAnswerTheRealWorldWithTheirReplyMessage) {
   }
 }
 
+// Realtime at 10 ticks/s: robot 1's agent answers each packet 150 ms after taking it, so its commands miss
+// their ticks and come in during a later one. The world counts the misses and, for each late command, says
+// where its time went (a late_command event and a summary on stderr): here the agent's answer, >= 150 ms.
+TEST_F(MultiProcess, RealtimeWorldTellsWhereALateCommandsTimeWent) {
+  const int domain = kDomainBase + 15;
+  Process& slow = start({kRogue, "--domain", std::to_string(domain), "--timeout", "30", "slow", "--id", "1",
+                         "--delay-ms", "150", "--realtime"},
+                        "slow");
+  Process& fine = agent(domain, 0, "late");
+  Process& w = world(domain, "late", {"--robots", "2", "--mode", "realtime", "--max-ticks", "30"});
+  ASSERT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_TRUE(slow.wait_for(10.0).has_value());
+  EXPECT_TRUE(fine.wait_for(10.0).has_value());
+  EXPECT_NE(w.err().find(" late commands ("), std::string::npos) << w.err();
+  const std::regex answered("answered ([0-9.]+) ms after it");
+  int slow_answers = 0;
+  for (const Json& e : events_of("late", "late_command")) {
+    if (e.value("id", -1) != 1) continue;
+    const std::string detail = e.value("detail", "");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(detail, m, answered)) << detail;
+    EXPECT_GE(std::stod(m[1].str()), 149.0) << detail;
+    ++slow_answers;
+  }
+  EXPECT_GE(slow_answers, 5) << "late commands of robot 1 in 30 ticks";
+  EXPECT_TRUE(has_event("late", "missed_tick", 1));
+}
+
 TEST_F(MultiProcess, CheckPrintsTheScenarioAndBadInputExitsTwo) {
   Process& ok = start({kWorld, "--scenario", kScenario, "--robots", "5", "--seed", "9", "--check"}, "check");
   EXPECT_EQ(ok.wait_for(15.0), 0) << ok.err();

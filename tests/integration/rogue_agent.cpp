@@ -8,13 +8,19 @@
 //   rogue_agent nan --id K --domain D [--timeout SEC]
 //       claims K as an agent would, then answers every packet with NaN wheel speeds and an oversize message.
 //       The world must reject/clamp and log them, and the run go on.
+//   rogue_agent slow --id K --delay-ms MS [--realtime] --domain D [--timeout SEC]
+//       claims K, then answers its newest packet MS after taking it (a standing command). In realtime mode
+//       (--realtime: best-effort endpoints, as the mission would say) a delay over the period makes every
+//       answer late: the world must count the misses and tell where the late commands' time went.
 //
-// Exits 0 when the world announces the end (nan) or finishes (spoof), 3 on --timeout.
+// Exits 0 when the world announces the end (nan, slow) or finishes (spoof), 3 on --timeout.
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <iostream>
 #include <limits>
+#include <thread>
 
 #include "common/dds/signal_watch.hpp"
 #include "common/dds/wire.hpp"
@@ -58,24 +64,18 @@ int spoof(dds::Participant& participant, RobotId target, double timeout_s) {
   return 3;
 }
 
-int nan_agent(dds::Participant& participant, RobotId id, double timeout_s) {
-  dds::Waiter waiter(participant);
-  dds::AgentInbox inbox(participant, id, waiter);
-  dds::CommandWriter commands(participant);
-  waiter.attach(inbox.packet_condition());
-  const dds_time_t deadline = after(timeout_s);
+// Claims `id` as an agent would (resent every second until answered): 0 once the world accepted it, 4 if it
+// refused, 3 at `deadline`.
+int claim_id(RobotId id, dds::AgentInbox& inbox, dds::CommandWriter& commands, dds::Waiter& waiter,
+             dds_time_t deadline) {
   const std::uint64_t nonce = 0x5eed0000u + id;
   dds_time_t resend = 0;
-  bool owned = false;
-  while (!owned) {
+  for (;;) {
     if (dds_time() >= deadline) return 3;
     if (auto a = inbox.take_claim_reply(); a && a->nonce == nonce) {
-      if (!a->accepted) {
-        std::cerr << "rogue_agent: refused: " << a->reason << "\n";
-        return 4;
-      }
-      owned = true;
-      break;
+      if (a->accepted) return 0;
+      std::cerr << "rogue_agent: refused: " << a->reason << "\n";
+      return 4;
     }
     if (dds_time() >= resend) {
       commands.claim(id, nonce, 0);
@@ -83,6 +83,15 @@ int nan_agent(dds::Participant& participant, RobotId id, double timeout_s) {
     }
     waiter.wait_until(std::min(deadline, resend));
   }
+}
+
+int nan_agent(dds::Participant& participant, RobotId id, double timeout_s) {
+  dds::Waiter waiter(participant);
+  dds::AgentInbox inbox(participant, id, waiter);
+  dds::CommandWriter commands(participant);
+  waiter.attach(inbox.packet_condition());
+  const dds_time_t deadline = after(timeout_s);
+  if (const int rc = claim_id(id, inbox, commands, waiter, deadline); rc != 0) return rc;
   Command bad;
   bad.left_speed = std::numeric_limits<double>::quiet_NaN();
   bad.right_speed = std::numeric_limits<double>::infinity();
@@ -112,6 +121,33 @@ int nan_agent(dds::Participant& participant, RobotId id, double timeout_s) {
   }
 }
 
+int slow_agent(dds::Participant& participant, RobotId id, int delay_ms, bool realtime, double timeout_s) {
+  dds::Waiter waiter(participant);
+  dds::AgentInbox inbox(participant, id, waiter, realtime);
+  dds::CommandWriter commands(participant, realtime);
+  waiter.attach(inbox.packet_condition());
+  const dds_time_t deadline = after(timeout_s);
+  if (const int rc = claim_id(id, inbox, commands, waiter, deadline); rc != 0) return rc;
+  const Command stand;  // zero wheel speeds, nothing said
+  dds::SensorSample packet;
+  std::uint64_t foreign = 0;
+  std::uint64_t sent = 0;
+  for (;;) {
+    if (inbox.take_packet(packet, foreign)) {
+      if (packet.status == dds::PacketStatus::End) {
+        std::cout << "slow sent=" << sent << std::endl;
+        return 0;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+      commands.step(id, packet.perception.tick, stand);
+      ++sent;
+      continue;
+    }
+    if (dds_time() >= deadline) return 3;
+    waiter.wait_until(std::min(deadline, commands.keep_alive(dds_time())));
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -127,6 +163,13 @@ int main(int argc, char** argv) {
   auto* na = app.add_subcommand("nan", "own an id and send NaN/oversize commands");
   std::uint32_t id = 0;
   na->add_option("--id", id, "the id to claim")->required();
+  auto* sl = app.add_subcommand("slow", "own an id and answer every packet late");
+  sl->add_option("--id", id, "the id to claim")->required();
+  int delay_ms = 150;
+  sl->add_option("--delay-ms", delay_ms, "how long after taking a packet it answers")
+      ->check(CLI::Range(0, 10000));
+  bool realtime = false;
+  sl->add_flag("--realtime", realtime, "best-effort endpoints, for a world in realtime mode");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -139,7 +182,9 @@ int main(int argc, char** argv) {
     settings.domain = domain;
     settings.role = dds::Role::Agent;
     dds::Participant participant(settings);
-    return sp->parsed() ? spoof(participant, target, timeout_s) : nan_agent(participant, id, timeout_s);
+    if (sp->parsed()) return spoof(participant, target, timeout_s);
+    if (sl->parsed()) return slow_agent(participant, id, delay_ms, realtime, timeout_s);
+    return nan_agent(participant, id, timeout_s);
   } catch (const std::exception& e) {
     std::cerr << "rogue_agent: " << e.what() << "\n";
     return 1;
