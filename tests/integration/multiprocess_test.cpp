@@ -384,6 +384,9 @@ TEST_F(MultiProcess, RealtimeWorldTellsWhereALateCommandsTimeWent) {
   EXPECT_TRUE(slow.wait_for(10.0).has_value());
   EXPECT_TRUE(fine.wait_for(10.0).has_value());
   EXPECT_NE(w.err().find(" late commands ("), std::string::npos) << w.err();
+  // bench/scale/scale_run.py reads the count from a line that ends so.
+  EXPECT_TRUE(std::regex_search(w.err(), std::regex("world_server: [0-9]+ missed ticks \\(see events\\)\n")))
+      << w.err();
   const std::regex answered("answered ([0-9.]+) ms after it");
   int slow_answers = 0;
   for (const Json& e : events_of("late", "late_command")) {
