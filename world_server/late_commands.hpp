@@ -4,7 +4,9 @@
 //   written   the packet written this long into the round (the world's publish phase);
 //   answered  the agent's command sent this long after its packet was written (the agent's wake-up, control
 //             step and write; `sent` is the writer's source timestamp, the same clock on one host);
-//   transit   the command received this long after it was sent (delivery and the world's receive thread).
+//   transit   the command taken by the world's main loop this long after it was sent: delivery, the world's
+//             receive thread, and the main loop itself, which takes commands only between its phases (a
+//             command that comes in while it writes the next round's packets waits for the end of that).
 // Plain C++ without DDS, so that the arithmetic is unit-tested on its own.
 #pragma once
 
