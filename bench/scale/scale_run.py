@@ -11,10 +11,10 @@ each paying ~20 ms of CPU to load the DDS libraries); `each` is N `robot_agent -
 world, as `scripts/swarm run` does.
 
 What it measures, in one run:
-  connect_seconds   from the start of the first agent until the world had every agent connected. The world says
-                    nothing at that moment, but in realtime mode its clock starts then and its first
-                    `progress tick=T` line comes T periods later, so connected = arrival of that line - T/rate
-                    (read from its stdout as it comes; error ~ a few ms);
+  connect_seconds   from the start of the first agent until the world had every agent connected: the arrival of
+                    its `connected agents=N` line (read from its stdout as it comes). clock_start_seconds: when
+                    its realtime clock started, from its first `progress tick=T` line, which comes T periods
+                    later (error ~ a few ms); the two agree within that error;
   missed_ticks      the world's own count: its `missed_tick` events in events.jsonl (a live agent's command
                     for tick t not in before tick t+1; world_server/server.cpp), checked against the
                     "K missed ticks" line it prints on stderr;
@@ -159,11 +159,13 @@ def late_commands(err):
             "transit_ms": {"median": v[6], "max": v[7]}}
 
 
-def read_world(world, lines, first_progress):
-    """Reads the world's stdout as it comes; notes when the first progress line arrived."""
+def read_world(world, lines, first_progress, connected):
+    """Reads the world's stdout as it comes; notes when the connected line and the first progress line arrived."""
     for line in world.stdout:
         now = time.monotonic()
         lines.append(line.rstrip("\n"))
+        if not connected and line.startswith("connected agents="):
+            connected.append(now)
         if not first_progress and line.startswith("progress tick="):
             first_progress.append((now, int(line.split()[1].split("=")[1])))
 
@@ -232,8 +234,8 @@ def main():
                            "--max-ticks", str(a.ticks), "--out", run_dir, "--domain", str(a.domain),
                            "--connect-timeout", str(a.connect_timeout)],
                           stdout=subprocess.PIPE, stderr=world_err, text=True)
-            lines, first = [], []
-            reader = threading.Thread(target=read_world, args=(world, lines, first), daemon=True)
+            lines, first, connected = [], [], []
+            reader = threading.Thread(target=read_world, args=(world, lines, first, connected), daemon=True)
             reader.start()
             with open(a.scenario) as f:
                 rate = 10.0
@@ -247,7 +249,8 @@ def main():
             if not first:
                 raise RuntimeError(f"the world did not start ticking (exit {world.poll()}); "
                                    f"last lines: {lines[-3:]}")
-            connect_seconds = first[0][0] - first[0][1] / rate - t0
+            clock_start_seconds = first[0][0] - first[0][1] / rate - t0
+            connect_seconds = connected[0] - t0 if connected else clock_start_seconds
             # CPU over the middle of the run: from 20% to 80% of its ticks; RSS sampled at the end of it.
             run_seconds = a.ticks / rate
             started = first[0][0] - first[0][1] / rate
@@ -301,6 +304,7 @@ def main():
                 "launch": a.launch,
                 "spawn_seconds": round(spawned, 3),
                 "connect_seconds": round(connect_seconds, 3),
+                "clock_start_seconds": round(clock_start_seconds, 3),
                 "missed_ticks": missed,
                 "missed_ticks_by_tenth_of_run": missed_by_tenth,
                 # Bursts: few ticks with many agents each (the world's publish phase ran late), or a spread.
