@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <limits>
 #include <thread>
@@ -85,67 +86,53 @@ int claim_id(RobotId id, dds::AgentInbox& inbox, dds::CommandWriter& commands, d
   }
 }
 
-int nan_agent(dds::Participant& participant, RobotId id, double timeout_s) {
-  dds::Waiter waiter(participant);
-  dds::AgentInbox inbox(participant, id, waiter);
-  dds::CommandWriter commands(participant);
-  waiter.attach(inbox.packet_condition());
-  const dds_time_t deadline = after(timeout_s);
-  if (const int rc = claim_id(id, inbox, commands, waiter, deadline); rc != 0) return rc;
-  Command bad;
-  bad.left_speed = std::numeric_limits<double>::quiet_NaN();
-  bad.right_speed = std::numeric_limits<double>::infinity();
-  dds::SensorSample packet;
-  std::uint64_t foreign = 0;
-  std::uint64_t sent = 0;
-  for (;;) {
-    if (inbox.take_packet(packet, foreign)) {
-      if (packet.status == dds::PacketStatus::End) {
-        std::cout << "nan sent=" << sent << std::endl;
-        return 0;
-      }
-      // Every other tick an oversize message with finite but excessive speeds instead of NaN.
-      if (packet.perception.tick % 2 == 1) {
-        Command big;
-        big.left_speed = big.right_speed = 50.0;
-        big.message.assign(100000, 0x55);
-        commands.step(id, packet.perception.tick, big);
-      } else {
-        commands.step(id, packet.perception.tick, bad);
-      }
-      ++sent;
-      continue;
-    }
-    if (dds_time() >= deadline) return 3;
-    waiter.wait_until(deadline);
-  }
-}
-
-int slow_agent(dds::Participant& participant, RobotId id, int delay_ms, bool realtime, double timeout_s) {
+// Claims `id`, then answers every packet it takes with answer(tick) until the world announces the end (prints
+// "<name> sent=K" and returns 0); 3 at the timeout, 4 if the claim was refused. `realtime`: best-effort
+// endpoints, as the mission of a realtime run says.
+int answering_agent(dds::Participant& participant, RobotId id, bool realtime, double timeout_s,
+                    const char* name, const std::function<Command(Tick)>& answer) {
   dds::Waiter waiter(participant);
   dds::AgentInbox inbox(participant, id, waiter, realtime);
   dds::CommandWriter commands(participant, realtime);
   waiter.attach(inbox.packet_condition());
   const dds_time_t deadline = after(timeout_s);
   if (const int rc = claim_id(id, inbox, commands, waiter, deadline); rc != 0) return rc;
-  const Command stand;  // zero wheel speeds, nothing said
   dds::SensorSample packet;
   std::uint64_t foreign = 0;
   std::uint64_t sent = 0;
   for (;;) {
     if (inbox.take_packet(packet, foreign)) {
       if (packet.status == dds::PacketStatus::End) {
-        std::cout << "slow sent=" << sent << std::endl;
+        std::cout << name << " sent=" << sent << std::endl;
         return 0;
       }
-      std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
-      commands.step(id, packet.perception.tick, stand);
+      commands.step(id, packet.perception.tick, answer(packet.perception.tick));
       ++sent;
       continue;
     }
     if (dds_time() >= deadline) return 3;
     waiter.wait_until(std::min(deadline, commands.keep_alive(dds_time())));
   }
+}
+
+int nan_agent(dds::Participant& participant, RobotId id, double timeout_s) {
+  Command bad;
+  bad.left_speed = std::numeric_limits<double>::quiet_NaN();
+  bad.right_speed = std::numeric_limits<double>::infinity();
+  // Every other tick an oversize message with finite but excessive speeds instead of NaN.
+  Command big;
+  big.left_speed = big.right_speed = 50.0;
+  big.message.assign(100000, 0x55);
+  return answering_agent(participant, id, false, timeout_s, "nan",
+                         [&](Tick tick) { return tick % 2 == 1 ? big : bad; });
+}
+
+int slow_agent(dds::Participant& participant, RobotId id, int delay_ms, bool realtime, double timeout_s) {
+  const Command stand;  // zero wheel speeds, nothing said
+  return answering_agent(participant, id, realtime, timeout_s, "slow", [&](Tick) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+    return stand;
+  });
 }
 
 }  // namespace
