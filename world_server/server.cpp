@@ -305,6 +305,7 @@ void Server::begin_round() {
   const dds_time_t t0 = dds_time();
   round_start_ = t0;
   const Tick t = world_.tick();
+  const bool realtime = scenario_.mode == world::Mode::Realtime;
   for (auto [it, end] = kills_.equal_range(t); it != end; ++it) {
     const RobotId id = it->second;
     const auto pid = options_.agent_pids.find(id);
@@ -332,7 +333,7 @@ void Server::begin_round() {
     waiting_count_ += live ? 1 : 0;
     if (live) {
       link_.robots.write_packet(id, dds::PacketStatus::Run, world_.perception(id));
-      written_at_[i] = dds_time();
+      if (realtime) written_at_[i] = dds_time();  // for late_commands; lockstep has no deadline to miss
     }
   }
   profile_.publish += dds_time() - t0;
