@@ -185,10 +185,6 @@ int main(int argc, char** argv) {
   // compares like with like.
   if (robot->parsed()) (void)dds::yield_to_world_on_wakeup();
   if (robot->parsed() && count > 1) {
-    if (!dds::block_ids_fit(id, count)) {
-      std::cerr << "bare_round: --id " << id << " --count " << count << ": the ids pass 2^32 - 1\n";
-      return 2;
-    }
     try {
       return dds::run_robot_block(
           "bare_round", id, count,

@@ -143,10 +143,6 @@ int main(int argc, char** argv) {
     return e.get_exit_code() == 0 ? app.exit(e) : (app.exit(e), 2);
   }
   if (o.count == 1) return run_agent(o);
-  if (!swarmform::dds::block_ids_fit(o.id, o.count)) {
-    std::cerr << "robot_agent: --id " << o.id << " --count " << o.count << ": the ids pass 2^32 - 1\n";
-    return 2;
-  }
   (void)swarmform::dds::yield_to_world_on_wakeup();  // inherited by every child
   try {
     return swarmform::dds::run_robot_block(

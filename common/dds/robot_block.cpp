@@ -29,6 +29,10 @@ int exit_code_of(int status) {
 
 int run_robot_block(const char* name, std::uint32_t first, std::uint32_t count,
                     const std::function<int(std::uint32_t)>& robot, std::ostream& out) {
+  if (!block_ids_fit(first, count)) {
+    std::cerr << name << ": --id " << first << " --count " << count << ": the ids pass 2^32 - 1\n";
+    return 2;
+  }
   // The signals the parent takes with sigwait (never a handler); blocked before the first fork so that none
   // is lost between forks. Each child restores the mask it had.
   sigset_t taken, before;

@@ -31,7 +31,8 @@ inline bool block_ids_fit(std::uint32_t first, std::uint32_t count) {
 }
 
 // Forks `count` children; child i runs robot(first + i) and exits with its result. Prints one line per child
-// to `out` ("<name>: id K pid P") so a caller can kill a given robot. Returns the block's exit code.
+// to `out` ("<name>: id K pid P") so a caller can kill a given robot. Returns the block's exit code; 2 (said
+// on stderr, nothing forked) when the ids do not fit in 32 bits.
 int run_robot_block(const char* name, std::uint32_t first, std::uint32_t count,
                     const std::function<int(std::uint32_t)>& robot, std::ostream& out);
 

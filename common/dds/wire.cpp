@@ -514,10 +514,17 @@ dds_entity_t CommandWriter::get() const {
   return impl_->writer.get();
 }
 
+namespace {
+sfdds_Command command_key(RobotId id) {
+  sfdds_Command key{};
+  key.robot_id = id;
+  return key;
+}
+}  // namespace
+
 void CommandWriter::claim(RobotId id, std::uint64_t nonce, std::uint32_t pid) {
   if (impl_->registered != id) {
-    sfdds_Command key{};
-    key.robot_id = id;
+    const sfdds_Command key = command_key(id);
     keep_instance(impl_->writer.get(), &key);
     impl_->registered = id;
   }
@@ -541,8 +548,7 @@ dds_time_t CommandWriter::keep_alive(dds_time_t now) {
 }
 
 bool CommandWriter::holds_instance(RobotId id) const {
-  sfdds_Command key{};
-  key.robot_id = id;
+  const sfdds_Command key = command_key(id);
   return dds_lookup_instance(impl_->writer.get(), &key) != DDS_HANDLE_NIL;
 }
 
