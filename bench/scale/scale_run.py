@@ -146,7 +146,7 @@ def publish_phase(err):
 
 
 def late_commands(err):
-    """Where the late commands' time went, from the world's missed-ticks line (world_server/late_commands.hpp):
+    """Where the late commands' time went, from the world's late-commands line on stderr (late_commands.hpp):
     count, how many were sent after the deadline, and median / max ms of each part; None without late ones."""
     m = re.search(r"(\d+) late commands \((\d+) sent after the deadline\): packet written ([0-9.]+) ms \(median; "
                   r"max ([0-9.]+)\) into the round, answered ([0-9.]+) ms \(median; max ([0-9.]+)\) after it, "
