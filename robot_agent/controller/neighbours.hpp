@@ -4,7 +4,6 @@
 // know that a robot was heard once and then fell silent (allotment.hpp).
 #pragma once
 
-#include <array>
 #include <cstdint>
 #include <optional>
 #include <unordered_map>
@@ -55,16 +54,27 @@ class NeighbourTable {
   void clear();
 
  private:
-  NeighbourList::iterator locate(RobotId id);  // the entry of `id`, or where it would be inserted
+  static constexpr std::uint32_t kNotHeard = 0xFFFFFFFF;
+  std::uint32_t lower_bound_index(RobotId id) const;  // the first index in ids_ not below `id`
+  std::uint32_t index_of(RobotId id) const;           // the index of `id` in live_, or kNotHeard
+  // Removes the entries flagged kDropped and the neighbours silent for the timeout, keeping ids_ beside
+  // live_.
+  void remove_dropped_and_expired();
 
   int timeout_;
   Tick now_ = 0;
   NeighbourList live_;
-  // Where each id was last found in live_, direct-mapped by the id's low bits. Checked before use (an
-  // insert or expiry shifts entries), so a stale slot only costs the binary search it would have saved;
-  // in a crowd the neighbours change little from tick to tick and almost every lookup hits.
-  static constexpr std::size_t kSlotCount = 256;
-  std::array<std::uint32_t, kSlotCount> slot_{};
+  // live_'s ids on their own (ids_[i] == live_[i].first): a lookup searches 4-byte ids in a few cache lines
+  // instead of loading a 208-byte entry per probe. At N = 1000 the tables of all robots (~15 MB) do not stay
+  // in cache from one tick to the next, and each probe into live_ was a miss (BENCHMARKS.md, P3).
+  std::vector<RobotId> ids_;
+  // Scratch of update(), kept for its capacity: the readings from senders new this tick, the entry of each
+  // reading, and each entry's status (one whose message was bad is removed once the pass is over, so that the
+  // indices stay valid during it; a newcomer's bad message leaves no trace in expired_).
+  enum Status : std::uint8_t { kKnown, kNew, kDropped };
+  std::vector<std::size_t> newcomers_;  // the readings from new senders
+  std::vector<std::uint32_t> where_;
+  std::vector<Status> status_;
   // The tick each expired neighbour was last heard (a live one's is in live_): written only on expiry,
   // not for each message heard.
   std::unordered_map<RobotId, Tick> expired_;

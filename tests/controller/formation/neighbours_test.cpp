@@ -45,8 +45,8 @@ TEST(NeighbourTable, IteratesInIdOrderWhateverOrderTheyWereHeard) {
   EXPECT_FALSE(t.fresh(3));  // heard at tick 1, not 2
 }
 
-TEST(NeighbourTable, KeepsEachMessageWithItsSenderThroughInsertsExpiriesAndSharedLookupSlots) {
-  // Ids 256 apart share a lookup slot; inserts before them and expiries shift their places.
+TEST(NeighbourTable, KeepsEachMessageWithItsSenderThroughInsertsAndExpiries) {
+  // Inserts before them and expiries shift their places in the table.
   NeighbourTable t(3);
   std::vector<RobotId> heard_ids = {513, 257, 1};
   for (Tick tick = 1; tick <= 12; ++tick) {
@@ -68,6 +68,26 @@ TEST(NeighbourTable, KeepsEachMessageWithItsSenderThroughInsertsExpiriesAndShare
     }
   }
   EXPECT_EQ(ids(t), (std::vector<RobotId>{1, 513, 769}));
+}
+
+TEST(NeighbourTable, NewcomersHeardAmongKnownNeighboursEachGetTheirOwnMessage) {
+  // Newcomers land before, between and after the known ids in one tick, one of them heard twice (its second
+  // copy wins), so every known neighbour's place moves while its message is being read.
+  NeighbourTable t(20);
+  t.update(heard(1, {message_from(10), message_from(20)}), 0);
+  std::vector<RobotMessage> messages = {message_from(25), message_from(20), message_from(5),
+                                        message_from(15), message_from(10), message_from(5)};
+  for (std::size_t k = 0; k < messages.size(); ++k) messages[k].pose.y = static_cast<double>(k);
+  t.update(heard(2, messages), 0);
+  EXPECT_EQ(ids(t), (std::vector<RobotId>{5, 10, 15, 20, 25}));
+  const std::vector<std::pair<RobotId, double>> expected = {
+      {25, 0.0}, {20, 1.0}, {15, 3.0}, {10, 4.0}, {5, 5.0}};
+  for (const auto& [id, y] : expected) {
+    ASSERT_NE(t.find(id), nullptr) << id;
+    EXPECT_EQ(t.find(id)->message.sender, id);
+    EXPECT_EQ(t.find(id)->message.pose.y, y) << id;
+    EXPECT_EQ(t.find(id)->last_heard, Tick{2});
+  }
 }
 
 TEST(NeighbourTable, ExpiresTheSilentButRemembersWhenTheyWereLastHeard) {
