@@ -57,7 +57,7 @@ void PaperController::reset() {
   blocked_ticks_ = 0;
   ready_tick_ = 0;
   holder_since_.clear();
-  holder_version_.clear();
+  holder_version_.assign(static_cast<std::size_t>(table_.size()), -1);
   last_heartbeat_ = 0;
   neighbours_ = NeighbourTable(params_.neighbour_timeout);
   stigmergy_ = Stigmergy(self_);
@@ -278,9 +278,9 @@ void PaperController::track_holders() {
   for (int l = 0; l < table_.size(); ++l) {
     const auto* e = stigmergy_.entry(stig::key(stig::Ns::Labels, static_cast<std::uint32_t>(l)));
     if (!e) continue;
-    auto it = holder_version_.find(l);
-    if (it == holder_version_.end() || it->second != e->version) {
-      holder_version_[l] = e->version;
+    std::int64_t& seen = holder_version_[static_cast<std::size_t>(l)];
+    if (seen != static_cast<std::int64_t>(e->version)) {
+      seen = e->version;
       holder_since_[l] = tick_;
     }
   }

@@ -89,8 +89,10 @@ class PaperController final : public Controller {
   int blocked_ticks_ = 0;     // Moving: ticks in front of a blocked place
   Tick ready_tick_ = 0;
   std::map<int, Tick> holder_since_;  // label -> tick its labels entry last changed here (claim, heartbeat)
-  std::map<int, std::uint32_t> holder_version_;  // label -> that entry's version
-  Tick last_heartbeat_ = 0;                      // last re-put of our own label entry
+  // label -> that entry's version, -1 before it is first seen. Indexed, not a map: track_holders() looks up
+  // every label every tick, and a tree's nodes were cold misses each (BENCHMARKS.md, P3).
+  std::vector<std::int64_t> holder_version_;
+  Tick last_heartbeat_ = 0;  // last re-put of our own label entry
 
   NeighbourTable neighbours_;
   Stigmergy stigmergy_;
