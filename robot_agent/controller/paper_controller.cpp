@@ -428,9 +428,21 @@ RobotMessage PaperController::compose_message(const Perception& p, const std::ve
   // What is left of the world's message limit goes to the stigmergy.
   const std::size_t fixed = kMessageFixedBytes + 2 * m.free_labels.size() + m.motion.size();
   const std::size_t budget = params_.max_message_bytes > fixed ? params_.max_message_bytes - fixed : 0;
-  m.entries = stigmergy_.outgoing(std::min(kMaxEntriesPerMessage, budget / 20));
+  if (!neighbours_hold_our_table())
+    m.entries = stigmergy_.outgoing(std::min(kMaxEntriesPerMessage, budget / 20));
   m.table_digest = stigmergy_.digest();
   return m;
+}
+
+bool PaperController::neighbours_hold_our_table() const {
+  // Each neighbour that sent our digest holds every entry we hold (stigmergy.hpp), so entries sent now would
+  // be skipped by all of them: the message goes without them (in the P3 field of BENCHMARKS.md, a message
+  // of 371 bytes on average before, 122 after). Flooding on change is kept: a change here changes our digest,
+  // so the next message carries it. A robot that hears us before we hear it is heard, with its own digest,
+  // a tick later. A robot with no neighbour sends no entries.
+  const std::uint64_t own = stigmergy_.digest();
+  return std::all_of(neighbours_.all().begin(), neighbours_.all().end(),
+                     [own](const auto& entry) { return entry.second.message.table_digest == own; });
 }
 
 }  // namespace swarmform::controller

@@ -69,6 +69,8 @@ class PaperController final : public Controller {
   const std::vector<NeighbourPosition>& fresh_neighbour_positions();
   void event(std::string text) { events_.push_back(std::move(text)); }
   RobotMessage compose_message(const Perception& p, const std::vector<std::uint8_t>& motion);
+  // True when every live neighbour's last message carried our table's digest (compose_message).
+  bool neighbours_hold_our_table() const;
   std::int32_t parent_id() const;
 
   Mission mission_;

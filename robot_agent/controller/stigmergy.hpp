@@ -9,7 +9,8 @@
 //   in: conflicts resolve the same way everywhere.
 // - Flooding: an entry that changed locally (put, or a merge that took a newer entry) is sent in the next
 //   kResendCount messages; the rest of each message's quota goes round-robin over the whole table, so every
-//   entry keeps propagating even when copies are lost.
+//   entry keeps propagating even when copies are lost. A robot whose live neighbours all sent its own
+//   table's digest sends no entries at all (paper_controller.cpp: neighbours_hold_our_table).
 //
 // - Digest: an order-independent 64-bit hash of the whole table (the sum of a hash of each entry), kept up
 //   to date on every change and sent in each message. Two tables with the same digest are taken to be the

@@ -6,6 +6,7 @@
 
 #include "common/shape.hpp"
 #include "mini_world.hpp"
+#include "robot_agent/controller/message.hpp"
 #include "robot_agent/controller/paper_controller.hpp"
 
 namespace swarmform::controller {
@@ -43,6 +44,49 @@ Tick run_until_ready(MiniWorld& w, int expected, Tick deadline, double* min_sep 
     if (count_ready(w) == expected) break;
   }
   return w.tick();
+}
+
+// A searching robot far from everyone (no label, no origin), hearing the given messages at tick `tick`.
+Perception far_away(Tick tick, const std::vector<RobotMessage>& heard) {
+  Perception p;
+  p.tick = tick;
+  p.pose = {40.0, 40.0, 0.0};
+  p.ultrasonic.fill(kUltrasonicMaxRange);
+  for (const auto& m : heard) p.messages.push_back({m.sender, 1.0, 0.0, encode_message(m)});
+  return p;
+}
+
+TEST(PaperControllerMessages, LeaveTheStigmergyOutWhileEveryNeighbourSentOurOwnTablesDigest) {
+  Stigmergy theirs(2);  // robot 2's table: two labels taken far away
+  theirs.put(stig::key(stig::Ns::Labels, 0), 7);
+  theirs.put(stig::key(stig::Ns::Labels, 1), 8);
+  auto from = [&](RobotId id, std::uint64_t digest, std::vector<StigmergyEntry> entries) {
+    RobotMessage m;
+    m.sender = id;
+    m.state = RobotState::Searching;
+    m.pose = {41.0, 40.0, 0.0};
+    m.table_digest = digest;
+    m.entries = std::move(entries);
+    return m;
+  };
+  PaperController c;
+  c.init(mission_for("triangle.txt"), 5);
+  // Tick 1: robot 2's entries arrive; until now our table differed from its, so ours still carries them.
+  c.step(far_away(1, {from(2, theirs.digest(), theirs.entries())}));
+  ASSERT_EQ(c.stigmergy().digest(), theirs.digest());
+  // Tick 2: robot 2 sent our own digest: it holds all we hold, and the message goes without entries.
+  auto sent = decode_message(c.step(far_away(2, {from(2, theirs.digest(), {})})).message);
+  ASSERT_TRUE(sent.has_value());
+  EXPECT_TRUE(sent->entries.empty());
+  EXPECT_EQ(sent->table_digest, theirs.digest());
+  // Tick 3: robot 3 is heard with another table (digest 0: an empty one), so the entries go out again.
+  sent = decode_message(c.step(far_away(3, {from(2, theirs.digest(), {}), from(3, 0, {})})).message);
+  ASSERT_TRUE(sent.has_value());
+  EXPECT_EQ(sent->entries.size(), 2u);
+  // Tick 4: robot 3, silent since, is still a live neighbour with its last digest: entries still go out.
+  sent = decode_message(c.step(far_away(4, {from(2, theirs.digest(), {})})).message);
+  ASSERT_TRUE(sent.has_value());
+  EXPECT_EQ(sent->entries.size(), 2u);
 }
 
 TEST(PaperControllerMini, TheRobotClosestToTheOriginBecomesTheSeed) {
