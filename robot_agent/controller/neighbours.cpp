@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "robot_agent/controller/drive.hpp"
+#include "robot_agent/controller/sorted_search.hpp"
 
 namespace swarmform::controller {
 
@@ -33,7 +34,7 @@ void NeighbourTable::update(const Perception& perception, RobotId self, std::uin
   }
   for (std::size_t k : newcomers_) {
     const RobotId sender = readings[k].sender;
-    const std::uint32_t at = lower_bound_index(sender);
+    const std::uint32_t at = insert_position(sender);
     if (at < ids_.size() && ids_[at] == sender) {  // the same new sender twice in one tick
       where_[k] = at;
       continue;
@@ -96,22 +97,13 @@ void NeighbourTable::remove_dropped_and_expired() {
   ids_.resize(kept);
 }
 
-std::uint32_t NeighbourTable::lower_bound_index(RobotId id) const {
-  // Branch-free: the ~73 lookups a tick go to ids that the branch predictor cannot guess.
-  // The step is a multiply, not a branch or a select, which the compiler would turn back into a branch.
-  const RobotId* ids = ids_.data();
-  std::size_t first = 0;
-  std::size_t length = ids_.size();
-  while (length > 1) {
-    const std::size_t half = length / 2;
-    first += static_cast<std::size_t>(ids[first + half - 1] < id) * half;
-    length -= half;
-  }
-  return static_cast<std::uint32_t>(first + static_cast<std::size_t>(length == 1 && ids[first] < id));
+std::uint32_t NeighbourTable::insert_position(RobotId id) const {
+  return static_cast<std::uint32_t>(
+      controller::lower_bound_index(ids_.data(), ids_.size(), id, [](RobotId x) { return x; }));
 }
 
 std::uint32_t NeighbourTable::index_of(RobotId id) const {
-  const std::uint32_t at = lower_bound_index(id);
+  const std::uint32_t at = insert_position(id);
   return at < ids_.size() && ids_[at] == id ? at : kNotHeard;
 }
 

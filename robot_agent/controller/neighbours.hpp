@@ -55,8 +55,8 @@ class NeighbourTable {
 
  private:
   static constexpr std::uint32_t kNotHeard = 0xFFFFFFFF;
-  std::uint32_t lower_bound_index(RobotId id) const;  // the first index in ids_ not below `id`
-  std::uint32_t index_of(RobotId id) const;           // the index of `id` in live_, or kNotHeard
+  std::uint32_t insert_position(RobotId id) const;  // the first index in ids_ not below `id`
+  std::uint32_t index_of(RobotId id) const;         // the index of `id` in live_, or kNotHeard
   // Removes the entries flagged kDropped and the neighbours silent for the timeout, keeping ids_ beside
   // live_.
   void remove_dropped_and_expired();
