@@ -46,6 +46,22 @@ TEST(Physics, SpinningInPlaceKeepsPositionAndTurnsAtWheelRate) {
   EXPECT_NEAR(p.pose(0).y, 0.5, 1e-3);
 }
 
+TEST(Physics, HeadingStaysAUnitRotationOverALongSpin) {
+  // 20,000 substeps of turning (physics.cpp integrates the heading as a plane rotation of the basis): the
+  // heading is where the wheel rate puts it, and a straight run after it still covers speed x time to 1e-9
+  // (the wheels' velocity is taken from the basis, so a basis that had grown or shrunk would scale it).
+  Physics p(open_scenario({Pose2D{0.5, 0.5, 0.0}}));
+  const double w = 0.2 / kWheelSpacing;
+  p.set_wheels(0, -0.1, 0.1);
+  run_ticks(p, 2000);  // 200 s
+  const double turned = std::remainder(w * 200.0, 2.0 * std::numbers::pi);
+  EXPECT_NEAR(std::remainder(p.pose(0).theta - turned, 2.0 * std::numbers::pi), 0.0, 1e-6);
+  const Pose2D start = p.pose(0);
+  p.set_wheels(0, 0.1, 0.1);
+  run_ticks(p, 100);  // 10 s at 0.1 m/s
+  EXPECT_NEAR(std::hypot(p.pose(0).x - start.x, p.pose(0).y - start.y), 1.0, 1e-9);
+}
+
 TEST(Physics, ArcFollowsTheDifferentialDriveCircle) {
   // l = 0.05, r = 0.1: v = 0.075, w = 0.05/0.1054; radius v/w. After a quarter turn the robot is at (R, R).
   Physics p(open_scenario({Pose2D{0.0, 0.0, 0.0}}));

@@ -16,6 +16,8 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <utility>
+#include <vector>
 
 #include "world_server/world/geometry.hpp"
 
@@ -52,12 +54,13 @@ double yaw_of(const btTransform& t) {
 //    exactly 0 to forces that are 0), motion states (none), clearing forces (still 0), profiling;
 //  - updateActivationState does nothing: every moving body is DISABLE_DEACTIVATION (make_dynamic_flags), for
 //    which Bullet's loop changes nothing;
-//  - integrateTransforms runs Bullet's integrateTransformsInternal body by body and calls `after_integrate`
-//    on each body right after its integration (Physics re-sets the velocities of the next substep from the
-//    wheels there: the body's new heading is known, and it is still in cache). The physics stays on one
-//    thread: measured, integrating slices of the bodies on the worker pool made the physics slower (1.9 ->
-//    2.7 ms a tick at N = 1000), as every substep then moves each body's state from core to core and back
-//    for ~250 ns of work on it.
+//  - integrateTransforms does what Bullet's integrateTransformsInternal does for a body that moves in the
+//    plane and turns about z only (integrate_planar below), and calls `after_integrate` on each body right
+//    after its integration (Physics re-sets the velocities of the next substep from the wheels there: the
+//    body's new heading is known, and it is still in cache). The physics stays on one thread: measured,
+//    integrating slices of the bodies on the worker pool made the physics slower (1.9 -> 2.7 ms a tick at
+//    N = 1000), as every substep then moves each body's state from core to core and back for ~250 ns of
+//    work on it.
 class PlanarDynamicsWorld : public btDiscreteDynamicsWorld {
  public:
   using btDiscreteDynamicsWorld::btDiscreteDynamicsWorld;
@@ -67,6 +70,8 @@ class PlanarDynamicsWorld : public btDiscreteDynamicsWorld {
 
   // Called on each non-static body right after its integration (null: nothing).
   std::function<void(btRigidBody& body)> after_integrate;
+  // By robot (user index): the cosine and sine of the angle it turns in one substep of this tick.
+  std::vector<std::pair<double, double>> turn;
 
  protected:
   void predictUnconstraintMotion(btScalar) override {}
@@ -75,9 +80,32 @@ class PlanarDynamicsWorld : public btDiscreteDynamicsWorld {
 
   void integrateTransforms(btScalar dt) override {
     for (int i = 0; i < m_nonStaticRigidBodies.size(); ++i) {
-      integrateTransformsInternal(&m_nonStaticRigidBodies[i], 1, dt);
-      if (after_integrate) after_integrate(*m_nonStaticRigidBodies[i]);
+      btRigidBody& body = *m_nonStaticRigidBodies[i];
+      integrate_planar(body, dt);
+      if (after_integrate) after_integrate(body);
     }
+  }
+
+  // Bullet's integration of one body (btTransformUtil::integrateTransform, then proceedToTransform) for our
+  // bodies, which move in the plane and turn about z only (linear factor (1,1,0), angular factor (0,0,1)).
+  // The origin moves by v dt, computed as Bullet computes it. The basis turns by the substep's angle w dt,
+  // `turn` (its cosine and sine, by the body's user index), as a rotation of its first two columns: where
+  // Bullet converts the basis to a quaternion, builds the exponential map of w dt with a sine and a cosine,
+  // multiplies, renormalises and converts back, which is the same rotation up to rounding (half of the
+  // serial physics time at N = 1000, BENCHMARKS.md). One Newton step keeps the columns' length at 1 as
+  // Bullet's renormalisation does. What proceedToTransform also does is left out: the interpolation
+  // transforms and velocities, which only motion states and continuous collision detection read (neither is
+  // used here), and the world inertia tensor, zero for bodies with no inertia.
+  void integrate_planar(btRigidBody& body, btScalar dt) const {
+    body.setHitFraction(1.0);
+    btTransform& t = body.getWorldTransform();
+    t.setOrigin(t.getOrigin() + body.getLinearVelocity() * dt);
+    const auto& [c_turn, s_turn] = turn[static_cast<std::size_t>(body.getUserIndex())];
+    btMatrix3x3& r = t.getBasis();
+    const double c = r[0][0] * c_turn - r[1][0] * s_turn;
+    const double s = r[1][0] * c_turn + r[0][0] * s_turn;
+    const double k = 1.5 - 0.5 * (c * c + s * s);
+    r.setValue(c * k, -s * k, 0.0, s * k, c * k, 0.0, 0.0, 0.0, 1.0);
   }
 
   void solveConstraints(btContactSolverInfo& info) override {
@@ -226,12 +254,15 @@ struct Physics::Impl {
   }
 
   // v and w of every robot for this tick, from the wheel speeds set by set_wheels.
+  // Also each robot's turn in one substep, for the world's planar integration.
   void wheels_to_velocities() {
     v.resize(wheels.size());
     w.resize(wheels.size());
+    dyn.turn.resize(wheels.size());
     for (std::size_t i = 0; i < wheels.size(); ++i) {
       v[i] = 0.5 * (wheels[i].left + wheels[i].right);
       w[i] = (wheels[i].right - wheels[i].left) / kWheelSpacing;
+      dyn.turn[i] = {std::cos(w[i] * substep_s), std::sin(w[i] * substep_s)};
     }
   }
 
