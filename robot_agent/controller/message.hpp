@@ -71,7 +71,10 @@ std::optional<RobotMessage> decode_message(std::span<const std::uint8_t> bytes);
 // true when `bytes` is a valid message; on false `m` holds garbage. When `skip_entries_digest` is not 0 and
 // equals the message's table digest, the stigmergy entries are checked for length but not copied
 // (`m.entries` is left empty): a receiver whose own table has that digest could learn nothing from them.
+// With `entries_out`, the entries are appended there instead of to `m.entries` (left empty); on false,
+// whatever was appended is garbage too.
 bool decode_message_into(std::span<const std::uint8_t> bytes, RobotMessage& m,
-                         std::uint64_t skip_entries_digest = 0);
+                         std::uint64_t skip_entries_digest = 0,
+                         std::vector<StigmergyEntry>* entries_out = nullptr);
 
 }  // namespace swarmform::controller

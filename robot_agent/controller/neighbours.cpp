@@ -25,6 +25,7 @@ void NeighbourTable::update(const Perception& perception, RobotId self, std::uin
   // Where each reading's entry is. A new sender (a few a tick) gets its entry now, before the pass below,
   // and the indices of the entries after it move up by one.
   where_.clear();
+  heard_entries_.clear();
   newcomers_.clear();
   for (std::size_t k = 0; k < readings.size(); ++k) {
     const RobotId sender = readings[k].sender;
@@ -50,9 +51,10 @@ void NeighbourTable::update(const Perception& perception, RobotId self, std::uin
   for (std::size_t k : newcomers_) status_[where_[k]] = kNew;
 
   for (std::size_t k = 0; k < readings.size(); ++k) {
-    // Each entry is decoded straight into the neighbour's own message: its vectors keep their capacity from
-    // tick to tick, so a tick of ~73 messages allocates nothing once they have grown, and nothing is copied
-    // or swapped. The entries are in no order the readings follow, hence the prefetch.
+    // Each message is decoded straight into the neighbour's own message (its stigmergy entries into
+    // heard_entries_): the vectors keep their capacity from tick to tick, so a tick of ~73 messages
+    // allocates nothing once they have grown, and nothing is copied or swapped. The neighbours' entries in
+    // live_ are in no order the readings follow, hence the prefetch.
     if (k + kPrefetchAhead < where_.size() && where_[k + kPrefetchAhead] != kNotHeard) {
       prefetch_for_write(&live_[where_[k + kPrefetchAhead]], sizeof(NeighbourList::value_type));
     }
@@ -62,7 +64,10 @@ void NeighbourTable::update(const Perception& perception, RobotId self, std::uin
     // An undecodable message, or one whose inner sender is not the one the medium saw (a forgery or a bug),
     // is dropped, and so is its sender: its last good message was overwritten. It is remembered as last
     // heard at its last good tick, as if it had expired then (a newcomer, never heard well, is not).
-    if (!decode_message_into(reading.data, n.message, own_digest) || n.message.sender != reading.sender) {
+    const std::size_t entries_begin = heard_entries_.size();
+    if (!decode_message_into(reading.data, n.message, own_digest, &heard_entries_) ||
+        n.message.sender != reading.sender) {
+      heard_entries_.resize(entries_begin);
       ++dropped_;
       if (status_[where_[k]] == kKnown) expired_[reading.sender] = n.last_heard;
       status_[where_[k]] = kDropped;
@@ -74,6 +79,8 @@ void NeighbourTable::update(const Perception& perception, RobotId self, std::uin
     n.bearing = reading.bearing;
     n.azimuth = wrap_angle(perception.pose.theta + reading.bearing);
     n.last_heard = now_;
+    n.entries_begin = static_cast<std::uint32_t>(entries_begin);
+    n.entries_count = static_cast<std::uint32_t>(heard_entries_.size() - entries_begin);
   }
   remove_dropped_and_expired();
 }
@@ -127,6 +134,7 @@ std::optional<Tick> NeighbourTable::last_heard(RobotId id) const {
 void NeighbourTable::clear() {
   live_.clear();
   ids_.clear();
+  heard_entries_.clear();
   expired_.clear();
   now_ = 0;
   dropped_ = 0;

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -20,8 +21,11 @@ struct Neighbour {
   double range = 0.0;    // m, as last heard
   double bearing = 0.0;  // rad, receiver's frame, as last heard
   double azimuth = 0.0;  // rad, arena frame: own heading at that tick + bearing
-  RobotMessage message;  // the last message decoded from it
+  RobotMessage message;  // the last message decoded from it, without its stigmergy entries (below)
   Tick last_heard = 0;
+  // Its stigmergy entries of this tick, in the table's entries_heard() (kept apart: see there).
+  std::uint32_t entries_begin = 0;
+  std::uint32_t entries_count = 0;
 };
 
 // Sorted by id (iterates like a std::map<RobotId, Neighbour>). A flat array, not a tree: every message heard
@@ -43,6 +47,14 @@ class NeighbourTable {
 
   // Neighbours heard within the timeout.
   const NeighbourList& all() const { return live_; }
+  // The stigmergy entries `n` sent this tick (none when it was not heard this tick, or when its table had
+  // the receiver's digest). They are decoded into one buffer of the table's, not into each neighbour's
+  // message: the buffer stays in cache from tick to tick, where ~73 neighbours' own vectors would be cold
+  // lines written once and read once (BENCHMARKS.md, P3).
+  std::span<const StigmergyEntry> entries_heard(const Neighbour& n) const {
+    if (n.last_heard != now_) return {};
+    return std::span<const StigmergyEntry>(heard_entries_).subspan(n.entries_begin, n.entries_count);
+  }
   const Neighbour* find(RobotId id) const;
   // True when `id` was heard this very tick (its range and bearing are current).
   bool fresh(RobotId id) const;
@@ -75,6 +87,7 @@ class NeighbourTable {
   std::vector<std::size_t> newcomers_;  // the readings from new senders
   std::vector<std::uint32_t> where_;
   std::vector<Status> status_;
+  std::vector<StigmergyEntry> heard_entries_;  // this tick's entries of all neighbours (entries_heard)
   // The tick each expired neighbour was last heard (a live one's is in live_): written only on expiry,
   // not for each message heard.
   std::unordered_map<RobotId, Tick> expired_;

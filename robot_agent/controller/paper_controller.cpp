@@ -78,7 +78,7 @@ Command PaperController::step(const Perception& p) {
     if (n.last_heard != tick_) continue;
     // Same digest, same table: its entries would change nothing here (stigmergy.hpp). 0 is "no digest".
     const std::uint64_t digest = n.message.table_digest;
-    if (digest == 0 || digest != stigmergy_.digest()) stigmergy_.merge_all(n.message.entries);
+    if (digest == 0 || digest != stigmergy_.digest()) stigmergy_.merge_all(neighbours_.entries_heard(n));
     if (!has_origin_ && n.message.has_origin) {
       has_origin_ = true;
       origin_ = n.message.origin;

@@ -56,7 +56,7 @@ bool Stigmergy::merge(const StigmergyEntry& e) {
   return true;
 }
 
-void Stigmergy::merge_all(const std::vector<StigmergyEntry>& entries) {
+void Stigmergy::merge_all(std::span<const StigmergyEntry> entries) {
   for (const auto& e : entries) merge(e);
 }
 

@@ -30,6 +30,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "common/types.hpp"
@@ -78,7 +79,7 @@ class Stigmergy {
 
   // Takes a received entry if it is newer; returns true when the table changed.
   bool merge(const StigmergyEntry& e);
-  void merge_all(const std::vector<StigmergyEntry>& entries);
+  void merge_all(std::span<const StigmergyEntry> entries);
 
   // The entries for the next message, at most `max_entries`: changed ones first, then round-robin.
   std::vector<StigmergyEntry> outgoing(std::size_t max_entries);

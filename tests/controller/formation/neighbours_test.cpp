@@ -132,14 +132,31 @@ TEST(NeighbourTable, ABadMessageFromAKnownNeighbourDropsItAsLastHeardAtItsLastGo
   EXPECT_EQ(t.find(2)->message.pose.x, message_from(2).pose.x);
 }
 
+std::vector<StigmergyEntry> entries_of(const NeighbourTable& t, RobotId id) {
+  const auto heard = t.entries_heard(*t.find(id));
+  return {heard.begin(), heard.end()};
+}
+
 TEST(NeighbourTable, LeavesOutTheEntriesOfATableWithTheReceiversOwnDigest) {
   NeighbourTable t(20);
   t.update(heard(1, {message_from(2, 77), message_from(3, 78), message_from(4, 0)}), 0, 77);
-  EXPECT_TRUE(t.find(2)->message.entries.empty());   // same digest: nothing to learn
-  EXPECT_EQ(t.find(3)->message.entries.size(), 2u);  // another table
-  EXPECT_EQ(t.find(4)->message.entries.size(), 2u);  // no digest
-  t.update(heard(2, {message_from(2, 77)}), 0);      // 0: keep every message's entries
-  EXPECT_EQ(t.find(2)->message.entries, message_from(2).entries);
+  EXPECT_TRUE(entries_of(t, 2).empty());                     // same digest: nothing to learn
+  EXPECT_EQ(entries_of(t, 3), message_from(3, 78).entries);  // another table
+  EXPECT_EQ(entries_of(t, 4), message_from(4).entries);      // no digest
+  t.update(heard(2, {message_from(2, 77)}), 0);              // 0: keep every message's entries
+  EXPECT_EQ(entries_of(t, 2), message_from(2).entries);
+  EXPECT_TRUE(entries_of(t, 3).empty());  // not heard at tick 2: no entries of this tick
+}
+
+TEST(NeighbourTable, KeepsEachNeighboursEntriesOfThisTickApartAndDropsThoseOfABadMessage) {
+  NeighbourTable t(20);
+  Perception p = heard(1, {message_from(5), message_from(3), message_from(9)});
+  p.messages[2].data.push_back(0);  // 9's message has a trailing byte: refused after its entries were read
+  t.update(p, 0);
+  EXPECT_EQ(entries_of(t, 5), message_from(5).entries);
+  EXPECT_EQ(entries_of(t, 3), message_from(3).entries);
+  EXPECT_EQ(t.find(9), nullptr);
+  EXPECT_TRUE(t.find(3)->message.entries.empty());  // kept in the table's buffer, not in the message
 }
 
 }  // namespace

@@ -42,7 +42,7 @@ TEST(Stigmergy, DigestIsTheSameForTheSameTableWhateverTheOrderAndChangesWithAnyE
   Stigmergy b(2);
   EXPECT_EQ(a.digest(), 0u);
   a.merge_all(entries);
-  b.merge_all({entries.rbegin(), entries.rend()});
+  b.merge_all(std::vector<StigmergyEntry>(entries.rbegin(), entries.rend()));
   EXPECT_NE(a.digest(), 0u);
   EXPECT_EQ(a.digest(), b.digest());  // the same entries won, in another order
   // Each field of an entry moves the digest.
