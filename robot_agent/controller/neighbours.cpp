@@ -1,6 +1,6 @@
 #include "robot_agent/controller/neighbours.hpp"
 
-#include <algorithm>
+#include <utility>
 
 #include "robot_agent/controller/drive.hpp"
 #include "robot_agent/controller/sorted_search.hpp"
