@@ -33,7 +33,7 @@ void PreformedController::init(const Mission& mission, RobotId self) {
 Command PreformedController::step(const Perception& p) {
   neighbours_.update(p, self_);
   for (const auto& [id, n] : neighbours_.all()) {
-    if (n.last_heard == p.tick) stigmergy_.merge_all(n.message.entries);
+    if (n.last_heard == p.tick) stigmergy_.merge_all(neighbours_.entries_heard(n));
   }
   controller::FormationContext ctx;
   ctx.self = self_;
