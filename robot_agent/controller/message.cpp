@@ -135,7 +135,13 @@ std::vector<std::uint8_t> encode_message(const RobotMessage& m) {
 }
 
 bool decode_message_into(std::span<const std::uint8_t> bytes, RobotMessage& m,
-                         std::uint64_t skip_entries_digest, std::vector<StigmergyEntry>* entries_out) {
+                         std::uint64_t skip_entries_digest) {
+  m.entries.clear();
+  return decode_message_into(bytes, static_cast<MessageBody&>(m), skip_entries_digest, m.entries);
+}
+
+bool decode_message_into(std::span<const std::uint8_t> bytes, MessageBody& m,
+                         std::uint64_t skip_entries_digest, std::vector<StigmergyEntry>& entries) {
   // The fixed header is bounds-checked once, then read field by field without further checks.
   Reader r(bytes);
   if (!r.has(kHeaderBytes)) return false;
@@ -170,14 +176,13 @@ bool decode_message_into(std::span<const std::uint8_t> bytes, RobotMessage& m,
   }
   const std::size_t n_entries = r.u8();
   if (n_entries > kMaxEntriesPerMessage || !r.has(n_entries * Reader::kEntryBytes)) return false;
-  m.entries.clear();
   if (skip_entries_digest != 0 && m.table_digest == skip_entries_digest) {
     r.skip_unchecked(n_entries * Reader::kEntryBytes);
   } else {
-    // A message's own vector takes the bound at once (see free_labels); a caller's grows as vectors do.
-    if (entries_out == nullptr && m.entries.capacity() < n_entries) m.entries.reserve(kMaxEntriesPerMessage);
-    std::vector<StigmergyEntry>& out = entries_out != nullptr ? *entries_out : m.entries;
-    for (std::size_t i = 0; i < n_entries; ++i) out.push_back(r.entry_unchecked());
+    // An empty vector that must grow takes the bound at once (see free_labels); one that already holds
+    // entries (a buffer of many messages') grows as vectors do.
+    if (entries.empty() && entries.capacity() < n_entries) entries.reserve(kMaxEntriesPerMessage);
+    for (std::size_t i = 0; i < n_entries; ++i) entries.push_back(r.entry_unchecked());
   }
   const std::size_t n_motion = r.u16();
   if (n_motion > kMaxMotionBytes) return false;

@@ -48,7 +48,10 @@ struct StigmergyEntry {
   bool operator==(const StigmergyEntry&) const = default;
 };
 
-struct RobotMessage {
+// Everything of a message but its stigmergy entries: what a receiver keeps of each neighbour
+// (neighbours.hpp), whose entries go to the neighbour table's own buffer. A type of its own, so that code
+// reading a stored neighbour's entries does not compile rather than reading an empty list.
+struct MessageBody {
   RobotId sender = 0;
   RobotState state = RobotState::Idle;
   int label = -1;
@@ -59,8 +62,11 @@ struct RobotMessage {
   double seed_distance = 0.0;      // m
   std::uint64_t table_digest = 0;  // Stigmergy::digest() of the sender's table
   std::vector<int> free_labels;
-  std::vector<StigmergyEntry> entries;
   std::vector<std::uint8_t> motion;  // opaque section for the motion phases
+};
+
+struct RobotMessage : MessageBody {
+  std::vector<StigmergyEntry> entries;
 };
 
 // Encodes `m`. Counts over their bounds are truncated (free labels, entries, motion bytes): encode never
@@ -71,10 +77,10 @@ std::optional<RobotMessage> decode_message(std::span<const std::uint8_t> bytes);
 // true when `bytes` is a valid message; on false `m` holds garbage. When `skip_entries_digest` is not 0 and
 // equals the message's table digest, the stigmergy entries are checked for length but not copied
 // (`m.entries` is left empty): a receiver whose own table has that digest could learn nothing from them.
-// With `entries_out`, the entries are appended there instead of to `m.entries` (left empty); on false,
-// whatever was appended is garbage too.
 bool decode_message_into(std::span<const std::uint8_t> bytes, RobotMessage& m,
-                         std::uint64_t skip_entries_digest = 0,
-                         std::vector<StigmergyEntry>* entries_out = nullptr);
+                         std::uint64_t skip_entries_digest = 0);
+// The same with the entries appended to `entries` (on false, whatever was appended is garbage too).
+bool decode_message_into(std::span<const std::uint8_t> bytes, MessageBody& m,
+                         std::uint64_t skip_entries_digest, std::vector<StigmergyEntry>& entries);
 
 }  // namespace swarmform::controller

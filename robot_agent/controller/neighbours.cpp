@@ -65,7 +65,7 @@ void NeighbourTable::update(const Perception& perception, RobotId self, std::uin
     // is dropped, and so is its sender: its last good message was overwritten. It is remembered as last
     // heard at its last good tick, as if it had expired then (a newcomer, never heard well, is not).
     const std::size_t entries_begin = heard_entries_.size();
-    if (!decode_message_into(reading.data, n.message, own_digest, &heard_entries_) ||
+    if (!decode_message_into(reading.data, n.message, own_digest, heard_entries_) ||
         n.message.sender != reading.sender) {
       heard_entries_.resize(entries_begin);
       ++dropped_;

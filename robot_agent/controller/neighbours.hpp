@@ -21,7 +21,7 @@ struct Neighbour {
   double range = 0.0;    // m, as last heard
   double bearing = 0.0;  // rad, receiver's frame, as last heard
   double azimuth = 0.0;  // rad, arena frame: own heading at that tick + bearing
-  RobotMessage message;  // the last message decoded from it, without its stigmergy entries (below)
+  MessageBody message;   // the last message decoded from it, but its stigmergy entries (below)
   Tick last_heard = 0;
   // Its stigmergy entries of this tick, in the table's entries_heard() (kept apart: see there).
   std::uint32_t entries_begin = 0;

@@ -130,16 +130,15 @@ TEST(MessageCodec, AppendsTheEntriesToTheCallersBufferWhenGivenOne) {
   b.entries[0].value = 99;  // entries of its own, not a's
   b.entries[1].key = 0x30001;
   std::vector<StigmergyEntry> heard = {{1, 2, 3, 4}};
-  RobotMessage out;
-  ASSERT_TRUE(decode_message_into(encode_message(a), out, 0, &heard));
-  ASSERT_TRUE(decode_message_into(encode_message(b), out, 0, &heard));
-  EXPECT_TRUE(out.entries.empty());
+  MessageBody out;
+  ASSERT_TRUE(decode_message_into(encode_message(a), out, 0, heard));
+  ASSERT_TRUE(decode_message_into(encode_message(b), out, 0, heard));
   EXPECT_EQ(out.sender, 8u);
   std::vector<StigmergyEntry> expected = {{1, 2, 3, 4}};
   expected.insert(expected.end(), a.entries.begin(), a.entries.end());
   expected.insert(expected.end(), b.entries.begin(), b.entries.end());
   EXPECT_EQ(heard, expected);
-  ASSERT_TRUE(decode_message_into(encode_message(a), out, a.table_digest, &heard));  // skipped: nothing added
+  ASSERT_TRUE(decode_message_into(encode_message(a), out, a.table_digest, heard));  // skipped: nothing added
   EXPECT_EQ(heard.size(), expected.size());
 }
 
