@@ -29,9 +29,9 @@ void NeighbourTable::update(const Perception& perception, RobotId self, std::uin
   newcomers_.clear();
   for (std::size_t k = 0; k < readings.size(); ++k) {
     const RobotId sender = readings[k].sender;
-    const std::uint32_t at = sender == self ? kNotHeard : index_of(sender);
+    const std::uint32_t at = sender == self ? kNoEntry : index_of(sender);
     where_.push_back(at);
-    if (sender != self && at == kNotHeard) newcomers_.push_back(k);
+    if (sender != self && at == kNoEntry) newcomers_.push_back(k);
   }
   for (std::size_t k : newcomers_) {
     const RobotId sender = readings[k].sender;
@@ -41,7 +41,7 @@ void NeighbourTable::update(const Perception& perception, RobotId self, std::uin
       continue;
     }
     for (std::uint32_t& w : where_) {
-      if (w != kNotHeard && w >= at) ++w;
+      if (w != kNoEntry && w >= at) ++w;
     }
     ids_.insert(ids_.begin() + at, sender);
     live_.insert(live_.begin() + at, {sender, Neighbour{}});
@@ -55,10 +55,10 @@ void NeighbourTable::update(const Perception& perception, RobotId self, std::uin
     // heard_entries_): the vectors keep their capacity from tick to tick, so a tick of ~73 messages
     // allocates nothing once they have grown, and nothing is copied or swapped. The neighbours' entries in
     // live_ are in no order the readings follow, hence the prefetch.
-    if (k + kPrefetchAhead < where_.size() && where_[k + kPrefetchAhead] != kNotHeard) {
+    if (k + kPrefetchAhead < where_.size() && where_[k + kPrefetchAhead] != kNoEntry) {
       prefetch_for_write(&live_[where_[k + kPrefetchAhead]], sizeof(NeighbourList::value_type));
     }
-    if (where_[k] == kNotHeard) continue;
+    if (where_[k] == kNoEntry) continue;
     const auto& reading = readings[k];
     Neighbour& n = live_[where_[k]].second;
     // An undecodable message, or one whose inner sender is not the one the medium saw (a forgery or a bug),
@@ -111,12 +111,12 @@ std::uint32_t NeighbourTable::insert_position(RobotId id) const {
 
 std::uint32_t NeighbourTable::index_of(RobotId id) const {
   const std::uint32_t at = insert_position(id);
-  return at < ids_.size() && ids_[at] == id ? at : kNotHeard;
+  return at < ids_.size() && ids_[at] == id ? at : kNoEntry;
 }
 
 const Neighbour* NeighbourTable::find(RobotId id) const {
   const std::uint32_t at = index_of(id);
-  return at == kNotHeard ? nullptr : &live_[at].second;
+  return at == kNoEntry ? nullptr : &live_[at].second;
 }
 
 bool NeighbourTable::fresh(RobotId id) const {

@@ -66,9 +66,10 @@ class NeighbourTable {
   void clear();
 
  private:
-  static constexpr std::uint32_t kNotHeard = 0xFFFFFFFF;
+  // "No entry in live_": an id not in the table, or, in where_, a reading of our own.
+  static constexpr std::uint32_t kNoEntry = 0xFFFFFFFF;
   std::uint32_t insert_position(RobotId id) const;  // the first index in ids_ not below `id`
-  std::uint32_t index_of(RobotId id) const;         // the index of `id` in live_, or kNotHeard
+  std::uint32_t index_of(RobotId id) const;         // the index of `id` in live_, or kNoEntry
   // Removes the entries flagged kDropped and the neighbours silent for the timeout, keeping ids_ beside
   // live_.
   void remove_dropped_and_expired();
