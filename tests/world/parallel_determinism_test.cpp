@@ -3,7 +3,10 @@
 // received messages (sender, range, bearing, bytes) at every tick. The scenario has everything that draws
 // random numbers or runs on the pool: ultrasonic noise, packet loss, range/bearing noise, occlusion, paper
 // controllers that talk, an obstacle to sense. A race or a schedule-dependent draw would show as a
-// difference within a few ticks.
+// difference within a few ticks. 200 robots: the world's sensing loops use the pool only from
+// 2 x kMinRobotsPerWorker robots.
+#include <array>
+#include <atomic>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -19,9 +22,9 @@ namespace {
 
 constexpr const char* kScenario = R"(
 shape: SHAPES/triangle.txt
-arena: {centre: [0.0, 0.0], width: 12.0, height: 12.0, walls: true}
+arena: {centre: [0.0, 0.0], width: 16.0, height: 16.0, walls: true}
 obstacles: [{type: box, centre: [1.0, 1.0], size: [0.6, 0.6]}]
-robots: {count: 120, region: {centre: [0.0, 0.0], width: 8.0, height: 8.0}}
+robots: {count: 200, region: {centre: [0.0, 0.0], width: 11.0, height: 11.0}}
 behaviour: paper
 goal: {x: 4.0, y: 0.0, radius: 0.5}
 seed: 11
@@ -59,6 +62,7 @@ std::vector<unsigned char> trace(std::size_t workers, int ticks) {
 TEST(ParallelDeterminism, OneAndTwoWorkersGiveTheSameRunBitForBit) {
   const auto serial = trace(1, 40);
   const auto two = trace(2, 40);
+  static_assert(200 >= 2 * parallel::kMinRobotsPerWorker);
   ASSERT_GT(serial.size(), 100000u);  // messages flowed (not just poses)
   ASSERT_EQ(serial.size(), two.size());
   EXPECT_EQ(0, std::memcmp(serial.data(), two.data(), serial.size()));
@@ -79,6 +83,21 @@ TEST(ParallelFor, EveryIndexOnceAndExceptionsReachTheCaller) {
                                      if (b == 0) throw std::runtime_error("body failed");
                                    }),
                std::runtime_error);
+  parallel::set_worker_count(0);
+}
+
+TEST(ParallelFor, FewerIndicesThanTwoGrainsRunAsOneSerialCall) {
+  parallel::set_worker_count(2);
+  std::vector<std::array<std::size_t, 3>> calls;  // only the calling thread may append: no lock
+  const auto record = [&](std::size_t b, std::size_t e, std::size_t w) { calls.push_back({b, e, w}); };
+  parallel::for_range(127, record, 64);
+  ASSERT_EQ(calls.size(), 1u);
+  EXPECT_EQ(calls[0], (std::array<std::size_t, 3>{0, 127, 0}));
+  // At two grains the pool splits the range into chunks (~8 per worker).
+  std::atomic<std::size_t> chunks{0};
+  parallel::for_range(
+      128, [&](std::size_t, std::size_t, std::size_t) { ++chunks; }, 64);
+  EXPECT_GT(chunks.load(), 1u);
   parallel::set_worker_count(0);
 }
 

@@ -32,10 +32,13 @@ void Medium::deliver(const std::vector<Pose2D>& poses, const std::vector<char>& 
                      std::vector<Perception>& perceptions, bool with_bytes) {
   const std::size_t n = poses.size();
   spare_.resize(n);
-  parallel::for_range(n, [&](std::size_t begin, std::size_t end, std::size_t) {
-    for (std::size_t r = begin; r < end; ++r)
-      gather(r, poses, alive, outboxes, grid, perceptions[r].messages, with_bytes);
-  });
+  parallel::for_range(
+      n,
+      [&](std::size_t begin, std::size_t end, std::size_t) {
+        for (std::size_t r = begin; r < end; ++r)
+          gather(r, poses, alive, outboxes, grid, perceptions[r].messages, with_bytes);
+      },
+      parallel::kMinRobotsPerWorker);
   const bool random =
       params_.packet_loss > 0.0 || params_.range_noise_sd > 0.0 || params_.bearing_noise_sd > 0.0;
   if (!random) return;

@@ -141,15 +141,15 @@ void set_worker_count(std::size_t workers) {
   if (g_pool && g_pool->size() != wanted()) g_pool.reset();
 }
 
-void for_range(std::size_t n, const RangeBody& body) {
+void for_range(std::size_t n, const RangeBody& body, std::size_t min_per_worker) {
   if (n == 0) return;
-  if (t_in_body) {
+  if (t_in_body || n < 2 * std::max<std::size_t>(1, min_per_worker)) {
     body(0, n, 0);
     return;
   }
   std::lock_guard lock(g_run);
   const std::size_t workers = wanted();
-  if (workers <= 1 || n == 1) {
+  if (workers <= 1) {
     body(0, n, 0);
     return;
   }

@@ -114,11 +114,14 @@ void Ultrasonic::sense_all(const std::vector<Pose2D>& poses, const std::vector<c
                            const SpatialGrid& grid, std::vector<UltrasonicReading>& out) {
   out.resize(poses.size());
   scratch_.resize(std::max<std::size_t>(1, parallel::worker_count()));
-  parallel::for_range(poses.size(), [&](std::size_t begin, std::size_t end, std::size_t worker) {
-    for (std::size_t i = begin; i < end; ++i) {
-      if (alive[i]) out[i] = read_with(i, poses, grid, scratch_[worker]);
-    }
-  });
+  parallel::for_range(
+      poses.size(),
+      [&](std::size_t begin, std::size_t end, std::size_t worker) {
+        for (std::size_t i = begin; i < end; ++i) {
+          if (alive[i]) out[i] = read_with(i, poses, grid, scratch_[worker]);
+        }
+      },
+      parallel::kMinRobotsPerWorker);
   if (noise_sd_ <= 0.0) return;
   for (std::size_t i = 0; i < poses.size(); ++i) {  // id order: the stream of the serial loop before
     if (!alive[i]) continue;
