@@ -8,6 +8,7 @@
 #include <array>
 #include <atomic>
 #include <cstring>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -88,8 +89,12 @@ TEST(ParallelFor, EveryIndexOnceAndExceptionsReachTheCaller) {
 
 TEST(ParallelFor, FewerIndicesThanTwoGrainsRunAsOneSerialCall) {
   parallel::set_worker_count(2);
-  std::vector<std::array<std::size_t, 3>> calls;  // only the calling thread may append: no lock
-  const auto record = [&](std::size_t b, std::size_t e, std::size_t w) { calls.push_back({b, e, w}); };
+  std::mutex m;  // were the range split after all, a worker would append too
+  std::vector<std::array<std::size_t, 3>> calls;
+  const auto record = [&](std::size_t b, std::size_t e, std::size_t w) {
+    std::lock_guard lock(m);
+    calls.push_back({b, e, w});
+  };
   parallel::for_range(127, record, 64);
   ASSERT_EQ(calls.size(), 1u);
   EXPECT_EQ(calls[0], (std::array<std::size_t, 3>{0, 127, 0}));
