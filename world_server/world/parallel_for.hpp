@@ -27,9 +27,8 @@ void set_worker_count(std::size_t workers);
 // a worker and handing chunks over costs ~15 us a call, more than a small loop saves by it.
 void for_range(std::size_t n, const RangeBody& body, std::size_t min_per_worker = 1);
 
-// The world's per-robot sensing loops (medium, ultrasonics) run on the pool from 2 x 64 robots. Measured
-// (2026-12-02, bench_inprocess, random walk, world's us per robot-tick, 1 against 2 workers): N = 32 0.99 /
-// 1.61, N = 64 1.51 / 1.86, N = 128 1.82 / 1.66 on the P3 field, the same crossover on the lockstep field.
+// The world's per-robot sensing loops (medium, ultrasonics) run on the pool from 2 x 64 robots: the measured
+// crossover (world_server/world/README.md, "Two cores").
 inline constexpr std::size_t kMinRobotsPerWorker = 64;
 
 }  // namespace swarmform::parallel
