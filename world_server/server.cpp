@@ -73,6 +73,7 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
   latest_tick_.assign(n, 0);
   fresh_.assign(n, 0);
   waiting_.assign(n, 0);
+  unresponsive_.assign(n, 0);
   for (const world::Kill& k : scenario.kills) kills_.emplace(k.tick, k.id);
   signals_.notify(&link_.waiter);
 }
@@ -221,6 +222,7 @@ void Server::on_claim(const dds::CommandSample& s, bool running) {
     world_.revive(s.robot_id);
     session_.record_rejoin(s.robot_id);
     fresh_[s.robot_id] = 0;
+    unresponsive_[s.robot_id] = 0;
     std::cout << "rejoin id=" << s.robot_id << " tick=" << world_.tick() << std::endl;
   }
 }
@@ -235,6 +237,12 @@ void Server::on_command(const dds::CommandSample& s) {
   }
   const RobotId id = s.robot_id;
   const Tick now = world_.tick();
+  if (unresponsive_[id]) {
+    // Any command from the owner, whatever its tick, shows it is back: the next round waits for it again.
+    unresponsive_[id] = 0;
+    session_.record_event(id, "command_resumed",
+                          "a command for tick " + std::to_string(s.tick) + " after missed deadlines");
+  }
   if (scenario_.mode == world::Mode::Realtime && s.tick < now) {
     if (const auto late = late_.arrived(id, s.tick, s.sent_at, dds_time())) {
       char detail[256];
@@ -294,6 +302,7 @@ void Server::on_regained(dds::PublicationHandle writer, bool running) {
     world_.revive(*id);
     session_.record_rejoin(*id);
     fresh_[*id] = 0;
+    unresponsive_[*id] = 0;
     std::cout << "rejoin id=" << *id << " tick=" << world_.tick() << std::endl;
   }
 }
@@ -329,8 +338,9 @@ void Server::begin_round() {
   for (std::size_t i = 0; i < n; ++i) {
     const auto id = static_cast<RobotId>(i);
     const bool live = world_.alive(id) && registry_.connected(id);
-    waiting_[i] = live ? 1 : 0;
-    waiting_count_ += live ? 1 : 0;
+    const bool awaited = live && !unresponsive_[i];
+    waiting_[i] = awaited ? 1 : 0;
+    waiting_count_ += awaited ? 1 : 0;
     if (live) {
       link_.robots.write_packet(id, dds::PacketStatus::Run, world_.perception(id));
       if (realtime) written_at_[i] = dds_time();  // for late_commands; lockstep has no deadline to miss
@@ -384,9 +394,10 @@ void Server::run_lockstep() {
       if (dds_time() >= deadline) {
         for (std::size_t i = 0; i < waiting_.size(); ++i) {
           if (waiting_[i]) {
+            unresponsive_[i] = 1;
             session_.record_event(static_cast<RobotId>(i), "command_late",
                                   "no command for tick " + std::to_string(world_.tick()) + " within the " +
-                                      "lockstep deadline");
+                                      "lockstep deadline; not waited for until it answers again");
           }
         }
         break;

@@ -81,6 +81,9 @@ class Server {
   std::vector<Tick> latest_tick_;      // its tick
   std::vector<std::uint8_t> fresh_;    // taken since the last apply
   std::vector<std::uint8_t> waiting_;  // lockstep: command for this round still awaited
+  // Lockstep: missed a deadline and has not answered since, so rounds do not wait for it (it still gets
+  // its packets). Without this one silent agent would cost every round the whole deadline.
+  std::vector<std::uint8_t> unresponsive_;
   std::size_t waiting_count_ = 0;
   std::vector<dds::CommandSample> samples_;
   std::vector<dds::CommandReader::LivelinessChange> liveliness_;
