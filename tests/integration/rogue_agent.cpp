@@ -12,8 +12,11 @@
 //       claims K, then answers its newest packet MS after taking it (a standing command). In realtime mode
 //       (--realtime: best-effort endpoints, as the mission would say) a delay over the period makes every
 //       answer late: the world must count the misses and tell where the late commands' time went.
+//   rogue_agent silent --id K --domain D [--timeout SEC]
+//       claims K, keeps its writer's liveliness asserted, and never answers a packet: a live agent that says
+//       nothing (a hung controller). Its robot stands where it was placed; its label must be given up.
 //
-// Exits 0 when the world announces the end (nan, slow) or finishes (spoof), 3 on --timeout.
+// Exits 0 when the world announces the end (nan, slow, silent) or finishes (spoof), 3 on --timeout.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -135,10 +138,34 @@ int slow_agent(dds::Participant& participant, RobotId id, int delay_ms, bool rea
   });
 }
 
+int silent_agent(dds::Participant& participant, RobotId id, double timeout_s) {
+  dds::Waiter waiter(participant);
+  dds::AgentInbox inbox(participant, id, waiter, false);
+  dds::CommandWriter commands(participant, false);
+  waiter.attach(inbox.packet_condition());
+  const dds_time_t deadline = after(timeout_s);
+  if (const int rc = claim_id(id, inbox, commands, waiter, deadline); rc != 0) return rc;
+  dds::SensorSample packet;
+  std::uint64_t foreign = 0;
+  std::uint64_t ignored = 0;
+  for (;;) {
+    if (inbox.take_packet(packet, foreign)) {
+      if (packet.status == dds::PacketStatus::End) {
+        std::cout << "silent ignored=" << ignored << std::endl;
+        return 0;
+      }
+      ++ignored;
+      continue;
+    }
+    if (dds_time() >= deadline) return 3;
+    waiter.wait_until(std::min(deadline, commands.keep_alive(dds_time())));
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"rogue_agent: a spoofing or NaN-sending participant for the integration tests"};
+  CLI::App app{"rogue_agent: a spoofing, NaN-sending, slow or silent participant for the integration tests"};
   app.require_subcommand(1);
   std::uint32_t domain = 0;
   double timeout_s = 60.0;
@@ -155,6 +182,8 @@ int main(int argc, char** argv) {
   int delay_ms = 150;
   sl->add_option("--delay-ms", delay_ms, "how long after taking a packet it answers")
       ->check(CLI::Range(0, 10000));
+  auto* si = app.add_subcommand("silent", "own an id, stay alive, and never answer a packet");
+  si->add_option("--id", id, "the id to claim")->required();
   bool realtime = false;
   sl->add_flag("--realtime", realtime, "best-effort endpoints, for a world in realtime mode");
   try {
@@ -171,6 +200,7 @@ int main(int argc, char** argv) {
     dds::Participant participant(settings);
     if (sp->parsed()) return spoof(participant, target, timeout_s);
     if (sl->parsed()) return slow_agent(participant, id, delay_ms, realtime, timeout_s);
+    if (si->parsed()) return silent_agent(participant, id, timeout_s);
     return nan_agent(participant, id, timeout_s);
   } catch (const std::exception& e) {
     std::cerr << "rogue_agent: " << e.what() << "\n";

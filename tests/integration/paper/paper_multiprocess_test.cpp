@@ -1,9 +1,9 @@
-// The paper's behaviour with real processes (issues 3 and 4): world_server plus 9 robot_agent processes over
-// DDS on loopback, scenarios/paper.yaml in lockstep. The triangle forms and two runs repeat bit for bit; a
-// real SIGKILL of the leader mid-way gives a new leader within 50 ticks and the swarm arrives; a real SIGKILL
-// of a parent makes its children re-parent and arrive. Whom to kill and when comes from a clean run of the
-// same deterministic scenario (lockstep: the killed run is that run up to the kill). Each test has its own
-// DDS domain (181..183), kills every process it started by pid (Process's destructor), bounds every wait.
+// The paper's behaviour with real processes (issues 3, 4 and 17): world_server plus 9 robot_agent processes
+// over DDS on loopback, scenarios/paper.yaml in lockstep. The triangle forms and two runs repeat bit for bit;
+// a real SIGKILL of the leader mid-way gives a new leader within 50 ticks and the swarm arrives; a real
+// SIGKILL of a parent makes its children re-parent and arrive. Whom to kill and when comes from a clean run
+// of the same deterministic scenario (lockstep: the killed run is that run up to the kill). Each test has its
+// own DDS domain (181..185), kills every process it started by pid (Process's destructor), bounds every wait.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -29,6 +29,7 @@ constexpr int kNewLeaderWithin = 50;   // ticks from the leader's death to its s
 
 const std::string kWorld = WORLD_SERVER_EXE;
 const std::string kAgent = ROBOT_AGENT_EXE;
+const std::string kRogue = ROGUE_AGENT_EXE;
 const std::string kScenario = PAPER_SCENARIO;
 
 struct Row {
@@ -40,13 +41,18 @@ class PaperMultiProcess : public swarmform::testing::ProcessFixture {
   PaperMultiProcess() : ProcessFixture("swarmform-paper-it") {}
 
   // A whole run: 9 agents, then the world (given the agents' pids for a kill). `kill` = {id, tick} or none.
-  // The world and every agent but the killed one exit 0; the killed one died of SIGKILL.
-  Json run(int domain, const std::string& name, std::optional<std::pair<int, int>> kill = std::nullopt) {
+  // The world and every agent but the killed one exit 0; the killed one died of SIGKILL. `silent`: that id
+  // is owned by `rogue_agent silent` (alive, never answers) instead of a robot_agent.
+  Json run(int domain, const std::string& name, std::optional<std::pair<int, int>> kill = std::nullopt,
+           std::optional<int> silent = std::nullopt) {
     std::vector<Process*> agents;
     for (int i = 0; i < kRobots; ++i) {
+      const std::string id = std::to_string(i);
+      const std::string d = std::to_string(domain);
       agents.push_back(
-          &start({kAgent, "--id", std::to_string(i), "--domain", std::to_string(domain), "--timeout", "30"},
-                 name + "-agent" + std::to_string(i)));
+          silent == i ? &start({kRogue, "--domain", d, "--timeout", "60", "silent", "--id", id},
+                               name + "-silent" + id)
+                      : &start({kAgent, "--id", id, "--domain", d, "--timeout", "30"}, name + "-agent" + id));
     }
     std::vector<std::string> argv = {
         kWorld,     "--scenario",           kScenario,           "--out", path(name),
@@ -108,6 +114,15 @@ class PaperMultiProcess : public swarmform::testing::ProcessFixture {
     if (clean["goal_tick"].is_null() || clean["motion_start_tick"].is_null()) return p;
     p.kill_tick = (clean["motion_start_tick"].get<int>() + clean["goal_tick"].get<int>()) / 2;
     return p;
+  }
+
+  // The world's judgement (docs/recording-format.md): the shape formed and arrived, nobody stuck.
+  static void expect_outcome_arrived(const Json& s) {
+    ASSERT_EQ(s.value("outcome", ""), "arrived") << s.dump();
+    ASSERT_TRUE(s["shape_error_at_goal"].is_number()) << s.dump();
+    EXPECT_LE(s["shape_error_at_goal"].get<double>(), 0.1) << s.dump();
+    EXPECT_TRUE(s["stuck_robots"].empty()) << s.dump();
+    EXPECT_EQ(s["collisions_robot_robot"], 0);
   }
 
   // Every live shape robot arrived, none but the killed one died.
@@ -204,6 +219,40 @@ TEST_F(PaperMultiProcess, ParentKilledMidWayHasItsChildrenReparentAndArrive) {
               << reparented[kid] - death << " ticks), its parent at the end " << last[kid].parent
               << "; goal_tick=" << s["goal_tick"] << "\n";
   }
+}
+
+// The seed election survives its winner's death (issue 17): the robot that would become the seed (label 0,
+// taken ~30 ticks in) is SIGKILLed at tick 5; the others elect another and the swarm still arrives.
+TEST_F(PaperMultiProcess, WouldBeSeedKilledAtTick5AnotherIsElectedAndTheSwarmArrives) {
+  const int domain = kDomainBase + 4;
+  const Json clean = run(domain, "clean");
+  const auto seeds = events_of("clean", "seed_elected");
+  ASSERT_FALSE(seeds.empty());
+  const int seed = seeds.front()["id"];
+  const Json s = run(domain, "seed-killed", std::pair{seed, 5});
+  ASSERT_EQ(s["deaths"].size(), 1u);
+  EXPECT_EQ(s["deaths"][0]["id"], seed);
+  expect_outcome_arrived(s);
+  const auto elected = events_of("seed-killed", "seed_elected");
+  ASSERT_FALSE(elected.empty());
+  EXPECT_NE(elected.front()["id"], seed);
+  std::cout << "would-be seed " << seed << " killed at tick 5; seed " << elected.front()["id"]
+            << " elected at tick " << elected.front()["tick"] << "; formation_tick=" << s["formation_tick"]
+            << " goal_tick=" << s["goal_tick"] << "\n";
+}
+
+// A live agent that never answers (issue 17): it holds an id but says nothing, so its robot takes no label.
+// The world stops waiting for it after one missed deadline; the others give its label up and arrive.
+TEST_F(PaperMultiProcess, SilentAgentsLabelIsAbandonedAndTheOthersArrive) {
+  const int domain = kDomainBase + 5;
+  constexpr int kSilent = 4;
+  const Json s = run(domain, "silent", std::nullopt, kSilent);
+  expect_outcome_arrived(s);
+  EXPECT_EQ(s["alive_at_end"], kRobots);
+  EXPECT_FALSE(events_of("silent", "label_abandoned").empty());
+  EXPECT_EQ(events_of("silent", "command_late").size(), 1u) << "rounds kept waiting for the silent agent";
+  std::cout << "silent agent " << kSilent << ": formation_tick=" << s["formation_tick"]
+            << " goal_tick=" << s["goal_tick"] << "\n";
 }
 
 }  // namespace
