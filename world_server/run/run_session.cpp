@@ -154,6 +154,7 @@ std::string RunSession::trajectory_sha256() const {
 }
 
 std::string RunSession::finish(double wall_seconds, const SteadyWindow& steady) {
+  if (!impl_->finished) impl_->tracker.conclude();
   SummaryInputs in;
   in.scenario = &impl_->world.scenario();
   in.mode = impl_->options.mode;
