@@ -10,6 +10,8 @@ namespace swarmform::world {
 namespace {
 
 constexpr int kMaxRounds = 20;  // fit <-> assignment alternations; each lowers the cost, so few are needed
+constexpr std::size_t kMaxFullRounds = 4;  // Hungarian solves per refinement; after them, an upper bound
+constexpr int kGreedyRounds = 8;           // cheap nearest-place rounds per starting angle of the fallback
 constexpr double kRetryAbove = 0.1;  // grid units: a worse result is also tried from the shape's heading
 
 double squared(Vec2 a, Vec2 b) {
@@ -243,7 +245,7 @@ ShapeAssignment ShapeAssigner::refine(const std::vector<Vec2>& robots, RigidFit 
     std::vector<int> next;
     if (certified_assignment(robots, fit, next)) {
       optimal = true;
-    } else if (full_solve) {
+    } else if (full_solve && solves < kMaxFullRounds) {
       hungarian_assignment(robots, fit, next);
       ++solves;
       optimal = true;
@@ -265,8 +267,13 @@ ShapeAssignment ShapeAssigner::refine(const std::vector<Vec2>& robots, RigidFit 
 ShapeAssignment ShapeAssigner::solve(const std::vector<Vec2>& robots, const std::vector<int>& guess,
                                      bool full_solve) const {
   std::vector<int> labels = clean_guess(guess);
-  ShapeAssignment best = refine(robots, fit_pairs(robots, labels), labels, full_solve);
-  if (!full_solve || best.error <= kRetryAbove || robots.size() < 2) return best;
+  const auto guessed =
+      static_cast<std::size_t>(std::count_if(labels.begin(), labels.end(), [](int l) { return l >= 0; }));
+  ShapeAssignment best;
+  if (guessed >= 2 || !full_solve || robots.size() < 2) {
+    best = refine(robots, fit_pairs(robots, labels), labels, full_solve);
+    if (!full_solve || best.error <= kRetryAbove || robots.size() < 2) return best;
+  }
   // The guess led nowhere good: start again from the shape laid on the robots' centre at each of a few
   // angles (the grid's own orientation, read from the robots, and its quarter turns; the heading).
   std::size_t solves = best.full_solves;
@@ -284,14 +291,30 @@ ShapeAssignment ShapeAssigner::solve(const std::vector<Vec2>& robots, const std:
     qm.y += q.y;
   }
   qm = {qm.x / static_cast<double>(robots.size()), qm.y / static_cast<double>(robots.size())};
+  // Each start is first improved cheaply (every robot to its nearest place, the nearest robot winning a
+  // place wanted twice, then a refit; no Hungarian solve); only the best is refined in full.
+  ShapeAssignment start_best;
   for (const double angle : candidate_angles(robots)) {
-    RigidFit start{angle, {}};
-    const Vec2 rp = start.apply(pm);
-    start.translation = {qm.x - rp.x, qm.y - rp.y};
-    ShapeAssignment other = refine(robots, start, none, true);
-    solves += other.full_solves;
-    if (other.assigned >= best.assigned && other.error < best.error) best = std::move(other);
+    RigidFit fit{angle, {}};
+    const Vec2 rp = fit.apply(pm);
+    fit.translation = {qm.x - rp.x, qm.y - rp.y};
+    std::vector<int> greedy(robots.size(), -1);
+    for (int round = 0; round < kGreedyRounds; ++round) {
+      std::vector<int> next;
+      certified_assignment(robots, fit, next);
+      if (next == greedy) break;
+      greedy = std::move(next);
+      fit = fit_pairs(robots, greedy);
+    }
+    ShapeAssignment scored = evaluate(robots, greedy);
+    if (scored.assigned > start_best.assigned ||
+        (scored.assigned == start_best.assigned && scored.error < start_best.error)) {
+      start_best = std::move(scored);
+    }
   }
+  ShapeAssignment other = refine(robots, start_best.fit, start_best.label, true);
+  solves += other.full_solves;
+  if (other.assigned >= best.assigned && other.error < best.error) best = std::move(other);
   best.full_solves = solves;
   return best;
 }

@@ -21,6 +21,12 @@ double shape_heading(const Mission& mission) {
 
 }  // namespace
 
+Tick full_solve_interval(std::size_t places, bool near_formed) {
+  if (near_formed) return kFullSolveEvery;
+  const double scale = static_cast<double>(places) / 128.0;
+  return kFullSolveEvery * static_cast<Tick>(std::max(1.0, std::floor(scale * scale)));
+}
+
 MetricsTracker::MetricsTracker(const Mission& mission)
     : has_mission_(mission.behaviour == "paper" && mission.shape.label_count() > 0),
       assigner_(mission.shape, mission.grid_spacing, shape_heading(mission)),
@@ -47,13 +53,18 @@ ShapeAssignment MetricsTracker::assign(Tick tick, bool force_full) {
   std::vector<int> guess(live_ids_.size(), -1);
   for (std::size_t i = 0; i < live_ids_.size(); ++i) guess[i] = assigned_label_[live_ids_[i]];
   if (!have_assignment_) guess = live_labels_;
-  const bool full = force_full || !last_full_solve_ || tick >= *last_full_solve_ + kFullSolveEvery;
+  const bool full =
+      force_full || !last_full_solve_ ||
+      tick >= *last_full_solve_ + full_solve_interval(assigner_.places(), last_full_near_formed_);
   const auto start = std::chrono::steady_clock::now();
   ShapeAssignment a = assigner_.solve(live_positions_, guess, full);
   stats_.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   ++stats_.evaluations;
   stats_.full_solves += a.full_solves;
-  if (a.full_solves > 0) last_full_solve_ = tick;
+  if (a.full_solves > 0) {
+    last_full_solve_ = tick;
+    last_full_near_formed_ = a.error <= 2.0 * kFormationError;
+  }
   std::fill(assigned_label_.begin(), assigned_label_.end(), -1);
   for (std::size_t i = 0; i < live_ids_.size(); ++i) assigned_label_[live_ids_[i]] = a.label[i];
   have_assignment_ = true;

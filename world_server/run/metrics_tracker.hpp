@@ -42,8 +42,11 @@ inline constexpr Tick kRestTicks = 10;          // 1 s at 10 ticks/s
 inline constexpr double kStuckRadius = 0.01;    // m
 inline constexpr Tick kStuckTicks = 300;
 inline constexpr double kAtPlace = 0.1;  // grid units
-// Ticks between two Hungarian solves when the O(n) certificate fails (the cost: README).
+// Ticks between two Hungarian solves when the O(n) certificate fails (the cost: README): kFullSolveEvery
+// while the last solve found the shape near formed (error <= 2 x kFormationError), else kFullSolveEvery x
+// max(1, (places / 128)^2): at 1024 places a far-from-formed solve costs ~1 s, so it runs every 640 ticks.
 inline constexpr Tick kFullSolveEvery = 10;
+Tick full_solve_interval(std::size_t places, bool near_formed);
 
 // What the assignment cost so far (for the README's measurements; not in the summary).
 struct AssignmentStats {
@@ -94,6 +97,7 @@ class MetricsTracker {
   std::size_t distortion_count_ = 0;
   Tick last_tick_ = 0;
   std::optional<Tick> last_full_solve_;
+  bool last_full_near_formed_ = true;
   std::vector<RobotId> live_ids_;  // this tick's live robots, id order
   std::vector<Vec2> live_positions_;
   std::vector<int> live_labels_;     // their reported labels (the assignment's first guess only)

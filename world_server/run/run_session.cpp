@@ -149,6 +149,10 @@ const Metrics& RunSession::metrics() const {
   return impl_->tracker.metrics();
 }
 
+const AssignmentStats& RunSession::assignment_stats() const {
+  return impl_->tracker.assignment_stats();
+}
+
 std::string RunSession::trajectory_sha256() const {
   return impl_->sha.hex_digest();
 }
