@@ -192,6 +192,20 @@ TEST(MetricsTracker, StuckRobotsAreStillAndNotAtAPlace) {
   EXPECT_EQ(tracker.metrics().stuck_robots, (std::vector<RobotId>{5, 16}));
 }
 
+TEST(MetricsTracker, StuckRobotsStrandedFarAwayDoNotMakeTheOthersStuck) {
+  // Robots 14 and 15 stranded 6 m away (still); the other 14 and the spare's place: 14 in place. The least
+  // squares fit of all 16 is pulled ~0.7 m towards the stranded pair; the robots in place are judged against
+  // the fit of the robots that stand in shape.
+  MetricsTracker tracker(block_mission());
+  auto robots = block_at(0.0);
+  robots[14].pose = {8.0, -8.0, 0.0};
+  robots[15].pose = {8.5, -8.0, 0.0};
+  for (Tick t = 0; t <= 310; ++t) tracker.observe(t, robots, {});
+  tracker.conclude();
+  EXPECT_EQ(tracker.metrics().outcome, "not_formed");
+  EXPECT_EQ(tracker.metrics().stuck_robots, (std::vector<RobotId>{14, 15, 16}));
+}
+
 TEST(MetricsTracker, DeadRobotsAndContactsAndEvents) {
   MetricsTracker tracker(line_mission());
   auto robots = line_at(0.0, kReady);

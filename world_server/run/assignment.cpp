@@ -117,6 +117,16 @@ RigidFit ShapeAssigner::fit_pairs(const std::vector<Vec2>& robots, const std::ve
   return fit;
 }
 
+std::pair<int, double> ShapeAssigner::nearest_place(Vec2 point, const RigidFit& fit) const {
+  const Vec2 u = fit.invert(point);
+  const double col = std::round(u.x / spacing_);
+  const double row = std::round(-u.y / spacing_);
+  if (!(col >= 0 && row >= 0 && col < shape_.cols && row < shape_.rows)) return {-1, 0.0};
+  const int label = shape_.at(static_cast<int>(row), static_cast<int>(col));
+  if (label < 0) return {-1, 0.0};
+  return {label, std::sqrt(squared(u, places_[static_cast<std::size_t>(label)]))};
+}
+
 bool ShapeAssigner::certified_assignment(const std::vector<Vec2>& robots, const RigidFit& fit,
                                          std::vector<int>& out) const {
   const std::size_t n = places_.size();

@@ -21,6 +21,7 @@
 #include <cstddef>
 #include <limits>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "common/shape.hpp"
@@ -60,6 +61,10 @@ class ShapeAssigner {
   // its error is an upper bound of the best one's.
   ShapeAssignment solve(const std::vector<Vec2>& robots, const std::vector<int>& guess,
                         bool full_solve) const;
+
+  // The place nearest to an arena point under `fit` (its label, -1 if the point's grid cell holds none) and
+  // the distance to it (m).
+  std::pair<int, double> nearest_place(Vec2 point, const RigidFit& fit) const;
 
   // The fit and error of a given assignment (no search).
   ShapeAssignment evaluate(const std::vector<Vec2>& robots, const std::vector<int>& labels) const;

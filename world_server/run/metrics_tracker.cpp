@@ -181,17 +181,62 @@ void MetricsTracker::conclude() {
   metrics_.stuck_robots.clear();
   if (metrics_.outcome == "arrived" || live_ids_.empty()) return;
   std::vector<int> labels(live_ids_.size(), -1);
-  if (has_mission_) labels = assign(last_tick_, true).label;
+  RigidFit fit;
+  if (has_mission_) {
+    labels = assign(last_tick_, true).label;
+    fit = fit_;
+    // First the least trimmed squares way: refit on the better half of the assigned robots, three times, so
+    // that a majority standing in shape is found even when a few robots stranded far away pull the fit.
+    std::vector<int> subset = labels;
+    for (int round = 0; round < 3; ++round) {
+      std::vector<std::pair<double, std::size_t>> residual;
+      for (std::size_t i = 0; i < subset.size(); ++i) {
+        if (subset[i] < 0) continue;
+        const Vec2 place = fit.apply(assigner_.place(subset[i]));
+        residual.emplace_back(std::hypot(place.x - live_positions_[i].x, place.y - live_positions_[i].y), i);
+      }
+      if (residual.size() < 4) break;
+      std::sort(residual.begin(), residual.end());
+      for (std::size_t k = (residual.size() + 1) / 2; k < residual.size(); ++k)
+        subset[residual[k].second] = -1;
+      fit = assigner_.evaluate(live_positions_, subset).fit;
+    }
+    // A shape not formed pulls the least-squares fit away from the robots that do stand in place: refit on
+    // the robots within kInlier of a place (a few rounds), so those are judged against their own fit.
+    for (int round = 0; round < 3; ++round) {
+      std::vector<int> inliers(labels.size(), -1);
+      std::size_t count = 0;
+      for (std::size_t i = 0; i < labels.size(); ++i) {
+        const auto [label, distance] = assigner_.nearest_place(live_positions_[i], fit);
+        if (label >= 0 && distance <= kInlier * grid_spacing_) {
+          inliers[i] = label;
+          ++count;
+        }
+      }
+      if (count < 2) break;
+      fit = assigner_.evaluate(live_positions_, inliers).fit;
+    }
+  }
+  // At a place: under that fit, the robot nearest to a place, within kAtPlace of it. (Not the optimal
+  // assignment's own place: in a shape not formed, the optimum may shift a chain of robots standing in place
+  // by one place each to make room for a robot stranded between places.)
+  std::vector<int> at_place(live_ids_.size(), 0);
+  if (has_mission_) {
+    std::vector<std::pair<double, std::size_t>> best(assigner_.places(), {-1.0, 0});
+    for (std::size_t i = 0; i < live_ids_.size(); ++i) {
+      const auto [label, distance] = assigner_.nearest_place(live_positions_[i], fit);
+      if (label < 0 || distance > kAtPlace * grid_spacing_) continue;
+      auto& b = best[static_cast<std::size_t>(label)];
+      if (b.first < 0.0 || distance < b.first) b = {distance, i};
+    }
+    for (const auto& b : best) {
+      if (b.first >= 0.0) at_place[b.second] = 1;
+    }
+  }
   for (std::size_t i = 0; i < live_ids_.size(); ++i) {
     const RobotId id = live_ids_[i];
-    bool at_place = false;
-    if (labels[i] >= 0) {
-      const Vec2 place = fit_.apply(assigner_.place(labels[i]));
-      at_place = std::hypot(place.x - live_positions_[i].x, place.y - live_positions_[i].y) <=
-                 kAtPlace * grid_spacing_;
-    }
     const bool still = stuck_[id].set && last_tick_ >= stuck_[id].since + kStuckTicks;
-    if (!at_place && still) metrics_.stuck_robots.push_back(id);
+    if (!at_place[i] && still) metrics_.stuck_robots.push_back(id);
   }
 }
 

@@ -19,8 +19,10 @@
 // - path_length: the distance travelled by the assigned robots' centroid over the motion ticks; a step in
 //   which the assigned set changed (a death) is not counted, so a death is not a jump;
 // - outcome: none (behaviour other than paper), arrived (goal_tick set), formed_not_arrived, not_formed;
-// - stuck_robots (at the end, unless arrived): live robots neither at an assigned place (within kAtPlace of
-//   their fitted place) nor having left a kStuckRadius disc in the last kStuckTicks ticks.
+// - stuck_robots (at the end, unless arrived): live robots neither at a place (the robot nearest to a place
+//   of the final fit, within kAtPlace of it; the fit refitted on the better half of the assigned robots, then
+//   on the robots within kInlier of a place, so robots stranded far away do not pull it) nor
+//   having left a kStuckRadius disc in the last kStuckTicks ticks.
 #pragma once
 
 #include <chrono>
@@ -42,6 +44,7 @@ inline constexpr Tick kRestTicks = 10;          // 1 s at 10 ticks/s
 inline constexpr double kStuckRadius = 0.01;    // m
 inline constexpr Tick kStuckTicks = 300;
 inline constexpr double kAtPlace = 0.1;  // grid units
+inline constexpr double kInlier = 0.3;   // grid units: robots the final fit is refitted on (conclude)
 // Ticks between two Hungarian solves when the O(n) certificate fails (the cost: README): kFullSolveEvery
 // while the last solve found the shape near formed (error <= 2 x kFormationError), else kFullSolveEvery x
 // max(1, (places / 128)^2): at 1024 places a far-from-formed solve costs ~1 s, so it runs every 640 ticks.
