@@ -124,6 +124,11 @@ int Server::run() {
     std::cerr << "world_server: " << late_.summary() << "\n";  // its own line: scripts read the one above
   }
   std::cout << "done ticks=" << world_.tick() << " run_dir=" << options_.run_dir << std::endl;
+  // Last: a run that used up max_ticks without arriving says so (not after a stop by signal).
+  const std::string why = stopping()
+                              ? std::string()
+                              : world::max_ticks_line(session_.metrics(), world_.tick(), scenario_.max_ticks);
+  if (!why.empty()) std::cout << "world_server: " << why << std::endl;
   return kExitOk;
 }
 

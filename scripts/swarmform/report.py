@@ -15,9 +15,11 @@ LAYOUT = [
              ("ticks_per_second", "ticks per second", "tps"),
              ("robot_ticks_per_second", "robot-ticks per second", "tps"),
              ("alive_at_end", "alive at end", "alive")]),
+    ("Outcome", [("outcome", "outcome", "text"), ("stuck_robots", "stuck robots", "list")]),
     ("Formation and motion", [("formation_tick", "shape formed at", "tick"),
                               ("shape_error_at_formation", "shape error at formation", "grid"),
                               ("motion_start_tick", "motion started at", "tick"),
+                              ("motion_ticks_minimum", "motion minimum (straight)", "tick"),
                               ("goal_tick", "goal reached at", "tick"),
                               ("shape_error_at_goal", "shape error at goal", "grid"),
                               ("peak_distortion", "peak distortion (motion)", "grid"),
@@ -32,7 +34,8 @@ LAYOUT = [
                                      ("collisions_robot_obstacle", "robot-obstacle", "int")]),
     ("Reproducibility", [("trajectory_sha256", "trajectory sha256", "text")]),
 ]
-HIDDEN = {"format", "version", "distortion"}  # plumbing, or series drawn in the pictures
+HIDDEN = {"format", "version", "distortion",  # plumbing, or series drawn in the pictures
+          "stuck_robot_count"}  # shown with the stuck robots' list
 
 
 def _fmt(value, kind, summary, tick_rate):

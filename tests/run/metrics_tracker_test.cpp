@@ -10,6 +10,7 @@ namespace swarmform::world {
 namespace {
 
 constexpr auto kSearching = static_cast<std::int32_t>(RobotState::Searching);
+constexpr auto kMoving = static_cast<std::int32_t>(RobotState::Moving);
 constexpr auto kReached = static_cast<std::int32_t>(RobotState::Reached);
 constexpr auto kReady = static_cast<std::int32_t>(RobotState::Ready);
 constexpr auto kMotion = static_cast<std::int32_t>(RobotState::Motion);
@@ -19,8 +20,8 @@ Mission line_mission() {
   m.shape = ShapeMatrix{1, 3, {0, 1, 2}};
   m.grid_spacing = 1.0;
   m.goal = {5.0, 0.0};
-  m.goal_radius = 0.6;  // + the line's own radius 1.0: a goal region of 1.6 m
-  return m;
+  m.goal_radius = 0.6;
+  return m;  // max_speed 0.1 m/s at 10 ticks/s: 0.01 m a tick
 }
 
 // Three robots on the line shape with their left end at x0, plus one spare far behind.
@@ -39,64 +40,179 @@ std::vector<RobotTruth> line_at(double x0, std::int32_t state) {
 
 TEST(MetricsTracker, FormationMotionGoalAndPath) {
   MetricsTracker tracker(line_mission());
-  tracker.observe(0, line_at(0.0, kReached), {});
-  EXPECT_FALSE(tracker.metrics().formation_tick);
-  auto almost = line_at(0.0, kReady);
-  almost[1].telemetry.state = kReached;  // one shape robot not ready yet
-  tracker.observe(1, almost, {});
-  EXPECT_FALSE(tracker.metrics().formation_tick);
-  tracker.observe(2, line_at(0.0, kReady), {});  // the spare stays searching: it does not hold formation up
+  // In place from tick 0, but at rest only after kRestTicks ticks: formation at tick 10, whatever the
+  // robots report (all still Reached).
+  Tick t = 0;
+  for (; t < kRestTicks; ++t) {
+    tracker.observe(t, line_at(0.0, kReached), {});
+    EXPECT_FALSE(tracker.metrics().formation_tick) << t;
+  }
+  tracker.observe(t, line_at(0.0, kReached), {});
   ASSERT_TRUE(tracker.metrics().formation_tick);
-  EXPECT_EQ(*tracker.metrics().formation_tick, 2u);
+  EXPECT_EQ(*tracker.metrics().formation_tick, kRestTicks);
   EXPECT_LT(*tracker.metrics().shape_error_at_formation, 1e-9);
   EXPECT_FALSE(tracker.metrics().peak_distortion);  // not moving yet
+  EXPECT_EQ(tracker.metrics().outcome, "formed_not_arrived");
 
-  // Motion: 0.1 m a tick along +x; the middle robot is 0.3 m off the line on tick 12.
-  Tick t = 3;
-  for (int k = 0; k <= 40; ++k, ++t) {
+  // Motion from tick 11: 0.1 m a tick along +x to x0 = 3.5 (k = 35, tick 46); the middle robot is 0.3 m off
+  // the line on tick 20. Then still.
+  ++t;
+  const Tick motion_start = t;
+  for (int k = 0; k <= 35; ++k, ++t) {
     auto robots = line_at(0.1 * k, kMotion);
-    if (t == 12) robots[1].pose.y = 0.3;
+    if (t == 20) robots[1].pose.y = 0.3;
     tracker.observe(t, robots, {});
+    EXPECT_FALSE(tracker.metrics().goal_tick) << t;  // moving: not at rest
   }
+  const Tick stopped = t - 1;  // 46
+  for (; t <= stopped + 15; ++t) tracker.observe(t, line_at(3.5, kMotion), {});
   const Metrics& m = tracker.metrics();
-  EXPECT_EQ(*m.motion_start_tick, 3u);
-  // The goal region, radius 1.6 about (5, 0), holds the three robots (x0..x0+2) once x0 >= 3.4: k = 34,
-  // tick 37.
+  EXPECT_EQ(*m.motion_start_tick, motion_start);
+  // The centroid (x0 + 1) was 4 m from the goal at motion start: 3.4 m to the goal disc, 340 ticks at 0.01 m.
+  ASSERT_TRUE(m.motion_ticks_minimum);
+  EXPECT_NEAR(*m.motion_ticks_minimum, 340.0, 1e-9);
+  // Centroid 0.5 m from the goal, within its 0.6 m radius, at rest from tick 46 + 10.
   ASSERT_TRUE(m.goal_tick);
-  EXPECT_EQ(*m.goal_tick, 37u);
+  EXPECT_EQ(*m.goal_tick, stopped + kRestTicks);
   EXPECT_LT(*m.shape_error_at_goal, 1e-9);
   EXPECT_EQ(m.arrived, 3u);
-  // The bent line: best fit error of (0,0),(1,0.3),(2,0) against a straight line; positive, and the peak.
+  EXPECT_EQ(m.outcome, "arrived");
+  // The bent line: positive, and the peak; one bent tick among the motion ticks (11..56).
   ASSERT_TRUE(m.peak_distortion);
   EXPECT_GT(*m.peak_distortion, 0.05);
-  EXPECT_NEAR(*m.mean_distortion, *m.peak_distortion / 35.0, 1e-12);  // 35 motion ticks (3..37), one bent
-  // Centroid path over the motion window (ticks 3..37): 34 steps of 0.1 m, plus the bend's side step there
-  // and back (0.1 m each way in y).
-  EXPECT_NEAR(m.path_length, 3.4 + 2 * std::hypot(0.1, 0.1) - 0.2, 1e-9);
-  EXPECT_EQ(m.distortion.size(), t - 2);
+  const double motion_ticks = static_cast<double>(*m.goal_tick - motion_start + 1);
+  EXPECT_NEAR(*m.mean_distortion, *m.peak_distortion / motion_ticks, 1e-12);
+  // Centroid path: 35 steps of 0.1 m, plus the bend's side step there and back (0.1 m each way in y).
+  EXPECT_NEAR(m.path_length, 3.5 + 2 * std::hypot(0.1, 0.1) - 0.2, 1e-9);
+  EXPECT_EQ(m.distortion.size(), t - kRestTicks);
+  tracker.conclude();
+  EXPECT_TRUE(m.stuck_robots.empty());  // arrived: nobody is stuck (the spare has not moved for 60 ticks)
 }
 
-TEST(MetricsTracker, GoalReachedWhenEveryShapeRobotReportsArrived) {
+// The "arrival" row: goal_tick was set with the centroid 1.03 m from the goal (goal radius + the
+// shape's radius), when every robot reported Arrived, and for a wrecked line.
+TEST(MetricsTracker, ArrivalNeedsTheCentroidInTheGoalRadiusAndTheShapeFormed) {
+  {
+    MetricsTracker tracker(line_mission());
+    // Formed and at rest, centroid 1.03 m short of the goal (x0 + 1 = 3.97), every robot saying Arrived.
+    for (Tick t = 0; t < 40; ++t)
+      tracker.observe(t, line_at(2.97, static_cast<std::int32_t>(RobotState::Arrived)), {});
+    EXPECT_TRUE(tracker.metrics().formation_tick);
+    EXPECT_FALSE(tracker.metrics().goal_tick);
+    EXPECT_EQ(tracker.metrics().arrived, 0u);
+    EXPECT_EQ(tracker.metrics().outcome, "formed_not_arrived");
+  }
+  {
+    // The line wrecked at the goal: the three robots 0.2 m apart in a clump on the goal, at rest.
+    MetricsTracker tracker(line_mission());
+    auto robots = line_at(0.0, static_cast<std::int32_t>(RobotState::Arrived));
+    robots[0].pose = {5.0, 0.0, 0.0};
+    robots[1].pose = {5.2, 0.0, 0.0};
+    robots[2].pose = {5.0, 0.2, 0.0};
+    for (Tick t = 0; t < 40; ++t) tracker.observe(t, robots, {});
+    EXPECT_FALSE(tracker.metrics().formation_tick);
+    EXPECT_FALSE(tracker.metrics().goal_tick);
+    EXPECT_EQ(tracker.metrics().outcome, "not_formed");
+  }
+}
+
+TEST(MetricsTracker, RobotsReportingWrongLabelsAreJudgedOnTheirPositions) {
   MetricsTracker tracker(line_mission());
-  tracker.observe(0, line_at(-10.0, kReady), {});
-  tracker.observe(1, line_at(-10.0, kMotion), {});
-  EXPECT_FALSE(tracker.metrics().goal_tick);  // far from the goal region
-  auto robots = line_at(-10.0, static_cast<std::int32_t>(RobotState::Arrived));
-  robots[3].telemetry.state = kSearching;  // the spare is no shape robot
-  tracker.observe(2, robots, {});
-  ASSERT_TRUE(tracker.metrics().goal_tick);
-  EXPECT_EQ(*tracker.metrics().goal_tick, 2u);
-  EXPECT_EQ(tracker.metrics().arrived, 0u);  // in the goal region: none
+  auto robots = line_at(0.0, kReady);
+  robots[0].telemetry.label = 2;  // swapped
+  robots[2].telemetry.label = 0;
+  robots[1].telemetry.label = 0;  // and a lie
+  for (Tick t = 0; t <= kRestTicks; ++t) tracker.observe(t, robots, {});
+  ASSERT_TRUE(tracker.metrics().formation_tick);
+  EXPECT_LT(*tracker.metrics().shape_error_at_formation, 1e-9);
+  // The line read either way round (a half turn fits it as well); the spare left out.
+  const auto& labels = tracker.assigned_labels();
+  EXPECT_TRUE(labels == (std::vector<int>{0, 1, 2, -1}) || labels == (std::vector<int>{2, 1, 0, -1}));
+}
+
+TEST(MetricsTracker, FewerRobotsThanPlacesCanForm) {
+  MetricsTracker tracker(line_mission());
+  auto robots = line_at(0.0, kReady);
+  robots[1].alive = false;  // the middle label's robot died; the two ends still stand in line
+  // With as many live robots as places, the spare would have to take a place too: it died as well.
+  robots[3].alive = false;
+  for (Tick t = 0; t <= kRestTicks; ++t) tracker.observe(t, robots, {});
+  ASSERT_TRUE(tracker.metrics().formation_tick);
+  const auto& labels = tracker.assigned_labels();
+  EXPECT_TRUE(labels == (std::vector<int>{0, -1, 2, -1}) || labels == (std::vector<int>{2, -1, 0, -1}));
+}
+
+TEST(MetricsTracker, OutcomeNoneForRandomWalk) {
+  Mission mission = line_mission();
+  mission.behaviour = "random_walk";
+  MetricsTracker tracker(mission);
+  for (Tick t = 0; t <= 20; ++t) tracker.observe(t, line_at(0.0, kSearching), {});
+  EXPECT_EQ(tracker.metrics().outcome, "none");
+  EXPECT_FALSE(tracker.metrics().formation_tick);
+}
+
+// A 4x4 block (labels row-major) with robots 0..15 on their places (left column at x0) and robot 16 a spare.
+Mission block_mission() {
+  Mission m;
+  m.shape = ShapeMatrix{4, 4, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15}};
+  m.goal = {20.0, 0.0};
+  return m;
+}
+
+std::vector<RobotTruth> block_at(double x0) {
+  std::vector<RobotTruth> robots(17);
+  for (RobotId i = 0; i < 17; ++i) {
+    robots[i].id = i;
+    robots[i].telemetry.state = kMoving;
+    robots[i].telemetry.label = i < 16 ? static_cast<std::int32_t>(i) : -1;
+    robots[i].pose = {x0 + i % 4, -static_cast<double>(i / 4), 0.0};
+  }
+  robots[16].pose = {-20.0, 0.0, 0.0};
+  return robots;
+}
+
+TEST(MetricsTracker, StuckRobotsAreStillAndNotAtAPlace) {
+  MetricsTracker tracker(block_mission());
+  // Robot 5 pinned 0.5 m off its place (so not formed); the spare walks, then stops for less than 300
+  // ticks; robot 15 keeps trembling 2 cm off its place (it moves: not stuck).
+  auto at = [](Tick t) {
+    auto robots = block_at(0.0);
+    robots[5].pose.y += 0.5;
+    robots[16].pose.x = -20.0 + 0.02 * static_cast<double>(std::min<Tick>(t, 200));
+    robots[15].pose.x += t % 2 == 0 ? 0.02 : -0.02;
+    return robots;
+  };
+  for (Tick t = 0; t <= 400; ++t) tracker.observe(t, at(t), {});
+  tracker.conclude();
+  EXPECT_EQ(tracker.metrics().outcome, "not_formed");
+  EXPECT_EQ(tracker.metrics().stuck_robots, (std::vector<RobotId>{5}));
+  // After 300 still ticks the spare counts too: it is neither at a place nor moving.
+  for (Tick t = 401; t <= 520; ++t) tracker.observe(t, at(t), {});
+  tracker.conclude();
+  EXPECT_EQ(tracker.metrics().stuck_robots, (std::vector<RobotId>{5, 16}));
+}
+
+TEST(MetricsTracker, StuckRobotsStrandedFarAwayDoNotMakeTheOthersStuck) {
+  // Robots 14 and 15 stranded 6 m away (still); the other 14 and the spare's place: 14 in place. The least
+  // squares fit of all 16 is pulled ~0.7 m towards the stranded pair; the robots in place are judged against
+  // the fit of the robots that stand in shape.
+  MetricsTracker tracker(block_mission());
+  auto robots = block_at(0.0);
+  robots[14].pose = {8.0, -8.0, 0.0};
+  robots[15].pose = {8.5, -8.0, 0.0};
+  for (Tick t = 0; t <= 310; ++t) tracker.observe(t, robots, {});
+  tracker.conclude();
+  EXPECT_EQ(tracker.metrics().outcome, "not_formed");
+  EXPECT_EQ(tracker.metrics().stuck_robots, (std::vector<RobotId>{14, 15, 16}));
 }
 
 TEST(MetricsTracker, DeadRobotsAndContactsAndEvents) {
   MetricsTracker tracker(line_mission());
   auto robots = line_at(0.0, kReady);
   robots[2].alive = false;
-  robots[2].telemetry.state = kSearching;  // a dead robot's report does not hold formation up
+  robots[2].telemetry.state = kSearching;  // a dead robot's report does not matter
   tracker.observe(5, robots, {2, 1});
   tracker.observe(6, robots, {1, 0});
-  EXPECT_EQ(*tracker.metrics().formation_tick, 5u);
   EXPECT_EQ(tracker.metrics().collisions_robot_robot, 3u);
   EXPECT_EQ(tracker.metrics().collisions_robot_obstacle, 1u);
   tracker.count_event(make_event(6, "death", 2));

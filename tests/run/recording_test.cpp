@@ -213,6 +213,10 @@ TEST(Recording, SummaryHasEveryKeyNullWhereNotReached) {
                           "leader_changes",
                           "path_length",
                           "arrived",
+                          "outcome",
+                          "stuck_robots",
+                          "stuck_robot_count",
+                          "motion_ticks_minimum",
                           "trajectory_sha256"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
@@ -225,6 +229,15 @@ TEST(Recording, SummaryHasEveryKeyNullWhereNotReached) {
   EXPECT_TRUE(j["peak_distortion"].is_null());
   EXPECT_EQ(j["deaths"][0]["id"], 2);
   EXPECT_EQ(j["deaths"][0]["tick"], 7);
+  EXPECT_EQ(j["outcome"], "not_formed");
+  EXPECT_TRUE(j["motion_ticks_minimum"].is_null());
+  EXPECT_EQ(j["stuck_robot_count"], 0);
+  m.stuck_robots = {1, 4};
+  m.outcome = "formed_not_arrived";
+  const auto k = make_summary(in);
+  EXPECT_EQ(k["stuck_robots"], nlohmann::ordered_json::parse("[1, 4]"));
+  EXPECT_EQ(k["stuck_robot_count"], 2);
+  EXPECT_EQ(k["outcome"], "formed_not_arrived");
 
   // The text form keeps the long distortion series on one line and parses back to the same document.
   m.distortion = {{40, 0.05}, {41, 0.0625}};

@@ -103,7 +103,8 @@ def make_run(run_dir, ticks=80, robots=7, summary=True, distortion=False, death=
                "deaths": [{"id": death[0], "tick": death[1]}] if death else [],
                "collisions_robot_robot": 1, "collisions_robot_obstacle": 0,
                "formation_tick": int(ticks * 0.3), "shape_error_at_formation": 0.0,
-               "goal_tick": None, "peak_distortion": 0.21, "trajectory_sha256": "ab" * 32}
+               "goal_tick": None, "peak_distortion": 0.21, "trajectory_sha256": "ab" * 32,
+               "outcome": "formed_not_arrived", "stuck_robots": [3, 5], "stuck_robot_count": 2}
         if distortion:
             doc["distortion"] = [[t, 0.01 * (t % 10)] for t in range(int(ticks * 0.3), ticks)]
         with open(os.path.join(run_dir, "summary.json"), "w") as f:

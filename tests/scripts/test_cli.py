@@ -67,7 +67,10 @@ class CliTest(unittest.TestCase):
         self.assertIn("  goal reached at            not reached", lines)
         self.assertIn("  deaths                     1: robot 2 at tick 50", lines)
         self.assertIn("  alive at end               6 / 7", lines)
-        for group in ("Run", "Formation and motion", "Faults", "Collisions (contact onsets)", "Reproducibility"):
+        self.assertIn("  outcome                    formed_not_arrived", lines)
+        self.assertIn("  stuck robots               2: 3, 5", lines)
+        self.assertNotIn("stuck_robot_count", r.stdout)
+        for group in ("Run", "Outcome", "Formation and motion", "Faults", "Collisions (contact onsets)", "Reproducibility"):
             self.assertIn(group, lines)
 
     def test_report_without_summary_explains(self):

@@ -9,6 +9,8 @@
 #include <sstream>
 #include <string>
 
+#include <unistd.h>
+
 #include "common/input_error.hpp"
 #include "world_server/world/placement.hpp"
 
@@ -71,6 +73,65 @@ TEST(Scenario, EveryFileInScenariosLoads) {
     }) << entry.path();
   }
   EXPECT_GE(files, 3);
+}
+
+// A square block shape of side x side labels, written to a temporary file; returns its path.
+std::string block_shape_file(int side) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("swarmform-block-" + std::to_string(side) + "-" + std::to_string(::getpid()) + ".txt");
+  std::ofstream out(path);
+  for (int r = 0; r < side; ++r) {
+    for (int c = 0; c < side; ++c) out << (c > 0 ? " " : "") << r * side + c;
+    out << "\n";
+  }
+  return path.string();
+}
+
+// Issue 17: a 10 x 10 block with the paper's scenario was accepted, and 62 robots pushed against the walls.
+TEST(Scenario, RefusesAShapeThatCannotFitInsideTheWalls) {
+  const std::string block = block_shape_file(10);
+  ScenarioOverrides ov;
+  ov.shape_file = block;
+  try {
+    load_scenario(kRepo + "/scenarios/paper.yaml", ov);
+    ADD_FAILURE() << "a 10 x 10 block was accepted in the paper's 20 x 12 m arena";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), kRepo + "/scenarios/paper.yaml");
+    EXPECT_NE(std::string(e.what()).find("shape: "), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("cannot fit inside the walls"), std::string::npos) << e.what();
+  }
+  // The shape named in the file: the error points at its line.
+  expect_rejected("arena: {centre: [4, 0], width: 20, height: 12, walls: true}\nshape: " + block + "\n", 2,
+                  "shape: swarmform-block-10-");
+  // In a 60 m arena it fits; without walls nothing is checked; a random walk forms no shape.
+  EXPECT_NO_THROW(
+      parse("arena: {centre: [0, 0], width: 60, height: 60, walls: true}\nshape: " + block + "\n"));
+  EXPECT_NO_THROW(
+      parse("arena: {centre: [4, 0], width: 20, height: 12, walls: false}\nshape: " + block + "\n"));
+  EXPECT_NO_THROW(parse("behaviour: random_walk\nshape: " + block + "\n"));
+  // Label 0 is where the robot nearest the origin starts. The triangle (3 rows, 5 columns, apex up) from a
+  // robot 1.5 m under the north wall fits; from one 1 m from the west wall it does not (labels 4..8 reach
+  // 2 m to the left of label 0).
+  EXPECT_NO_THROW(
+      parse("arena: {centre: [0, 0], width: 20, height: 12, walls: true}\nshape: triangle.txt\n"
+            "robots:\n  poses:\n    - [0, 4.5]\n    - [0.5, 4.5]\n"));
+  expect_rejected(
+      "arena: {centre: [0, 0], width: 20, height: 12, walls: true}\nshape: triangle.txt\n"
+      "robots:\n  poses:\n    - [-9.5, 0]\n    - [-9, 0]\n",
+      2, "label 0 at (-9, 0), where the robot nearest the origin starts");
+  std::filesystem::remove(block);
+}
+
+TEST(Scenario, EveryShippedShapeFitsEveryShippedScenario) {
+  for (const auto& scenario : std::filesystem::directory_iterator(kRepo + "/scenarios")) {
+    if (scenario.path().extension() != ".yaml") continue;
+    for (const auto& shape : std::filesystem::directory_iterator(kRepo + "/shapes")) {
+      if (shape.path().extension() != ".txt") continue;
+      ScenarioOverrides ov;
+      ov.shape_file = shape.path().string();
+      EXPECT_NO_THROW(load_scenario(scenario.path().string(), ov)) << scenario.path() << " " << shape.path();
+    }
+  }
 }
 
 TEST(Scenario, TheFullExampleOfTheReadmeParses) {
@@ -253,7 +314,8 @@ arena: {centre: [0, 0], width: 6, height: 6}
 obstacles: [{type: box, centre: [0, 0], size: [2, 2], yaw: 0.3}, {type: cylinder, centre: [2, 2], radius: 0.5}]
 robots: {count: 60, region: {centre: [0, 0], width: 6, height: 6}}
 goal: {x: 2, y: -2}
-)");
+behaviour: random_walk
+)");  // random_walk: the triangle could not form in so small an arena (the loader would refuse it)
   ASSERT_EQ(s.robots.size(), 60u);
   for (const Pose2D& p : s.robots) {
     EXPECT_LE(std::abs(p.x), 3.0 - kRobotRadius);

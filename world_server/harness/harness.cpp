@@ -131,6 +131,10 @@ const world::Metrics& Harness::metrics() const {
   return impl_->session.metrics();
 }
 
+const world::AssignmentStats& Harness::assignment_stats() const {
+  return impl_->session.assignment_stats();
+}
+
 const controller::Controller& Harness::controller(RobotId id) const {
   impl_->check_id(id);
   if (!impl_->controllers[id]) {

@@ -34,6 +34,7 @@ class Harness {
   const world::World& world() const;
   world::World& world();
   const world::Metrics& metrics() const;
+  const world::AssignmentStats& assignment_stats() const;
   const controller::Controller& controller(RobotId id) const;
   std::string finish(double wall_seconds);  // summary.json text
 

@@ -13,6 +13,7 @@
 
 #include "common/input_error.hpp"
 #include "world_server/harness/harness.hpp"
+#include "world_server/run/run_end.hpp"
 
 namespace {
 
@@ -159,7 +160,19 @@ int main(int argc, char** argv) {
     if (!quiet) {
       if (g_interrupted) std::cerr << "swarm_inprocess: interrupted; the run directory holds what was done\n";
       if (!run_dir.empty()) std::cerr << "swarm_inprocess: run directory " << run_dir << "\n";
+      const auto& cost = harness.assignment_stats();
+      std::fprintf(
+          stderr,
+          "swarm_inprocess: the world's assignment of robots to places: %llu evaluations, %llu Hungarian "
+          "solves, %.3f s of %.3f s\n",
+          static_cast<unsigned long long>(cost.evaluations),
+          static_cast<unsigned long long>(cost.full_solves), cost.seconds, wall);
     }
+    // Last, even with --quiet: a run that used up max_ticks without arriving says so.
+    const std::string why =
+        g_interrupted ? std::string()
+                      : world::max_ticks_line(harness.metrics(), harness.world().tick(), scenario.max_ticks);
+    if (!why.empty()) std::cerr << "swarm_inprocess: " << why << "\n";
     return g_interrupted ? 130 : 0;
   } catch (const InputError& e) {
     std::cerr << e.what() << "\n";

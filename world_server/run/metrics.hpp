@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -17,18 +18,26 @@ struct DeathRecord {
 };
 
 struct Metrics {
-  std::optional<Tick> formation_tick;              // first tick every live shape robot (label >= 0) is ready
+  // Formation and arrival are judged on the true poses (metrics_tracker.hpp has the definitions): the best
+  // assignment of the live robots to the shape's places over a rigid fit, at rest, within kFormationError.
+  std::optional<Tick> formation_tick;              // first tick the shape stands formed
   std::optional<double> shape_error_at_formation;  // grid units
-  std::optional<Tick> motion_start_tick;           // first tick a robot is in Motion
-  std::optional<Tick> goal_tick;              // first tick every live shape robot is within the goal radius
-  std::optional<double> shape_error_at_goal;  // grid units
-  std::optional<double> peak_distortion;      // max shape error over the motion ticks, grid units
-  std::optional<double> mean_distortion;      // mean shape error over the motion ticks, grid units
+  std::optional<Tick> motion_start_tick;           // first tick a robot reports Motion (telemetry)
+  std::optional<double> motion_ticks_minimum;  // the assigned centroid's distance to the goal disc at motion
+                                               // start, at max_speed: the fewest ticks the motion can take
+  std::optional<Tick> goal_tick;  // first tick the shape stands formed with its centroid in the goal
+  std::optional<double> shape_error_at_goal;        // grid units
+  std::optional<double> peak_distortion;            // max shape error over the motion ticks, grid units
+  std::optional<double> mean_distortion;            // mean shape error over the motion ticks, grid units
   std::vector<std::pair<Tick, double>> distortion;  // (tick, shape error) for every tick from formation on
   std::uint32_t collisions_robot_robot = 0;         // contact onsets
   std::uint32_t collisions_robot_obstacle = 0;      // contact onsets (walls, obstacles, dead bodies)
-  double path_length = 0.0;   // m, travelled by the centre of the shape robots in motion
-  std::uint32_t arrived = 0;  // live shape robots within the goal radius at the end
+  double path_length = 0.0;   // m, travelled by the centre of the assigned robots in motion
+  std::uint32_t arrived = 0;  // live robots assigned a place at the last tick, once goal_tick is set; else 0
+  // How the mission ended: "arrived", "formed_not_arrived", "not_formed", or "none" (no shape or goal to
+  // reach: behaviour random_walk).
+  std::string outcome = "not_formed";
+  std::vector<RobotId> stuck_robots;  // filled at the end (MetricsTracker::conclude)
   std::vector<DeathRecord> deaths;
   std::vector<DeathRecord> rejoins;
   std::uint32_t leader_changes = 0;  // times the robot reporting leader=true changed (first one not counted)

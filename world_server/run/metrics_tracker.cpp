@@ -2,114 +2,171 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 
+#include "common/controller_params.hpp"
 #include "common/robot_state.hpp"
 
 namespace swarmform::world {
 
 namespace {
 
-// The largest distance of a label's grid place from the centre of all of them, in m.
-double shape_radius(const ShapeMatrix& shape, double grid_spacing) {
-  double sx = 0.0;
-  double sy = 0.0;
-  int n = 0;
-  for (int row = 0; row < shape.rows; ++row) {
-    for (int col = 0; col < shape.cols; ++col) {
-      if (shape.at(row, col) < 0) continue;
-      sx += col;
-      sy += row;
-      ++n;
-    }
-  }
-  if (n == 0) return 0.0;
-  sx /= n;
-  sy /= n;
-  double r = 0.0;
-  for (int row = 0; row < shape.rows; ++row) {
-    for (int col = 0; col < shape.cols; ++col) {
-      if (shape.at(row, col) >= 0) r = std::max(r, std::hypot(col - sx, row - sy));
-    }
-  }
-  return r * grid_spacing;
+double shape_heading(const Mission& mission) {
+  const auto it = mission.params.find("shape_heading");
+  if (it != mission.params.end()) return it->second;
+  const ParamSpec* spec = find_param("shape_heading");
+  return spec != nullptr ? spec->default_value : std::numbers::pi / 2.0;
 }
 
 }  // namespace
 
+Tick full_solve_interval(std::size_t places, bool near_formed) {
+  if (near_formed) return kFullSolveEvery;
+  const double scale = static_cast<double>(places) / 128.0;
+  return kFullSolveEvery * static_cast<Tick>(std::max(1.0, std::floor(scale * scale)));
+}
+
 MetricsTracker::MetricsTracker(const Mission& mission)
-    : shape_(mission.shape),
+    : has_mission_(mission.behaviour == "paper" && mission.shape.label_count() > 0),
+      assigner_(mission.shape, mission.grid_spacing, shape_heading(mission)),
       grid_spacing_(mission.grid_spacing),
       goal_(mission.goal),
-      goal_region_radius_(mission.goal_radius + shape_radius(mission.shape, mission.grid_spacing)) {}
+      goal_radius_(mission.goal_radius),
+      tick_distance_(mission.max_speed / mission.tick_rate) {
+  if (!has_mission_) metrics_.outcome = "none";
+}
 
 bool MetricsTracker::in_motion_window(Tick tick) const {
   return metrics_.motion_start_tick && tick >= *metrics_.motion_start_tick &&
          (!metrics_.goal_tick || tick <= *metrics_.goal_tick);
 }
 
+void MetricsTracker::move_anchor(Anchor& a, Vec2 p, Tick tick, double radius) {
+  if (a.set && std::hypot(p.x - a.at.x, p.y - a.at.y) <= radius) return;
+  a.at = p;
+  a.since = tick;
+  a.set = true;
+}
+
+ShapeAssignment MetricsTracker::assign(Tick tick, bool force_full) {
+  std::vector<int> guess(live_ids_.size(), -1);
+  for (std::size_t i = 0; i < live_ids_.size(); ++i) guess[i] = assigned_label_[live_ids_[i]];
+  if (!have_assignment_) guess = live_labels_;
+  const bool full =
+      force_full || !last_full_solve_ ||
+      tick >= *last_full_solve_ + full_solve_interval(assigner_.places(), last_full_near_formed_);
+  const auto start = std::chrono::steady_clock::now();
+  ShapeAssignment a = assigner_.solve(live_positions_, guess, full);
+  stats_.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ++stats_.evaluations;
+  stats_.full_solves += a.full_solves;
+  if (a.full_solves > 0) {
+    last_full_solve_ = tick;
+    last_full_near_formed_ = a.error <= 2.0 * kFormationError;
+  }
+  std::fill(assigned_label_.begin(), assigned_label_.end(), -1);
+  for (std::size_t i = 0; i < live_ids_.size(); ++i) assigned_label_[live_ids_[i]] = a.label[i];
+  have_assignment_ = true;
+  fit_ = a.fit;
+  return a;
+}
+
 void MetricsTracker::observe(Tick tick, const std::vector<RobotTruth>& robots, ContactCounts contacts) {
   metrics_.collisions_robot_robot += contacts.robot_robot;
   metrics_.collisions_robot_obstacle += contacts.robot_obstacle;
-
-  constexpr auto kReady = static_cast<std::int32_t>(RobotState::Ready);
   constexpr auto kMotion = static_cast<std::int32_t>(RobotState::Motion);
-  constexpr auto kArrived = static_cast<std::int32_t>(RobotState::Arrived);
 
-  // One pass over the robots: the shape robots, whether all are ready, whether any is in motion.
-  std::vector<LabelledPosition> shape_robots;
-  std::vector<RobotId> shape_ids;
-  bool all_ready = true;
-  bool all_arrived = true;
+  if (rest_.size() < robots.size()) {
+    rest_.resize(robots.size());
+    stuck_.resize(robots.size());
+    assigned_label_.resize(robots.size(), -1);
+  }
+  live_ids_.clear();
+  live_positions_.clear();
+  live_labels_.clear();
   bool any_motion = false;
-  std::uint32_t at_goal = 0;
-  Vec2 centroid;
   for (const auto& r : robots) {
-    if (!r.alive) continue;
+    if (r.id >= rest_.size()) continue;
+    if (!r.alive) {
+      rest_[r.id].set = false;
+      stuck_[r.id].set = false;
+      assigned_label_[r.id] = -1;
+      continue;
+    }
+    const Vec2 p{r.pose.x, r.pose.y};
+    move_anchor(rest_[r.id], p, tick, kRestRadius);
+    move_anchor(stuck_[r.id], p, tick, kStuckRadius);
+    live_ids_.push_back(r.id);
+    live_positions_.push_back(p);
+    live_labels_.push_back(r.telemetry.label);
     if (r.telemetry.state == kMotion) any_motion = true;
-    if (r.telemetry.label < 0) continue;
-    shape_robots.push_back({r.telemetry.label, {r.pose.x, r.pose.y}});
-    shape_ids.push_back(r.id);
-    if (r.telemetry.state < kReady) all_ready = false;
-    if (r.telemetry.state != kArrived) all_arrived = false;
-    if (std::hypot(r.pose.x - goal_.x, r.pose.y - goal_.y) <= goal_region_radius_) ++at_goal;
-    centroid.x += r.pose.x;
-    centroid.y += r.pose.y;
   }
-  const bool have_shape = !shape_robots.empty();
-  if (have_shape) {
-    centroid.x /= static_cast<double>(shape_robots.size());
-    centroid.y /= static_cast<double>(shape_robots.size());
+  last_tick_ = tick;
+  const bool motion_starts = !metrics_.motion_start_tick && any_motion;
+  if (motion_starts) metrics_.motion_start_tick = tick;
+  if (!has_mission_) return;
+
+  // The assignment is needed every tick from formation or motion on (distortion, path); before, only when
+  // enough robots are at rest for the shape to stand formed.
+  const std::size_t k = std::min(live_ids_.size(), assigner_.places());
+  std::size_t resting = 0;
+  for (const RobotId id : live_ids_) resting += tick >= rest_[id].since + kRestTicks ? 1 : 0;
+  const bool evaluate = metrics_.formation_tick || metrics_.motion_start_tick || (k > 0 && resting >= k);
+  if (!evaluate || live_ids_.empty()) {
+    previous_centroid_.reset();
+    return;
   }
+  const ShapeAssignment a = assign(tick, motion_starts);
 
-  if (!metrics_.motion_start_tick && any_motion) metrics_.motion_start_tick = tick;
+  bool all_at_rest = true;
+  Vec2 centroid;
+  std::vector<RobotId> assigned_ids;
+  for (std::size_t i = 0; i < live_ids_.size(); ++i) {
+    if (a.label[i] < 0) continue;
+    const RobotId id = live_ids_[i];
+    if (tick < rest_[id].since + kRestTicks) all_at_rest = false;
+    centroid.x += live_positions_[i].x;
+    centroid.y += live_positions_[i].y;
+    assigned_ids.push_back(id);
+  }
+  if (assigned_ids.empty()) {
+    previous_centroid_.reset();
+    return;
+  }
+  centroid.x /= static_cast<double>(assigned_ids.size());
+  centroid.y /= static_cast<double>(assigned_ids.size());
+  const double to_goal = std::hypot(centroid.x - goal_.x, centroid.y - goal_.y);
+  const bool formed = a.assigned == k && std::isfinite(a.error) && a.error <= kFormationError && all_at_rest;
 
-  if (!metrics_.formation_tick && have_shape && all_ready) {
+  if (formed && !metrics_.formation_tick) {
     metrics_.formation_tick = tick;
-    metrics_.shape_error_at_formation = shape_error(shape_, grid_spacing_, shape_robots);
+    metrics_.shape_error_at_formation = a.error;
   }
-
-  if (metrics_.formation_tick) {
-    const auto error = shape_error(shape_, grid_spacing_, shape_robots);
-    if (error) {
-      metrics_.distortion.emplace_back(tick, *error);
-      if (in_motion_window(tick)) {
-        metrics_.peak_distortion = std::max(metrics_.peak_distortion.value_or(0.0), *error);
-        distortion_sum_ += *error;
-        ++distortion_count_;
-        metrics_.mean_distortion = distortion_sum_ / static_cast<double>(distortion_count_);
-      }
-    }
-    metrics_.arrived = at_goal;
-    if (!metrics_.goal_tick && have_shape && (at_goal == shape_robots.size() || all_arrived)) {
-      metrics_.goal_tick = tick;
-      metrics_.shape_error_at_goal = error;
+  if (motion_starts && tick_distance_ > 0.0) {
+    metrics_.motion_ticks_minimum = std::max(0.0, to_goal - goal_radius_) / tick_distance_;
+  }
+  if (metrics_.formation_tick && std::isfinite(a.error)) {
+    metrics_.distortion.emplace_back(tick, a.error);
+    if (in_motion_window(tick)) {
+      metrics_.peak_distortion = std::max(metrics_.peak_distortion.value_or(0.0), a.error);
+      distortion_sum_ += a.error;
+      ++distortion_count_;
+      metrics_.mean_distortion = distortion_sum_ / static_cast<double>(distortion_count_);
     }
   }
+  if (formed && !metrics_.goal_tick && to_goal <= goal_radius_) {
+    metrics_.goal_tick = tick;
+    metrics_.shape_error_at_goal = a.error;
+  }
+  metrics_.arrived = metrics_.goal_tick ? static_cast<std::uint32_t>(a.assigned) : 0;
+  metrics_.outcome = metrics_.goal_tick        ? "arrived"
+                     : metrics_.formation_tick ? "formed_not_arrived"
+                                               : "not_formed";
 
-  // Centroid path over the motion ticks; only between two ticks with the same shape robots.
-  if (in_motion_window(tick) && have_shape) {
-    if (previous_centroid_ && shape_ids == previous_shape_ids_) {
+  // Centroid path over the motion ticks; only between two ticks with the same assigned robots.
+  if (in_motion_window(tick)) {
+    if (previous_centroid_ && assigned_ids == previous_assigned_ids_) {
       metrics_.path_length +=
           std::hypot(centroid.x - previous_centroid_->x, centroid.y - previous_centroid_->y);
     }
@@ -117,7 +174,70 @@ void MetricsTracker::observe(Tick tick, const std::vector<RobotTruth>& robots, C
   } else {
     previous_centroid_.reset();
   }
-  previous_shape_ids_ = std::move(shape_ids);
+  previous_assigned_ids_ = std::move(assigned_ids);
+}
+
+void MetricsTracker::conclude() {
+  metrics_.stuck_robots.clear();
+  if (metrics_.outcome == "arrived" || live_ids_.empty()) return;
+  std::vector<int> labels(live_ids_.size(), -1);
+  RigidFit fit;
+  if (has_mission_) {
+    labels = assign(last_tick_, true).label;
+    fit = fit_;
+    // First the least trimmed squares way: refit on the better half of the assigned robots, three times, so
+    // that a majority standing in shape is found even when a few robots stranded far away pull the fit.
+    std::vector<int> subset = labels;
+    for (int round = 0; round < 3; ++round) {
+      std::vector<std::pair<double, std::size_t>> residual;
+      for (std::size_t i = 0; i < subset.size(); ++i) {
+        if (subset[i] < 0) continue;
+        const Vec2 place = fit.apply(assigner_.place(subset[i]));
+        residual.emplace_back(std::hypot(place.x - live_positions_[i].x, place.y - live_positions_[i].y), i);
+      }
+      if (residual.size() < 4) break;
+      std::sort(residual.begin(), residual.end());
+      for (std::size_t k = (residual.size() + 1) / 2; k < residual.size(); ++k)
+        subset[residual[k].second] = -1;
+      fit = assigner_.evaluate(live_positions_, subset).fit;
+    }
+    // A shape not formed pulls the least-squares fit away from the robots that do stand in place: refit on
+    // the robots within kInlier of a place (a few rounds), so those are judged against their own fit.
+    for (int round = 0; round < 3; ++round) {
+      std::vector<int> inliers(labels.size(), -1);
+      std::size_t count = 0;
+      for (std::size_t i = 0; i < labels.size(); ++i) {
+        const auto [label, distance] = assigner_.nearest_place(live_positions_[i], fit);
+        if (label >= 0 && distance <= kInlier * grid_spacing_) {
+          inliers[i] = label;
+          ++count;
+        }
+      }
+      if (count < 2) break;
+      fit = assigner_.evaluate(live_positions_, inliers).fit;
+    }
+  }
+  // At a place: under that fit, the robot nearest to a place, within kAtPlace of it. (Not the optimal
+  // assignment's own place: in a shape not formed, the optimum may shift a chain of robots standing in place
+  // by one place each to make room for a robot stranded between places.)
+  std::vector<int> at_place(live_ids_.size(), 0);
+  if (has_mission_) {
+    std::vector<std::pair<double, std::size_t>> best(assigner_.places(), {-1.0, 0});
+    for (std::size_t i = 0; i < live_ids_.size(); ++i) {
+      const auto [label, distance] = assigner_.nearest_place(live_positions_[i], fit);
+      if (label < 0 || distance > kAtPlace * grid_spacing_) continue;
+      auto& b = best[static_cast<std::size_t>(label)];
+      if (b.first < 0.0 || distance < b.first) b = {distance, i};
+    }
+    for (const auto& b : best) {
+      if (b.first >= 0.0) at_place[b.second] = 1;
+    }
+  }
+  for (std::size_t i = 0; i < live_ids_.size(); ++i) {
+    const RobotId id = live_ids_[i];
+    const bool still = stuck_[id].set && last_tick_ >= stuck_[id].since + kStuckTicks;
+    if (!at_place[i] && still) metrics_.stuck_robots.push_back(id);
+  }
 }
 
 void MetricsTracker::count_event(const nlohmann::ordered_json& event) {

@@ -1,33 +1,62 @@
-// Keeps the run's Metrics (metrics.hpp) up to date, one recorded tick at a time, from the truth alone: the
-// robots' true poses, their alive flags and what their controllers report (Telemetry), plus the world's
-// contact onsets. Events that count into the metrics (deaths, rejoins, leader changes, graph splits) come in
-// through count_event, so the events file and the summary can never disagree.
+// Keeps the run's Metrics (metrics.hpp) up to date, one recorded tick at a time, from the truth: the robots'
+// true poses and alive flags, the world's contact onsets, and (telemetry only) what the controllers report.
+// Events that count into the metrics (deaths, rejoins, leader changes, graph splits) come in through
+// count_event, so the events file and the summary can never disagree.
 //
-// Definitions (world_server/run/README.md has the reasons):
-// - a "shape robot" is a live robot whose telemetry label is >= 0;
-// - formation_tick: the first tick with at least one shape robot and every shape robot in state >= Ready;
-// - motion ticks: from motion_start_tick (first tick any live robot is in Motion) to goal_tick inclusive;
-// - the goal region: the disc around the goal of radius goal_radius + the shape's own radius (the largest
-//   distance of a label's place from the label grid's centre). The leader is pulled to the goal, so the
-//   formation can never fit in the goal radius alone; a formation whose centre is within goal_radius of the
-//   goal has every robot in the region when it is in shape.
-// - goal_tick: the first tick, at or after formation, with every shape robot in the goal region, or every
-//   shape robot reporting Arrived (the controller's own judgement of arrival);
-// - arrived: the live shape robots in the goal region (at the last tick);
-// - path_length: the distance travelled by the shape robots' centroid over the motion ticks; a step in which
-//   the set of shape robots changed (a death, a label lost) is not counted, so a death is not a jump.
+// Definitions (docs/recording-format.md; world_server/run/README.md has the reasons):
+// - the assignment: the best assignment of the live robots to the shape's places over a proper rigid fit
+//   (assignment.hpp); spares (more robots than places) are left out, and with fewer robots than places every
+//   robot gets a place and the empty places are left out. The robots' reported labels are only its starting
+//   guess. Its shape error: RMS distance of the assigned robots from their fitted places, in grid units.
+// - at rest: a robot has stayed within kRestRadius of one point for the last kRestTicks ticks;
+// - formed (at a tick): the assignment's shape error <= kFormationError and every assigned robot at rest;
+//   formation_tick: the first such tick;
+// - goal_tick: the first tick formed with the assigned robots' centroid within goal.radius of the goal;
+// - motion ticks: motion_start_tick (first tick any live robot reports Motion: telemetry) to goal_tick
+//   inclusive; motion_ticks_minimum: at motion start, (|assigned centroid - goal| - goal.radius)+ divided by
+//   max_speed / tick_rate;
+// - distortion: the assignment's shape error every tick from formation_tick on;
+// - path_length: the distance travelled by the assigned robots' centroid over the motion ticks; a step in
+//   which the assigned set changed (a death) is not counted, so a death is not a jump;
+// - outcome: none (behaviour other than paper), arrived (goal_tick set), formed_not_arrived, not_formed;
+// - stuck_robots (at the end, unless arrived): live robots neither at a place (the robot nearest to a place
+//   of the final fit, within kAtPlace of it; the fit refitted on the better half of the assigned robots, then
+//   on the robots within kInlier of a place, so robots stranded far away do not pull it) nor
+//   having left a kStuckRadius disc in the last kStuckTicks ticks.
 #pragma once
 
+#include <chrono>
 #include <optional>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "common/mission.hpp"
+#include "world_server/run/assignment.hpp"
 #include "world_server/run/metrics.hpp"
 #include "world_server/world/world.hpp"
 
 namespace swarmform::world {
+
+inline constexpr double kFormationError = 0.1;  // grid units
+inline constexpr double kRestRadius = 0.005;    // m
+inline constexpr Tick kRestTicks = 10;          // 1 s at 10 ticks/s
+inline constexpr double kStuckRadius = 0.01;    // m
+inline constexpr Tick kStuckTicks = 300;
+inline constexpr double kAtPlace = 0.1;  // grid units
+inline constexpr double kInlier = 0.3;   // grid units: robots the final fit is refitted on (conclude)
+// Ticks between two Hungarian solves when the O(n) certificate fails (the cost: README): kFullSolveEvery
+// while the last solve found the shape near formed (error <= 2 x kFormationError), else kFullSolveEvery x
+// max(1, (places / 128)^2): at 1024 places a far-from-formed solve costs ~1 s, so it runs every 640 ticks.
+inline constexpr Tick kFullSolveEvery = 10;
+Tick full_solve_interval(std::size_t places, bool near_formed);
+
+// What the assignment cost so far (for the README's measurements; not in the summary).
+struct AssignmentStats {
+  std::uint64_t evaluations = 0;  // ticks the assignment was computed
+  std::uint64_t full_solves = 0;  // Hungarian solves among them
+  double seconds = 0.0;           // wall time spent in the assignment
+};
 
 class MetricsTracker {
  public:
@@ -39,22 +68,48 @@ class MetricsTracker {
   void count_event(const nlohmann::ordered_json& event);
   // Components of the shape robots' communication graph this tick (tracked from formation on).
   void note_components(std::size_t components);
+  // At the end of the run: stuck_robots (from the last observed tick).
+  void conclude();
 
   const Metrics& metrics() const { return metrics_; }
-  double goal_region_radius() const { return goal_region_radius_; }
+  const AssignmentStats& assignment_stats() const { return stats_; }
+  // The last assignment: a label per robot id (-1: none, dead, or never assigned).
+  const std::vector<int>& assigned_labels() const { return assigned_label_; }
 
  private:
   bool in_motion_window(Tick tick) const;
+  struct Anchor {
+    Vec2 at;
+    Tick since = 0;
+    bool set = false;
+  };
+  static void move_anchor(Anchor& a, Vec2 p, Tick tick, double radius);
+  // The assignment of the live robots this tick (stored in assigned_label_ and fit_).
+  ShapeAssignment assign(Tick tick, bool force_full);
 
-  ShapeMatrix shape_;
+  bool has_mission_;
+  ShapeAssigner assigner_;
   double grid_spacing_;
   Vec2 goal_;
-  double goal_region_radius_;  // m: goal_radius + the shape's radius
+  double goal_radius_;
+  double tick_distance_;  // m: max_speed / tick_rate
 
   Metrics metrics_;
+  AssignmentStats stats_;
   double distortion_sum_ = 0.0;
   std::size_t distortion_count_ = 0;
-  std::vector<RobotId> previous_shape_ids_;  // shape robots of the previous observed tick (for path_length)
+  Tick last_tick_ = 0;
+  std::optional<Tick> last_full_solve_;
+  bool last_full_near_formed_ = true;
+  std::vector<RobotId> live_ids_;  // this tick's live robots, id order
+  std::vector<Vec2> live_positions_;
+  std::vector<int> live_labels_;     // their reported labels (the assignment's first guess only)
+  std::vector<Anchor> rest_;         // per id
+  std::vector<Anchor> stuck_;        // per id
+  std::vector<int> assigned_label_;  // per id
+  bool have_assignment_ = false;
+  RigidFit fit_;
+  std::vector<RobotId> previous_assigned_ids_;  // for path_length
   std::optional<Vec2> previous_centroid_;
   bool leader_seen_ = false;
 };

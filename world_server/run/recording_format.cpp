@@ -112,6 +112,7 @@ ojson make_summary(const SummaryInputs& in) {
   j["formation_tick"] = or_null(m.formation_tick);
   j["shape_error_at_formation"] = or_null(m.shape_error_at_formation);
   j["motion_start_tick"] = or_null(m.motion_start_tick);
+  j["motion_ticks_minimum"] = or_null(m.motion_ticks_minimum);
   j["goal_tick"] = or_null(m.goal_tick);
   j["shape_error_at_goal"] = or_null(m.shape_error_at_goal);
   j["peak_distortion"] = or_null(m.peak_distortion);
@@ -122,6 +123,9 @@ ojson make_summary(const SummaryInputs& in) {
   j["max_components"] = m.max_components;
   j["path_length"] = m.path_length;
   j["arrived"] = m.arrived;
+  j["outcome"] = m.outcome;
+  j["stuck_robots"] = m.stuck_robots;
+  j["stuck_robot_count"] = m.stuck_robots.size();
   j["command_verdicts"] = in.command_verdicts;
   j["trajectory_sha256"] = in.trajectory_sha256.empty() ? ojson(nullptr) : ojson(in.trajectory_sha256);
   ojson series = ojson::array();

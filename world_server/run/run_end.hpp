@@ -3,6 +3,8 @@
 // in-process harness call run_complete after every recorded tick.
 #pragma once
 
+#include <string>
+
 #include "common/types.hpp"
 #include "world_server/run/metrics.hpp"
 
@@ -13,6 +15,25 @@ inline constexpr Tick kTicksAfterGoal = 20;
 // `tick` is the tick just recorded (World::tick() after the step).
 inline bool run_complete(const Metrics& metrics, Tick tick, Tick max_ticks) {
   return tick >= max_ticks || (metrics.goal_tick && tick >= *metrics.goal_tick + kTicksAfterGoal);
+}
+
+// The last line a front end prints when the run used up max_ticks without arriving (outcome and stuck
+// robots from the summary, so a user need not open it); empty when the run arrived or stopped earlier.
+// E.g. "max_ticks 5000 reached without arriving: outcome formed_not_arrived, stuck robots 1 4".
+inline std::string max_ticks_line(const Metrics& metrics, Tick tick, Tick max_ticks) {
+  if (tick < max_ticks || metrics.goal_tick) return {};
+  // Appends, not operator+ chains: GCC 12 gives a false -Wrestrict on those at -O2.
+  std::string line = "max_ticks ";
+  line.append(std::to_string(max_ticks));
+  line.append(" reached without arriving: outcome ");
+  line.append(metrics.outcome);
+  line.append(", stuck robots");
+  if (metrics.stuck_robots.empty()) line.append(" none");
+  for (const RobotId id : metrics.stuck_robots) {
+    line.push_back(' ');
+    line.append(std::to_string(id));
+  }
+  return line;
 }
 
 }  // namespace swarmform::world

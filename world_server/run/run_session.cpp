@@ -149,11 +149,16 @@ const Metrics& RunSession::metrics() const {
   return impl_->tracker.metrics();
 }
 
+const AssignmentStats& RunSession::assignment_stats() const {
+  return impl_->tracker.assignment_stats();
+}
+
 std::string RunSession::trajectory_sha256() const {
   return impl_->sha.hex_digest();
 }
 
 std::string RunSession::finish(double wall_seconds, const SteadyWindow& steady) {
+  if (!impl_->finished) impl_->tracker.conclude();
   SummaryInputs in;
   in.scenario = &impl_->world.scenario();
   in.mode = impl_->options.mode;

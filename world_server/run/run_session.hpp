@@ -11,6 +11,7 @@
 
 #include "common/types.hpp"
 #include "world_server/run/metrics.hpp"
+#include "world_server/run/metrics_tracker.hpp"
 #include "world_server/run/recording_format.hpp"
 #include "world_server/world/world.hpp"
 
@@ -44,6 +45,8 @@ class RunSession {
   void record_event(RobotId id, const std::string& kind, const std::string& detail);
 
   const Metrics& metrics() const;
+  // What the world's robot-to-place assignment has cost so far (metrics_tracker.hpp).
+  const AssignmentStats& assignment_stats() const;
 
   // Writes summary.json (the metrics plus robots, seed, mode, ticks, wall_seconds, ticks_per_second, the
   // steady rate when `steady` was measured, alive_at_end, trajectory_sha256) and closes the recording.

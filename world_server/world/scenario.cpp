@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
@@ -295,6 +296,101 @@ void resolve_robots(const Source& src, const RobotsSection& r, const ScenarioOve
   s.robots = std::move(*poses);
 }
 
+// The shape must fit inside the walls from where it forms (scenarios/README.md, "The shape must fit"). The
+// controller puts label 0 where the robot nearest the arena origin stands and every other label L at
+// origin + R(shape_heading - pi/2) * offset(L) (robot_agent/README.md, "Shape formation"). The robots' start
+// poses are known here (listed, or drawn from the seed), so label 0 is taken at the robot nearest the origin
+// and, should it die and another be elected, at every robot less than one grid spacing farther from the
+// origin than it; every place must then lie inside the walls less a body radius.
+void check_shape_fits(const Source& src, const Scenario& s, int shape_line, bool shape_from_command_line) {
+  if (!s.walls || s.mission.behaviour != "paper") return;
+  const ShapeMatrix& shape = s.mission.shape;
+  const auto [r0, c0] = shape.cell_of(0);
+  if (r0 < 0) return;
+  const auto it = s.mission.params.find("shape_heading");
+  const ParamSpec* spec = find_param("shape_heading");
+  const double heading = it != s.mission.params.end()
+                             ? it->second
+                             : (spec != nullptr ? spec->default_value : std::numbers::pi / 2);
+  const double rot = heading - std::numbers::pi / 2.0;
+  const double cr = std::cos(rot);
+  const double sr = std::sin(rot);
+  const double g = s.mission.grid_spacing;
+  // Rotated offsets from label 0: their extent along x and y, and which label reaches each end.
+  double lo_x = 0.0, hi_x = 0.0, lo_y = 0.0, hi_y = 0.0;
+  int l_lo_x = 0, l_hi_x = 0, l_lo_y = 0, l_hi_y = 0;
+  for (int row = 0; row < shape.rows; ++row) {
+    for (int col = 0; col < shape.cols; ++col) {
+      const int label = shape.at(row, col);
+      if (label < 0) continue;
+      const double ox = g * (col - c0);
+      const double oy = -g * (row - r0);
+      const double x = cr * ox - sr * oy;
+      const double y = sr * ox + cr * oy;
+      if (x < lo_x) {
+        lo_x = x;
+        l_lo_x = label;
+      }
+      if (x > hi_x) {
+        hi_x = x;
+        l_hi_x = label;
+      }
+      if (y < lo_y) {
+        lo_y = y;
+        l_lo_y = label;
+      }
+      if (y > hi_y) {
+        hi_y = y;
+        l_hi_y = label;
+      }
+    }
+  }
+  const double margin = kRobotRadius;
+  const double wx_lo = s.arena_centre.x - s.arena_width / 2.0 + margin;
+  const double wx_hi = s.arena_centre.x + s.arena_width / 2.0 - margin;
+  const double wy_lo = s.arena_centre.y - s.arena_height / 2.0 + margin;
+  const double wy_hi = s.arena_centre.y + s.arena_height / 2.0 - margin;
+  // Label 0's possible places: the robot nearest the origin, and those within a grid spacing of its distance.
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const Pose2D& p : s.robots) nearest = std::min(nearest, std::hypot(p.x, p.y));
+  std::vector<Vec2> origins;
+  for (const Pose2D& p : s.robots) {
+    if (std::hypot(p.x, p.y) <= nearest + g) origins.push_back({p.x, p.y});
+  }
+  std::stable_sort(origins.begin(), origins.end(),
+                   [](Vec2 a, Vec2 b) { return std::hypot(a.x, a.y) < std::hypot(b.x, b.y); });
+  for (const Vec2& o : origins) {
+    int label = -1;
+    if (o.x + lo_x < wx_lo)
+      label = l_lo_x;
+    else if (o.x + hi_x > wx_hi)
+      label = l_hi_x;
+    else if (o.y + lo_y < wy_lo)
+      label = l_lo_y;
+    else if (o.y + hi_y > wy_hi)
+      label = l_hi_y;
+    if (label < 0) continue;
+    const auto [row, col] = shape.cell_of(label);
+    const double ox = g * (col - c0);
+    const double oy = -g * (row - r0);
+    std::ostringstream what;
+    what << "shape: " << fs::path(s.shape_file).filename().string()
+         << (shape_from_command_line ? " (--shape)" : "") << " (" << shape.rows << " x " << shape.cols << ", "
+         << shape.label_count() << " labels, grid_spacing " << g << " m, shape_heading " << heading
+         << ") cannot fit inside the walls from where it forms: with label 0 at (" << o.x << ", " << o.y
+         << ")"
+         << (std::hypot(o.x, o.y) == nearest
+                 ? ", where the robot nearest the origin starts,"
+                 : ", where a robot starts that would be elected should the nearest one die,")
+         << " label " << label << "'s place (" << o.x + cr * ox - sr * oy << ", " << o.y + sr * ox + cr * oy
+         << ") lies outside the walls' interior x in [" << wx_lo << ", " << wx_hi << "], y in [" << wy_lo
+         << ", " << wy_hi
+         << "] (less a body radius); give a larger arena, a smaller shape or grid_spacing, or a start "
+         << "region (robots.region) and shape_heading that leave the shape room";
+    throw InputError(src.file, shape_line, what.str());
+  }
+}
+
 Scenario parse(const YAML::Node& root, const std::string& origin, const ScenarioOverrides& ov) {
   const Source src{origin};
   Scenario s;
@@ -389,6 +485,8 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
   }
 
   resolve_robots(src, robots, ov, s);
+  check_shape_fits(src, s, shape_node && !ov.shape_file ? yaml::line_of(*shape_node) : 0,
+                   ov.shape_file.has_value());
 
   s.kills.insert(s.kills.end(), ov.kills.begin(), ov.kills.end());
   for (std::size_t i = 0; i < s.kills.size(); ++i) {
