@@ -53,6 +53,7 @@ every --scenario x every --shape x every --robots x every seed of --seeds x ever
               per scenario x shape x schedule, with median formation/goal ticks and the largest shape
               errors), and the worst runs: failed ones first, then the largest shape error, then the latest
               goal, each with the command that reproduces it (and the same command writing a run directory).
+              Commands are relative to the folder the sweep ran in (sweep.json's cwd).
 
 A progress line on stderr (done/total, failures so far, running, ETA); a short table on stdout at the end.
 
@@ -377,6 +378,9 @@ class Progress:
             return
         now = time.monotonic()
         if self.tty:
+            if not force and now - self.last < 0.5:
+                return
+            self.last = now
             self.stream.write("\r\033[K" + self.text(done, failed, running))
         elif force or now - self.last >= 10.0:
             self.stream.write(self.text(done, failed, running) + "\n")
@@ -446,7 +450,7 @@ def execute(runs, jobs, timeout, progress, stop, opts):
                 del active[p]
                 done += 1
                 failed += 0 if run.success else 1
-                progress.show(done, failed, len(active), force=done == len(runs))
+                progress.show(done, failed, len(active), force=done == len(runs) or progress.tty)
             progress.show(done, failed, len(active))
     finally:
         for p, (run, started, out, err) in active.items():
@@ -639,7 +643,7 @@ def results(runs, opts, grid, started, wall, interrupted, worst_n):
     overall = group_stats(finished)
     return {
         "format": "swarmform-sweep", "version": 1,
-        "commit": git_commit(), "started_utc": started, "wall_seconds": round(wall, 1),
+        "commit": git_commit(), "cwd": os.getcwd(), "started_utc": started, "wall_seconds": round(wall, 1),
         "interrupted": interrupted, "planned_runs": len(runs),
         "grid": grid,
         "judging": {"expect": opts.expect, "max_shape_error": opts.max_shape_error,
@@ -649,6 +653,10 @@ def results(runs, opts, grid, started, wall, interrupted, worst_n):
         **by,
         "worst": [run_record(r) for r in ordered[:worst_n]],
     }
+
+
+def _opt(value):
+    return "-" if value is None else f"{value:g}"
 
 
 def print_table(res, out=print):
@@ -670,7 +678,7 @@ def print_table(res, out=print):
     o = res["overall"]
     rate = "-" if o["success_rate"] is None else f"{100 * o['success_rate']:.1f}%"
     out(f"overall: {o['succeeded']}/{o['runs']} succeeded ({rate}); expect {res['judging']['expect']}"
-        f"; medians formed@ {o['median_formation_tick']} goal@ {o['median_goal_tick']}"
+        f"; medians formed@ {_opt(o['median_formation_tick'])} goal@ {_opt(o['median_goal_tick'])}"
         f"; commit {res['commit']}")
     out("(formed@/goal@: median ticks; err@: largest shape error, grid units; contacts: robot-robot+robot-obstacle)")
     bad = [w for w in res["worst"] if not w["success"]][:WORST_SHOWN]
@@ -728,7 +736,8 @@ def plan(opts, exe):
                                         opts.max_ticks, cmd))
     grid = {"scenarios": scenarios, "shapes": [s or "(the scenario's)" for s in shapes],
             "robots": [r or "(the scenario's)" for r in robots_list], "seeds": _ranges(seeds),
-            "kills": [s.text for s in schedules], "kill_window": opts.kill_window, "max_ticks": opts.max_ticks}
+            "seed_count": len(seeds), "kills": [s.text for s in schedules], "kill_window": opts.kill_window,
+            "max_ticks": opts.max_ticks}
     return runs, grid
 
 
@@ -767,7 +776,7 @@ def sweep(opts):
     jobs = opts.jobs or os.cpu_count() or 1
     progress = Progress(len(runs), quiet=opts.quiet)
     progress.line(f"sweep: {len(runs)} runs ({len(grid['scenarios'])} scenario(s) x {len(grid['shapes'])} shape(s)"
-                  f" x {len(grid['robots'])} robot count(s) x {len(opts.seeds or range(10))} seed(s) x "
+                  f" x {len(grid['robots'])} robot count(s) x {grid['seed_count']} seed(s) x "
                   f"{len(grid['kills'])} kill schedule(s)), {jobs} at a time; results in {out_dir}")
     stop = launcher.StopFlag()
     started = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
