@@ -55,6 +55,9 @@ every --scenario x every --shape x every --robots x every seed of --seeds x ever
               goal, each with the command that reproduces it (and the same command writing a run directory).
               Commands are relative to the folder the sweep ran in (sweep.json's cwd).
 
+  runs.jsonl  written as the sweep goes: one line per finished run (its sweep.json record), to read a long
+              sweep before it ends.
+
 A progress line on stderr (done/total, failures so far, running, ETA); a short table on stdout at the end.
 
 Kill schedules (--kills, repeatable; each is one value of the grid's kill axis):
@@ -410,8 +413,9 @@ def _duration(seconds):
     return f"{seconds // 3600}h{seconds // 60 % 60:02d}m"
 
 
-def execute(runs, jobs, timeout, progress, stop, opts):
-    """Runs them `jobs` at a time; each one's stdout and stderr go to temporary files (no pipe to fill)."""
+def execute(runs, jobs, timeout, progress, stop, opts, journal=None):
+    """Runs them `jobs` at a time; each one's stdout and stderr go to temporary files (no pipe to fill).
+    `journal` (a file) gets one JSON line per finished run as it finishes (a long sweep can be read early)."""
     pending = list(runs)
     pending.reverse()
     active = {}  # Popen -> (run, start, out file, err file)
@@ -447,6 +451,9 @@ def execute(runs, jobs, timeout, progress, stop, opts):
                 run.wall = time.monotonic() - started
                 run.exit_code = p.returncode
                 _finish(run, out, err, over, opts)
+                if journal is not None:
+                    journal.write(json.dumps(run_record(run)) + "\n")
+                    journal.flush()
                 del active[p]
                 done += 1
                 failed += 0 if run.success else 1
@@ -782,7 +789,8 @@ def sweep(opts):
     started = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
     t0 = time.monotonic()
     try:
-        execute(runs, jobs, opts.timeout, progress, stop, opts)
+        with open(os.path.join(out_dir, "runs.jsonl"), "w") as journal:
+            execute(runs, jobs, opts.timeout, progress, stop, opts, journal)
     finally:
         stop.restore()
     progress.end()

@@ -174,6 +174,10 @@ class SweepCliTest(unittest.TestCase):
             self.assertTrue(w["command"].endswith("--no-record --quiet"))
             self.assertIn("--out runs/sweep-repro-", w["record_command"])
             self.assertNotIn("--no-record", w["record_command"])
+        with open(os.path.join(self.out, "runs.jsonl")) as f:
+            journal = [json.loads(line) for line in f]
+        self.assertEqual(sorted(j["index"] for j in journal), list(range(16)), "one line per finished run")
+        self.assertEqual({j["index"]: j["success"] for j in journal}, {w["index"]: w["success"] for w in worst})
         self.assertIn("overall: 8/16 succeeded (50.0%)", r.stdout)
         self.assertIn("worst failures", r.stdout)
 
