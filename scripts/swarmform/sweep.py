@@ -9,7 +9,8 @@ Order of a sweep:
      and the schedule's text: the same run gets the same kills every time);
   4. the runs, `--jobs` at a time, each with a wall-time cap; a progress line on stderr;
   5. sweep.csv, sweep.json and a short table on stdout.
-Ctrl-C / SIGTERM: every run still going is SIGKILLed (by process group), what finished is written, exit 130.
+Ctrl-C / SIGTERM: every run still going gets SIGTERM (the harness prints the summary of what it did), then SIGKILL
+after 10 s (by process group); what finished, and what the interrupted runs reported, is written; exit 130.
 """
 
 import csv
@@ -34,6 +35,7 @@ from . import launcher
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
 DEFAULT_KILL_WINDOW = 3000
 DEFAULT_TIMEOUT_S = 1800.0
+INTERRUPT_GRACE_S = 10.0
 PROBE_TIMEOUT_S = 120.0
 EXPECT = ("arrived", "formed", "not_formed", "none", "any")
 SERIES_KEYS = {"distortion"}  # per-tick series: not a column
@@ -79,7 +81,8 @@ non-zero, prints no summary or outlives --timeout (SIGKILLed) fails with that re
 With no grid flag: scenarios/paper.yaml x seeds 1-10, no kills, --expect arrived.
 
 Exit codes: 0 every run succeeded; 1 at least one run failed (or could not start); 2 bad input (a flag, a
-schedule, a scenario or shape the probe refused: nothing was run); 130 interrupted (what finished is written).
+schedule, a scenario or shape the probe refused: nothing was run); 130 interrupted (the runs in flight get
+SIGTERM and report what they did, as failed "interrupted" rows; what finished is written).
 Environment: BUILD_DIR (default build/), SWARM_NO_BUILD=1 (skip the build), SWARM_RUNS_DIR (default runs/).
 """
 
@@ -460,21 +463,33 @@ def execute(runs, jobs, timeout, progress, stop, opts, journal=None):
                 progress.show(done, failed, len(active), force=done == len(runs) or progress.tty)
             progress.show(done, failed, len(active))
     finally:
+        # Interrupted: SIGTERM the runs in flight (the harness then prints the summary of what it did, exit 130),
+        # SIGKILL what is left after the grace period. A run that answered is kept, judged as interrupted.
+        for p in active:
+            _killpg(p, signal.SIGTERM)
+        end = time.monotonic() + INTERRUPT_GRACE_S
         for p, (run, started, out, err) in active.items():
-            _killpg(p)
-            p.wait()
-            run.reason, run.severity = "interrupted", 9
-            out.close()
-            err.close()
+            try:
+                p.wait(timeout=max(0.0, end - time.monotonic()))
+            except subprocess.TimeoutExpired:
+                _killpg(p)
+                p.wait()
+            run.wall = time.monotonic() - started
+            run.exit_code = p.returncode
+            _finish(run, out, err, False, opts)
+            if run.summary is None:
+                run.reason, run.severity = "interrupted", 9
+            elif journal is not None:
+                journal.write(json.dumps(run_record(run)) + "\n")
         for name in os.listdir(tmp):
             os.unlink(os.path.join(tmp, name))
         os.rmdir(tmp)
     return done, failed
 
 
-def _killpg(p):
+def _killpg(p, sig=signal.SIGKILL):
     try:
-        os.killpg(p.pid, signal.SIGKILL)
+        os.killpg(p.pid, sig)
     except (ProcessLookupError, PermissionError):
         try:
             p.kill()
@@ -493,6 +508,11 @@ def _finish(run, out, err, timed_out, opts):
         run.success, run.severity = False, 4
         return
     code = run.exit_code
+    if code == EXIT_INTERRUPTED and run.summary is not None:  # SIGINT/SIGTERM: the summary of what it did
+        ticks = run.summary.get("ticks")
+        run.reason = f"interrupted (exit 130) at tick {ticks}, before its end"
+        run.success, run.severity = False, 4
+        return
     if code != 0:
         last = next((ln for ln in reversed(stderr.strip().splitlines()) if ln.strip()), "")
         what = f"crashed ({_signal_name(code)})" if code < 0 else f"exit {code}"

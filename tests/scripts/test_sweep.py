@@ -7,6 +7,8 @@ import csv
 import json
 import os
 import shutil
+import signal
+import subprocess
 import tempfile
 import time
 import unittest
@@ -199,6 +201,29 @@ class SweepCliTest(unittest.TestCase):
         r = self.sweep("--seeds", "8", "--max-shape-error", "0.1", "--max-contacts", "2")
         self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
         self.assertIn("overall: 1/1 succeeded (100.0%)", r.stdout)
+
+    def test_an_interrupted_sweep_writes_what_it_has_and_asks_the_runs_for_theirs(self):
+        cmd = [helpers.SWARM, "sweep", "--scenario", SCENARIO, "--out", self.out, "--seeds", "1", "9", "--jobs", "2"]
+        env = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=FAKE)
+        p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+        journal = os.path.join(self.out, "runs.jsonl")
+        deadline = time.monotonic() + 30
+        while time.monotonic() < deadline:  # seed 1 is done, seed 9 runs until told to stop
+            if os.path.exists(journal) and os.path.getsize(journal) > 0:
+                break
+            time.sleep(0.1)
+        time.sleep(0.5)
+        p.send_signal(signal.SIGTERM)
+        out, err = p.communicate(timeout=30)
+        self.assertEqual(p.returncode, 130, err)
+        self.assertIn("interrupted after 2 of 2 runs", err)
+        rows = {int(row["seed"]): row for row in read_csv(os.path.join(self.out, "sweep.csv"))}
+        self.assertEqual(rows[1]["success"], "1")
+        self.assertEqual(rows[9]["success"], "0")
+        self.assertEqual(rows[9]["reason"], "interrupted (exit 130) at tick 1234, before its end")
+        self.assertEqual(rows[9]["ticks"], "1234", "the summary it printed when told to stop")
+        with open(os.path.join(self.out, "sweep.json")) as f:
+            self.assertTrue(json.load(f)["interrupted"])
 
     def test_random_schedule_flags_reach_the_runs_and_repeat(self):
         self.sweep("--seeds", "1-3,7", "--kills", "random:2", "--kill-window", "100", "--max-ticks", "80",
