@@ -9,4 +9,5 @@ Modules, one job each:
   pictures   the paper's figures (snapshots, trajectories, residual force, shape error)
   animation  the whole run as MP4 and GIF, through ffmpeg
   report     summary.json as a readable table
+  sweep      `swarm sweep`: a grid of in-process runs on every core, judged; sweep.csv and sweep.json
 """

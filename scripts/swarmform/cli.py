@@ -1,4 +1,4 @@
-"""The command line of `scripts/swarm`: run, demo, kill, replay, report. Bad flags: a clear message, exit 2.
+"""The command line of `scripts/swarm`: run, demo, kill, replay, report, sweep. Bad flags: a clear message, exit 2.
 
 matplotlib is imported only by the commands that draw, so `--help`, `kill` and `report` answer at once.
 """
@@ -21,6 +21,8 @@ commands:
   kill     SIGKILL one agent of the running swarm (the swarm carries on)
   replay   draw the pictures again from a run directory's recording
   report   print a run's summary.json as a readable table
+  sweep    a grid of in-process runs (scenarios x shapes x seeds x kill schedules) on every core:
+           sweep.csv, sweep.json (success rates, worst cases with the command that reproduces each)
 
 A run directory (default runs/<UTC time>/, runs/latest points to the newest) holds the recording (world.json,
 robots.csv, events.jsonl; docs/recording-format.md), summary.json, logs/ and pictures/.
@@ -32,6 +34,7 @@ examples:
   scripts/swarm kill 3                      # while a swarm runs (agents.json of runs/latest)
   scripts/swarm replay runs/latest --ticks 500 1000
   scripts/swarm report runs/latest
+  scripts/swarm sweep --kills none random:2 --seeds 1-20
 
 `scripts/swarm <command> --help` tells more. Exit codes: 0 ok, 1 failed, 2 bad input, 130 interrupted.
 Environment: BUILD_DIR (default build/) holds the executables; SWARM_NO_BUILD=1 skips the build step;
@@ -107,7 +110,7 @@ def _add_run_flags(p, demo=False):
 
 def make_parser():
     top = Parser(prog="swarm", description=MAIN_HELP, formatter_class=argparse.RawDescriptionHelpFormatter,
-                 usage="swarm {run,demo,kill,replay,report} [options]   (swarm <command> --help)")
+                 usage="swarm {run,demo,kill,replay,report,sweep} [options]   (swarm <command> --help)")
     sub = top.add_subparsers(dest="command", metavar="command", parser_class=Parser, prog="swarm")
 
     run = sub.add_parser("run", help="run a swarm", formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -141,7 +144,74 @@ def make_parser():
     report = sub.add_parser("report", help="print a run's summary as a table",
                             description="Prints RUN_DIR/summary.json as a readable table.")
     report.add_argument("run_dir", metavar="RUN_DIR")
+
+    _add_sweep_parser(sub)
     return top
+
+
+def _float_at_least(lo):
+    def parse(text):
+        try:
+            v = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a number, got '{text}'") from None
+        if not v >= lo or v == float("inf"):
+            raise argparse.ArgumentTypeError(f"must be a finite number >= {lo:g}, got {text}")
+        return v
+    return parse
+
+
+def _checked(fn):
+    def parse(text):
+        try:
+            return fn(text)
+        except ValueError as e:
+            raise argparse.ArgumentTypeError(str(e)) from None
+    return parse
+
+
+def _add_sweep_parser(sub):
+    from . import sweep  # no matplotlib
+    p = sub.add_parser("sweep", help="a grid of in-process runs, judged; sweep.csv and sweep.json",
+                       formatter_class=argparse.RawDescriptionHelpFormatter, description=sweep.HELP,
+                       epilog=sweep.EXAMPLES)
+    g = p.add_argument_group("the grid (each flag takes several values, and may be repeated)")
+    g.add_argument("--scenario", nargs="+", action="extend", metavar="FILE",
+                   help=f"scenario files or globs (default {DEFAULT_SCENARIO})")
+    g.add_argument("--shape", nargs="+", action="extend", metavar="FILE",
+                   help="shape files or globs, instead of each scenario's own (a bare name is looked up in "
+                        "shapes/)")
+    g.add_argument("--shapes-dir", metavar="DIR", help="add every DIR/*.txt to the shapes")
+    g.add_argument("--robots", nargs="+", action="extend", type=_int_at_least(1), metavar="N",
+                   help="robot counts (default: the scenario's, or the shape's label count)")
+    g.add_argument("--seeds", nargs="+", action="extend", type=_checked(sweep.parse_seeds), metavar="SEEDS",
+                   help="seeds: 7, 1-20, 1-5,9 (default 1-10)")
+    g.add_argument("--kills", nargs="+", action="extend", type=_checked(sweep.parse_kill_schedule),
+                   metavar="SCHEDULE", help="kill schedules: none, ID@TICK[,ID@TICK...], random:K (default none)")
+    g.add_argument("--max-ticks", type=_int_at_least(1), metavar="T",
+                   help="cut every run at tick T (default: each scenario's max_ticks)")
+    g.add_argument("--kill-window", type=_int_at_least(1), default=sweep.DEFAULT_KILL_WINDOW, metavar="T",
+                   help="random:K kills fall at ticks 1..min(T, max_ticks) (default %(default)s)")
+    j = p.add_argument_group("judging")
+    j.add_argument("--expect", choices=sweep.EXPECT, default="arrived",
+                   help="the outcome a run must end with (default %(default)s; formed: arrived or "
+                        "formed_not_arrived; any: a clean exit)")
+    j.add_argument("--max-shape-error", type=_float_at_least(0), metavar="E",
+                   help="fail a run whose shape error (at the goal for --expect arrived, at formation "
+                        "otherwise) is above E grid units")
+    j.add_argument("--max-contacts", type=_int_at_least(0), metavar="C",
+                   help="fail a run with more than C contacts (robot-robot + robot-obstacle)")
+    j.add_argument("--max-robot-contacts", type=_int_at_least(0), metavar="C",
+                   help="fail a run with more than C robot-robot contacts")
+    r = p.add_argument_group("running")
+    r.add_argument("--jobs", "-j", type=_int_at_least(1), metavar="J",
+                   help=f"runs at a time (default: the cores, {os.cpu_count()})")
+    r.add_argument("--timeout", type=_float_at_least(0), default=sweep.DEFAULT_TIMEOUT_S, metavar="S",
+                   help="SIGKILL a run after S wall seconds and count it failed (default %(default)g; 0: never)")
+    r.add_argument("--out", metavar="DIR", help="output folder (default runs/sweep-<UTC time>/)")
+    r.add_argument("--worst", type=_int_at_least(0), default=20, metavar="K",
+                   help="worst runs listed in sweep.json (default %(default)s)")
+    r.add_argument("--quiet", action="store_true", help="no progress line")
 
 
 def render_pictures(run_dir, ticks=(), out_dir=None, animate=True):
@@ -198,6 +268,12 @@ def main(argv=None):
         return 0
     if args.command == "replay":
         return render_pictures(args.run_dir, args.ticks, args.out, not args.no_animation)
+    if args.command == "sweep":
+        if os.environ.get("SWARM_PARSE_ONLY") == "1":
+            return 0
+        from . import sweep
+        args.seeds = [s for chunk in (args.seeds or []) for s in chunk] or None
+        return sweep.sweep(args)
     if args.command == "report":
         from . import report, recording
         try:

@@ -1,0 +1,828 @@
+"""`swarm sweep`: a grid of in-process runs (scenarios x shapes x robot counts x seeds x kill schedules), run on
+every core with `swarm_inprocess --no-record --quiet`, judged, and written as sweep.csv and sweep.json.
+
+Order of a sweep:
+  1. the grid is checked: every flag, every kill schedule's text (`none`, `ID@TICK[,ID@TICK...]`, `random:K`);
+  2. a probe per (scenario, shape, robots): `swarm_inprocess ... --max-ticks 1 --no-record --quiet` validates the
+     files (a bad one: its `file:line: what`, exit 2, before anything long starts) and says N and the shape;
+  3. the kill schedules become `--kill ID@TICK` flags per run (a random one from an RNG seeded by the run's seed
+     and the schedule's text: the same run gets the same kills every time);
+  4. the runs, `--jobs` at a time, each with a wall-time cap; a progress line on stderr;
+  5. sweep.csv, sweep.json and a short table on stdout.
+Ctrl-C / SIGTERM: every run still going gets SIGTERM (the harness prints the summary of what it did), then SIGKILL
+after 10 s (by process group); what finished, and what the interrupted runs reported, is written; exit 130.
+"""
+
+import csv
+import ctypes
+import datetime
+import glob
+import json
+import math
+import os
+import random
+import re
+import shlex
+import signal
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+from . import launcher
+
+EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
+DEFAULT_KILL_WINDOW = 3000
+DEFAULT_TIMEOUT_S = 1800.0
+INTERRUPT_GRACE_S = 10.0
+PROBE_TIMEOUT_S = 120.0
+EXPECT = ("arrived", "formed", "not_formed", "none", "any")
+SERIES_KEYS = {"distortion"}  # per-tick series: not a column
+WORST_SHOWN = 5
+
+HELP = """\
+Runs a grid of in-process runs (build/world_server/harness/swarm_inprocess --no-record --quiet):
+every --scenario x every --shape x every --robots x every seed of --seeds x every --kills schedule,
+--jobs at a time, and writes into --out:
+
+  sweep.csv   one row per run: the grid coordinates (scenario, shape, robots, seed, kills and the --kill
+              flags they gave), the exact command, its exit code, wall seconds, success and the reason of a
+              failure, then every scalar key of the run's summary.json (lists of ids or {id, tick} are
+              written as "3 7" / "3@120 7@900"; the per-tick distortion series is left out). A summary key
+              named like one of the sweep's own columns is written as summary_<key>.
+  sweep.json  the grid, the commit, the success rates (overall, per scenario, per shape, per kill schedule,
+              per scenario x shape x schedule, with median formation/goal ticks and the largest shape
+              errors), and the worst runs: failed ones first, then the largest shape error, then the latest
+              goal, each with the command that reproduces it (and the same command writing a run directory).
+              Commands are relative to the folder the sweep ran in (sweep.json's cwd).
+
+  runs.jsonl  written as the sweep goes: one line per finished run (its sweep.json record), to read a long
+              sweep before it ends.
+
+A progress line on stderr (done/total, failures so far, running, ETA); a short table on stdout at the end.
+
+Kill schedules (--kills, repeatable; each is one value of the grid's kill axis):
+  none                 no kills (the default)
+  5@10,2@300           robot 5 at tick 10 and robot 2 at tick 300 (ids < the run's robot count)
+  random:K             K kills of distinct robots, ids drawn among ALL robots (the seed robot and the leader
+                       included) and ticks uniformly in [1, min(--kill-window, max_ticks)]; the draw is seeded
+                       by the run's seed and the schedule's text, so it is the same on every sweep and machine
+                       (K must leave one robot alive)
+
+Success: the summary's `outcome` is the one --expect asks for (arrived: outcome arrived; formed: arrived or
+formed_not_arrived; not_formed; none; any: a clean exit with a summary). A summary without `outcome` (older
+builds) is judged from its ticks: arrived iff goal_tick is set, formed iff formation_tick is set. Then the
+optional thresholds: --max-shape-error on shape_error_at_goal (--expect arrived) or shape_error_at_formation
+(otherwise), --max-contacts on robot-robot + robot-obstacle contacts, --max-robot-contacts on robot-robot ones.
+A run that never ends is cut at max_ticks by the harness and fails by its outcome; a run that crashes, exits
+non-zero, prints no summary or outlives --timeout (SIGKILLed) fails with that reason.
+
+With no grid flag: scenarios/paper.yaml x seeds 1-10, no kills, --expect arrived.
+
+Exit codes: 0 every run succeeded; 1 at least one run failed (or could not start); 2 bad input (a flag, a
+schedule, a scenario or shape the probe refused: nothing was run); 130 interrupted (the runs in flight get
+SIGTERM and report what they did, as failed "interrupted" rows; what finished is written).
+Environment: BUILD_DIR (default build/), SWARM_NO_BUILD=1 (skip the build), SWARM_RUNS_DIR (default runs/).
+"""
+
+EXAMPLES = """\
+examples:
+  scripts/swarm sweep                                              # paper.yaml x seeds 1-10
+  scripts/swarm sweep --shape shapes/*.txt --seeds 1-20 --expect formed --max-shape-error 0.1 \\
+      --max-robot-contacts 0 --out runs/sweep-shapes
+  scripts/swarm sweep --scenario scenarios/*.yaml --seeds 1-10 --max-shape-error 0.1
+  scripts/swarm sweep --kills random:1 random:2 random:3 --seeds 1-30
+  scripts/swarm sweep --kills none 5@10 2@10,7@1500 --seeds 1-5 --max-ticks 8000 --jobs 2
+"""
+
+
+class SweepError(Exception):
+    """Bad input found before any run started (exit 2)."""
+
+
+# ----------------------------------------------------------------------------------------------- the grid's text
+
+class KillSchedule:
+    """One value of the kill axis: `none`, explicit kills, or `random:K`."""
+
+    def __init__(self, text, kills=(), random_count=0):
+        self.text = text            # canonical: "none", "5@10,2@300", "random:2"
+        self.kills = list(kills)    # [(id, tick)] for an explicit list
+        self.random_count = random_count
+
+    def __repr__(self):
+        return f"KillSchedule({self.text!r})"
+
+    def flags(self, seed, robots, window):
+        """The `ID@TICK` kills of one run with `robots` robots whose ticks may go up to `window`."""
+        if self.random_count:
+            if self.random_count >= robots:
+                raise SweepError(f"--kills {self.text}: {self.random_count} kills of {robots} robots leave none "
+                                 f"alive (K must be < the robot count)")
+            rng = random.Random(f"swarm-sweep:{seed}:{self.text}")  # str seeds are hashed (sha512): stable
+            ids = rng.sample(range(robots), self.random_count)
+            ticks = [rng.randint(1, max(1, window)) for _ in ids]
+            return [f"{i}@{t}" for t, i in sorted(zip(ticks, ids))]
+        for rid, _ in self.kills:
+            if rid >= robots:
+                raise SweepError(f"--kills {self.text}: robot {rid} does not exist (ids 0..{robots - 1})")
+        return [f"{rid}@{tick}" for rid, tick in self.kills]
+
+
+_KILL = re.compile(r"^(\d+)@(\d+)$")
+_RANDOM = re.compile(r"^random:(\d+)$")
+
+
+def parse_kill_schedule(text):
+    """`none` | `ID@TICK[,ID@TICK...]` | `random:K` -> KillSchedule; ValueError with a message naming the text."""
+    t = text.strip()
+    usage = "expected none, ID@TICK[,ID@TICK...] (e.g. 5@10,2@300) or random:K (e.g. random:2)"
+    if t == "none":
+        return KillSchedule("none")
+    if t.startswith("random"):
+        m = _RANDOM.match(t)
+        if not m:
+            raise ValueError(f"'{text}': {usage}")
+        k = int(m[1])
+        if k < 1:
+            raise ValueError(f"'{text}': random:K needs K >= 1 (no kills is 'none')")
+        return KillSchedule(f"random:{k}", random_count=k)
+    if not t:
+        raise ValueError(f"'{text}' is empty: {usage}")
+    kills, seen = [], set()
+    for part in t.split(","):
+        m = _KILL.match(part.strip())
+        if not m:
+            where = f"'{text}': '{part}'" if part.strip() != t else f"'{text}'"
+            raise ValueError(f"{where} is not ID@TICK; {usage}")
+        rid, tick = int(m[1]), int(m[2])
+        if rid in seen:
+            raise ValueError(f"'{text}': robot {rid} is killed twice")
+        if tick > 1_000_000_000:
+            raise ValueError(f"'{text}': tick {tick} is beyond 1e9")
+        seen.add(rid)
+        kills.append((rid, tick))
+    return KillSchedule(",".join(f"{r}@{k}" for r, k in kills), kills=kills)
+
+
+def parse_seeds(text):
+    """`7`, `1-20`, `1-5,9,12-13` -> list of seeds; ValueError naming the text."""
+    seeds = []
+    for part in text.split(","):
+        part = part.strip()
+        m = re.match(r"^(\d+)(?:-(\d+))?$", part)
+        if not m:
+            raise ValueError(f"'{text}': '{part}' is not a seed or a range like 1-20")
+        lo = int(m[1])
+        hi = int(m[2]) if m[2] is not None else lo
+        if hi < lo:
+            raise ValueError(f"'{text}': the range {part} is empty (write LOW-HIGH)")
+        if hi - lo >= 100000:
+            raise ValueError(f"'{text}': the range {part} has more than 100000 seeds")
+        seeds.extend(range(lo, hi + 1))
+    return seeds
+
+
+def expand_files(patterns, what):
+    """Paths and glob patterns -> existing files, in the order given (a pattern's matches sorted)."""
+    out = []
+    for p in patterns:
+        if any(c in p for c in "*?["):
+            matches = sorted(f for f in glob.glob(p) if os.path.isfile(f))
+            if not matches:
+                raise SweepError(f"--{what} '{p}': no file matches")
+            out.extend(matches)
+        elif what == "shape" and not os.path.isfile(p) and os.sep not in p:
+            out.append(p)  # a bare name: the world looks it up in shapes/ (the probe checks it)
+        elif not os.path.isfile(p):
+            raise SweepError(f"--{what} '{p}': no such file")
+        else:
+            out.append(p)
+    return list(dict.fromkeys(out))
+
+
+def scenario_max_ticks(path):
+    """The scenario's top-level `max_ticks:` (the loader's default, 3000, when it has none)."""
+    try:
+        with open(path) as f:
+            for line in f:
+                m = re.match(r"^max_ticks:\s*(\d+)", line)
+                if m:
+                    return int(m[1])
+    except OSError:
+        pass
+    return 3000
+
+
+# ------------------------------------------------------------------------------------------------- the runs
+
+class Run:
+    def __init__(self, index, scenario, shape, shape_name, robots_asked, robots, seed, schedule, kill_flags,
+                 max_ticks_asked, cmd):
+        self.index, self.scenario, self.shape, self.shape_name = index, scenario, shape, shape_name
+        self.robots_asked, self.robots, self.seed, self.schedule = robots_asked, robots, seed, schedule
+        self.kill_flags, self.max_ticks_asked, self.cmd = kill_flags, max_ticks_asked, cmd
+        self.exit_code = None
+        self.wall = None
+        self.summary = None
+        self.success = False
+        self.reason = "not run"
+        self.severity = 9  # for the worst-case order: 0 ok .. 4 crash/timeout
+
+
+def command_text(cmd):
+    return shlex.join(cmd)
+
+
+def record_command(cmd, index):
+    """The same run, writing a run directory (for `swarm replay` / `swarm report`)."""
+    out = [a for a in cmd if a not in ("--no-record", "--quiet")]
+    return command_text(out + ["--out", f"runs/sweep-repro-{index}"])
+
+
+def _die_with_parent():
+    try:
+        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL, 0, 0, 0)
+    except OSError:
+        pass
+
+
+def base_command(exe, scenario, shape, robots, seed, max_ticks):
+    cmd = [exe, "--scenario", scenario]
+    if shape:
+        cmd += ["--shape", shape]
+    if robots is not None:
+        cmd += ["--robots", str(robots)]
+    if seed is not None:
+        cmd += ["--seed", str(seed)]
+    if max_ticks is not None:
+        cmd += ["--max-ticks", str(max_ticks)]
+    return cmd
+
+
+def parse_summary(text):
+    """summary.json from the harness's stdout (the whole of it, or its last {...} block); None if there is none."""
+    text = text.strip()
+    if not text:
+        return None
+    try:
+        value = json.loads(text)
+        return value if isinstance(value, dict) else None
+    except json.JSONDecodeError:
+        pass
+    start = text.find("{")
+    while start != -1:
+        try:
+            value = json.loads(text[start:])
+            return value if isinstance(value, dict) else None
+        except json.JSONDecodeError:
+            start = text.find("{", start + 1)
+    return None
+
+
+def probe(exe, scenario, shape, robots):
+    """Runs one tick: validates the files and returns the summary (robots, labels, shape_file)."""
+    cmd = base_command(exe, scenario, shape, robots, None, 1) + ["--no-record", "--quiet"]
+    try:
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=PROBE_TIMEOUT_S,
+                           preexec_fn=_die_with_parent)
+    except subprocess.TimeoutExpired:
+        raise SweepError(f"{command_text(cmd)}: no answer within {PROBE_TIMEOUT_S:.0f} s") from None
+    summary = parse_summary(p.stdout)
+    if p.returncode != 0 or summary is None or not isinstance(summary.get("robots"), int):
+        msg = p.stderr.strip() or p.stdout.strip()[:300] or f"exit {p.returncode}"
+        raise SweepError(f"{msg}\n(the probe: {command_text(cmd)})")
+    return summary
+
+
+def contacts(summary):
+    rr = summary.get("collisions_robot_robot")
+    ro = summary.get("collisions_robot_obstacle")
+    return (rr if isinstance(rr, int) else 0), (ro if isinstance(ro, int) else 0)
+
+
+def outcome_of(summary):
+    """The summary's outcome, or the fallback for summaries without one (from the ticks)."""
+    o = summary.get("outcome")
+    if isinstance(o, str):
+        return o
+    if summary.get("goal_tick") is not None:
+        return "arrived"
+    if summary.get("formation_tick") is not None:
+        return "formed_not_arrived"
+    if summary.get("behaviour") not in (None, "paper"):
+        return "none"
+    return "not_formed"
+
+
+def judge(run, opts):
+    """Sets run.success, run.reason and run.severity from its exit and summary."""
+    s = run.summary
+    if s is None:
+        run.success, run.severity = False, 4
+        return
+    outcome = outcome_of(s)
+    expect = opts.expect
+    wanted = {"arrived": ("arrived",), "formed": ("arrived", "formed_not_arrived"),
+              "not_formed": ("not_formed",), "none": ("none",)}.get(expect)
+    reasons = []
+    severity = 0
+    if wanted is not None and outcome not in wanted:
+        ticks = s.get("ticks")
+        cut = f" (ended at tick {ticks})" if isinstance(ticks, int) else ""
+        reasons.append(f"outcome {outcome}, expected {expect}{cut}")
+        severity = {"not_formed": 3, "none": 3, "formed_not_arrived": 2}.get(outcome, 3)
+    if opts.max_shape_error is not None and expect != "any":
+        key = "shape_error_at_goal" if expect == "arrived" else "shape_error_at_formation"
+        value = s.get(key)
+        if not isinstance(value, (int, float)):
+            if not reasons:
+                reasons.append(f"{key} missing")
+                severity = max(severity, 1)
+        elif value > opts.max_shape_error:
+            reasons.append(f"{key} {value:.3f} > {opts.max_shape_error:g}")
+            severity = max(severity, 1)
+    rr, ro = contacts(s)
+    if opts.max_contacts is not None and rr + ro > opts.max_contacts:
+        reasons.append(f"contacts {rr + ro} (robot-robot {rr}, robot-obstacle {ro}) > {opts.max_contacts}")
+        severity = max(severity, 1)
+    if opts.max_robot_contacts is not None and rr > opts.max_robot_contacts:
+        reasons.append(f"robot-robot contacts {rr} > {opts.max_robot_contacts}")
+        severity = max(severity, 1)
+    run.success = not reasons
+    run.reason = "; ".join(reasons)
+    run.severity = severity
+
+
+def _signal_name(code):
+    try:
+        return signal.Signals(-code).name
+    except ValueError:
+        return f"signal {-code}"
+
+
+class Progress:
+    """One line on stderr: rewritten in place on a terminal, a plain line every few seconds otherwise."""
+
+    def __init__(self, total, stream=sys.stderr, quiet=False):
+        self.total, self.stream, self.quiet = total, stream, quiet
+        self.tty = stream.isatty()
+        self.start = time.monotonic()
+        self.last = 0.0
+
+    def text(self, done, failed, running):
+        elapsed = time.monotonic() - self.start
+        eta = "?"
+        if done:
+            eta = _duration(elapsed / done * (self.total - done))
+        return (f"sweep: {done}/{self.total} done, {failed} failed, {running} running, "
+                f"{_duration(elapsed)} elapsed, ETA {eta}")
+
+    def show(self, done, failed, running, force=False):
+        if self.quiet:
+            return
+        now = time.monotonic()
+        if self.tty:
+            if not force and now - self.last < 0.5:
+                return
+            self.last = now
+            self.stream.write("\r\033[K" + self.text(done, failed, running))
+        elif force or now - self.last >= 10.0:
+            self.stream.write(self.text(done, failed, running) + "\n")
+            self.last = now
+        else:
+            return
+        self.stream.flush()
+
+    def line(self, text):
+        if self.tty and not self.quiet:
+            self.stream.write("\r\033[K")
+        self.stream.write(text + "\n")
+        self.stream.flush()
+
+    def end(self):
+        if self.tty and not self.quiet:
+            self.stream.write("\n")
+            self.stream.flush()
+
+
+def _duration(seconds):
+    seconds = int(round(seconds))
+    if seconds < 60:
+        return f"{seconds}s"
+    if seconds < 3600:
+        return f"{seconds // 60}m{seconds % 60:02d}s"
+    return f"{seconds // 3600}h{seconds // 60 % 60:02d}m"
+
+
+def execute(runs, jobs, timeout, progress, stop, opts, journal=None):
+    """Runs them `jobs` at a time; each one's stdout and stderr go to temporary files (no pipe to fill).
+    `journal` (a file) gets one JSON line per finished run as it finishes (a long sweep can be read early)."""
+    pending = list(runs)
+    pending.reverse()
+    active = {}  # Popen -> (run, start, out file, err file)
+    done = failed = 0
+    tmp = tempfile.mkdtemp(prefix="swarm-sweep-")
+    try:
+        while (pending or active) and not stop:
+            while pending and len(active) < jobs and not stop:
+                run = pending.pop()
+                out = open(os.path.join(tmp, f"{run.index}.out"), "w+")
+                err = open(os.path.join(tmp, f"{run.index}.err"), "w+")
+                try:
+                    p = subprocess.Popen(run.cmd, stdin=subprocess.DEVNULL, stdout=out, stderr=err,
+                                         process_group=0, preexec_fn=_die_with_parent)
+                except OSError as e:
+                    run.reason, run.severity, run.exit_code = f"could not start: {e}", 4, None
+                    out.close()
+                    err.close()
+                    done += 1
+                    failed += 1
+                    continue
+                active[p] = (run, time.monotonic(), out, err)
+            time.sleep(0.05)
+            for p, (run, started, out, err) in list(active.items()):
+                over = False
+                if p.poll() is None:
+                    if not timeout or time.monotonic() - started <= timeout:
+                        continue
+                    over = True  # over its wall-time cap
+                    _killpg(p)
+                    p.wait()
+                    run.reason = f"timeout: still running after {timeout:g} s (SIGKILLed)"
+                run.wall = time.monotonic() - started
+                run.exit_code = p.returncode
+                _finish(run, out, err, over, opts)
+                if journal is not None:
+                    journal.write(json.dumps(run_record(run)) + "\n")
+                    journal.flush()
+                del active[p]
+                done += 1
+                failed += 0 if run.success else 1
+                progress.show(done, failed, len(active), force=done == len(runs) or progress.tty)
+            progress.show(done, failed, len(active))
+    finally:
+        # Interrupted: SIGTERM the runs in flight (the harness then prints the summary of what it did, exit 130),
+        # SIGKILL what is left after the grace period. A run that answered is kept, judged as interrupted.
+        for p in active:
+            _killpg(p, signal.SIGTERM)
+        end = time.monotonic() + INTERRUPT_GRACE_S
+        for p, (run, started, out, err) in active.items():
+            try:
+                p.wait(timeout=max(0.0, end - time.monotonic()))
+            except subprocess.TimeoutExpired:
+                _killpg(p)
+                p.wait()
+            run.wall = time.monotonic() - started
+            run.exit_code = p.returncode
+            _finish(run, out, err, False, opts)
+            if run.summary is None:
+                run.reason, run.severity = "interrupted", 9
+            elif journal is not None:
+                journal.write(json.dumps(run_record(run)) + "\n")
+        for name in os.listdir(tmp):
+            os.unlink(os.path.join(tmp, name))
+        os.rmdir(tmp)
+    return done, failed
+
+
+def _killpg(p, sig=signal.SIGKILL):
+    try:
+        os.killpg(p.pid, sig)
+    except (ProcessLookupError, PermissionError):
+        try:
+            p.kill()
+        except ProcessLookupError:
+            pass
+
+
+def _finish(run, out, err, timed_out, opts):
+    out.seek(0)
+    err.seek(0)
+    stdout, stderr = out.read(), err.read()
+    out.close()
+    err.close()
+    run.summary = None if timed_out else parse_summary(stdout)
+    if timed_out:
+        run.success, run.severity = False, 4
+        return
+    code = run.exit_code
+    if code == EXIT_INTERRUPTED and run.summary is not None:  # SIGINT/SIGTERM: the summary of what it did
+        ticks = run.summary.get("ticks")
+        run.reason = f"interrupted (exit 130) at tick {ticks}, before its end"
+        run.success, run.severity = False, 4
+        return
+    if code != 0:
+        last = next((ln for ln in reversed(stderr.strip().splitlines()) if ln.strip()), "")
+        what = f"crashed ({_signal_name(code)})" if code < 0 else f"exit {code}"
+        run.reason = f"{what}: {last}" if last else what
+        run.success, run.severity, run.summary = False, 4, None
+        return
+    if run.summary is None:
+        run.reason = "no summary.json on stdout"
+        run.success, run.severity = False, 4
+        return
+    judge(run, opts)
+
+
+# ----------------------------------------------------------------------------------------------- the results
+
+FIXED_COLUMNS = ["index", "scenario", "shape", "robots_asked", "seed", "kills", "kill_flags", "max_ticks_asked",
+                 "success", "reason", "exit_code", "run_wall_seconds", "command"]
+
+
+def _cell(value):
+    if value is None:
+        return ""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        return repr(value) if math.isfinite(value) else str(value)
+    if isinstance(value, list):
+        items = []
+        for v in value:
+            if isinstance(v, dict) and "id" in v and "tick" in v:
+                items.append(f"{v['id']}@{v['tick']}")
+            elif isinstance(v, (dict, list)):
+                return None
+            else:
+                items.append(_cell(v))
+        return " ".join(items)
+    if isinstance(value, dict):
+        return None
+    return str(value)
+
+
+def summary_columns(runs):
+    keys = []
+    seen = set()
+    for r in runs:
+        for k, v in (r.summary or {}).items():
+            if k in seen or k in SERIES_KEYS or _cell(v) is None:
+                continue
+            seen.add(k)
+            keys.append(k)
+    return keys
+
+
+def write_csv(path, runs):
+    keys = summary_columns(runs)
+    names = [f"summary_{k}" if k in FIXED_COLUMNS else k for k in keys]
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(FIXED_COLUMNS + names)
+        for r in runs:
+            row = [r.index, r.scenario, r.shape or "", "" if r.robots_asked is None else r.robots_asked, r.seed,
+                   r.schedule.text, " ".join(r.kill_flags), "" if r.max_ticks_asked is None else r.max_ticks_asked,
+                   1 if r.success else 0, r.reason, "" if r.exit_code is None else r.exit_code,
+                   "" if r.wall is None else f"{r.wall:.3f}", command_text(r.cmd)]
+            s = r.summary or {}
+            row += [_cell(s.get(k)) or "" for k in keys]
+            w.writerow(row)
+
+
+def _num(s, key):
+    v = (s or {}).get(key)
+    return v if isinstance(v, (int, float)) and not isinstance(v, bool) else None
+
+
+def group_stats(runs):
+    n = len(runs)
+    ok = sum(1 for r in runs if r.success)
+    out = {"runs": n, "succeeded": ok, "failed": n - ok, "success_rate": round(ok / n, 4) if n else None}
+    outcomes = {}
+    for r in runs:
+        key = outcome_of(r.summary) if r.summary else "error"
+        outcomes[key] = outcomes.get(key, 0) + 1
+    out["outcomes"] = dict(sorted(outcomes.items()))
+    for key, agg in (("formation_tick", "median"), ("goal_tick", "median"), ("shape_error_at_formation", "max"),
+                     ("shape_error_at_goal", "max"), ("peak_distortion", "max")):
+        vals = [v for v in (_num(r.summary, key) for r in runs) if v is not None]
+        name = f"{agg}_{key}"
+        if not vals:
+            out[name] = None
+        elif agg == "median":
+            out[name] = statistics.median(vals)
+        else:
+            out[name] = round(max(vals), 4)
+    rr = sum(contacts(r.summary)[0] for r in runs if r.summary)
+    ro = sum(contacts(r.summary)[1] for r in runs if r.summary)
+    out["contacts_robot_robot"], out["contacts_robot_obstacle"] = rr, ro
+    walls = [r.wall for r in runs if r.wall is not None]
+    out["median_wall_seconds"] = round(statistics.median(walls), 3) if walls else None
+    return out
+
+
+def worst_key(opts):
+    err_key = "shape_error_at_goal" if opts.expect == "arrived" else "shape_error_at_formation"
+
+    def key(r):
+        err = _num(r.summary, err_key)
+        goal = _num(r.summary, "goal_tick")
+        return (r.success, -r.severity, -(err if err is not None else math.inf),
+                -(goal if goal is not None else math.inf), r.index)
+    return key
+
+
+def run_record(r):
+    s = r.summary or {}
+    rec = {"index": r.index, "success": r.success, "reason": r.reason, "scenario": r.scenario,
+           "shape": r.shape_name, "robots": r.robots, "seed": r.seed, "kills": r.schedule.text,
+           "kill_flags": r.kill_flags, "exit_code": r.exit_code,
+           "wall_seconds": None if r.wall is None else round(r.wall, 3)}
+    for k in ("outcome", "ticks", "formation_tick", "motion_start_tick", "goal_tick", "shape_error_at_formation",
+              "shape_error_at_goal", "peak_distortion", "collisions_robot_robot", "collisions_robot_obstacle",
+              "alive_at_end", "stuck_robots"):
+        if k in s:
+            rec[k] = s[k]
+    rec["command"] = command_text(r.cmd)
+    rec["record_command"] = record_command(r.cmd, r.index)
+    return rec
+
+
+def git_commit():
+    try:
+        head = subprocess.run(["git", "-C", launcher.ROOT, "rev-parse", "--short=12", "HEAD"], capture_output=True,
+                              text=True, timeout=10).stdout.strip()
+        dirty = subprocess.run(["git", "-C", launcher.ROOT, "status", "--porcelain", "--untracked-files=no"],
+                               capture_output=True, text=True, timeout=10).stdout.strip()
+        return (head + ("-dirty" if dirty else "")) or None
+    except (OSError, subprocess.SubprocessError):
+        return None
+
+
+def results(runs, opts, grid, started, wall, interrupted, worst_n):
+    finished = [r for r in runs if r.reason != "not run" and r.reason != "interrupted"]
+    by = {}
+    for name, key in (("by_scenario", lambda r: r.scenario), ("by_shape", lambda r: r.shape_name),
+                      ("by_kills", lambda r: r.schedule.text), ("by_robots", lambda r: str(r.robots))):
+        groups = {}
+        for r in finished:
+            groups.setdefault(key(r), []).append(r)
+        by[name] = {k: group_stats(v) for k, v in groups.items()}
+    cells = {}
+    for r in finished:
+        cells.setdefault((r.scenario, r.shape_name, r.robots, r.schedule.text), []).append(r)
+    by["by_cell"] = [dict(scenario=k[0], shape=k[1], robots=k[2], kills=k[3], **group_stats(v))
+                     for k, v in cells.items()]
+    ordered = sorted(finished, key=worst_key(opts))
+    overall = group_stats(finished)
+    return {
+        "format": "swarmform-sweep", "version": 1,
+        "commit": git_commit(), "cwd": os.getcwd(), "started_utc": started, "wall_seconds": round(wall, 1),
+        "interrupted": interrupted, "planned_runs": len(runs),
+        "grid": grid,
+        "judging": {"expect": opts.expect, "max_shape_error": opts.max_shape_error,
+                    "max_contacts": opts.max_contacts, "max_robot_contacts": opts.max_robot_contacts,
+                    "timeout_seconds": opts.timeout},
+        "overall": overall,
+        **by,
+        "worst": [run_record(r) for r in ordered[:worst_n]],
+    }
+
+
+def _opt(value):
+    return "-" if value is None else f"{value:g}"
+
+
+def print_table(res, out=print):
+    cells = res["by_cell"]
+    head = ("scenario", "shape", "N", "kills", "ok", "rate", "formed@", "goal@", "err@form", "err@goal", "contacts")
+    rows = []
+    for c in cells:
+        def f(v, fmt):
+            return "-" if v is None else format(v, fmt)
+        rows.append((os.path.basename(c["scenario"]), c["shape"], str(c["robots"]), c["kills"],
+                     f"{c['succeeded']}/{c['runs']}", f"{100 * c['success_rate']:.0f}%" if c["runs"] else "-",
+                     f(c["median_formation_tick"], ".0f"), f(c["median_goal_tick"], ".0f"),
+                     f(c["max_shape_error_at_formation"], ".3f"), f(c["max_shape_error_at_goal"], ".3f"),
+                     f"{c['contacts_robot_robot']}+{c['contacts_robot_obstacle']}"))
+    widths = [max(len(h), *(len(r[i]) for r in rows)) if rows else len(h) for i, h in enumerate(head)]
+    out("  ".join(h.ljust(w) for h, w in zip(head, widths)))
+    for r in rows:
+        out("  ".join(v.ljust(w) for v, w in zip(r, widths)))
+    o = res["overall"]
+    rate = "-" if o["success_rate"] is None else f"{100 * o['success_rate']:.1f}%"
+    out(f"overall: {o['succeeded']}/{o['runs']} succeeded ({rate}); expect {res['judging']['expect']}"
+        f"; medians formed@ {_opt(o['median_formation_tick'])} goal@ {_opt(o['median_goal_tick'])}"
+        f"; commit {res['commit']}")
+    out("(formed@/goal@: median ticks; err@: largest shape error, grid units; contacts: robot-robot+robot-obstacle)")
+    bad = [w for w in res["worst"] if not w["success"]][:WORST_SHOWN]
+    if bad:
+        out("worst failures (every one in sweep.json's worst / sweep.csv):")
+        for w in bad:
+            out(f"  #{w['index']} {w['reason']}")
+            out(f"     {w['command']}")
+
+
+# ------------------------------------------------------------------------------------------------- the sweep
+
+def default_out_dir():
+    runs = os.environ.get("SWARM_RUNS_DIR") or os.path.join(launcher.ROOT, "runs")
+    stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y%m%d-%H%M%S")
+    path, n = os.path.join(runs, f"sweep-{stamp}"), 1
+    while os.path.exists(path):
+        n += 1
+        path = os.path.join(runs, f"sweep-{stamp}-{n}")
+    return path
+
+
+def plan(opts, exe):
+    """The runs of the grid, after probing every (scenario, shape, robots) once. Raises SweepError."""
+    scenarios = expand_files(opts.scenario or [os.path.join("scenarios", "paper.yaml")], "scenario")
+    shapes = expand_files(opts.shape, "shape") if opts.shape else []
+    if opts.shapes_dir:
+        if not os.path.isdir(opts.shapes_dir):
+            raise SweepError(f"--shapes-dir '{opts.shapes_dir}': no such folder")
+        found = sorted(glob.glob(os.path.join(opts.shapes_dir, "*.txt")))
+        if not found:
+            raise SweepError(f"--shapes-dir '{opts.shapes_dir}': no *.txt shape in it")
+        shapes += [s for s in found if s not in shapes]
+    shapes = shapes or [None]
+    robots_list = opts.robots or [None]
+    seeds = list(dict.fromkeys(opts.seeds or list(range(1, 11))))
+    schedules = list({s.text: s for s in (opts.kills or [parse_kill_schedule("none")])}.values())
+    runs = []
+    for scenario in scenarios:
+        window_cap = opts.max_ticks or scenario_max_ticks(scenario)
+        window = min(opts.kill_window, window_cap)
+        for shape in shapes:
+            for robots in robots_list:
+                info = probe(exe, scenario, shape, robots)
+                n = info["robots"]
+                shape_name = os.path.basename(str(info.get("shape_file") or shape or "?"))
+                for schedule in schedules:
+                    for seed in seeds:
+                        flags = schedule.flags(seed, n, window)
+                        cmd = base_command(exe, scenario, shape, robots, seed, opts.max_ticks)
+                        for k in flags:
+                            cmd += ["--kill", k]
+                        cmd += ["--no-record", "--quiet"]
+                        runs.append(Run(len(runs), scenario, shape, shape_name, robots, n, seed, schedule, flags,
+                                        opts.max_ticks, cmd))
+    grid = {"scenarios": scenarios, "shapes": [s or "(the scenario's)" for s in shapes],
+            "robots": [r or "(the scenario's)" for r in robots_list], "seeds": _ranges(seeds),
+            "seed_count": len(seeds), "kills": [s.text for s in schedules], "kill_window": opts.kill_window,
+            "max_ticks": opts.max_ticks}
+    return runs, grid
+
+
+def _ranges(seeds):
+    """[1,2,3,7] -> '1-3,7'."""
+    parts, i = [], 0
+    while i < len(seeds):
+        j = i
+        while j + 1 < len(seeds) and seeds[j + 1] == seeds[j] + 1:
+            j += 1
+        parts.append(str(seeds[i]) if i == j else f"{seeds[i]}-{seeds[j]}")
+        i = j + 1
+    return ",".join(parts)
+
+
+def _relative_exe():
+    exe = launcher.executable("inprocess")
+    rel = os.path.relpath(exe)
+    return rel if not rel.startswith("..") else exe
+
+
+def sweep(opts):
+    """`swarm sweep`. Returns the exit code."""
+    try:
+        exe = _relative_exe()
+    except launcher.LaunchError as e:
+        print(f"swarm sweep: {e}", file=sys.stderr)
+        return EXIT_FAILED
+    try:
+        runs, grid = plan(opts, exe)
+    except SweepError as e:
+        print(f"swarm sweep: {e}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    out_dir = opts.out or default_out_dir()
+    os.makedirs(out_dir, exist_ok=True)
+    jobs = opts.jobs or os.cpu_count() or 1
+    progress = Progress(len(runs), quiet=opts.quiet)
+    progress.line(f"sweep: {len(runs)} runs ({len(grid['scenarios'])} scenario(s) x {len(grid['shapes'])} shape(s)"
+                  f" x {len(grid['robots'])} robot count(s) x {grid['seed_count']} seed(s) x "
+                  f"{len(grid['kills'])} kill schedule(s)), {jobs} at a time; results in {out_dir}")
+    stop = launcher.StopFlag()
+    started = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+    t0 = time.monotonic()
+    try:
+        with open(os.path.join(out_dir, "runs.jsonl"), "w") as journal:
+            execute(runs, jobs, opts.timeout, progress, stop, opts, journal)
+    finally:
+        stop.restore()
+    progress.end()
+    interrupted = bool(stop)
+    res = results(runs, opts, grid, started, time.monotonic() - t0, interrupted, opts.worst)
+    write_csv(os.path.join(out_dir, "sweep.csv"), [r for r in runs if r.reason not in ("not run", "interrupted")])
+    with open(os.path.join(out_dir, "sweep.json"), "w") as f:
+        json.dump(res, f, indent=1)
+        f.write("\n")
+    print_table(res)
+    print(f"sweep.csv and sweep.json in {out_dir}")
+    if interrupted:
+        print(f"swarm sweep: interrupted after {res['overall']['runs']} of {len(runs)} runs", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    return EXIT_OK if res["overall"]["failed"] == 0 else EXIT_FAILED

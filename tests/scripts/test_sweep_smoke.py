@@ -1,0 +1,109 @@
+"""`swarm sweep` against the real swarm_inprocess (BUILD_DIR): a tiny sweep of the paper's scenario, 2 seeds x
+2 kill schedules (none, random:1), 300 ticks. Checks the rows of sweep.csv, that the kills drawn reached the runs
+(the summary's deaths are the --kill flags), that the random draw is reproducible and within its window, that
+sweep.json's rates agree with the rows, and that a worst case's command reproduces its run bit for bit (the
+trajectory hash). Also: a bad scenario is refused by the probe, exit 2, before any run."""
+
+import csv
+import json
+import os
+import shutil
+import subprocess
+import tempfile
+import unittest
+
+import helpers
+
+BUILD_DIR = os.environ.get("BUILD_DIR") or os.path.join(helpers.ROOT, "build")
+EXE = os.path.join(BUILD_DIR, "world_server", "harness", "swarm_inprocess")
+PAPER = os.path.join(helpers.ROOT, "scenarios", "paper.yaml")
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+@unittest.skipUnless(os.access(EXE, os.X_OK), f"swarm_inprocess is not built in {BUILD_DIR}")
+class SweepSmokeTest(unittest.TestCase):
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="swarm-sweep-smoke-")
+
+    def tearDown(self):
+        shutil.rmtree(self.dir)
+
+    def sweep(self, out, *extra):
+        return helpers.swarm("sweep", "--scenario", PAPER, "--seeds", "1-2", "--kills", "none", "random:1",
+                             "--max-ticks", "300", "--kill-window", "250", "--jobs", "2", "--expect", "any",
+                             "--out", out, *extra, build_dir=BUILD_DIR, timeout=240)
+
+    def test_tiny_sweep(self):
+        out = os.path.join(self.dir, "a")
+        r = self.sweep(out)
+        self.assertNotIn("Traceback", r.stderr)
+        self.assertIn("sweep: 4/4 done", r.stderr, "the progress line")
+        rows = read_csv(os.path.join(out, "sweep.csv"))
+        self.assertEqual([(row["seed"], row["kills"]) for row in rows],
+                         [("1", "none"), ("2", "none"), ("1", "random:1"), ("2", "random:1")])
+        for row in rows:
+            self.assertEqual(row["exit_code"], "0", row["reason"])
+            self.assertEqual(row["ticks"], "300", "cut at --max-ticks")
+            self.assertEqual(row["robots"], "9")
+            self.assertEqual(row["summary_seed"], row["seed"])
+            self.assertRegex(row["trajectory_sha256"], "^[0-9a-f]{64}$")
+            self.assertIn(f"--max-ticks 300", row["command"])
+            if row["kills"] == "none":
+                self.assertEqual(row["kill_flags"], "")
+                self.assertEqual(row["deaths"], "")
+                continue
+            rid, tick = (int(v) for v in row["kill_flags"].split("@"))
+            self.assertTrue(0 <= rid < 9 and 1 <= tick <= 250, row["kill_flags"])
+            self.assertIn(f"--kill {rid}@{tick}", row["command"])
+            self.assertEqual(row["deaths"], row["kill_flags"], "the world killed the robot drawn, at its tick")
+            self.assertEqual(row["alive_at_end"], "8")
+        self.assertEqual(r.returncode, 0 if all(row["success"] == "1" for row in rows) else 1)
+
+        with open(os.path.join(out, "sweep.json")) as f:
+            res = json.load(f)
+        ok = sum(row["success"] == "1" for row in rows)
+        self.assertEqual(res["overall"]["runs"], 4)
+        self.assertEqual(res["overall"]["succeeded"], ok)
+        self.assertEqual(res["overall"]["success_rate"], round(ok / 4, 4))
+        self.assertEqual(sorted(res["by_kills"]), ["none", "random:1"])
+        self.assertEqual(res["by_kills"]["random:1"]["runs"], 2)
+        self.assertEqual(res["by_shape"]["triangle.txt"]["runs"], 4)
+        self.assertEqual(len(res["worst"]), 4)
+
+        # The worst case's command gives the same run, bit for bit.
+        worst = res["worst"][0]
+        row = rows[worst["index"]]
+        self.assertEqual(worst["command"], row["command"])
+        again = subprocess.run(worst["command"], shell=True, cwd=os.getcwd(), capture_output=True, text=True,
+                               timeout=120)
+        self.assertEqual(again.returncode, 0, again.stderr)
+        self.assertEqual(json.loads(again.stdout)["trajectory_sha256"], row["trajectory_sha256"])
+
+        # The same sweep again draws the same kills and gives the same runs.
+        out2 = os.path.join(self.dir, "b")
+        self.sweep(out2)
+        rows2 = read_csv(os.path.join(out2, "sweep.csv"))
+        self.assertEqual([r["kill_flags"] for r in rows2], [r["kill_flags"] for r in rows])
+        self.assertEqual([r["trajectory_sha256"] for r in rows2], [r["trajectory_sha256"] for r in rows])
+
+    def test_a_bad_scenario_is_refused_before_any_run(self):
+        bad = os.path.join(self.dir, "bad.yaml")
+        with open(bad, "w") as f:
+            f.write("shape: triangle.txt\ncomm_rang: 3.0\n")
+        out = os.path.join(self.dir, "c")
+        r = helpers.swarm("sweep", "--scenario", bad, "--out", out, build_dir=BUILD_DIR, timeout=60)
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn(f"{bad}:2: comm_rang: unknown key", r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(out, "sweep.csv")))
+        r = helpers.swarm("sweep", "--scenario", PAPER, "--kills", "9@5", "--out", out, build_dir=BUILD_DIR,
+                          timeout=60)
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn("--kills 9@5: robot 9 does not exist (ids 0..8)", r.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()
