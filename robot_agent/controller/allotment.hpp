@@ -55,12 +55,20 @@ constexpr bool keeps_label(RobotId self, RobotId other) {
   return self > other;
 }
 
+// The seed election with ageing. A report carries its age: 0 from the candidate itself, one more at each
+// relay (the smallest age heard for that candidate, + 1). A report older than `max_age` hops is dropped.
+// While the candidate lives, a robot k hops away holds age k; once it dies (or stops searching) nobody
+// reports age 0 any more, the smallest age in its neighbourhood grows by one a tick, and after at most
+// `max_age` ticks the minimum is gone everywhere: the next best candidate takes over (RIP's bounded hop
+// count, applied to the flooded minimum). `max_age` must exceed the swarm's diameter in hops; PaperController
+// uses seed_settle, the bound the settle period already assumes.
 class SeedElection {
  public:
   // Folds in this tick's own distance to the origin and the candidates the neighbours report.
-  void update(RobotId self, double own_distance, const NeighbourTable& neighbours, Tick now);
+  void update(RobotId self, double own_distance, const NeighbourTable& neighbours, Tick now, int max_age);
   RobotId candidate() const { return candidate_; }
   double distance() const { return distance_; }
+  std::uint8_t age() const { return age_; }
   // The candidate has not changed for `settle_ticks`.
   bool settled(Tick now, int settle_ticks) const;
   void reset() { *this = SeedElection{}; }
@@ -69,6 +77,7 @@ class SeedElection {
   bool started_ = false;
   RobotId candidate_ = 0;
   double distance_ = 0.0;
+  std::uint8_t age_ = 0;
   Tick since_ = 0;
 };
 
@@ -104,5 +113,13 @@ std::optional<LabelOffer> choose_offer(const std::vector<LabelOffer>& offers,
 std::vector<int> labels_to_free(const ShapeTable& table, int own_label, const Stigmergy& stigmergy,
                                 const NeighbourTable& neighbours, const std::map<int, Tick>& entry_changed,
                                 RobotId self, Tick now, int label_timeout);
+
+// The rule that gives up on a label nobody takes (no robot left to take it: one died before taking a label,
+// or never spoke): the labels of `own_label`'s 3x3 grid that are still unclaimed (nobody in the labels
+// stigmergy, no neighbour reporting it) once this robot has stood at its place since `reached_at` for
+// `label_timeout` ticks. They are marked freed (still offered; abandoned by the barrier label_timeout later).
+std::vector<int> labels_left_untaken(const ShapeTable& table, int own_label, const Stigmergy& stigmergy,
+                                     const NeighbourTable& neighbours, Tick reached_at, Tick now,
+                                     int label_timeout);
 
 }  // namespace swarmform::controller

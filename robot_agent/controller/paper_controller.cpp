@@ -59,6 +59,8 @@ void PaperController::reset() {
   holder_since_.clear();
   holder_version_.assign(static_cast<std::size_t>(table_.size()), -1);
   last_heartbeat_ = 0;
+  last_member_heard_ = 0;
+  reached_tick_ = 0;
   neighbours_ = NeighbourTable(params_.neighbour_timeout);
   stigmergy_ = Stigmergy(self_);
   election_.reset();
@@ -146,14 +148,20 @@ Command PaperController::step(const Perception& p) {
 
 Vec2 PaperController::searching_step(const Perception& p) {
   const Vec2 pos = position(p.pose);
-  const bool shape_known = has_origin_ || label_status(stigmergy_, 0).kind != LabelStatus::Kind::Unclaimed;
-
-  // The seed: closest to the origin by the flooded minimum, once it has settled.
-  election_.update(self_, norm(pos), neighbours_, tick_);
-  if (!shape_known && election_.candidate() == self_ && election_.settled(tick_, params_.seed_settle)) {
-    take_label(0, -1, pos, "seed_elected");
+  // The seed: closest to the arena origin by the flooded minimum, once it has settled. Re-election: when the
+  // seed died with nobody of the shape left to offer label 0 again (free_seed_label), the searchers elect
+  // the one closest to label 0's known place, which goes there.
+  const auto seed_status = label_status(stigmergy_, 0).kind;
+  const bool first_election = seed_status == LabelStatus::Kind::Unclaimed && !has_origin_;
+  const bool re_election = seed_status == LabelStatus::Kind::Freed && has_origin_;
+  election_.update(self_, re_election ? norm(pos - origin_) : norm(pos), neighbours_, tick_,
+                   params_.seed_settle);
+  if ((first_election || re_election) && election_.candidate() == self_ &&
+      election_.settled(tick_, params_.seed_settle)) {
+    take_label(0, -1, re_election ? origin_ : pos, "seed_elected");
     return {};
   }
+  free_seed_label();
 
   // Take a free label from the offers heard.
   const auto offers = collect_offers(table_, params_.shape_heading, neighbours_, stigmergy_);
@@ -293,6 +301,34 @@ void PaperController::free_dead_labels() {
     put_label_freed(stigmergy_, l, tick_);
     event("label_freed " + std::to_string(l) + " holder " + std::to_string(holder));
   }
+  // A label of our grid that nobody has taken while we stood at our place for label_timeout ticks: no
+  // searcher is coming for it (one that hears an offer takes it within a few ticks). Marked freed, it is
+  // still offered, and abandoned label_timeout ticks later if nobody takes it (barrier.hpp).
+  if (state_ != RobotState::Reached) return;
+  for (int l : labels_left_untaken(table_, label_, stigmergy_, neighbours_, reached_tick_, tick_,
+                                   params_.label_timeout)) {
+    put_label_freed(stigmergy_, l, tick_);
+    event("label_freed " + std::to_string(l) + " untaken");
+  }
+}
+
+void PaperController::free_seed_label() {
+  // Label 0's holder died before any robot of the shape could notice (the seed alone in the shape): no
+  // robot hears any member of the shape, and label 0's entry has been neither refreshed nor its holder
+  // heard for label_timeout ticks. Freeing it starts the re-election above.
+  for (const auto& [id, n] : neighbours_.all()) {
+    if (n.message.label >= 0) last_member_heard_ = std::max(last_member_heard_, n.last_heard);
+  }
+  const auto status = label_status(stigmergy_, 0);
+  if (status.kind != LabelStatus::Kind::Held || !has_origin_) return;
+  const auto timeout = static_cast<Tick>(params_.label_timeout);
+  if (tick_ < last_member_heard_ + timeout) return;
+  const auto changed = holder_since_.find(0);
+  Tick quiet_since = changed == holder_since_.end() ? 0 : changed->second;
+  if (const auto heard = neighbours_.last_heard(status.holder)) quiet_since = std::max(quiet_since, *heard);
+  if (tick_ < quiet_since + timeout) return;
+  put_label_freed(stigmergy_, 0, tick_);
+  event("label_freed 0 holder " + std::to_string(status.holder));
 }
 
 // ---- Moving (paper III.C 'Moving', eq. 1) ----
@@ -304,6 +340,7 @@ Vec2 PaperController::moving_step(const Perception& p) {
   const double distance = norm(error);
   if (distance < params_.reach_tolerance) {
     state_ = RobotState::Reached;
+    reached_tick_ = tick_;
     event("reached " + std::to_string(label_));
     return {};
   }
@@ -331,6 +368,7 @@ Vec2 PaperController::moving_step(const Perception& p) {
   if (blocked) {
     if (++blocked_ticks_ >= kBlockedPlaceTicks) {
       state_ = RobotState::Reached;
+      reached_tick_ = tick_;
       event("reached " + std::to_string(label_) + " blocked_place");
     }
     return {};
@@ -421,6 +459,7 @@ RobotMessage PaperController::compose_message(const Perception& p, const std::ve
   m.origin = origin_;
   m.seed_candidate = state_ == RobotState::Searching ? election_.candidate() : self_;
   m.seed_distance = state_ == RobotState::Searching ? election_.distance() : norm(position(p.pose));
+  m.seed_age = state_ == RobotState::Searching ? election_.age() : 0;
   if (in_shape_before_ready(state_))
     m.free_labels = free_grid_labels(table_, label_, stigmergy_, neighbours_);
   if (m.free_labels.size() > kMaxFreeLabels) m.free_labels.resize(kMaxFreeLabels);

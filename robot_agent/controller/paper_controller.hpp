@@ -58,6 +58,7 @@ class PaperController final : public Controller {
   std::optional<WheelSpeeds> reached_step(const Perception& p);
   void keep_label();
   void free_dead_labels();
+  void free_seed_label();
   void track_holders();
   // Ticks between two re-puts of our labels entry while in Moving/Reached: a third of label_timeout.
   int heartbeat_period() const { return std::max(1, params_.label_timeout / 3); }
@@ -90,11 +91,13 @@ class PaperController final : public Controller {
   Tick last_offer_tick_ = 0;  // last tick an offer was heard
   int blocked_ticks_ = 0;     // Moving: ticks in front of a blocked place
   Tick ready_tick_ = 0;
+  Tick reached_tick_ = 0;             // the tick it last entered Reached
   std::map<int, Tick> holder_since_;  // label -> tick its labels entry last changed here (claim, heartbeat)
   // label -> that entry's version, -1 before it is first seen. Indexed, not a map: track_holders() looks up
   // every label every tick, and a tree's nodes were cold misses each (BENCHMARKS.md, P3).
   std::vector<std::int64_t> holder_version_;
-  Tick last_heartbeat_ = 0;  // last re-put of our own label entry
+  Tick last_heartbeat_ = 0;     // last re-put of our own label entry
+  Tick last_member_heard_ = 0;  // Searching: last tick a robot with a label was heard
 
   NeighbourTable neighbours_;
   Stigmergy stigmergy_;
