@@ -30,6 +30,12 @@ constexpr double kSpareClearance = 1.2;
 // A searcher that has heard no offer for this long walks towards the nearest unheld place, up to this many
 // grid spacings from it.
 constexpr double kApproachDistance = 1.5;
+// A Moving robot this near its place may drive backwards onto it (m); further away it faces where it goes.
+constexpr double kReverseRange = 0.1;
+// A Moving robot that has not come kProgress (m) nearer its place in kStuckTicks commits to one go-round
+// side.
+constexpr double kProgress = 0.05;
+constexpr Tick kStuckTicks = 50;
 
 }  // namespace
 
@@ -97,6 +103,10 @@ Command PaperController::step(const Perception& p) {
   // The state's behaviour.
   Vec2 velocity;
   std::optional<WheelSpeeds> wheels;
+  // Searching and Moving robots face where they go, so that their ultrasonic sensors see it; a mover
+  // within kReverseRange of its place may back onto it (small corrections need no half turn).
+  may_reverse_ =
+      !(state_ == RobotState::Idle || state_ == RobotState::Searching || state_ == RobotState::Moving);
   std::vector<std::uint8_t> motion_bytes;
   Telemetry telemetry;
   switch (state_) {
@@ -131,8 +141,9 @@ Command PaperController::step(const Perception& p) {
   }
 
   Command cmd;
-  const WheelSpeeds w = clamp_wheels(
-      wheels ? *wheels : drive_velocity(velocity, p.pose.theta, params_.max_speed), params_.max_speed);
+  const WheelSpeeds w =
+      clamp_wheels(wheels ? *wheels : drive_velocity(velocity, p.pose.theta, params_.max_speed, may_reverse_),
+                   params_.max_speed);
   cmd.left_speed = w.left;
   cmd.right_speed = w.right;
   cmd.message = encode_message(compose_message(p, motion_bytes));
@@ -227,7 +238,8 @@ Vec2 PaperController::searching_step(const Perception& p) {
       }
     }
   }
-  return avoid_collisions(limit(v, params_.max_speed), fresh_neighbour_positions(), params_.k_collision,
+  fresh_neighbour_positions();
+  return avoid_collisions(limit(v, params_.max_speed), with_echoes(p, echo_range()), params_.k_collision,
                           params_.r_o, params_.max_speed);
 }
 
@@ -240,6 +252,9 @@ void PaperController::take_label(int label, int parent_label, Vec2 origin, const
   last_heartbeat_ = tick_;
   state_ = RobotState::Moving;
   blocked_ticks_ = 0;
+  best_distance_ = 1e18;
+  progress_tick_ = tick_;
+  go_round_side_ = 0;
   event(why + " " + std::to_string(label) +
         (parent_label >= 0 ? " parent_label " + std::to_string(parent_label) : std::string()));
 }
@@ -345,25 +360,21 @@ Vec2 PaperController::moving_step(const Perception& p) {
     return {};
   }
 
-  // A place held by something that is not a robot we hear (a dead robot's body): stop short of it, and
-  // after a while take the spot as reached.
+  // A place held by something that is not a robot we hear (a dead robot's body, a silent robot): stop short
+  // of it, and after a while take the spot as reached. Collision avoidance keeps an unexplained echo at the
+  // edge of its go-round zone at the nearest (collision_avoidance.hpp), so "in front of the place" is: an
+  // echo that no heard neighbour explains (Algorithm 2's mask), within that zone, nearer than the place and
+  // in its direction, with the place itself within that reach.
   const auto& neighbours = fresh_neighbour_positions();
-  const double bearing = wrap_angle(std::atan2(error.y, error.x) - p.pose.theta);
+  const double blocked_echo = params_.r_o + kAwarenessMargin - 2.0 * kRobotRadius + 0.02;
+  const double place_azimuth = std::atan2(error.y, error.x);
   bool blocked = false;
-  if (distance < 0.4 && std::abs(bearing) <= kUltrasonicAngles.back() + 0.3) {
-    std::size_t sensor = 0;
-    for (std::size_t i = 1; i < kUltrasonicCount; ++i) {
-      if (std::abs(kUltrasonicAngles[i] - bearing) < std::abs(kUltrasonicAngles[sensor] - bearing))
-        sensor = i;
+  if (distance < blocked_echo + 3.0 * kRobotRadius) {
+    for (const auto& e : unexplained_echoes(p.ultrasonic, p.pose.theta, neighbours, blocked_echo)) {
+      const double echo = e.range - 2.0 * kRobotRadius;
+      if (echo + kRobotRadius < distance && std::abs(wrap_angle(e.azimuth - place_azimuth)) < 0.4)
+        blocked = true;
     }
-    const double echo = p.ultrasonic[sensor];
-    bool robot_there = false;
-    for (const auto& n : neighbours) {
-      if (std::abs(wrap_angle(n.azimuth - p.pose.theta - bearing)) < 0.5 && n.range < distance + 0.3) {
-        robot_there = true;
-      }
-    }
-    blocked = !robot_there && echo <= kUltrasonicMinRange + 1e-9 && echo < distance;
   }
   if (blocked) {
     if (++blocked_ticks_ >= kBlockedPlaceTicks) {
@@ -374,8 +385,32 @@ Vec2 PaperController::moving_step(const Perception& p) {
     return {};
   }
   blocked_ticks_ = 0;
+  may_reverse_ = distance < kReverseRange;
+  // No progress for kStuckTicks (a pocket between obstacles whose go-round sides alternate): go round
+  // everything on one side, the other side the next time it is stuck.
+  if (distance < best_distance_ - kProgress) {
+    best_distance_ = distance;
+    progress_tick_ = tick_;
+  } else if (tick_ >= progress_tick_ + kStuckTicks) {
+    go_round_side_ = go_round_side_ > 0 ? -1 : 1;
+    best_distance_ = distance;
+    progress_tick_ = tick_;
+  }
   const Vec2 v = limit(params_.k_move * error, params_.max_speed);
-  return avoid_collisions(v, neighbours, params_.k_collision, params_.r_o, params_.max_speed);
+  // Echoes from nearer than the place (the echo point, a body radius beyond the reading): a body, a wall or
+  // an obstacle on the way, not one standing just beyond the place.
+  return avoid_collisions(v, with_echoes(p, std::min(echo_range(), distance - kRobotRadius)),
+                          params_.k_collision, params_.r_o, params_.max_speed, go_round_side_);
+}
+
+double PaperController::echo_range() const {
+  return params_.r_o + kAwarenessMargin + kBlendWidth - 2.0 * kRobotRadius;
+}
+
+const std::vector<NeighbourPosition>& PaperController::with_echoes(const Perception& p, double max_echo) {
+  const auto echoes = unexplained_echoes(p.ultrasonic, p.pose.theta, positions_, max_echo);
+  positions_.insert(positions_.end(), echoes.begin(), echoes.end());
+  return positions_;
 }
 
 // ---- Reached and the barrier (paper III.C 'Reached', Algorithm 1) ----
@@ -438,9 +473,21 @@ FormationContext PaperController::context(const Perception& p) const {
 const std::vector<NeighbourPosition>& PaperController::fresh_neighbour_positions() {
   positions_.clear();  // a member, reused: no allocation per step once it has grown (~73 in a crowd)
   for (const auto& [id, n] : neighbours_.all()) {
-    if (n.last_heard == tick_) positions_.push_back({n.range, n.azimuth});
+    if (n.last_heard == tick_) positions_.push_back({n.range, n.azimuth, right_of_way(id, n.message.state)});
   }
   return positions_;
+}
+
+RightOfWay PaperController::right_of_way(RobotId other, RobotState other_state) const {
+  // The yield rule (collision_avoidance.hpp): a mover before a searcher; between movers the higher id.
+  const bool they_move = other_state == RobotState::Moving;
+  if (state_ == RobotState::Moving) {
+    if (they_move) return other > self_ ? RightOfWay::Theirs : RightOfWay::Ours;
+    if (other_state == RobotState::Searching) return RightOfWay::Ours;
+  } else if (state_ == RobotState::Searching && they_move) {
+    return RightOfWay::Theirs;
+  }
+  return RightOfWay::Mutual;
 }
 
 std::int32_t PaperController::parent_id() const {

@@ -68,6 +68,11 @@ class PaperController final : public Controller {
   FormationContext context(const Perception& p) const;
   // The neighbours heard this tick, as range and azimuth; refilled on each call (valid until the next).
   const std::vector<NeighbourPosition>& fresh_neighbour_positions();
+  // The same plus the unexplained ultrasonic echoes nearer than `max_echo` (collision_avoidance.hpp).
+  const std::vector<NeighbourPosition>& with_echoes(const Perception& p, double max_echo);
+  // The reading under which an echo enters collision avoidance's band.
+  double echo_range() const;
+  RightOfWay right_of_way(RobotId other, RobotState other_state) const;
   void event(std::string text) { events_.push_back(std::move(text)); }
   RobotMessage compose_message(const Perception& p, const std::vector<std::uint8_t>& motion);
   // True when every live neighbour's last message carried our table's digest (compose_message).
@@ -87,9 +92,13 @@ class PaperController final : public Controller {
   bool has_origin_ = false;
   Vec2 origin_;
   Tick tick_ = 0;
-  Tick backoff_until_ = 0;    // no new claim before this tick (after losing a conflict)
-  Tick last_offer_tick_ = 0;  // last tick an offer was heard
-  int blocked_ticks_ = 0;     // Moving: ticks in front of a blocked place
+  Tick backoff_until_ = 0;       // no new claim before this tick (after losing a conflict)
+  Tick last_offer_tick_ = 0;     // last tick an offer was heard
+  int blocked_ticks_ = 0;        // Moving: ticks in front of a blocked place
+  bool may_reverse_ = true;      // this tick's drive may go backwards (drive.hpp)
+  double best_distance_ = 1e18;  // Moving: nearest it has been to its place
+  Tick progress_tick_ = 0;       // Moving: when it last came kProgress nearer
+  int go_round_side_ = 0;        // collision_avoidance.hpp's side: 0 the goal's, +-1 committed when stuck
   Tick ready_tick_ = 0;
   Tick reached_tick_ = 0;             // the tick it last entered Reached
   std::map<int, Tick> holder_since_;  // label -> tick its labels entry last changed here (claim, heartbeat)
