@@ -25,16 +25,21 @@ Vec2 avoid_collisions(Vec2 desired, const std::vector<NeighbourPosition>& neighb
   // across the band, so a differential-drive robot does not flip 90 degrees each tick at its edge.
   auto weight = [&](double range) { return std::clamp((outer - range) / kBlendWidth, 0.0, 1.0); };
   bool near = false;
-  // Giving way first: back away from a robot with the right of way, as much as it is near (the full speed
-  // limit inside `inner`); the go-round below then keeps that retreat off everything else.
+  // Giving way first: no more progress towards a robot with the right of way, and back away from it, as much
+  // as it is near (the full speed limit inside `inner`); the go-round below keeps that retreat off the rest.
+  Vec2 v = desired;
   Vec2 retreat;
   for (const auto& n : neighbours) {
     if (!(n.range < outer)) continue;
     near = true;
-    if (n.way == RightOfWay::Theirs) retreat = retreat + (-weight(n.range) * max_speed) * unit(n.azimuth);
+    if (n.way != RightOfWay::Theirs) continue;
+    const double w = weight(n.range);
+    const Vec2 towards = unit(n.azimuth);
+    v = v - (w * std::max(0.0, v.x * towards.x + v.y * towards.y)) * towards;
+    retreat = retreat + (-w * max_speed) * towards;
   }
   if (!near) return desired;
-  Vec2 v = limit(desired + retreat, max_speed);
+  v = limit(v + retreat, max_speed);
   const double speed = norm(v);
   for (const auto& n : neighbours) {
     if (!(n.range < outer)) continue;
