@@ -5,7 +5,9 @@
 //   broadcasts the best (distance, id) it knows -- its own or a neighbour's, whichever is smaller -- so the
 //   minimum floods the connected swarm one hop a tick. A robot whose candidate is itself and has stayed
 //   unchanged for `seed_settle` ticks, with no shape heard of, takes label 0 where it stands: that place is
-//   the shape's origin.
+//   the shape's origin. Reports age one hop a relay and die past `seed_settle` hops (SeedElection), so a dead
+//   candidate's minimum does not circulate for ever. A seed dead before anyone joined is freed by searchers
+//   that hear no member (PaperController) and re-elected by distance to label 0's known place.
 // - Offers: a robot in the shape broadcasts the free labels of its 3x3 grid (Table II's row of its label):
 //   those the labels stigmergy does not give to a holder and no neighbour reports as its own. It also
 //   broadcasts the shape's origin, from which every label's place follows (shape_table.hpp).
@@ -22,7 +24,8 @@
 //   shape whose own label is in the 3x3 grid of label L frees L when L's holder has neither been heard nor
 //   refreshed its entry for `label_timeout` ticks: it puts kLabelFreedBase - tick. L is then offered again.
 //   A holder that is alive and sees its label freed re-puts itself. A freed label nobody takes within
-//   another `label_timeout` ticks is abandoned: the barrier no longer waits for it (barrier.hpp).
+//   another `label_timeout` ticks is abandoned: the barrier no longer waits for it (barrier.hpp). A label
+//   that never had a holder (its robot died first, or never spoke) is freed by labels_left_untaken().
 #pragma once
 
 #include <cstdint>
