@@ -53,7 +53,11 @@ Vec2 avoid_collisions(Vec2 desired, const std::vector<NeighbourPosition>& neighb
     // other).
     const Vec2 right{towards.y, -towards.x};
     const double side = v.x * right.x + v.y * right.y;
-    const bool go_right = side_choice == 0 || !n.echo ? side >= -0.2 * closing : side_choice > 0;
+    // A committed side: always that side of an echo; for a robot heard, that side when the goal is (nearly)
+    // straight behind it, instead of the right.
+    bool go_right = side >= -0.2 * closing;
+    if (side_choice != 0 && n.echo) go_right = side_choice > 0;
+    if (side_choice < 0 && !n.echo) go_right = side > 0.2 * closing;
     const Vec2 tangent = go_right ? right : Vec2{-right.x, -right.y};
     Vec2 g = v - closing * towards;
     g = g - (g.x * tangent.x + g.y * tangent.y) * tangent + speed * tangent;

@@ -58,10 +58,12 @@ std::vector<NeighbourPosition> unexplained_echoes(const std::array<double, kUltr
 Vec2 collision_force(const std::vector<NeighbourPosition>& neighbours, double k_collision, double r_o);
 
 // The desired velocity after the task switch described above (unchanged when nobody is inside r_o).
-// `side`: 0 goes round each echo on the goal's side (above); +1 always on its right, -1 on its left. A robot
-// that makes no progress commits to one side of the unexplained echoes (bug-style boundary following), so it
-// leaves a pocket between a body and a robot that the goal's side alternates between. Robots heard are
-// always passed on the goal's side (a committed side would make a robot circle in a gap between two).
+// `side`: 0 goes round each neighbour on the goal's side (above); +1 always on an echo's right, -1 on its
+// left, and with -1 a robot heard with the goal (nearly) straight behind it is passed on its left instead of
+// its right. A robot that makes no progress commits to a side (bug-style boundary following), so it leaves a
+// pocket between a body and a robot that the goal's side alternates between, or that the right-hand tie
+// leads into. Robots heard are otherwise passed on the goal's side (a committed side for every robot made
+// movers circle in the gaps between two reached robots).
 Vec2 avoid_collisions(Vec2 desired, const std::vector<NeighbourPosition>& neighbours, double k_collision,
                       double r_o, double max_speed, int side = 0);
 

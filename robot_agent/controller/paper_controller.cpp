@@ -36,6 +36,7 @@ constexpr double kReverseRange = 0.1;
 // side.
 constexpr double kProgress = 0.05;
 constexpr Tick kStuckTicks = 50;
+constexpr Tick kSideTicks = 200;
 
 }  // namespace
 
@@ -386,13 +387,14 @@ Vec2 PaperController::moving_step(const Perception& p) {
   }
   blocked_ticks_ = 0;
   may_reverse_ = distance < kReverseRange;
-  // No progress for kStuckTicks (a pocket between obstacles whose go-round sides alternate): go round
-  // everything on one side, the other side the next time it is stuck.
+  // No progress for kStuckTicks (a pocket between obstacles whose go-round sides alternate): go round the
+  // echoes on one side; the other side if that side has brought no progress in kSideTicks (going round a
+  // body first takes the robot further from its place).
   if (distance < best_distance_ - kProgress) {
     best_distance_ = distance;
     progress_tick_ = tick_;
-  } else if (tick_ >= progress_tick_ + kStuckTicks) {
-    go_round_side_ = go_round_side_ > 0 ? -1 : 1;
+  } else if (tick_ >= progress_tick_ + (go_round_side_ == 0 ? kStuckTicks : kSideTicks)) {
+    go_round_side_ = go_round_side_ < 0 ? 1 : -1;
     best_distance_ = distance;
     progress_tick_ = tick_;
   }

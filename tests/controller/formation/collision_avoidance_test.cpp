@@ -68,6 +68,11 @@ TEST(CollisionAvoidance, ACommittedSideAppliesToEchoes) {
   EXPECT_GT(left.y, 0.0);
   const NeighbourPosition robot{0.45, 0.0, RightOfWay::Mutual, false};
   EXPECT_GT(avoid_collisions({0.1, 0.05}, {robot}, kK, kRo, kMax, +1).y, 0.0);
+  EXPECT_GT(avoid_collisions({0.1, 0.05}, {robot}, kK, kRo, kMax, -1).y, 0.0);
+  // A robot heard straight between us and the goal: the right by default, the left with side -1.
+  EXPECT_LT(avoid_collisions({0.1, 0.0}, {robot}, kK, kRo, kMax, 0).y, 0.0);
+  EXPECT_LT(avoid_collisions({0.1, 0.0}, {robot}, kK, kRo, kMax, +1).y, 0.0);
+  EXPECT_GT(avoid_collisions({0.1, 0.0}, {robot}, kK, kRo, kMax, -1).y, 0.0);
 }
 
 }  // namespace
