@@ -39,7 +39,7 @@ Vec2 avoid_collisions(Vec2 desired, const std::vector<NeighbourPosition>& neighb
     retreat = retreat + (-w * max_speed) * towards;
   }
   if (!near) return desired;
-  v = limit(v + retreat, max_speed);
+  if (retreat.x != 0.0 || retreat.y != 0.0) v = limit(v + retreat, max_speed);  // else as before (motion)
   const double speed = norm(v);
   for (const auto& n : neighbours) {
     if (!(n.range < outer)) continue;
