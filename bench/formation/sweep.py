@@ -68,6 +68,7 @@ def main():
     errs = []
     worst = []
     contacts_obstacle = 0
+    per_shape = {}
     with cf.ThreadPoolExecutor(a.jobs) as ex:
         for args, s in ex.map(run, jobs):
             if s is None:
@@ -83,6 +84,8 @@ def main():
                 ticks.append(ft)
                 errs.append(err)
                 worst.append((ft, args))
+                if a.what == "shapes":
+                    per_shape.setdefault(args.split()[1], []).append(ft)
             else:
                 print(f"FAIL {args}: formation_tick {ft} shape_error {err} robot_contacts {rr}", flush=True)
     print(f"{ok}/{len(jobs)} passed", end="")
@@ -92,6 +95,9 @@ def main():
               f"shape error max {max(errs):.3f}; robot-obstacle contacts {contacts_obstacle}")
         for ft, args in sorted(worst)[-3:]:
             print(f"  slowest: {ft} ({args})")
+        for shape, ts in sorted(per_shape.items()):
+            ts.sort()
+            print(f"  {shape}: formed {len(ts)}, formation_tick median {ts[len(ts) // 2]} max {ts[-1]}")
     else:
         print()
     return 0 if ok == len(jobs) else 1
