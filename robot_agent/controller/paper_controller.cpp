@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "common/splitmix64.hpp"
 #include "robot_agent/controller/collision_avoidance.hpp"
@@ -37,6 +38,9 @@ constexpr double kReverseRange = 0.1;
 constexpr double kProgress = 0.05;
 constexpr Tick kStuckTicks = 50;
 constexpr Tick kSideTicks = 200;
+// Stuck with a side committed: a detour this far (m) in a random direction, for at most this long.
+constexpr double kDetourDistance = 1.0;
+constexpr Tick kDetourTicks = 150;
 
 }  // namespace
 
@@ -256,6 +260,7 @@ void PaperController::take_label(int label, int parent_label, Vec2 origin, const
   best_distance_ = 1e18;
   progress_tick_ = tick_;
   go_round_side_ = 0;
+  detour_.reset();
   event(why + " " + std::to_string(label) +
         (parent_label >= 0 ? " parent_label " + std::to_string(parent_label) : std::string()));
 }
@@ -394,11 +399,31 @@ Vec2 PaperController::moving_step(const Perception& p) {
     best_distance_ = distance;
     progress_tick_ = tick_;
   } else if (tick_ >= progress_tick_ + (go_round_side_ == 0 ? kStuckTicks : kSideTicks)) {
+    // Stuck again with a side committed: a pocket whose way out is a detour (three obstacles round it). A
+    // random back-off in space, deterministic per seed: kDetourDistance in a random direction, for at most
+    // kDetourTicks, then the place again.
+    if (go_round_side_ != 0) {
+      const double a = std::uniform_real_distribution<double>(-std::numbers::pi, std::numbers::pi)(rng_);
+      detour_ = position(p.pose) + kDetourDistance * unit(a);
+      detour_until_ = tick_ + kDetourTicks;
+      event("detour " + std::to_string(label_));
+    }
     go_round_side_ = go_round_side_ < 0 ? 1 : -1;
     best_distance_ = distance;
     progress_tick_ = tick_;
   }
-  const Vec2 v = limit(params_.k_move * error, params_.max_speed);
+  Vec2 heading_for = error;
+  if (detour_) {
+    const Vec2 to_detour = *detour_ - position(p.pose);
+    if (tick_ >= detour_until_ || norm(to_detour) < 0.15) {
+      detour_.reset();
+      best_distance_ = distance;
+      progress_tick_ = tick_;
+    } else {
+      heading_for = to_detour;
+    }
+  }
+  const Vec2 v = limit(params_.k_move * heading_for, params_.max_speed);
   // Echoes from nearer than the place (the echo point, a body radius beyond the reading): a body, a wall or
   // an obstacle on the way, not one standing just beyond the place.
   return avoid_collisions(v, with_echoes(p, std::min(echo_range(), distance - kRobotRadius)),

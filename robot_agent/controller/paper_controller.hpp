@@ -99,6 +99,8 @@ class PaperController final : public Controller {
   double best_distance_ = 1e18;  // Moving: nearest it has been to its place
   Tick progress_tick_ = 0;       // Moving: when it last came kProgress nearer
   int go_round_side_ = 0;        // collision_avoidance.hpp's side: 0 the goal's, +-1 committed when stuck
+  std::optional<Vec2> detour_;   // Moving, stuck with a side committed: a random point to go to first
+  Tick detour_until_ = 0;
   Tick ready_tick_ = 0;
   Tick reached_tick_ = 0;             // the tick it last entered Reached
   std::map<int, Tick> holder_since_;  // label -> tick its labels entry last changed here (claim, heartbeat)

@@ -412,6 +412,27 @@ TEST(FormationSim, MoversKeepClearOfADeadBody) {
   EXPECT_EQ(o.robot_contacts, 0u);
 }
 
+// A mover pinned in a pocket whose way out is a detour (the arrow, seed 2, robot 0 killed at tick 300: it
+// stood for ever between the body and two reached robots): stuck with a side committed, it backs off to a
+// random point and tries again.
+TEST(FormationSim, AMoverPinnedInAPocketTakesADetour) {
+  constexpr Tick kMaxTicks = 3000;
+  world::ScenarioOverrides overrides;
+  overrides.shape_file = kRepo + "/shapes/arrow.txt";
+  overrides.seed = 2;
+  harness::Harness h(world::load_scenario(kRepo + "/scenarios/paper.yaml", overrides));
+  while (h.world().tick() < 300) h.step();
+  h.kill(0);
+  int detours = 0;
+  const Outcome o = run_counting(h, kMaxTicks, "detour", detours);
+  report("paper arena,arrow,kill 0@300", 2, o);
+  ASSERT_TRUE(o.formation_tick.has_value()) << snapshot(h);
+  EXPECT_LE(*o.shape_error, 0.1);
+  EXPECT_EQ(o.robot_contacts, 0u);
+  EXPECT_EQ(o.obstacle_contacts, 0u);
+  EXPECT_GE(detours, 1);
+}
+
 // The paper's pace: its motion starts at tick 607, so the shape must be formed by then.
 TEST(FormationSim, ThePaperRunFormsByTick607) {
   harness::Harness h(paper_scenario());
