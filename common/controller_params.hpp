@@ -32,8 +32,10 @@ inline constexpr std::array kControllerParams = {
               "ticks without a message before a neighbour is taken for dead"},
     ParamSpec{"label_timeout", 40, 1, 1e6, "ticks before a silent robot's label is freed for others"},
     ParamSpec{"k_move", 1.0, 0.0, 100.0, "proportional gain towards the target place, 1/s"},
-    ParamSpec{"seed_settle", 30, 1, 1e6,
-              "ticks the flooded closest-to-origin candidate must stay unchanged before it becomes the seed"},
+    ParamSpec{
+        "seed_settle", 30, 1, 1e6,
+        "ticks the flooded closest-to-origin candidate must stay unchanged before it becomes the seed; "
+        "also the hop age past which a relayed candidate is dropped (must exceed the swarm's diameter)"},
     ParamSpec{"shape_heading", 1.5707963267948966, -3.1415926535897931, 3.1415926535897931,
               "arena direction of the shape's 'up' (towards row 0) and the common heading, rad"},
     // Ready and formation motion (paper III.C 'Ready', III.D).

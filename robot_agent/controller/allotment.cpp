@@ -35,28 +35,36 @@ void put_label_freed(Stigmergy& stigmergy, int label, Tick now) {
                 kLabelFreedBase - static_cast<std::int64_t>(now));
 }
 
-void SeedElection::update(RobotId self, double own_distance, const NeighbourTable& neighbours, Tick now) {
+void SeedElection::update(RobotId self, double own_distance, const NeighbourTable& neighbours, Tick now,
+                          int max_age) {
+  // Distances travel as f32 on the wire: compare what the others will see.
   RobotId best = self;
-  double best_d = own_distance;
-  auto better = [&](double d, RobotId id) { return std::tie(d, id) < std::tie(best_d, best); };
+  double best_d = static_cast<double>(static_cast<float>(own_distance));
+  int best_age = 0;
   for (const auto& [id, n] : neighbours.all()) {
     // Only what was heard this tick: a stale report would keep a minimum alive after its source moved on.
     if (n.last_heard != now) continue;
     const auto& m = n.message;
     if (m.state != RobotState::Searching) continue;
-    if (better(m.seed_distance, m.seed_candidate)) {
+    if (m.seed_candidate == self) continue;  // our own minimum coming back: we report it at age 0
+    const int age = static_cast<int>(m.seed_age) + 1;
+    if (age > max_age) continue;  // aged out: its source has not been heard of for too long
+    const double d = m.seed_distance;
+    if (std::tie(d, m.seed_candidate) < std::tie(best_d, best)) {
       best = m.seed_candidate;
-      best_d = m.seed_distance;
+      best_d = d;
+      best_age = age;
+    } else if (m.seed_candidate == best && best != self) {
+      best_age = std::min(best_age, age);
     }
   }
-  // Distances travel as f32 on the wire: compare what the others will see.
-  best_d = static_cast<double>(static_cast<float>(best_d));
   if (!started_ || best != candidate_) {
     started_ = true;
     candidate_ = best;
     since_ = now;
   }
   distance_ = best_d;
+  age_ = static_cast<std::uint8_t>(std::min(best_age, 255));
 }
 
 bool SeedElection::settled(Tick now, int settle_ticks) const {
@@ -148,6 +156,17 @@ std::vector<int> labels_to_free(const ShapeTable& table, int own_label, const St
     Tick quiet_since = changed->second;
     if (const auto heard = neighbours.last_heard(status.holder)) quiet_since = std::max(quiet_since, *heard);
     if (now >= quiet_since + static_cast<Tick>(label_timeout)) out.push_back(nb.label);
+  }
+  return out;
+}
+
+std::vector<int> labels_left_untaken(const ShapeTable& table, int own_label, const Stigmergy& stigmergy,
+                                     const NeighbourTable& neighbours, Tick reached_at, Tick now,
+                                     int label_timeout) {
+  std::vector<int> out;
+  if (now < reached_at + static_cast<Tick>(label_timeout)) return out;
+  for (int l : free_grid_labels(table, own_label, stigmergy, neighbours)) {
+    if (label_status(stigmergy, l).kind == LabelStatus::Kind::Unclaimed) out.push_back(l);
   }
   return out;
 }

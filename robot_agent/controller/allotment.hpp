@@ -5,7 +5,9 @@
 //   broadcasts the best (distance, id) it knows -- its own or a neighbour's, whichever is smaller -- so the
 //   minimum floods the connected swarm one hop a tick. A robot whose candidate is itself and has stayed
 //   unchanged for `seed_settle` ticks, with no shape heard of, takes label 0 where it stands: that place is
-//   the shape's origin.
+//   the shape's origin. Reports age one hop a relay and die past `seed_settle` hops (SeedElection), so a dead
+//   candidate's minimum does not circulate for ever. A seed dead before anyone joined is freed by searchers
+//   that hear no member (PaperController) and re-elected by distance to label 0's known place.
 // - Offers: a robot in the shape broadcasts the free labels of its 3x3 grid (Table II's row of its label):
 //   those the labels stigmergy does not give to a holder and no neighbour reports as its own. It also
 //   broadcasts the shape's origin, from which every label's place follows (shape_table.hpp).
@@ -22,7 +24,8 @@
 //   shape whose own label is in the 3x3 grid of label L frees L when L's holder has neither been heard nor
 //   refreshed its entry for `label_timeout` ticks: it puts kLabelFreedBase - tick. L is then offered again.
 //   A holder that is alive and sees its label freed re-puts itself. A freed label nobody takes within
-//   another `label_timeout` ticks is abandoned: the barrier no longer waits for it (barrier.hpp).
+//   another `label_timeout` ticks is abandoned: the barrier no longer waits for it (barrier.hpp). A label
+//   that never had a holder (its robot died first, or never spoke) is freed by labels_left_untaken().
 #pragma once
 
 #include <cstdint>
@@ -55,12 +58,20 @@ constexpr bool keeps_label(RobotId self, RobotId other) {
   return self > other;
 }
 
+// The seed election with ageing. A report carries its age: 0 from the candidate itself, one more at each
+// relay (the smallest age heard for that candidate, + 1). A report older than `max_age` hops is dropped.
+// While the candidate lives, a robot k hops away holds age k; once it dies (or stops searching) nobody
+// reports age 0 any more, the smallest age in its neighbourhood grows by one a tick, and after at most
+// `max_age` ticks the minimum is gone everywhere: the next best candidate takes over (RIP's bounded hop
+// count, applied to the flooded minimum). `max_age` must exceed the swarm's diameter in hops; PaperController
+// uses seed_settle, the bound the settle period already assumes.
 class SeedElection {
  public:
   // Folds in this tick's own distance to the origin and the candidates the neighbours report.
-  void update(RobotId self, double own_distance, const NeighbourTable& neighbours, Tick now);
+  void update(RobotId self, double own_distance, const NeighbourTable& neighbours, Tick now, int max_age);
   RobotId candidate() const { return candidate_; }
   double distance() const { return distance_; }
+  std::uint8_t age() const { return age_; }
   // The candidate has not changed for `settle_ticks`.
   bool settled(Tick now, int settle_ticks) const;
   void reset() { *this = SeedElection{}; }
@@ -69,6 +80,7 @@ class SeedElection {
   bool started_ = false;
   RobotId candidate_ = 0;
   double distance_ = 0.0;
+  std::uint8_t age_ = 0;
   Tick since_ = 0;
 };
 
@@ -104,5 +116,13 @@ std::optional<LabelOffer> choose_offer(const std::vector<LabelOffer>& offers,
 std::vector<int> labels_to_free(const ShapeTable& table, int own_label, const Stigmergy& stigmergy,
                                 const NeighbourTable& neighbours, const std::map<int, Tick>& entry_changed,
                                 RobotId self, Tick now, int label_timeout);
+
+// The rule that gives up on a label nobody takes (no robot left to take it: one died before taking a label,
+// or never spoke): the labels of `own_label`'s 3x3 grid that are still unclaimed (nobody in the labels
+// stigmergy, no neighbour reporting it) once this robot has stood at its place since `reached_at` for
+// `label_timeout` ticks. They are marked freed (still offered; abandoned by the barrier label_timeout later).
+std::vector<int> labels_left_untaken(const ShapeTable& table, int own_label, const Stigmergy& stigmergy,
+                                     const NeighbourTable& neighbours, Tick reached_at, Tick now,
+                                     int label_timeout);
 
 }  // namespace swarmform::controller

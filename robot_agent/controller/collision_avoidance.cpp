@@ -18,18 +18,33 @@ Vec2 collision_force(const std::vector<NeighbourPosition>& neighbours, double k_
 }
 
 Vec2 avoid_collisions(Vec2 desired, const std::vector<NeighbourPosition>& neighbours, double k_collision,
-                      double r_o, double max_speed) {
-  bool near = false;
-  Vec2 v = desired;
-  const double speed = norm(desired);
+                      double r_o, double max_speed, int side_choice) {
   const double inner = r_o + kAwarenessMargin;
   const double outer = inner + kBlendWidth;
+  // Full go-round inside `inner`, none beyond `outer`, a linear blend between: the velocity is continuous
+  // across the band, so a differential-drive robot does not flip 90 degrees each tick at its edge.
+  auto weight = [&](double range) { return std::clamp((outer - range) / kBlendWidth, 0.0, 1.0); };
+  bool near = false;
+  // Giving way first: no more progress towards a robot with the right of way, and back away from it, as much
+  // as it is near (the full speed limit inside `inner`); the go-round below keeps that retreat off the rest.
+  Vec2 v = desired;
+  Vec2 retreat;
   for (const auto& n : neighbours) {
     if (!(n.range < outer)) continue;
     near = true;
-    // Full go-round inside `inner`, none beyond `outer`, a linear blend between: the velocity is continuous
-    // across the band, so a differential-drive robot does not flip 90 degrees each tick at its edge.
-    const double w = std::clamp((outer - n.range) / kBlendWidth, 0.0, 1.0);
+    if (n.way != RightOfWay::Theirs) continue;
+    const double w = weight(n.range);
+    const Vec2 towards = unit(n.azimuth);
+    v = v - (w * std::max(0.0, v.x * towards.x + v.y * towards.y)) * towards;
+    retreat = retreat + (-w * max_speed) * towards;
+  }
+  if (!near) return desired;
+  if (retreat.x != 0.0 || retreat.y != 0.0) v = limit(v + retreat, max_speed);  // else as before (motion)
+  const double speed = norm(v);
+  for (const auto& n : neighbours) {
+    if (!(n.range < outer)) continue;
+    if (n.way == RightOfWay::Ours) continue;  // it gives way; eq. (1) below keeps us apart
+    const double w = weight(n.range);
     const Vec2 towards = unit(n.azimuth);
     const double closing = v.x * towards.x + v.y * towards.y;
     if (closing <= 0.0) continue;
@@ -38,15 +53,45 @@ Vec2 avoid_collisions(Vec2 desired, const std::vector<NeighbourPosition>& neighb
     // other).
     const Vec2 right{towards.y, -towards.x};
     const double side = v.x * right.x + v.y * right.y;
-    const Vec2 tangent = side >= -0.2 * closing ? right : Vec2{-right.x, -right.y};
+    // A committed side: always that side of an echo; for a robot heard, that side when the goal is (nearly)
+    // straight behind it, instead of the right.
+    bool go_right = side >= -0.2 * closing;
+    if (side_choice != 0 && n.echo) go_right = side_choice > 0;
+    if (side_choice < 0 && !n.echo) go_right = side > 0.2 * closing;
+    const Vec2 tangent = go_right ? right : Vec2{-right.x, -right.y};
     Vec2 g = v - closing * towards;
     g = g - (g.x * tangent.x + g.y * tangent.y) * tangent + speed * tangent;
     v = (1.0 - w) * v + w * g;
   }
-  if (!near) return desired;
   // eq. (1), capped at the speed limit so that going round still has a say (the sum is limited below).
   const Vec2 repulsion = limit(collision_force(neighbours, k_collision, r_o), max_speed);
   return limit(v + repulsion, max_speed);
+}
+
+std::vector<NeighbourPosition> unexplained_echoes(const std::array<double, kUltrasonicCount>& readings,
+                                                  double theta, const std::vector<NeighbourPosition>& heard,
+                                                  double max_echo) {
+  // Algorithm 2's test (obstacle_forces.hpp): a neighbour within the sensor's direction (the mask angle
+  // plus its own angular half-size) whose near side is no further than the echo explains it.
+  constexpr double kMaskAngle = 0.35;
+  constexpr double kSlack = 0.1;
+  std::vector<NeighbourPosition> out;
+  for (std::size_t s = 0; s < kUltrasonicCount; ++s) {
+    const double r = readings[s];
+    if (!(r < max_echo)) continue;
+    const double azimuth = wrap_angle(theta + kUltrasonicAngles[s]);
+    bool explained = false;
+    for (const auto& n : heard) {
+      const double half_size = std::atan2(kRobotRadius, std::max(n.range, kRobotRadius));
+      if (std::abs(wrap_angle(n.azimuth - azimuth)) < kMaskAngle + half_size &&
+          r >= n.range - 2.0 * kRobotRadius - kSlack) {
+        explained = true;
+        break;
+      }
+    }
+    if (!explained) out.push_back({r + 2.0 * kRobotRadius, azimuth, RightOfWay::Mutual, true});
+  }
+  return out;
 }
 
 }  // namespace swarmform::controller

@@ -59,12 +59,12 @@ WheelSpeeds clamp_wheels(WheelSpeeds w, double max_speed) {
   return w;
 }
 
-WheelSpeeds drive_velocity(Vec2 velocity, double heading, double max_speed) {
+WheelSpeeds drive_velocity(Vec2 velocity, double heading, double max_speed, bool may_reverse) {
   const double speed = std::min(norm(velocity), max_speed);
   if (!(speed > 1e-9)) return {};
   double error = wrap_angle(std::atan2(velocity.y, velocity.x) - heading);
   double direction = 1.0;
-  if (std::abs(error) > std::numbers::pi / 2.0) {  // behind: drive backwards
+  if (may_reverse && std::abs(error) > std::numbers::pi / 2.0) {  // behind: drive backwards
     direction = -1.0;
     error = wrap_angle(error + std::numbers::pi);
   }

@@ -14,8 +14,10 @@ struct WheelSpeeds {
 // Differential drive towards `velocity` (arena frame, m/s): the forward speed is the velocity's component
 // along the heading (the robot drives backwards when the target is behind it, so small corrections do not
 // need a half turn), the turn rate is proportional to the heading error. Both wheels stay within
-// `max_speed`; the turn has priority over the forward speed when they compete.
-WheelSpeeds drive_velocity(Vec2 velocity, double heading, double max_speed);
+// `max_speed`; the turn has priority over the forward speed when they compete. `may_reverse` false: always
+// forwards, turning first (the ultrasonic sensors cover only the front half: a robot that must see where it
+// goes faces it).
+WheelSpeeds drive_velocity(Vec2 velocity, double heading, double max_speed, bool may_reverse = true);
 
 // Turn in place towards `target_heading` (arena frame, rad), proportionally, within `max_speed`.
 WheelSpeeds turn_towards(double target_heading, double heading, double max_speed);

@@ -91,9 +91,9 @@ class Reader {
 };
 
 constexpr std::uint8_t kFlagHasOrigin = 0x01;
-// magic, version, sender, state, label, pose, flags, origin, seed candidate and distance, table digest,
+// magic, version, sender, state, label, pose, flags, origin, seed candidate, distance and age, table digest,
 // free label count.
-constexpr std::size_t kHeaderBytes = 48;
+constexpr std::size_t kHeaderBytes = 49;
 constexpr std::uint8_t kMaxStateValue = static_cast<std::uint8_t>(RobotState::Arrived);
 
 }  // namespace
@@ -118,6 +118,7 @@ std::vector<std::uint8_t> encode_message(const RobotMessage& m) {
   w.f32(m.origin.y);
   w.u32(m.seed_candidate);
   w.f32(m.seed_distance);
+  w.u8(m.seed_age);
   w.u64(m.table_digest);
   w.u8(static_cast<std::uint8_t>(n_free));
   for (std::size_t i = 0; i < n_free; ++i) w.i16(static_cast<std::int16_t>(m.free_labels[i]));
@@ -162,6 +163,7 @@ bool decode_message_into(std::span<const std::uint8_t> bytes, MessageBody& m,
   m.origin.y = r.take_f32();
   m.seed_candidate = r.take<std::uint32_t>();
   m.seed_distance = r.take_f32();
+  m.seed_age = r.take<std::uint8_t>();
   m.table_digest = r.take<std::uint64_t>();
   const std::size_t n_free = r.take<std::uint8_t>();
   if (n_free > kMaxFreeLabels || !r.has(2 * n_free) || !r.ok()) return false;

@@ -10,16 +10,18 @@
 //   u8  flags                    bit 0: has_origin
 //   f32 origin x, f32 origin y   (the shape's origin, the place of label 0; meaningful with has_origin)
 //   u32 seed candidate id        f32 seed candidate distance to the arena origin (flooded minimum)
+//   u8  seed candidate age       (hops from the candidate's own report; a report that ages past the bound is
+//                                 dropped, so a dead candidate's minimum dies out: allotment.hpp)
 //   u64 stigmergy table digest   (Stigmergy::digest() of the sender's whole table when it composed this:
 //                                 a receiver whose own table has the same digest skips the entries)
 //   u8  free label count (<= 8)  then i16 each (free labels of the sender's 3x3 grid)
 //   u8  stigmergy entry count (<= kMaxEntriesPerMessage) then per entry
 //                                u32 key, i64 value, u32 version, u32 writer    (20 bytes)
 //   u16 motion section length    then the bytes (the motion phases' own codec, opaque here)
-// Size: 50 bytes + 2 per free label + 20 per entry + the motion section; with the bound of 24 entries and
+// Size: 51 bytes + 2 per free label + 20 per entry + the motion section; with the bound of 24 entries and
 // no motion section at most 546 bytes, well under the 1 KiB the world accepts.
 // Version 2 added the table digest (a robot merging ~73 neighbours' entries every tick spent a third of
-// its step on merges that changed nothing, BENCHMARKS.md).
+// its step on merges that changed nothing, BENCHMARKS.md). Version 3 added the seed candidate's age.
 #pragma once
 
 #include <cstdint>
@@ -33,12 +35,12 @@
 namespace swarmform::controller {
 
 inline constexpr std::uint8_t kMessageMagic = 0x53;
-inline constexpr std::uint8_t kMessageVersion = 2;
+inline constexpr std::uint8_t kMessageVersion = 3;
 inline constexpr std::size_t kMaxFreeLabels = 8;          // a 3x3 grid has 8 cells around its centre
 inline constexpr std::size_t kMaxEntriesPerMessage = 24;  // stigmergy entries carried per message
 inline constexpr std::size_t kMaxMotionBytes = 1024;
 inline constexpr std::size_t kMessageFixedBytes =
-    50;  // everything but the free labels, entries and motion bytes
+    51;  // everything but the free labels, entries and motion bytes
 
 struct StigmergyEntry {
   std::uint32_t key = 0;
@@ -60,6 +62,7 @@ struct MessageBody {
   Vec2 origin;  // place of label 0, arena frame (valid with has_origin)
   RobotId seed_candidate = 0;
   double seed_distance = 0.0;      // m
+  std::uint8_t seed_age = 0;       // hops from the candidate's own report (SeedElection)
   std::uint64_t table_digest = 0;  // Stigmergy::digest() of the sender's table
   std::vector<int> free_labels;
   std::vector<std::uint8_t> motion;  // opaque section for the motion phases

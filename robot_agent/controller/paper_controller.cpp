@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "common/splitmix64.hpp"
 #include "robot_agent/controller/collision_avoidance.hpp"
@@ -30,6 +31,16 @@ constexpr double kSpareClearance = 1.2;
 // A searcher that has heard no offer for this long walks towards the nearest unheld place, up to this many
 // grid spacings from it.
 constexpr double kApproachDistance = 1.5;
+// A Moving robot this near its place may drive backwards onto it (m); further away it faces where it goes.
+constexpr double kReverseRange = 0.1;
+// A Moving robot that has not come kProgress (m) nearer its place in kStuckTicks commits to one go-round
+// side.
+constexpr double kProgress = 0.05;
+constexpr Tick kStuckTicks = 50;
+constexpr Tick kSideTicks = 200;
+// Stuck with a side committed: a detour this far (m) in a random direction, for at most this long.
+constexpr double kDetourDistance = 1.0;
+constexpr Tick kDetourTicks = 150;
 
 }  // namespace
 
@@ -59,6 +70,8 @@ void PaperController::reset() {
   holder_since_.clear();
   holder_version_.assign(static_cast<std::size_t>(table_.size()), -1);
   last_heartbeat_ = 0;
+  last_member_heard_ = 0;
+  reached_tick_ = 0;
   neighbours_ = NeighbourTable(params_.neighbour_timeout);
   stigmergy_ = Stigmergy(self_);
   election_.reset();
@@ -95,6 +108,10 @@ Command PaperController::step(const Perception& p) {
   // The state's behaviour.
   Vec2 velocity;
   std::optional<WheelSpeeds> wheels;
+  // Searching and Moving robots face where they go, so that their ultrasonic sensors see it; a mover
+  // within kReverseRange of its place may back onto it (small corrections need no half turn).
+  may_reverse_ =
+      !(state_ == RobotState::Idle || state_ == RobotState::Searching || state_ == RobotState::Moving);
   std::vector<std::uint8_t> motion_bytes;
   Telemetry telemetry;
   switch (state_) {
@@ -129,8 +146,9 @@ Command PaperController::step(const Perception& p) {
   }
 
   Command cmd;
-  const WheelSpeeds w = clamp_wheels(
-      wheels ? *wheels : drive_velocity(velocity, p.pose.theta, params_.max_speed), params_.max_speed);
+  const WheelSpeeds w =
+      clamp_wheels(wheels ? *wheels : drive_velocity(velocity, p.pose.theta, params_.max_speed, may_reverse_),
+                   params_.max_speed);
   cmd.left_speed = w.left;
   cmd.right_speed = w.right;
   cmd.message = encode_message(compose_message(p, motion_bytes));
@@ -146,14 +164,20 @@ Command PaperController::step(const Perception& p) {
 
 Vec2 PaperController::searching_step(const Perception& p) {
   const Vec2 pos = position(p.pose);
-  const bool shape_known = has_origin_ || label_status(stigmergy_, 0).kind != LabelStatus::Kind::Unclaimed;
-
-  // The seed: closest to the origin by the flooded minimum, once it has settled.
-  election_.update(self_, norm(pos), neighbours_, tick_);
-  if (!shape_known && election_.candidate() == self_ && election_.settled(tick_, params_.seed_settle)) {
-    take_label(0, -1, pos, "seed_elected");
+  // The seed: closest to the arena origin by the flooded minimum, once it has settled. Re-election: when the
+  // seed died with nobody of the shape left to offer label 0 again (free_seed_label), the searchers elect
+  // the one closest to label 0's known place, which goes there.
+  const auto seed_status = label_status(stigmergy_, 0).kind;
+  const bool first_election = seed_status == LabelStatus::Kind::Unclaimed && !has_origin_;
+  const bool re_election = seed_status == LabelStatus::Kind::Freed && has_origin_;
+  election_.update(self_, re_election ? norm(pos - origin_) : norm(pos), neighbours_, tick_,
+                   params_.seed_settle);
+  if ((first_election || re_election) && election_.candidate() == self_ &&
+      election_.settled(tick_, params_.seed_settle)) {
+    take_label(0, -1, re_election ? origin_ : pos, "seed_elected");
     return {};
   }
+  free_seed_label();
 
   // Take a free label from the offers heard.
   const auto offers = collect_offers(table_, params_.shape_heading, neighbours_, stigmergy_);
@@ -219,7 +243,8 @@ Vec2 PaperController::searching_step(const Perception& p) {
       }
     }
   }
-  return avoid_collisions(limit(v, params_.max_speed), fresh_neighbour_positions(), params_.k_collision,
+  fresh_neighbour_positions();
+  return avoid_collisions(limit(v, params_.max_speed), with_echoes(p, echo_range()), params_.k_collision,
                           params_.r_o, params_.max_speed);
 }
 
@@ -232,6 +257,10 @@ void PaperController::take_label(int label, int parent_label, Vec2 origin, const
   last_heartbeat_ = tick_;
   state_ = RobotState::Moving;
   blocked_ticks_ = 0;
+  best_distance_ = 1e18;
+  progress_tick_ = tick_;
+  go_round_side_ = 0;
+  detour_.reset();
   event(why + " " + std::to_string(label) +
         (parent_label >= 0 ? " parent_label " + std::to_string(parent_label) : std::string()));
 }
@@ -293,6 +322,34 @@ void PaperController::free_dead_labels() {
     put_label_freed(stigmergy_, l, tick_);
     event("label_freed " + std::to_string(l) + " holder " + std::to_string(holder));
   }
+  // A label of our grid that nobody has taken while we stood at our place for label_timeout ticks: no
+  // searcher is coming for it (one that hears an offer takes it within a few ticks). Marked freed, it is
+  // still offered, and abandoned label_timeout ticks later if nobody takes it (barrier.hpp).
+  if (state_ != RobotState::Reached) return;
+  for (int l : labels_left_untaken(table_, label_, stigmergy_, neighbours_, reached_tick_, tick_,
+                                   params_.label_timeout)) {
+    put_label_freed(stigmergy_, l, tick_);
+    event("label_freed " + std::to_string(l) + " untaken");
+  }
+}
+
+void PaperController::free_seed_label() {
+  // Label 0's holder died before any robot of the shape could notice (the seed alone in the shape): no
+  // robot hears any member of the shape, and label 0's entry has been neither refreshed nor its holder
+  // heard for label_timeout ticks. Freeing it starts the re-election above.
+  for (const auto& [id, n] : neighbours_.all()) {
+    if (n.message.label >= 0) last_member_heard_ = std::max(last_member_heard_, n.last_heard);
+  }
+  const auto status = label_status(stigmergy_, 0);
+  if (status.kind != LabelStatus::Kind::Held || !has_origin_) return;
+  const auto timeout = static_cast<Tick>(params_.label_timeout);
+  if (tick_ < last_member_heard_ + timeout) return;
+  const auto changed = holder_since_.find(0);
+  Tick quiet_since = changed == holder_since_.end() ? 0 : changed->second;
+  if (const auto heard = neighbours_.last_heard(status.holder)) quiet_since = std::max(quiet_since, *heard);
+  if (tick_ < quiet_since + timeout) return;
+  put_label_freed(stigmergy_, 0, tick_);
+  event("label_freed 0 holder " + std::to_string(status.holder));
 }
 
 // ---- Moving (paper III.C 'Moving', eq. 1) ----
@@ -304,40 +361,83 @@ Vec2 PaperController::moving_step(const Perception& p) {
   const double distance = norm(error);
   if (distance < params_.reach_tolerance) {
     state_ = RobotState::Reached;
+    reached_tick_ = tick_;
     event("reached " + std::to_string(label_));
     return {};
   }
 
-  // A place held by something that is not a robot we hear (a dead robot's body): stop short of it, and
-  // after a while take the spot as reached.
+  // A place held by something that is not a robot we hear (a dead robot's body, a silent robot): stop short
+  // of it, and after a while take the spot as reached. Collision avoidance keeps an unexplained echo at the
+  // edge of its go-round zone at the nearest (collision_avoidance.hpp), so "in front of the place" is: an
+  // echo that no heard neighbour explains (Algorithm 2's mask), within that zone, nearer than the place and
+  // in its direction, with the place itself within that reach.
   const auto& neighbours = fresh_neighbour_positions();
-  const double bearing = wrap_angle(std::atan2(error.y, error.x) - p.pose.theta);
+  const double blocked_echo = params_.r_o + kAwarenessMargin - 2.0 * kRobotRadius + 0.02;
+  const double place_azimuth = std::atan2(error.y, error.x);
   bool blocked = false;
-  if (distance < 0.4 && std::abs(bearing) <= kUltrasonicAngles.back() + 0.3) {
-    std::size_t sensor = 0;
-    for (std::size_t i = 1; i < kUltrasonicCount; ++i) {
-      if (std::abs(kUltrasonicAngles[i] - bearing) < std::abs(kUltrasonicAngles[sensor] - bearing))
-        sensor = i;
+  if (distance < blocked_echo + 3.0 * kRobotRadius) {
+    for (const auto& e : unexplained_echoes(p.ultrasonic, p.pose.theta, neighbours, blocked_echo)) {
+      const double echo = e.range - 2.0 * kRobotRadius;
+      if (echo + kRobotRadius < distance && std::abs(wrap_angle(e.azimuth - place_azimuth)) < 0.4)
+        blocked = true;
     }
-    const double echo = p.ultrasonic[sensor];
-    bool robot_there = false;
-    for (const auto& n : neighbours) {
-      if (std::abs(wrap_angle(n.azimuth - p.pose.theta - bearing)) < 0.5 && n.range < distance + 0.3) {
-        robot_there = true;
-      }
-    }
-    blocked = !robot_there && echo <= kUltrasonicMinRange + 1e-9 && echo < distance;
   }
   if (blocked) {
     if (++blocked_ticks_ >= kBlockedPlaceTicks) {
       state_ = RobotState::Reached;
+      reached_tick_ = tick_;
       event("reached " + std::to_string(label_) + " blocked_place");
     }
     return {};
   }
   blocked_ticks_ = 0;
-  const Vec2 v = limit(params_.k_move * error, params_.max_speed);
-  return avoid_collisions(v, neighbours, params_.k_collision, params_.r_o, params_.max_speed);
+  may_reverse_ = distance < kReverseRange;
+  // No progress for kStuckTicks (a pocket between obstacles whose go-round sides alternate): go round the
+  // echoes on one side; the other side if that side has brought no progress in kSideTicks (going round a
+  // body first takes the robot further from its place).
+  if (distance < best_distance_ - kProgress) {
+    best_distance_ = distance;
+    progress_tick_ = tick_;
+  } else if (tick_ >= progress_tick_ + (go_round_side_ == 0 ? kStuckTicks : kSideTicks)) {
+    // Stuck again with a side committed: a pocket whose way out is a detour (three obstacles round it). A
+    // random back-off in space, deterministic per seed: kDetourDistance in a random direction, for at most
+    // kDetourTicks, then the place again.
+    if (go_round_side_ != 0) {
+      const double a = std::uniform_real_distribution<double>(-std::numbers::pi, std::numbers::pi)(rng_);
+      detour_ = position(p.pose) + kDetourDistance * unit(a);
+      detour_until_ = tick_ + kDetourTicks;
+      event("detour " + std::to_string(label_));
+    }
+    go_round_side_ = go_round_side_ < 0 ? 1 : -1;
+    best_distance_ = distance;
+    progress_tick_ = tick_;
+  }
+  Vec2 heading_for = error;
+  if (detour_) {
+    const Vec2 to_detour = *detour_ - position(p.pose);
+    if (tick_ >= detour_until_ || norm(to_detour) < 0.15) {
+      detour_.reset();
+      best_distance_ = distance;
+      progress_tick_ = tick_;
+    } else {
+      heading_for = to_detour;
+    }
+  }
+  const Vec2 v = limit(params_.k_move * heading_for, params_.max_speed);
+  // Echoes from nearer than the place (the echo point, a body radius beyond the reading): a body, a wall or
+  // an obstacle on the way, not one standing just beyond the place.
+  return avoid_collisions(v, with_echoes(p, std::min(echo_range(), distance - kRobotRadius)),
+                          params_.k_collision, params_.r_o, params_.max_speed, go_round_side_);
+}
+
+double PaperController::echo_range() const {
+  return params_.r_o + kAwarenessMargin + kBlendWidth - 2.0 * kRobotRadius;
+}
+
+const std::vector<NeighbourPosition>& PaperController::with_echoes(const Perception& p, double max_echo) {
+  const auto echoes = unexplained_echoes(p.ultrasonic, p.pose.theta, positions_, max_echo);
+  positions_.insert(positions_.end(), echoes.begin(), echoes.end());
+  return positions_;
 }
 
 // ---- Reached and the barrier (paper III.C 'Reached', Algorithm 1) ----
@@ -400,9 +500,21 @@ FormationContext PaperController::context(const Perception& p) const {
 const std::vector<NeighbourPosition>& PaperController::fresh_neighbour_positions() {
   positions_.clear();  // a member, reused: no allocation per step once it has grown (~73 in a crowd)
   for (const auto& [id, n] : neighbours_.all()) {
-    if (n.last_heard == tick_) positions_.push_back({n.range, n.azimuth});
+    if (n.last_heard == tick_) positions_.push_back({n.range, n.azimuth, right_of_way(id, n.message.state)});
   }
   return positions_;
+}
+
+RightOfWay PaperController::right_of_way(RobotId other, RobotState other_state) const {
+  // The yield rule (collision_avoidance.hpp): a mover before a searcher; between movers the higher id.
+  const bool they_move = other_state == RobotState::Moving;
+  if (state_ == RobotState::Moving) {
+    if (they_move) return other > self_ ? RightOfWay::Theirs : RightOfWay::Ours;
+    if (other_state == RobotState::Searching) return RightOfWay::Ours;
+  } else if (state_ == RobotState::Searching && they_move) {
+    return RightOfWay::Theirs;
+  }
+  return RightOfWay::Mutual;
 }
 
 std::int32_t PaperController::parent_id() const {
@@ -421,6 +533,7 @@ RobotMessage PaperController::compose_message(const Perception& p, const std::ve
   m.origin = origin_;
   m.seed_candidate = state_ == RobotState::Searching ? election_.candidate() : self_;
   m.seed_distance = state_ == RobotState::Searching ? election_.distance() : norm(position(p.pose));
+  m.seed_age = state_ == RobotState::Searching ? election_.age() : 0;
   if (in_shape_before_ready(state_))
     m.free_labels = free_grid_labels(table_, label_, stigmergy_, neighbours_);
   if (m.free_labels.size() > kMaxFreeLabels) m.free_labels.resize(kMaxFreeLabels);

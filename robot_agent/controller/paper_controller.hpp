@@ -58,6 +58,7 @@ class PaperController final : public Controller {
   std::optional<WheelSpeeds> reached_step(const Perception& p);
   void keep_label();
   void free_dead_labels();
+  void free_seed_label();
   void track_holders();
   // Ticks between two re-puts of our labels entry while in Moving/Reached: a third of label_timeout.
   int heartbeat_period() const { return std::max(1, params_.label_timeout / 3); }
@@ -67,6 +68,11 @@ class PaperController final : public Controller {
   FormationContext context(const Perception& p) const;
   // The neighbours heard this tick, as range and azimuth; refilled on each call (valid until the next).
   const std::vector<NeighbourPosition>& fresh_neighbour_positions();
+  // The same plus the unexplained ultrasonic echoes nearer than `max_echo` (collision_avoidance.hpp).
+  const std::vector<NeighbourPosition>& with_echoes(const Perception& p, double max_echo);
+  // The reading under which an echo enters collision avoidance's band.
+  double echo_range() const;
+  RightOfWay right_of_way(RobotId other, RobotState other_state) const;
   void event(std::string text) { events_.push_back(std::move(text)); }
   RobotMessage compose_message(const Perception& p, const std::vector<std::uint8_t>& motion);
   // True when every live neighbour's last message carried our table's digest (compose_message).
@@ -86,15 +92,23 @@ class PaperController final : public Controller {
   bool has_origin_ = false;
   Vec2 origin_;
   Tick tick_ = 0;
-  Tick backoff_until_ = 0;    // no new claim before this tick (after losing a conflict)
-  Tick last_offer_tick_ = 0;  // last tick an offer was heard
-  int blocked_ticks_ = 0;     // Moving: ticks in front of a blocked place
+  Tick backoff_until_ = 0;       // no new claim before this tick (after losing a conflict)
+  Tick last_offer_tick_ = 0;     // last tick an offer was heard
+  int blocked_ticks_ = 0;        // Moving: ticks in front of a blocked place
+  bool may_reverse_ = true;      // this tick's drive may go backwards (drive.hpp)
+  double best_distance_ = 1e18;  // Moving: nearest it has been to its place
+  Tick progress_tick_ = 0;       // Moving: when it last came kProgress nearer
+  int go_round_side_ = 0;        // collision_avoidance.hpp's side: 0 the goal's, +-1 committed when stuck
+  std::optional<Vec2> detour_;   // Moving, stuck with a side committed: a random point to go to first
+  Tick detour_until_ = 0;
   Tick ready_tick_ = 0;
+  Tick reached_tick_ = 0;             // the tick it last entered Reached
   std::map<int, Tick> holder_since_;  // label -> tick its labels entry last changed here (claim, heartbeat)
   // label -> that entry's version, -1 before it is first seen. Indexed, not a map: track_holders() looks up
   // every label every tick, and a tree's nodes were cold misses each (BENCHMARKS.md, P3).
   std::vector<std::int64_t> holder_version_;
-  Tick last_heartbeat_ = 0;  // last re-put of our own label entry
+  Tick last_heartbeat_ = 0;     // last re-put of our own label entry
+  Tick last_member_heard_ = 0;  // Searching: last tick a robot with a label was heard
 
   NeighbourTable neighbours_;
   Stigmergy stigmergy_;

@@ -121,6 +121,11 @@ void Harness::revive(RobotId id) {
   impl_->revive(id);
 }
 
+void Harness::set_controller(RobotId id, std::unique_ptr<controller::Controller> controller) {
+  impl_->check_id(id);
+  impl_->controllers[id] = std::move(controller);
+}
+
 const world::World& Harness::world() const {
   return impl_->world;
 }

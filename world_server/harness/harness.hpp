@@ -30,6 +30,9 @@ class Harness {
 
   void kill(RobotId id);    // the robot dies now (its controller is dropped)
   void revive(RobotId id);  // a fresh controller for it (init with the mission), as a restarted agent
+  // Robot `id` runs `controller` from now on (already initialised by the caller): tests put a faulty agent
+  // in, e.g. one that stays alive and says nothing.
+  void set_controller(RobotId id, std::unique_ptr<controller::Controller> controller);
 
   const world::World& world() const;
   world::World& world();

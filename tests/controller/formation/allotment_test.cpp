@@ -207,5 +207,111 @@ TEST(Allotment, SimultaneousClaimsOnTwoControllersEndWithOneHolder) {
   EXPECT_EQ(label_status(b.stigmergy(), 2).holder, 6u);
 }
 
+// ---- Issue 17: a way out of every formation phase ----
+
+RobotMessage searcher(RobotId id, Vec2 at, RobotId candidate, double distance, std::uint8_t age) {
+  RobotMessage m;
+  m.sender = id;
+  m.state = RobotState::Searching;
+  m.pose = {at.x, at.y, 0.0};
+  m.seed_candidate = candidate;
+  m.seed_distance = distance;
+  m.seed_age = age;
+  return m;
+}
+
+// Robots 1 and 2 hear each other; robot 5 (the best candidate) is heard by both, then dies. Without ageing
+// each kept hearing 5 from the other for ever; with it the relayed report grows one hop older a tick and is
+// dropped past max_age.
+TEST(SeedElection, ADeadCandidatesMinimumAgesOut) {
+  constexpr int kMaxAge = 30;
+  SeedElection e1, e2;
+  NeighbourTable n1, n2;
+  const Vec2 p1{1.0, 0.0}, p2{2.0, 0.0}, p5{0.5, 0.0};
+  e1.update(1, 1.0, n1, 0, kMaxAge);  // each knows only itself before the first message
+  e2.update(2, 2.0, n2, 0, kMaxAge);
+  Tick t = 1;
+  for (; t <= 5; ++t) {  // 5 alive: both hear its own report (age 0)
+    const auto m1 = searcher(1, p1, e1.candidate(), e1.distance(), e1.age());
+    const auto m2 = searcher(2, p2, e2.candidate(), e2.distance(), e2.age());
+    n1.update(perceive(t, {p1.x, p1.y, 0}, {m2, searcher(5, p5, 5, 0.5, 0)}), 1);
+    n2.update(perceive(t, {p2.x, p2.y, 0}, {m1, searcher(5, p5, 5, 0.5, 0)}), 2);
+    e1.update(1, 1.0, n1, t, kMaxAge);
+    e2.update(2, 2.0, n2, t, kMaxAge);
+  }
+  EXPECT_EQ(e1.candidate(), 5u);
+  EXPECT_EQ(e1.age(), 1);
+  EXPECT_EQ(e2.candidate(), 5u);
+  Tick dropped = 0;
+  for (; t <= 100 && !dropped; ++t) {  // 5 is dead: 1 and 2 only hear each other
+    const auto m1 = searcher(1, p1, e1.candidate(), e1.distance(), e1.age());
+    const auto m2 = searcher(2, p2, e2.candidate(), e2.distance(), e2.age());
+    n1.update(perceive(t, {p1.x, p1.y, 0}, {m2}), 1);
+    n2.update(perceive(t, {p2.x, p2.y, 0}, {m1}), 2);
+    e1.update(1, 1.0, n1, t, kMaxAge);
+    e2.update(2, 2.0, n2, t, kMaxAge);
+    if (e1.candidate() != 5u && e2.candidate() != 5u) dropped = t;
+  }
+  ASSERT_NE(dropped, 0) << "the dead candidate's minimum never aged out";
+  EXPECT_LE(dropped, 6 + kMaxAge);
+  // Then robot 1, the best live one, is everybody's candidate, and settles.
+  for (Tick end = t + 3; t < end; ++t) {
+    const auto m1 = searcher(1, p1, e1.candidate(), e1.distance(), e1.age());
+    const auto m2 = searcher(2, p2, e2.candidate(), e2.distance(), e2.age());
+    n1.update(perceive(t, {p1.x, p1.y, 0}, {m2}), 1);
+    n2.update(perceive(t, {p2.x, p2.y, 0}, {m1}), 2);
+    e1.update(1, 1.0, n1, t, kMaxAge);
+    e2.update(2, 2.0, n2, t, kMaxAge);
+  }
+  EXPECT_EQ(e1.candidate(), 1u);
+  EXPECT_EQ(e1.age(), 0);
+  EXPECT_EQ(e2.candidate(), 1u);
+  EXPECT_EQ(e2.age(), 1);
+}
+
+TEST(Allotment, ALabelLeftUntakenIsGivenUpAfterTheTimeoutAtThePlace) {
+  const ShapeTable table(triangle_shape(), 1.0);
+  Stigmergy s(0);
+  NeighbourTable nb;
+  put_label_holder(s, 1, 7);  // held
+  put_label_freed(s, 3, 90);  // already freed: its own timeout runs
+  // Label 2 was never claimed. At our place since tick 100: nothing before 140, then label 2.
+  EXPECT_TRUE(labels_left_untaken(table, 0, s, nb, 100, 139, 40).empty());
+  EXPECT_EQ(labels_left_untaken(table, 0, s, nb, 100, 140, 40), (std::vector<int>{2}));
+  // A neighbour reporting label 2 as its own (its claim not yet in our stigmergy): not untaken.
+  nb.update(perceive(140, {}, {shape_robot(8, 2, {0, -1}, {})}), 0);
+  EXPECT_TRUE(labels_left_untaken(table, 0, s, nb, 100, 140, 40).empty());
+}
+
+// The seed took label 0 and died before anyone joined: a searcher hears no member of the shape any more, so
+// it frees label 0 once its holder has been silent for label_timeout, and (the only searcher: its own
+// candidate) is elected at label 0's known place.
+TEST(Allotment, ASeedDeadBeforeAnyoneJoinedIsFreedAndReElectedAtItsPlace) {
+  Mission mission = triangle_mission();
+  PaperController c;
+  c.init(mission, 3);
+  const Pose2D pose{0.5, 0.5, 0.0};
+  RobotMessage seed = shape_robot(9, 0, {0.0, 0.0}, {});  // no free labels: nobody can join it
+  seed.entries = {{stig::key(stig::Ns::Labels, 0), 9, 1, 9}};
+  Tick t = 1;
+  for (; t <= 5; ++t) c.step(perceive(t, pose, {seed}));
+  EXPECT_EQ(label_status(c.stigmergy(), 0).holder, 9u);
+  EXPECT_EQ(c.state(), RobotState::Searching);
+  const int timeout = c.params().label_timeout;
+  Tick freed = 0, elected = 0;
+  for (; t <= 200 && !elected; ++t) {
+    const Command cmd = c.step(perceive(t, pose, {}));
+    if (has_event(cmd, "label_freed 0 holder 9")) freed = t;
+    if (has_event(cmd, "seed_elected 0")) elected = t;
+  }
+  EXPECT_EQ(freed, 5 + timeout);
+  ASSERT_NE(elected, 0);
+  EXPECT_LE(elected, freed + 1);
+  EXPECT_EQ(c.label(), 0);
+  EXPECT_EQ(c.state(), RobotState::Moving);
+  EXPECT_NEAR(c.origin().x, 0.0, 1e-6);  // it goes to label 0's place, not where it stands
+  EXPECT_NEAR(c.origin().y, 0.0, 1e-6);
+}
+
 }  // namespace
 }  // namespace swarmform::controller

@@ -18,6 +18,7 @@ RobotMessage full_message(std::size_t entries) {
   m.origin = {0.5, -0.25};
   m.seed_candidate = 7;
   m.seed_distance = 0.125;
+  m.seed_age = 3;
   m.table_digest = 0xF00DCAFE12345678ULL;
   m.free_labels = {1, 2, 3, 27, 28, 0, 5, 6};
   for (std::size_t i = 0; i < entries; ++i) {
@@ -44,6 +45,7 @@ TEST(MessageCodec, RoundTrips) {
   EXPECT_EQ(back->origin.x, m.origin.x);
   EXPECT_EQ(back->seed_candidate, 7u);
   EXPECT_EQ(back->seed_distance, 0.125);
+  EXPECT_EQ(back->seed_age, 3);
   EXPECT_EQ(back->table_digest, m.table_digest);
   EXPECT_EQ(back->free_labels, m.free_labels);
   EXPECT_EQ(back->entries, m.entries);

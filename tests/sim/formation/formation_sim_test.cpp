@@ -2,6 +2,10 @@
 // one process: every shape of shapes/ forms from 5 random starts with shape error <= 0.1 grid units and no
 // robot-robot contact; spares stay out of the way; a robot dying during formation, with and without a spare.
 //
+// Issue 17's formation rows, each with a deadline: the would-be seed killed during the election, a robot dead
+// before taking a label (no spare), a silent agent and a holder that falls silent, the square's symmetric
+// deadlock (seed 13), no robot-obstacle contact while forming beside a dead body, the paper's pace.
+//
 // FORMATION_SIM_REPORT=1 prints one line per run (shape, seed, formation_tick, shape error) for the notes.
 #include <gtest/gtest.h>
 
@@ -14,6 +18,7 @@
 #include <vector>
 
 #include "common/robot_state.hpp"
+#include "robot_agent/controller/controller.hpp"
 #include "world_server/harness/harness.hpp"
 #include "world_server/world/scenario.hpp"
 
@@ -233,6 +238,223 @@ TEST(FormationSim, WithNoSpareTheShapeCompletesWithoutTheDeadRobot) {
     }
   }
   EXPECT_EQ(survivors_ready(), static_cast<int>(h.world().robot_count()) - 1) << snapshot(h);
+}
+
+// ---- Issue 17: a way out of every formation phase (robot_agent/README.md, shape formation) ----
+
+world::Scenario paper_scenario() {
+  return world::load_scenario(kRepo + "/scenarios/paper.yaml");
+}
+
+// Counts the events of one kind over a whole run.
+int count_events(const harness::Harness& h, const std::string& kind) {
+  int n = 0;
+  for (const auto& r : h.world().robots()) {
+    if (!r.alive) continue;  // a dead robot's last telemetry stays
+    for (const auto& e : r.telemetry.events) {
+      if (e.rfind(kind, 0) == 0) ++n;
+    }
+  }
+  return n;
+}
+
+// Runs to formation, counting events of `kind` on the way.
+Outcome run_counting(harness::Harness& h, Tick max_ticks, const std::string& kind, int& count) {
+  Outcome o;
+  while (h.world().tick() < max_ticks && !h.metrics().formation_tick) {
+    h.step();
+    count += count_events(h, kind);
+  }
+  o.formation_tick = h.metrics().formation_tick;
+  o.shape_error = h.metrics().shape_error_at_formation;
+  o.robot_contacts = h.metrics().collisions_robot_robot;
+  o.obstacle_contacts = h.metrics().collisions_robot_obstacle;
+  return o;
+}
+
+// Robot 5 is the would-be seed of the paper run (seed 1: the robot nearest the arena origin). Killed while
+// the election floods, its minimum used to circulate among the survivors for ever.
+class SeedKilled : public ::testing::TestWithParam<Tick> {};
+
+TEST_P(SeedKilled, TheSurvivorsElectAnotherSeedAndForm) {
+  const Tick kill_tick = GetParam();
+  constexpr Tick kMaxTicks = 1500;
+  harness::Harness h(paper_scenario());
+  while (h.world().tick() < kill_tick) h.step();
+  h.kill(5);
+  int seeds = 0;
+  const Outcome o = run_counting(h, kMaxTicks, "seed_elected", seeds);
+  report("paper,kill 5@" + std::to_string(kill_tick), 1, o);
+  ASSERT_TRUE(o.formation_tick.has_value()) << "no formation by " << kMaxTicks << "\n" << snapshot(h);
+  EXPECT_LE(*o.shape_error, 0.1);
+  EXPECT_EQ(o.robot_contacts, 0u);
+  EXPECT_GE(seeds, 1);
+  int ready = 0;
+  for (RobotId id = 0; id < 9; ++id) {
+    if (id != 5 && state_of(h, id) >= static_cast<int>(RobotState::Ready)) ++ready;
+  }
+  EXPECT_EQ(ready, 8);
+}
+
+INSTANTIATE_TEST_SUITE_P(Issue17, SeedKilled, ::testing::Values(Tick{1}, Tick{10}, Tick{25}),
+                         [](const ::testing::TestParamInfo<Tick>& i) {
+                           return "at_tick_" + std::to_string(i.param);
+                         });
+
+// The seed dies at once after taking label 0. The robots that heard its offers in its first message took
+// labels of its grid; they free label 0 after label_timeout and offer it again, and with no spare it is
+// abandoned: the shape forms without it. (The seed dying before anyone joined is a unit test:
+// paper_controller_test.cpp, the searchers free label 0 and re-elect.)
+TEST(FormationSim, TheSeedDyingOnceElectedStillForms) {
+  constexpr Tick kMaxTicks = 1500;
+  harness::Harness h(paper_scenario());
+  std::optional<RobotId> seed;
+  while (!seed && h.world().tick() < kMaxTicks) {
+    h.step();
+    for (RobotId id = 0; id < 9; ++id) {
+      if (label_of(h, id) == 0) seed = id;
+    }
+  }
+  ASSERT_TRUE(seed.has_value());
+  h.kill(*seed);
+  int abandoned = 0;
+  const Outcome o = run_counting(h, kMaxTicks, "label_abandoned 0", abandoned);
+  report("paper,kill the seed once elected", 1, o);
+  ASSERT_TRUE(o.formation_tick.has_value()) << snapshot(h);
+  EXPECT_LE(*o.shape_error, 0.1);
+  EXPECT_EQ(o.robot_contacts, 0u);
+  EXPECT_GE(abandoned, 1);
+}
+
+// Robot 2 dies at tick 10, before labels are given out, and there is no spare: one label is never taken.
+// It is given up (freed untaken, then abandoned), and the barrier passes with the 8 live robots.
+TEST(FormationSim, ALabelNobodyTakesIsAbandonedAndTheBarrierPasses) {
+  constexpr Tick kMaxTicks = 1500;
+  harness::Harness h(paper_scenario());
+  while (h.world().tick() < 10) h.step();
+  h.kill(2);
+  int abandoned = 0;
+  const Outcome o = run_counting(h, kMaxTicks, "label_abandoned", abandoned);
+  report("paper,kill 2@10", 1, o);
+  ASSERT_TRUE(o.formation_tick.has_value()) << snapshot(h);
+  EXPECT_LE(*o.shape_error, 0.1);
+  EXPECT_EQ(o.robot_contacts, 0u);
+  EXPECT_GE(abandoned, 1);
+}
+
+// A controller that behaves as the paper's until `silent_from`, then stays alive and says nothing: no
+// wheel speeds, no message, no telemetry (a silent or broken agent).
+class SilentAfter final : public controller::Controller {
+ public:
+  SilentAfter(const Mission& mission, RobotId self, Tick silent_from)
+      : inner_(controller::make_controller(mission, self)), silent_from_(silent_from) {
+    inner_->init(mission, self);
+  }
+  void init(const Mission& mission, RobotId self) override { inner_->init(mission, self); }
+  Command step(const Perception& p) override {
+    if (p.tick >= silent_from_) return Command{};
+    return inner_->step(p);
+  }
+  void reset() override { inner_->reset(); }
+
+ private:
+  std::unique_ptr<controller::Controller> inner_;
+  Tick silent_from_;
+};
+
+// A silent agent from the start (alive, a body in the world, never a word): its label is never taken.
+TEST(FormationSim, ASilentAgentsLabelIsAbandoned) {
+  constexpr Tick kMaxTicks = 1500;
+  const auto sc = paper_scenario();
+  harness::Harness h(sc);
+  constexpr RobotId kSilent = 3;
+  h.set_controller(kSilent, std::make_unique<SilentAfter>(sc.mission, kSilent, Tick{0}));
+  int abandoned = 0;
+  const Outcome o = run_counting(h, kMaxTicks, "label_abandoned", abandoned);
+  report("paper,silent agent 3", 1, o);
+  ASSERT_TRUE(o.formation_tick.has_value()) << snapshot(h);
+  EXPECT_LE(*o.shape_error, 0.1);
+  EXPECT_EQ(o.robot_contacts, 0u);
+  EXPECT_GE(abandoned, 1);
+}
+
+// A holder that falls silent on its way (alive, its body standing where it stopped): its label is freed
+// after label_timeout and, with no spare, abandoned; the barrier passes with the others.
+TEST(FormationSim, AHolderThatFallsSilentLosesItsLabel) {
+  constexpr Tick kMaxTicks = 1500;
+  const auto sc = paper_scenario();
+  harness::Harness h(sc, {std::getenv("SILENT_DIR") ? std::getenv("SILENT_DIR") : ""});
+  const auto victim = first_mover(h, kMaxTicks);
+  ASSERT_TRUE(victim.has_value());
+  h.set_controller(*victim, std::make_unique<SilentAfter>(sc.mission, *victim, Tick{0}));
+  int freed = 0;
+  const Outcome o = run_counting(h, kMaxTicks, "label_freed", freed);
+  report("paper,holder falls silent", 1, o);
+  ASSERT_TRUE(o.formation_tick.has_value()) << snapshot(h);
+  EXPECT_LE(*o.shape_error, 0.1);
+  EXPECT_GE(freed, 1);
+}
+
+// Two movers heading for one gap between reached robots mirrored each other (robots 1 and 6 swapped sides
+// every other tick for ever): the yield rule gives one the right of way.
+TEST(FormationSim, TheSquareSeed13FormsNoSymmetricDeadlock) {
+  constexpr Tick kMaxTicks = 3000;
+  world::ScenarioOverrides overrides;
+  overrides.shape_file = kRepo + "/shapes/square.txt";
+  overrides.seed = 13;
+  harness::Harness h(world::load_scenario(kRepo + "/scenarios/paper.yaml", overrides));
+  const Outcome o = run_to_formation(h, kMaxTicks);
+  report("paper arena,square", 13, o);
+  ASSERT_TRUE(o.formation_tick.has_value()) << snapshot(h);
+  EXPECT_LE(*o.shape_error, 0.1);
+  EXPECT_EQ(o.robot_contacts, 0u);
+}
+
+// A robot killed at tick 100, while the others move to their places: they keep clear of its body with the
+// ultrasonic sensors (it is no neighbour they hear). No robot-obstacle contact before Ready.
+TEST(FormationSim, MoversKeepClearOfADeadBody) {
+  constexpr Tick kMaxTicks = 1500;
+  harness::Harness h(paper_scenario());
+  while (h.world().tick() < 100) h.step();
+  h.kill(5);
+  const Outcome o = run_to_formation(h, kMaxTicks);
+  report("paper,kill 5@100", 1, o);
+  ASSERT_TRUE(o.formation_tick.has_value()) << snapshot(h);
+  EXPECT_EQ(o.obstacle_contacts, 0u);
+  EXPECT_EQ(o.robot_contacts, 0u);
+}
+
+// A mover pinned in a pocket whose way out is a detour (the arrow, seed 2, robot 0 killed at tick 300: it
+// stood for ever between the body and two reached robots): stuck with a side committed, it backs off to a
+// random point and tries again.
+TEST(FormationSim, AMoverPinnedInAPocketTakesADetour) {
+  constexpr Tick kMaxTicks = 3000;
+  world::ScenarioOverrides overrides;
+  overrides.shape_file = kRepo + "/shapes/arrow.txt";
+  overrides.seed = 2;
+  harness::Harness h(world::load_scenario(kRepo + "/scenarios/paper.yaml", overrides));
+  while (h.world().tick() < 300) h.step();
+  h.kill(0);
+  int detours = 0;
+  const Outcome o = run_counting(h, kMaxTicks, "detour", detours);
+  report("paper arena,arrow,kill 0@300", 2, o);
+  ASSERT_TRUE(o.formation_tick.has_value()) << snapshot(h);
+  EXPECT_LE(*o.shape_error, 0.1);
+  EXPECT_EQ(o.robot_contacts, 0u);
+  EXPECT_EQ(o.obstacle_contacts, 0u);
+  EXPECT_GE(detours, 1);
+}
+
+// The paper's pace: its motion starts at tick 607, so the shape must be formed by then.
+TEST(FormationSim, ThePaperRunFormsByTick607) {
+  harness::Harness h(paper_scenario());
+  const Outcome o = run_to_formation(h, 1500);
+  report("paper", 1, o);
+  ASSERT_TRUE(o.formation_tick.has_value()) << snapshot(h);
+  EXPECT_LE(*o.formation_tick, 607);
+  EXPECT_LE(*o.shape_error, 0.1);
+  EXPECT_EQ(o.robot_contacts, 0u);
+  EXPECT_EQ(o.obstacle_contacts, 0u);
 }
 
 }  // namespace
