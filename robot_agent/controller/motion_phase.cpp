@@ -26,7 +26,8 @@ constexpr Tick kPinnedTicks = 40;
 constexpr double kPinnedDesire = 0.3;  // x the speed limit
 constexpr Tick kTraceTicks = 60;
 constexpr double kSlowest = 0.3;  // x the cruise: the leader never stops, so the gaps a held robot needs open
-constexpr double kParentLean = 0.75;  // weight of the parent's direction in the way round
+constexpr double kParentSide =
+    0.2;  // the parent stands on one side when its direction is this far off the normal
 
 std::uint32_t boundary_key(RobotId id) {
   return stig::key(stig::Ns::Boundary, id);
@@ -425,11 +426,15 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
     // A head-on tie goes to a side drawn from the seed and the id: deterministic per run, and two robots
     // pinned face to face do not both pick the same way.
     const int tie = ((seed_ * 0x9E3779B97F4A7C15ull) >> 7 ^ ctx.self) & 1 ? 1 : -1;
-    // The way round: the tangent nearer the desired motion, leaning towards the parent (it stands inside
-    // the shape, where the way was clear).
-    Vec2 prefer = vscale(desired, 1.0 / vnorm(desired));
-    if (leader_ != ctx.self && vnorm(to_parent_) > 1e-6)
-      prefer = vadd(prefer, vscale(to_parent_, kParentLean / vnorm(to_parent_)));
+    // The way round: towards the parent's side when it clearly stands on one (it is inside the shape,
+    // where the way was clear: a corner robot held at a box goes round its inner end, not its outer one),
+    // else the tangent nearer the desired motion.
+    Vec2 prefer = desired;
+    if (leader_ != ctx.self && vnorm(to_parent_) > 1e-6) {
+      const Vec2 u = vsub(position, *echo);
+      const Vec2 ccw = vrotate(vscale(u, 1.0 / std::max(vnorm(u), 1e-6)), std::numbers::pi / 2);
+      if (std::abs(vdot(ccw, to_parent_)) > kParentSide * vnorm(to_parent_)) prefer = to_parent_;
+    }
     boundary_.start(BoundaryFollower::choose_side(position, *echo, prefer, tie), ctx.tick);
     out.events.push_back("boundary_follow_start " + std::to_string(boundary_.side()));
   }
