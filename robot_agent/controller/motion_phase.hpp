@@ -51,6 +51,8 @@ class PaperMotion final : public MotionPhases {
   void record_references(const FormationContext& ctx);
   Vec2 reference_to(const FormationContext& ctx, RobotId id) const;
   Vec2 motion_velocity(const FormationContext& ctx, MotionStep& out);
+  Vec2 own_target(const FormationContext& ctx) const;
+  bool parent_lost(const FormationContext& ctx) const;
 
   MotionParams p_;
   RobotState state_ = RobotState::Ready;
@@ -72,7 +74,16 @@ class PaperMotion final : public MotionPhases {
   int slide_side_ = 0;  // head-on give-way side, kept while the obstacle is near (0: none yet)
   Tick last_obstacle_tick_ = 0;
   double net_force_ = 0.0;
-  double lag_ = 0.0;  // the part of F_net along the direction of travel (>= 0): this robot's strain
+  double lag_ = 0.0;  // the part of F_net towards the goal (>= 0): this robot's strain
+  // Pinned at an obstacle: boundary following (wall_follow.hpp), over echoes remembered longer.
+  BoundaryFollower boundary_;
+  EchoMemory trace_;
+  Vec2 anchor_;  // where this progress window started, and when
+  Tick anchor_tick_ = 0;
+  double asked_ = 0.0;  // m the desired motion asked for since then
+  Vec2 live_centroid_;  // centroid of the places of the labels live members hold
+  bool has_live_centroid_ = false;
+  std::uint64_t seed_ = 1;
 };
 
 }  // namespace swarmform::controller::motion
