@@ -165,13 +165,15 @@ MotionStep PaperMotion::step(const FormationContext& ctx) {
   section.parent = out.parent;
   section.net_force = net_force_;
   section.velocity = out.velocity;
-  // A robot held by an obstacle (one seen within fusion_range lately, or going round one) does not ask the
-  // leader to wait: slowing the shape does not free it (the paper's corner robot trails its neighbour along
-  // the box, whatever the leader's pace); it catches up once past, and then its lag counts.
+  // A robot held by an obstacle (one seen within fusion_range lately, or going round one) asks the leader to
+  // wait only once it has fallen about a grid spacing behind (a lag of ~2 k_o spacing^2, eq. 5 along the
+  // link): slowing the shape does not free it (the paper's corner robot trails its neighbour along the box,
+  // whatever the leader's pace), but the leader must not leave it behind either.
   const bool held =
       wall_.active() || boundary_.active() ||
       trace_.nearest({ctx.pose.x, ctx.pose.y}, ctx.tick, p_.fusion_range + kRobotRadius, kTraceTicks);
-  section.strain = std::max(held ? 0.0 : lag_, children_strain_);
+  const double held_allowance = 2.0 * p_.k_o * p_.spacing * p_.spacing;
+  section.strain = std::max(held && lag_ < held_allowance ? 0.0 : lag_, children_strain_);
   out.message = encode_motion_section(section);
   return out;
 }
@@ -445,14 +447,14 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
     // A head-on tie goes to a side drawn from the seed and the id: deterministic per run, and two robots
     // pinned face to face do not both pick the same way.
     const int tie = ((seed_ * 0x9E3779B97F4A7C15ull) >> 7 ^ ctx.self) & 1 ? 1 : -1;
-    // The way round: towards the parent's side when it clearly stands on one (it is inside the shape,
-    // where the way was clear: a corner robot held at a box goes round its inner end, not its outer one),
-    // else the tangent nearer the desired motion.
+    // The way round: towards the side of the desired motion the parent stands on, when it clearly stands on
+    // one (it is inside the shape, where the way was clear: a corner robot held at a box goes round its inner
+    // end, not its outer one), else the tangent nearer the desired motion.
     Vec2 prefer = desired;
     if (leader_ != ctx.self && vnorm(to_parent_) > 1e-6) {
-      const Vec2 u = vsub(position, *echo);
-      const Vec2 ccw = vrotate(vscale(u, 1.0 / std::max(vnorm(u), 1e-6)), std::numbers::pi / 2);
-      if (std::abs(vdot(ccw, to_parent_)) > kParentSide * vnorm(to_parent_)) prefer = to_parent_;
+      const Vec2 d_hat = vscale(desired, 1.0 / vnorm(desired));
+      const Vec2 across = vsub(to_parent_, vscale(d_hat, vdot(to_parent_, d_hat)));
+      if (vnorm(across) > kParentSide * vnorm(to_parent_)) prefer = vadd(desired, across);
     }
     boundary_.start(BoundaryFollower::choose_side(position, *echo, prefer, tie), ctx.tick);
     out.events.push_back("boundary_follow_start " + std::to_string(boundary_.side()));
