@@ -25,6 +25,8 @@ constexpr double kProgressShare = 0.25;  // of the way asked for
 constexpr double kMinAsked = 0.05;       // m asked for over the window
 constexpr Tick kPinnedTicks = 20;
 constexpr Tick kTraceTicks = 60;
+constexpr double kRestingShare = 0.1;  // of the cruise: the smallest eq. (7) |F_goal|
+constexpr double kResumeFactor = 2.0;  // x arrival_tolerance off its target: an arrived leader moves again
 constexpr double kSlowest = 0.3;  // x the cruise: the leader never stops, so the gaps a held robot needs open
 constexpr double kParentSide =
     0.2;  // the parent stands on one side when its direction is this far off the normal
@@ -142,6 +144,12 @@ MotionStep PaperMotion::step(const FormationContext& ctx) {
       state_ = RobotState::Motion;
       out.events.push_back("motion_started");
     }
+  }
+  if (state_ == RobotState::Arrived && should_resume(ctx)) {
+    // Something changed after arrival (a death re-parented it, its parent moves again, or the live shape's
+    // centroid moved the leader's target): back to Motion until it has arrived again.
+    state_ = RobotState::Motion;
+    out.events.push_back("motion_resumed");
   }
   if (state_ == RobotState::Motion) velocity = motion_velocity(ctx, out);
 
@@ -287,6 +295,20 @@ Vec2 PaperMotion::own_target(const FormationContext& ctx) const {
   return vadd(p_.goal, vsub(ctx.places[static_cast<std::size_t>(ctx.label)], live_centroid_));
 }
 
+// An arrived robot moves again when its target moved (the leader, or a robot that arrived alone: the live
+// shape's centroid moved, a death), its parent changed, or its parent is no longer arrived.
+bool PaperMotion::should_resume(const FormationContext& ctx) const {
+  const Vec2 position{ctx.pose.x, ctx.pose.y};
+  if (leader_ == ctx.self || !parent_ || arrived_alone_) {
+    return vnorm(vsub(own_target(ctx), position)) > kResumeFactor * p_.arrival_tolerance;
+  }
+  if (parent_ != arrived_parent_) return true;
+  const Neighbour* n = ctx.neighbours->find(*parent_);
+  if (n == nullptr || !ctx.neighbours->fresh(*parent_)) return false;
+  const auto section = section_of(*n);
+  return section && !section->arrived;
+}
+
 // The parent is alive as far as the shared table says, but has not been heard for neighbour_timeout ticks.
 bool PaperMotion::parent_lost(const FormationContext& ctx) const {
   if (!parent_) return false;
@@ -320,13 +342,20 @@ Vec2 PaperMotion::reference_to(const FormationContext& ctx, RobotId id) const {
 Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) {
   const Vec2 position{ctx.pose.x, ctx.pose.y};
   Vec2 desired;
-  double m = p_.m_obstacle * p_.cruise_speed;  // eq. (7) for followers: the cruise |F_goal|
+  // eq. (7): m = m_obstacle |F_goal|. The leader's own; a follower takes its parent's broadcast speed for the
+  // formation's |F_goal| (so the repulsion fades as the shape comes to rest at the goal and a robot can take
+  // a place beside a dead robot's body), never below kRestingShare of the cruise (the slide needs a
+  // direction).
+  const double m_floor = p_.m_obstacle * kRestingShare * p_.cruise_speed;
+  double m = p_.m_obstacle * p_.cruise_speed;
   if (leader_ == ctx.self) {
     // The leader takes the centroid of the live shape to the goal: its own target is the goal plus its
     // place's offset from that centroid.
     const Vec2 target = own_target(ctx);
     if (vnorm(vsub(target, position)) < p_.arrival_tolerance) {
       state_ = RobotState::Arrived;
+      arrived_alone_ = false;
+      arrived_parent_.reset();
       out.events.push_back("arrived");
       wall_.reset();
       boundary_.reset();
@@ -341,20 +370,24 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
       cruise *= std::clamp(1.0 - over / p_.strain_scale, kSlowest, 1.0);
     }
     desired = goal_force(position, target, p_.k_goal, cruise, 0.0);  // eq. (3)
-    m = p_.m_obstacle * std::max(vnorm(desired), p_.cruise_speed);   // eq. (7); not 0 while waiting
-  } else if (parent_ && parent_lost(ctx)) {
-    // The parent is alive (not marked dead) but unheard: this robot's piece of the swarm cannot hear the
-    // leader's. It takes its own place to where the goal puts it (eq. 3 on its own place, as the leader
-    // does): every piece goes to the goal and the shape is whole again there.
+    m = std::max(p_.m_obstacle * vnorm(desired), m_floor);           // eq. (7)
+  } else if (!parent_ || parent_lost(ctx)) {
+    // No parent (the tree cannot reach this robot's label: deaths cut it off), or a parent alive (not marked
+    // dead) but unheard: this robot's piece of the swarm cannot hear the leader's. It takes its own place to
+    // where the goal puts it (eq. 3 on its own place, as the leader does): every piece goes to the goal and
+    // the shape is whole again there.
     const Vec2 target = own_target(ctx);
     if (vnorm(vsub(target, position)) < p_.arrival_tolerance) {
       state_ = RobotState::Arrived;
+      arrived_alone_ = true;
+      arrived_parent_ = parent_;
       out.events.push_back("arrived alone");
       wall_.reset();
       boundary_.reset();
       return {};
     }
     desired = goal_force(position, target, p_.k_goal, p_.max_speed, 0.0);
+    m = std::max(p_.m_obstacle * vnorm(desired), m_floor);
     to_parent_ = {};
   } else if (parent_) {
     const Neighbour* n = ctx.neighbours->find(*parent_);
@@ -384,9 +417,12 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
     Vec2 feed;
     if (auto it = last_velocity_.find(*parent_); it != last_velocity_.end()) feed = it->second;
     desired = vclamp(vadd(f_net, feed), p_.max_speed);
+    m = std::max(p_.m_obstacle * vnorm(feed), m_floor);
     const auto section = n != nullptr ? section_of(*n) : std::nullopt;
     if (section && section->arrived && net_force_ < p_.arrival_net_force) {
       state_ = RobotState::Arrived;
+      arrived_alone_ = false;
+      arrived_parent_ = parent_;
       out.events.push_back("arrived");
       wall_.reset();
       boundary_.reset();

@@ -53,6 +53,7 @@ class PaperMotion final : public MotionPhases {
   Vec2 motion_velocity(const FormationContext& ctx, MotionStep& out);
   Vec2 own_target(const FormationContext& ctx) const;
   bool parent_lost(const FormationContext& ctx) const;
+  bool should_resume(const FormationContext& ctx) const;
 
   MotionParams p_;
   RobotState state_ = RobotState::Ready;
@@ -84,6 +85,8 @@ class PaperMotion final : public MotionPhases {
   Vec2 live_centroid_;  // centroid of the places of the labels live members hold
   bool has_live_centroid_ = false;
   std::uint64_t seed_ = 1;
+  std::optional<RobotId> arrived_parent_;  // the parent when it arrived
+  bool arrived_alone_ = false;             // it arrived at its own target (no parent heard)
 };
 
 }  // namespace swarmform::controller::motion

@@ -3,6 +3,7 @@
 // and its centroid within the goal radius. The figures are printed for robot_agent/README.md.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -26,6 +27,8 @@ struct Outcome {
   std::optional<Tick> arrived;
   double error = 0.0, to_goal = 0.0;
   std::size_t live = 0;
+  double minimum = 0.0;  // ticks: at motion start, (centroid's distance to the goal - radius) at the limit
+  double peak = 0.0;     // largest shape error from motion start on
 };
 
 Outcome run_to_arrival(const world::Scenario& scenario) {
@@ -41,7 +44,15 @@ Outcome run_to_arrival(const world::Scenario& scenario) {
           o.motion_start = h.world().tick();
       }
     }
-    if (judge.observe(h.world().tick(), robots)) break;
+    const bool arrived = judge.observe(h.world().tick(), robots);
+    if (o.motion_start) {
+      if (o.minimum == 0.0) {
+        o.minimum = std::max(0.0, judge.to_goal() - scenario.mission.goal_radius) /
+                    (scenario.mission.max_speed / scenario.tick_rate);
+      }
+      o.peak = std::max(o.peak, judge.error());
+    }
+    if (arrived) break;
   }
   o.arrived = judge.arrived();
   o.error = judge.error();
@@ -76,9 +87,13 @@ TEST(MotionArrival, PaperRunArrivesAtPace) {
   print("paper", out);
   ASSERT_TRUE(out.arrived.has_value());
   ASSERT_TRUE(out.motion_start.has_value());
-  // The straight-line minimum from motion start is ~1,120 ticks; at 0.6 of the limit and with the strain rule
-  // holding the leader at 0.02 m/s past the box it took ~2,840.
-  EXPECT_LE(*out.arrived - *out.motion_start, 2100u);
+  // Issue 17 asks for 1.25 x the straight-line minimum (~1,120 ticks) with peak distortion <= 0.5; at 0.6 of
+  // the limit and with the strain rule holding the leader at 0.02 m/s past the box it took 2.54 x. Now 1.27 x
+  // (robot_agent/README.md, "Measured"); this guards 1.35 x.
+  const double ratio = static_cast<double>(*out.arrived - *out.motion_start) / out.minimum;
+  std::printf("paper: %.0f ticks minimum, %.3f x, peak distortion %.3f\n", out.minimum, ratio, out.peak);
+  EXPECT_LE(ratio, 1.35);
+  EXPECT_LE(out.peak, 0.5);
 }
 
 // A 2 x 8 block (8 wide across the path) whose leader's line (its place's path to where the goal puts it)
@@ -127,6 +142,30 @@ TEST(MotionArrival, BoxDeadAheadOfTheLeader) {
   print("dead ahead", out);
   ASSERT_TRUE(out.arrived.has_value()) << "not arrived by tick " << scenario.max_ticks << ": error "
                                        << out.error << ", centroid " << out.to_goal << " m from the goal";
+}
+
+// Deaths split the line into two pieces that cannot hear each other (robots 2 and 3 die: 3 m, the radio
+// range, between the pieces). The piece cut off from the leader takes its own places to where the goal puts
+// them, and the line is whole again at the goal (robot_agent/README.md, "A piece that cannot hear its
+// parent").
+TEST(MotionArrival, PiecesSplitByDeathsMeetAgainAtTheGoal) {
+  auto s = world::load_scenario(repo("scenarios/open_field.yaml"));
+  s.mission.shape = load_shape_file(repo("shapes/line.txt"));
+  s.max_ticks = 3000;
+  s.comm_range = 2.5;
+  s.mission.comm_range = 2.5;
+  const auto scenario = preformed_scenario(s, {0.0, 2.5});
+  PreformedRun run(scenario, {0.0, 2.5});
+  ArrivalJudge judge(scenario.mission);
+  run.run(100);
+  run.kill(1);
+  run.kill(3);
+  run.run(scenario.max_ticks,
+          [&](const PreformedRun& r) { return judge.observe(r.world.tick(), r.world.robots()); });
+  std::printf("split line: arrived %ld (error %.3f, centroid %.2f m from the goal)\n",
+              judge.arrived() ? static_cast<long>(*judge.arrived()) : -1L, judge.error(), judge.to_goal());
+  ASSERT_TRUE(judge.arrived().has_value()) << "not arrived by tick 3000: error " << judge.error()
+                                           << ", centroid " << judge.to_goal() << " m from the goal";
 }
 
 }  // namespace
