@@ -64,7 +64,8 @@ inline constexpr std::array kControllerParams = {
               "a follower whose parent has arrived stops once |F_net| is below this, m/s"},
     ParamSpec{"boundary_delay", 10, 1, 1e6, "ticks in 'ready' before a robot judges its boundary role"},
     ParamSpec{"strain_scale", 0.2, 0.0, 10.0,
-              "leader cruise x (1 - (largest lag in the tree - 1.5 speed limit) / this), at least 0.3; 0: never slows, m/s"},
+              "leader cruise x (1 - (largest lag in the tree - 1.5 speed limit) / this), at least 0.3; "
+              "0: never slows, m/s"},
 };
 
 inline const ParamSpec* find_param(std::string_view name) {

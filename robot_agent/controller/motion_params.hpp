@@ -22,8 +22,8 @@ struct MotionParams {
   // Formation and goal forces, eq. (2)-(5).
   double k_o = 1.0;
   double k_goal = 1.0;
-  double cruise_speed = 0.1;   // m/s, eq. (3) saturation
-  double strain_scale = 0.2;   // m/s, the leader's wait for a strained shape (0: never waits)
+  double cruise_speed = 0.1;  // m/s, eq. (3) saturation
+  double strain_scale = 0.2;  // m/s, the leader's wait for a strained shape (0: never waits)
   // Obstacles, eq. (6)-(7), Algorithm 2, wall-following.
   double m_obstacle = 1.0;
   double obstacle_range = 0.6;        // m

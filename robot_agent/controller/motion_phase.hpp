@@ -15,9 +15,9 @@
 //            changed target or parent puts an arrived robot back into Motion.
 //            The leader waits for the shape: its cruise is multiplied by
 //            clamp(1 - (strain - 1.5 v_max) / strain_scale, 0.3, 1), where the strain is the largest lag
-//            (F_net towards the goal) of the tree, passed up from child to parent in the motion section; a
-//            robot held by an obstacle reports its lag only beyond about a grid spacing (robot_agent/README.md,
-//            "Pace").
+//            (F_net towards the goal) of the tree, passed up from child to parent in the motion section;
+//            a robot held by an obstacle reports its lag only beyond about a grid spacing
+//            (robot_agent/README.md, "Pace").
 //   Failures a member silent for `neighbour_timeout` ticks (last heard well inside radio range) is marked
 //            dead in the parents table (value kDeadMark) by whoever noticed; a live robot that finds itself
 //            marked rewrites its own entry. Leader and tree are recomputed from the shared table every
