@@ -39,7 +39,7 @@ inline constexpr std::array kControllerParams = {
     ParamSpec{"shape_heading", 1.5707963267948966, -3.1415926535897931, 3.1415926535897931,
               "arena direction of the shape's 'up' (towards row 0) and the common heading, rad"},
     // Ready and formation motion (paper III.C 'Ready', III.D).
-    ParamSpec{"ready_timeout", 100, 0, 1e6, "ticks in 'ready' before the leader starts for the goal"},
+    ParamSpec{"ready_timeout", 40, 0, 1e6, "ticks in 'ready' before the leader starts for the goal"},
     ParamSpec{"k_o", 1.0, 0.0, 100.0, "eq. (2), (4) reference/attractive force gain"},
     ParamSpec{"k_goal", 1.0, 0.0, 100.0, "eq. (3) goal attraction gain"},
     // Obstacles (paper III.E).
@@ -49,7 +49,7 @@ inline constexpr std::array kControllerParams = {
     // Ready and motion phases, added by the motion engineer (robot_agent/README.md, "Ready and motion").
     ParamSpec{"boundary_cone", 0.5235987755982988, 0.01, 1.5,
               "half-angle around heading +-pi/2 in which a neighbour hides a robot's left/right side, rad"},
-    ParamSpec{"cruise_fraction", 0.6, 0.05, 1.0,
+    ParamSpec{"cruise_fraction", 1.0, 0.05, 1.0,
               "eq. (3) saturation: the leader's cruise speed as a fraction of the speed limit"},
     ParamSpec{"link_range_fraction", 0.9, 0.1, 1.0,
               "longest parent link, as a fraction of the communication range"},
@@ -66,7 +66,8 @@ inline constexpr std::array kControllerParams = {
               "a follower whose parent has arrived stops once |F_net| is below this, m/s"},
     ParamSpec{"boundary_delay", 10, 1, 1e6, "ticks in 'ready' before a robot judges its boundary role"},
     ParamSpec{"strain_scale", 0.2, 0.0, 10.0,
-              "leader slows by 1 + (largest lag in the tree - 2 cruise) / this, at most 3x; 0: never, m/s"},
+              "leader cruise x (1 - (largest lag in the tree - 1.5 speed limit) / this), at least 0.3; "
+              "0: never slows, m/s"},
 };
 
 inline const ParamSpec* find_param(std::string_view name) {

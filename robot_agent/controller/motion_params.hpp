@@ -14,7 +14,7 @@ struct MotionParams {
   double comm_range = 3.0;  // m
   Vec2 goal{10.0, 0.0};     // m: every robot holds it, only the leader uses it
   // Ready.
-  int ready_timeout = 100;                    // ticks in Ready before Motion
+  int ready_timeout = 40;                     // ticks in Ready before Motion
   int boundary_delay = 10;                    // ticks in Ready before judging the boundary role
   int neighbour_timeout = 20;                 // ticks of silence before a neighbour is marked dead
   double boundary_cone = 0.5235987755982988;  // rad
@@ -22,8 +22,8 @@ struct MotionParams {
   // Formation and goal forces, eq. (2)-(5).
   double k_o = 1.0;
   double k_goal = 1.0;
-  double cruise_speed = 0.06;  // m/s, eq. (3) saturation
-  double strain_scale = 0.2;   // m/s, the leader's wait for a strained shape (0: never waits)
+  double cruise_speed = 0.1;  // m/s, eq. (3) saturation
+  double strain_scale = 0.2;  // m/s, the leader's wait for a strained shape (0: never waits)
   // Obstacles, eq. (6)-(7), Algorithm 2, wall-following.
   double m_obstacle = 1.0;
   double obstacle_range = 0.6;        // m

@@ -20,6 +20,17 @@ namespace swarmform::controller::motion {
 
 namespace {
 
+constexpr double kKeepUpStrain = 1.5;    // x the speed limit: the lag of a follower that keeps up
+constexpr double kProgressShare = 0.25;  // of the way asked for
+constexpr double kMinAsked = 0.05;       // m asked for over the window
+constexpr Tick kPinnedTicks = 20;
+constexpr Tick kTraceTicks = 60;
+constexpr double kRestingShare = 0.1;  // of the cruise: the smallest eq. (7) |F_goal|
+constexpr double kResumeFactor = 2.0;  // x arrival_tolerance off its target: an arrived leader moves again
+constexpr double kSlowest = 0.3;  // x the cruise: the leader never stops, so the gaps a held robot needs open
+constexpr double kParentSide =
+    0.2;  // the parent stands on one side when its direction is this far off the normal
+
 std::uint32_t boundary_key(RobotId id) {
   return stig::key(stig::Ns::Boundary, id);
 }
@@ -74,7 +85,7 @@ WheelSpeeds forward_wheels(Vec2 v, double theta, double max_speed) {
 
 }  // namespace
 
-PaperMotion::PaperMotion(const FormationParams& params) : p_(motion_params(params)) {}
+PaperMotion::PaperMotion(const FormationParams& params) : p_(motion_params(params)), seed_(params.seed) {}
 
 void PaperMotion::on_ready(const FormationContext& ctx) {
   state_ = RobotState::Ready;
@@ -92,6 +103,12 @@ void PaperMotion::on_ready(const FormationContext& ctx) {
   echoes_.clear();
   slide_side_ = 0;
   net_force_ = 0.0;
+  boundary_.reset();
+  trace_.clear();
+  anchor_ = {ctx.pose.x, ctx.pose.y};
+  anchor_tick_ = ctx.tick;
+  asked_ = 0.0;
+  has_live_centroid_ = false;
 }
 
 MotionStep PaperMotion::step(const FormationContext& ctx) {
@@ -128,6 +145,12 @@ MotionStep PaperMotion::step(const FormationContext& ctx) {
       out.events.push_back("motion_started");
     }
   }
+  if (state_ == RobotState::Arrived && should_resume(ctx)) {
+    // Something changed after arrival (a death re-parented it, its parent moves again, or the live shape's
+    // centroid moved the leader's target): back to Motion until it has arrived again.
+    state_ = RobotState::Motion;
+    out.events.push_back("motion_resumed");
+  }
   if (state_ == RobotState::Motion) velocity = motion_velocity(ctx, out);
 
   // Collision avoidance, eq. (1), in every phase (also when the formation forces are zero).
@@ -150,7 +173,15 @@ MotionStep PaperMotion::step(const FormationContext& ctx) {
   section.parent = out.parent;
   section.net_force = net_force_;
   section.velocity = out.velocity;
-  section.strain = std::max(lag_, children_strain_);
+  // A robot held by an obstacle (one seen within fusion_range lately, or going round one) asks the leader to
+  // wait only once it has fallen about a grid spacing behind (a lag of ~2 k_o spacing^2, eq. 5 along the
+  // link): slowing the shape does not free it (the paper's corner robot trails its neighbour along the box,
+  // whatever the leader's pace), but the leader must not leave it behind either.
+  const bool held =
+      wall_.active() || boundary_.active() ||
+      trace_.nearest({ctx.pose.x, ctx.pose.y}, ctx.tick, p_.fusion_range + kRobotRadius, kTraceTicks);
+  const double held_allowance = 2.0 * p_.k_o * p_.spacing * p_.spacing;
+  section.strain = std::max(held && lag_ < held_allowance ? 0.0 : lag_, children_strain_);
   out.message = encode_motion_section(section);
   return out;
 }
@@ -210,6 +241,16 @@ void PaperMotion::choose_leader_and_parent(const FormationContext& ctx, MotionSt
       if (holder.count(label) == 0) holder[label] = id;
     }
   }
+  // The centroid of the places live members hold: where the goal puts the shape that is left.
+  Vec2 sum;
+  int held = 0;
+  for (std::size_t label = 0; label < present.size(); ++label) {
+    if (!present[label]) continue;
+    sum = vadd(sum, ctx.places[label]);
+    ++held;
+  }
+  has_live_centroid_ = held > 0;
+  if (held > 0) live_centroid_ = vscale(sum, 1.0 / held);
   const auto leader = elect_leader(candidates, ctx.places, ctx.common_heading);
   if (leader != leader_) {
     leader_ = leader;
@@ -247,6 +288,34 @@ void PaperMotion::choose_leader_and_parent(const FormationContext& ctx, MotionSt
   if (st.get(parents_key(ctx.self)) != entry) st.put(parents_key(ctx.self), entry);
 }
 
+// Where the goal puts this robot's place: the goal plus the place's offset from the live shape's centroid.
+Vec2 PaperMotion::own_target(const FormationContext& ctx) const {
+  if (ctx.label < 0 || static_cast<std::size_t>(ctx.label) >= ctx.places.size() || !has_live_centroid_)
+    return p_.goal;
+  return vadd(p_.goal, vsub(ctx.places[static_cast<std::size_t>(ctx.label)], live_centroid_));
+}
+
+// An arrived robot moves again when its target moved (the leader, or a robot that arrived alone: the live
+// shape's centroid moved, a death), its parent changed, or its parent is no longer arrived.
+bool PaperMotion::should_resume(const FormationContext& ctx) const {
+  const Vec2 position{ctx.pose.x, ctx.pose.y};
+  if (leader_ == ctx.self || !parent_ || arrived_alone_) {
+    return vnorm(vsub(own_target(ctx), position)) > kResumeFactor * p_.arrival_tolerance;
+  }
+  if (parent_ != arrived_parent_) return true;
+  const Neighbour* n = ctx.neighbours->find(*parent_);
+  if (n == nullptr || !ctx.neighbours->fresh(*parent_)) return false;
+  const auto section = section_of(*n);
+  return section && !section->arrived;
+}
+
+// The parent is alive as far as the shared table says, but has not been heard for neighbour_timeout ticks.
+bool PaperMotion::parent_lost(const FormationContext& ctx) const {
+  if (!parent_) return false;
+  const auto heard = ctx.neighbours->last_heard(*parent_);
+  return !heard || ctx.tick >= *heard + static_cast<Tick>(p_.neighbour_timeout);
+}
+
 // eq. (2) at the end of Ready: the vector to every neighbour as it stands now.
 void PaperMotion::record_references(const FormationContext& ctx) {
   for (const auto& [id, pos] : last_position_) {
@@ -273,31 +342,53 @@ Vec2 PaperMotion::reference_to(const FormationContext& ctx, RobotId id) const {
 Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) {
   const Vec2 position{ctx.pose.x, ctx.pose.y};
   Vec2 desired;
-  double m = p_.m_obstacle * p_.cruise_speed;  // eq. (7) for followers: the cruise |F_goal|
+  // eq. (7): m = m_obstacle |F_goal|. The leader's own; a follower takes its parent's broadcast speed for the
+  // formation's |F_goal| (so the repulsion fades as the shape comes to rest at the goal and a robot can take
+  // a place beside a dead robot's body), never below kRestingShare of the cruise (the slide needs a
+  // direction).
+  const double m_floor = p_.m_obstacle * kRestingShare * p_.cruise_speed;
+  double m = p_.m_obstacle * p_.cruise_speed;
   if (leader_ == ctx.self) {
-    // The leader takes the shape's centroid to the goal: its own target is the goal plus its place's offset
-    // from the centroid of the places.
-    Vec2 centroid;
-    for (const auto& pl : ctx.places) centroid = vadd(centroid, pl);
-    if (!ctx.places.empty()) centroid = vscale(centroid, 1.0 / static_cast<double>(ctx.places.size()));
-    Vec2 target = p_.goal;
-    if (ctx.label >= 0 && static_cast<std::size_t>(ctx.label) < ctx.places.size()) {
-      target = vadd(p_.goal, vsub(ctx.places[static_cast<std::size_t>(ctx.label)], centroid));
-    }
+    // The leader takes the centroid of the live shape to the goal: its own target is the goal plus its
+    // place's offset from that centroid.
+    const Vec2 target = own_target(ctx);
     if (vnorm(vsub(target, position)) < p_.arrival_tolerance) {
       state_ = RobotState::Arrived;
+      arrived_alone_ = false;
+      arrived_parent_.reset();
       out.events.push_back("arrived");
       wall_.reset();
+      boundary_.reset();
       return {};
     }
+    // Pace: cruise while every follower keeps up (a follower at full speed behind its parent has
+    // |F_net| ~ the speed limit); slow down linearly as the largest lag towards the goal grows past 1.5x
+    // the limit, and wait (stop) at 1.5x + strain_scale: the leader never leaves a follower behind.
     double cruise = p_.cruise_speed;
     if (p_.strain_scale > 0.0) {
-      // Never below a third of the cruise: a shape held by an obstacle on a follower's place must move on.
-      cruise /=
-          std::min(3.0, 1.0 + std::max(0.0, children_strain_ - 2.0 * p_.cruise_speed) / p_.strain_scale);
+      const double over = std::max(0.0, children_strain_ - kKeepUpStrain * p_.max_speed);
+      cruise *= std::clamp(1.0 - over / p_.strain_scale, kSlowest, 1.0);
     }
     desired = goal_force(position, target, p_.k_goal, cruise, 0.0);  // eq. (3)
-    m = p_.m_obstacle * vnorm(desired);                              // eq. (7)
+    m = std::max(p_.m_obstacle * vnorm(desired), m_floor);           // eq. (7)
+  } else if (!parent_ || parent_lost(ctx)) {
+    // No parent (the tree cannot reach this robot's label: deaths cut it off), or a parent alive (not marked
+    // dead) but unheard: this robot's piece of the swarm cannot hear the leader's. It takes its own place to
+    // where the goal puts it (eq. 3 on its own place, as the leader does): every piece goes to the goal and
+    // the shape is whole again there.
+    const Vec2 target = own_target(ctx);
+    if (vnorm(vsub(target, position)) < p_.arrival_tolerance) {
+      state_ = RobotState::Arrived;
+      arrived_alone_ = true;
+      arrived_parent_ = parent_;
+      out.events.push_back("arrived alone");
+      wall_.reset();
+      boundary_.reset();
+      return {};
+    }
+    desired = goal_force(position, target, p_.k_goal, p_.max_speed, 0.0);
+    m = std::max(p_.m_obstacle * vnorm(desired), m_floor);
+    to_parent_ = {};
   } else if (parent_) {
     const Neighbour* n = ctx.neighbours->find(*parent_);
     Vec2 to_parent;
@@ -313,16 +404,28 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
     to_parent_ = to_parent;
     const Vec2 f_net = net_force(spring(p_.k_o, to_parent), spring(p_.k_o, parent_reference_));  // eq. (5)
     net_force_ = vnorm(f_net);
-    // How far behind along the direction of travel (the parent's velocity): what the leader waits for.
-    if (auto it = last_velocity_.find(*parent_); it != last_velocity_.end() && vnorm(it->second) > 1e-3) {
-      lag_ = std::max(0.0, vdot(f_net, vscale(it->second, 1.0 / vnorm(it->second))));
+    // How far behind towards the goal (every robot holds it): what the leader waits for. Not along the
+    // parent's velocity, which vanishes when the leader waits.
+    if (const Vec2 to_goal = vsub(p_.goal, position); vnorm(to_goal) > 1e-6) {
+      lag_ = std::max(0.0, vdot(f_net, vscale(to_goal, 1.0 / vnorm(to_goal))));
     }
-    desired = vclamp(f_net, p_.max_speed);
+    // eq. (5) plus the parent's own velocity (it broadcasts it): F_net corrects the follower's place and the
+    // feed-forward carries it along, so a follower keeps up with no standing lag, and one held off its place
+    // by an obstacle still moves on with its parent while it slides (the paper's F_net alone needs a lag of
+    // v / (2 k_o r0) to move at v; beside the paper's box, where the diagonal spring pulls the corner robot
+    // backwards as it gives way, that lag was ~0.7 m and the leader waited for it).
+    Vec2 feed;
+    if (auto it = last_velocity_.find(*parent_); it != last_velocity_.end()) feed = it->second;
+    desired = vclamp(vadd(f_net, feed), p_.max_speed);
+    m = std::max(p_.m_obstacle * vnorm(feed), m_floor);
     const auto section = n != nullptr ? section_of(*n) : std::nullopt;
     if (section && section->arrived && net_force_ < p_.arrival_net_force) {
       state_ = RobotState::Arrived;
+      arrived_alone_ = false;
+      arrived_parent_ = parent_;
       out.events.push_back("arrived");
       wall_.reset();
+      boundary_.reset();
       return {};
     }
   }
@@ -361,6 +464,45 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
     if (auto it = last_velocity_.find(*parent_); it != last_velocity_.end() && vnorm(it->second) > 0.01) {
       travel = it->second;
     }
+  }
+  // Pinned: over each window of kPinnedTicks, it moved less than kProgressShare of the way its desired
+  // motion asked for (at least kMinAsked), an obstacle remembered near: it follows the obstacle's boundary
+  // (wall_follow.hpp) until the way is clear. Judged against what it asked for, not a fixed speed, so a
+  // follower of a leader that slows down is not pinned.
+  trace_.add(readings, mask, ctx.pose, ctx.tick, p_.fusion_range);
+  asked_ += vnorm(desired) / ctx.params->tick_rate;
+  bool pinned = false;
+  if (ctx.tick >= anchor_tick_ + kPinnedTicks) {
+    pinned = asked_ > kMinAsked && vnorm(vsub(position, anchor_)) < kProgressShare * asked_;
+    anchor_ = position;
+    anchor_tick_ = ctx.tick;
+    asked_ = 0.0;
+  }
+  const auto echo = trace_.nearest(position, ctx.tick, p_.obstacle_range + kRobotRadius + 0.3, kTraceTicks);
+  if (!boundary_.active() && !wall_.active() && echo && pinned) {
+    // A head-on tie goes to a side drawn from the seed and the id: deterministic per run, and two robots
+    // pinned face to face do not both pick the same way.
+    const int tie = ((seed_ * 0x9E3779B97F4A7C15ull) >> 7 ^ ctx.self) & 1 ? 1 : -1;
+    // The way round: towards the side of the desired motion the parent stands on, when it clearly stands on
+    // one (it is inside the shape, where the way was clear: a corner robot held at a box goes round its inner
+    // end, not its outer one), else the tangent nearer the desired motion.
+    Vec2 prefer = desired;
+    if (leader_ != ctx.self && vnorm(to_parent_) > 1e-6) {
+      const Vec2 d_hat = vscale(desired, 1.0 / vnorm(desired));
+      const Vec2 across = vsub(to_parent_, vscale(d_hat, vdot(to_parent_, d_hat)));
+      if (vnorm(across) > kParentSide * vnorm(to_parent_)) prefer = vadd(desired, across);
+    }
+    boundary_.start(BoundaryFollower::choose_side(position, *echo, prefer, tie), ctx.tick);
+    out.events.push_back("boundary_follow_start " + std::to_string(boundary_.side()));
+  }
+  if (boundary_.active()) {
+    const BoundaryFollowParams bf{p_.wall_distance + kRobotRadius, p_.max_speed, 1.0, 20, 1200};
+    Vec2 v;
+    if (boundary_.update(echo, position, desired, ctx.tick, bf, v)) return v;
+    out.events.push_back("boundary_follow_end");
+    anchor_ = position;
+    anchor_tick_ = ctx.tick;
+    asked_ = 0.0;
   }
   if (wall_.update(sense, desired, travel, ctx.pose, wf, around, away)) {
     if (!was_following) out.events.push_back("wall_follow_start");

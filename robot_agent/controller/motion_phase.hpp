@@ -4,20 +4,25 @@
 //            shared entries (leader_election.hpp); parent from the shared shortest-path tree
 //            (parent_tree.hpp) -> parents table; after `ready_timeout` ticks the reference vectors to every
 //            neighbour are recorded, eq. (2), and the robot moves on to Motion.
-//   Motion   leader: F_goal (eq. 3) + obstacles (eq. 6-7) + collision avoidance (eq. 1); others: F_net
-//            (eq. 4-5) + obstacles + collision avoidance; a small obstacle ahead -> wall-following.
-//   Arrived  leader: its place in the shape lies where the goal puts it (the shape's centroid on the goal);
-//            followers: their parent has arrived and |F_net| is small. Formation and obstacle forces are
-//            zero (collision avoidance stays on).
-//            The leader also waits for the shape: its cruise speed is divided by
-//            min(3, 1 + max(0, strain - 2 v_cruise) / strain_scale), where the strain is the largest |F_net|
-//            of the tree, passed up from child to parent in the motion section (the paper is silent; without
-//            it a robot held back by an obstacle may never catch up with a leader at constant speed).
+//   Motion   leader: F_goal (eq. 3, the live shape's centroid to the goal, at up to the speed limit) +
+//            obstacles (eq. 6-7) + collision avoidance (eq. 1); others: F_net (eq. 4-5) plus the parent's
+//            broadcast velocity + obstacles + collision avoidance; a small obstacle ahead -> wall-following.
+//            Pinned (moved under a quarter of the way asked for over 20 ticks, an obstacle remembered near)
+//            -> boundary following (wall_follow.hpp). A follower whose parent is unheard, or that the tree
+//            cannot reach, takes its own place to the goal as the leader does (its piece re-joins there).
+//   Arrived  leader: its place in the shape lies where the goal puts it; followers: their parent has arrived
+//            and |F_net| is small. Formation and obstacle forces are zero (collision avoidance stays on). A
+//            changed target or parent puts an arrived robot back into Motion.
+//            The leader waits for the shape: its cruise is multiplied by
+//            clamp(1 - (strain - 1.5 v_max) / strain_scale, 0.3, 1), where the strain is the largest lag
+//            (F_net towards the goal) of the tree, passed up from child to parent in the motion section;
+//            a robot held by an obstacle reports its lag only beyond about a grid spacing
+//            (robot_agent/README.md, "Pace").
 //   Failures a member silent for `neighbour_timeout` ticks (last heard well inside radio range) is marked
 //            dead in the parents table (value kDeadMark) by whoever noticed; a live robot that finds itself
 //            marked rewrites its own entry. Leader and tree are recomputed from the shared table every
 //            tick, so a dead parent's children re-parent and a dead leader's successor is elected by the
-//            same rule, and takes the goal (every robot holds the mission's goal; only the leader uses it).
+//            same rule, and takes the goal (every robot holds the mission's goal).
 #pragma once
 
 #include <map>
@@ -51,6 +56,9 @@ class PaperMotion final : public MotionPhases {
   void record_references(const FormationContext& ctx);
   Vec2 reference_to(const FormationContext& ctx, RobotId id) const;
   Vec2 motion_velocity(const FormationContext& ctx, MotionStep& out);
+  Vec2 own_target(const FormationContext& ctx) const;
+  bool parent_lost(const FormationContext& ctx) const;
+  bool should_resume(const FormationContext& ctx) const;
 
   MotionParams p_;
   RobotState state_ = RobotState::Ready;
@@ -72,7 +80,18 @@ class PaperMotion final : public MotionPhases {
   int slide_side_ = 0;  // head-on give-way side, kept while the obstacle is near (0: none yet)
   Tick last_obstacle_tick_ = 0;
   double net_force_ = 0.0;
-  double lag_ = 0.0;  // the part of F_net along the direction of travel (>= 0): this robot's strain
+  double lag_ = 0.0;  // the part of F_net towards the goal (>= 0): this robot's strain
+  // Pinned at an obstacle: boundary following (wall_follow.hpp), over echoes remembered longer.
+  BoundaryFollower boundary_;
+  EchoMemory trace_;
+  Vec2 anchor_;  // where this progress window started, and when
+  Tick anchor_tick_ = 0;
+  double asked_ = 0.0;  // m the desired motion asked for since then
+  Vec2 live_centroid_;  // centroid of the places of the labels live members hold
+  bool has_live_centroid_ = false;
+  std::uint64_t seed_ = 1;
+  std::optional<RobotId> arrived_parent_;  // the parent when it arrived
+  bool arrived_alone_ = false;             // it arrived at its own target (no parent heard)
 };
 
 }  // namespace swarmform::controller::motion

@@ -2,7 +2,7 @@
 // Little-endian, versioned, 22 bytes:
 //   u8 version (1)   u8 flags (bit 0 leader, bit 1 arrived, bit 2 wall-following)
 //   i32 parent id (-1 none)   f32 |F_net|   f32 vx   f32 vy  (the sender's desired velocity, arena frame)
-//   f32 strain: the largest lag in the sender's subtree (its F_net along its parent's velocity, and its
+//   f32 strain: the largest lag in the sender's subtree (its F_net towards the goal, and its
 //       children's strains), passed up
 //       the tree so that the leader learns how far behind the shape has fallen (motion_phase.hpp)
 // decode_motion_section never trusts its input (nullopt on a wrong size, version or a non-finite number).

@@ -115,4 +115,18 @@ Vec2 EchoMemory::force(Vec2 position, Tick tick, double m, double obstacle_range
   return f;
 }
 
+std::optional<Vec2> EchoMemory::nearest(Vec2 position, Tick tick, double within, Tick max_age) {
+  std::erase_if(echoes_, [&](const Echo& e) { return e.tick + max_age < tick; });
+  std::optional<Vec2> best;
+  double best_r = within;
+  for (const auto& e : echoes_) {
+    const double r = vnorm(vsub(e.point, position));
+    if (r < best_r) {
+      best_r = r;
+      best = e.point;
+    }
+  }
+  return best;
+}
+
 }  // namespace swarmform::controller::motion

@@ -26,6 +26,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <vector>
 
 #include "common/types.hpp"
@@ -81,6 +82,8 @@ class EchoMemory {
   void add(const UltrasonicArray& readings, const SensorMask& mask, const Pose2D& pose, Tick tick,
            double max_range);
   Vec2 force(Vec2 position, Tick tick, double m, double obstacle_range, Tick max_age);
+  // The nearest echo point of the last `max_age` ticks within `within` of `position` (centre to point).
+  std::optional<Vec2> nearest(Vec2 position, Tick tick, double within, Tick max_age);
   void clear() { echoes_.clear(); }
 
  private:

@@ -32,7 +32,7 @@ struct FormationParams {
   double k_move = 1.0;
   int seed_settle = 30;  // ticks
   double shape_heading = 1.5707963267948966;
-  int ready_timeout = 100;  // ticks
+  int ready_timeout = 40;  // ticks
   double k_o = 1.0;
   double k_goal = 1.0;
   double m_obstacle = 0.05;

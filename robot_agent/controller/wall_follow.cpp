@@ -54,3 +54,42 @@ bool WallFollower::update(const ObstacleSense& sense, Vec2 desired, Vec2 travel,
 }
 
 }  // namespace swarmform::controller::motion
+
+namespace swarmform::controller::motion {
+
+int BoundaryFollower::choose_side(Vec2 position, Vec2 echo, Vec2 desired, int tie_break) {
+  const Vec2 rel = vsub(position, echo);
+  const double dist = vnorm(rel);
+  if (dist < 1e-9) return tie_break >= 0 ? 1 : -1;
+  const Vec2 u = vscale(rel, 1.0 / dist);
+  const double ccw = vdot(vrotate(u, std::numbers::pi / 2), desired);
+  constexpr double kTie = 0.1;  // of |desired|
+  if (std::abs(ccw) <= kTie * vnorm(desired)) return tie_break >= 0 ? 1 : -1;
+  return ccw > 0 ? 1 : -1;
+}
+
+bool BoundaryFollower::update(const std::optional<Vec2>& echo, Vec2 position, Vec2 desired, Tick tick,
+                              const BoundaryFollowParams& params, Vec2& velocity) {
+  if (!active_) return false;
+  if (!echo) {
+    active_ = false;
+    return false;
+  }
+  const Vec2 rel = vsub(position, *echo);
+  const double dist = std::max(vnorm(rel), 1e-6);
+  const Vec2 u = vscale(rel, 1.0 / dist);
+  if (tick >= since_ + params.min_ticks && vdot(desired, u) >= 0.0) {
+    active_ = false;  // the desired motion leads away from the obstacle: the way is clear
+    return false;
+  }
+  if (tick >= since_ + params.max_ticks) {
+    side_ = -side_;  // a dead end that way: back the other way
+    since_ = tick;
+  }
+  const Vec2 tangent = vrotate(u, side_ * std::numbers::pi / 2.0);
+  velocity = vclamp(vsub(vscale(tangent, params.speed), vscale(u, params.radial_gain * (dist - params.keep))),
+                    params.speed);
+  return true;
+}
+
+}  // namespace swarmform::controller::motion

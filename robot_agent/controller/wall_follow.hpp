@@ -19,6 +19,8 @@
 //          treats as a large obstacle).
 #pragma once
 
+#include <optional>
+
 #include "common/types.hpp"
 #include "robot_agent/controller/obstacle_forces.hpp"
 
@@ -49,6 +51,49 @@ class WallFollower {
   int side_ = 1;
   Vec2 centre_;        // estimated centre of the obstacle, arena frame
   Vec2 travel_{1, 0};  // unit direction of travel at entry (used when no travel is known)
+};
+
+}  // namespace swarmform::controller::motion
+
+namespace swarmform::controller::motion {
+
+// Boundary following (Bug-style) for a robot pinned at an obstacle (motion_phase.hpp, "pinned"): a large
+// obstacle, a dead robot's body or a corner between them that eq. (6) and the slide cannot get it past (it
+// turns on the spot, its cones sweeping on and off the obstacle). It commits to one way round and keeps the
+// nearest remembered echo point at `keep` (robot centre to echo), at `speed`, whatever the cones see this
+// tick:
+//   v = speed t - gain (|p - e| - keep) u,   u = (p - e)/|p - e|,   t = u turned by side * pi/2
+// side +1: counter-clockwise about the obstacle (it on the robot's left), -1 clockwise. It leaves once the
+// desired motion no longer leads into the obstacle (desired . (e - p) <= 0, after `min_ticks`), or when
+// nothing is remembered near any more; after `max_ticks` on one side it turns back the other way (a dead
+// end). The side on entry: the tangent nearer the desired motion; a tie (head-on) goes to `tie_break`.
+struct BoundaryFollowParams {
+  double keep = 0.4;         // m, robot centre to the nearest echo point
+  double speed = 0.1;        // m/s
+  double radial_gain = 1.0;  // 1/s
+  Tick min_ticks = 20;
+  Tick max_ticks = 600;
+};
+
+class BoundaryFollower {
+ public:
+  static int choose_side(Vec2 position, Vec2 echo, Vec2 desired, int tie_break);
+  void start(int side, Tick tick) {
+    active_ = true;
+    side_ = side;
+    since_ = tick;
+  }
+  // `echo`: the nearest remembered echo point (arena frame), none if nothing is remembered near.
+  bool update(const std::optional<Vec2>& echo, Vec2 position, Vec2 desired, Tick tick,
+              const BoundaryFollowParams& params, Vec2& velocity);
+  bool active() const { return active_; }
+  int side() const { return side_; }
+  void reset() { active_ = false; }
+
+ private:
+  bool active_ = false;
+  int side_ = 1;
+  Tick since_ = 0;
 };
 
 }  // namespace swarmform::controller::motion

@@ -38,7 +38,7 @@ world::Scenario open_field_with(const std::string& shape) {
 class MotionTree : public testing::TestWithParam<std::string> {};
 
 TEST_P(MotionTree, FormsATreeRootedAtTheLeaderAlsoWithoutAnyOneRobot) {
-  constexpr Tick kKillTick = 130;   // ready_timeout is 100: the formation is moving
+  constexpr Tick kKillTick = 130;   // ready_timeout is 40: the formation is moving
   constexpr Tick kCheckTick = 200;  // the kill + neighbour_timeout (20) + flooding, with margin
   const auto scenario = open_field_with(repo("shapes/" + GetParam()));
   const auto n = static_cast<RobotId>(scenario.robots.size());
