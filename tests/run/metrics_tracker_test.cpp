@@ -24,6 +24,9 @@ Mission line_mission() {
   return m;  // max_speed 0.1 m/s at 10 ticks/s: 0.01 m a tick
 }
 
+// Robots that broadcast every tick: a last broadcast beyond any tick the tests reach never ages into silence.
+constexpr Tick kSpeaking = Tick{1} << 40;
+
 // Three robots on the line shape with their left end at x0, plus one spare far behind.
 std::vector<RobotTruth> line_at(double x0, std::int32_t state) {
   std::vector<RobotTruth> robots(4);
@@ -32,6 +35,7 @@ std::vector<RobotTruth> line_at(double x0, std::int32_t state) {
     robots[i].telemetry.state = state;
     robots[i].telemetry.label = i < 3 ? static_cast<std::int32_t>(i) : -1;
     robots[i].pose = {x0 + i, 0.0, 0.0};
+    robots[i].last_broadcast_tick = kSpeaking;
   }
   robots[3].pose = {-20.0, 0.0, 0.0};
   robots[3].telemetry.state = kSearching;
@@ -159,6 +163,29 @@ Mission block_mission() {
   return m;
 }
 
+// A live robot that has said nothing for kSilentTicks is left out of the shape (nobody hears it: it cannot
+// take part), so a silent agent's body standing at its start does not keep the others from forming.
+TEST(MetricsTracker, ASilentRobotIsLeftOutOfTheShapeAndListed) {
+  MetricsTracker tracker(line_mission());
+  Tick t = 0;
+  for (; t < kSilentTicks + kRestTicks + 5; ++t) {
+    // Two speaking robots on places 0 and 1, no spare; robot 2 (whose place is empty) never broadcast and
+    // stands far away: counted, it would have to be assigned to the empty place and nothing would form.
+    auto robots = line_at(0.0, kReached);
+    robots.pop_back();
+    robots[2].last_broadcast_tick.reset();
+    robots[2].pose = {0.0, 7.0, 0.0};
+    tracker.observe(t, robots, {});
+    if (t < kSilentTicks) {
+      EXPECT_FALSE(tracker.metrics().formation_tick) << t;
+    }
+  }
+  ASSERT_TRUE(tracker.metrics().formation_tick);
+  EXPECT_GE(*tracker.metrics().formation_tick, kSilentTicks);
+  tracker.conclude();
+  EXPECT_EQ(tracker.metrics().silent_robots, std::vector<RobotId>{2});
+}
+
 std::vector<RobotTruth> block_at(double x0) {
   std::vector<RobotTruth> robots(17);
   for (RobotId i = 0; i < 17; ++i) {
@@ -166,6 +193,7 @@ std::vector<RobotTruth> block_at(double x0) {
     robots[i].telemetry.state = kMoving;
     robots[i].telemetry.label = i < 16 ? static_cast<std::int32_t>(i) : -1;
     robots[i].pose = {x0 + i % 4, -static_cast<double>(i / 4), 0.0};
+    robots[i].last_broadcast_tick = kSpeaking;
   }
   robots[16].pose = {-20.0, 0.0, 0.0};
   return robots;

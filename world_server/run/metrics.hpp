@@ -37,7 +37,8 @@ struct Metrics {
   // How the mission ended: "arrived", "formed_not_arrived", "not_formed", or "none" (no shape or goal to
   // reach: behaviour random_walk).
   std::string outcome = "not_formed";
-  std::vector<RobotId> stuck_robots;  // filled at the end (MetricsTracker::conclude)
+  std::vector<RobotId> stuck_robots;   // filled at the end (MetricsTracker::conclude)
+  std::vector<RobotId> silent_robots;  // live at the end but silent (kSilentTicks): left out of the shape
   std::vector<DeathRecord> deaths;
   std::vector<DeathRecord> rejoins;
   std::uint32_t leader_changes = 0;  // times the robot reporting leader=true changed (first one not counted)

@@ -83,12 +83,22 @@ void MetricsTracker::observe(Tick tick, const std::vector<RobotTruth>& robots, C
     assigned_label_.resize(robots.size(), -1);
   }
   live_ids_.clear();
+  silent_ids_.clear();
   live_positions_.clear();
   live_labels_.clear();
   bool any_motion = false;
   for (const auto& r : robots) {
     if (r.id >= rest_.size()) continue;
     if (!r.alive) {
+      rest_[r.id].set = false;
+      stuck_[r.id].set = false;
+      assigned_label_[r.id] = -1;
+      continue;
+    }
+    const bool silent =
+        r.last_broadcast_tick ? tick >= *r.last_broadcast_tick + kSilentTicks : tick >= kSilentTicks;
+    if (silent) {
+      silent_ids_.push_back(r.id);
       rest_[r.id].set = false;
       stuck_[r.id].set = false;
       assigned_label_[r.id] = -1;
@@ -179,6 +189,7 @@ void MetricsTracker::observe(Tick tick, const std::vector<RobotTruth>& robots, C
 
 void MetricsTracker::conclude() {
   metrics_.stuck_robots.clear();
+  metrics_.silent_robots = silent_ids_;
   if (metrics_.outcome == "arrived" || live_ids_.empty()) return;
   std::vector<int> labels(live_ids_.size(), -1);
   RigidFit fit;

@@ -44,7 +44,10 @@ inline constexpr Tick kRestTicks = 10;          // 1 s at 10 ticks/s
 inline constexpr double kStuckRadius = 0.01;    // m
 inline constexpr Tick kStuckTicks = 300;
 inline constexpr double kAtPlace = 0.1;  // grid units
-inline constexpr double kInlier = 0.3;   // grid units: robots the final fit is refitted on (conclude)
+// A live robot whose commands carried no message for this many ticks (or that never broadcast, from this
+// tick on) is silent: nobody hears it, so it is left out of the assignment like a dead robot.
+inline constexpr Tick kSilentTicks = 50;
+inline constexpr double kInlier = 0.3;  // grid units: robots the final fit is refitted on (conclude)
 // Ticks between two Hungarian solves when the O(n) certificate fails (the cost: README): kFullSolveEvery
 // while the last solve found the shape near formed (error <= 2 x kFormationError), else kFullSolveEvery x
 // max(1, (places / 128)^2): at 1024 places a far-from-formed solve costs ~1 s, so it runs every 640 ticks.
@@ -101,7 +104,8 @@ class MetricsTracker {
   Tick last_tick_ = 0;
   std::optional<Tick> last_full_solve_;
   bool last_full_near_formed_ = true;
-  std::vector<RobotId> live_ids_;  // this tick's live robots, id order
+  std::vector<RobotId> live_ids_;    // this tick's live robots, id order
+  std::vector<RobotId> silent_ids_;  // this tick's live but silent robots (kSilentTicks), id order
   std::vector<Vec2> live_positions_;
   std::vector<int> live_labels_;     // their reported labels (the assignment's first guess only)
   std::vector<Anchor> rest_;         // per id

@@ -126,6 +126,7 @@ ojson make_summary(const SummaryInputs& in) {
   j["outcome"] = m.outcome;
   j["stuck_robots"] = m.stuck_robots;
   j["stuck_robot_count"] = m.stuck_robots.size();
+  j["silent_robots"] = m.silent_robots;
   j["command_verdicts"] = in.command_verdicts;
   j["trajectory_sha256"] = in.trajectory_sha256.empty() ? ojson(nullptr) : ojson(in.trajectory_sha256);
   ojson series = ojson::array();

@@ -195,6 +195,7 @@ CommandVerdict World::apply_command(RobotId id, const Command& command) {
   } else if (!command.message.empty()) {
     out.has_message = true;
     out.data.assign(command.message.begin(), command.message.end());
+    m.truth[id].last_broadcast_tick = m.tick;
   }
   m.truth[id].telemetry = command.telemetry;
   m.truth[id].telemetry_tick = m.tick;

@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,9 @@ struct RobotTruth {
   // recorder writes telemetry.events only when they are new (telemetry_tick + 1 == the recorded tick): a
   // robot whose command did not come keeps its old telemetry, whose events must not be logged twice.
   Tick telemetry_tick = 0;
+  // The last tick whose command carried a message (a broadcast), if any. The metrics leave out a live robot
+  // that has said nothing for a while: nobody can hear it, so it cannot take part in a decentralised shape.
+  std::optional<Tick> last_broadcast_tick;
 };
 
 // What the world did with a command (anything but Ok is logged as an event by the caller's recorder).

@@ -258,10 +258,21 @@ int count_events(const harness::Harness& h, const std::string& kind) {
   return n;
 }
 
-// Runs to formation, counting events of `kind` on the way.
+// True when every live robot that speaks (a silent one has no state to report) is Ready or beyond: the
+// controllers' own barrier has passed.
+bool speakers_ready(const harness::Harness& h) {
+  for (const auto& r : h.world().robots()) {
+    if (!r.alive || !r.last_broadcast_tick) continue;
+    if (r.telemetry.state < static_cast<int>(RobotState::Ready)) return false;
+  }
+  return true;
+}
+
+// Runs to formation (the world's judgement from the poses) and until the controllers' barrier has passed
+// (which can come later: the robots stand in place before they know it), counting events of `kind`.
 Outcome run_counting(harness::Harness& h, Tick max_ticks, const std::string& kind, int& count) {
   Outcome o;
-  while (h.world().tick() < max_ticks && !h.metrics().formation_tick) {
+  while (h.world().tick() < max_ticks && !(h.metrics().formation_tick && speakers_ready(h))) {
     h.step();
     count += count_events(h, kind);
   }
