@@ -24,6 +24,7 @@
 #include <functional>
 #include <iostream>
 #include <limits>
+#include <optional>
 #include <thread>
 
 #include "common/dds/signal_watch.hpp"
@@ -89,11 +90,12 @@ int claim_id(RobotId id, dds::AgentInbox& inbox, dds::CommandWriter& commands, d
   }
 }
 
-// Claims `id`, then answers every packet it takes with answer(tick) until the world announces the end (prints
+// Claims `id`, then answers every packet it takes with answer(tick) (nothing when it gives none) until the
+// world announces the end (prints
 // "<name> sent=K" and returns 0); 3 at the timeout, 4 if the claim was refused. `realtime`: best-effort
 // endpoints, as the mission of a realtime run says.
 int answering_agent(dds::Participant& participant, RobotId id, bool realtime, double timeout_s,
-                    const char* name, const std::function<Command(Tick)>& answer) {
+                    const char* name, const std::function<std::optional<Command>(Tick)>& answer) {
   dds::Waiter waiter(participant);
   dds::AgentInbox inbox(participant, id, waiter, realtime);
   dds::CommandWriter commands(participant, realtime);
@@ -109,8 +111,10 @@ int answering_agent(dds::Participant& participant, RobotId id, bool realtime, do
         std::cout << name << " sent=" << sent << std::endl;
         return 0;
       }
-      commands.step(id, packet.perception.tick, answer(packet.perception.tick));
-      ++sent;
+      if (const auto command = answer(packet.perception.tick)) {
+        commands.step(id, packet.perception.tick, *command);
+        ++sent;
+      }
       continue;
     }
     if (dds_time() >= deadline) return 3;
@@ -127,39 +131,20 @@ int nan_agent(dds::Participant& participant, RobotId id, double timeout_s) {
   big.left_speed = big.right_speed = 50.0;
   big.message.assign(100000, 0x55);
   return answering_agent(participant, id, false, timeout_s, "nan",
-                         [&](Tick tick) { return tick % 2 == 1 ? big : bad; });
+                         [&](Tick tick) { return std::optional<Command>(tick % 2 == 1 ? big : bad); });
 }
 
 int slow_agent(dds::Participant& participant, RobotId id, int delay_ms, bool realtime, double timeout_s) {
   const Command stand;  // zero wheel speeds, nothing said
   return answering_agent(participant, id, realtime, timeout_s, "slow", [&](Tick) {
     std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
-    return stand;
+    return std::optional<Command>(stand);
   });
 }
 
 int silent_agent(dds::Participant& participant, RobotId id, double timeout_s) {
-  dds::Waiter waiter(participant);
-  dds::AgentInbox inbox(participant, id, waiter, false);
-  dds::CommandWriter commands(participant, false);
-  waiter.attach(inbox.packet_condition());
-  const dds_time_t deadline = after(timeout_s);
-  if (const int rc = claim_id(id, inbox, commands, waiter, deadline); rc != 0) return rc;
-  dds::SensorSample packet;
-  std::uint64_t foreign = 0;
-  std::uint64_t ignored = 0;
-  for (;;) {
-    if (inbox.take_packet(packet, foreign)) {
-      if (packet.status == dds::PacketStatus::End) {
-        std::cout << "silent ignored=" << ignored << std::endl;
-        return 0;
-      }
-      ++ignored;
-      continue;
-    }
-    if (dds_time() >= deadline) return 3;
-    waiter.wait_until(std::min(deadline, commands.keep_alive(dds_time())));
-  }
+  return answering_agent(participant, id, false, timeout_s, "silent",
+                         [](Tick) { return std::optional<Command>(); });
 }
 
 }  // namespace
