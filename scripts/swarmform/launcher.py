@@ -358,10 +358,10 @@ def run(args, render_pictures):
             return code if code > 0 else 1
         ticks = done[0] if done else "?"
         status.line(f"swarm: {ticks} ticks in {time.monotonic() - started:.1f} s; run directory {run_dir}")
-        if not args.no_pictures:
-            stop.restore()  # Ctrl-C while drawing just stops the drawing
-            return render_pictures(run_dir)
-        return 0
+        stop.restore()  # Ctrl-C while drawing just stops the drawing
+        code = 0 if args.no_pictures else render_pictures(run_dir)
+        _say_if_not_arrived(status, run_dir)
+        return code
     except LaunchError as e:
         status.end()
         print(f"swarm: {e}", file=sys.stderr)
@@ -421,7 +421,25 @@ def _run_in_process(args, stop, status, render_pictures):
         return code if code > 0 else 1
     status.line(f"swarm: run directory {run_dir}")
     stop.restore()
-    return 0 if args.no_pictures else render_pictures(run_dir)
+    code = 0 if args.no_pictures else render_pictures(run_dir)
+    _say_if_not_arrived(status, run_dir)
+    return code
+
+
+def _say_if_not_arrived(status, run_dir):
+    """The run's last line says when it used up max_ticks without arriving (issue 17: no silent end), from
+    summary.json: the outcome and the stuck robots, as world_server's own line gives them."""
+    try:
+        with open(os.path.join(run_dir, "summary.json"), encoding="utf-8") as f:
+            summary = json.load(f)
+    except (OSError, ValueError):
+        return
+    outcome = summary.get("outcome")
+    if outcome in (None, "arrived", "none"):
+        return
+    stuck = " ".join(str(i) for i in summary.get("stuck_robots") or []) or "none"
+    status.line(f"swarm: ended at tick {summary.get('ticks')} without arriving: outcome {outcome}, "
+                f"stuck robots {stuck}")
 
 
 def kill(rid, run_dir):

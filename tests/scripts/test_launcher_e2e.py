@@ -57,6 +57,7 @@ class LauncherEndToEndTest(unittest.TestCase):
     def test_run_writes_a_run_directory_that_reads_back_and_draws(self):
         r = self.run_swarm(domain=150)
         self.assertIn("4 robot agents", r.stderr)
+        self.assertNotIn("without arriving", r.stderr, "a random walk has no goal to miss (outcome none)")
         rec = recording.load(self.out)
         self.assertEqual(rec.warnings, [])
         self.assertEqual(rec.track.robots, 4)
@@ -74,6 +75,15 @@ class LauncherEndToEndTest(unittest.TestCase):
         report = helpers.swarm("report", self.out)
         self.assertEqual(report.returncode, 0, report.stderr)
         self.assertIn("alive at end               4 / 4", report.stdout)
+
+    def test_a_run_that_uses_up_max_ticks_says_so_on_its_last_line(self):
+        r = helpers.swarm("run", "--in-process", "--scenario", os.path.join(helpers.ROOT, "scenarios", "paper.yaml"),
+                          "--max-ticks", "100", "--no-pictures", "--out", self.out, build_dir=BUILD_DIR,
+                          timeout=180)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        last = r.stderr.strip().splitlines()[-1]
+        self.assertTrue(last.startswith("swarm: ended at tick 100 without arriving: outcome not_formed, stuck robots"),
+                        last)
 
     def test_scheduled_kill_is_recorded_as_a_death(self):
         self.run_swarm("--kill", "1@50", domain=151)

@@ -18,10 +18,11 @@ inline bool run_complete(const Metrics& metrics, Tick tick, Tick max_ticks) {
 }
 
 // The last line a front end prints when the run used up max_ticks without arriving (outcome and stuck
-// robots from the summary, so a user need not open it); empty when the run arrived or stopped earlier.
+// robots from the summary, so a user need not open it); empty when the run arrived or stopped earlier, or
+// has no goal (outcome none).
 // E.g. "max_ticks 5000 reached without arriving: outcome formed_not_arrived, stuck robots 1 4".
 inline std::string max_ticks_line(const Metrics& metrics, Tick tick, Tick max_ticks) {
-  if (tick < max_ticks || metrics.goal_tick) return {};
+  if (tick < max_ticks || metrics.goal_tick || metrics.outcome == "none") return {};
   // Appends, not operator+ chains: GCC 12 gives a false -Wrestrict on those at -O2.
   std::string line = "max_ticks ";
   line.append(std::to_string(max_ticks));
