@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/controller_params.hpp"
 #include "robot_agent/controller/drive.hpp"
+#include "robot_agent/controller/obstacle_forces.hpp"
 
 namespace swarmform::controller {
 
@@ -71,10 +73,10 @@ Vec2 avoid_collisions(Vec2 desired, const std::vector<NeighbourPosition>& neighb
 std::vector<NeighbourPosition> unexplained_echoes(const std::array<double, kUltrasonicCount>& readings,
                                                   double theta, const std::vector<NeighbourPosition>& heard,
                                                   double max_echo) {
-  // Algorithm 2's test (obstacle_forces.hpp): a neighbour within the sensor's direction (the mask angle
-  // plus its own angular half-size) whose near side is no further than the echo explains it.
-  constexpr double kMaskAngle = 0.35;
-  constexpr double kSlack = 0.1;
+  // Algorithm 2's test (obstacle_forces.hpp), with the defaults of its parameters: the formation phases
+  // have no parameters of their own for it.
+  static const double kMaskAngle = param_value({}, "neighbour_mask_angle");
+  static const double kSlack = param_value({}, "mask_slack");
   std::vector<NeighbourPosition> out;
   for (std::size_t s = 0; s < kUltrasonicCount; ++s) {
     const double r = readings[s];
@@ -82,9 +84,7 @@ std::vector<NeighbourPosition> unexplained_echoes(const std::array<double, kUltr
     const double azimuth = wrap_angle(theta + kUltrasonicAngles[s]);
     bool explained = false;
     for (const auto& n : heard) {
-      const double half_size = std::atan2(kRobotRadius, std::max(n.range, kRobotRadius));
-      if (std::abs(wrap_angle(n.azimuth - azimuth)) < kMaskAngle + half_size &&
-          r >= n.range - 2.0 * kRobotRadius - kSlack) {
+      if (motion::neighbour_explains_echo(wrap_angle(n.azimuth - azimuth), r, n.range, kMaskAngle, kSlack)) {
         explained = true;
         break;
       }

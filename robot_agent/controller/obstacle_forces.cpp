@@ -14,11 +14,8 @@ SensorMask mask_neighbour_directions(const UltrasonicArray& readings,
   SensorMask mask{};
   for (std::size_t s = 0; s < kUltrasonicCount; ++s) {
     for (const auto& n : neighbours) {
-      const double half_size = std::atan2(kRobotRadius, std::max(n.range, kRobotRadius));
-      const bool in_direction =
-          std::abs(wrap_angle(n.bearing - kUltrasonicAngles[s])) < mask_angle + half_size;
-      const bool explained = readings[s] >= n.range - 2.0 * kRobotRadius - slack;
-      if (in_direction && explained) {
+      if (neighbour_explains_echo(wrap_angle(n.bearing - kUltrasonicAngles[s]), readings[s], n.range,
+                                  mask_angle, slack)) {
         mask[s] = true;
         break;
       }

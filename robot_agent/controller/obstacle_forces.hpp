@@ -25,7 +25,9 @@
 //   for a post.)
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <optional>
 #include <vector>
 
@@ -41,6 +43,15 @@ struct NeighbourBearing {
   double range = 0.0;    // m, centre to centre
   double bearing = 0.0;  // rad, body frame
 };
+
+// Algorithm 2's test for one sensor and one neighbour: the neighbour stands within the sensor's direction
+// (`off`: the angle between them; the mask angle plus the neighbour's own angular half-size) and its near
+// side is no further than the reading, so the echo is that neighbour.
+inline bool neighbour_explains_echo(double off, double reading, double range, double mask_angle,
+                                    double slack) {
+  const double half_size = std::atan2(kRobotRadius, std::max(range, kRobotRadius));
+  return std::abs(off) < mask_angle + half_size && reading >= range - 2.0 * kRobotRadius - slack;
+}
 
 // Algorithm 2's mask. `slack`: m of tolerance on the range consistency.
 SensorMask mask_neighbour_directions(const UltrasonicArray& readings,

@@ -2,24 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <string>
 
 #include "common/controller_params.hpp"
 #include "common/robot_state.hpp"
 
 namespace swarmform::world {
-
-namespace {
-
-double shape_heading(const Mission& mission) {
-  const auto it = mission.params.find("shape_heading");
-  if (it != mission.params.end()) return it->second;
-  const ParamSpec* spec = find_param("shape_heading");
-  return spec != nullptr ? spec->default_value : std::numbers::pi / 2.0;
-}
-
-}  // namespace
 
 Tick full_solve_interval(std::size_t places, bool near_formed) {
   if (near_formed) return kFullSolveEvery;
@@ -29,7 +17,7 @@ Tick full_solve_interval(std::size_t places, bool near_formed) {
 
 MetricsTracker::MetricsTracker(const Mission& mission)
     : has_mission_(mission.behaviour == "paper" && mission.shape.label_count() > 0),
-      assigner_(mission.shape, mission.grid_spacing, shape_heading(mission)),
+      assigner_(mission.shape, mission.grid_spacing, param_value(mission.params, "shape_heading")),
       grid_spacing_(mission.grid_spacing),
       goal_(mission.goal),
       goal_radius_(mission.goal_radius),
@@ -89,16 +77,10 @@ void MetricsTracker::observe(Tick tick, const std::vector<RobotTruth>& robots, C
   bool any_motion = false;
   for (const auto& r : robots) {
     if (r.id >= rest_.size()) continue;
-    if (!r.alive) {
-      rest_[r.id].set = false;
-      stuck_[r.id].set = false;
-      assigned_label_[r.id] = -1;
-      continue;
-    }
     const bool silent =
         r.last_broadcast_tick ? tick >= *r.last_broadcast_tick + kSilentTicks : tick >= kSilentTicks;
-    if (silent) {
-      silent_ids_.push_back(r.id);
+    if (!r.alive || silent) {  // out of the shape: neither judged at rest nor assigned
+      if (r.alive) silent_ids_.push_back(r.id);
       rest_[r.id].set = false;
       stuck_[r.id].set = false;
       assigned_label_[r.id] = -1;

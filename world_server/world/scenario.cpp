@@ -307,11 +307,7 @@ void check_shape_fits(const Source& src, const Scenario& s, int shape_line, bool
   const ShapeMatrix& shape = s.mission.shape;
   const auto [r0, c0] = shape.cell_of(0);
   if (r0 < 0) return;
-  const auto it = s.mission.params.find("shape_heading");
-  const ParamSpec* spec = find_param("shape_heading");
-  const double heading = it != s.mission.params.end()
-                             ? it->second
-                             : (spec != nullptr ? spec->default_value : std::numbers::pi / 2);
+  const double heading = param_value(s.mission.params, "shape_heading");
   const double rot = heading - std::numbers::pi / 2.0;
   const double cr = std::cos(rot);
   const double sr = std::sin(rot);
