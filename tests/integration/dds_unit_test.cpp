@@ -4,6 +4,7 @@
 
 #include "common/dds/cyclone_config.hpp"
 #include "common/dds/robot_block.hpp"
+#include "tests/integration/test_domain.hpp"
 #include "world_server/agent_registry.hpp"
 
 namespace {
@@ -120,6 +121,22 @@ TEST(CycloneConfig, BadDomainOrAddressIsRefused) {
   s.domain = 0;
   s.world_host = "host\"/><x";
   EXPECT_THROW(cyclone_config_xml(s), std::invalid_argument);
+}
+
+// The domain base comes from the environment and a bad one fails the test loudly instead of colliding.
+TEST(TestDomain, BaseComesFromTheEnvironmentAndABadOneIsRefused) {
+  using swarmform::testing::test_domain;
+  const char* old = std::getenv("SWARMFORM_TEST_DOMAIN_BASE");
+  const std::string saved = old != nullptr ? old : "";
+  setenv("SWARMFORM_TEST_DOMAIN_BASE", "140", 1);
+  EXPECT_EQ(test_domain(3), 143);
+  for (const char* bad : {"abc", "12x", "-1", "194"}) {
+    setenv("SWARMFORM_TEST_DOMAIN_BASE", bad, 1);
+    EXPECT_THROW(test_domain(0), std::invalid_argument) << bad;
+  }
+  unsetenv("SWARMFORM_TEST_DOMAIN_BASE");
+  EXPECT_EQ(test_domain(3), 103);
+  if (old != nullptr) setenv("SWARMFORM_TEST_DOMAIN_BASE", saved.c_str(), 1);
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 // Multi-process integration tests (issue 2): the real world_server and robot_agent executables over DDS on
-// loopback. Each test has its own DDS domain (kDomainBase + k), kills every process it started by pid
-// (Process's destructor) and bounds every wait. The scenario: 8 random walkers, lockstep, 300 ticks
-// (random_walk_8.yaml).
+// loopback. Each test has its own DDS domain (test_domain(k), tests/integration/test_domain.hpp), kills every
+// process it started by pid (Process's destructor) and bounds every wait. The scenario: 8 random walkers,
+// lockstep, 300 ticks (random_walk_8.yaml).
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <stdlib.h>
@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "tests/integration/process_fixture.hpp"
+#include "tests/integration/test_domain.hpp"
 
 namespace {
 
@@ -25,7 +26,6 @@ using swarmform::testing::Process;
 using swarmform::testing::read_file;
 using Json = nlohmann::json;
 
-constexpr int kDomainBase = 100;
 constexpr int kRobots = 8;
 constexpr double kRunDeadline = 60.0;  // s, for one whole run (it takes ~2 s)
 
@@ -138,7 +138,7 @@ class MultiProcess : public swarmform::testing::ProcessFixture {
 };
 
 TEST_F(MultiProcess, EightAgentsInLockstepGetOnlyTheirOwnPacketsAndRepeatBitForBit) {
-  const int domain = kDomainBase + 1;
+  const int domain = swarmform::testing::test_domain(1);
   const std::string first = clean_run(domain, "first");
   const std::string second = clean_run(domain, "second");
   EXPECT_EQ(first.size(), 64u);
@@ -146,7 +146,7 @@ TEST_F(MultiProcess, EightAgentsInLockstepGetOnlyTheirOwnPacketsAndRepeatBitForB
 }
 
 TEST_F(MultiProcess, KilledAgentIsDetectedWithinOneSecondAndARestartedOneRejoins) {
-  const int domain = kDomainBase + 2;
+  const int domain = swarmform::testing::test_domain(2);
   std::vector<Process*> agents;
   for (int i = 0; i < kRobots; ++i) agents.push_back(&agent(domain, i, "kill"));
   Process& w = world(
@@ -178,7 +178,7 @@ TEST_F(MultiProcess, KilledAgentIsDetectedWithinOneSecondAndARestartedOneRejoins
 }
 
 TEST_F(MultiProcess, SecondAgentWithATakenIdIsRefused) {
-  const int domain = kDomainBase + 3;
+  const int domain = swarmform::testing::test_domain(3);
   Process& w = world(domain, "dup");
   Process& first = agent(domain, 2, "dup");
   ASSERT_TRUE(eventually(30.0, [&] { return w.err().find("id 2 claimed by pid") != std::string::npos; }));
@@ -197,7 +197,7 @@ TEST_F(MultiProcess, SecondAgentWithATakenIdIsRefused) {
 }
 
 TEST_F(MultiProcess, CommandsFromAWriterThatDoesNotOwnTheIdAreDroppedAndLogged) {
-  const int domain = kDomainBase + 4;
+  const int domain = swarmform::testing::test_domain(4);
   const std::string baseline = clean_run(domain, "baseline");
   Process& spoofer = start(
       {kRogue, "--domain", std::to_string(domain), "--timeout", "60", "spoof", "--target", "5"}, "spoofer");
@@ -209,7 +209,7 @@ TEST_F(MultiProcess, CommandsFromAWriterThatDoesNotOwnTheIdAreDroppedAndLogged) 
 }
 
 TEST_F(MultiProcess, NonFiniteAndOversizeCommandsAreRejectedLoggedAndTheRunGoesOn) {
-  const int domain = kDomainBase + 5;
+  const int domain = swarmform::testing::test_domain(5);
   Process& w = world(domain, "nan");
   for (int i = 0; i < kRobots - 1; ++i) agent(domain, i, "nan");
   Process& rogue =
@@ -229,7 +229,7 @@ TEST_F(MultiProcess, NonFiniteAndOversizeCommandsAreRejectedLoggedAndTheRunGoesO
 }
 
 TEST_F(MultiProcess, WorldNamesTheAgentsMissingAtTheConnectTimeout) {
-  const int domain = kDomainBase + 6;
+  const int domain = swarmform::testing::test_domain(6);
   Process& w = start({kWorld, "--scenario", kScenario, "--out", path("missing"), "--domain",
                       std::to_string(domain), "--connect-timeout", "1"},
                      "missing-world");
@@ -239,26 +239,28 @@ TEST_F(MultiProcess, WorldNamesTheAgentsMissingAtTheConnectTimeout) {
 }
 
 TEST_F(MultiProcess, AgentGivesUpWhenNoWorldShowsUp) {
-  Process& a =
-      start({kAgent, "--id", "0", "--domain", std::to_string(kDomainBase + 7), "--timeout", "1"}, "lonely");
+  Process& a = start(
+      {kAgent, "--id", "0", "--domain", std::to_string(swarmform::testing::test_domain(7)), "--timeout", "1"},
+      "lonely");
   EXPECT_EQ(a.wait_for(15.0), 3);
   EXPECT_NE(a.err().find("no world on DDS domain"), std::string::npos) << a.err();
 }
 
 TEST_F(MultiProcess, AgentStalledPastItsWriterLeaseBeforeTheRunIsCountedAgain) {
-  stalled_before_the_run(kDomainBase + 8, "stalled", std::chrono::milliseconds(750));
+  stalled_before_the_run(swarmform::testing::test_domain(8), "stalled", std::chrono::milliseconds(750));
 }
 
 // 3 s: past what was the agent's participant lease (1 s), after which the world forgot the participant and
 // never heard the agent again; within the 5 s it is now (common/dds/cyclone_config.cpp).
 TEST_F(MultiProcess, AgentStalledForThreeSecondsBeforeTheRunIsCountedAgain) {
-  stalled_before_the_run(kDomainBase + 10, "stalled-long", std::chrono::milliseconds(3000));
+  stalled_before_the_run(swarmform::testing::test_domain(10), "stalled-long",
+                         std::chrono::milliseconds(3000));
 }
 
 // An agent's command writer has manual liveliness (common/dds/qos.hpp): an agent with nothing to write while
 // it waits for the run asserts it, and is not taken for lost, however long the others take to come.
 TEST_F(MultiProcess, AgentWaitingForTheRunKeepsItsLiveliness) {
-  const int domain = kDomainBase + 9;
+  const int domain = swarmform::testing::test_domain(9);
   Process& w =
       start({kWorld, "--scenario", kScenario, "--out", path("waiting"), "--domain", std::to_string(domain),
              "--connect-timeout", "20", "--robots", "2", "--max-ticks", "30"},
@@ -298,7 +300,7 @@ bool not_running(pid_t pid) {
 }
 
 TEST_F(MultiProcess, AgentBlockRunsEachRobotAsItsOwnProcessAndAKilledOneIsDetected) {
-  const int domain = kDomainBase + 12;
+  const int domain = swarmform::testing::test_domain(12);
   Process& block = start({kAgent, "--id", "0", "--count", std::to_string(kRobots), "--domain",
                           std::to_string(domain), "--timeout", "30"},
                          "block");
@@ -325,7 +327,7 @@ TEST_F(MultiProcess, AgentBlockRunsEachRobotAsItsOwnProcessAndAKilledOneIsDetect
 }
 
 TEST_F(MultiProcess, StoppingOrKillingAnAgentBlockStopsEveryRobotInIt) {
-  const int domain = kDomainBase + 13;  // no world: the robots wait for one
+  const int domain = swarmform::testing::test_domain(13);  // no world: the robots wait for one
   for (const int sig : {SIGTERM, SIGKILL}) {
     const std::string tag = sig == SIGTERM ? "term" : "kill";
     Process& block =
@@ -350,7 +352,7 @@ TEST_F(MultiProcess, StoppingOrKillingAnAgentBlockStopsEveryRobotInIt) {
 // the world. 2000 bytes is over the scenario's max_message_bytes (1024), so every command is then counted as
 // not taken as it came; 50 bytes (the random walk's broadcast) is within it.
 TEST_F(MultiProcess, BareRoundRobotsAnswerTheRealWorldWithTheirReplyMessage) {
-  const int domain = kDomainBase + 14;
+  const int domain = swarmform::testing::test_domain(14);
   for (const auto& [bytes, oversize] : {std::pair{"50", false}, std::pair{"2000", true}}) {
     const std::string run = std::string("bare-") + bytes;
     Process& robots = start({kBare, "--domain", std::to_string(domain), "--timeout", "30", "robot", "--id",
@@ -374,7 +376,7 @@ TEST_F(MultiProcess, BareRoundRobotsAnswerTheRealWorldWithTheirReplyMessage) {
 // their ticks and come in during a later one. The world counts the misses and, for each late command, says
 // where its time went (a late_command event and a summary on stderr): here the agent's answer, >= 150 ms.
 TEST_F(MultiProcess, RealtimeWorldTellsWhereALateCommandsTimeWent) {
-  const int domain = kDomainBase + 15;
+  const int domain = swarmform::testing::test_domain(15);
   Process& slow = start({kRogue, "--domain", std::to_string(domain), "--timeout", "30", "slow", "--id", "1",
                          "--delay-ms", "150", "--realtime"},
                         "slow");

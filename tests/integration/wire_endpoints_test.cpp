@@ -1,5 +1,5 @@
-// The typed endpoints of common/dds/wire.hpp on one participant on loopback in its own domain (111), no
-// other process:
+// The typed endpoints of common/dds/wire.hpp on one participant on loopback in its own domain
+// (test_domain(11)), no other process:
 // - the world's packet writers and an agent's command writer keep their instance in Cyclone's key map
 //   between writes (wire.cpp keep_instance). Without that, each write of a best-effort sample created the
 //   instance and freed it again through the domain's gc thread, whose wake-ups preempted the world in the
@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "common/dds/wire.hpp"
+#include "tests/integration/test_domain.hpp"
 
 namespace {
 
@@ -18,7 +19,7 @@ using namespace swarmform;
 
 dds::DdsSettings world_on_loopback() {
   dds::DdsSettings s;
-  s.domain = 111;
+  s.domain = static_cast<std::uint32_t>(swarmform::testing::test_domain(11));
   s.role = dds::Role::World;
   return s;
 }

@@ -13,6 +13,17 @@ FAKE_BUILD = os.path.join(HERE, "fake_build")
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 
 
+def test_domain(offset):
+    """The DDS domain of a networked test: SWARMFORM_TEST_DOMAIN_BASE (default 100) + offset, the scheme and the
+    offsets' table of tests/integration/test_domain.hpp (a window of 40 domains per build)."""
+    text = os.environ.get("SWARMFORM_TEST_DOMAIN_BASE") or "100"
+    if not text.isdigit() or int(text) > 232 - 40 + 1:
+        raise ValueError(f"SWARMFORM_TEST_DOMAIN_BASE={text!r}: want an integer 0..193 "
+                         "(each build's tests use 40 domains from it)")
+    assert 0 <= offset < 40, offset
+    return int(text) + offset
+
+
 def swarm(*args, env=None, timeout=120, build_dir=FAKE_BUILD):
     """Runs scripts/swarm without building; returns the CompletedProcess (text)."""
     e = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=build_dir)

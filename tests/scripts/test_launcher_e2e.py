@@ -55,7 +55,7 @@ class LauncherEndToEndTest(unittest.TestCase):
         return r
 
     def test_run_writes_a_run_directory_that_reads_back_and_draws(self):
-        r = self.run_swarm(domain=150)
+        r = self.run_swarm(domain=helpers.test_domain(23))
         self.assertIn("4 robot agents", r.stderr)
         self.assertNotIn("without arriving", r.stderr, "a random walk has no goal to miss (outcome none)")
         rec = recording.load(self.out)
@@ -86,7 +86,7 @@ class LauncherEndToEndTest(unittest.TestCase):
                         last)
 
     def test_scheduled_kill_is_recorded_as_a_death(self):
-        self.run_swarm("--kill", "1@50", domain=151)
+        self.run_swarm("--kill", "1@50", domain=helpers.test_domain(24))
         rec = recording.load(self.out)
         self.assertEqual([d["id"] for d in rec.summary["deaths"]], [1])
         tick = rec.summary["deaths"][0]["tick"]
@@ -111,7 +111,7 @@ class LauncherEndToEndTest(unittest.TestCase):
         return p
 
     def test_ctrl_c_closes_the_recording_and_leaves_nothing(self):
-        p = self.start_long_run(domain=152)
+        p = self.start_long_run(domain=helpers.test_domain(25))
         with open(os.path.join(self.out, "agents.json")) as f:
             pids = list(json.load(f).values())
         p.send_signal(signal.SIGINT)
@@ -124,7 +124,7 @@ class LauncherEndToEndTest(unittest.TestCase):
         self.assertEqual(processes_mentioning(self.out), [])
 
     def test_swarm_kill_kills_an_agent_and_the_world_records_it(self):
-        p = self.start_long_run(domain=153)
+        p = self.start_long_run(domain=helpers.test_domain(26))
         try:
             r = helpers.swarm("kill", "2", "--run", self.out, build_dir=BUILD_DIR)
             self.assertEqual(r.returncode, 0, r.stderr)

@@ -3,7 +3,8 @@
 // a real SIGKILL of the leader mid-way gives a new leader within 50 ticks and the swarm arrives; a real
 // SIGKILL of a parent makes its children re-parent and arrive. Whom to kill and when comes from a clean run
 // of the same deterministic scenario (lockstep: the killed run is that run up to the kill). Each test has its
-// own DDS domain (181..185), kills every process it started by pid (Process's destructor), bounds every wait.
+// own DDS domain (test_domain(16..20), tests/integration/test_domain.hpp), kills every process it started by
+// pid (Process's destructor), bounds every wait.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -15,6 +16,7 @@
 #include <sstream>
 
 #include "tests/integration/process_fixture.hpp"
+#include "tests/integration/test_domain.hpp"
 
 namespace {
 
@@ -22,7 +24,6 @@ using swarmform::testing::Process;
 using swarmform::testing::read_file;
 using Json = nlohmann::json;
 
-constexpr int kDomainBase = 180;
 constexpr int kRobots = 9;
 constexpr double kRunDeadline = 90.0;  // s, one whole run (it takes ~5 s on a quiet 2-core machine)
 constexpr int kNewLeaderWithin = 50;   // ticks from the leader's death to its successor's `since` (issue 4)
@@ -136,7 +137,7 @@ class PaperMultiProcess : public swarmform::testing::ProcessFixture {
 };
 
 TEST_F(PaperMultiProcess, TriangleFormsWithRealAgentsAndTwoLockstepRunsRepeatBitForBit) {
-  const int domain = kDomainBase + 1;
+  const int domain = swarmform::testing::test_domain(16);
   const Json first = run(domain, "first");
   const Json second = run(domain, "second");
   ASSERT_FALSE(first["formation_tick"].is_null()) << first.dump();
@@ -155,7 +156,7 @@ TEST_F(PaperMultiProcess, TriangleFormsWithRealAgentsAndTwoLockstepRunsRepeatBit
 }
 
 TEST_F(PaperMultiProcess, LeaderKilledMidWayGetsASuccessorWithin50TicksAndTheSwarmArrives) {
-  const int domain = kDomainBase + 2;
+  const int domain = swarmform::testing::test_domain(17);
   const Json clean = run(domain, "clean");
   const Plan p = plan(clean, "clean");
   ASSERT_GE(p.leader, 0);
@@ -180,7 +181,7 @@ TEST_F(PaperMultiProcess, LeaderKilledMidWayGetsASuccessorWithin50TicksAndTheSwa
 }
 
 TEST_F(PaperMultiProcess, ParentKilledMidWayHasItsChildrenReparentAndArrive) {
-  const int domain = kDomainBase + 3;
+  const int domain = swarmform::testing::test_domain(18);
   const Json clean = run(domain, "clean");
   const Plan p = plan(clean, "clean");
   ASSERT_GT(p.kill_tick, 0);
@@ -224,7 +225,7 @@ TEST_F(PaperMultiProcess, ParentKilledMidWayHasItsChildrenReparentAndArrive) {
 // The seed election survives its winner's death (issue 17): the robot that would become the seed (label 0,
 // taken ~30 ticks in) is SIGKILLed at tick 5; the others elect another and the swarm still arrives.
 TEST_F(PaperMultiProcess, WouldBeSeedKilledAtTick5AnotherIsElectedAndTheSwarmArrives) {
-  const int domain = kDomainBase + 4;
+  const int domain = swarmform::testing::test_domain(19);
   const Json clean = run(domain, "clean");
   const auto seeds = events_of("clean", "seed_elected");
   ASSERT_FALSE(seeds.empty());
@@ -244,7 +245,7 @@ TEST_F(PaperMultiProcess, WouldBeSeedKilledAtTick5AnotherIsElectedAndTheSwarmArr
 // A live agent that never answers (issue 17): it holds an id but says nothing, so its robot takes no label.
 // The world stops waiting for it after one missed deadline; the others give its label up and arrive.
 TEST_F(PaperMultiProcess, SilentAgentsLabelIsAbandonedAndTheOthersArrive) {
-  const int domain = kDomainBase + 5;
+  const int domain = swarmform::testing::test_domain(20);
   constexpr int kSilent = 4;
   const Json s = run(domain, "silent", std::nullopt, kSilent);
   expect_outcome_arrived(s);

@@ -1,0 +1,42 @@
+// The DDS domain of a test that talks over the network: SWARMFORM_TEST_DOMAIN_BASE (default 100) plus the
+// test's own offset, below kTestDomainWindow. Two builds (say Release and the sanitizer build) run their
+// tests side by side when their bases lie a window apart. Offsets in use (tests/README.md keeps the table):
+//   1..15 multiprocess_test (11: wire_endpoints_test), 16..20 paper_multiprocess_test, 21..22
+//   bench_lockstep_smoke, 23..26 tests/scripts/test_launcher_e2e.py, 27..35 tests/bench/test_bench_script.py.
+#pragma once
+
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+
+#include "common/dds/cyclone_config.hpp"
+
+namespace swarmform::testing {
+
+inline constexpr int kTestDomainWindow = 40;
+inline constexpr int kDefaultTestDomainBase = 100;
+
+// Throws (the test fails, naming the variable) when the base is not a number or its window passes kMaxDomain.
+inline int test_domain(int offset) {
+  int base = kDefaultTestDomainBase;
+  if (const char* env = std::getenv("SWARMFORM_TEST_DOMAIN_BASE"); env != nullptr && *env != '\0') {
+    std::size_t used = 0;
+    try {
+      base = std::stoi(env, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    const int highest = static_cast<int>(swarmform::dds::kMaxDomain) - kTestDomainWindow + 1;
+    if (used != std::string(env).size() || base < 0 || base > highest) {
+      throw std::invalid_argument("SWARMFORM_TEST_DOMAIN_BASE='" + std::string(env) +
+                                  "': want an integer 0.." + std::to_string(highest) +
+                                  " (each build's tests use " + std::to_string(kTestDomainWindow) +
+                                  " domains from it)");
+    }
+  }
+  if (offset < 0 || offset >= kTestDomainWindow)
+    throw std::out_of_range("test domain offset out of the window");
+  return base + offset;
+}
+
+}  // namespace swarmform::testing
