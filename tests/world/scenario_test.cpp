@@ -269,6 +269,20 @@ TEST(Scenario, RejectsOutOfRangeValues) {
   expect_rejected("shape: triangle.txt\ngoal: {x: 40, y: 0}\n", 2, "goal: (40, 0) lies outside");
 }
 
+// Found by checking what the scenario fuzzer (tests/fuzz) accepts: centres and listed poses took any finite
+// number, so robots at 1e308 reached the physics.
+TEST(Scenario, RejectsCoordinatesBeyondTheLengthLimit) {
+  expect_rejected("shape: triangle.txt\narena: {centre: [1e300, 0], walls: false}\n", 2,
+                  "arena.centre[0]: must be in [-10000, 10000], got 1e+300");
+  expect_rejected("shape: triangle.txt\nobstacles:\n  - {type: cylinder, centre: [1, -20000], radius: 0.2}\n",
+                  3, "obstacles[0].centre[1]: must be in [-10000, 10000]");
+  expect_rejected("shape: triangle.txt\nrobots: {region: {centre: [-1e6, 0], width: 3, height: 3}}\n", 2,
+                  "robots.region.centre[0]: must be in [-10000, 10000]");
+  expect_rejected(
+      "shape: triangle.txt\narena: {walls: false}\nrobots:\n  poses:\n    - [0, 0]\n    - [1e308, 0]\n", 6,
+      "robots.poses[1][0]: must be in [-10000, 10000]");
+}
+
 TEST(Scenario, RejectsOverlappingListedRobots) {
   expect_rejected("shape: triangle.txt\nrobots:\n  poses:\n    - [0, 0, 0]\n    - [0.1, 0, 0]\n", 5,
                   "robot 1 overlaps robot 0");

@@ -69,6 +69,18 @@ std::string resolve_shape(const std::string& given, const std::vector<fs::path>&
   return {};
 }
 
+// A coordinate of the arena (a centre, a pose): within +-kMaxLength, like every length. A farther one is a
+// typo, and would leave the physics no precision (doubles near 1e300 are 1e284 apart).
+double coordinate(const Source& src, const YAML::Node& n, const std::string& path) {
+  return yaml::check_range(src, n, path, yaml::to_number(src, n, path), -kMaxLength, kMaxLength);
+}
+Vec2 point(const Source& src, const YAML::Node& n, const std::string& path) {
+  const Vec2 v = yaml::to_vec2(src, n, path);
+  coordinate(src, n[0], path + "[0]");
+  coordinate(src, n[1], path + "[1]");
+  return v;
+}
+
 Mode parse_mode(const Source& src, const YAML::Node& n, const std::string& path) {
   const std::string s = yaml::to_string(src, n, path);
   if (s == "lockstep") return Mode::Lockstep;
@@ -80,7 +92,7 @@ void parse_arena(const Source& src, MapReader& top, Scenario& s) {
   auto node = top.get("arena");
   if (!node) return;
   MapReader m(src, *node, "arena");
-  if (auto c = m.get("centre")) s.arena_centre = yaml::to_vec2(src, *c, m.field("centre"));
+  if (auto c = m.get("centre")) s.arena_centre = point(src, *c, m.field("centre"));
   s.arena_width = m.positive("width", s.arena_width, kMaxLength);
   s.arena_height = m.positive("height", s.arena_height, kMaxLength);
   s.walls = m.boolean("walls", s.walls);
@@ -97,7 +109,7 @@ Obstacle parse_obstacle(const Source& src, const YAML::Node& node, const std::st
   if (auto name = m.get("name")) o.name = yaml::to_string(src, *name, m.field("name"));
   auto centre = m.get("centre");
   if (!centre) yaml::fail(src, node, path, "missing 'centre' ([x, y], m)");
-  o.centre = yaml::to_vec2(src, *centre, m.field("centre"));
+  o.centre = point(src, *centre, m.field("centre"));
   if (t == "box") {
     o.kind = Obstacle::Kind::Box;
     auto size = m.get("size");
@@ -156,7 +168,7 @@ RobotsSection parse_robots(const Source& src, MapReader& top) {
     MapReader rm(src, *reg, "robots.region");
     PlacementRegion pr;
     auto c = rm.get("centre");
-    if (c) pr.centre = yaml::to_vec2(src, *c, rm.field("centre"));
+    if (c) pr.centre = point(src, *c, rm.field("centre"));
     pr.width = rm.positive("width", 0.0, kMaxLength);
     pr.height = rm.positive("height", 0.0, kMaxLength);
     if (!rm.has("width") || !rm.has("height")) {
@@ -179,7 +191,7 @@ RobotsSection parse_robots(const Source& src, MapReader& top) {
       if (!p.IsSequence() || (p.size() != 2 && p.size() != 3)) {
         yaml::fail(src, p, path, "expected [x, y] or [x, y, theta] (m, m, rad)");
       }
-      Pose2D pose{yaml::to_number(src, p[0], path + "[0]"), yaml::to_number(src, p[1], path + "[1]"), 0.0};
+      Pose2D pose{coordinate(src, p[0], path + "[0]"), coordinate(src, p[1], path + "[1]"), 0.0};
       if (p.size() == 3) {
         pose.theta = yaml::check_range(src, p[2], path + "[2]", yaml::to_number(src, p[2], path + "[2]"),
                                        -2.0 * std::numbers::pi, 2.0 * std::numbers::pi);
