@@ -3,8 +3,9 @@
 
 scenario/ and shape/: the repository's scenarios/*.yaml and shapes/*.txt as they were (the other files there,
 written by hand, are left alone: fields the scenarios do not use, and inputs that must be refused). message/ and readings/: inputs encoded by hand after the layouts
-documented in robot_agent/controller/message.hpp, motion_section.hpp and common/dds/readings_blob.hpp. A
-crash found by a fuzzer goes into corpus/<target>/ as well, named crash-<what>, with a regression test.
+documented in robot_agent/controller/message.hpp, motion_section.hpp and common/dds/readings_blob.hpp. An
+input that showed a bug (a crash, or a bad input accepted) goes into corpus/<target>/ as well, named
+bug-<what>, with a regression test beside the parser's tests.
 """
 import pathlib
 import shutil
