@@ -45,6 +45,7 @@ constexpr const char* kCommandTopic = "sf_command";
 constexpr const char* kWorldStateTopic = "sf_world_state";
 
 constexpr std::uint32_t kTakeBatch = 64;
+constexpr std::int32_t kInboxDepth = 16;  // AgentInbox's history per instance (see its constructor)
 
 Entity make_topic(dds_entity_t participant, const dds_topic_descriptor_t* desc, const char* name) {
   return Entity(dds_create_topic(participant, desc, name, nullptr, nullptr), "dds_create_topic");
@@ -506,6 +507,10 @@ struct AgentInbox::Impl {
   // Takes everything available: the newest own perception into `staged`, the newest claim answer into
   // `reply`.
   void poll() {
+    while (poll_batch() == 8) {
+    }
+  }
+  int poll_batch() {
     void* ptrs[8] = {};
     dds_sample_info_t infos[8];
     const int n = check(dds_take(packets.get(), ptrs, infos, 8, 8), "dds_take(sensor)");
@@ -553,6 +558,7 @@ struct AgentInbox::Impl {
       p.pose = Pose2D{s.x, s.y, s.theta};
       std::copy(std::begin(s.ultrasonic), std::end(s.ultrasonic), p.ultrasonic.begin());
     }
+    return n;
   }
 };
 
@@ -564,8 +570,14 @@ AgentInbox::AgentInbox(const Participant& participant, RobotId self, Waiter& wai
   dds_listener_t* listener = dds_create_listener(impl_.get());
   dds_lset_liveliness_changed(listener, &Impl::on_liveliness);
   try {
-    impl_->packets = make_reader(impl_->subscriber.get(), participant.topics().sensor.get(), Channel::Sensor,
-                                 listener, pace_of(realtime));
+    // Keep-last 1 per instance on the writer, but deeper here: the depth counts samples of every writer of
+    // the instance, so another participant's forged samples, refused when taken, would otherwise push the
+    // world's own perception out before it is taken (docs/wire.md "Writer binding").
+    Qos qos = make_qos(Channel::Sensor, pace_of(realtime));
+    dds_qset_history(qos.get(), DDS_HISTORY_KEEP_LAST, kInboxDepth);
+    impl_->packets = Entity(
+        dds_create_reader(impl_->subscriber.get(), participant.topics().sensor.get(), qos.get(), listener),
+        "dds_create_reader(sensor)");
   } catch (...) {
     dds_delete_listener(listener);
     throw;

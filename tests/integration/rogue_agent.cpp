@@ -246,6 +246,10 @@ int main(int argc, char** argv) {
   double timeout_s = 60.0;
   app.add_option("--domain", domain, "DDS domain id")->check(CLI::Range(0u, 232u));
   app.add_option("--timeout", timeout_s, "give up after this many seconds");
+  std::vector<std::string> peers;
+  app.add_option("--peer", peers,
+                 "HOST:PORT: another discovery peer beside the world (forge: the target agent's "
+                 "ports, as a forger on the host would find them)");
   auto* sp = app.add_subcommand("spoof", "write commands for another robot's id");
   std::uint32_t target = 0;
   sp->add_option("--target", target, "the robot to impersonate")->required();
@@ -281,6 +285,7 @@ int main(int argc, char** argv) {
     dds::DdsSettings settings;
     settings.domain = domain;
     settings.role = dds::Role::Agent;
+    settings.extra_peers = peers;
     dds::Participant participant(settings);
     if (sp->parsed()) return spoof(participant, target, timeout_s);
     if (sl->parsed()) return slow_agent(participant, id, delay_ms, realtime, timeout_s);
