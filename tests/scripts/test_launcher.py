@@ -57,9 +57,12 @@ class LauncherTest(unittest.TestCase):
         self.assertEqual(sorted(pids), [0, 1, 2])
         with open(os.path.join(out, "world_args.json")) as f:
             world_args = json.load(f)
-        for rid, pid in pids.items():
-            self.assertIn(f"{rid}={pid}", world_args)
-        for flag in (["--kill", "1@20"], ["--domain", "77"], ["--robots", "3"], ["--out", out]):
+        # The world starts first and reads the agents' pids from agents.json (for --kill) once they run; it
+        # and every agent get the run's nonce.
+        nonce = world_args[world_args.index("--run-nonce") + 1]
+        self.assertRegex(nonce, r"^[0-9a-f]{16}$")
+        for flag in (["--kill", "1@20"], ["--domain", "77"], ["--robots", "3"], ["--out", out],
+                     ["--agent-pids", os.path.join(out, "agents.json")]):
             i = world_args.index(flag[0])
             self.assertEqual(world_args[i:i + 2], flag)
         for rid in pids:
@@ -154,7 +157,7 @@ class LauncherTest(unittest.TestCase):
                               "--max-ticks", "100000", "--out", out, "--no-pictures"], env=env,
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         self.started.append(p)
-        self.assertTrue(wait_for(lambda: os.path.exists(os.path.join(out, "world_args.json")), 20.0))
+        self.assertTrue(wait_for(lambda: os.path.exists(os.path.join(out, "agents.json")), 20.0))
         return p
 
     def test_ctrl_c_stops_everything_and_exits_130(self):
