@@ -78,10 +78,12 @@ class DomainLease:
             self._fd = None
 
 
-def pick_free_domain(env=None):
-    """The lowest free domain of the range, locked; DomainError when none is."""
+def pick_free_domain(env=None, probe=None, directory=None):
+    """The lowest free domain of the range, locked; DomainError when none is. `probe(domain)` (default
+    ports_free) and `directory` (default lock_dir()) are for tests."""
     lo, hi = domain_range(env)
-    directory = lock_dir()
+    probe = probe or ports_free
+    directory = directory or lock_dir()
     os.makedirs(directory, mode=0o700, exist_ok=True)
     for domain in range(lo, hi + 1):
         fd = os.open(os.path.join(directory, f"domain-{domain}.lock"), os.O_RDWR | os.O_CREAT, 0o600)
@@ -90,7 +92,7 @@ def pick_free_domain(env=None):
         except OSError:
             os.close(fd)
             continue
-        if ports_free(domain):
+        if probe(domain):
             return DomainLease(domain, fd)
         os.close(fd)
     raise DomainError(f"no free DDS domain in {lo}..{hi} on this host (every one has a world or another launcher "
