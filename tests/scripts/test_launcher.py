@@ -146,6 +146,17 @@ class LauncherTest(unittest.TestCase):
         self.assertIn("world_server failed (exit 3)", r.stderr)
         self.assert_all_gone(agent_pids(out).values())
 
+    def test_an_agent_that_exits_with_an_error_is_a_loud_warning(self):
+        # Issue 18: a refused claim is a loud warning with the agent's own words, not a silent death.
+        out = os.path.join(self.dir, "run")
+        r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "3", "--max-ticks", "200", "--out", out,
+                          "--domain", "77", "--no-pictures",
+                          env={"FAKE_AGENT_EXIT_S": "0.2", "FAKE_AGENT_REFUSED": "1", "FAKE_WORLD_SLOW": "0.01"})
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("swarm: WARNING: agent 1 exited with code 4: robot_agent 1: refused: id is already owned",
+                      r.stderr)
+        self.assertEqual(r.stderr.count("WARNING"), 1, r.stderr)
+
     def test_missing_executables_are_explained(self):
         r = helpers.swarm("run", "--scenario", self.scenario, build_dir=os.path.join(self.dir, "nothing"))
         self.assertEqual(r.returncode, 1)
