@@ -383,6 +383,10 @@ def run(args, render_pictures):
         status.line(f"swarm: {n} robot agents, {info.get('mode', '?')} mode, up to {max_ticks} ticks, "
                     f"seed {info.get('seed')}; run directory {run_dir}")
         domain = args.domain
+        if domain is not None and not domains.ports_free(domain):
+            ports = " and ".join(str(p) for p in domains.world_ports(domain))
+            raise LaunchError(f"DDS domain {domain} is in use on this host (UDP port {ports} held: another run's "
+                              "world?); choose another --domain, or leave it out to pick a free one")
         if domain is None:
             try:
                 lease = domains.pick_free_domain()

@@ -157,6 +157,27 @@ class LauncherTest(unittest.TestCase):
                       r.stderr)
         self.assertEqual(r.stderr.count("WARNING"), 1, r.stderr)
 
+    def test_a_domain_in_use_on_this_host_is_refused_before_anything_starts(self):
+        import socket
+        from swarmform import domains
+        s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        try:
+            s.bind(("127.0.0.1", 0))  # an ephemeral port, standing in for a world's port of domain 77
+            port = s.getsockname()[1]
+            probe = os.path.join(self.dir, "sitecustomize.py")  # makes the launcher see it as domain 77's
+            with open(probe, "w") as f:
+                f.write("from swarmform import domains\n"
+                        f"domains.world_ports = lambda d: ({port}, {port}) if d == 77 else (7400 + 100 * d + 10,) * 2\n")
+            out = os.path.join(self.dir, "run")
+            r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "2", "--out", out, "--domain", "77",
+                              "--no-pictures", env={"PYTHONPATH": self.dir + os.pathsep + os.path.join(helpers.ROOT,
+                                                                                                       "scripts")})
+        finally:
+            s.close()
+        self.assertEqual(r.returncode, 1, r.stderr)
+        self.assertIn("DDS domain 77 is in use on this host", r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(out, "agents.json")))
+
     def test_missing_executables_are_explained(self):
         r = helpers.swarm("run", "--scenario", self.scenario, build_dir=os.path.join(self.dir, "nothing"))
         self.assertEqual(r.returncode, 1)
