@@ -278,11 +278,28 @@ class AgentWatch:
             return
         self.last = time.monotonic()
         for rid, p in list(self.procs.agents.items()):
-            code = p.poll()
-            if code is None or code <= 0 or rid in self.said:
+            if rid in self.said:
+                continue
+            code = _exit_code_unreaped(p)
+            if code is None or code <= 0:
                 continue
             self.said.add(rid)
             self.status.line(f"swarm: WARNING: agent {rid} exited with code {code}: {_last_line(self.logs, rid)}")
+
+
+def _exit_code_unreaped(p):
+    """An agent's exit code (negative: killed by that signal), or None while it runs. Looked at without reaping it:
+    an exited agent stays a zombie until the end of the run, so its pid cannot be reused by another process that
+    the world's --kill or `swarm kill` would then hit."""
+    if p.returncode is not None:
+        return p.returncode
+    try:
+        r = os.waitid(os.P_PID, p.pid, os.WEXITED | os.WNOHANG | os.WNOWAIT)
+    except ChildProcessError:
+        return None
+    if r is None or r.si_pid == 0:
+        return None
+    return r.si_status if r.si_code == os.CLD_EXITED else -r.si_status
 
 
 def _last_line(logs, rid):
