@@ -137,6 +137,28 @@ TEST_F(WireFaults, WorldStalledThreeSecondsInLockstepKillsNobodyAndChangesNothin
   EXPECT_EQ(s["alive_at_end"], kRobots);
 }
 
+// An agent tolerates a silent world for --world-timeout seconds of its own time (default 10): with 1 s it
+// gives up during a 4 s stall of the world and says so; one with the default rides the stall out.
+TEST_F(WireFaults, AgentGivesUpOnASilentWorldOnlyAfterItsWorldTimeout) {
+  const int domain = swarmform::testing::test_domain(36);
+  Process& w = world(domain, "silent-world", {"--robots", "2", "--max-ticks", std::to_string(kLongRun)});
+  Process& impatient = agent(domain, 0, "silent-world", {"--world-timeout", "1"});
+  Process& patient = agent(domain, 1, "silent-world");
+  ASSERT_TRUE(eventually(kRunDeadline, [&] { return ticking(w) || !w.running(); })) << w.out();
+  ASSERT_TRUE(w.running());
+  stall(w.pid(), std::chrono::milliseconds(4000));
+  EXPECT_EQ(impatient.wait_for(15.0), 3) << impatient.err();
+  EXPECT_NE(impatient.err().find("the world went away before announcing the end (silent for 1 s"),
+            std::string::npos)
+      << impatient.err();
+  EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_EQ(patient.wait_for(15.0), 0) << patient.err();
+  const Json s = summary("silent-world");
+  EXPECT_EQ(s["alive_at_end"], 1);
+  ASSERT_EQ(s["deaths"].size(), 1u) << s.dump();
+  EXPECT_EQ(s["deaths"][0]["id"], 0);
+}
+
 // An agent stalled 3 s in lockstep is taken for dead (its lease ran out while the world was awake); when it
 // resumes, its robot rejoins and its controller starts afresh (init again), recorded as a rejoin.
 TEST_F(WireFaults, AgentStalledThreeSecondsInLockstepRejoinsWithAFreshController) {
