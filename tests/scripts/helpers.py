@@ -28,6 +28,8 @@ def test_domain(offset):
 def swarm(*args, env=None, timeout=120, build_dir=FAKE_BUILD):
     """Runs scripts/swarm without building; returns the CompletedProcess (text)."""
     e = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=build_dir)
+    if build_dir == FAKE_BUILD:  # the stand-in world holds no DDS port: see fake_build/python/sitecustomize.py
+        e["PYTHONPATH"] = os.path.join(FAKE_BUILD, "python")
     e.update(env or {})
     return subprocess.run([SWARM] + list(args), capture_output=True, text=True, timeout=timeout, env=e)
 
