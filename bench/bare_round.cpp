@@ -14,6 +14,7 @@
 #include <iostream>
 #include <vector>
 
+#include "common/dds/refusal_log.hpp"
 #include "common/dds/robot_block.hpp"
 #include "common/dds/robot_process.hpp"
 #include "common/dds/signal_watch.hpp"
@@ -110,7 +111,12 @@ int run_robot(RobotId id, const Payload& payload, std::uint32_t domain, double t
   dds::Waiter waiter(participant);
   dds::AgentInbox inbox(participant, id, waiter);
   dds::CommandWriter commands(participant);
+  // Against world_server: its mission names the run, whose nonce every claim and command must carry (the
+  // bare world publishes none, and takes anything).
+  dds::MissionReader mission(participant);
+  dds::RefusalLog refusals("bare_round robot " + std::to_string(id), std::cerr);
   waiter.attach(inbox.packet_condition());
+  waiter.attach(mission.condition());
   signals.notify(&waiter);
 
   dds::SensorSample packet;
@@ -122,6 +128,10 @@ int run_robot(RobotId id, const Payload& payload, std::uint32_t domain, double t
   reply.message.assign(payload.reply_bytes, 0);
   for (;;) {
     if (signals.stop_requested()) return 130;
+    if (auto m = mission.take(std::nullopt, refusals)) {
+      commands.set_stamp(m->run_nonce);
+      inbox.bind(dds::WorldBinding{m->world, m->run_nonce}, "bare_round robot " + std::to_string(id));
+    }
     if (inbox.take_packet(packet, foreign)) {
       started = true;
       if (packet.status == dds::PacketStatus::End) return 0;

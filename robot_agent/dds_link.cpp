@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <iostream>
 #include <random>
 
 namespace swarmform::agent {
@@ -10,9 +11,6 @@ namespace swarmform::agent {
 namespace {
 
 constexpr dds_duration_t kReclaimPeriod = DDS_SECS(1);  // see next_packet in the header
-// How long the world's writers must stay not alive before the agent takes the world for gone (see
-// next_packet in the header): a dead world is noticed within its writer lease (2 s) + this.
-constexpr dds_duration_t kWorldGoneGrace = DDS_SECS(3);
 
 dds_time_t after(double seconds) {
   return dds_time() + static_cast<dds_duration_t>(seconds * 1e9);
@@ -26,8 +24,16 @@ std::uint64_t fresh_nonce() {
 
 }  // namespace
 
-AgentLink::AgentLink(const dds::DdsSettings& settings, RobotId self, dds::SignalWatch& signals)
-    : self_(self), signals_(signals), participant_(settings), waiter_(participant_), mission_(participant_) {
+AgentLink::AgentLink(const dds::DdsSettings& settings, RobotId self, dds::SignalWatch& signals,
+                     LinkOptions options)
+    : self_(self),
+      signals_(signals),
+      options_(options),
+      who_("robot_agent " + std::to_string(self)),
+      mission_refusals_(who_, std::cerr),
+      participant_(settings),
+      waiter_(participant_),
+      mission_(participant_) {
   waiter_.attach(mission_.condition());
   signals_.notify(&waiter_);
 }
@@ -39,12 +45,17 @@ AgentLink::~AgentLink() {
 WaitResult AgentLink::wait_mission(double timeout_s, dds::MissionAnnouncement& out) {
   const dds_time_t deadline = after(timeout_s);
   for (;;) {
-    if (auto m = mission_.take()) {
+    if (auto m = mission_.take(options_.run_nonce, mission_refusals_)) {
       out = std::move(*m);
       if (!inbox_) {
+        // Bound to the world whose mission this is (docs/wire.md "Writer binding"): from now on packets,
+        // END and claim answers are taken from its participant and run only.
+        mission_taken_ = out;
         inbox_.emplace(participant_, self_, waiter_, out.realtime);
+        inbox_->bind(dds::WorldBinding{out.world, out.run_nonce}, who_);
         waiter_.attach(inbox_->packet_condition());
         commands_.emplace(participant_, out.realtime);
+        commands_->set_stamp(out.run_nonce);
       }
       return WaitResult::Ok;
     }
@@ -68,7 +79,7 @@ WaitResult AgentLink::claim(double timeout_s, dds::ClaimAnswer& out) {
         return WaitResult::Ok;
       }
     }
-    (void)mission_.take();  // a republished mission is not news here
+    (void)mission_.take(options_.run_nonce, mission_refusals_);  // a republished mission is not news here
     if (signals_.stop_requested()) return WaitResult::Stopped;
     const dds_time_t now = dds_time();
     if (now >= deadline) return WaitResult::Timeout;
@@ -84,16 +95,22 @@ WaitResult AgentLink::claim(double timeout_s, dds::ClaimAnswer& out) {
   }
 }
 
+std::uint64_t AgentLink::refused_samples() const {
+  return mission_refusals_.total() + (inbox_ ? inbox_->refused() : 0);
+}
+
 WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out) {
   dds_time_t idle_deadline = after(idle_timeout_s);
   dds_time_t reclaim = packets_ == 0 ? dds_time() + kReclaimPeriod : DDS_NEVER;
-  dds_time_t world_silent_since = DDS_NEVER;
+  dds_time_t world_silent_since = DDS_NEVER;  // in awake time (clock_)
+  const auto world_timeout = static_cast<dds_duration_t>(options_.world_timeout_s * 1e9);
   for (;;) {
+    clock_.observe(dds_time());
     if (inbox_->take_packet(out, foreign_)) {
       ++packets_;
       return WaitResult::Ok;
     }
-    (void)mission_.take();
+    (void)mission_.take(options_.run_nonce, mission_refusals_);
     if (auto answer = inbox_->take_claim_reply();
         answer && answer->nonce == claim_nonce_ && !answer->accepted) {
       // Another agent took the id over while we were lost: stop claiming it (the world says why once).
@@ -107,13 +124,15 @@ WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out)
       world_silent_since = DDS_NEVER;
     } else {
       if (inbox_->world_seen()) {
-        // Gone only if it stays silent for kWorldGoneGrace: an agent that was itself stalled past the world's
-        // writer lease (2 s) finds that lease expired when it resumes, until the world's next liveliness
-        // message comes in (within its lease).
-        if (world_silent_since == DDS_NEVER) world_silent_since = now;
-        if (now - world_silent_since >= kWorldGoneGrace) return WaitResult::WorldGone;
+        // Gone only if it stays silent for world_timeout_s of this agent's own awake time: an agent that was
+        // itself stalled past the world's writer lease (2 s) finds that lease expired when it resumes, until
+        // the world's next liveliness message comes in (within its lease); a world that is stalled itself
+        // (SIGSTOP, swap) comes back.
+        if (world_silent_since == DDS_NEVER) world_silent_since = clock_.awake();
+        if (clock_.awake() - world_silent_since >= world_timeout) return WaitResult::WorldGone;
+      } else if (now >= idle_deadline) {
+        return WaitResult::Timeout;
       }
-      if (now >= idle_deadline) return WaitResult::Timeout;
     }
     if (now >= reclaim) {  // before the first packet only (see the header)
       commands_->claim(self_, claim_nonce_, static_cast<std::uint32_t>(getpid()));
@@ -121,10 +140,9 @@ WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out)
     }
     // Wake at least once a second to re-check the world's liveliness against the idle deadline, and to keep
     // our own alive while the world sends nothing (before the run, or a slow lockstep round).
-    const dds_time_t gone_check =
-        world_silent_since == DDS_NEVER ? DDS_NEVER : world_silent_since + kWorldGoneGrace;
-    waiter_.wait_until(
-        std::min({idle_deadline, now + DDS_SECS(1), reclaim, gone_check, commands_->keep_alive(now)}));
+    dds_time_t wake = std::min({now + DDS_SECS(1), reclaim, commands_->keep_alive(now)});
+    if (!inbox_->world_seen()) wake = std::min(wake, idle_deadline);
+    waiter_.wait_until(wake);
   }
 }
 

@@ -7,8 +7,10 @@
 #include <optional>
 #include <string>
 
+#include "common/dds/refusal_log.hpp"
 #include "common/dds/signal_watch.hpp"
 #include "common/dds/wire.hpp"
+#include "common/own_clock.hpp"
 
 namespace swarmform::agent {
 
@@ -19,9 +21,17 @@ enum class WaitResult {
   WorldGone,  // the world's packet writer was alive and is no more
 };
 
+struct LinkOptions {
+  // Take only the mission of this run (the launcher's --run-nonce); any first mission when empty.
+  std::optional<std::uint64_t> run_nonce;
+  // How long, in this agent's own awake time, the world's writers may stay not alive before the world is
+  // taken for gone (issue 18: a stalled or swapped world is not a dead one).
+  double world_timeout_s = 10.0;
+};
+
 class AgentLink {
  public:
-  AgentLink(const dds::DdsSettings& settings, RobotId self, dds::SignalWatch& signals);
+  AgentLink(const dds::DdsSettings& settings, RobotId self, dds::SignalWatch& signals, LinkOptions options);
   ~AgentLink();
   AgentLink(const AgentLink&) = delete;
   AgentLink& operator=(const AgentLink&) = delete;
@@ -38,17 +48,26 @@ class AgentLink {
   // the world, and Cyclone reports its liveliness back only when the writer sends again; an agent that sends
   // nothing before the run would then never be counted. The world answers a claim it already holds as a
   // repeat, and takes a lost owner's claim back. WorldGone only after the world's writers have stayed not
-  // alive for 3 s: an agent stalled past their 2 s lease finds it expired when it resumes, until the world's
-  // next liveliness message arrives.
+  // alive for world_timeout_s of this agent's own awake time (OwnClock): an agent stalled past their 2 s
+  // lease finds it expired when it resumes, until the world's next liveliness message arrives, and a world
+  // stalled for seconds is not a dead one.
   WaitResult next_packet(double idle_timeout_s, dds::SensorSample& out);
   void send(Tick tick, const Command& command);
 
   std::uint64_t packets() const { return packets_; }
   std::uint64_t foreign_packets() const { return foreign_; }
+  std::uint64_t refused_samples() const;
+  std::uint64_t claim_nonce() const { return claim_nonce_; }
+  const dds::MissionAnnouncement& mission() const { return mission_taken_; }
 
  private:
   RobotId self_;
   dds::SignalWatch& signals_;
+  LinkOptions options_;
+  std::string who_;
+  dds::RefusalLog mission_refusals_;
+  dds::MissionAnnouncement mission_taken_;
+  OwnClock clock_{DDS_MSECS(1500)};  // the loop wakes at least every second
   dds::Participant participant_;
   dds::Waiter waiter_;
   dds::MissionReader mission_;

@@ -5,9 +5,12 @@
 // them (common/dds/robot_block.hpp: the way to start many agents on one machine).
 //
 // Exit codes: 0 the run ended (or --help); 2 bad flags or an unusable mission; 3 no world within --timeout,
-// or the world went away mid-run; 4 the id was refused; 1 anything else (a DDS failure, a controller
-// exception); 128+signal when stopped by SIGINT/SIGTERM. The last stdout line is a summary a test can read:
-//   agent id=K packets=P foreign_packets=F
+// or the world went away mid-run (silent for --world-timeout); 4 the id was refused; 5 the id was lost to
+// another agent (this one was taken for dead and a restarted one claimed it); 1 anything else (a DDS
+// failure, a controller exception); 128+signal when stopped by SIGINT/SIGTERM. The last stdout line is a
+// summary a test can read:
+//   agent id=K packets=P foreign_packets=F refused=R restarts=S
+// (R: samples refused as not of this world, run or wire version; S: controller restarts after a rejoin).
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
@@ -31,8 +34,12 @@ struct Options {
   std::string world_host = "127.0.0.1";
   std::string interface_address;
   double timeout_s = 60.0;
+  double world_timeout_s = 10.0;
+  std::string run_nonce;
   std::uint32_t count = 1;
 };
+
+constexpr int kExitLostId = 5;
 
 int run(const Options& o, swarmform::dds::SignalWatch& signals) {
   const std::string me = "robot_agent " + std::to_string(o.id);
@@ -41,11 +48,16 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
   settings.role = swarmform::dds::Role::Agent;
   settings.world_host = o.world_host;
   settings.interface_address = o.interface_address;
-  AgentLink link(settings, o.id, signals);
+  swarmform::agent::LinkOptions lo;
+  lo.world_timeout_s = o.world_timeout_s;
+  if (!o.run_nonce.empty()) lo.run_nonce = std::stoull(o.run_nonce, nullptr, 16);  // checked in main
+  AgentLink link(settings, o.id, signals, lo);
+  std::uint64_t restarts = 0;
 
   auto stopped = [&](int code) {
     std::cout << "agent id=" << o.id << " packets=" << link.packets()
-              << " foreign_packets=" << link.foreign_packets() << std::endl;
+              << " foreign_packets=" << link.foreign_packets() << " refused=" << link.refused_samples()
+              << " restarts=" << restarts << std::endl;
     return code;
   };
 
@@ -86,6 +98,7 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
   }
 
   swarmform::dds::SensorSample packet;
+  std::uint32_t generation = 0;  // of the controller: the world's generation of the robot when it was made
   for (;;) {
     switch (link.next_packet(o.timeout_s, packet)) {
       case WaitResult::Ok:
@@ -93,13 +106,34 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
       case WaitResult::Stopped:
         return stopped(128 + signals.signal());
       case WaitResult::WorldGone:
-        std::cerr << me << ": the world went away before announcing the end\n";
+        std::cerr << me << ": the world went away before announcing the end (silent for " << o.world_timeout_s
+                  << " s of this agent's own time)\n";
         return stopped(3);
       case WaitResult::Timeout:
         std::cerr << me << ": no packet and no world for " << o.timeout_s << " s\n";
         return stopped(3);
     }
+    if (packet.owner_nonce != link.claim_nonce()) {
+      // The world names another owner: this agent was taken for dead (stalled past its lease) and a
+      // restarted agent claimed the id meanwhile (docs/wire.md "Identity and the claim protocol").
+      std::cerr
+          << me << ": lost id " << o.id
+          << " to another agent: this one was taken for dead (stalled or cut off) and a restarted agent "
+             "claimed the id; exiting\n";
+      return stopped(kExitLostId);
+    }
     if (packet.status == swarmform::dds::PacketStatus::End) return stopped(0);
+    if (generation == 0) {
+      generation = packet.generation;
+    } else if (packet.generation > generation) {
+      // The world took this robot for dead and brought it back (issue 18 point 1): its controller starts
+      // afresh from the mission, as a restarted agent's would, rather than act on a state that went stale.
+      controller = swarmform::controller::make_controller(link.mission().mission, o.id);
+      generation = packet.generation;
+      ++restarts;
+      std::cerr << me << ": rejoined at tick " << packet.perception.tick
+                << " after the world took this robot for dead; controller started afresh\n";
+    }
     const swarmform::Command command = controller->step(packet.perception);
     link.send(packet.perception.tick, command);
   }
@@ -132,6 +166,18 @@ int main(int argc, char** argv) {
                  "local interface address to use (default: loopback when the world is on loopback)");
   app.add_option("--timeout", o.timeout_s, "seconds to wait for the world (mission, claim answer, packets)")
       ->check(CLI::PositiveNumber);
+  app.add_option("--world-timeout", o.world_timeout_s,
+                 "seconds of this agent's own time the world may stay silent mid-run before it is taken for "
+                 "gone (default 10; a stalled world is not a dead one)")
+      ->check(CLI::Range(0.5, 86400.0));
+  app.add_option("--run-nonce", o.run_nonce,
+                 "take only the mission of this run (16 hex digits, as given to world_server --run-nonce); "
+                 "default: the first mission seen")
+      ->check([](const std::string& v) {
+        const bool ok = !v.empty() && v.size() <= 16 &&
+                        v.find_first_not_of("0123456789abcdefABCDEF") == std::string::npos;
+        return ok ? std::string() : std::string("want 1 to 16 hex digits");
+      });
   app.add_option("--count", o.count,
                  "run this many robots, ids --id..--id+count-1, each its own process forked from this one "
                  "(faster to start than as many executables); this process supervises them and prints "

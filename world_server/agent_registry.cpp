@@ -29,6 +29,12 @@ bool AgentRegistry::owns(RobotId id, dds::PublicationHandle writer) const {
   return id < owners_.size() && owners_[id].alive && owners_[id].writer == writer;
 }
 
+std::optional<RobotId> AgentRegistry::owner_of(dds::PublicationHandle writer) const {
+  const auto it = by_writer_.find(writer);
+  if (it == by_writer_.end()) return std::nullopt;
+  return it->second;
+}
+
 std::optional<RobotId> AgentRegistry::lose(dds::PublicationHandle writer) {
   const auto it = by_writer_.find(writer);
   if (it == by_writer_.end()) return std::nullopt;

@@ -35,6 +35,8 @@ class AgentRegistry {
   ClaimResult claim(RobotId id, dds::PublicationHandle writer, std::uint32_t pid);
   // The live owner of `id` is `writer`.
   bool owns(RobotId id, dds::PublicationHandle writer) const;
+  // The robot `writer` owns now, if any.
+  std::optional<RobotId> owner_of(dds::PublicationHandle writer) const;
   // `writer` lost liveliness or went away: the robot it owned, if it owned one (then no longer owned).
   std::optional<RobotId> lose(dds::PublicationHandle writer);
   // `writer`'s liveliness came back (a stalled agent, not a dead one): the robot, if `writer` was its owner

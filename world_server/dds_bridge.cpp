@@ -2,13 +2,15 @@
 
 namespace swarmform::server {
 
-WorldLink::WorldLink(const dds::DdsSettings& settings, std::size_t robot_count, bool realtime)
+WorldLink::WorldLink(const dds::DdsSettings& settings, std::size_t robot_count, bool realtime,
+                     std::uint64_t run_nonce)
     : participant(settings),
       waiter(participant),
       mission(participant),
       robots(participant, robot_count, realtime),
       commands(participant, waiter, realtime),
-      state(participant) {
+      state(participant, run_nonce) {
+  robots.set_run_nonce(run_nonce);
   waiter.attach(commands.condition());
 }
 

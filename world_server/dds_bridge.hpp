@@ -15,7 +15,8 @@ namespace swarmform::server {
 // Declared in the order they must be built (participant first) and torn down (in reverse).
 struct WorldLink {
   // realtime: the per-tick topics are best effort (common/dds/qos.hpp Pace), as the mission tells the agents.
-  WorldLink(const dds::DdsSettings& settings, std::size_t robots, bool realtime);
+  // run_nonce: stamped on every sample the world writes (docs/wire.md "Run nonce").
+  WorldLink(const dds::DdsSettings& settings, std::size_t robots, bool realtime, std::uint64_t run_nonce);
 
   dds::Participant participant;
   dds::Waiter waiter;

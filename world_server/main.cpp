@@ -35,6 +35,8 @@ struct Options {
   std::vector<std::string> agent_pids;
   double connect_timeout_s = 60.0;
   Tick warmup_ticks = 100;
+  std::string run_nonce;
+  std::string agent_pids_file;
   bool check = false;
 };
 
@@ -94,6 +96,15 @@ int run(const Options& o) {
   so.dds.interface_address = o.interface_address;
   so.connect_timeout_s = o.connect_timeout_s;
   so.warmup_ticks = o.warmup_ticks;
+  so.agent_pids_file = o.agent_pids_file;
+  if (!o.run_nonce.empty()) {
+    if (o.run_nonce.size() > 16 ||
+        o.run_nonce.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos ||
+        std::stoull(o.run_nonce, nullptr, 16) == 0) {
+      throw std::invalid_argument("--run-nonce " + o.run_nonce + ": want 1 to 16 hex digits, not all zero");
+    }
+    so.run_nonce = std::stoull(o.run_nonce, nullptr, 16);
+  }
   for (const std::string& p : o.agent_pids) {
     const auto [id, pid] = split_pair("--agent-pid", p, '=');
     if (pid == 0 || pid > 4194304) throw std::invalid_argument("--agent-pid " + p + ": not a process id");
@@ -125,6 +136,13 @@ int main(int argc, char** argv) {
                  "host's address; default loopback)");
   app.add_option("--kill", o.kills, "ID@TICK: SIGKILL agent ID at TICK (needs --agent-pid ID=PID)");
   app.add_option("--agent-pid", o.agent_pids, "ID=PID: the process of agent ID, for --kill");
+  app.add_option(
+      "--agent-pids", o.agent_pids_file,
+      "FILE: JSON object {\"ID\": PID} of the agents' processes, for --kill, read when a kill is due "
+      "(the launcher starts the world first and writes it once the agents run)");
+  app.add_option("--run-nonce", o.run_nonce,
+                 "this run's nonce, 16 hex digits (default: drawn at random); agents started with the same "
+                 "--run-nonce take only this world's mission (docs/wire.md)");
   app.add_option("--connect-timeout", o.connect_timeout_s, "seconds to wait for every agent (default 60)")
       ->check(CLI::PositiveNumber);
   app.add_option("--warmup-ticks", o.warmup_ticks,

@@ -6,10 +6,13 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <random>
 
 #include "world_server/run/run_end.hpp"
+#include "world_server/wire_check.hpp"
 
 namespace swarmform::server {
 
@@ -25,6 +28,11 @@ double to_s(dds_duration_t d) {
 std::uint64_t fresh_nonce() {
   std::random_device rd;
   return (static_cast<std::uint64_t>(rd()) << 32) ^ rd() ^ static_cast<std::uint64_t>(dds_time());
+}
+
+ServerOptions with_run_nonce(ServerOptions o) {
+  while (o.run_nonce == 0) o.run_nonce = fresh_nonce();
+  return o;
 }
 
 // The calling thread's CPU time (ns) and involuntary context switches so far (0 where unsupported).
@@ -60,14 +68,17 @@ constexpr dds_duration_t kMatchPoll = DDS_MSECS(5);
 
 Server::Server(const world::Scenario& scenario, ServerOptions options, dds::SignalWatch& signals)
     : scenario_(scenario),
-      options_(std::move(options)),
+      options_(with_run_nonce(std::move(options))),
       signals_(signals),
       world_(scenario),
       session_(world_, world::RunOptions{options_.run_dir, std::string(world::to_string(scenario.mode))}),
       registry_(scenario.robots.size()),
-      link_(options_.dds, scenario.robots.size(), scenario.mode == world::Mode::Realtime),
+      link_(options_.dds, scenario.robots.size(), scenario.mode == world::Mode::Realtime, options_.run_nonce),
+      refusals_("world_server", std::cerr),
       late_(scenario.robots.size()) {
   const std::size_t n = scenario.robots.size();
+  generation_.assign(n, 1);
+  owner_nonce_.assign(n, 0);
   written_at_.assign(n, 0);
   latest_.resize(n);
   latest_tick_.assign(n, 0);
@@ -87,7 +98,11 @@ bool Server::stopping() const {
 }
 
 int Server::run() {
-  link_.mission.publish(mission_of(scenario_, fresh_nonce()));
+  link_.mission.publish(mission_of(scenario_, options_.run_nonce));
+  // The launcher starts the agents once it reads this line (docs/wire.md "Run nonce").
+  std::printf("world ready domain=%u run_nonce=%016llx\n", options_.dds.domain,
+              static_cast<unsigned long long>(options_.run_nonce));
+  std::fflush(stdout);
   if (!connect_agents()) {
     announce_end();
     session_.finish(0.0);
@@ -118,6 +133,18 @@ int Server::run() {
         static_cast<double>(profile_.publish_preempted) / static_cast<double>(profile_.rounds),
         static_cast<double>(profile_.collect) / r, static_cast<double>(profile_.step) / r,
         static_cast<double>(profile_.record) / r, static_cast<unsigned long long>(profile_.rounds));
+  }
+  if (stalls_.own_stalls() > 0) {
+    std::fprintf(
+        stderr,
+        "world_server: the world itself stalled %llu time(s), %.1f s in all; %llu lost agent(s) came "
+        "back within the grace and were not taken for dead\n",
+        static_cast<unsigned long long>(stalls_.own_stalls()), stalls_.own_stalled_seconds(),
+        static_cast<unsigned long long>(stalls_.suspicions_cleared()));
+  }
+  if (refusals_.total() > 0) {
+    std::cerr << "world_server: refused " << refusals_.total()
+              << " command sample(s) of another wire version or run in all\n";
   }
   if (missed_ticks_ > 0) {
     std::cerr << "world_server: " << missed_ticks_ << " missed ticks (see events)\n";
@@ -172,7 +199,7 @@ bool Server::connect_agents() {
     }
     dds_time_t wake = std::min(deadline, next_report);
     if (claimed) wake = std::min(wake, now + kMatchPoll);
-    link_.waiter.wait_until(wake);
+    wait_a_while(wake);
   }
 }
 
@@ -187,7 +214,12 @@ std::vector<RobotId> Server::unmatched_robots() const {
 
 // ---- the DDS side, whenever the server wakes --------------------------------------------------------------
 
+void Server::wait_a_while(dds_time_t deadline) {
+  link_.waiter.wait_until(std::min(deadline, stalls_.probe(dds_time())));
+}
+
 void Server::pump(bool running) {
+  stalls_.observe(dds_time());  // first: a gap since the last wake-up was the world's own stall
   liveliness_.clear();
   link_.commands.take_liveliness_changes(liveliness_);
   // Commands before losses: a dying agent's last command for this round still counts.
@@ -207,9 +239,20 @@ void Server::pump(bool running) {
       on_lost(change.writer, running);
     }
   }
+  expired_.clear();
+  stalls_.expired(expired_);
+  for (const dds::PublicationHandle w : expired_) on_dead(w, running);
 }
 
 void Server::on_claim(const dds::CommandSample& s, bool running) {
+  if (const std::string why = wire_refusal(s, options_.run_nonce); !why.empty()) {
+    // Answered (the claimant learns why and exits 4) only if it speaks this version; said once a second.
+    if (s.wire_version == dds::kWireVersion) {
+      link_.robots.reply_claim(dds::ClaimAnswer{s.robot_id, s.nonce, false, why});
+    }
+    refusals_.refuse(s.writer, writer_text(s), "claim", why, dds_time());
+    return;
+  }
   const ClaimResult r = registry_.claim(s.robot_id, s.writer, s.pid);
   const bool accepted = r.outcome == ClaimOutcome::Accepted || r.outcome == ClaimOutcome::Repeated ||
                         r.outcome == ClaimOutcome::TakenOver;
@@ -223,16 +266,28 @@ void Server::on_claim(const dds::CommandSample& s, bool running) {
   if (r.outcome == ClaimOutcome::Repeated) return;
   session_.record_event(s.robot_id, "agent_connected", "pid " + std::to_string(s.pid));
   std::cerr << "world_server: id " << s.robot_id << " claimed by pid " << s.pid << "\n";
-  if (r.outcome == ClaimOutcome::TakenOver && running && !world_.alive(s.robot_id)) {
-    world_.revive(s.robot_id);
-    session_.record_rejoin(s.robot_id);
-    fresh_[s.robot_id] = 0;
-    unresponsive_[s.robot_id] = 0;
-    std::cout << "rejoin id=" << s.robot_id << " tick=" << world_.tick() << std::endl;
-  }
+  // The new owner's claim nonce goes on its perceptions: a previous owner that comes back learns from it
+  // that it lost the id (docs/wire.md "Identity and the claim protocol").
+  owner_nonce_[s.robot_id] = s.nonce;
+  link_.robots.set_owner(s.robot_id, s.nonce, generation_[s.robot_id]);
+  if (r.outcome == ClaimOutcome::TakenOver && running && !world_.alive(s.robot_id)) revive(s.robot_id);
+}
+
+void Server::revive(RobotId id) {
+  world_.revive(id);
+  ++generation_[id];
+  link_.robots.set_owner(id, owner_nonce_[id], generation_[id]);
+  session_.record_rejoin(id);
+  fresh_[id] = 0;
+  unresponsive_[id] = 0;
+  std::cout << "rejoin id=" << id << " tick=" << world_.tick() << std::endl;
 }
 
 void Server::on_command(const dds::CommandSample& s) {
+  if (const std::string why = wire_refusal(s, options_.run_nonce); !why.empty()) {
+    refusals_.refuse(s.writer, writer_text(s), "command", why, dds_time());
+    return;
+  }
   if (!registry_.owns(s.robot_id, s.writer)) {
     session_.record_event(s.robot_id, "spoofed_command",
                           "dropped a command for id " + std::to_string(s.robot_id) +
@@ -274,6 +329,13 @@ void Server::on_command(const dds::CommandSample& s) {
 }
 
 void Server::on_lost(dds::PublicationHandle writer, bool running) {
+  // Right after the world's own stall a loss is only suspected (stall_guard.hpp): the agent keeps its robot
+  // and its packets until the grace is over or its liveliness is back.
+  if (running && registry_.owner_of(writer) && stalls_.suspect(writer)) return;
+  on_dead(writer, running);
+}
+
+void Server::on_dead(dds::PublicationHandle writer, bool running) {
   const auto id = registry_.lose(writer);
   if (!id) return;  // not an owner (a refused claimant, a spoofer, a test program)
   if (!running) {
@@ -300,16 +362,40 @@ void Server::on_regained(dds::PublicationHandle writer, bool running) {
   // An owner declared dead whose writer turns out alive was stalled (starved of CPU past the lease), not
   // dead: its robot comes back as on a rejoin, rather than leaving a live agent without packets until the
   // end.
+  if (stalls_.clear(writer)) {
+    if (const auto id = registry_.owner_of(writer)) {
+      session_.record_event(*id, "liveliness_regained",
+                            "the owner's writer is alive again after the world's own stall: not a death");
+    }
+    return;
+  }
   const auto id = registry_.regain(writer);
   if (!id) return;  // a new writer, or one whose id was taken over meanwhile
   session_.record_event(*id, "liveliness_regained", "the owner's writer is alive again");
-  if (running && !world_.alive(*id)) {
-    world_.revive(*id);
-    session_.record_rejoin(*id);
-    fresh_[*id] = 0;
-    unresponsive_[*id] = 0;
-    std::cout << "rejoin id=" << *id << " tick=" << world_.tick() << std::endl;
+  if (running && !world_.alive(*id)) revive(*id);
+}
+
+std::optional<pid_t> Server::agent_pid(RobotId id) {
+  if (const auto it = options_.agent_pids.find(id); it != options_.agent_pids.end()) return it->second;
+  if (options_.agent_pids_file.empty()) return std::nullopt;
+  // The launcher writes the file after it started the agents (after the world); read it when needed.
+  std::ifstream f(options_.agent_pids_file);
+  const nlohmann::json j = nlohmann::json::parse(f, nullptr, /*allow_exceptions=*/false);
+  if (!j.is_object()) {
+    std::cerr << "world_server: --agent-pids " << options_.agent_pids_file
+              << ": not a JSON object of id -> pid (yet)\n";
+    return std::nullopt;
   }
+  for (const auto& [key, value] : j.items()) {
+    const std::string& k = key;
+    if (k.empty() || k.size() > 9 || k.find_first_not_of("0123456789") != std::string::npos) continue;
+    if (!value.is_number_unsigned() || value.get<std::uint64_t>() == 0 ||
+        value.get<std::uint64_t>() > 4194304)
+      continue;
+    options_.agent_pids[static_cast<RobotId>(std::stoul(k))] = static_cast<pid_t>(value.get<std::uint64_t>());
+  }
+  if (const auto it = options_.agent_pids.find(id); it != options_.agent_pids.end()) return it->second;
+  return std::nullopt;
 }
 
 // ---- rounds -----------------------------------------------------------------------------------------------
@@ -322,14 +408,13 @@ void Server::begin_round() {
   const bool realtime = scenario_.mode == world::Mode::Realtime;
   for (auto [it, end] = kills_.equal_range(t); it != end; ++it) {
     const RobotId id = it->second;
-    const auto pid = options_.agent_pids.find(id);
-    if (pid != options_.agent_pids.end()) {
+    if (const auto pid = agent_pid(id)) {
       // The agent dies as any crash would; DDS liveliness tells the world (on_lost), nothing else.
-      if (::kill(pid->second, SIGKILL) == 0) {
+      if (::kill(*pid, SIGKILL) == 0) {
         kill_sent_[id] = dds_time();
-        session_.record_event(id, "kill_sent", "SIGKILL pid " + std::to_string(pid->second));
+        session_.record_event(id, "kill_sent", "SIGKILL pid " + std::to_string(*pid));
       } else {
-        session_.record_event(id, "kill_failed", "SIGKILL pid " + std::to_string(pid->second) + " failed");
+        session_.record_event(id, "kill_failed", "SIGKILL pid " + std::to_string(*pid) + " failed");
       }
     } else if (world_.alive(id)) {
       // No process to kill: the robot dies in the world; its agent gets no more packets.
@@ -392,11 +477,13 @@ void Server::run_lockstep() {
   for (;;) {
     begin_round();
     const dds_time_t collect_start = dds_time();
-    const dds_time_t deadline = collect_start + deadline_span;
+    // In the world's awake time (stall_guard.hpp): the world's own pause makes no agent late.
+    stalls_.observe(collect_start);
+    const dds_time_t deadline = stalls_.awake() + deadline_span;
     for (;;) {
       pump(true);
       if (waiting_count_ == 0 || stopping()) break;
-      if (dds_time() >= deadline) {
+      if (stalls_.awake() >= deadline) {
         for (std::size_t i = 0; i < waiting_.size(); ++i) {
           if (waiting_[i]) {
             unresponsive_[i] = 1;
@@ -407,7 +494,7 @@ void Server::run_lockstep() {
         }
         break;
       }
-      link_.waiter.wait_until(deadline);
+      wait_a_while(dds_time() + (deadline - stalls_.awake()));
     }
     profile_.collect += dds_time() - collect_start;
     if (stopping()) return;  // the round in flight is not stepped: every recorded tick is a whole one
@@ -424,7 +511,7 @@ void Server::run_realtime() {
     if (stopping()) return;
     const dds_time_t now = dds_time();
     if (now < next) {
-      link_.waiter.wait_until(next);
+      wait_a_while(next);
       continue;
     }
     // A missed tick: a live agent's command for tick t not in before tick t+1.

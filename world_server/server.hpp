@@ -13,14 +13,17 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "common/dds/refusal_log.hpp"
 #include "common/dds/signal_watch.hpp"
 #include "world_server/agent_registry.hpp"
 #include "world_server/dds_bridge.hpp"
 #include "world_server/late_commands.hpp"
 #include "world_server/run/run_session.hpp"
+#include "world_server/stall_guard.hpp"
 #include "world_server/world/scenario.hpp"
 #include "world_server/world/world.hpp"
 
@@ -32,6 +35,10 @@ struct ServerOptions {
   double connect_timeout_s = 60.0;      // every agent must have claimed its id by then
   std::map<RobotId, pid_t> agent_pids;  // for --kill: the world SIGKILLs these processes
   Tick warmup_ticks = 100;              // left out of summary.json's steady_ticks_per_second
+  std::uint64_t run_nonce = 0;          // this run's (docs/wire.md); 0: drawn at random
+  // --agent-pids FILE: {"id": pid} JSON the launcher writes after starting the agents (after the world);
+  // read when a --kill is due for an id not in agent_pids.
+  std::string agent_pids_file;
 };
 
 // Exit codes of a run.
@@ -64,6 +71,14 @@ class Server {
   void on_command(const dds::CommandSample& s);
   void on_lost(dds::PublicationHandle writer, bool running);
   void on_regained(dds::PublicationHandle writer, bool running);
+  // A lost owner that is a death now (after StallGuard's judgement).
+  void on_dead(dds::PublicationHandle writer, bool running);
+  // Brings a dead robot back for its (same or new) owner: a rejoin, its generation raised so that the agent
+  // starts its controller afresh.
+  void revive(RobotId id);
+  // Waits until `deadline` at the latest, waking at least every StallGuard::kProbe.
+  void wait_a_while(dds_time_t deadline);
+  std::optional<pid_t> agent_pid(RobotId id);
   void announce_end();
   void progress(bool force);
   bool stopping() const;
@@ -75,6 +90,11 @@ class Server {
   world::RunSession session_;
   AgentRegistry registry_;
   WorldLink link_;
+  StallGuard stalls_;
+  dds::RefusalLog refusals_;
+  std::vector<std::uint32_t> generation_;   // per robot: raised at each revival
+  std::vector<std::uint64_t> owner_nonce_;  // per robot: the claim nonce of its owner
+  std::vector<dds::PublicationHandle> expired_;
 
   // Per robot, reused every tick.
   std::vector<Command> latest_;        // the newest command taken

@@ -56,7 +56,12 @@ std::string cyclone_config_xml(const DdsSettings& s) {
   } else {
     check_address("world host", s.world_host);
     xml += "<ParticipantIndex>none</ParticipantIndex><Peers><Peer address=\"" + s.world_host + ":" +
-           std::to_string(world_discovery_port(s.domain)) + "\"/></Peers>";
+           std::to_string(world_discovery_port(s.domain)) + "\"/>";
+    for (const std::string& peer : s.extra_peers) {
+      check_address("peer", peer);
+      xml += "<Peer address=\"" + peer + "\"/>";
+    }
+    xml += "</Peers>";
     // Re-announce every second so an agent started before the world is matched soon after it comes up.
     xml += "<SPDPInterval>1s</SPDPInterval>";
   }

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace swarmform::dds {
 
@@ -28,6 +29,9 @@ struct DdsSettings {
   // The local interface to use (its address). Empty: loopback when world_host is loopback, else Cyclone's own
   // choice of interface.
   std::string interface_address;
+  // Agent role: more discovery peers ("host:port") beside the world. For test programs that play a forger
+  // on the host, which peers with an agent directly (tests/integration/rogue_agent.cpp forge).
+  std::vector<std::string> extra_peers;
 };
 
 inline constexpr std::uint32_t kMaxDomain = 232;

@@ -13,14 +13,19 @@
 #include <mutex>
 #include <optional>
 #include <span>
+#include <unordered_map>
 #include <utility>
 
 #include "common/dds/qos.hpp"
 #include "common/dds/readings_blob.hpp"
+#include "common/dds/refusal_log.hpp"
 #include "common/input_error.hpp"
 #include "swarmform.h"
 
 namespace swarmform::dds {
+
+static_assert(kWireVersion == sfdds_WIRE_VERSION,
+              "kWireVersion (wire.hpp) must equal the IDL's WIRE_VERSION");
 
 struct Participant::Topics {
   Entity mission, sensor, command, world_state;
@@ -40,6 +45,7 @@ constexpr const char* kCommandTopic = "sf_command";
 constexpr const char* kWorldStateTopic = "sf_world_state";
 
 constexpr std::uint32_t kTakeBatch = 64;
+constexpr std::int32_t kInboxDepth = 16;  // AgentInbox's history per instance (see its constructor)
 
 Entity make_topic(dds_entity_t participant, const dds_topic_descriptor_t* desc, const char* name) {
   return Entity(dds_create_topic(participant, desc, name, nullptr, nullptr), "dds_create_topic");
@@ -121,7 +127,39 @@ Entity make_guard(dds_entity_t participant) {
   return Entity(dds_create_guardcondition(participant), "dds_create_guardcondition");
 }
 
+// The participant of the remote writer `writer` matched by `reader` (nullopt when it is not matched).
+std::optional<ParticipantKey> writer_participant(dds_entity_t reader, dds_instance_handle_t writer) {
+  dds_builtintopic_endpoint_t* e = dds_get_matched_publication_data(reader, writer);
+  if (e == nullptr) return std::nullopt;
+  ParticipantKey key{};
+  static_assert(sizeof(e->participant_key.v) == std::tuple_size_v<ParticipantKey>);
+  std::memcpy(key.data(), e->participant_key.v, key.size());
+  dds_builtintopic_free_endpoint(e);
+  return key;
+}
+
+std::string version_text(std::uint16_t v) {
+  return "wire version " + std::to_string(v) + ", this side speaks " + std::to_string(kWireVersion);
+}
+
+std::string nonce_text(std::uint64_t got, std::uint64_t want) {
+  char b[96];
+  std::snprintf(b, sizeof b, "run nonce %016llx, this side's run is %016llx",
+                static_cast<unsigned long long>(got), static_cast<unsigned long long>(want));
+  return b;
+}
+
 }  // namespace
+
+std::string to_string(const ParticipantKey& key) {
+  static const char* hex = "0123456789abcdef";
+  std::string out;
+  for (std::uint8_t b : key) {
+    out += hex[b >> 4];
+    out += hex[b & 15];
+  }
+  return out;
+}
 
 std::string robot_partition(RobotId id) {
   return "robot/" + std::to_string(id);
@@ -215,6 +253,7 @@ void MissionWriter::publish(const MissionAnnouncement& a) {
   }
   std::vector<std::int32_t> cells(m.shape.cells.begin(), m.shape.cells.end());
   sfdds_Mission s{};
+  s.wire_version = kWireVersion;
   s.run_nonce = a.run_nonce;
   s.robots = a.robots;
   s.behaviour = const_cast<char*>(m.behaviour.c_str());
@@ -241,16 +280,31 @@ MissionReader::MissionReader(const Participant& participant)
     : reader_(make_reader(participant.get(), participant.topics().mission.get(), Channel::Mission)),
       condition_(make_condition(reader_.get())) {}
 
-std::optional<MissionAnnouncement> MissionReader::take() {
-  void* ptrs[4] = {};
-  dds_sample_info_t infos[4];
-  const int n = check(dds_take(reader_.get(), ptrs, infos, 4, 4), "dds_take(mission)");
+std::optional<MissionAnnouncement> MissionReader::take(std::optional<std::uint64_t> want_nonce,
+                                                       RefusalLog& refusals) {
+  void* ptrs[8] = {};
+  dds_sample_info_t infos[8];
+  const int n = check(dds_take(reader_.get(), ptrs, infos, 8, 8), "dds_take(mission)");
   Loan loan(reader_.get(), ptrs, n);
   std::optional<MissionAnnouncement> out;
   for (int i = 0; i < n; ++i) {
     if (!infos[i].valid_data) continue;
     const auto& s = *static_cast<const sfdds_Mission*>(ptrs[i]);
+    const auto key = writer_participant(reader_.get(), infos[i].publication_handle);
+    const std::string writer = "the world of participant " + (key ? to_string(*key) : std::string("?"));
+    if (s.wire_version != kWireVersion) {
+      refusals.refuse(infos[i].publication_handle, writer, "mission", version_text(s.wire_version),
+                      dds_time());
+      continue;
+    }
+    if (want_nonce && s.run_nonce != *want_nonce) {
+      refusals.refuse(infos[i].publication_handle, writer, "mission",
+                      "another run's (" + nonce_text(s.run_nonce, *want_nonce) + ")", dds_time());
+      continue;
+    }
+    if (!key) continue;  // its writer is gone already: a world that left
     MissionAnnouncement a;
+    a.world = *key;
     a.run_nonce = s.run_nonce;
     a.robots = s.robots;
     a.realtime = s.realtime;
@@ -310,15 +364,22 @@ RobotChannel make_robot_channel(const Participant& p, RobotId id, Pace pace) {
 }  // namespace
 
 struct RobotChannels::Impl {
+  struct Owner {
+    std::uint64_t claim_nonce = 0;
+    std::uint32_t generation = 0;
+  };
   const Participant& participant;
   Pace pace;
+  std::uint64_t run_nonce = 0;
+  std::vector<Owner> owners;
   std::vector<RobotChannel> robots;
   std::map<RobotId, RobotChannel> extra;  // claimants with an id outside the run, answered then left
   std::vector<std::uint8_t> readings;     // the packed readings, reused for every packet
 };
 
 RobotChannels::RobotChannels(const Participant& participant, std::size_t robots, bool realtime)
-    : impl_(std::make_unique<Impl>(Impl{participant, pace_of(realtime), {}, {}, {}})) {
+    : impl_(std::make_unique<Impl>(Impl{participant, pace_of(realtime), 0, {}, {}, {}, {}})) {
+  impl_->owners.resize(robots);
   impl_->robots.reserve(robots);
   for (std::size_t i = 0; i < robots; ++i) {
     impl_->robots.push_back(make_robot_channel(participant, static_cast<RobotId>(i), impl_->pace));
@@ -327,11 +388,23 @@ RobotChannels::RobotChannels(const Participant& participant, std::size_t robots,
 
 RobotChannels::~RobotChannels() = default;
 
+void RobotChannels::set_run_nonce(std::uint64_t run_nonce) {
+  impl_->run_nonce = run_nonce;
+}
+
+void RobotChannels::set_owner(RobotId id, std::uint64_t claim_nonce, std::uint32_t generation) {
+  impl_->owners.at(id) = Impl::Owner{claim_nonce, generation};
+}
+
 void RobotChannels::write_packet(RobotId id, PacketStatus status, const Perception& p) {
   encode_readings(p.messages, impl_->readings);
   sfdds_SensorPacket s{};
   s.robot_id = id;
   s.lane = sfdds_LANE_PERCEPTION;
+  s.wire_version = kWireVersion;
+  s.run_nonce = impl_->run_nonce;
+  s.generation = impl_->owners.at(id).generation;
+  s.claim_nonce = impl_->owners[id].claim_nonce;
   s.tick = p.tick;
   s.status = static_cast<std::uint8_t>(status);
   s.note = const_cast<char*>("");
@@ -358,6 +431,8 @@ void RobotChannels::reply_claim(const ClaimAnswer& a) {
   sfdds_SensorPacket s{};
   s.robot_id = a.robot_id;
   s.lane = sfdds_LANE_CLAIM;
+  s.wire_version = kWireVersion;
+  s.run_nonce = impl_->run_nonce;
   s.status = a.accepted ? sfdds_CLAIM_ACCEPTED : sfdds_CLAIM_REFUSED;
   s.claim_nonce = a.nonce;
   s.note = const_cast<char*>(a.reason.c_str());
@@ -396,6 +471,27 @@ struct AgentInbox::Impl {
   bool has_packet = false;
   std::optional<ClaimAnswer> reply;
   std::uint64_t foreign = 0;
+  // The binding (docs/wire.md "Writer binding"): before bind() only the wire version is checked.
+  std::optional<WorldBinding> world;
+  std::unordered_map<dds_instance_handle_t, bool> writer_ok;  // per writer: of the bound participant?
+  std::unique_ptr<RefusalLog> refusals = std::make_unique<RefusalLog>("swarmform dds", std::cerr);
+
+  // Why the sample from `writer` is refused, or empty to take it.
+  std::string refusal(const sfdds_SensorPacket& s, dds_instance_handle_t writer) {
+    if (s.wire_version != kWireVersion) return version_text(s.wire_version);
+    if (!world) return {};
+    auto it = writer_ok.find(writer);
+    if (it == writer_ok.end()) {
+      if (writer_ok.size() >= 4096) writer_ok.clear();  // bounded: a writer forgotten is looked up again
+      const auto key = writer_participant(packets.get(), writer);
+      it = writer_ok.emplace(writer, key && *key == world->participant).first;
+    }
+    if (!it->second)
+      return "not from the world whose mission this agent took (participant " +
+             to_string(world->participant) + ")";
+    if (s.run_nonce != world->run_nonce) return nonce_text(s.run_nonce, world->run_nonce);
+    return {};
+  }
 
   static void on_liveliness(dds_entity_t, const dds_liveliness_changed_status_t status, void* arg) {
     auto* self = static_cast<Impl*>(arg);
@@ -411,6 +507,10 @@ struct AgentInbox::Impl {
   // Takes everything available: the newest own perception into `staged`, the newest claim answer into
   // `reply`.
   void poll() {
+    while (poll_batch() == 8) {
+    }
+  }
+  int poll_batch() {
     void* ptrs[8] = {};
     dds_sample_info_t infos[8];
     const int n = check(dds_take(packets.get(), ptrs, infos, 8, 8), "dds_take(sensor)");
@@ -418,6 +518,17 @@ struct AgentInbox::Impl {
     for (int i = 0; i < n; ++i) {
       if (!infos[i].valid_data) continue;
       const auto& s = *static_cast<const sfdds_SensorPacket*>(ptrs[i]);
+      if (const std::string why = refusal(s, infos[i].publication_handle); !why.empty()) {
+        char writer[64];
+        std::snprintf(writer, sizeof writer, "writer %016llx",
+                      static_cast<unsigned long long>(infos[i].publication_handle));
+        refusals->refuse(infos[i].publication_handle, writer,
+                         s.lane == sfdds_LANE_CLAIM     ? "claim answer"
+                         : s.status == sfdds_PACKET_END ? "END packet"
+                                                        : "packet",
+                         why, dds_time());
+        continue;
+      }
       if (s.robot_id != self) {
         ++foreign;
         continue;
@@ -440,11 +551,14 @@ struct AgentInbox::Impl {
       has_packet = true;
       staged.robot_id = s.robot_id;
       staged.status = s.status == sfdds_PACKET_END ? PacketStatus::End : PacketStatus::Run;
+      staged.owner_nonce = s.claim_nonce;
+      staged.generation = s.generation;
       Perception& p = staged.perception;
       p.tick = s.tick;
       p.pose = Pose2D{s.x, s.y, s.theta};
       std::copy(std::begin(s.ultrasonic), std::end(s.ultrasonic), p.ultrasonic.begin());
     }
+    return n;
   }
 };
 
@@ -456,8 +570,14 @@ AgentInbox::AgentInbox(const Participant& participant, RobotId self, Waiter& wai
   dds_listener_t* listener = dds_create_listener(impl_.get());
   dds_lset_liveliness_changed(listener, &Impl::on_liveliness);
   try {
-    impl_->packets = make_reader(impl_->subscriber.get(), participant.topics().sensor.get(), Channel::Sensor,
-                                 listener, pace_of(realtime));
+    // Keep-last 1 per instance on the writer, but deeper here: the depth counts samples of every writer of
+    // the instance, so another participant's forged samples, refused when taken, would otherwise push the
+    // world's own perception out before it is taken (docs/wire.md "Writer binding").
+    Qos qos = make_qos(Channel::Sensor, pace_of(realtime));
+    dds_qset_history(qos.get(), DDS_HISTORY_KEEP_LAST, kInboxDepth);
+    impl_->packets = Entity(
+        dds_create_reader(impl_->subscriber.get(), participant.topics().sensor.get(), qos.get(), listener),
+        "dds_create_reader(sensor)");
   } catch (...) {
     dds_delete_listener(listener);
     throw;
@@ -473,6 +593,14 @@ AgentInbox::~AgentInbox() {
 
 dds_entity_t AgentInbox::packet_condition() const {
   return impl_->packet_condition.get();
+}
+void AgentInbox::bind(const WorldBinding& world, const std::string& who) {
+  impl_->world = world;
+  impl_->writer_ok.clear();
+  impl_->refusals = std::make_unique<RefusalLog>(who, std::cerr);
+}
+std::uint64_t AgentInbox::refused() const {
+  return impl_->refusals->total();
 }
 std::uint32_t AgentInbox::world_writers_alive() const {
   return impl_->alive.load();
@@ -499,6 +627,8 @@ std::optional<ClaimAnswer> AgentInbox::take_claim_reply() {
 
 struct CommandWriter::Impl {
   Entity writer;
+  std::uint64_t run_nonce = 0;
+  std::uint16_t wire_version = kWireVersion;
   std::vector<char*> events;          // reused: points into the command's strings during dds_write
   dds_time_t alive_at = 0;            // the last write or assertion (each renews the liveliness lease)
   std::optional<RobotId> registered;  // the id whose instance is kept (keep_instance), from the first claim
@@ -522,6 +652,11 @@ sfdds_Command command_key(RobotId id) {
 }
 }  // namespace
 
+void CommandWriter::set_stamp(std::uint64_t run_nonce, std::uint16_t wire_version) {
+  impl_->run_nonce = run_nonce;
+  impl_->wire_version = wire_version;
+}
+
 void CommandWriter::claim(RobotId id, std::uint64_t nonce, std::uint32_t pid) {
   if (impl_->registered != id) {
     const sfdds_Command key = command_key(id);
@@ -530,6 +665,8 @@ void CommandWriter::claim(RobotId id, std::uint64_t nonce, std::uint32_t pid) {
   }
   sfdds_Command s{};
   s.robot_id = id;
+  s.wire_version = impl_->wire_version;
+  s.run_nonce = impl_->run_nonce;
   s.kind = sfdds_COMMAND_CLAIM;
   s.nonce = nonce;
   s.pid = pid;
@@ -555,6 +692,8 @@ bool CommandWriter::holds_instance(RobotId id) const {
 void CommandWriter::step(RobotId id, Tick tick, const Command& c) {
   sfdds_Command s{};
   s.robot_id = id;
+  s.wire_version = impl_->wire_version;
+  s.run_nonce = impl_->run_nonce;
   s.kind = sfdds_COMMAND_STEP;
   s.tick = tick;
   s.left_speed = c.left_speed;
@@ -644,6 +783,8 @@ std::size_t CommandReader::take(std::vector<CommandSample>& buf) {
       const auto& s = *static_cast<const sfdds_Command*>(ptrs[i]);
       if (count == buf.size()) buf.emplace_back();
       CommandSample& c = buf[count++];
+      c.wire_version = s.wire_version;
+      c.run_nonce = s.run_nonce;
       c.robot_id = s.robot_id;
       c.kind = s.kind == sfdds_COMMAND_CLAIM ? CommandKind::Claim : CommandKind::Step;
       c.tick = s.tick;
@@ -672,10 +813,13 @@ std::size_t CommandReader::take(std::vector<CommandSample>& buf) {
 
 struct WorldStateWriter::Impl {
   Entity writer;
+  std::uint64_t run_nonce = 0;
   std::vector<sfdds_RobotPose> scratch;
 };
 
-WorldStateWriter::WorldStateWriter(const Participant& participant) : impl_(std::make_unique<Impl>()) {
+WorldStateWriter::WorldStateWriter(const Participant& participant, std::uint64_t run_nonce)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->run_nonce = run_nonce;
   impl_->writer = make_writer(participant.get(), participant.topics().world_state.get(), Channel::WorldState);
 }
 WorldStateWriter::~WorldStateWriter() = default;
@@ -689,6 +833,8 @@ void WorldStateWriter::publish(Tick tick, bool finished, std::uint32_t alive,
     scratch[i] = sfdds_RobotPose{r.id, r.pose.x, r.pose.y, r.pose.theta, r.alive, r.state, r.label};
   }
   sfdds_WorldState s{};
+  s.wire_version = kWireVersion;
+  s.run_nonce = impl_->run_nonce;
   s.tick = tick;
   s.finished = finished;
   s.alive = alive;
@@ -710,7 +856,8 @@ std::optional<WorldStateHeader> WorldStateReader::take() {
   for (int i = 0; i < n; ++i) {
     if (!infos[i].valid_data) continue;
     const auto& s = *static_cast<const sfdds_WorldState*>(ptrs[i]);
-    out = WorldStateHeader{s.tick, s.finished, s.alive};
+    if (s.wire_version != kWireVersion) continue;
+    out = WorldStateHeader{s.run_nonce, s.tick, s.finished, s.alive};
   }
   return out;
 }

@@ -13,6 +13,7 @@
 // the id to that sample's publication handle; later commands from any other writer are not the owner's.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -27,6 +28,21 @@
 namespace swarmform::dds {
 
 using PublicationHandle = std::uint64_t;  // dds_instance_handle_t of a remote writer, as a reader sees it
+
+// The wire-protocol version every sample carries (idl/swarmform.idl WIRE_VERSION; docs/wire.md says when to
+// bump it). wire.cpp checks the two are equal at compile time.
+inline constexpr std::uint16_t kWireVersion = 2;
+
+// A participant's GUID (its key in DDS discovery), as 16 bytes.
+using ParticipantKey = std::array<std::uint8_t, 16>;
+std::string to_string(const ParticipantKey& key);  // hex
+
+// The world an agent listens to (docs/wire.md "Writer binding"): the participant that wrote the mission it
+// took, and that mission's run.
+struct WorldBinding {
+  ParticipantKey participant{};
+  std::uint64_t run_nonce = 0;
+};
 
 std::string robot_partition(RobotId id);  // "robot/<id>"
 // True once `writer` has matched at least one reader (before that, what it writes goes to nobody).
@@ -71,8 +87,9 @@ class Waiter {
 struct MissionAnnouncement {
   Mission mission;
   std::uint32_t robots = 0;     // robots in the run (ids 0..robots-1)
-  std::uint64_t run_nonce = 0;  // random per world start
-  bool realtime = false;  // the pace of sf_sensor / sf_command (qos.hpp): an agent creates them after this
+  std::uint64_t run_nonce = 0;  // random per run (the launcher's --run-nonce, or the world's own draw)
+  bool realtime = false;   // the pace of sf_sensor / sf_command (qos.hpp): an agent creates them after this
+  ParticipantKey world{};  // reader side: the participant of the writer it came from
 };
 
 class MissionWriter {
@@ -84,12 +101,16 @@ class MissionWriter {
   Entity writer_;
 };
 
+class RefusalLog;
+
 class MissionReader {
  public:
   explicit MissionReader(const Participant& participant);
   dds_entity_t condition() const { return condition_.get(); }
-  // The newest mission, if one arrived; throws InputError ("<mission>: what") if it is malformed.
-  std::optional<MissionAnnouncement> take();
+  // A mission of this wire version (and of run `want_nonce`, when given), if one arrived; the newest if
+  // several. Others are refused through `refusals` (said once a second per writer). Throws InputError
+  // ("<mission>: what") if an acceptable one is malformed.
+  std::optional<MissionAnnouncement> take(std::optional<std::uint64_t> want_nonce, RefusalLog& refusals);
 
  private:
   Entity reader_;
@@ -119,6 +140,11 @@ class RobotChannels {
   RobotChannels(const RobotChannels&) = delete;
   RobotChannels& operator=(const RobotChannels&) = delete;
 
+  // Every sample written from now on carries this run's nonce (docs/wire.md "Run nonce").
+  void set_run_nonce(std::uint64_t run_nonce);
+  // Robot `id`'s owner (its claim attempt's nonce) and generation (raised at each revival), stamped on its
+  // perceptions: an agent learns from them that it lost its id, or that it must start afresh.
+  void set_owner(RobotId id, std::uint64_t claim_nonce, std::uint32_t generation);
   // No allocation after the first ticks (scratch buffers are reused; sequences point into the perception).
   void write_packet(RobotId id, PacketStatus status, const Perception& perception);
   // Answers a claim in the claimant's partition, on the packets' claim lane (a channel is made on demand for
@@ -142,6 +168,8 @@ class RobotChannels {
 struct SensorSample {
   RobotId robot_id = 0;  // as it came on the wire (an agent counts any that is not its own)
   PacketStatus status = PacketStatus::Run;
+  std::uint64_t owner_nonce = 0;  // the claim nonce of the id's owner, as the world knows it
+  std::uint32_t generation = 0;   // the robot's generation (raised at each revival after a death)
   Perception perception;
 };
 
@@ -155,6 +183,11 @@ class AgentInbox {
   AgentInbox& operator=(const AgentInbox&) = delete;
 
   dds_entity_t packet_condition() const;
+  // From now on only samples of `world`'s participant and run are taken; the others are refused (counted,
+  // said once a second per writer on stderr as "<who>: refused ..."). Before, only the wire version is
+  // checked.
+  void bind(const WorldBinding& world, const std::string& who);
+  std::uint64_t refused() const;
   // Takes every packet available: `own` receives the newest of robot `self` (true if there was one);
   // `foreign` is increased by the number of packets for any other robot (never expected).
   bool take_packet(SensorSample& own, std::uint64_t& foreign);
@@ -176,6 +209,8 @@ enum class CommandKind : std::uint8_t {
 };
 
 struct CommandSample {
+  std::uint16_t wire_version = 0;
+  std::uint64_t run_nonce = 0;
   RobotId robot_id = 0;
   CommandKind kind = CommandKind::Step;
   Tick tick = 0;
@@ -192,6 +227,9 @@ class CommandWriter {
   ~CommandWriter();
   CommandWriter(const CommandWriter&) = delete;
   CommandWriter& operator=(const CommandWriter&) = delete;
+  // Every sample written from now on carries this run's nonce and wire version (a test may forge another
+  // version; an agent never does).
+  void set_stamp(std::uint64_t run_nonce, std::uint16_t wire_version = kWireVersion);
   void claim(RobotId id, std::uint64_t nonce, std::uint32_t pid);
   void step(RobotId id, Tick tick, const Command& command);
   dds_entity_t get() const;
@@ -244,7 +282,7 @@ struct RobotPoseRow {
 
 class WorldStateWriter {
  public:
-  explicit WorldStateWriter(const Participant& participant);
+  explicit WorldStateWriter(const Participant& participant, std::uint64_t run_nonce = 0);
   ~WorldStateWriter();
   WorldStateWriter(const WorldStateWriter&) = delete;
   WorldStateWriter& operator=(const WorldStateWriter&) = delete;
@@ -256,6 +294,7 @@ class WorldStateWriter {
 };
 
 struct WorldStateHeader {
+  std::uint64_t run_nonce = 0;
   Tick tick = 0;
   bool finished = false;
   std::uint32_t alive = 0;
@@ -265,7 +304,7 @@ class WorldStateReader {
  public:
   explicit WorldStateReader(const Participant& participant);
   dds_entity_t condition() const { return condition_.get(); }
-  std::optional<WorldStateHeader> take();  // the newest
+  std::optional<WorldStateHeader> take();  // the newest of this wire version
 
  private:
   Entity reader_;

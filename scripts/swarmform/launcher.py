@@ -3,9 +3,12 @@
 Order of a run:
   1. `world_server --check` validates the scenario with the overrides and tells N (file:line errors pass through);
   2. the run directory (runs/<UTC time>/ and runs/latest, or --out) with logs/;
-  3. N `robot_agent --id K` processes, all in one process group of their own, then `world_server` with
-     `--agent-pid K=PID` for each (it SIGKILLs the --kill ones at their exact ticks); agents.json (id -> pid)
-     lets `swarm kill` find them;
+  3. the DDS domain: --domain, or a free one picked and locked for the run (domains.py says how), and the run's
+     nonce; the world first (`--run-nonce`, `--agent-pids agents.json`), and once it says `world ready` (its
+     mission is out) N `robot_agent --id K --run-nonce X` processes, all in one process group of their own, so
+     an agent can only join this run's world (docs/wire.md); agents.json (id -> pid) lets the world SIGKILL the
+     --kill ones at their exact ticks and `swarm kill` find them; an agent that exits with an error during the
+     run (a refused claim, a lost id) is a loud warning with the last line of its log;
   4. the world's `progress` lines become one status line; every other line it prints is shown and logged;
   5. when the world exits, the agents get a deadline to exit, then SIGKILL.
 Ctrl-C, SIGTERM and SIGHUP only set a flag that the loop (which polls, never blocks) acts on: the world gets
@@ -25,9 +28,13 @@ import subprocess
 import sys
 import time
 
+from . import domains
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 PROGRESS = re.compile(r"^progress tick=(\d+) alive=(\d+)/(\d+) tps=([0-9.eE+-]+|nan|inf)")
 DONE = re.compile(r"^done ticks=(\d+) run_dir=(.*)$")
+READY = re.compile(r"^world ready domain=(\d+) run_nonce=([0-9a-f]+)$")
+AGENT_WATCH_PERIOD_S = 0.5
 CHECK_TIMEOUT_S = 60
 AGENT_EXIT_DEADLINE_S = 5.0
 WORLD_STOP_DEADLINE_S = 10.0
@@ -136,8 +143,9 @@ class Processes:
         self._files.append(f)
         return f
 
-    def start_agent(self, exe, rid, domain, log_path):
+    def start_agent(self, exe, rid, domain, log_path, run_nonce=None):
         cmd = [exe, "--id", str(rid)] + (["--domain", str(domain)] if domain is not None else [])
+        cmd += ["--run-nonce", run_nonce] if run_nonce else []
         log = self._log(log_path)
         group = next(iter(self.groups), 0)
         try:
@@ -256,8 +264,67 @@ class Status:
             self.dirty = False
 
 
-def _follow(proc, stop, status, console_log, max_ticks, prefix="world"):
-    """Reads the world's output until it exits or a stop is asked; returns the `done` line's fields or None."""
+class AgentWatch:
+    """Says, once per agent, when an agent exited with an error during the run (issue 18: a refused claim or a lost
+    id is a loud warning, not a silent death), with the last line of its log. A SIGKILLed agent (--kill, the end)
+    is not an error of its own."""
+
+    def __init__(self, procs, logs, status):
+        self.procs, self.logs, self.status = procs, logs, status
+        self.said, self.last = set(), 0.0
+
+    def check(self, force=False):
+        if not force and time.monotonic() - self.last < AGENT_WATCH_PERIOD_S:
+            return
+        self.last = time.monotonic()
+        for rid, p in list(self.procs.agents.items()):
+            if rid in self.said:
+                continue
+            code = _exit_code_unreaped(p)
+            if code is None or code <= 0:
+                continue
+            self.said.add(rid)
+            self.status.line(f"swarm: WARNING: agent {rid} exited with code {code}: {_last_line(self.logs, rid)}")
+
+
+def _exit_code_unreaped(p):
+    """An agent's exit code (negative: killed by that signal), or None while it runs. Looked at without reaping it:
+    an exited agent stays a zombie until the end of the run, so its pid cannot be reused by another process that
+    the world's --kill or `swarm kill` would then hit."""
+    if p.returncode is not None:
+        return p.returncode
+    try:
+        r = os.waitid(os.P_PID, p.pid, os.WEXITED | os.WNOHANG | os.WNOWAIT)
+    except ChildProcessError:
+        return None
+    if r is None or r.si_pid == 0:
+        return None
+    return r.si_status if r.si_code == os.CLD_EXITED else -r.si_status
+
+
+def _last_line(logs, rid):
+    path = os.path.join(logs, f"agent-{rid}.log")
+    try:
+        with open(path, "rb") as f:
+            f.seek(0, os.SEEK_END)
+            f.seek(max(0, f.tell() - 4096))
+            lines = [x.strip() for x in f.read().decode(errors="replace").splitlines() if x.strip()]
+    except OSError:
+        return f"(no log at {path})"
+    said = [x for x in lines if not x.startswith("agent id=")]  # the summary line says nothing of why
+    return (said or lines or ["(empty log)"])[-1]
+
+
+def _write_json_atomically(path, data):
+    tmp = f"{path}.tmp-{os.getpid()}"
+    with open(tmp, "w") as f:
+        json.dump(data, f, indent=1)
+    os.replace(tmp, path)
+
+
+def _follow(proc, stop, status, console_log, max_ticks, prefix="world", on_ready=None, on_idle=None):
+    """Reads the world's output until it exits or a stop is asked; returns the `done` line's fields or None.
+    `on_ready()` runs at the world's `world ready` line, `on_idle()` every time round the loop."""
     fd = proc.stdout.fileno()
     os.set_blocking(fd, False)
     buf, done = b"", None
@@ -272,6 +339,11 @@ def _follow(proc, stop, status, console_log, max_ticks, prefix="world"):
         if m:
             status.progress(int(m[1]), int(m[2]), int(m[3]), float(m[4]), max_ticks)
             return
+        m = READY.match(line)
+        if m:
+            if on_ready:
+                on_ready()
+            return
         m = DONE.match(line)
         if m:
             done = (int(m[1]), m[2])
@@ -284,6 +356,8 @@ def _follow(proc, stop, status, console_log, max_ticks, prefix="world"):
                 status.line(f"{prefix}: ... (more lines like this in {os.path.basename(console_log.name)})")
 
     while not stop:
+        if on_idle:
+            on_idle()
         ready, _, _ = select.select([fd], [], [], 0.2)
         if not ready:
             if proc.poll() is not None:
@@ -310,6 +384,7 @@ def run(args, render_pictures):
     stop = StopFlag()
     procs = Processes()
     status = Status()
+    lease = None
     try:
         if args.in_process:
             return _run_in_process(args, stop, status, render_pictures)
@@ -324,23 +399,36 @@ def run(args, render_pictures):
         os.makedirs(logs, exist_ok=True)
         status.line(f"swarm: {n} robot agents, {info.get('mode', '?')} mode, up to {max_ticks} ticks, "
                     f"seed {info.get('seed')}; run directory {run_dir}")
-        for rid in range(n):
-            if stop:
-                break
-            procs.start_agent(agent_exe, rid, args.domain, os.path.join(logs, f"agent-{rid}.log"))
-        with open(os.path.join(run_dir, "agents.json"), "w") as f:
-            json.dump({str(k): p.pid for k, p in procs.agents.items()}, f, indent=1)
-        if stop:
-            return _interrupted(procs, stop, status, run_dir)
-        cmd = [world_exe] + overrides(args) + ["--out", run_dir]
-        if args.domain is not None:
-            cmd += ["--domain", str(args.domain)]
-        for rid, p in procs.agents.items():
-            cmd += ["--agent-pid", f"{rid}={p.pid}"]
+        domain = args.domain
+        if domain is not None and not domains.ports_free(domain):
+            ports = " and ".join(str(p) for p in domains.world_ports(domain))
+            raise LaunchError(f"DDS domain {domain} is in use on this host (UDP port {ports} held: another run's "
+                              "world?); choose another --domain, or leave it out to pick a free one")
+        if domain is None:
+            try:
+                lease = domains.pick_free_domain()
+            except (domains.DomainError, OSError) as e:
+                raise LaunchError(str(e)) from None
+            domain = lease.domain
+            status.line(f"swarm: DDS domain {domain} (free on this host; --domain D chooses one)")
+        nonce = domains.run_nonce()
+        agents_json = os.path.join(run_dir, "agents.json")
+        cmd = [world_exe] + overrides(args) + ["--out", run_dir, "--domain", str(domain), "--run-nonce", nonce,
+                                               "--agent-pids", agents_json]
+
+        def start_agents():  # at the world's `world ready`: its mission is out
+            for rid in range(n):
+                if stop or rid in procs.agents:
+                    continue
+                procs.start_agent(agent_exe, rid, domain, os.path.join(logs, f"agent-{rid}.log"), nonce)
+            _write_json_atomically(agents_json, {str(k): p.pid for k, p in procs.agents.items()})
+
+        watch = AgentWatch(procs, logs, status)
         started = time.monotonic()
         with open(os.path.join(logs, "world_console.log"), "ab") as console_log:
             procs.start_world(cmd)
-            done = _follow(procs.world, stop, status, console_log, max_ticks)
+            done = _follow(procs.world, stop, status, console_log, max_ticks, on_ready=start_agents,
+                           on_idle=watch.check)
             while procs.world.poll() is None and not stop:  # its output closed; it should be exiting
                 time.sleep(0.1)
         status.end()
@@ -348,6 +436,7 @@ def run(args, render_pictures):
             return _interrupted(procs, stop, status, run_dir)
         code = procs.world.returncode
         stragglers = procs.wait_agents(AGENT_EXIT_DEADLINE_S)
+        watch.check(force=True)
         if stragglers:
             status.line(f"swarm: {stragglers} agent(s) still running {AGENT_EXIT_DEADLINE_S:.0f} s after the world "
                         "ended were killed")
@@ -370,6 +459,8 @@ def run(args, render_pictures):
         procs.stop_world(WORLD_STOP_DEADLINE_S)
         procs.kill_agents()
         procs.close()
+        if lease:
+            lease.release()
         stop.restore()
 
 

@@ -15,8 +15,17 @@
 //   rogue_agent silent --id K --domain D [--timeout SEC]
 //       claims K, keeps its writer's liveliness asserted, and never answers a packet: a live agent that says
 //       nothing (a hung controller). Its robot stands where it was placed; its label must be given up.
+//   rogue_agent forge --target K --domain D [--realtime] [--timeout SEC]
+//       a second writer in partition robot/K, of another participant: it reads K's real packets (to learn the
+//       run nonce, owner nonce and generation, as a forger on the host could), then from tick 20 on writes a
+//       forged perception and an END packet for K every world tick. Agent K must refuse them all (they are
+//       not from the world it bound to) and run to the end. Prints "forge sent=N" when the run finishes.
+//   rogue_agent badwire --id K --domain D (--version V | --nonce HEX) [--timeout SEC]
+//       claims K stamped with another wire version or another run's nonce, re-sent every 0.1 s. The world
+//       must refuse every claim, say so at most once a second, and answer a claim of its own version with the
+//       reason (printed as "rogue_agent: refused: <reason>", exit 4).
 //
-// Exits 0 when the world announces the end (nan, slow, silent) or finishes (spoof), 3 on --timeout.
+// Exits 0 when the world announces the end (nan, slow, silent) or finishes (spoof, forge), 3 on --timeout.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -27,6 +36,7 @@
 #include <optional>
 #include <thread>
 
+#include "common/dds/refusal_log.hpp"
 #include "common/dds/signal_watch.hpp"
 #include "common/dds/wire.hpp"
 
@@ -61,12 +71,26 @@ int spoof(dds::Participant& participant, RobotId target, double timeout_s) {
         std::cout << "spoof sent=" << sent << std::endl;
         return 0;
       }
+      commands.set_stamp(s->run_nonce);  // of this run: only the ownership check may stop them
       for (Tick t = s->tick; t < s->tick + 4; ++t, ++sent) commands.step(target, t, fake);
     }
     waiter.wait_until(deadline);
   }
   std::cout << "spoof sent=" << sent << " (timeout)" << std::endl;
   return 3;
+}
+
+// The run nonce of the world's mission (0 at `deadline`): these rogues misbehave inside the run.
+std::uint64_t run_nonce_of(dds::Participant& participant, dds_time_t deadline) {
+  dds::Waiter waiter(participant);
+  dds::MissionReader mission(participant);
+  dds::RefusalLog refusals("rogue_agent", std::cerr);
+  waiter.attach(mission.condition());
+  while (dds_time() < deadline) {
+    if (auto m = mission.take(std::nullopt, refusals)) return m->run_nonce;
+    waiter.wait_until(deadline);
+  }
+  return 0;
 }
 
 // Claims `id` as an agent would (resent every second until answered): 0 once the world accepted it, 4 if it
@@ -101,6 +125,7 @@ int answering_agent(dds::Participant& participant, RobotId id, bool realtime, do
   dds::CommandWriter commands(participant, realtime);
   waiter.attach(inbox.packet_condition());
   const dds_time_t deadline = after(timeout_s);
+  commands.set_stamp(run_nonce_of(participant, deadline));
   if (const int rc = claim_id(id, inbox, commands, waiter, deadline); rc != 0) return rc;
   dds::SensorSample packet;
   std::uint64_t foreign = 0;
@@ -142,6 +167,71 @@ int slow_agent(dds::Participant& participant, RobotId id, int delay_ms, bool rea
   });
 }
 
+int forge(dds::Participant& participant, RobotId target, bool realtime, double timeout_s) {
+  dds::Waiter waiter(participant);
+  dds::WorldStateReader state(participant);
+  dds::AgentInbox spy(participant, target, waiter, realtime);  // unbound: reads whatever comes to robot/K
+  dds::RobotChannels channels(participant, target + 1, realtime);
+  waiter.attach(state.condition());
+  waiter.attach(spy.packet_condition());
+  const dds_time_t deadline = after(timeout_s);
+  dds::SensorSample real;
+  std::uint64_t foreign = 0;
+  std::uint64_t sent = 0;
+  bool learned = false;
+  Perception fake;
+  fake.pose = Pose2D{9.0, 9.0, 1.0};
+  fake.ultrasonic.fill(0.01);  // a wall everywhere
+  while (dds_time() < deadline) {
+    if (spy.take_packet(real, foreign) && real.status == dds::PacketStatus::Run && !learned) {
+      channels.set_owner(target, real.owner_nonce, real.generation);
+      learned = true;
+    }
+    if (auto s = state.take()) {
+      if (s->finished) {
+        std::cout << "forge sent=" << sent << std::endl;
+        return 0;
+      }
+      channels.set_run_nonce(s->run_nonce);
+      if (learned && s->tick >= 20) {
+        fake.tick = s->tick + 1;
+        channels.write_packet(target, dds::PacketStatus::Run, fake);
+        channels.write_packet(target, dds::PacketStatus::End, fake);
+        sent += 2;
+      }
+    }
+    waiter.wait_until(std::min(deadline, after(0.05)));
+  }
+  std::cout << "forge sent=" << sent << " (timeout)" << std::endl;
+  return 3;
+}
+
+int badwire(dds::Participant& participant, RobotId id, std::uint16_t version, std::uint64_t nonce,
+            double timeout_s) {
+  dds::Waiter waiter(participant);
+  dds::AgentInbox inbox(participant, id, waiter);
+  dds::CommandWriter commands(participant);
+  commands.set_stamp(nonce, version);
+  waiter.attach(inbox.packet_condition());
+  const dds_time_t deadline = after(timeout_s);
+  const std::uint64_t attempt = 0xbad0000u + id;
+  std::uint64_t sent = 0;
+  for (;;) {
+    if (auto a = inbox.take_claim_reply(); a && a->nonce == attempt) {
+      std::cerr << "rogue_agent: " << (a->accepted ? "accepted" : "refused: " + a->reason) << "\n";
+      std::cout << "badwire sent=" << sent << std::endl;
+      return a->accepted ? 0 : 4;
+    }
+    if (dds_time() >= deadline) {
+      std::cout << "badwire sent=" << sent << " (timeout)" << std::endl;
+      return 3;
+    }
+    commands.claim(id, attempt, 0);
+    ++sent;
+    waiter.wait_until(std::min(deadline, after(0.1)));
+  }
+}
+
 int silent_agent(dds::Participant& participant, RobotId id, double timeout_s) {
   return answering_agent(participant, id, false, timeout_s, "silent",
                          [](Tick) { return std::optional<Command>(); });
@@ -156,6 +246,10 @@ int main(int argc, char** argv) {
   double timeout_s = 60.0;
   app.add_option("--domain", domain, "DDS domain id")->check(CLI::Range(0u, 232u));
   app.add_option("--timeout", timeout_s, "give up after this many seconds");
+  std::vector<std::string> peers;
+  app.add_option("--peer", peers,
+                 "HOST:PORT: another discovery peer beside the world (forge: the target agent's "
+                 "ports, as a forger on the host would find them)");
   auto* sp = app.add_subcommand("spoof", "write commands for another robot's id");
   std::uint32_t target = 0;
   sp->add_option("--target", target, "the robot to impersonate")->required();
@@ -171,6 +265,15 @@ int main(int argc, char** argv) {
   si->add_option("--id", id, "the id to claim")->required();
   bool realtime = false;
   sl->add_flag("--realtime", realtime, "best-effort endpoints, for a world in realtime mode");
+  auto* fo = app.add_subcommand("forge", "write forged perceptions and END packets into robot/K");
+  fo->add_option("--target", target, "the robot whose partition it writes into")->required();
+  fo->add_flag("--realtime", realtime, "best-effort endpoints, for a world in realtime mode");
+  auto* bw = app.add_subcommand("badwire", "claim an id with another wire version or run nonce");
+  bw->add_option("--id", id, "the id to claim")->required();
+  std::uint16_t version = dds::kWireVersion;
+  std::string nonce_hex = "0";
+  bw->add_option("--version", version, "the wire version to stamp");
+  bw->add_option("--nonce", nonce_hex, "the run nonce to stamp (hex)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -182,10 +285,14 @@ int main(int argc, char** argv) {
     dds::DdsSettings settings;
     settings.domain = domain;
     settings.role = dds::Role::Agent;
+    settings.extra_peers = peers;
     dds::Participant participant(settings);
     if (sp->parsed()) return spoof(participant, target, timeout_s);
     if (sl->parsed()) return slow_agent(participant, id, delay_ms, realtime, timeout_s);
     if (si->parsed()) return silent_agent(participant, id, timeout_s);
+    if (fo->parsed()) return forge(participant, target, realtime, timeout_s);
+    if (bw->parsed())
+      return badwire(participant, id, version, std::stoull(nonce_hex, nullptr, 16), timeout_s);
     return nan_agent(participant, id, timeout_s);
   } catch (const std::exception& e) {
     std::cerr << "rogue_agent: " << e.what() << "\n";

@@ -15,7 +15,8 @@ sys.path.insert(0, os.path.join(ROOT, "scripts"))
 
 def test_domain(offset):
     """The DDS domain of a networked test: SWARMFORM_TEST_DOMAIN_BASE (default 100) + offset, the scheme and the
-    offsets' table of tests/integration/test_domain.hpp (a window of 40 domains per build)."""
+    offsets' table of tests/integration/test_domain.hpp (a window of 40 domains per build; 38-39 are the launcher's
+    free-domain picker's, in test_launcher_e2e's concurrent runs)."""
     text = os.environ.get("SWARMFORM_TEST_DOMAIN_BASE") or "100"
     if not text.isdigit() or int(text) > 232 - 40 + 1:
         raise ValueError(f"SWARMFORM_TEST_DOMAIN_BASE={text!r}: want an integer 0..193 "
@@ -27,6 +28,8 @@ def test_domain(offset):
 def swarm(*args, env=None, timeout=120, build_dir=FAKE_BUILD):
     """Runs scripts/swarm without building; returns the CompletedProcess (text)."""
     e = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=build_dir)
+    if build_dir == FAKE_BUILD:  # the stand-in world holds no DDS port: see fake_build/python/sitecustomize.py
+        e["PYTHONPATH"] = os.path.join(FAKE_BUILD, "python")
     e.update(env or {})
     return subprocess.run([SWARM] + list(args), capture_output=True, text=True, timeout=timeout, env=e)
 

@@ -57,9 +57,12 @@ class LauncherTest(unittest.TestCase):
         self.assertEqual(sorted(pids), [0, 1, 2])
         with open(os.path.join(out, "world_args.json")) as f:
             world_args = json.load(f)
-        for rid, pid in pids.items():
-            self.assertIn(f"{rid}={pid}", world_args)
-        for flag in (["--kill", "1@20"], ["--domain", "77"], ["--robots", "3"], ["--out", out]):
+        # The world starts first and reads the agents' pids from agents.json (for --kill) once they run; it
+        # and every agent get the run's nonce.
+        nonce = world_args[world_args.index("--run-nonce") + 1]
+        self.assertRegex(nonce, r"^[0-9a-f]{16}$")
+        for flag in (["--kill", "1@20"], ["--domain", "77"], ["--robots", "3"], ["--out", out],
+                     ["--agent-pids", os.path.join(out, "agents.json")]):
             i = world_args.index(flag[0])
             self.assertEqual(world_args[i:i + 2], flag)
         for rid in pids:
@@ -143,6 +146,38 @@ class LauncherTest(unittest.TestCase):
         self.assertIn("world_server failed (exit 3)", r.stderr)
         self.assert_all_gone(agent_pids(out).values())
 
+    def test_an_agent_that_exits_with_an_error_is_a_loud_warning(self):
+        # Issue 18: a refused claim is a loud warning with the agent's own words, not a silent death.
+        out = os.path.join(self.dir, "run")
+        r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "3", "--max-ticks", "200", "--out", out,
+                          "--domain", "77", "--no-pictures",
+                          env={"FAKE_AGENT_EXIT_S": "0.2", "FAKE_AGENT_REFUSED": "1", "FAKE_WORLD_SLOW": "0.01"})
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("swarm: WARNING: agent 1 exited with code 4: robot_agent 1: refused: id is already owned",
+                      r.stderr)
+        self.assertEqual(r.stderr.count("WARNING"), 1, r.stderr)
+
+    def test_a_domain_in_use_on_this_host_is_refused_before_anything_starts(self):
+        import socket
+        from swarmform import domains
+        s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        try:
+            s.bind(("127.0.0.1", 0))  # an ephemeral port, standing in for a world's port of domain 77
+            port = s.getsockname()[1]
+            probe = os.path.join(self.dir, "sitecustomize.py")  # makes the launcher see it as domain 77's
+            with open(probe, "w") as f:
+                f.write("from swarmform import domains\n"
+                        f"domains.world_ports = lambda d: ({port}, {port}) if d == 77 else (7400 + 100 * d + 10,) * 2\n")
+            out = os.path.join(self.dir, "run")
+            r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "2", "--out", out, "--domain", "77",
+                              "--no-pictures", env={"PYTHONPATH": self.dir + os.pathsep + os.path.join(helpers.ROOT,
+                                                                                                       "scripts")})
+        finally:
+            s.close()
+        self.assertEqual(r.returncode, 1, r.stderr)
+        self.assertIn("DDS domain 77 is in use on this host", r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(out, "agents.json")))
+
     def test_missing_executables_are_explained(self):
         r = helpers.swarm("run", "--scenario", self.scenario, build_dir=os.path.join(self.dir, "nothing"))
         self.assertEqual(r.returncode, 1)
@@ -154,7 +189,7 @@ class LauncherTest(unittest.TestCase):
                               "--max-ticks", "100000", "--out", out, "--no-pictures"], env=env,
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         self.started.append(p)
-        self.assertTrue(wait_for(lambda: os.path.exists(os.path.join(out, "world_args.json")), 20.0))
+        self.assertTrue(wait_for(lambda: os.path.exists(os.path.join(out, "agents.json")), 20.0))
         return p
 
     def test_ctrl_c_stops_everything_and_exits_130(self):

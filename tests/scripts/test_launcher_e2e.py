@@ -4,6 +4,7 @@ is left behind. Each test has its own DDS domain and every wait a deadline."""
 
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -136,6 +137,43 @@ class LauncherEndToEndTest(unittest.TestCase):
             p.communicate(timeout=60)
         self.assertEqual(p.returncode, 130)
         self.assertEqual(processes_mentioning(self.out), [])
+
+    def test_two_concurrent_runs_without_domain_pick_their_own_and_both_complete(self):
+        # Issue 18 point 5: two `swarm run` at once on one host, no --domain. Each picks a free domain (here
+        # within this build's test window, SWARM_DOMAINS), says which, and only its own agents join its world.
+        lo, hi = helpers.test_domain(38), helpers.test_domain(39)
+        env = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=BUILD_DIR, SWARM_DOMAINS=f"{lo}-{hi}")
+        outs = [os.path.join(self.dir, f"run{i}") for i in range(2)]
+        procs = [subprocess.Popen([helpers.SWARM, "run", "--scenario", SCENARIO, "--robots", "4", "--max-ticks",
+                                   "3000", "--no-pictures", "--out", out], env=env, stdout=subprocess.PIPE,
+                                  stderr=subprocess.PIPE, text=True) for out in outs]
+        results = []
+        for p in procs:
+            try:
+                results.append(p.communicate(timeout=180))
+            except subprocess.TimeoutExpired:
+                for q in procs:
+                    q.kill()
+                self.fail("a concurrent run did not finish within 180 s")
+        picked = []
+        for p, out, (_, err) in zip(procs, outs, results):
+            self.assertEqual(p.returncode, 0, err)
+            self.assertNotIn("Traceback", err)
+            self.assertNotIn("WARNING", err)
+            m = re.search(r"swarm: DDS domain (\d+) \(free on this host", err)
+            self.assertIsNotNone(m, err)
+            picked.append(int(m[1]))
+            with open(os.path.join(out, "summary.json")) as f:
+                summary = json.load(f)
+            self.assertEqual(summary["alive_at_end"], 4)
+            self.assertEqual(summary["ticks"], 3000)
+            with open(os.path.join(out, "agents.json")) as f:
+                own = {int(pid) for pid in json.load(f).values()}
+            joined = {int(e["detail"].split()[-1]) for e in recording.load(out).events
+                      if e["kind"] == "agent_connected"}
+            self.assertEqual(joined, own, "only this run's agents joined its world")
+            self.assertEqual(processes_mentioning(out), [])
+        self.assertEqual(sorted(picked), [lo, hi])
 
 
 def read_text(path):

@@ -1,0 +1,70 @@
+// The pure parts of issue 18 point 1 (docs/wire.md "Liveliness, stalls and deaths"): a process's own clock of
+// progress, the world's judgement of lost agents after its own stall, and refusals said once a second.
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "common/dds/refusal_log.hpp"
+#include "common/own_clock.hpp"
+#include "world_server/stall_guard.hpp"
+
+namespace {
+
+using swarmform::OwnClock;
+using swarmform::server::StallGuard;
+
+constexpr std::int64_t kMs = 1000000;
+
+TEST(OwnClock, GapsBeyondTheLoopsPromiseAreLeftOutOfAwakeTime) {
+  OwnClock c(250 * kMs);
+  EXPECT_EQ(c.observe(1000 * kMs), 1000 * kMs);
+  EXPECT_EQ(c.observe(1100 * kMs), 1100 * kMs);  // a normal wake-up
+  EXPECT_EQ(c.stalls(), 0u);
+  // Stopped for 3 s: only the promised 250 ms count as awake.
+  EXPECT_EQ(c.observe(4100 * kMs), 1350 * kMs);
+  EXPECT_EQ(c.stalls(), 1u);
+  EXPECT_EQ(c.stalled_total(), 2750 * kMs);
+  EXPECT_EQ(c.last_stall_end(), 1350 * kMs);
+  EXPECT_EQ(c.observe(4200 * kMs), 1450 * kMs);
+}
+
+TEST(StallGuard, ALossIsADeathAtOnceUnlessTheWorldItselfJustStalled) {
+  StallGuard g;
+  g.observe(DDS_SECS(10));
+  g.observe(DDS_SECS(10) + DDS_MSECS(100));
+  EXPECT_FALSE(g.suspect(1));  // no own stall: a death now
+  g.observe(DDS_SECS(14));     // the world was stopped ~4 s
+  EXPECT_TRUE(g.suspect(2));   // right after it: only a suspect
+  EXPECT_TRUE(g.suspect(3));
+  std::vector<swarmform::dds::PublicationHandle> dead;
+  g.observe(DDS_SECS(14) + DDS_MSECS(100));
+  EXPECT_TRUE(g.clear(2));  // its liveliness came back in time: never dead
+  EXPECT_FALSE(g.clear(2));
+  g.expired(dead);
+  EXPECT_TRUE(dead.empty());
+  g.observe(DDS_SECS(14) + DDS_MSECS(200));
+  g.observe(DDS_SECS(14) + DDS_MSECS(400));
+  g.observe(DDS_SECS(14) + DDS_MSECS(600));
+  g.expired(dead);  // 3 stayed lost for the grace: a death now
+  ASSERT_EQ(dead.size(), 1u);
+  EXPECT_EQ(dead[0], 3u);
+  EXPECT_EQ(g.suspicions_cleared(), 1u);
+  // Long after the stall, losses are deaths at once again.
+  for (int i = 1; i <= 20; ++i) g.observe(DDS_SECS(14) + DDS_MSECS(600) + i * DDS_MSECS(100));
+  EXPECT_FALSE(g.suspect(4));
+}
+
+TEST(RefusalLog, SaysEachWriterAtMostOnceASecondWithTheCount) {
+  std::ostringstream out;
+  swarmform::dds::RefusalLog log("robot_agent 3", out);
+  for (int i = 0; i < 100; ++i) log.refuse(7, "writer 7", "packet", "not ours", i * 10 * kMs);  // 1 s
+  log.refuse(7, "writer 7", "packet", "not ours", 1000 * kMs);
+  log.refuse(8, "writer 8", "END packet", "not ours", 1000 * kMs);
+  EXPECT_EQ(log.total(), 102u);
+  EXPECT_EQ(out.str(),
+            "robot_agent 3: refused 1 packet sample(s) from writer 7: not ours\n"
+            "robot_agent 3: refused 100 packet sample(s) from writer 7: not ours\n"
+            "robot_agent 3: refused 1 END packet sample(s) from writer 8: not ours\n");
+}
+
+}  // namespace

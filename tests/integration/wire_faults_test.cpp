@@ -1,0 +1,285 @@
+// Faults of issue 18 points 1 and 2 on real processes (docs/wire.md): stalls that are not deaths, a stalled
+// agent that rejoins afresh, an agent that lost its id, forged packets from another participant, and samples
+// of another wire version or run. Domains: test_domain(36) and (37) (tests/integration/test_domain.hpp);
+// every wait has a deadline and every process is SIGKILLed by pid at the end (ProcessFixture).
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <dirent.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "tests/integration/process_fixture.hpp"
+#include "tests/integration/test_domain.hpp"
+
+namespace {
+
+using swarmform::testing::eventually;
+using swarmform::testing::Process;
+using swarmform::testing::read_file;
+using Json = nlohmann::json;
+
+constexpr int kRobots = 8;
+constexpr double kRunDeadline = 120.0;  // s, for one whole run (the longest here take ~10 s)
+// Long enough for the world to print its first progress line (after 1 s) well before the end: lockstep runs
+// the random walk at ~1,800 ticks/s here.
+constexpr int kLongRun = 15000;
+
+// The UDP ports process `pid` holds (its sockets' inodes in /proc/net/udp): what a forger on the host finds.
+std::set<int> udp_ports_of(pid_t pid) {
+  std::set<std::string> inodes;
+  const std::string fd_dir = "/proc/" + std::to_string(pid) + "/fd";
+  if (DIR* d = opendir(fd_dir.c_str())) {
+    while (dirent* e = readdir(d)) {
+      char target[256] = {};
+      const std::string link = fd_dir + "/" + e->d_name;
+      const ssize_t n = readlink(link.c_str(), target, sizeof target - 1);
+      const std::string t(target, n > 0 ? static_cast<std::size_t>(n) : 0);
+      if (t.rfind("socket:[", 0) == 0) inodes.insert(t.substr(8, t.size() - 9));
+    }
+    closedir(d);
+  }
+  std::set<int> ports;
+  std::ifstream udp("/proc/net/udp");
+  std::string line;
+  std::getline(udp, line);  // header
+  while (std::getline(udp, line)) {
+    std::istringstream in(line);
+    std::string slot, local, remote, st, queues, tr, retr, uid, timeout, inode;
+    in >> slot >> local >> remote >> st >> queues >> tr >> retr >> uid >> timeout >> inode;
+    if (inodes.count(inode) && local.find(':') != std::string::npos) {
+      ports.insert(std::stoi(local.substr(local.find(':') + 1), nullptr, 16));
+    }
+  }
+  return ports;
+}
+
+const std::string kWorld = WORLD_SERVER_EXE;
+const std::string kAgent = ROBOT_AGENT_EXE;
+const std::string kRogue = ROGUE_AGENT_EXE;
+const std::string kScenario = INTEGRATION_SCENARIO;
+
+class WireFaults : public swarmform::testing::ProcessFixture {
+ protected:
+  WireFaults() : ProcessFixture("swarmform-wire") {}
+  Process& world(int domain, const std::string& run, std::vector<std::string> extra = {}) {
+    std::vector<std::string> argv = {
+        kWorld,     "--scenario",           kScenario,           "--out", path(run),
+        "--domain", std::to_string(domain), "--connect-timeout", "30"};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    return start(argv, run + "-world");
+  }
+  Process& agent(int domain, int id, const std::string& tag, std::vector<std::string> extra = {}) {
+    std::vector<std::string> argv = {
+        kAgent, "--id", std::to_string(id), "--domain", std::to_string(domain), "--timeout", "30"};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    return start(argv, tag + "-agent" + std::to_string(id) + "-" + std::to_string(processes_.size()));
+  }
+  std::vector<Process*> agents(int domain, const std::string& tag) {
+    std::vector<Process*> out;
+    for (int i = 0; i < kRobots; ++i) out.push_back(&agent(domain, i, tag));
+    return out;
+  }
+  Json summary(const std::string& run) const { return Json::parse(read_file(path(run) + "/summary.json")); }
+  bool has_event(const std::string& run, const std::string& kind, int id) const {
+    std::istringstream in(read_file(path(run) + "/events.jsonl"));
+    for (std::string line; std::getline(in, line);) {
+      if (line.empty()) continue;
+      const Json e = Json::parse(line, nullptr, false);
+      if (e.is_object() && e.value("kind", "") == kind && e.value("id", -1) == id) return true;
+    }
+    return false;
+  }
+  // Once the world has printed a progress line, the run is ticking.
+  static bool ticking(Process& w) { return w.out().find("progress tick=") != std::string::npos; }
+  static void stall(pid_t pid, std::chrono::milliseconds how_long) {
+    ASSERT_EQ(::kill(pid, SIGSTOP), 0);
+    std::this_thread::sleep_for(how_long);
+    ASSERT_EQ(::kill(pid, SIGCONT), 0);
+  }
+  // A lockstep run of kLongRun ticks, every agent exiting 0; `during` acts on it once it ticks (the world
+  // must still be running then). Returns the trajectory hash.
+  template <typename F>
+  std::string lockstep_run(int domain, const std::string& run, F&& during) {
+    Process& w = world(domain, run, {"--max-ticks", std::to_string(kLongRun)});
+    std::vector<Process*> as = agents(domain, run);
+    EXPECT_TRUE(eventually(kRunDeadline, [&] { return ticking(w) || !w.running(); })) << w.out();
+    EXPECT_TRUE(w.running()) << "the run ended before the fault: make it longer";
+    during(w, as);
+    EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+    EXPECT_NE(w.out().find("done ticks=" + std::to_string(kLongRun)), std::string::npos) << w.out();
+    for (int i = 0; i < kRobots; ++i) EXPECT_EQ(as[i]->wait_for(15.0), 0) << i << ": " << as[i]->err();
+    return summary(run).value("trajectory_sha256", "");
+  }
+};
+
+// Issue 18: a world SIGSTOPped for 3 s found every agent's liveliness lease expired when it resumed and
+// recorded them all dead (12 of 13 runs). It now judges them against its own awake time (stall_guard.hpp).
+TEST_F(WireFaults, WorldStalledThreeSecondsInLockstepKillsNobodyAndChangesNothing) {
+  const int domain = swarmform::testing::test_domain(36);
+  const std::string baseline = lockstep_run(domain, "baseline", [](Process&, std::vector<Process*>&) {});
+  const std::string stalled = lockstep_run(domain, "stalled", [&](Process& w, std::vector<Process*>&) {
+    stall(w.pid(), std::chrono::milliseconds(3000));
+  });
+  EXPECT_EQ(baseline.size(), 64u);
+  EXPECT_EQ(stalled, baseline);
+  const Json s = summary("stalled");
+  EXPECT_EQ(s["deaths"].size(), 0u) << s["deaths"].dump();
+  EXPECT_NE(read_file(path("stalled-world.err")).find("world_server: the world itself stalled 1 time(s)"),
+            std::string::npos)
+      << read_file(path("stalled-world.err"));
+  EXPECT_EQ(s["alive_at_end"], kRobots);
+}
+
+// An agent tolerates a silent world for --world-timeout seconds of its own time (default 10): with 1 s it
+// gives up during a 4 s stall of the world and says so; one with the default rides the stall out.
+TEST_F(WireFaults, AgentGivesUpOnASilentWorldOnlyAfterItsWorldTimeout) {
+  const int domain = swarmform::testing::test_domain(36);
+  Process& w = world(domain, "silent-world", {"--robots", "2", "--max-ticks", std::to_string(kLongRun)});
+  Process& impatient = agent(domain, 0, "silent-world", {"--world-timeout", "1"});
+  Process& patient = agent(domain, 1, "silent-world");
+  ASSERT_TRUE(eventually(kRunDeadline, [&] { return ticking(w) || !w.running(); })) << w.out();
+  ASSERT_TRUE(w.running());
+  stall(w.pid(), std::chrono::milliseconds(4000));
+  EXPECT_EQ(impatient.wait_for(15.0), 3) << impatient.err();
+  EXPECT_NE(impatient.err().find("the world went away before announcing the end (silent for 1 s"),
+            std::string::npos)
+      << impatient.err();
+  EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_EQ(patient.wait_for(15.0), 0) << patient.err();
+  const Json s = summary("silent-world");
+  EXPECT_EQ(s["alive_at_end"], 1);
+  ASSERT_EQ(s["deaths"].size(), 1u) << s.dump();
+  EXPECT_EQ(s["deaths"][0]["id"], 0);
+}
+
+// An agent stalled 3 s in lockstep is taken for dead (its lease ran out while the world was awake); when it
+// resumes, its robot rejoins and its controller starts afresh (init again), recorded as a rejoin.
+TEST_F(WireFaults, AgentStalledThreeSecondsInLockstepRejoinsWithAFreshController) {
+  const int domain = swarmform::testing::test_domain(36);
+  Process* stalled_agent = nullptr;
+  (void)lockstep_run(domain, "agent-stall", [&](Process& w, std::vector<Process*>& as) {
+    stalled_agent = as[2];
+    stall(as[2]->pid(), std::chrono::milliseconds(3000));
+    EXPECT_TRUE(eventually(20.0, [&] { return has_event("agent-stall", "rejoin", 2) || !w.running(); }));
+  });
+  ASSERT_NE(stalled_agent, nullptr);
+  EXPECT_NE(stalled_agent->out().find("restarts=1"), std::string::npos) << stalled_agent->out();
+  EXPECT_NE(stalled_agent->err().find("controller started afresh"), std::string::npos)
+      << stalled_agent->err();
+  const Json s = summary("agent-stall");
+  ASSERT_EQ(s["deaths"].size(), 1u) << s.dump();
+  EXPECT_EQ(s["deaths"][0]["id"], 2);
+  ASSERT_EQ(s["rejoins"].size(), 1u) << s.dump();
+  EXPECT_EQ(s["rejoins"][0]["id"], 2);
+  EXPECT_EQ(s["alive_at_end"], kRobots);
+}
+
+// Realtime: agent 4 stalls, is taken for dead, and a restarted agent claims id 4. The old one, resumed, is
+// told by the world's packets (another owner) and exits 5 with a clear message; it used to run to the end.
+TEST_F(WireFaults, RealtimeAgentReplacedByARestartedOneIsToldAndExitsNonZero) {
+  const int domain = swarmform::testing::test_domain(37);
+  Process& w = world(domain, "replaced", {"--mode", "realtime", "--max-ticks", "150"});
+  std::vector<Process*> as = agents(domain, "replaced");
+  ASSERT_TRUE(eventually(kRunDeadline, [&] { return ticking(w) || !w.running(); })) << w.out();
+  ASSERT_EQ(::kill(as[4]->pid(), SIGSTOP), 0);
+  ASSERT_TRUE(eventually(20.0, [&] { return has_event("replaced", "death", 4) || !w.running(); }));
+  Process& again = agent(domain, 4, "replaced-again");
+  EXPECT_TRUE(eventually(20.0, [&] { return has_event("replaced", "rejoin", 4) || !w.running(); }));
+  ASSERT_EQ(::kill(as[4]->pid(), SIGCONT), 0);
+  EXPECT_EQ(as[4]->wait_for(15.0), 5) << as[4]->err();
+  EXPECT_NE(as[4]->err().find("lost id 4 to another agent"), std::string::npos) << as[4]->err();
+  EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_EQ(again.wait_for(15.0), 0) << again.err();
+  EXPECT_EQ(summary("replaced")["alive_at_end"], kRobots);
+}
+
+// Another participant writes forged perceptions and END packets into robot/3 (with the right run nonce,
+// owner nonce and generation, read off the wire): agent 3 refuses them, as not from the world it bound to at
+// the mission, and runs to the end. It used to exit 0 at the first forged END (a silent remote kill).
+TEST_F(WireFaults, ForgedEndAndPerceptionsFromAnotherParticipantAreRefused) {
+  const int domain = swarmform::testing::test_domain(37);
+  Process& w = world(domain, "forged", {"--max-ticks", std::to_string(kLongRun)});
+  std::vector<Process*> as = agents(domain, "forged");
+  // A forger on the host finds agent 3's ports and peers with it directly (agents never discover each other
+  // through the world).
+  std::set<int> ports;
+  ASSERT_TRUE(eventually(20.0, [&] { return (ports = udp_ports_of(as[3]->pid())).size() >= 2; }));
+  std::vector<std::string> argv = {kRogue, "--domain", std::to_string(domain), "--timeout", "100"};
+  for (int port : ports) {
+    argv.push_back("--peer");
+    argv.push_back("127.0.0.1:" + std::to_string(port));
+  }
+  argv.insert(argv.end(), {"forge", "--target", "3"});
+  Process& forger = start(argv, "forger");
+  EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_EQ(forger.wait_for(15.0), 0) << forger.out() << forger.err();
+  std::smatch m;
+  const std::string forged = forger.out();
+  ASSERT_TRUE(std::regex_search(forged, m, std::regex("forge sent=([0-9]+)"))) << forged;
+  EXPECT_GT(std::stoi(m[1]), 10) << forged;
+  EXPECT_EQ(as[3]->wait_for(15.0), 0) << as[3]->err();
+  // Every real packet (1000 ticks and the END), none forged; the refusals counted and said.
+  EXPECT_NE(
+      as[3]->out().find("agent id=3 packets=" + std::to_string(kLongRun + 1) + " foreign_packets=0 refused="),
+      std::string::npos)
+      << as[3]->out();
+  EXPECT_EQ(as[3]->out().find("refused=0 "), std::string::npos) << as[3]->out();
+  EXPECT_NE(as[3]->err().find("not from the world whose mission this agent took"), std::string::npos)
+      << as[3]->err();
+  EXPECT_EQ(summary("forged")["alive_at_end"], kRobots);
+}
+
+// Claims of another run (nonce) are answered with the reason; claims of another wire version are refused
+// and said at most once a second per writer (not once per sample); an agent told to take only another run's
+// mission refuses this world's and says why.
+TEST_F(WireFaults, SamplesOfAnotherRunOrWireVersionAreRefusedWithTheReason) {
+  const int domain = swarmform::testing::test_domain(37);
+  Process& w = world(domain, "badwire", {"--robots", "2", "--run-nonce", "5eed"});
+  Process& other_run = start({kRogue, "--domain", std::to_string(domain), "--timeout", "20", "badwire",
+                              "--id", "0", "--nonce", "deadbeef"},
+                             "other-run");
+  EXPECT_EQ(other_run.wait_for(30.0), 4) << other_run.err();
+  EXPECT_NE(other_run.err().find("refused: run nonce 00000000deadbeef is not this run's (0000000000005eed)"),
+            std::string::npos)
+      << other_run.err();
+  Process& old_wire = start({kRogue, "--domain", std::to_string(domain), "--timeout", "3", "badwire", "--id",
+                             "1", "--version", "1"},
+                            "old-wire");
+  EXPECT_EQ(old_wire.wait_for(30.0), 3) << old_wire.err();  // never answered: it speaks another version
+  std::smatch m;
+  const std::string sent_text = old_wire.out();
+  ASSERT_TRUE(std::regex_search(sent_text, m, std::regex("badwire sent=([0-9]+)"))) << sent_text;
+  const int sent = std::stoi(m[1]);
+  EXPECT_GE(sent, 10);
+  const std::regex said(
+      "world_server: refused ([0-9]+) claim sample\\(s\\) from writer [0-9a-f]+ \\(pid 0\\): "
+      "wire version 1, this world speaks 2");
+  const std::string err = w.err();
+  int lines = 0;
+  for (auto it = std::sregex_iterator(err.begin(), err.end(), said); it != std::sregex_iterator(); ++it)
+    ++lines;
+  EXPECT_GE(lines, 1) << err;
+  EXPECT_LE(lines, 6) << "one line a second, not one per sample (" << sent << " sent): " << err;
+  Process& stranger = start(
+      {kAgent, "--id", "0", "--domain", std::to_string(domain), "--run-nonce", "1234", "--timeout", "3"},
+      "stranger");
+  EXPECT_EQ(stranger.wait_for(20.0), 3) << stranger.err();
+  EXPECT_NE(stranger.err().find("another run's (run nonce 0000000000005eed, this side's run is "
+                                "0000000000001234)"),
+            std::string::npos)
+      << stranger.err();
+  // The run itself is untouched: its two agents come and it completes.
+  agent(domain, 0, "badwire");
+  agent(domain, 1, "badwire");
+  EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_EQ(summary("badwire")["alive_at_end"], 2);
+}
+
+}  // namespace

@@ -1,0 +1,28 @@
+#include "world_server/stall_guard.hpp"
+
+namespace swarmform::server {
+
+bool StallGuard::suspect(dds::PublicationHandle writer) {
+  if (clock_.stalls() == 0 || clock_.awake() - clock_.last_stall_end() >= kSuspectWindow) return false;
+  suspects_.emplace(writer, clock_.awake());
+  return true;
+}
+
+bool StallGuard::clear(dds::PublicationHandle writer) {
+  if (suspects_.erase(writer) == 0) return false;
+  ++cleared_;
+  return true;
+}
+
+void StallGuard::expired(std::vector<dds::PublicationHandle>& out) {
+  for (auto it = suspects_.begin(); it != suspects_.end();) {
+    if (clock_.awake() - it->second >= kGrace) {
+      out.push_back(it->first);
+      it = suspects_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+}
+
+}  // namespace swarmform::server

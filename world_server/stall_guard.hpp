@@ -1,0 +1,55 @@
+// The world judges an agent's liveliness against its own progress (issue 18 point 1, docs/wire.md
+// "Liveliness, stalls and deaths"). When the world itself was not running (SIGSTOP, swap, a loaded host),
+// Cyclone finds every agent's 500 ms lease expired as soon as it resumes, although the agents kept asserting
+// it all along: their datagrams wait in the socket. So a writer lost within kSuspectWindow of awake time
+// after the world's own stall is only suspected; it becomes a death if it stays lost for kGrace of awake
+// time, and was never dead if its liveliness comes back before (the agent's next assertion, within 1/3
+// lease). Otherwise a loss is a death at once, as before (a SIGKILL is seen in ~0.5 s).
+#pragma once
+
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "common/dds/qos.hpp"
+#include "common/dds/wire.hpp"
+#include "common/own_clock.hpp"
+
+namespace swarmform::server {
+
+class StallGuard {
+ public:
+  // The server's loop wakes at least this often (its waits are capped to it), so that a longer gap is its
+  // own stall.
+  static constexpr dds_duration_t kProbe = DDS_MSECS(100);
+  static constexpr dds_duration_t kMaxGap = DDS_MSECS(250);
+  static constexpr dds_duration_t kSuspectWindow = 2 * dds::kLivelinessLease;
+  static constexpr dds_duration_t kGrace = dds::kLivelinessLease;
+
+  StallGuard() : clock_(kMaxGap) {}
+
+  // First thing at every wake-up of the server's loop.
+  void observe(dds_time_t now) { clock_.observe(now); }
+  dds_time_t awake() const { return clock_.awake(); }
+  // When the loop must wake next at the latest, from `now`, to keep observing.
+  dds_time_t probe(dds_time_t now) const { return now + kProbe; }
+
+  // A writer lost its liveliness: true if this is only a suspicion (the world stalled lately), false if it
+  // is a death now.
+  bool suspect(dds::PublicationHandle writer);
+  // Its liveliness came back: true if it was a suspect (then it never died).
+  bool clear(dds::PublicationHandle writer);
+  // Suspects lost for kGrace of awake time: they are deaths now (removed from the suspects).
+  void expired(std::vector<dds::PublicationHandle>& out);
+
+  std::uint64_t own_stalls() const { return clock_.stalls(); }
+  double own_stalled_seconds() const { return static_cast<double>(clock_.stalled_total()) * 1e-9; }
+  std::uint64_t suspicions_cleared() const { return cleared_; }
+
+ private:
+  OwnClock clock_;
+  std::unordered_map<dds::PublicationHandle, dds_time_t> suspects_;  // writer -> awake time of the loss
+  std::uint64_t cleared_ = 0;
+};
+
+}  // namespace swarmform::server
