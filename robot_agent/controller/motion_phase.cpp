@@ -28,6 +28,7 @@ constexpr Tick kTraceTicks = 60;
 constexpr double kRestingShare = 0.1;  // of the cruise: the smallest eq. (7) |F_goal|
 constexpr double kResumeFactor = 2.0;  // x arrival_tolerance off its target: an arrived leader moves again
 constexpr double kSlowest = 0.3;  // x the cruise: the leader never stops, so the gaps a held robot needs open
+constexpr double kClearMargin = 0.1;  // m beyond a body radius: the way to a place is clear of an echo
 constexpr double kParentSide =
     0.2;  // the parent stands on one side when its direction is this far off the normal
 
@@ -95,6 +96,9 @@ void PaperMotion::on_ready(const FormationContext& ctx) {
   leader_.reset();
   parent_.reset();
   references_.clear();
+  ready_sums_.clear();
+  parent_rest_ = {};
+  resting_parent_.reset();
   last_position_.clear();
   last_velocity_.clear();
   large_until_ = 0;
@@ -119,6 +123,11 @@ MotionStep PaperMotion::step(const FormationContext& ctx) {
   for (const auto& [id, n] : ctx.neighbours->all()) {
     if (ctx.neighbours->fresh(id)) {
       last_position_[id] = vadd({ctx.pose.x, ctx.pose.y}, vpolar(n.range, n.azimuth));
+      if (state_ == RobotState::Ready && ctx.members.count(id) != 0) {
+        Sum& sum = ready_sums_[id];
+        sum.total = vadd(sum.total, vpolar(n.range, n.azimuth));
+        ++sum.count;
+      }
       const auto section = section_of(n);
       last_velocity_[id] = section ? section->velocity : Vec2{};
     }
@@ -319,7 +328,11 @@ bool PaperMotion::parent_lost(const FormationContext& ctx) const {
 // eq. (2) at the end of Ready: the vector to every neighbour as it stands now.
 void PaperMotion::record_references(const FormationContext& ctx) {
   for (const auto& [id, pos] : last_position_) {
-    if (ctx.members.count(id) != 0) references_[id] = vsub(pos, {ctx.pose.x, ctx.pose.y});
+    if (ctx.members.count(id) == 0) continue;
+    const auto sum = ready_sums_.find(id);
+    references_[id] = sum != ready_sums_.end() && sum->second.count > 0
+                          ? vscale(sum->second.total, 1.0 / sum->second.count)
+                          : vsub(pos, {ctx.pose.x, ctx.pose.y});
   }
   if (parent_) parent_reference_ = reference_to(ctx, *parent_);
 }
@@ -342,6 +355,10 @@ Vec2 PaperMotion::reference_to(const FormationContext& ctx, RobotId id) const {
 Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) {
   const Vec2 position{ctx.pose.x, ctx.pose.y};
   Vec2 desired;
+  // Where the desired motion leads (the leader's and a cut-off robot's target; a follower's spot where F_net
+  // vanishes) and whether that place stands still (a target does; a follower's, while its parent is at rest).
+  Vec2 place = position;
+  bool place_still = false;
   // eq. (7): m = m_obstacle |F_goal|. The leader's own; a follower takes its parent's broadcast speed for the
   // formation's |F_goal| (so the repulsion fades as the shape comes to rest at the goal and a robot can take
   // a place beside a dead robot's body), never below kRestingShare of the cruise (the slide needs a
@@ -370,7 +387,9 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
       cruise *= std::clamp(1.0 - over / p_.strain_scale, kSlowest, 1.0);
     }
     desired = goal_force(position, target, p_.k_goal, cruise, 0.0);  // eq. (3)
-    m = std::max(p_.m_obstacle * vnorm(desired), m_floor);           // eq. (7)
+    place = target;
+    place_still = true;
+    m = std::max(p_.m_obstacle * vnorm(desired), m_floor);  // eq. (7)
   } else if (!parent_ || parent_lost(ctx)) {
     // No parent (the tree cannot reach this robot's label: deaths cut it off), or a parent alive (not marked
     // dead) but unheard: this robot's piece of the swarm cannot hear the leader's. It takes its own place to
@@ -389,11 +408,28 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
     desired = goal_force(position, target, p_.k_goal, p_.max_speed, 0.0);
     m = std::max(p_.m_obstacle * vnorm(desired), m_floor);
     to_parent_ = {};
+    place = target;
+    place_still = true;
   } else if (parent_) {
     const Neighbour* n = ctx.neighbours->find(*parent_);
     Vec2 to_parent;
+    const auto parent_section = n != nullptr ? section_of(*n) : std::nullopt;
+    const bool parent_resting = parent_section && parent_section->arrived;
+    if (!parent_resting || resting_parent_ != parent_) {
+      parent_rest_ = {};
+      resting_parent_ = parent_resting ? parent_ : std::nullopt;
+    }
     if (n != nullptr && ctx.neighbours->fresh(*parent_)) {
       to_parent = vpolar(n->range, n->azimuth);
+      if (parent_resting) {
+        // A parent at rest stands in one place: the mean of where it was heard since it came to rest, a
+        // range-and-bearing noise averaged away (one noisy reading let a follower arrive off its place).
+        parent_rest_.total = vadd(parent_rest_.total, vadd(position, to_parent));
+        ++parent_rest_.count;
+        to_parent = vsub(vscale(parent_rest_.total, 1.0 / parent_rest_.count), position);
+      }
+    } else if (parent_rest_.count > 0) {
+      to_parent = vsub(vscale(parent_rest_.total, 1.0 / parent_rest_.count), position);
     } else if (auto it = last_position_.find(*parent_); it != last_position_.end()) {
       // Not heard this tick (lost copies, or it drifted out of range behind an obstacle): where it was, moved
       // on at the velocity it last said it had.
@@ -418,7 +454,9 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
     if (auto it = last_velocity_.find(*parent_); it != last_velocity_.end()) feed = it->second;
     desired = vclamp(vadd(f_net, feed), p_.max_speed);
     m = std::max(p_.m_obstacle * vnorm(feed), m_floor);
-    const auto section = n != nullptr ? section_of(*n) : std::nullopt;
+    const auto& section = parent_section;
+    place = vsub(vadd(position, to_parent), parent_reference_);
+    place_still = (section && section->arrived) || vnorm(feed) < kRestingShare * p_.cruise_speed;
     if (section && section->arrived && net_force_ < p_.arrival_net_force) {
       state_ = RobotState::Arrived;
       arrived_alone_ = false;
@@ -477,6 +515,20 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
     anchor_ = position;
     anchor_tick_ = ctx.tick;
     asked_ = 0.0;
+  }
+  // A place this side of the obstacle: when the place stands still within the range the robot remembers
+  // echoes for, and no echo remembered lies within a body's clearance of the straight way there, the
+  // obstacle is not in its way (a body just beyond the place, a post beside it): no eq. (6), no slide, no
+  // going round; the robot drives straight to its place. An echo that appears on the way ends it.
+  if (place_still && vnorm(vsub(place, position)) < p_.fusion_range &&
+      !trace_.blocks_segment(position, place, kRobotRadius + kClearMargin, ctx.tick, kTraceTicks)) {
+    if (boundary_.active()) out.events.push_back("boundary_follow_end");
+    if (was_following) out.events.push_back("wall_follow_end");
+    boundary_.reset();
+    wall_.reset();
+    slide_side_ = 0;
+    echoes_.add(readings, mask, ctx.pose, ctx.tick, p_.obstacle_range);
+    return desired;
   }
   const auto echo = trace_.nearest(position, ctx.tick, p_.obstacle_range + kRobotRadius + 0.3, kTraceTicks);
   if (!boundary_.active() && !wall_.active() && echo && pinned) {

@@ -67,8 +67,15 @@ class PaperMotion final : public MotionPhases {
   bool boundary_written_ = false;
   std::optional<RobotId> leader_;
   std::optional<RobotId> parent_;
-  Vec2 parent_reference_;                  // eq. (2)'s r0 (cos a0, sin a0), arena frame
-  std::map<RobotId, Vec2> references_;     // the same to every neighbour, recorded at the end of Ready
+  Vec2 parent_reference_;               // eq. (2)'s r0 (cos a0, sin a0), arena frame
+  std::map<RobotId, Vec2> references_;  // the same to every neighbour, recorded at the end of Ready
+  struct Sum {
+    Vec2 total;
+    int count = 0;
+  };
+  std::map<RobotId, Sum> ready_sums_;  // each member's vector as heard in every tick of Ready (eq. 2's r0)
+  Sum parent_rest_;                    // where the parent was heard since it came to rest (arena frame)
+  std::optional<RobotId> resting_parent_;  // the parent parent_rest_ is about
   std::map<RobotId, Vec2> last_position_;  // each neighbour's arena position when last heard
   std::map<RobotId, Vec2> last_velocity_;  // and the velocity it said it had then
   Tick large_until_ = 0;                   // a large obstacle was seen lately: no wall-following
