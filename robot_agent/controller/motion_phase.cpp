@@ -28,7 +28,6 @@ constexpr Tick kTraceTicks = 60;
 constexpr double kRestingShare = 0.1;  // of the cruise: the smallest eq. (7) |F_goal|
 constexpr double kResumeFactor = 2.0;  // x arrival_tolerance off its target: an arrived leader moves again
 constexpr double kSlowest = 0.3;  // x the cruise: the leader never stops, so the gaps a held robot needs open
-constexpr double kClearMargin = 0.1;  // m beyond a body radius: the way to a place is clear of an echo
 constexpr double kParentSide =
     0.2;  // the parent stands on one side when its direction is this far off the normal
 
@@ -516,19 +515,25 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
     anchor_tick_ = ctx.tick;
     asked_ = 0.0;
   }
-  // A place this side of the obstacle: when the place stands still within the range the robot remembers
-  // echoes for, and no echo remembered lies within a body's clearance of the straight way there, the
-  // obstacle is not in its way (a body just beyond the place, a post beside it): no eq. (6), no slide, no
-  // going round; the robot drives straight to its place. An echo that appears on the way ends it.
-  if (place_still && vnorm(vsub(place, position)) < p_.fusion_range &&
-      !trace_.blocks_segment(position, place, kRobotRadius + kClearMargin, ctx.tick, kTraceTicks)) {
+  // The last approach: a place that stands still within fusion_range is reached as a Moving robot reaches its
+  // place in the formation phase (paper_controller): straight, going round only the unexplained echoes
+  // nearer than the place (eq. 1's go-round, an echo seen as a robot standing there), with no eq. (6), slide,
+  // wall- or boundary-following. Those keep an obstacle's range (0.6 m) or go round at wall_distance, so a
+  // dead robot's body standing beside a place (0.25-0.5 m off it) held its robot off for good, circling it.
+  if (place_still && vnorm(vsub(place, position)) < p_.fusion_range) {
     if (boundary_.active()) out.events.push_back("boundary_follow_end");
     if (was_following) out.events.push_back("wall_follow_end");
     boundary_.reset();
     wall_.reset();
     slide_side_ = 0;
     echoes_.add(readings, mask, ctx.pose, ctx.tick, p_.obstacle_range);
-    return desired;
+    std::vector<NeighbourPosition> heard;
+    for (const auto& [id, n] : ctx.neighbours->all()) {
+      if (ctx.neighbours->fresh(id)) heard.push_back({n.range, n.azimuth});
+    }
+    const double before_place = vnorm(vsub(place, position)) - kRobotRadius;
+    return avoid_collisions(desired, unexplained_echoes(readings, ctx.pose.theta, heard, before_place),
+                            p_.k_collision, p_.r_o, p_.max_speed);
   }
   const auto echo = trace_.nearest(position, ctx.tick, p_.obstacle_range + kRobotRadius + 0.3, kTraceTicks);
   if (!boundary_.active() && !wall_.active() && echo && pinned) {

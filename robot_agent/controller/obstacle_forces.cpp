@@ -126,16 +126,4 @@ std::optional<Vec2> EchoMemory::nearest(Vec2 position, Tick tick, double within,
   return best;
 }
 
-bool EchoMemory::blocks_segment(Vec2 a, Vec2 b, double clearance, Tick tick, Tick max_age) {
-  std::erase_if(echoes_, [&](const Echo& e) { return e.tick + max_age < tick; });
-  const Vec2 ab = vsub(b, a);
-  const double len2 = vdot(ab, ab);
-  for (const auto& e : echoes_) {
-    const Vec2 ae = vsub(e.point, a);
-    const double t = len2 > 1e-12 ? std::clamp(vdot(ae, ab) / len2, 0.0, 1.0) : 0.0;
-    if (vnorm(vsub(ae, vscale(ab, t))) < clearance) return true;
-  }
-  return false;
-}
-
 }  // namespace swarmform::controller::motion

@@ -95,9 +95,6 @@ class EchoMemory {
   Vec2 force(Vec2 position, Tick tick, double m, double obstacle_range, Tick max_age);
   // The nearest echo point of the last `max_age` ticks within `within` of `position` (centre to point).
   std::optional<Vec2> nearest(Vec2 position, Tick tick, double within, Tick max_age);
-  // Whether an echo point of the last `max_age` ticks lies within `clearance` of the segment from `a` to
-  // `b` (a robot centre driving straight from a to b would come that close to something it saw).
-  bool blocks_segment(Vec2 a, Vec2 b, double clearance, Tick tick, Tick max_age);
   void clear() { echoes_.clear(); }
 
  private:
