@@ -107,6 +107,7 @@ void PaperMotion::on_ready(const FormationContext& ctx) {
   slide_side_ = 0;
   net_force_ = 0.0;
   boundary_.reset();
+  bug_side_ = 0;
   trace_.clear();
   anchor_ = {ctx.pose.x, ctx.pose.y};
   anchor_tick_ = ctx.tick;
@@ -536,6 +537,7 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
                             p_.k_collision, p_.r_o, p_.max_speed);
   }
   const auto echo = trace_.nearest(position, ctx.tick, p_.obstacle_range + kRobotRadius + 0.3, kTraceTicks);
+  const BoundaryFollowParams bf{p_.wall_distance + kRobotRadius, p_.max_speed, 1.0, 20, 1200};
   if (!boundary_.active() && !wall_.active() && echo && pinned) {
     // A head-on tie goes to a side drawn from the seed and the id: deterministic per run, and two robots
     // pinned face to face do not both pick the same way.
@@ -549,13 +551,26 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
       const Vec2 across = vsub(to_parent_, vscale(d_hat, vdot(to_parent_, d_hat)));
       if (vnorm(across) > kParentSide * vnorm(to_parent_)) prefer = vadd(desired, across);
     }
-    boundary_.start(BoundaryFollower::choose_side(position, *echo, prefer, tie), ctx.tick);
+    // Bug's rule for the way round: pinned again no nearer its place than when it last started (by less
+    // than the distance it keeps from the obstacle, which going round can gain without getting past), the
+    // same obstacle or cluster still blocks it: the same way round, its time on that side running on (the
+    // dead-end turn-back below still comes). Choosing afresh each time made a robot among posts alternate
+    // sides every few dozen ticks and stay where it was (posts.yaml, seed 2: for 5,000 ticks).
+    const double gap = vnorm(vsub(place, position));
+    if (bug_side_ != 0 && gap > bug_gap_ - bf.keep) {
+      boundary_.start(bug_side_, ctx.tick, bug_since_);
+    } else {
+      boundary_.start(BoundaryFollower::choose_side(position, *echo, prefer, tie), ctx.tick);
+      bug_gap_ = gap;
+    }
     out.events.push_back("boundary_follow_start " + std::to_string(boundary_.side()));
   }
   if (boundary_.active()) {
-    const BoundaryFollowParams bf{p_.wall_distance + kRobotRadius, p_.max_speed, 1.0, 20, 1200};
     Vec2 v;
-    if (boundary_.update(echo, position, desired, ctx.tick, bf, v)) return v;
+    const bool following = boundary_.update(echo, position, desired, ctx.tick, bf, v);
+    bug_side_ = boundary_.side();
+    bug_since_ = boundary_.since();
+    if (following) return v;
     out.events.push_back("boundary_follow_end");
     anchor_ = position;
     anchor_tick_ = ctx.tick;
@@ -583,9 +598,18 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
   if (f_obs > 1e-9 && d_norm > 1e-9) {
     const Vec2 n = vscale(sense.force, 1.0 / f_obs);
     const double into = vdot(desired, n);
-    if (into < 0.0) {
-      Vec2 slide = vsub(desired, vscale(n, into));
-      if (vnorm(slide) < 0.5 * d_norm) {
+    Vec2 slide = vsub(desired, vscale(n, into));
+    // Head-on (the repulsion straight against the desired motion) is a wall ahead only if something
+    // remembered lies on the way: between two obstacles on either side (a gap between posts, 0.8-1 m) the
+    // summed repulsion also points straight back, and dropping the desired motion along it turned every such
+    // gap into a dead end (posts.yaml: lone robots and leaders slid to and fro before a gap for thousands of
+    // ticks). There eq. (6) alone, against the full desired motion, takes the robot through.
+    const bool head_on = vnorm(slide) < 0.5 * d_norm;
+    const bool gap_ahead =
+        head_on && echoes_.gap_ahead(position, vscale(desired, 1.0 / d_norm), p_.obstacle_range,
+                                     2.0 * kRobotRadius, ctx.tick, kEchoMemoryTicks);
+    if (into < 0.0 && !gap_ahead) {
+      if (head_on) {
         // The side is judged against the remembered obstacle (-n, stable while the robot turns) and kept
         // until the obstacle is gone, so that a robot never swings from one side to the other.
         if (slide_side_ == 0) {

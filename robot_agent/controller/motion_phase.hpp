@@ -90,6 +90,9 @@ class PaperMotion final : public MotionPhases {
   double lag_ = 0.0;  // the part of F_net towards the goal (>= 0): this robot's strain
   // Pinned at an obstacle: boundary following (wall_follow.hpp), over echoes remembered longer.
   BoundaryFollower boundary_;
+  int bug_side_ = 0;    // the way round last taken (0: none yet), since bug_since_, first chosen
+  Tick bug_since_ = 0;  // bug_gap_ m from its place
+  double bug_gap_ = 0.0;
   EchoMemory trace_;
   Vec2 anchor_;  // where this progress window started, and when
   Tick anchor_tick_ = 0;
