@@ -124,7 +124,10 @@ MotionStep PaperMotion::step(const FormationContext& ctx) {
     if (ctx.neighbours->fresh(id)) {
       last_position_[id] = vadd({ctx.pose.x, ctx.pose.y}, vpolar(n.range, n.azimuth));
       if (state_ == RobotState::Ready && ctx.members.count(id) != 0) {
+        // eq. (2)'s r0: the mean of the readings while the neighbour stands (Reached or Ready); one that has
+        // set off already counts where it is now, as the paper's record at the end of Ready has it.
         Sum& sum = ready_sums_[id];
+        if (n.message.state != RobotState::Ready && n.message.state != RobotState::Reached) sum = {};
         sum.total = vadd(sum.total, vpolar(n.range, n.azimuth));
         ++sum.count;
       }
