@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "common/splitmix64.hpp"
 #include "robot_agent/controller/boundary.hpp"
 #include "robot_agent/controller/collision_avoidance.hpp"
 #include "robot_agent/controller/formation_forces.hpp"
@@ -25,6 +26,7 @@ constexpr double kProgressShare = 0.25;  // of the way asked for
 constexpr double kMinAsked = 0.05;       // m asked for over the window
 constexpr Tick kPinnedTicks = 20;
 constexpr Tick kTraceTicks = 60;
+constexpr Tick kEchoMemoryTicks = 15;  // eq. (6)'s memory of echoes (obstacle_forces.hpp: EchoMemory)
 constexpr double kRestingShare = 0.1;  // of the cruise: the smallest eq. (7) |F_goal|
 constexpr double kResumeFactor = 2.0;  // x arrival_tolerance off its target: an arrived leader moves again
 constexpr double kSlowest = 0.3;  // x the cruise: the leader never stops, so the gaps a held robot needs open
@@ -108,6 +110,8 @@ void PaperMotion::on_ready(const FormationContext& ctx) {
   net_force_ = 0.0;
   boundary_.reset();
   bug_side_ = 0;
+  approach_.reset();
+  rng_.seed(splitmix64(splitmix64(seed_) ^ static_cast<std::uint64_t>(ctx.self)));
   trace_.clear();
   anchor_ = {ctx.pose.x, ctx.pose.y};
   anchor_tick_ = ctx.tick;
@@ -362,6 +366,7 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
   // vanishes) and whether that place stands still (a target does; a follower's, while its parent is at rest).
   Vec2 place = position;
   bool place_still = false;
+  bool alone = false;  // cut off from its parent: it makes for its place on its own
   // eq. (7): m = m_obstacle |F_goal|. The leader's own; a follower takes its parent's broadcast speed for the
   // formation's |F_goal| (so the repulsion fades as the shape comes to rest at the goal and a robot can take
   // a place beside a dead robot's body), never below kRestingShare of the cruise (the slide needs a
@@ -413,6 +418,7 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
     to_parent_ = {};
     place = target;
     place_still = true;
+    alone = true;
   } else if (parent_) {
     const Neighbour* n = ctx.neighbours->find(*parent_);
     Vec2 to_parent;
@@ -519,26 +525,35 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
     anchor_tick_ = ctx.tick;
     asked_ = 0.0;
   }
-  // The last approach: a place that stands still within fusion_range is reached as a Moving robot reaches its
-  // place in the formation phase (paper_controller): straight, going round only the unexplained echoes
-  // nearer than the place (eq. 1's go-round, an echo seen as a robot standing there), with no eq. (6), slide,
-  // wall- or boundary-following. Those keep an obstacle's range (0.6 m) or go round at wall_distance, so a
-  // dead robot's body standing beside a place (0.25-0.5 m off it) held its robot off for good, circling it.
-  if (place_still && vnorm(vsub(place, position)) < p_.fusion_range) {
+  // The last approach, and a cut-off robot's way: a place that stands still within fusion_range, or a cut-off
+  // robot's own target, is reached as a Moving robot reaches its place in the formation phase
+  // (place_approach.hpp): straight, going round only the unexplained echoes nearer than the place (eq. 1's
+  // go-round), with a random detour when it makes no progress; no eq. (6), slide, wall- or
+  // boundary-following. Those keep an obstacle's range (0.6 m) or go round at wall_distance, so a dead
+  // robot's body standing beside a place (0.25-0.5 m off it) held its robot off for good, circling it, and a
+  // robot on its own among posts slid to and fro before every gap.
+  if (place_still && (alone || vnorm(vsub(place, position)) < p_.fusion_range)) {
     if (boundary_.active()) out.events.push_back("boundary_follow_end");
     if (was_following) out.events.push_back("wall_follow_end");
     boundary_.reset();
     wall_.reset();
     slide_side_ = 0;
     echoes_.add(readings, mask, ctx.pose, ctx.tick, p_.obstacle_range);
-    std::vector<NeighbourPosition> heard;
-    for (const auto& [id, n] : ctx.neighbours->all()) {
-      if (ctx.neighbours->fresh(id)) heard.push_back({n.range, n.azimuth});
+    const double to_place = vnorm(vsub(place, position));
+    // The echoes of the last kEchoMemoryTicks (Algorithm 2's mask applied when each was heard), each seen as
+    // a robot standing a body radius beyond the echo point: a post the cones swept past while the robot
+    // turned is still gone round (this tick's readings alone let a robot graze a post beside it).
+    std::vector<NeighbourPosition> echoes;
+    for (const Vec2 e : echoes_.points(ctx.tick, kEchoMemoryTicks)) {
+      const Vec2 rel = vsub(e, position);
+      const double r = vnorm(rel);
+      if (r < to_place)  // nearer than the place: not a body just beyond it
+        echoes.push_back({r + kRobotRadius, std::atan2(rel.y, rel.x), RightOfWay::Mutual, true});
     }
-    const double before_place = vnorm(vsub(place, position)) - kRobotRadius;
-    return avoid_collisions(desired, unexplained_echoes(readings, ctx.pose.theta, heard, before_place),
-                            p_.k_collision, p_.r_o, p_.max_speed);
+    return approach_.step(position, place, desired, ctx.tick, echoes,
+                          {p_.k_collision, p_.r_o, p_.max_speed, p_.arrival_tolerance}, rng_, out.events);
   }
+  approach_.reset();
   const auto echo = trace_.nearest(position, ctx.tick, p_.obstacle_range + kRobotRadius + 0.3, kTraceTicks);
   const BoundaryFollowParams bf{p_.wall_distance + kRobotRadius, p_.max_speed, 1.0, 20, 1200};
   if (!boundary_.active() && !wall_.active() && echo && pinned) {
@@ -588,7 +603,6 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
   // dropped, so the robot slides along it instead of stalling against it; head-on, it slides towards its
   // neighbours: the perimeter gives way inwards and the shape shrinks on that side.
   // eq. (6) over the echoes remembered for a moment (obstacle_forces.hpp: EchoMemory).
-  constexpr Tick kEchoMemoryTicks = 15;
   echoes_.add(readings, mask, ctx.pose, ctx.tick, p_.obstacle_range);
   sense.force = echoes_.force(position, ctx.tick, m, p_.obstacle_range, kEchoMemoryTicks);
   const double f_obs = vnorm(sense.force);

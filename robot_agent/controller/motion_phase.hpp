@@ -31,6 +31,7 @@
 #include "robot_agent/controller/motion_hooks.hpp"
 #include "robot_agent/controller/motion_params.hpp"
 #include "robot_agent/controller/obstacle_forces.hpp"
+#include "robot_agent/controller/place_approach.hpp"
 #include "robot_agent/controller/wall_follow.hpp"
 
 namespace swarmform::controller::motion {
@@ -90,8 +91,10 @@ class PaperMotion final : public MotionPhases {
   double lag_ = 0.0;  // the part of F_net towards the goal (>= 0): this robot's strain
   // Pinned at an obstacle: boundary following (wall_follow.hpp), over echoes remembered longer.
   BoundaryFollower boundary_;
-  int bug_side_ = 0;    // the way round last taken (0: none yet), since bug_since_, first chosen
-  Tick bug_since_ = 0;  // bug_gap_ m from its place
+  PlaceApproach approach_;  // the last approach, and a cut-off robot's way to its place
+  std::mt19937_64 rng_;     // its detours, seeded from the run's seed and the id
+  int bug_side_ = 0;        // the way round last taken (0: none yet), since bug_since_, first chosen
+  Tick bug_since_ = 0;      // bug_gap_ m from its place
   double bug_gap_ = 0.0;
   EchoMemory trace_;
   Vec2 anchor_;  // where this progress window started, and when

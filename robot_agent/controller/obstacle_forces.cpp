@@ -112,6 +112,14 @@ Vec2 EchoMemory::force(Vec2 position, Tick tick, double m, double obstacle_range
   return f;
 }
 
+std::vector<Vec2> EchoMemory::points(Tick tick, Tick max_age) {
+  std::erase_if(echoes_, [&](const Echo& e) { return e.tick + max_age < tick; });
+  std::vector<Vec2> out;
+  out.reserve(echoes_.size());
+  for (const auto& e : echoes_) out.push_back(e.point);
+  return out;
+}
+
 std::optional<Vec2> EchoMemory::nearest(Vec2 position, Tick tick, double within, Tick max_age) {
   std::erase_if(echoes_, [&](const Echo& e) { return e.tick + max_age < tick; });
   std::optional<Vec2> best;

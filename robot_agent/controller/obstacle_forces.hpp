@@ -100,6 +100,8 @@ class EchoMemory {
   // the way `obstacle_range` + a body radius along `d` (a robot centre driving straight there would come
   // no nearer to anything it saw).
   bool gap_ahead(Vec2 position, Vec2 d, double obstacle_range, double clearance, Tick tick, Tick max_age);
+  // The echo points of the last `max_age` ticks (arena frame).
+  std::vector<Vec2> points(Tick tick, Tick max_age);
   void clear() { echoes_.clear(); }
 
  private:
