@@ -66,9 +66,9 @@ TEST(MotionRobustness, RangeAndBearingNoiseDoesNotSetAFollowersPlace) {
 // A cluster of posts 0.8-1.1 m apart: two posts flanking a gap sum to a repulsion straight against the way,
 // which the slide took for a wall ahead (every gap a dead end); a robot pinned again chose its way round
 // afresh, alternating; and robots the shape left behind among the posts (cut off from their parents) circled
-// posts at wall_distance for thousands of ticks. Now a head-on repulsion with echoes on both sides and the way
-// ahead clear is a gap (no slide), a robot pinned again no nearer its place keeps its way round, and a cut-off
-// robot makes for its place as a Moving robot does (place_approach.hpp).
+// posts at wall_distance for thousands of ticks. Now a head-on repulsion with echoes on both sides and the
+// way ahead clear is a gap (no slide), a robot pinned again no nearer its place keeps its way round, and a
+// cut-off robot makes for its place as a Moving robot does (place_approach.hpp).
 TEST(MotionRobustness, RobotsThreadAClusterOfPosts) {
   expect_arrives({"scenarios/posts.yaml", 4, {}});
   expect_arrives({"scenarios/posts.yaml", 6, {}});
