@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "common/splitmix64.hpp"
 #include "robot_agent/controller/boundary.hpp"
 #include "robot_agent/controller/collision_avoidance.hpp"
 #include "robot_agent/controller/formation_forces.hpp"
@@ -25,6 +26,7 @@ constexpr double kProgressShare = 0.25;  // of the way asked for
 constexpr double kMinAsked = 0.05;       // m asked for over the window
 constexpr Tick kPinnedTicks = 20;
 constexpr Tick kTraceTicks = 60;
+constexpr Tick kEchoMemoryTicks = 15;  // eq. (6)'s memory of echoes (obstacle_forces.hpp: EchoMemory)
 constexpr double kRestingShare = 0.1;  // of the cruise: the smallest eq. (7) |F_goal|
 constexpr double kResumeFactor = 2.0;  // x arrival_tolerance off its target: an arrived leader moves again
 constexpr double kSlowest = 0.3;  // x the cruise: the leader never stops, so the gaps a held robot needs open
@@ -95,6 +97,9 @@ void PaperMotion::on_ready(const FormationContext& ctx) {
   leader_.reset();
   parent_.reset();
   references_.clear();
+  ready_sums_.clear();
+  parent_rest_ = {};
+  resting_parent_.reset();
   last_position_.clear();
   last_velocity_.clear();
   large_until_ = 0;
@@ -104,6 +109,9 @@ void PaperMotion::on_ready(const FormationContext& ctx) {
   slide_side_ = 0;
   net_force_ = 0.0;
   boundary_.reset();
+  bug_side_ = 0;
+  approach_.reset();
+  rng_.seed(splitmix64(splitmix64(seed_) ^ static_cast<std::uint64_t>(ctx.self)));
   trace_.clear();
   anchor_ = {ctx.pose.x, ctx.pose.y};
   anchor_tick_ = ctx.tick;
@@ -119,6 +127,14 @@ MotionStep PaperMotion::step(const FormationContext& ctx) {
   for (const auto& [id, n] : ctx.neighbours->all()) {
     if (ctx.neighbours->fresh(id)) {
       last_position_[id] = vadd({ctx.pose.x, ctx.pose.y}, vpolar(n.range, n.azimuth));
+      if (state_ == RobotState::Ready && ctx.members.count(id) != 0) {
+        // eq. (2)'s r0: the mean of the readings while the neighbour stands (Reached or Ready); one that has
+        // set off already counts where it is now, as the paper's record at the end of Ready has it.
+        Sum& sum = ready_sums_[id];
+        if (n.message.state != RobotState::Ready && n.message.state != RobotState::Reached) sum = {};
+        sum.total = vadd(sum.total, vpolar(n.range, n.azimuth));
+        ++sum.count;
+      }
       const auto section = section_of(n);
       last_velocity_[id] = section ? section->velocity : Vec2{};
     }
@@ -319,7 +335,11 @@ bool PaperMotion::parent_lost(const FormationContext& ctx) const {
 // eq. (2) at the end of Ready: the vector to every neighbour as it stands now.
 void PaperMotion::record_references(const FormationContext& ctx) {
   for (const auto& [id, pos] : last_position_) {
-    if (ctx.members.count(id) != 0) references_[id] = vsub(pos, {ctx.pose.x, ctx.pose.y});
+    if (ctx.members.count(id) == 0) continue;
+    const auto sum = ready_sums_.find(id);
+    references_[id] = sum != ready_sums_.end() && sum->second.count > 0
+                          ? vscale(sum->second.total, 1.0 / sum->second.count)
+                          : vsub(pos, {ctx.pose.x, ctx.pose.y});
   }
   if (parent_) parent_reference_ = reference_to(ctx, *parent_);
 }
@@ -342,6 +362,11 @@ Vec2 PaperMotion::reference_to(const FormationContext& ctx, RobotId id) const {
 Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) {
   const Vec2 position{ctx.pose.x, ctx.pose.y};
   Vec2 desired;
+  // Where the desired motion leads (the leader's and a cut-off robot's target; a follower's spot where F_net
+  // vanishes) and whether that place stands still (a target does; a follower's, while its parent is at rest).
+  Vec2 place = position;
+  bool place_still = false;
+  bool alone = false;  // cut off from its parent: it makes for its place on its own
   // eq. (7): m = m_obstacle |F_goal|. The leader's own; a follower takes its parent's broadcast speed for the
   // formation's |F_goal| (so the repulsion fades as the shape comes to rest at the goal and a robot can take
   // a place beside a dead robot's body), never below kRestingShare of the cruise (the slide needs a
@@ -370,7 +395,9 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
       cruise *= std::clamp(1.0 - over / p_.strain_scale, kSlowest, 1.0);
     }
     desired = goal_force(position, target, p_.k_goal, cruise, 0.0);  // eq. (3)
-    m = std::max(p_.m_obstacle * vnorm(desired), m_floor);           // eq. (7)
+    place = target;
+    place_still = true;
+    m = std::max(p_.m_obstacle * vnorm(desired), m_floor);  // eq. (7)
   } else if (!parent_ || parent_lost(ctx)) {
     // No parent (the tree cannot reach this robot's label: deaths cut it off), or a parent alive (not marked
     // dead) but unheard: this robot's piece of the swarm cannot hear the leader's. It takes its own place to
@@ -389,11 +416,29 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
     desired = goal_force(position, target, p_.k_goal, p_.max_speed, 0.0);
     m = std::max(p_.m_obstacle * vnorm(desired), m_floor);
     to_parent_ = {};
+    place = target;
+    place_still = true;
+    alone = true;
   } else if (parent_) {
     const Neighbour* n = ctx.neighbours->find(*parent_);
     Vec2 to_parent;
+    const auto parent_section = n != nullptr ? section_of(*n) : std::nullopt;
+    const bool parent_resting = parent_section && parent_section->arrived;
+    if (!parent_resting || resting_parent_ != parent_) {
+      parent_rest_ = {};
+      resting_parent_ = parent_resting ? parent_ : std::nullopt;
+    }
     if (n != nullptr && ctx.neighbours->fresh(*parent_)) {
       to_parent = vpolar(n->range, n->azimuth);
+      if (parent_resting) {
+        // A parent at rest stands in one place: the mean of where it was heard since it came to rest, a
+        // range-and-bearing noise averaged away (one noisy reading let a follower arrive off its place).
+        parent_rest_.total = vadd(parent_rest_.total, vadd(position, to_parent));
+        ++parent_rest_.count;
+        to_parent = vsub(vscale(parent_rest_.total, 1.0 / parent_rest_.count), position);
+      }
+    } else if (parent_rest_.count > 0) {
+      to_parent = vsub(vscale(parent_rest_.total, 1.0 / parent_rest_.count), position);
     } else if (auto it = last_position_.find(*parent_); it != last_position_.end()) {
       // Not heard this tick (lost copies, or it drifted out of range behind an obstacle): where it was, moved
       // on at the velocity it last said it had.
@@ -418,7 +463,9 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
     if (auto it = last_velocity_.find(*parent_); it != last_velocity_.end()) feed = it->second;
     desired = vclamp(vadd(f_net, feed), p_.max_speed);
     m = std::max(p_.m_obstacle * vnorm(feed), m_floor);
-    const auto section = n != nullptr ? section_of(*n) : std::nullopt;
+    const auto& section = parent_section;
+    place = vsub(vadd(position, to_parent), parent_reference_);
+    place_still = (section && section->arrived) || vnorm(feed) < kRestingShare * p_.cruise_speed;
     if (section && section->arrived && net_force_ < p_.arrival_net_force) {
       state_ = RobotState::Arrived;
       arrived_alone_ = false;
@@ -478,7 +525,37 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
     anchor_tick_ = ctx.tick;
     asked_ = 0.0;
   }
+  // The last approach, and a cut-off robot's way: a place that stands still within fusion_range, or a cut-off
+  // robot's own target, is reached as a Moving robot reaches its place in the formation phase
+  // (place_approach.hpp): straight, going round only the unexplained echoes nearer than the place (eq. 1's
+  // go-round), with a random detour when it makes no progress; no eq. (6), slide, wall- or
+  // boundary-following. Those keep an obstacle's range (0.6 m) or go round at wall_distance, so a dead
+  // robot's body standing beside a place (0.25-0.5 m off it) held its robot off for good, circling it, and a
+  // robot on its own among posts slid to and fro before every gap.
+  if (place_still && (alone || vnorm(vsub(place, position)) < p_.fusion_range)) {
+    if (boundary_.active()) out.events.push_back("boundary_follow_end");
+    if (was_following) out.events.push_back("wall_follow_end");
+    boundary_.reset();
+    wall_.reset();
+    slide_side_ = 0;
+    echoes_.add(readings, mask, ctx.pose, ctx.tick, p_.obstacle_range);
+    const double to_place = vnorm(vsub(place, position));
+    // The echoes of the last kEchoMemoryTicks (Algorithm 2's mask applied when each was heard), each seen as
+    // a robot standing a body radius beyond the echo point: a post the cones swept past while the robot
+    // turned is still gone round (this tick's readings alone let a robot graze a post beside it).
+    std::vector<NeighbourPosition> echoes;
+    for (const Vec2 e : echoes_.points(ctx.tick, kEchoMemoryTicks)) {
+      const Vec2 rel = vsub(e, position);
+      const double r = vnorm(rel);
+      if (r < to_place)  // nearer than the place: not a body just beyond it
+        echoes.push_back({r + kRobotRadius, std::atan2(rel.y, rel.x), RightOfWay::Mutual, true});
+    }
+    return approach_.step(position, place, desired, ctx.tick, echoes,
+                          {p_.k_collision, p_.r_o, p_.max_speed, p_.arrival_tolerance}, rng_, out.events);
+  }
+  approach_.reset();
   const auto echo = trace_.nearest(position, ctx.tick, p_.obstacle_range + kRobotRadius + 0.3, kTraceTicks);
+  const BoundaryFollowParams bf{p_.wall_distance + kRobotRadius, p_.max_speed, 1.0, 20, 1200};
   if (!boundary_.active() && !wall_.active() && echo && pinned) {
     // A head-on tie goes to a side drawn from the seed and the id: deterministic per run, and two robots
     // pinned face to face do not both pick the same way.
@@ -492,13 +569,26 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
       const Vec2 across = vsub(to_parent_, vscale(d_hat, vdot(to_parent_, d_hat)));
       if (vnorm(across) > kParentSide * vnorm(to_parent_)) prefer = vadd(desired, across);
     }
-    boundary_.start(BoundaryFollower::choose_side(position, *echo, prefer, tie), ctx.tick);
+    // Bug's rule for the way round: pinned again no nearer its place than when it last started (by less
+    // than the distance it keeps from the obstacle, which going round can gain without getting past), the
+    // same obstacle or cluster still blocks it: the same way round, its time on that side running on (the
+    // dead-end turn-back below still comes). Choosing afresh each time made a robot among posts alternate
+    // sides every few dozen ticks and stay where it was (posts.yaml, seed 2: for 5,000 ticks).
+    const double gap = vnorm(vsub(place, position));
+    if (bug_side_ != 0 && gap > bug_gap_ - bf.keep) {
+      boundary_.start(bug_side_, ctx.tick, bug_since_);
+    } else {
+      boundary_.start(BoundaryFollower::choose_side(position, *echo, prefer, tie), ctx.tick);
+      bug_gap_ = gap;
+    }
     out.events.push_back("boundary_follow_start " + std::to_string(boundary_.side()));
   }
   if (boundary_.active()) {
-    const BoundaryFollowParams bf{p_.wall_distance + kRobotRadius, p_.max_speed, 1.0, 20, 1200};
     Vec2 v;
-    if (boundary_.update(echo, position, desired, ctx.tick, bf, v)) return v;
+    const bool following = boundary_.update(echo, position, desired, ctx.tick, bf, v);
+    bug_side_ = boundary_.side();
+    bug_since_ = boundary_.since();
+    if (following) return v;
     out.events.push_back("boundary_follow_end");
     anchor_ = position;
     anchor_tick_ = ctx.tick;
@@ -513,7 +603,6 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
   // dropped, so the robot slides along it instead of stalling against it; head-on, it slides towards its
   // neighbours: the perimeter gives way inwards and the shape shrinks on that side.
   // eq. (6) over the echoes remembered for a moment (obstacle_forces.hpp: EchoMemory).
-  constexpr Tick kEchoMemoryTicks = 15;
   echoes_.add(readings, mask, ctx.pose, ctx.tick, p_.obstacle_range);
   sense.force = echoes_.force(position, ctx.tick, m, p_.obstacle_range, kEchoMemoryTicks);
   const double f_obs = vnorm(sense.force);
@@ -526,9 +615,18 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
   if (f_obs > 1e-9 && d_norm > 1e-9) {
     const Vec2 n = vscale(sense.force, 1.0 / f_obs);
     const double into = vdot(desired, n);
-    if (into < 0.0) {
-      Vec2 slide = vsub(desired, vscale(n, into));
-      if (vnorm(slide) < 0.5 * d_norm) {
+    Vec2 slide = vsub(desired, vscale(n, into));
+    // Head-on (the repulsion straight against the desired motion) is a wall ahead only if something
+    // remembered lies on the way: between two obstacles on either side (a gap between posts, 0.8-1 m) the
+    // summed repulsion also points straight back, and dropping the desired motion along it turned every such
+    // gap into a dead end (posts.yaml: lone robots and leaders slid to and fro before a gap for thousands of
+    // ticks). There eq. (6) alone, against the full desired motion, takes the robot through.
+    const bool head_on = vnorm(slide) < 0.5 * d_norm;
+    const bool gap_ahead =
+        head_on && echoes_.gap_ahead(position, vscale(desired, 1.0 / d_norm), p_.obstacle_range,
+                                     2.0 * kRobotRadius, ctx.tick, kEchoMemoryTicks);
+    if (into < 0.0 && !gap_ahead) {
+      if (head_on) {
         // The side is judged against the remembered obstacle (-n, stable while the robot turns) and kept
         // until the obstacle is gone, so that a robot never swings from one side to the other.
         if (slide_side_ == 0) {

@@ -31,6 +31,7 @@
 #include "robot_agent/controller/motion_hooks.hpp"
 #include "robot_agent/controller/motion_params.hpp"
 #include "robot_agent/controller/obstacle_forces.hpp"
+#include "robot_agent/controller/place_approach.hpp"
 #include "robot_agent/controller/wall_follow.hpp"
 
 namespace swarmform::controller::motion {
@@ -67,8 +68,15 @@ class PaperMotion final : public MotionPhases {
   bool boundary_written_ = false;
   std::optional<RobotId> leader_;
   std::optional<RobotId> parent_;
-  Vec2 parent_reference_;                  // eq. (2)'s r0 (cos a0, sin a0), arena frame
-  std::map<RobotId, Vec2> references_;     // the same to every neighbour, recorded at the end of Ready
+  Vec2 parent_reference_;               // eq. (2)'s r0 (cos a0, sin a0), arena frame
+  std::map<RobotId, Vec2> references_;  // the same to every neighbour, recorded at the end of Ready
+  struct Sum {
+    Vec2 total;
+    int count = 0;
+  };
+  std::map<RobotId, Sum> ready_sums_;  // each member's vector as heard in every tick of Ready (eq. 2's r0)
+  Sum parent_rest_;                    // where the parent was heard since it came to rest (arena frame)
+  std::optional<RobotId> resting_parent_;  // the parent parent_rest_ is about
   std::map<RobotId, Vec2> last_position_;  // each neighbour's arena position when last heard
   std::map<RobotId, Vec2> last_velocity_;  // and the velocity it said it had then
   Tick large_until_ = 0;                   // a large obstacle was seen lately: no wall-following
@@ -83,6 +91,11 @@ class PaperMotion final : public MotionPhases {
   double lag_ = 0.0;  // the part of F_net towards the goal (>= 0): this robot's strain
   // Pinned at an obstacle: boundary following (wall_follow.hpp), over echoes remembered longer.
   BoundaryFollower boundary_;
+  PlaceApproach approach_;  // the last approach, and a cut-off robot's way to its place
+  std::mt19937_64 rng_;     // its detours, seeded from the run's seed and the id
+  int bug_side_ = 0;        // the way round last taken (0: none yet), since bug_since_, first chosen
+  Tick bug_since_ = 0;      // bug_gap_ m from its place
+  double bug_gap_ = 0.0;
   EchoMemory trace_;
   Vec2 anchor_;  // where this progress window started, and when
   Tick anchor_tick_ = 0;

@@ -112,6 +112,14 @@ Vec2 EchoMemory::force(Vec2 position, Tick tick, double m, double obstacle_range
   return f;
 }
 
+std::vector<Vec2> EchoMemory::points(Tick tick, Tick max_age) {
+  std::erase_if(echoes_, [&](const Echo& e) { return e.tick + max_age < tick; });
+  std::vector<Vec2> out;
+  out.reserve(echoes_.size());
+  for (const auto& e : echoes_) out.push_back(e.point);
+  return out;
+}
+
 std::optional<Vec2> EchoMemory::nearest(Vec2 position, Tick tick, double within, Tick max_age) {
   std::erase_if(echoes_, [&](const Echo& e) { return e.tick + max_age < tick; });
   std::optional<Vec2> best;
@@ -124,6 +132,23 @@ std::optional<Vec2> EchoMemory::nearest(Vec2 position, Tick tick, double within,
     }
   }
   return best;
+}
+
+bool EchoMemory::gap_ahead(Vec2 position, Vec2 d, double obstacle_range, double clearance, Tick tick,
+                           Tick max_age) {
+  std::erase_if(echoes_, [&](const Echo& e) { return e.tick + max_age < tick; });
+  const double length = obstacle_range + kRobotRadius;
+  bool left = false, right = false;
+  for (const auto& e : echoes_) {
+    const Vec2 rel = vsub(e.point, position);
+    if (vnorm(rel) - kRobotRadius >= obstacle_range) continue;
+    const double along = vdot(rel, d);
+    const double across = rel.y * d.x - rel.x * d.y;  // > 0: left of d
+    const double t = std::clamp(along, 0.0, length);
+    if (std::hypot(along - t, across) < clearance) return false;  // on the way
+    if (along > 0.0) (across > 0.0 ? left : right) = true;
+  }
+  return left && right;
 }
 
 }  // namespace swarmform::controller::motion

@@ -95,6 +95,13 @@ class EchoMemory {
   Vec2 force(Vec2 position, Tick tick, double m, double obstacle_range, Tick max_age);
   // The nearest echo point of the last `max_age` ticks within `within` of `position` (centre to point).
   std::optional<Vec2> nearest(Vec2 position, Tick tick, double within, Tick max_age);
+  // A gap ahead: echoes of the last `max_age` ticks within `obstacle_range` (of the robot's surface) on
+  // both sides of the unit direction `d` (ahead of the robot's side-line), and none within `clearance` of
+  // the way `obstacle_range` + a body radius along `d` (a robot centre driving straight there would come
+  // no nearer to anything it saw).
+  bool gap_ahead(Vec2 position, Vec2 d, double obstacle_range, double clearance, Tick tick, Tick max_age);
+  // The echo points of the last `max_age` ticks (arena frame).
+  std::vector<Vec2> points(Tick tick, Tick max_age);
   void clear() { echoes_.clear(); }
 
  private:

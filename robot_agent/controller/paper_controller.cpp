@@ -506,12 +506,14 @@ const std::vector<NeighbourPosition>& PaperController::fresh_neighbour_positions
 }
 
 RightOfWay PaperController::right_of_way(RobotId other, RobotState other_state) const {
-  // The yield rule (collision_avoidance.hpp): a mover before a searcher; between movers the higher id.
+  // The yield rule (collision_avoidance.hpp): a mover before a searcher; between movers the higher id. A
+  // searcher (a spare) also gives way to the shape on its way to the goal (Motion): spares standing in the
+  // shape's path held its leader for good (spares.yaml, seed 18).
   const bool they_move = other_state == RobotState::Moving;
   if (state_ == RobotState::Moving) {
     if (they_move) return other > self_ ? RightOfWay::Theirs : RightOfWay::Ours;
     if (other_state == RobotState::Searching) return RightOfWay::Ours;
-  } else if (state_ == RobotState::Searching && they_move) {
+  } else if (state_ == RobotState::Searching && (they_move || other_state == RobotState::Motion)) {
     return RightOfWay::Theirs;
   }
   return RightOfWay::Mutual;

@@ -78,7 +78,7 @@ bool BoundaryFollower::update(const std::optional<Vec2>& echo, Vec2 position, Ve
   const Vec2 rel = vsub(position, *echo);
   const double dist = std::max(vnorm(rel), 1e-6);
   const Vec2 u = vscale(rel, 1.0 / dist);
-  if (tick >= since_ + params.min_ticks && vdot(desired, u) >= 0.0) {
+  if (tick >= started_ + params.min_ticks && vdot(desired, u) >= 0.0) {
     active_ = false;  // the desired motion leads away from the obstacle: the way is clear
     return false;
   }

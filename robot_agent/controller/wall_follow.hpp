@@ -78,22 +78,27 @@ struct BoundaryFollowParams {
 class BoundaryFollower {
  public:
   static int choose_side(Vec2 position, Vec2 echo, Vec2 desired, int tie_break);
-  void start(int side, Tick tick) {
+  // `side_since`: when this side was first taken (a robot pinned again by the same obstacle keeps its way
+  // round and its time on it; motion_phase.cpp); by default now.
+  void start(int side, Tick tick, std::optional<Tick> side_since = std::nullopt) {
     active_ = true;
     side_ = side;
-    since_ = tick;
+    started_ = tick;
+    since_ = side_since.value_or(tick);
   }
   // `echo`: the nearest remembered echo point (arena frame), none if nothing is remembered near.
   bool update(const std::optional<Vec2>& echo, Vec2 position, Vec2 desired, Tick tick,
               const BoundaryFollowParams& params, Vec2& velocity);
   bool active() const { return active_; }
   int side() const { return side_; }
+  Tick since() const { return since_; }  // when it took this side
   void reset() { active_ = false; }
 
  private:
   bool active_ = false;
   int side_ = 1;
-  Tick since_ = 0;
+  Tick since_ = 0;    // on this side since
+  Tick started_ = 0;  // this episode since
 };
 
 }  // namespace swarmform::controller::motion
