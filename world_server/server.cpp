@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <random>
 
 #include "world_server/run/run_end.hpp"
@@ -66,8 +67,12 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
       session_(world_, world::RunOptions{options_.run_dir, std::string(world::to_string(scenario.mode))}),
       registry_(scenario.robots.size()),
       link_(options_.dds, scenario.robots.size(), scenario.mode == world::Mode::Realtime),
+      guard_(scenario.mode == world::Mode::Realtime ? realtime_limits(scenario.tick_rate) : GuardLimits{}),
       late_(scenario.robots.size()) {
   const std::size_t n = scenario.robots.size();
+  latest_writer_.assign(n, 0);
+  telemetry_limits_.labels = scenario.mission.shape.label_count();
+  telemetry_limits_.robots = static_cast<std::uint32_t>(n);
   written_at_.assign(n, 0);
   latest_.resize(n);
   latest_tick_.assign(n, 0);
@@ -87,9 +92,41 @@ bool Server::stopping() const {
 }
 
 int Server::run() {
+  try {
+    return run_inner();
+  } catch (const world::RecordingError& e) {
+    return fail(e.reason(), e.what(), kExitRecordingFailed);
+  } catch (const std::exception& e) {
+    return fail(world::EndReason::WorldFailed, e.what(), kExitWorldFailed);
+  }
+}
+
+int Server::fail(world::EndReason reason, const std::string& what, int code) {
+  // The agents are told first: they must not wait out their timeout for a world that has given up.
+  try {
+    announce_end();
+  } catch (const std::exception& e) {
+    std::cerr << "world_server: could not announce the end to the agents: " << e.what() << "\n";
+  }
+  session_.set_end_reason(reason);
+  note_input_dropped();
+  std::string summary = "summary.json written";
+  try {
+    session_.finish(start_ ? to_s(dds_time() - start_) : 0.0);
+  } catch (const std::exception& e) {
+    summary = std::string("summary.json not written: ") + e.what();
+  }
+  std::cerr << "world_server: run ended (" << world::to_string(reason) << ") at tick " << world_.tick()
+            << ": " << what << "; " << summary << "\n";
+  return code;
+}
+
+int Server::run_inner() {
   link_.mission.publish(mission_of(scenario_, fresh_nonce()));
   if (!connect_agents()) {
     announce_end();
+    session_.set_end_reason(stopping() ? world::EndReason::Interrupted : world::EndReason::NoAgents);
+    note_input_dropped();
     session_.finish(0.0);
     return stopping() ? kExitOk : kExitAgentsMissing;
   }
@@ -104,6 +141,8 @@ int Server::run() {
   const double wall = to_s(end - start_);
   announce_end();
   progress(true);
+  if (stopping()) session_.set_end_reason(world::EndReason::Interrupted);
+  note_input_dropped();
   session_.finish(
       wall, world::SteadyWindow{options_.warmup_ticks, steady_start_ ? to_s(end - steady_start_) : 0.0});
   if (stopping())
@@ -194,6 +233,7 @@ void Server::pump(bool running) {
   const std::size_t n = link_.commands.take(samples_);
   for (std::size_t i = 0; i < n; ++i) {
     const dds::CommandSample& s = samples_[i];
+    if (!admit(s, running)) continue;
     if (s.kind == dds::CommandKind::Claim) {
       on_claim(s, running);
     } else if (running) {
@@ -209,15 +249,74 @@ void Server::pump(bool running) {
   }
 }
 
+bool Server::admit(const dds::CommandSample& s, bool running) {
+  const dds_time_t now = dds_time();
+  if (s.kind == dds::CommandKind::Claim) {
+    if (guard_.admit_claim(s.writer, now)) return true;
+    report(s, Abuse::ClaimOverLimit, "claims_dropped",
+           "dropped a claim of id " + std::to_string(s.robot_id) +
+               ": over the limit of claims a second from one writer",
+           true);
+    return false;
+  }
+  if (!running) return true;  // pump ignores commands before the run
+  const bool lockstep = scenario_.mode == world::Mode::Lockstep;
+  const std::uint64_t window =
+      lockstep ? world_.tick() : static_cast<std::uint64_t>(now / InputGuard::kSecond);
+  if (guard_.admit_command(s.writer, window, now)) return true;
+  report(s, Abuse::CommandOverLimit, "commands_dropped",
+         "dropped a command for id " + std::to_string(s.robot_id) + ": over the limit of commands a " +
+             (lockstep ? "tick" : "second") + " from one writer",
+         false);
+  return false;
+}
+
+void Server::report(const dds::CommandSample& s, Abuse what, const std::string& kind,
+                    const std::string& detail, bool to_stderr) {
+  const auto n = guard_.report(s.writer, what, dds_time());
+  if (!n) return;
+  std::string text = detail + " (pid " + std::to_string(s.pid) + ")";
+  if (*n > 1) text += "; x" + std::to_string(*n) + " from this writer (logged once a second a writer)";
+  session_.record_event(s.robot_id, kind, text);
+  if (to_stderr) std::cerr << "world_server: " << text << "\n";
+}
+
+void Server::check_telemetry_of(RobotId id) {
+  const world::TelemetryDrops d =
+      world::check_telemetry(latest_[id].telemetry, world_.robots()[id].telemetry, telemetry_limits_);
+  if (!d.any()) return;
+  telemetry_fields_dropped_ += d.fields;
+  telemetry_events_dropped_ += d.events;
+  const auto n = guard_.report(latest_writer_[id], Abuse::BadTelemetry, dds_time());
+  if (!n) return;
+  std::string text = "telemetry of robot " + std::to_string(id) + " out of range, dropped: " + d.first;
+  if (*n > 1) text += "; x" + std::to_string(*n) + " commands (logged once a second a writer)";
+  session_.record_event(id, "telemetry_dropped", text);
+  std::cerr << "world_server: " << text << "\n";
+}
+
+void Server::note_input_dropped() {
+  nlohmann::ordered_json j;
+  bool any = false;
+  for (std::size_t k = 0; k < static_cast<std::size_t>(Abuse::Count); ++k) {
+    const auto what = static_cast<Abuse>(k);
+    j[std::string(to_string(what))] = guard_.total(what);
+    any = any || guard_.total(what) > 0;
+  }
+  j["telemetry_fields"] = telemetry_fields_dropped_;
+  j["telemetry_events"] = telemetry_events_dropped_;
+  session_.set_summary_field("input_dropped", j);
+  if (any) std::cerr << "world_server: input dropped and counted: " << j.dump() << "\n";
+}
+
 void Server::on_claim(const dds::CommandSample& s, bool running) {
   const ClaimResult r = registry_.claim(s.robot_id, s.writer, s.pid);
   const bool accepted = r.outcome == ClaimOutcome::Accepted || r.outcome == ClaimOutcome::Repeated ||
                         r.outcome == ClaimOutcome::TakenOver;
   link_.robots.reply_claim(dds::ClaimAnswer{s.robot_id, s.nonce, accepted, r.reason});
   if (!accepted) {
-    std::cerr << "world_server: refused a claim of id " << s.robot_id << " (pid " << s.pid
-              << "): " << r.reason << "\n";
-    session_.record_event(s.robot_id, "claim_refused", r.reason + "; claimant pid " + std::to_string(s.pid));
+    report(s, Abuse::RefusedClaim, "claim_refused",
+           "refused a claim of id " + std::to_string(s.robot_id) + ": " + r.reason, true);
     return;
   }
   if (r.outcome == ClaimOutcome::Repeated) return;
@@ -234,10 +333,9 @@ void Server::on_claim(const dds::CommandSample& s, bool running) {
 
 void Server::on_command(const dds::CommandSample& s) {
   if (!registry_.owns(s.robot_id, s.writer)) {
-    session_.record_event(s.robot_id, "spoofed_command",
-                          "dropped a command for id " + std::to_string(s.robot_id) +
-                              " from a writer that does " + "not own it (claimed pid " +
-                              std::to_string(s.pid) + ")");
+    report(s, Abuse::SpoofedCommand, "spoofed_command",
+           "dropped a command for id " + std::to_string(s.robot_id) + " from a writer that does not own it",
+           false);
     return;
   }
   const RobotId id = s.robot_id;
@@ -265,6 +363,7 @@ void Server::on_command(const dds::CommandSample& s) {
   const bool usable = scenario_.mode == world::Mode::Lockstep ? s.tick == now : s.tick <= now;
   if (!usable || (fresh_[id] && s.tick < latest_tick_[id])) return;
   latest_[id] = s.command;  // copy-assign: reuses the message buffer's capacity
+  latest_writer_[id] = s.writer;
   latest_tick_[id] = s.tick;
   fresh_[id] = 1;
   if (s.tick == now && waiting_[id]) {
@@ -274,6 +373,7 @@ void Server::on_command(const dds::CommandSample& s) {
 }
 
 void Server::on_lost(dds::PublicationHandle writer, bool running) {
+  guard_.forget(writer);
   const auto id = registry_.lose(writer);
   if (!id) return;  // not an owner (a refused claimant, a spoofer, a test program)
   if (!running) {
@@ -365,6 +465,7 @@ bool Server::end_round() {
     fresh_[i] = 0;
     const auto id = static_cast<RobotId>(i);
     if (!world_.alive(id)) continue;
+    check_telemetry_of(id);
     const world::CommandVerdict v = world_.apply_command(id, latest_[i]);
     if (v != world::CommandVerdict::Ok) session_.record_command_verdict(id, v);
   }

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
+#include <deque>
 #include <iostream>
 #include <map>
 #include <mutex>
@@ -313,12 +314,13 @@ struct RobotChannels::Impl {
   const Participant& participant;
   Pace pace;
   std::vector<RobotChannel> robots;
-  std::map<RobotId, RobotChannel> extra;  // claimants with an id outside the run, answered then left
+  std::map<RobotId, RobotChannel> extra;  // claimants with an id outside the run (kMaxExtraChannels)
+  std::deque<RobotId> extra_order;        // oldest first, for deleting
   std::vector<std::uint8_t> readings;     // the packed readings, reused for every packet
 };
 
 RobotChannels::RobotChannels(const Participant& participant, std::size_t robots, bool realtime)
-    : impl_(std::make_unique<Impl>(Impl{participant, pace_of(realtime), {}, {}, {}})) {
+    : impl_(std::make_unique<Impl>(Impl{participant, pace_of(realtime), {}, {}, {}, {}})) {
   impl_->robots.reserve(robots);
   for (std::size_t i = 0; i < robots; ++i) {
     impl_->robots.push_back(make_robot_channel(participant, static_cast<RobotId>(i), impl_->pace));
@@ -350,8 +352,16 @@ void RobotChannels::reply_claim(const ClaimAnswer& a) {
   } else {
     auto it = impl_->extra.find(a.robot_id);
     if (it == impl_->extra.end()) {
+      // Each channel is a publisher and a writer with their discovery state: a claim storm over made-up ids
+      // once left one behind per id (2,559 claims: +20 MB). The oldest goes; its claimant, if still there,
+      // re-sends its claim and gets a channel again.
+      while (impl_->extra.size() >= kMaxExtraChannels) {
+        impl_->extra.erase(impl_->extra_order.front());
+        impl_->extra_order.pop_front();
+      }
       it = impl_->extra.emplace(a.robot_id, make_robot_channel(impl_->participant, a.robot_id, impl_->pace))
                .first;
+      impl_->extra_order.push_back(a.robot_id);
     }
     c = &it->second;
   }
@@ -362,6 +372,10 @@ void RobotChannels::reply_claim(const ClaimAnswer& a) {
   s.claim_nonce = a.nonce;
   s.note = const_cast<char*>(a.reason.c_str());
   check(dds_write(c->sensor.get(), &s), "dds_write(claim answer)");
+}
+
+std::size_t RobotChannels::extra_channels() const {
+  return impl_->extra.size();
 }
 
 bool RobotChannels::reader_matched(RobotId id) const {
@@ -631,13 +645,13 @@ void CommandReader::take_liveliness_changes(std::vector<LivelinessChange>& out) 
   impl_->changes.clear();
 }
 
-std::size_t CommandReader::take(std::vector<CommandSample>& buf) {
+std::size_t CommandReader::take(std::vector<CommandSample>& buf, std::size_t max_samples) {
   std::size_t count = 0;
-  for (;;) {
+  while (count < max_samples) {
     void* ptrs[kTakeBatch] = {};
     dds_sample_info_t infos[kTakeBatch];
-    const int n =
-        check(dds_take(impl_->reader.get(), ptrs, infos, kTakeBatch, kTakeBatch), "dds_take(command)");
+    const auto batch = static_cast<std::uint32_t>(std::min<std::size_t>(kTakeBatch, max_samples - count));
+    const int n = check(dds_take(impl_->reader.get(), ptrs, infos, batch, batch), "dds_take(command)");
     Loan loan(impl_->reader.get(), ptrs, n);
     for (int i = 0; i < n; ++i) {
       if (!infos[i].valid_data) continue;
@@ -663,7 +677,7 @@ std::size_t CommandReader::take(std::vector<CommandSample>& buf) {
       t.events.resize(s.events._length);
       for (std::uint32_t k = 0; k < s.events._length; ++k) t.events[k] = str(s.events._buffer[k]);
     }
-    if (n < static_cast<int>(kTakeBatch)) break;
+    if (n < static_cast<int>(batch)) break;
   }
   return count;
 }
