@@ -7,7 +7,8 @@ WorldLink::WorldLink(const dds::DdsSettings& settings, std::size_t robot_count, 
       waiter(participant),
       mission(participant),
       robots(participant, robot_count, realtime),
-      commands(participant, waiter, realtime),
+      commands(participant, waiter, realtime,
+               static_cast<std::uint32_t>(robot_count + dds::kMaxExtraChannels)),
       state(participant) {
   waiter.attach(commands.condition());
 }

@@ -303,6 +303,7 @@ void Server::note_input_dropped() {
     j[std::string(to_string(what))] = guard_.total(what);
     any = any || guard_.total(what) > 0;
   }
+  j["out_of_range_ids"] = link_.commands.filtered();  // dropped by the reader's id filter (wire.hpp)
   j["telemetry_fields"] = telemetry_fields_dropped_;
   j["telemetry_events"] = telemetry_events_dropped_;
   session_.set_summary_field("input_dropped", j);

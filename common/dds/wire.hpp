@@ -218,7 +218,12 @@ inline constexpr std::size_t kMaxCommandTake = 1024;
 // World side. A listener follows the liveliness of every command writer and wakes `waiter` when one is lost.
 class CommandReader {
  public:
-  CommandReader(const Participant& participant, Waiter& waiter, bool realtime = false);
+  // `accept_ids` > 0: samples (claims and commands) for ids at or above it are dropped before the reader
+  // stores them (a topic filter; counted by filtered()), so no writer can make the reader hold an instance
+  // per made-up id. The world passes its robot count plus kMaxExtraChannels (near misses still get their
+  // "no robot K in this run" answer).
+  CommandReader(const Participant& participant, Waiter& waiter, bool realtime = false,
+                std::uint32_t accept_ids = 0);
   ~CommandReader();
   CommandReader(const CommandReader&) = delete;
   CommandReader& operator=(const CommandReader&) = delete;
@@ -235,6 +240,8 @@ class CommandReader {
     bool alive = false;
   };
   void take_liveliness_changes(std::vector<LivelinessChange>& out);
+  // Samples dropped by the `accept_ids` filter so far (thread-safe).
+  std::uint64_t filtered() const;
 
  private:
   struct Impl;

@@ -21,11 +21,14 @@
 //       2e9, a NaN net force, and a 20 KB event string, one with control bytes and an "arrived" among its
 //       events. The world must drop and count the out-of-range fields and strings and record none of them;
 //       the run's metrics (from the world's poses) must be those of the honest run.
-//   rogue_agent flood --seconds S [--ids N] [--realtime] --domain D [--timeout SEC]
+//   rogue_agent flood --seconds S [--ids N] [--made-up] [--realtime] --domain D [--timeout SEC]
 //       owns nothing; once its writer has matched the world's reader (prints "flood ready") it writes
 //       commands for ids 0..N-1 (1 KB message, 4 event strings each) as fast as the wire takes them for S
-//       seconds, for the world's current tick, then prints "flood sent=K" and exits 0. The run must be as
-//       without it (lockstep: the same trajectory hash), the run directory and the world bounded.
+//       seconds, for the world's current tick, then prints "flood sent=K" and exits 0. --made-up: after each
+//       of those, one for a new made-up id (1000, 1001, ...: each a new instance for a reader that keeps
+//       them); --claims: also a claim for an id outside the run (8, 9, ... as `claims` does). The run must
+//       be as without it (lockstep: the same trajectory hash), the run directory and the
+//       world's memory bounded.
 //   rogue_agent claims --seconds S [--first ID] --domain D [--timeout SEC]
 //       owns nothing; claims ids ID, ID+1, ... (default 1000: outside any test run) as fast as it can for S
 //       seconds, then prints "claims sent=K" and exits 0. The world must refuse them, hold no channel per
@@ -182,7 +185,8 @@ int liar_agent(dds::Participant& participant, RobotId id, double timeout_s) {
   });
 }
 
-int flood(dds::Participant& participant, double seconds, std::uint32_t ids, bool realtime, double timeout_s) {
+int flood(dds::Participant& participant, double seconds, std::uint32_t ids, bool made_up, bool claims,
+          bool realtime, double timeout_s) {
   dds::Waiter waiter(participant);
   dds::WorldStateReader state(participant);
   dds::CommandWriter commands(participant, realtime);
@@ -200,15 +204,27 @@ int flood(dds::Participant& participant, double seconds, std::uint32_t ids, bool
   fake.telemetry.events = {"flood 1", "flood 2", "flood 3", "flood 4"};
   Tick tick = 0;
   std::uint64_t sent = 0, refused = 0;
+  RobotId next_made_up = 1000;
+  auto write = [&](RobotId id) {
+    try {
+      commands.step(id, tick, fake);
+      ++sent;
+    } catch (const dds::DdsError&) {  // the writer's history is full (reliable): the wire pushes back
+      ++refused;
+    }
+  };
   const dds_time_t end = after(seconds);
   while (dds_time() < end) {
     if (auto s = state.take()) tick = s->tick;
     for (std::uint32_t k = 0; k < ids; ++k) {
-      try {
-        commands.step(k, tick, fake);
-        ++sent;
-      } catch (const dds::DdsError&) {  // the writer's history is full (reliable): the wire pushes back
-        ++refused;
+      write(k);
+      if (made_up) write(next_made_up++);
+      if (claims) {
+        try {
+          commands.claim(static_cast<RobotId>(ids + (sent % 100000)), 0xbad0000 + sent, 0);
+        } catch (const dds::DdsError&) {
+          ++refused;
+        }
       }
     }
   }
@@ -285,6 +301,10 @@ int main(int argc, char** argv) {
   fl->add_option("--seconds", seconds, "how long to flood")->check(CLI::PositiveNumber);
   fl->add_option("--ids", ids, "ids 0..N-1 to write commands for")->check(CLI::Range(1u, 100000u));
   fl->add_flag("--realtime", realtime, "best-effort writer, for a world in realtime mode");
+  bool made_up = false;
+  fl->add_flag("--made-up", made_up, "also a command for a new made-up id after each one");
+  bool with_claims = false;
+  fl->add_flag("--claims", with_claims, "also a claim for an id outside the run after each one");
   auto* cs = app.add_subcommand("claims", "own nothing; claim made-up ids as fast as possible");
   cs->add_option("--seconds", seconds, "how long to claim")->check(CLI::PositiveNumber);
   std::uint32_t first = 1000;
@@ -305,7 +325,7 @@ int main(int argc, char** argv) {
     if (sl->parsed()) return slow_agent(participant, id, delay_ms, realtime, timeout_s);
     if (si->parsed()) return silent_agent(participant, id, timeout_s);
     if (li->parsed()) return liar_agent(participant, id, timeout_s);
-    if (fl->parsed()) return flood(participant, seconds, ids, realtime, timeout_s);
+    if (fl->parsed()) return flood(participant, seconds, ids, made_up, with_claims, realtime, timeout_s);
     if (cs->parsed()) return claim_storm(participant, seconds, first, timeout_s);
     return nan_agent(participant, id, timeout_s);
   } catch (const std::exception& e) {
