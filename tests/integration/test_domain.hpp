@@ -3,7 +3,8 @@
 // tests side by side when their bases lie a window apart. Offsets in use (tests/README.md keeps the table):
 //   1..15 multiprocess_test (11: wire_endpoints_test), 16..20 paper_multiprocess_test, 21..22
 //   bench_lockstep_smoke, 23..26 tests/scripts/test_launcher_e2e.py, 27..35 tests/bench/test_bench_script.py,
-//   36..39 issue 18 "abuse" (36 paper liar, 37 lockstep flood, 38 full disk + end reasons, 39 realtime flood).
+//   36..39 issue 18 "abuse" (36 paper liar, 37 lockstep flood, 38 full disk + end reasons, 39 realtime
+//   flood).
 #pragma once
 
 #include <cstdlib>
