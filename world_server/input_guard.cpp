@@ -17,6 +17,8 @@ std::string_view to_string(Abuse what) {
       return "refused_claims";
     case Abuse::BadTelemetry:
       return "bad_telemetry_commands";
+    case Abuse::BadCommand:
+      return "bad_commands";
     case Abuse::Count:
       break;
   }
@@ -63,9 +65,10 @@ bool InputGuard::admit_claim(dds::PublicationHandle handle, std::int64_t now_ns)
 }
 
 std::optional<std::uint64_t> InputGuard::report(dds::PublicationHandle handle, Abuse what,
-                                                std::int64_t now_ns) {
+                                                std::int64_t now_ns, std::size_t sub) {
   ++totals_[static_cast<std::size_t>(what)];
-  Throttle& t = writer(handle, now_ns).throttles[static_cast<std::size_t>(what)];
+  Throttle& t = writer(handle, now_ns)
+                    .throttles[static_cast<std::size_t>(what) * kSubKinds + std::min(sub, kSubKinds - 1)];
   ++t.unlogged;
   if (t.logged_at != 0 && now_ns - t.logged_at < kSecond) return std::nullopt;
   t.logged_at = now_ns;

@@ -27,6 +27,7 @@ enum class Abuse : std::uint8_t {
   SpoofedCommand,    // a command for an id its writer does not own
   RefusedClaim,      // a claim the registry refused (taken id, id outside the run)
   BadTelemetry,      // an owner's command whose telemetry had fields out of range (telemetry_check.hpp)
+  BadCommand,        // an owner's command the world did not take as it came (World::apply_command's verdict)
   Count,
 };
 std::string_view to_string(Abuse what);
@@ -52,8 +53,11 @@ class InputGuard {
   bool admit_claim(dds::PublicationHandle writer, std::int64_t now_ns);
 
   // Counts one occurrence of `what` from `writer`; when it is to be logged now (the first in a second for
-  // this writer and kind), returns how many occurrences that log line stands for (>= 1).
-  std::optional<std::uint64_t> report(dds::PublicationHandle writer, Abuse what, std::int64_t now_ns);
+  // this writer, kind and `sub`-kind), returns how many occurrences that log line stands for (>= 1). `sub`
+  // (< kSubKinds) tells apart reports of one kind that must each be seen, e.g. a command's verdicts.
+  static constexpr std::size_t kSubKinds = 8;
+  std::optional<std::uint64_t> report(dds::PublicationHandle writer, Abuse what, std::int64_t now_ns,
+                                      std::size_t sub = 0);
   // Counts `n` occurrences without a writer to throttle on (e.g. telemetry event strings dropped).
   void count(Abuse what, std::uint64_t n) { totals_[static_cast<std::size_t>(what)] += n; }
 
@@ -73,7 +77,7 @@ class InputGuard {
     std::int64_t claim_second = 0;
     std::uint32_t claims = 0;
     std::int64_t seen_at = 0;
-    std::array<Throttle, static_cast<std::size_t>(Abuse::Count)> throttles{};
+    std::array<Throttle, static_cast<std::size_t>(Abuse::Count) * kSubKinds> throttles{};
   };
   Writer& writer(dds::PublicationHandle handle, std::int64_t now_ns);
   void prune(std::int64_t now_ns);

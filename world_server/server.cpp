@@ -468,7 +468,13 @@ bool Server::end_round() {
     if (!world_.alive(id)) continue;
     check_telemetry_of(id);
     const world::CommandVerdict v = world_.apply_command(id, latest_[i]);
-    if (v != world::CommandVerdict::Ok) session_.record_command_verdict(id, v);
+    if (v != world::CommandVerdict::Ok) {
+      // Counted every time; written as an event once a second per robot and verdict (an owner sending NaN
+      // every tick wrote a line a tick: ~800 a second in lockstep).
+      const auto logged =
+          guard_.report(latest_writer_[i], Abuse::BadCommand, dds_time(), static_cast<std::size_t>(v));
+      session_.record_command_verdict(id, v, logged.value_or(0));
+    }
   }
   world_.step();
   const dds_time_t t1 = dds_time();

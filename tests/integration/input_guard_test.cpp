@@ -34,6 +34,11 @@ TEST(InputGuard, ReportsAreLoggedOnceASecondWithTheirCount) {
   EXPECT_EQ(g.report(5, Abuse::SpoofedCommand, kT0 + kS), 1000u);  // the 999 unlogged plus this one
   EXPECT_EQ(g.total(Abuse::SpoofedCommand), 1002u);                // writer 5: 1001, writer 6: 1
   EXPECT_EQ(g.total(Abuse::RefusedClaim), 1u);
+  // Sub-kinds (a command's verdicts) each get their first report logged.
+  EXPECT_EQ(g.report(5, Abuse::BadCommand, kT0, 2), 1u);
+  EXPECT_EQ(g.report(5, Abuse::BadCommand, kT0, 3), 1u);
+  EXPECT_FALSE(g.report(5, Abuse::BadCommand, kT0 + 1, 2));
+  EXPECT_EQ(g.total(Abuse::BadCommand), 3u);
 }
 
 TEST(InputGuard, WritersNotSeenForAWhileAreForgotten) {

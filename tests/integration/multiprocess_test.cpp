@@ -262,6 +262,11 @@ TEST_F(MultiProcess, NonFiniteAndOversizeCommandsAreRejectedLoggedAndTheRunGoesO
   const Json s = summary("nan");
   EXPECT_EQ(s["ticks"], 300);
   EXPECT_EQ(s["alive_at_end"], kRobots);
+  // Issue 18 point 4: every bad command counted, but logged once a second per robot and verdict (with the
+  // count it stands for), not once a tick.
+  EXPECT_GE(s["command_verdicts"].get<int>(), 290) << s.dump();
+  const std::size_t seconds = static_cast<std::size_t>(s["wall_seconds"].get<double>()) + 2;
+  EXPECT_LE(events_of("nan", "command").size(), 2 * seconds);
 }
 
 TEST_F(MultiProcess, WorldNamesTheAgentsMissingAtTheConnectTimeout) {

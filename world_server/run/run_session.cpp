@@ -135,11 +135,13 @@ void RunSession::record_rejoin(RobotId id) {
   if (auto e = impl_->events.rejoin(impl_->world.tick(), id)) impl_->emit(*e);
 }
 
-void RunSession::record_command_verdict(RobotId id, CommandVerdict verdict) {
+void RunSession::record_command_verdict(RobotId id, CommandVerdict verdict, std::uint64_t event_for) {
   if (verdict == CommandVerdict::Ok) return;
   ++impl_->command_verdicts;
+  if (event_for == 0) return;
   Event e = make_event(impl_->world.tick(), "command", id);
   e["verdict"] = to_string(verdict);
+  if (event_for > 1) e["count"] = event_for;
   impl_->emit(e);
 }
 

@@ -42,7 +42,10 @@ class RunSession {
   // Events the front end knows of and the world does not.
   void record_death(RobotId id);
   void record_rejoin(RobotId id);
-  void record_command_verdict(RobotId id, CommandVerdict verdict);
+  // Counts a command not taken as it came (summary command_verdicts) and writes its `command` event, which
+  // stands for `event_for` such commands (its `count` field when > 1); 0: counted, no event (a front end
+  // that logs repeated bad input once a second).
+  void record_command_verdict(RobotId id, CommandVerdict verdict, std::uint64_t event_for = 1);
   void record_event(RobotId id, const std::string& kind, const std::string& detail);
 
   const Metrics& metrics() const;
