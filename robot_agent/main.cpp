@@ -73,6 +73,12 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
       return stopped(3);
   }
 
+  if (o.id >= mission.robots) {
+    // The world drops samples for ids far outside the run before reading them (it would not answer).
+    std::cerr << me << ": no robot " << o.id << " in this run (ids 0.." << mission.robots - 1 << ")\n";
+    return stopped(4);
+  }
+
   std::unique_ptr<swarmform::controller::Controller> controller;
   try {
     controller = swarmform::controller::make_controller(mission.mission, o.id);

@@ -8,7 +8,8 @@ WorldLink::WorldLink(const dds::DdsSettings& settings, std::size_t robot_count, 
       waiter(participant),
       mission(participant),
       robots(participant, robot_count, realtime),
-      commands(participant, waiter, realtime),
+      commands(participant, waiter, realtime,
+               static_cast<std::uint32_t>(robot_count + dds::kMaxExtraChannels)),
       state(participant, run_nonce) {
   robots.set_run_nonce(run_nonce);
   waiter.attach(commands.condition());

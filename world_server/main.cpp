@@ -2,8 +2,11 @@
 // waits for every robot's agent to claim its id, then ticks (lockstep or realtime) until the run is complete,
 // and writes the run directory through RunSession. `--check` only loads and validates the scenario.
 //
-// Exit codes: 0 done (also after SIGINT/SIGTERM: the summary is written); 2 bad flags or a bad scenario/shape
-// (`file:line: what` on stderr); 3 agents missing at --connect-timeout; 1 anything else (a DDS failure).
+// Exit codes (kExitCodes below, printed by --help): 0 done (also after SIGINT/SIGTERM: the summary is
+// written, end_reason says why); 1 the world failed (a DDS failure, an internal error); 2 bad flags or a bad
+// scenario/shape (`file:line: what` on stderr); 3 agents missing at --connect-timeout; 5 a write of the run
+// directory failed (a full disk: end_reason disk_full). On 1, 3 and 5 the agents are told to end and
+// summary.json is written when the disk allows.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
@@ -20,6 +23,12 @@ using swarmform::RobotId;
 using swarmform::Tick;
 
 constexpr int kExitBadInput = 2;
+
+constexpr const char* kExitCodes =
+    "Exit codes: 0 the run ended (completed, max_ticks, or interrupted by SIGINT/SIGTERM; summary.json says "
+    "which in end_reason); 1 the world failed (DDS failure, internal error: end_reason world_failed); 2 bad "
+    "flags, scenario or shape; 3 agents missing at --connect-timeout (no_agents); 5 a write of the run "
+    "directory failed (disk full: disk_full). The agents are told to end in every case.";
 
 struct Options {
   std::string scenario;
@@ -150,6 +159,7 @@ int main(int argc, char** argv) {
                  "freshly started agents are slower)")
       ->check(CLI::Range(Tick{0}, Tick{1000000000}));
   app.add_flag("--check", o.check, "load and validate the scenario, print a JSON line, exit");
+  app.footer(kExitCodes);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -164,6 +174,10 @@ int main(int argc, char** argv) {
   } catch (const std::invalid_argument& e) {
     std::cerr << "world_server: " << e.what() << "\n";
     return kExitBadInput;
+  } catch (const swarmform::world::RecordingError& e) {  // before any agent connected: nobody to tell
+    std::cerr << "world_server: run ended (" << swarmform::world::to_string(e.reason())
+              << ") before it started: " << e.what() << "\n";
+    return swarmform::server::kExitRecordingFailed;
   } catch (const std::exception& e) {
     std::cerr << "world_server: " << e.what() << "\n";
     return 1;

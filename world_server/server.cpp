@@ -75,10 +75,14 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
       registry_(scenario.robots.size()),
       link_(options_.dds, scenario.robots.size(), scenario.mode == world::Mode::Realtime, options_.run_nonce),
       refusals_("world_server", std::cerr),
+      guard_(scenario.mode == world::Mode::Realtime ? realtime_limits(scenario.tick_rate) : GuardLimits{}),
       late_(scenario.robots.size()) {
   const std::size_t n = scenario.robots.size();
   generation_.assign(n, 1);
   owner_nonce_.assign(n, 0);
+  latest_writer_.assign(n, 0);
+  telemetry_limits_.labels = scenario.mission.shape.label_count();
+  telemetry_limits_.robots = static_cast<std::uint32_t>(n);
   written_at_.assign(n, 0);
   latest_.resize(n);
   latest_tick_.assign(n, 0);
@@ -98,6 +102,36 @@ bool Server::stopping() const {
 }
 
 int Server::run() {
+  try {
+    return run_inner();
+  } catch (const world::RecordingError& e) {
+    return fail(e.reason(), e.what(), kExitRecordingFailed);
+  } catch (const std::exception& e) {
+    return fail(world::EndReason::WorldFailed, e.what(), kExitWorldFailed);
+  }
+}
+
+int Server::fail(world::EndReason reason, const std::string& what, int code) {
+  // The agents are told first: they must not wait out their timeout for a world that has given up.
+  try {
+    announce_end();
+  } catch (const std::exception& e) {
+    std::cerr << "world_server: could not announce the end to the agents: " << e.what() << "\n";
+  }
+  session_.set_end_reason(reason);
+  note_input_dropped();
+  std::string summary = "summary.json written";
+  try {
+    session_.finish(start_ ? to_s(dds_time() - start_) : 0.0);
+  } catch (const std::exception& e) {
+    summary = std::string("summary.json not written: ") + e.what();
+  }
+  std::cerr << "world_server: run ended (" << world::to_string(reason) << ") at tick " << world_.tick()
+            << ": " << what << "; " << summary << "\n";
+  return code;
+}
+
+int Server::run_inner() {
   link_.mission.publish(mission_of(scenario_, options_.run_nonce));
   // The launcher starts the agents once it reads this line (docs/wire.md "Run nonce").
   std::printf("world ready domain=%u run_nonce=%016llx\n", options_.dds.domain,
@@ -105,6 +139,8 @@ int Server::run() {
   std::fflush(stdout);
   if (!connect_agents()) {
     announce_end();
+    session_.set_end_reason(stopping() ? world::EndReason::Interrupted : world::EndReason::NoAgents);
+    note_input_dropped();
     session_.finish(0.0);
     return stopping() ? kExitOk : kExitAgentsMissing;
   }
@@ -119,6 +155,8 @@ int Server::run() {
   const double wall = to_s(end - start_);
   announce_end();
   progress(true);
+  if (stopping()) session_.set_end_reason(world::EndReason::Interrupted);
+  note_input_dropped();
   session_.finish(
       wall, world::SteadyWindow{options_.warmup_ticks, steady_start_ ? to_s(end - steady_start_) : 0.0});
   if (stopping())
@@ -226,6 +264,7 @@ void Server::pump(bool running) {
   const std::size_t n = link_.commands.take(samples_);
   for (std::size_t i = 0; i < n; ++i) {
     const dds::CommandSample& s = samples_[i];
+    if (!admit(s, running)) continue;
     if (s.kind == dds::CommandKind::Claim) {
       on_claim(s, running);
     } else if (running) {
@@ -244,6 +283,67 @@ void Server::pump(bool running) {
   for (const dds::PublicationHandle w : expired_) on_dead(w, running);
 }
 
+bool Server::admit(const dds::CommandSample& s, bool running) {
+  const dds_time_t now = dds_time();
+  if (s.kind == dds::CommandKind::Claim) {
+    if (guard_.admit_claim(s.writer, now)) return true;
+    report(s, Abuse::ClaimOverLimit, "claims_dropped",
+           "dropped a claim of id " + std::to_string(s.robot_id) +
+               ": over the limit of claims a second from one writer",
+           true);
+    return false;
+  }
+  if (!running) return true;  // pump ignores commands before the run
+  const bool lockstep = scenario_.mode == world::Mode::Lockstep;
+  const std::uint64_t window =
+      lockstep ? world_.tick() : static_cast<std::uint64_t>(now / InputGuard::kSecond);
+  if (guard_.admit_command(s.writer, window, now)) return true;
+  report(s, Abuse::CommandOverLimit, "commands_dropped",
+         "dropped a command for id " + std::to_string(s.robot_id) + ": over the limit of commands a " +
+             (lockstep ? "tick" : "second") + " from one writer",
+         false);
+  return false;
+}
+
+void Server::report(const dds::CommandSample& s, Abuse what, const std::string& kind,
+                    const std::string& detail, bool to_stderr) {
+  const auto n = guard_.report(s.writer, what, dds_time());
+  if (!n) return;
+  std::string text = detail + " (pid " + std::to_string(s.pid) + ")";
+  if (*n > 1) text += "; x" + std::to_string(*n) + " from this writer (logged once a second a writer)";
+  session_.record_event(s.robot_id, kind, text);
+  if (to_stderr) std::cerr << "world_server: " << text << "\n";
+}
+
+void Server::check_telemetry_of(RobotId id) {
+  const world::TelemetryDrops d =
+      world::check_telemetry(latest_[id].telemetry, world_.robots()[id].telemetry, telemetry_limits_);
+  if (!d.any()) return;
+  telemetry_fields_dropped_ += d.fields;
+  telemetry_events_dropped_ += d.events;
+  const auto n = guard_.report(latest_writer_[id], Abuse::BadTelemetry, dds_time());
+  if (!n) return;
+  std::string text = "telemetry of robot " + std::to_string(id) + " out of range, dropped: " + d.first;
+  if (*n > 1) text += "; x" + std::to_string(*n) + " commands (logged once a second a writer)";
+  session_.record_event(id, "telemetry_dropped", text);
+  std::cerr << "world_server: " << text << "\n";
+}
+
+void Server::note_input_dropped() {
+  nlohmann::ordered_json j;
+  bool any = false;
+  for (std::size_t k = 0; k < static_cast<std::size_t>(Abuse::Count); ++k) {
+    const auto what = static_cast<Abuse>(k);
+    j[std::string(to_string(what))] = guard_.total(what);
+    any = any || guard_.total(what) > 0;
+  }
+  j["out_of_range_ids"] = link_.commands.filtered();  // dropped by the reader's id filter (wire.hpp)
+  j["telemetry_fields"] = telemetry_fields_dropped_;
+  j["telemetry_events"] = telemetry_events_dropped_;
+  session_.set_summary_field("input_dropped", j);
+  if (any) std::cerr << "world_server: input dropped and counted: " << j.dump() << "\n";
+}
+
 void Server::on_claim(const dds::CommandSample& s, bool running) {
   if (const std::string why = wire_refusal(s, options_.run_nonce); !why.empty()) {
     // Answered (the claimant learns why and exits 4) only if it speaks this version; said once a second.
@@ -258,9 +358,8 @@ void Server::on_claim(const dds::CommandSample& s, bool running) {
                         r.outcome == ClaimOutcome::TakenOver;
   link_.robots.reply_claim(dds::ClaimAnswer{s.robot_id, s.nonce, accepted, r.reason});
   if (!accepted) {
-    std::cerr << "world_server: refused a claim of id " << s.robot_id << " (pid " << s.pid
-              << "): " << r.reason << "\n";
-    session_.record_event(s.robot_id, "claim_refused", r.reason + "; claimant pid " + std::to_string(s.pid));
+    report(s, Abuse::RefusedClaim, "claim_refused",
+           "refused a claim of id " + std::to_string(s.robot_id) + ": " + r.reason, true);
     return;
   }
   if (r.outcome == ClaimOutcome::Repeated) return;
@@ -289,10 +388,9 @@ void Server::on_command(const dds::CommandSample& s) {
     return;
   }
   if (!registry_.owns(s.robot_id, s.writer)) {
-    session_.record_event(s.robot_id, "spoofed_command",
-                          "dropped a command for id " + std::to_string(s.robot_id) +
-                              " from a writer that does " + "not own it (claimed pid " +
-                              std::to_string(s.pid) + ")");
+    report(s, Abuse::SpoofedCommand, "spoofed_command",
+           "dropped a command for id " + std::to_string(s.robot_id) + " from a writer that does not own it",
+           false);
     return;
   }
   const RobotId id = s.robot_id;
@@ -320,6 +418,7 @@ void Server::on_command(const dds::CommandSample& s) {
   const bool usable = scenario_.mode == world::Mode::Lockstep ? s.tick == now : s.tick <= now;
   if (!usable || (fresh_[id] && s.tick < latest_tick_[id])) return;
   latest_[id] = s.command;  // copy-assign: reuses the message buffer's capacity
+  latest_writer_[id] = s.writer;
   latest_tick_[id] = s.tick;
   fresh_[id] = 1;
   if (s.tick == now && waiting_[id]) {
@@ -336,6 +435,7 @@ void Server::on_lost(dds::PublicationHandle writer, bool running) {
 }
 
 void Server::on_dead(dds::PublicationHandle writer, bool running) {
+  guard_.forget(writer);
   const auto id = registry_.lose(writer);
   if (!id) return;  // not an owner (a refused claimant, a spoofer, a test program)
   if (!running) {
@@ -450,8 +550,15 @@ bool Server::end_round() {
     fresh_[i] = 0;
     const auto id = static_cast<RobotId>(i);
     if (!world_.alive(id)) continue;
+    check_telemetry_of(id);
     const world::CommandVerdict v = world_.apply_command(id, latest_[i]);
-    if (v != world::CommandVerdict::Ok) session_.record_command_verdict(id, v);
+    if (v != world::CommandVerdict::Ok) {
+      // Counted every time; written as an event once a second per robot and verdict (an owner sending NaN
+      // every tick wrote a line a tick: ~800 a second in lockstep).
+      const auto logged =
+          guard_.report(latest_writer_[i], Abuse::BadCommand, dds_time(), static_cast<std::size_t>(v));
+      session_.record_command_verdict(id, v, logged.value_or(0));
+    }
   }
   world_.step();
   const dds_time_t t1 = dds_time();

@@ -21,9 +21,12 @@
 #include "common/dds/signal_watch.hpp"
 #include "world_server/agent_registry.hpp"
 #include "world_server/dds_bridge.hpp"
+#include "world_server/input_guard.hpp"
 #include "world_server/late_commands.hpp"
+#include "world_server/run/end_reason.hpp"
 #include "world_server/run/run_session.hpp"
 #include "world_server/stall_guard.hpp"
+#include "world_server/run/telemetry_check.hpp"
 #include "world_server/world/scenario.hpp"
 #include "world_server/world/world.hpp"
 
@@ -41,9 +44,11 @@ struct ServerOptions {
   std::string agent_pids_file;
 };
 
-// Exit codes of a run.
-inline constexpr int kExitOk = 0;
+// Exit codes of a run (main.cpp documents them all; scripts/README.md too).
+inline constexpr int kExitOk = 0;           // completed, max_ticks or interrupted: summary.json written
+inline constexpr int kExitWorldFailed = 1;  // the world could not go on (a DDS failure, an internal error)
 inline constexpr int kExitAgentsMissing = 3;
+inline constexpr int kExitRecordingFailed = 5;  // a write of the run directory failed (disk full, ...)
 
 class Server {
  public:
@@ -82,6 +87,20 @@ class Server {
   void announce_end();
   void progress(bool force);
   bool stopping() const;
+  // run() without its failure handling: a RecordingError or another exception out of it ends in fail().
+  int run_inner();
+  // Ends a run that failed with `what` for `reason`: the agents are told, the summary written if it can be,
+  // one line on stderr. Returns `code`.
+  int fail(world::EndReason reason, const std::string& what, int code);
+  // Issue 18 point 4: the budget check and throttled report of one sample (input_guard.hpp).
+  bool admit(const dds::CommandSample& s, bool running);
+  // Counts `what` from s's writer; when it is to be logged now (once a second per writer and kind), records
+  // event `kind` with `detail` (plus the count it stands for), and prints it on stderr with `to_stderr`.
+  void report(const dds::CommandSample& s, Abuse what, const std::string& kind, const std::string& detail,
+              bool to_stderr);
+  // Issue 18 point 3: an owner's telemetry checked before the world takes it (telemetry_check.hpp).
+  void check_telemetry_of(RobotId id);
+  void note_input_dropped();
 
   const world::Scenario& scenario_;
   ServerOptions options_;
@@ -104,6 +123,11 @@ class Server {
   // Lockstep: missed a deadline and has not answered since, so rounds do not wait for it (it still gets
   // its packets). Without this one silent agent would cost every round the whole deadline.
   std::vector<std::uint8_t> unresponsive_;
+  std::vector<dds::PublicationHandle> latest_writer_;  // the writer of latest_ (its owner's)
+  InputGuard guard_;
+  world::TelemetryLimits telemetry_limits_;
+  std::uint64_t telemetry_fields_dropped_ = 0;
+  std::uint64_t telemetry_events_dropped_ = 0;
   std::size_t waiting_count_ = 0;
   std::vector<dds::CommandSample> samples_;
   std::vector<dds::CommandReader::LivelinessChange> liveliness_;

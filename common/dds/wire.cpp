@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
+#include <deque>
 #include <iostream>
 #include <map>
 #include <mutex>
@@ -373,12 +374,13 @@ struct RobotChannels::Impl {
   std::uint64_t run_nonce = 0;
   std::vector<Owner> owners;
   std::vector<RobotChannel> robots;
-  std::map<RobotId, RobotChannel> extra;  // claimants with an id outside the run, answered then left
+  std::map<RobotId, RobotChannel> extra;  // claimants with an id outside the run (kMaxExtraChannels)
+  std::deque<RobotId> extra_order;        // oldest first, for deleting
   std::vector<std::uint8_t> readings;     // the packed readings, reused for every packet
 };
 
 RobotChannels::RobotChannels(const Participant& participant, std::size_t robots, bool realtime)
-    : impl_(std::make_unique<Impl>(Impl{participant, pace_of(realtime), 0, {}, {}, {}, {}})) {
+    : impl_(std::make_unique<Impl>(Impl{participant, pace_of(realtime), 0, {}, {}, {}, {}, {}})) {
   impl_->owners.resize(robots);
   impl_->robots.reserve(robots);
   for (std::size_t i = 0; i < robots; ++i) {
@@ -423,8 +425,16 @@ void RobotChannels::reply_claim(const ClaimAnswer& a) {
   } else {
     auto it = impl_->extra.find(a.robot_id);
     if (it == impl_->extra.end()) {
+      // Each channel is a publisher and a writer with their discovery state: a claim storm over made-up ids
+      // once left one behind per id (2,559 claims: +20 MB). The oldest goes; its claimant, if still there,
+      // re-sends its claim and gets a channel again.
+      while (impl_->extra.size() >= kMaxExtraChannels) {
+        impl_->extra.erase(impl_->extra_order.front());
+        impl_->extra_order.pop_front();
+      }
       it = impl_->extra.emplace(a.robot_id, make_robot_channel(impl_->participant, a.robot_id, impl_->pace))
                .first;
+      impl_->extra_order.push_back(a.robot_id);
     }
     c = &it->second;
   }
@@ -437,6 +447,10 @@ void RobotChannels::reply_claim(const ClaimAnswer& a) {
   s.claim_nonce = a.nonce;
   s.note = const_cast<char*>(a.reason.c_str());
   check(dds_write(c->sensor.get(), &s), "dds_write(claim answer)");
+}
+
+std::size_t RobotChannels::extra_channels() const {
+  return impl_->extra.size();
 }
 
 bool RobotChannels::reader_matched(RobotId id) const {
@@ -717,7 +731,20 @@ struct CommandReader::Impl {
   Waiter* waiter = nullptr;
   std::mutex mutex;
   std::vector<LivelinessChange> changes;  // guarded by mutex
+  dds_entity_t topic = 0;                 // with the id filter set on it (0: none)
+  std::uint32_t accept_ids = 0;
+  std::atomic<std::uint64_t> filtered{0};
   Entity reader, condition;
+
+  // Runs on Cyclone's receive thread for every sample, before the sample is stored: a sample for an id at or
+  // above accept_ids never creates an instance in the reader (each costs ~0.9 KB for as long as its writer
+  // lives: a flood over a million made-up ids once took the world to 890 MB).
+  static bool accept(const void* sample, void* arg) {
+    auto* self = static_cast<Impl*>(arg);
+    if (static_cast<const sfdds_Command*>(sample)->robot_id < self->accept_ids) return true;
+    self->filtered.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
 
   static void on_liveliness(dds_entity_t, const dds_liveliness_changed_status_t status, void* arg) {
     auto* self = static_cast<Impl*>(arg);
@@ -737,9 +764,21 @@ struct CommandReader::Impl {
   }
 };
 
-CommandReader::CommandReader(const Participant& participant, Waiter& waiter, bool realtime)
+CommandReader::CommandReader(const Participant& participant, Waiter& waiter, bool realtime,
+                             std::uint32_t accept_ids)
     : impl_(std::make_unique<Impl>()) {
   impl_->waiter = &waiter;
+  if (accept_ids > 0) {
+    // Set before the reader exists (Cyclone's rule for topic filters); only the world reads this topic in
+    // its participant.
+    impl_->topic = participant.topics().command.get();
+    impl_->accept_ids = accept_ids;
+    dds_topic_filter filter{};
+    filter.mode = DDS_TOPIC_FILTER_SAMPLE_ARG;
+    filter.f.sample_arg = &Impl::accept;
+    filter.arg = impl_.get();
+    check(dds_set_topic_filter_extended(impl_->topic, &filter), "dds_set_topic_filter_extended(command)");
+  }
   dds_listener_t* listener = dds_create_listener(impl_.get());
   dds_lset_liveliness_changed(listener, &Impl::on_liveliness);
   try {
@@ -757,7 +796,16 @@ CommandReader::~CommandReader() {
   if (impl_) {
     impl_->condition.reset();
     impl_->reader.reset();
+    if (impl_->topic != 0) {  // the filter's argument dies with impl_
+      dds_topic_filter none{};
+      none.mode = DDS_TOPIC_FILTER_NONE;
+      (void)dds_set_topic_filter_extended(impl_->topic, &none);
+    }
   }
+}
+
+std::uint64_t CommandReader::filtered() const {
+  return impl_->filtered.load(std::memory_order_relaxed);
 }
 
 dds_entity_t CommandReader::condition() const {
@@ -770,13 +818,13 @@ void CommandReader::take_liveliness_changes(std::vector<LivelinessChange>& out) 
   impl_->changes.clear();
 }
 
-std::size_t CommandReader::take(std::vector<CommandSample>& buf) {
+std::size_t CommandReader::take(std::vector<CommandSample>& buf, std::size_t max_samples) {
   std::size_t count = 0;
-  for (;;) {
+  while (count < max_samples) {
     void* ptrs[kTakeBatch] = {};
     dds_sample_info_t infos[kTakeBatch];
-    const int n =
-        check(dds_take(impl_->reader.get(), ptrs, infos, kTakeBatch, kTakeBatch), "dds_take(command)");
+    const auto batch = static_cast<std::uint32_t>(std::min<std::size_t>(kTakeBatch, max_samples - count));
+    const int n = check(dds_take(impl_->reader.get(), ptrs, infos, batch, batch), "dds_take(command)");
     Loan loan(impl_->reader.get(), ptrs, n);
     for (int i = 0; i < n; ++i) {
       if (!infos[i].valid_data) continue;
@@ -804,7 +852,7 @@ std::size_t CommandReader::take(std::vector<CommandSample>& buf) {
       t.events.resize(s.events._length);
       for (std::uint32_t k = 0; k < s.events._length; ++k) t.events[k] = str(s.events._buffer[k]);
     }
-    if (n < static_cast<int>(kTakeBatch)) break;
+    if (n < static_cast<int>(batch)) break;
   }
   return count;
 }

@@ -132,6 +132,8 @@ struct ClaimAnswer {
   std::string reason;
 };
 
+inline constexpr std::size_t kMaxExtraChannels = 8;
+
 // World side: for each robot a publisher in partition robot/K with its SensorPacket writer.
 class RobotChannels {
  public:
@@ -148,8 +150,9 @@ class RobotChannels {
   // No allocation after the first ticks (scratch buffers are reused; sequences point into the perception).
   void write_packet(RobotId id, PacketStatus status, const Perception& perception);
   // Answers a claim in the claimant's partition, on the packets' claim lane (a channel is made on demand for
-  // an id outside the run). Volatile: an answer to a reader not matched yet is lost, and the agent's re-sent
-  // claim gets it again.
+  // an id outside the run; at most kMaxExtraChannels are kept, the oldest deleted first, so claims for
+  // made-up ids cannot grow the world). Volatile: an answer to a reader not matched yet is lost, and the
+  // agent's re-sent claim gets it again.
   void reply_claim(const ClaimAnswer& answer);
   // Waits until every packet written so far is acknowledged by its matched readers, up to `timeout`.
   void wait_for_acks(dds_duration_t timeout);
@@ -159,6 +162,8 @@ class RobotChannels {
   // True while Cyclone's key map holds robot `id`'s perception instance (kept registered, so that a write
   // finds it in place rather than creating and freeing it; wire.cpp keep_instance). For tests.
   bool holds_instance(RobotId id) const;
+  // Channels held for ids outside the run (<= kMaxExtraChannels). For tests.
+  std::size_t extra_channels() const;
 
  private:
   struct Impl;
@@ -246,17 +251,26 @@ class CommandWriter {
   std::unique_ptr<Impl> impl_;
 };
 
+inline constexpr std::size_t kMaxCommandTake = 1024;
+
 // World side. A listener follows the liveliness of every command writer and wakes `waiter` when one is lost.
 class CommandReader {
  public:
-  CommandReader(const Participant& participant, Waiter& waiter, bool realtime = false);
+  // `accept_ids` > 0: samples (claims and commands) for ids at or above it are dropped before the reader
+  // stores them (a topic filter; counted by filtered()), so no writer can make the reader hold an instance
+  // per made-up id. The world passes its robot count plus kMaxExtraChannels (near misses still get their
+  // "no robot K in this run" answer).
+  CommandReader(const Participant& participant, Waiter& waiter, bool realtime = false,
+                std::uint32_t accept_ids = 0);
   ~CommandReader();
   CommandReader(const CommandReader&) = delete;
   CommandReader& operator=(const CommandReader&) = delete;
 
   dds_entity_t condition() const;
-  // Takes what is available into buf[0..n) (grown as needed, elements reused: no allocation once warm).
-  std::size_t take(std::vector<CommandSample>& buf);
+  // Takes what is available, at most `max_samples`, into buf[0..n) (grown as needed, elements reused: no
+  // allocation once warm). The cap bounds the buffer under a flood; what is left is taken by the next call
+  // (the reader's condition stays triggered).
+  std::size_t take(std::vector<CommandSample>& buf, std::size_t max_samples = kMaxCommandTake);
   // Liveliness changes of command writers since the last call, in the order they happened (appended to
   // `out`): alive = false when a writer lost liveliness or went away, true when one appeared or came back.
   struct LivelinessChange {
@@ -264,6 +278,8 @@ class CommandReader {
     bool alive = false;
   };
   void take_liveliness_changes(std::vector<LivelinessChange>& out);
+  // Samples dropped by the `accept_ids` filter so far (thread-safe).
+  std::uint64_t filtered() const;
 
  private:
   struct Impl;

@@ -117,7 +117,8 @@ def make_parser():
                          description="Starts N robot_agent processes and the world_server, shows progress (tick, "
                                      "robots alive, ticks/s),\nSIGKILLs the --kill agents at their ticks, writes "
                                      "the run directory and draws the pictures.\nCtrl-C stops everything "
-                                     "(the recording so far is kept) and exits 130.")
+                                     "(the recording so far is kept) and exits 130.",
+                         epilog=launcher.EXIT_CODES[0].upper() + launcher.EXIT_CODES[1:])
     _add_run_flags(run)
 
     demo = sub.add_parser("demo", help="run the paper's scenario",

@@ -19,6 +19,7 @@ launcher leaves nothing behind.
 
 import ctypes
 import datetime
+import errno
 import json
 import os
 import re
@@ -39,6 +40,15 @@ CHECK_TIMEOUT_S = 60
 AGENT_EXIT_DEADLINE_S = 5.0
 WORLD_STOP_DEADLINE_S = 10.0
 EXIT_INTERRUPTED = 130
+EXIT_WORLD_FAILED = 1
+EXIT_BAD_INPUT = 2
+EXIT_AGENTS_MISSING = 3
+EXIT_DISK_FULL = 5
+# `swarm run`'s exit codes (cli.py's --help and scripts/README.md print this table).
+EXIT_CODES = ("exit codes: 0 the run ended (completed or max_ticks); 1 the world failed (crashed, or a DDS "
+              "failure); 2 bad input; 3 agents missing at the connect timeout; 5 a write failed (disk full); "
+              "130 interrupted (Ctrl-C, SIGTERM, SIGHUP). summary.json's end_reason says why, when it could be "
+              "written.")
 REPEATS_SHOWN = 3
 
 
@@ -441,10 +451,8 @@ def run(args, render_pictures):
             status.line(f"swarm: {stragglers} agent(s) still running {AGENT_EXIT_DEADLINE_S:.0f} s after the world "
                         "ended were killed")
         if code != 0:
-            status.line(f"swarm: world_server failed (exit {code}); its output is in {logs}/world_console.log")
-            if os.path.exists(os.path.join(run_dir, "robots.csv")):
-                status.line(f"swarm: what it recorded can be drawn: scripts/swarm replay {run_dir}")
-            return code if code > 0 else 1
+            status.line(f"swarm: {_world_failure(code, run_dir)}; details in {logs}/world_console.log")
+            return code if code in (EXIT_BAD_INPUT, EXIT_AGENTS_MISSING, EXIT_DISK_FULL) else EXIT_WORLD_FAILED
         ticks = done[0] if done else "?"
         status.line(f"swarm: {ticks} ticks in {time.monotonic() - started:.1f} s; run directory {run_dir}")
         stop.restore()  # Ctrl-C while drawing just stops the drawing
@@ -455,13 +463,61 @@ def run(args, render_pictures):
         status.end()
         print(f"swarm: {e}", file=sys.stderr)
         return e.code
+    except OSError as e:  # the launcher's own files (run directory, logs, agents.json): one line, no traceback
+        status.end()
+        print(f"swarm: {_os_error_line(e)}", file=sys.stderr)
+        return _os_error_code(e)
     finally:
         procs.stop_world(WORLD_STOP_DEADLINE_S)
         procs.kill_agents()
-        procs.close()
+        _close_quietly(procs)
         if lease:
             lease.release()
         stop.restore()
+
+
+def _os_error_line(e):
+    where = f"{e.filename}: " if e.filename else ""
+    full = " (the disk is full)" if e.errno in (errno.ENOSPC, errno.EDQUOT) else ""
+    return f"{where}{e.strerror or e}{full}; stopped the world and the agents"
+
+
+def _os_error_code(e):
+    return EXIT_DISK_FULL if e.errno in (errno.ENOSPC, errno.EDQUOT) else EXIT_WORLD_FAILED
+
+
+def _close_quietly(procs):
+    try:
+        procs.close()
+    except OSError:  # a log file whose last buffer cannot be written (a full disk): already reported
+        pass
+
+
+def _end_reason(run_dir):
+    try:
+        with open(os.path.join(run_dir, "summary.json"), encoding="utf-8") as f:
+            return json.load(f).get("end_reason")
+    except (OSError, ValueError, AttributeError):
+        return None
+
+
+def _world_failure(code, run_dir):
+    """One line for a world that exited non-zero: why (summary.json's end_reason, else the exit code or the
+    signal that killed it) and whether a recording is there to draw."""
+    reason = _end_reason(run_dir)
+    if code < 0:
+        try:
+            name = signal.Signals(-code).name
+        except ValueError:
+            name = f"signal {-code}"
+        what = f"world_server died of {name} (world_failed; no summary.json)"
+    elif reason:
+        what = f"the run ended ({reason}): world_server exit {code}"
+    else:
+        what = f"world_server failed (exit {code})"
+    if os.path.exists(os.path.join(run_dir, "robots.csv")):
+        what += f"; what it recorded can be drawn: scripts/swarm replay {run_dir}"
+    return what
 
 
 def _interrupted(procs, stop, status, run_dir):
@@ -508,8 +564,8 @@ def _run_in_process(args, stop, status, render_pictures):
         status.line(f"swarm: stopped; what was recorded is in {run_dir}")
         return EXIT_INTERRUPTED
     if code != 0:
-        status.line(f"swarm: swarm_inprocess failed (exit {code})")
-        return code if code > 0 else 1
+        status.line(f"swarm: {_world_failure(code, run_dir).replace('world_server', 'swarm_inprocess')}")
+        return code if code == EXIT_DISK_FULL else EXIT_WORLD_FAILED
     status.line(f"swarm: run directory {run_dir}")
     stop.restore()
     code = 0 if args.no_pictures else render_pictures(run_dir)

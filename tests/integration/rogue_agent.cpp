@@ -25,7 +25,26 @@
 //       must refuse every claim, say so at most once a second, and answer a claim of its own version with the
 //       reason (printed as "rogue_agent: refused: <reason>", exit 4).
 //
-// Exits 0 when the world announces the end (nan, slow, silent) or finishes (spoof, forge), 3 on --timeout.
+//   rogue_agent liar --id K --domain D [--timeout SEC]
+//       claims K and drives it with the real controller (the mission's, as robot_agent would), so it moves
+//       exactly as an honest agent; but every command's telemetry lies: state arrived, label and parent
+//       2e9, a NaN net force, and a 20 KB event string, one with control bytes and an "arrived" among its
+//       events. The world must drop and count the out-of-range fields and strings and record none of them;
+//       the run's metrics (from the world's poses) must be those of the honest run.
+//   rogue_agent flood --seconds S [--ids N] [--made-up] [--realtime] --domain D [--timeout SEC]
+//       owns nothing; once its writer has matched the world's reader (prints "flood ready") it writes
+//       commands for ids 0..N-1 (1 KB message, 4 event strings each) as fast as the wire takes them for S
+//       seconds, for the world's current tick, then prints "flood sent=K" and exits 0. --made-up: after each
+//       of those, one for a new made-up id (1000, 1001, ...: each a new instance for a reader that keeps
+//       them); --claims: also a claim for an id outside the run (8, 9, ... as `claims` does). The run must
+//       be as without it (lockstep: the same trajectory hash), the run directory and the
+//       world's memory bounded.
+//   rogue_agent claims --seconds S [--first ID] --domain D [--timeout SEC]
+//       owns nothing; claims ids ID, ID+1, ... (default 1000: outside any test run) as fast as it can for S
+//       seconds, then prints "claims sent=K" and exits 0. The world must refuse them, hold no channel per
+//       refused id, and log them at most once a second.
+//
+// Exits 0 when the world announces the end (nan, slow, silent, liar) or finishes (spoof, forge), 3 on --timeout.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -37,8 +56,10 @@
 #include <thread>
 
 #include "common/dds/refusal_log.hpp"
+#include "common/dds/dds_error.hpp"
 #include "common/dds/signal_watch.hpp"
 #include "common/dds/wire.hpp"
+#include "robot_agent/controller/controller.hpp"
 
 namespace {
 
@@ -119,7 +140,8 @@ int claim_id(RobotId id, dds::AgentInbox& inbox, dds::CommandWriter& commands, d
 // "<name> sent=K" and returns 0); 3 at the timeout, 4 if the claim was refused. `realtime`: best-effort
 // endpoints, as the mission of a realtime run says.
 int answering_agent(dds::Participant& participant, RobotId id, bool realtime, double timeout_s,
-                    const char* name, const std::function<std::optional<Command>(Tick)>& answer) {
+                    const char* name,
+                    const std::function<std::optional<Command>(const Perception&)>& answer) {
   dds::Waiter waiter(participant);
   dds::AgentInbox inbox(participant, id, waiter, realtime);
   dds::CommandWriter commands(participant, realtime);
@@ -136,7 +158,7 @@ int answering_agent(dds::Participant& participant, RobotId id, bool realtime, do
         std::cout << name << " sent=" << sent << std::endl;
         return 0;
       }
-      if (const auto command = answer(packet.perception.tick)) {
+      if (const auto command = answer(packet.perception)) {
         commands.step(id, packet.perception.tick, *command);
         ++sent;
       }
@@ -155,13 +177,112 @@ int nan_agent(dds::Participant& participant, RobotId id, double timeout_s) {
   Command big;
   big.left_speed = big.right_speed = 50.0;
   big.message.assign(100000, 0x55);
-  return answering_agent(participant, id, false, timeout_s, "nan",
-                         [&](Tick tick) { return std::optional<Command>(tick % 2 == 1 ? big : bad); });
+  return answering_agent(participant, id, false, timeout_s, "nan", [&](const Perception& p) {
+    return std::optional<Command>(p.tick % 2 == 1 ? big : bad);
+  });
+}
+
+// The mission as an agent gets it (durable): nullopt at `deadline`.
+std::optional<dds::MissionAnnouncement> wait_mission(dds::Participant& participant, dds_time_t deadline) {
+  dds::Waiter waiter(participant);
+  dds::MissionReader reader(participant);
+  waiter.attach(reader.condition());
+  while (dds_time() < deadline) {
+    if (auto m = reader.take()) return m;
+    waiter.wait_until(deadline);
+  }
+  return std::nullopt;
+}
+
+int liar_agent(dds::Participant& participant, RobotId id, double timeout_s) {
+  const auto mission = wait_mission(participant, after(timeout_s));
+  if (!mission) return 3;
+  const auto controller = controller::make_controller(mission->mission, id);
+  const std::string huge(20000, 'x');
+  const std::string control = std::string("arrived\x01\x1b[2J") + '\xff';
+  return answering_agent(participant, id, mission->realtime, timeout_s, "liar", [&](const Perception& p) {
+    Command c = controller->step(p);
+    c.telemetry.state = 6;  // arrived, in range: recorded as what it says
+    c.telemetry.label = 2000000000;
+    c.telemetry.parent = 2000000000;
+    c.telemetry.net_force = std::numeric_limits<double>::quiet_NaN();
+    c.telemetry.events = {huge, control, "formed"};
+    return std::optional<Command>(c);
+  });
+}
+
+int flood(dds::Participant& participant, double seconds, std::uint32_t ids, bool made_up, bool claims,
+          bool realtime, double timeout_s) {
+  dds::Waiter waiter(participant);
+  dds::WorldStateReader state(participant);
+  dds::CommandWriter commands(participant, realtime);
+  waiter.attach(state.condition());
+  const dds_time_t deadline = after(timeout_s);
+  while (!dds::writer_matched(commands.get())) {
+    if (dds_time() >= deadline) return 3;
+    waiter.wait_until(std::min(deadline, after(0.05)));
+  }
+  std::cout << "flood ready" << std::endl;
+  Command fake;
+  fake.left_speed = 0.1;
+  fake.right_speed = -0.1;
+  fake.message.assign(1000, 0xab);
+  fake.telemetry.events = {"flood 1", "flood 2", "flood 3", "flood 4"};
+  Tick tick = 0;
+  std::uint64_t sent = 0, refused = 0;
+  RobotId next_made_up = 1000;
+  auto write = [&](RobotId id) {
+    try {
+      commands.step(id, tick, fake);
+      ++sent;
+    } catch (const dds::DdsError&) {  // the writer's history is full (reliable): the wire pushes back
+      ++refused;
+    }
+  };
+  const dds_time_t end = after(seconds);
+  while (dds_time() < end) {
+    if (auto s = state.take()) tick = s->tick;
+    for (std::uint32_t k = 0; k < ids; ++k) {
+      write(k);
+      if (made_up) write(next_made_up++);
+      if (claims) {
+        try {
+          commands.claim(static_cast<RobotId>(ids + (sent % 100000)), 0xbad0000 + sent, 0);
+        } catch (const dds::DdsError&) {
+          ++refused;
+        }
+      }
+    }
+  }
+  std::cout << "flood sent=" << sent << " refused=" << refused << std::endl;
+  return 0;
+}
+
+int claim_storm(dds::Participant& participant, double seconds, std::uint32_t first, double timeout_s) {
+  dds::Waiter waiter(participant);
+  dds::CommandWriter commands(participant);
+  const dds_time_t deadline = after(timeout_s);
+  while (!dds::writer_matched(commands.get())) {
+    if (dds_time() >= deadline) return 3;
+    waiter.wait_until(std::min(deadline, after(0.05)));
+  }
+  std::cout << "claims ready" << std::endl;
+  std::uint64_t sent = 0;
+  const dds_time_t end = after(seconds);
+  while (dds_time() < end) {
+    try {
+      commands.claim(static_cast<RobotId>(first + sent % 100000), 0xbad0000 + sent, 0);
+      ++sent;
+    } catch (const dds::DdsError&) {
+    }
+  }
+  std::cout << "claims sent=" << sent << std::endl;
+  return 0;
 }
 
 int slow_agent(dds::Participant& participant, RobotId id, int delay_ms, bool realtime, double timeout_s) {
   const Command stand;  // zero wheel speeds, nothing said
-  return answering_agent(participant, id, realtime, timeout_s, "slow", [&](Tick) {
+  return answering_agent(participant, id, realtime, timeout_s, "slow", [&](const Perception&) {
     std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
     return std::optional<Command>(stand);
   });
@@ -234,13 +355,15 @@ int badwire(dds::Participant& participant, RobotId id, std::uint16_t version, st
 
 int silent_agent(dds::Participant& participant, RobotId id, double timeout_s) {
   return answering_agent(participant, id, false, timeout_s, "silent",
-                         [](Tick) { return std::optional<Command>(); });
+                         [](const Perception&) { return std::optional<Command>(); });
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"rogue_agent: a spoofing, NaN-sending, slow or silent participant for the integration tests"};
+  CLI::App app{
+      "rogue_agent: a spoofing, NaN-sending, slow, silent, lying, flooding or claim-storming participant for "
+      "the integration tests"};
   app.require_subcommand(1);
   std::uint32_t domain = 0;
   double timeout_s = 60.0;
@@ -274,6 +397,22 @@ int main(int argc, char** argv) {
   std::string nonce_hex = "0";
   bw->add_option("--version", version, "the wire version to stamp");
   bw->add_option("--nonce", nonce_hex, "the run nonce to stamp (hex)");
+  auto* li = app.add_subcommand("liar", "own an id, move honestly, report out-of-range telemetry");
+  li->add_option("--id", id, "the id to claim")->required();
+  double seconds = 5.0;
+  std::uint32_t ids = 8;
+  auto* fl = app.add_subcommand("flood", "own nothing; write commands for every id as fast as possible");
+  fl->add_option("--seconds", seconds, "how long to flood")->check(CLI::PositiveNumber);
+  fl->add_option("--ids", ids, "ids 0..N-1 to write commands for")->check(CLI::Range(1u, 100000u));
+  fl->add_flag("--realtime", realtime, "best-effort writer, for a world in realtime mode");
+  bool made_up = false;
+  fl->add_flag("--made-up", made_up, "also a command for a new made-up id after each one");
+  bool with_claims = false;
+  fl->add_flag("--claims", with_claims, "also a claim for an id outside the run after each one");
+  auto* cs = app.add_subcommand("claims", "own nothing; claim made-up ids as fast as possible");
+  cs->add_option("--seconds", seconds, "how long to claim")->check(CLI::PositiveNumber);
+  std::uint32_t first = 1000;
+  cs->add_option("--first", first, "the first id claimed");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -293,6 +432,9 @@ int main(int argc, char** argv) {
     if (fo->parsed()) return forge(participant, target, realtime, timeout_s);
     if (bw->parsed())
       return badwire(participant, id, version, std::stoull(nonce_hex, nullptr, 16), timeout_s);
+    if (li->parsed()) return liar_agent(participant, id, timeout_s);
+    if (fl->parsed()) return flood(participant, seconds, ids, made_up, with_claims, realtime, timeout_s);
+    if (cs->parsed()) return claim_storm(participant, seconds, first, timeout_s);
     return nan_agent(participant, id, timeout_s);
   } catch (const std::exception& e) {
     std::cerr << "rogue_agent: " << e.what() << "\n";

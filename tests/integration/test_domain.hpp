@@ -5,6 +5,8 @@
 //   bench_lockstep_smoke, 23..26 tests/scripts/test_launcher_e2e.py, 27..35 tests/bench/test_bench_script.py,
 //   36..37 wire_faults_test, 38..39 test_launcher_e2e.py's two concurrent runs (the launcher's free-domain
 //   picker, given SWARM_DOMAINS=base+38-base+39).
+//   40..43 issue 18's abuse tests (40 paper liar, 41 lockstep flood, 42 full disk + end reasons, 43 realtime
+//   flood).
 #pragma once
 
 #include <cstdlib>
@@ -15,7 +17,7 @@
 
 namespace swarmform::testing {
 
-inline constexpr int kTestDomainWindow = 40;
+inline constexpr int kTestDomainWindow = 48;
 inline constexpr int kDefaultTestDomainBase = 100;
 
 // Throws (the test fails, naming the variable) when the base is not a number or its window passes kMaxDomain.

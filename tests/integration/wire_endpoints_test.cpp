@@ -4,7 +4,9 @@
 //   between writes (wire.cpp keep_instance). Without that, each write of a best-effort sample created the
 //   instance and freed it again through the domain's gc thread, whose wake-ups preempted the world in the
 //   middle of its publish phase;
-// - a packet writer says when it has matched its robot's reader (the world starts the run only then).
+// - a packet writer says when it has matched its robot's reader (the world starts the run only then);
+// - issue 18: the world keeps at most kMaxExtraChannels channels for claims of ids outside the run, and its
+//   command reader drops samples for ids at or above its accept_ids before storing them.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -65,6 +67,38 @@ TEST(WireEndpoints, PacketWriterSaysWhenItsRobotsReaderIsMatched) {
   }
   EXPECT_TRUE(channels.reader_matched(0));
   EXPECT_FALSE(channels.reader_matched(1));
+}
+
+TEST(WireEndpoints, ClaimsForIdsOutsideTheRunKeepAtMostEightChannels) {
+  const dds::Participant participant(world_on_loopback());
+  dds::RobotChannels channels(participant, 2, /*realtime=*/false);
+  for (RobotId id = 2; id < 40; ++id) {
+    channels.reply_claim(dds::ClaimAnswer{id, 1, false, "no robot"});
+    EXPECT_LE(channels.extra_channels(), dds::kMaxExtraChannels);
+  }
+  EXPECT_EQ(channels.extra_channels(), dds::kMaxExtraChannels);
+}
+
+TEST(WireEndpoints, CommandReaderDropsIdsAtOrAboveItsLimitBeforeStoringThem) {
+  const dds::Participant participant(world_on_loopback());
+  dds::Waiter waiter(participant);
+  dds::CommandReader reader(participant, waiter, /*realtime=*/false, /*accept_ids=*/4);
+  dds::CommandWriter writer(participant, /*realtime=*/false);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (!dds::writer_matched(writer.get()) && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  Command c;
+  for (RobotId id : {1u, 3u, 4u, 1000u, 2u}) writer.step(id, 0, c);
+  std::vector<dds::CommandSample> got;
+  std::vector<RobotId> ids;
+  while (ids.size() < 3 && std::chrono::steady_clock::now() < deadline) {
+    const std::size_t n = reader.take(got);
+    for (std::size_t i = 0; i < n; ++i) ids.push_back(got[i].robot_id);
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  EXPECT_EQ(ids, (std::vector<RobotId>{1, 3, 2}));
+  EXPECT_EQ(reader.filtered(), 2u);
 }
 
 }  // namespace

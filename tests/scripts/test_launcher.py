@@ -144,6 +144,7 @@ class LauncherTest(unittest.TestCase):
         self.assertEqual(r.returncode, 3)
         self.assertIn("world: world: something broke", r.stderr)
         self.assertIn("world_server failed (exit 3)", r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
         self.assert_all_gone(agent_pids(out).values())
 
     def test_an_agent_that_exits_with_an_error_is_a_loud_warning(self):
@@ -177,6 +178,37 @@ class LauncherTest(unittest.TestCase):
         self.assertEqual(r.returncode, 1, r.stderr)
         self.assertIn("DDS domain 77 is in use on this host", r.stderr)
         self.assertFalse(os.path.exists(os.path.join(out, "agents.json")))
+
+    # Issue 18 point 6: every end is one clear line with a documented exit code, never a traceback.
+    def test_a_world_on_a_full_disk_ends_with_one_line_and_exit_5(self):
+        out = os.path.join(self.dir, "run")
+        r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "2", "--max-ticks", "40", "--out", out,
+                          "--no-pictures", env={"FAKE_WORLD_FAIL": "disk_full", "FAKE_AGENT_EXIT_S": "0.5"})
+        self.assertEqual(r.returncode, 5, r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
+        self.assertIn("swarm: the run ended (disk_full): world_server exit 5", r.stderr)
+        self.assert_all_gone(agent_pids(out).values())
+
+    def test_a_crashed_world_is_named_and_the_agents_end(self):
+        out = os.path.join(self.dir, "run")
+        r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "2", "--max-ticks", "40", "--out", out,
+                          "--no-pictures", env={"FAKE_WORLD_FAIL": "segv", "FAKE_AGENT_EXIT_S": "0.5"})
+        self.assertEqual(r.returncode, 1, r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
+        self.assertIn("swarm: world_server died of SIGSEGV (world_failed; no summary.json)", r.stderr)
+        self.assert_all_gone(agent_pids(out).values())
+
+    def test_the_launchers_own_write_failing_on_a_full_disk_is_one_line(self):
+        out = os.path.join(self.dir, "run")
+        os.makedirs(out)
+        os.symlink("/dev/full", os.path.join(out, "agents.json"))  # writes fail with ENOSPC, as on a full disk
+        r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "2", "--max-ticks", "40", "--out", out,
+                          "--no-pictures", env={"FAKE_AGENT_EXIT_S": "0.5"})
+        self.assertEqual(r.returncode, 5, r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
+        lines = [line for line in r.stderr.splitlines() if "No space left on device" in line]
+        self.assertEqual(len(lines), 1, r.stderr)
+        self.assertIn("(the disk is full); stopped the world and the agents", lines[0])
 
     def test_missing_executables_are_explained(self):
         r = helpers.swarm("run", "--scenario", self.scenario, build_dir=os.path.join(self.dir, "nothing"))

@@ -148,7 +148,8 @@ const controller::Controller& Harness::controller(RobotId id) const {
   return *impl_->controllers[id];
 }
 
-std::string Harness::finish(double wall_seconds) {
+std::string Harness::finish(double wall_seconds, std::optional<world::EndReason> reason) {
+  if (reason) impl_->session.set_end_reason(*reason);
   return impl_->session.finish(wall_seconds);
 }
 

@@ -5,6 +5,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "robot_agent/controller/controller.hpp"
@@ -39,7 +40,9 @@ class Harness {
   const world::Metrics& metrics() const;
   const world::AssignmentStats& assignment_stats() const;
   const controller::Controller& controller(RobotId id) const;
-  std::string finish(double wall_seconds);  // summary.json text
+  // Writes summary.json and returns its text; `reason` overrides the end_reason RunSession derives
+  // (completed or max_ticks). Throws world::RecordingError when summary.json cannot be written.
+  std::string finish(double wall_seconds, std::optional<world::EndReason> reason = std::nullopt);
 
  private:
   struct Impl;

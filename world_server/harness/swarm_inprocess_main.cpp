@@ -1,5 +1,9 @@
 // swarm_inprocess: a whole run in one process (the world library + N controllers, no DDS), writing the same
 // run directory as `swarm run`. For users who want a quick answer and for the large-N benchmarks.
+//
+// Exit codes (also in --help): 0 the run ended (completed or max_ticks); 1 an internal error; 2 bad flags or
+// a bad scenario/shape; 5 a write of the run directory failed (a full disk: end_reason disk_full); 130
+// interrupted by SIGINT/SIGTERM (summary.json written, end_reason interrupted).
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -19,6 +23,9 @@ namespace {
 
 using namespace swarmform;
 namespace fs = std::filesystem;
+
+constexpr int kExitRecordingFailed = 5;
+constexpr int kExitInterrupted = 130;
 
 std::atomic<bool> g_interrupted{false};
 extern "C" void on_signal(int) {
@@ -103,6 +110,10 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--no-record", no_record, "write nothing (metrics only; for benchmarks)");
   app.add_flag("--quiet", quiet, "no progress lines on stderr");
+  app.footer(
+      "Exit codes: 0 the run ended (completed or max_ticks: summary.json's end_reason says which); 1 an "
+      "internal error; 2 bad flags, scenario or shape; 5 a write of the run directory failed (disk full: "
+      "end_reason disk_full); 130 interrupted by SIGINT/SIGTERM (end_reason interrupted).");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -138,24 +149,41 @@ int main(int argc, char** argv) {
     if (!run_dir.empty() && default_out) point_latest_at(run_dir);
     auto last_print = start;
     Tick last_tick = 0;
-    harness.run([&](const harness::Harness& h) {
-      const auto now = std::chrono::steady_clock::now();
-      if (!quiet && now - last_print >= std::chrono::seconds(1)) {
-        const double dt = std::chrono::duration<double>(now - last_print).count();
-        const Tick tick = h.world().tick();
-        std::size_t alive = 0;
-        for (const auto& r : h.world().robots()) alive += r.alive ? 1 : 0;
-        std::fprintf(stderr, "tick %llu/%llu  alive %zu/%zu  %.0f ticks/s\n",
-                     static_cast<unsigned long long>(tick),
-                     static_cast<unsigned long long>(scenario.max_ticks), alive, h.world().robot_count(),
-                     static_cast<double>(tick - last_tick) / dt);
-        last_print = now;
-        last_tick = tick;
-      }
-      return g_interrupted.load();
-    });
+    std::optional<world::RecordingError> failed;
+    try {
+      harness.run([&](const harness::Harness& h) {
+        const auto now = std::chrono::steady_clock::now();
+        if (!quiet && now - last_print >= std::chrono::seconds(1)) {
+          const double dt = std::chrono::duration<double>(now - last_print).count();
+          const Tick tick = h.world().tick();
+          std::size_t alive = 0;
+          for (const auto& r : h.world().robots()) alive += r.alive ? 1 : 0;
+          std::fprintf(stderr, "tick %llu/%llu  alive %zu/%zu  %.0f ticks/s\n",
+                       static_cast<unsigned long long>(tick),
+                       static_cast<unsigned long long>(scenario.max_ticks), alive, h.world().robot_count(),
+                       static_cast<double>(tick - last_tick) / dt);
+          last_print = now;
+          last_tick = tick;
+        }
+        return g_interrupted.load();
+      });
+    } catch (const world::RecordingError& e) {
+      failed = e;
+    }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const std::string summary = harness.finish(wall);
+    if (failed) {
+      std::string written = "summary.json written";
+      try {
+        harness.finish(wall, failed->reason());
+      } catch (const std::exception& e) {
+        written = std::string("summary.json not written: ") + e.what();
+      }
+      std::cerr << "swarm_inprocess: run ended (" << world::to_string(failed->reason()) << ") at tick "
+                << harness.world().tick() << ": " << failed->what() << "; " << written << "\n";
+      return kExitRecordingFailed;
+    }
+    const std::string summary =
+        harness.finish(wall, g_interrupted ? std::optional(world::EndReason::Interrupted) : std::nullopt);
     std::cout << summary << "\n";
     if (!quiet) {
       if (g_interrupted) std::cerr << "swarm_inprocess: interrupted; the run directory holds what was done\n";
@@ -173,7 +201,11 @@ int main(int argc, char** argv) {
         g_interrupted ? std::string()
                       : world::max_ticks_line(harness.metrics(), harness.world().tick(), scenario.max_ticks);
     if (!why.empty()) std::cerr << "swarm_inprocess: " << why << "\n";
-    return g_interrupted ? 130 : 0;
+    return g_interrupted ? kExitInterrupted : 0;
+  } catch (const world::RecordingError& e) {  // the run directory could not even be started
+    std::cerr << "swarm_inprocess: run ended (" << world::to_string(e.reason())
+              << ") before it started: " << e.what() << "\n";
+    return kExitRecordingFailed;
   } catch (const InputError& e) {
     std::cerr << e.what() << "\n";
     return 2;

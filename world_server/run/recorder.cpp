@@ -1,5 +1,6 @@
 #include "world_server/run/recorder.hpp"
 
+#include "world_server/run/end_reason.hpp"
 #include "world_server/run/recording_format.hpp"
 
 #include <cerrno>
@@ -29,11 +30,13 @@ void append_int(std::string& out, Int v) {
   out.append(buf, res.ptr);
 }
 
-void write_all(std::FILE* f, const std::string& text, const char* what) {
+[[noreturn]] void fail(const std::string& run_dir, const char* what, int error) {
+  throw RecordingError(run_dir + "/" + what + ": cannot write: " + std::strerror(error), error);
+}
+
+void write_all(std::FILE* f, const std::string& text, const std::string& run_dir, const char* what) {
   if (f == nullptr) return;
-  if (std::fwrite(text.data(), 1, text.size(), f) != text.size()) {
-    throw std::runtime_error(std::string("recording: cannot write ") + what + ": " + std::strerror(errno));
-  }
+  if (std::fwrite(text.data(), 1, text.size(), f) != text.size()) fail(run_dir, what, errno);
 }
 
 }  // namespace
@@ -52,8 +55,8 @@ RecordingWriter::RecordingWriter(const std::string& run_dir) : run_dir_(run_dir)
   robots_ = open(run_dir_ + "/robots.csv", "w");
   events_ = open(run_dir_ + "/events.jsonl", "w");
   log_ = open(run_dir_ + "/world.log", "w");
-  write_all(robots_, std::string(kRobotsCsvHeader) + "\n", "robots.csv");
-  std::fflush(robots_);
+  write_all(robots_, std::string(kRobotsCsvHeader) + "\n", run_dir_, "robots.csv");
+  if (std::fflush(robots_) != 0) fail(run_dir_, "robots.csv", errno);
 }
 
 RecordingWriter::~RecordingWriter() {
@@ -72,14 +75,17 @@ void RecordingWriter::close_streams() {
 void RecordingWriter::write_file_atomically(const std::string& name, const std::string& text) {
   const std::string path = run_dir_ + "/" + name;
   const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    if (!out) throw std::runtime_error(tmp + ": cannot write");
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (f == nullptr) fail(run_dir_, (name + ".tmp").c_str(), errno);
+  const bool written = std::fwrite(text.data(), 1, text.size(), f) == text.size() && std::fflush(f) == 0;
+  const int error = errno;
+  if (std::fclose(f) != 0 || !written) {
+    std::remove(tmp.c_str());
+    fail(run_dir_, name.c_str(), written ? errno : error);
   }
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
-  if (ec) throw std::runtime_error(path + ": cannot write: " + ec.message());
+  if (ec) throw RecordingError(path + ": cannot write: " + ec.message(), ec.value());
 }
 
 void RecordingWriter::write_world(const nlohmann::ordered_json& world) {
@@ -108,27 +114,34 @@ void RecordingWriter::write_rows(Tick tick, const std::vector<RobotTruth>& robot
     append_double(row_buffer_, r.telemetry.net_force);
     row_buffer_.push_back('\n');
   }
-  write_all(robots_, row_buffer_, "robots.csv");
+  write_all(robots_, row_buffer_, run_dir_, "robots.csv");
   if (++ticks_since_flush_ >= kFlushEveryTicks) flush();
 }
 
 void RecordingWriter::write_event(const nlohmann::ordered_json& event) {
-  write_all(events_, event.dump() + "\n", "events.jsonl");
+  write_all(events_, event.dump() + "\n", run_dir_, "events.jsonl");
 }
 
 void RecordingWriter::log(Tick tick, const std::string& text) {
-  write_all(log_, "tick " + std::to_string(tick) + ": " + text + "\n", "world.log");
+  write_all(log_, "tick " + std::to_string(tick) + ": " + text + "\n", run_dir_, "world.log");
 }
 
 void RecordingWriter::flush() {
-  for (std::FILE* f : {robots_, events_, log_}) {
-    if (f != nullptr) std::fflush(f);
-  }
   ticks_since_flush_ = 0;
+  const std::pair<std::FILE*, const char*> streams[] = {
+      {robots_, "robots.csv"}, {events_, "events.jsonl"}, {log_, "world.log"}};
+  for (const auto& [f, name] : streams) {
+    if (f != nullptr && std::fflush(f) != 0) fail(run_dir_, name, errno);
+  }
 }
 
 void RecordingWriter::write_summary(const nlohmann::ordered_json& summary) {
-  flush();
+  // The streams' failures were reported when they happened (or are now, by flush): the summary is still
+  // written if it can be, so that a run whose robots.csv hit a full disk says so in summary.json.
+  try {
+    flush();
+  } catch (const RecordingError&) {
+  }
   close_streams();
   write_file_atomically("summary.json", summary_text(summary));
 }

@@ -129,6 +129,11 @@ ojson make_summary(const SummaryInputs& in) {
   j["silent_robots"] = m.silent_robots;
   j["command_verdicts"] = in.command_verdicts;
   j["trajectory_sha256"] = in.trajectory_sha256.empty() ? ojson(nullptr) : ojson(in.trajectory_sha256);
+  j["end_reason"] = in.end_reason;
+  j["provenance"] = in.provenance;
+  if (in.extra.is_object()) {
+    for (const auto& [key, value] : in.extra.items()) j[key] = value;
+  }
   ojson series = ojson::array();
   for (const auto& [tick, error] : m.distortion) series.push_back(ojson::array({tick, error}));
   j["distortion"] = std::move(series);

@@ -36,6 +36,10 @@ struct SummaryInputs {
   const Metrics* metrics = nullptr;
   std::string trajectory_sha256;
   std::uint64_t command_verdicts = 0;  // commands not taken as they came (clamped, rejected, dropped)
+  std::string end_reason;              // why the run stopped (end_reason.hpp)
+  nlohmann::ordered_json provenance;   // provenance.hpp
+  // Front-end fields, each a key of the summary (e.g. world_server's "input_dropped"); an object or null.
+  nlohmann::ordered_json extra;
 };
 
 // summary.json: every metric, null where not reached; `distortion` is the (tick, shape error) series.

@@ -8,8 +8,10 @@
 #include <optional>
 
 #include "world_server/run/metrics_tracker.hpp"
+#include "world_server/run/provenance.hpp"
 #include "world_server/run/recorder.hpp"
 #include "world_server/run/recording_format.hpp"
+#include "world_server/run/run_end.hpp"
 #include "world_server/run/run_events.hpp"
 #include "world_server/run/sha256.hpp"
 
@@ -102,6 +104,8 @@ struct RunSession::Impl {
   bool recorded_once = false;
   Tick last_recorded_tick = 0;
   std::uint64_t command_verdicts = 0;
+  std::optional<EndReason> end_reason;
+  nlohmann::ordered_json extra = nlohmann::ordered_json::object();
   bool finished = false;
 };
 
@@ -131,11 +135,13 @@ void RunSession::record_rejoin(RobotId id) {
   if (auto e = impl_->events.rejoin(impl_->world.tick(), id)) impl_->emit(*e);
 }
 
-void RunSession::record_command_verdict(RobotId id, CommandVerdict verdict) {
+void RunSession::record_command_verdict(RobotId id, CommandVerdict verdict, std::uint64_t event_for) {
   if (verdict == CommandVerdict::Ok) return;
   ++impl_->command_verdicts;
+  if (event_for == 0) return;
   Event e = make_event(impl_->world.tick(), "command", id);
   e["verdict"] = to_string(verdict);
+  if (event_for > 1) e["count"] = event_for;
   impl_->emit(e);
 }
 
@@ -157,8 +163,27 @@ std::string RunSession::trajectory_sha256() const {
   return impl_->sha.hex_digest();
 }
 
+void RunSession::set_end_reason(EndReason reason) {
+  impl_->end_reason = reason;
+}
+
+void RunSession::set_summary_field(const std::string& key, nlohmann::ordered_json value) {
+  impl_->extra[key] = std::move(value);
+}
+
 std::string RunSession::finish(double wall_seconds, const SteadyWindow& steady) {
   if (!impl_->finished) impl_->tracker.conclude();
+  const Metrics& metrics = impl_->tracker.metrics();
+  const Tick tick = impl_->last_recorded_tick;
+  const Tick max_ticks = impl_->world.scenario().max_ticks;
+  EndReason reason = EndReason::Interrupted;
+  if (impl_->end_reason) {
+    reason = *impl_->end_reason;
+  } else if (metrics.goal_tick && tick >= *metrics.goal_tick + kTicksAfterGoal) {
+    reason = EndReason::Completed;
+  } else if (tick >= max_ticks) {
+    reason = EndReason::MaxTicks;
+  }
   SummaryInputs in;
   in.scenario = &impl_->world.scenario();
   in.mode = impl_->options.mode;
@@ -169,12 +194,19 @@ std::string RunSession::finish(double wall_seconds, const SteadyWindow& steady) 
   in.metrics = &impl_->tracker.metrics();
   in.trajectory_sha256 = trajectory_sha256();
   in.command_verdicts = impl_->command_verdicts;
+  in.end_reason = std::string(to_string(reason));
+  in.provenance = provenance(impl_->world.scenario());
+  in.extra = impl_->extra;
   const auto summary = make_summary(in);
-  if (impl_->writer && !impl_->finished) {
-    impl_->writer->log(impl_->last_recorded_tick, "run ends");
+  const bool write = impl_->writer && !impl_->finished;
+  impl_->finished = true;
+  if (write) {
+    try {
+      impl_->writer->log(impl_->last_recorded_tick, "run ends: " + in.end_reason);
+    } catch (const RecordingError&) {  // world.log may be what failed; the summary is still tried
+    }
     impl_->writer->write_summary(summary);
   }
-  impl_->finished = true;
   return summary_text(summary);
 }
 

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "common/types.hpp"
+#include "world_server/run/end_reason.hpp"
 #include "world_server/run/metrics.hpp"
 #include "world_server/run/metrics_tracker.hpp"
 #include "world_server/run/recording_format.hpp"
@@ -41,16 +42,26 @@ class RunSession {
   // Events the front end knows of and the world does not.
   void record_death(RobotId id);
   void record_rejoin(RobotId id);
-  void record_command_verdict(RobotId id, CommandVerdict verdict);
+  // Counts a command not taken as it came (summary command_verdicts) and writes its `command` event, which
+  // stands for `event_for` such commands (its `count` field when > 1); 0: counted, no event (a front end
+  // that logs repeated bad input once a second).
+  void record_command_verdict(RobotId id, CommandVerdict verdict, std::uint64_t event_for = 1);
   void record_event(RobotId id, const std::string& kind, const std::string& detail);
 
   const Metrics& metrics() const;
   // What the world's robot-to-place assignment has cost so far (metrics_tracker.hpp).
   const AssignmentStats& assignment_stats() const;
 
+  // Why the run stopped, for summary.json's end_reason. Unset, finish() says completed when the run arrived
+  // and settled (run_end.hpp), else max_ticks when it used them up, else interrupted.
+  void set_end_reason(EndReason reason);
+  // A front end's own summary field (e.g. world_server's input_dropped counts).
+  void set_summary_field(const std::string& key, nlohmann::ordered_json value);
+
   // Writes summary.json (the metrics plus robots, seed, mode, ticks, wall_seconds, ticks_per_second, the
-  // steady rate when `steady` was measured, alive_at_end, trajectory_sha256) and closes the recording.
-  // Returns the summary as JSON text.
+  // steady rate when `steady` was measured, alive_at_end, trajectory_sha256, end_reason, provenance) and
+  // closes the recording. Returns the summary as JSON text. Throws RecordingError when summary.json cannot be
+  // written (a full disk); the text is then still what it would have held.
   std::string finish(double wall_seconds, const SteadyWindow& steady = {});
 
   // SHA-256 over the recorded poses so far (bit patterns of x, y, theta of every robot every tick).

@@ -44,15 +44,16 @@ class PaperMultiProcess : public swarmform::testing::ProcessFixture {
   // A whole run: 9 agents, then the world (given the agents' pids for a kill). `kill` = {id, tick} or none.
   // The world and every agent but the killed one exit 0; the killed one died of SIGKILL. `silent`: that id
   // is owned by `rogue_agent silent` (alive, never answers) instead of a robot_agent.
+  // `rogue_mode`: the rogue_agent mode that owns `silent` (default "silent").
   Json run(int domain, const std::string& name, std::optional<std::pair<int, int>> kill = std::nullopt,
-           std::optional<int> silent = std::nullopt) {
+           std::optional<int> silent = std::nullopt, const std::string& rogue_mode = "silent") {
     std::vector<Process*> agents;
     for (int i = 0; i < kRobots; ++i) {
       const std::string id = std::to_string(i);
       const std::string d = std::to_string(domain);
       agents.push_back(
-          silent == i ? &start({kRogue, "--domain", d, "--timeout", "60", "silent", "--id", id},
-                               name + "-silent" + id)
+          silent == i ? &start({kRogue, "--domain", d, "--timeout", "60", rogue_mode, "--id", id},
+                               name + "-" + rogue_mode + id)
                       : &start({kAgent, "--id", id, "--domain", d, "--timeout", "30"}, name + "-agent" + id));
     }
     std::vector<std::string> argv = {
@@ -254,6 +255,61 @@ TEST_F(PaperMultiProcess, SilentAgentsLabelIsAbandonedAndTheOthersArrive) {
   EXPECT_EQ(events_of("silent", "command_late").size(), 1u) << "rounds kept waiting for the silent agent";
   std::cout << "silent agent " << kSilent << ": formation_tick=" << s["formation_tick"]
             << " goal_tick=" << s["goal_tick"] << "\n";
+}
+
+// Issue 18 point 3: the agent that owns robot 4 is a liar. It moves exactly as an honest agent (the real
+// controller drives it) but every command's telemetry says: state arrived, label and parent 2e9, net force
+// NaN, and event strings of 20 KB, with control bytes, and "formed". The world drops and counts what is out
+// of range; nothing of it reaches robots.csv or events.jsonl; the metrics and the end come from the world's
+// poses, so formation_tick, goal_tick and the trajectory are the honest run's. Without the telemetry check,
+// robots.csv carries label 2000000000 and events.jsonl the 20 KB string. (Domain: base + 36, issue 18's
+// "abuse" tests; see tests/README.md.)
+TEST_F(PaperMultiProcess, RogueOwnersFalseTelemetryIsDroppedCountedAndChangesNoMetric) {
+  constexpr int kLiar = 4;
+  const int domain = swarmform::testing::test_domain(40);
+  const Json honest = run(domain, "honest");
+  const Json lied = run(domain, "liar", std::nullopt, kLiar, "liar");
+  ASSERT_FALSE(honest["formation_tick"].is_null()) << honest.dump();
+  ASSERT_FALSE(honest["goal_tick"].is_null()) << honest.dump();
+  EXPECT_EQ(lied["formation_tick"], honest["formation_tick"]);
+  EXPECT_EQ(lied["goal_tick"], honest["goal_tick"]);
+  EXPECT_EQ(lied["ticks"], honest["ticks"]);
+  EXPECT_EQ(lied["end_reason"], "completed");
+  EXPECT_EQ(lied["trajectory_sha256"], honest["trajectory_sha256"]);
+  // Dropped and counted: every command of the liar had 3 bad fields (label, parent, net_force) and 2 bad
+  // event strings (20 KB; control bytes).
+  const Json dropped = lied["input_dropped"];
+  ASSERT_TRUE(dropped.is_object()) << lied.dump();
+  const int ticks = lied["ticks"].get<int>();
+  EXPECT_GE(dropped["bad_telemetry_commands"].get<int>(), ticks - 1) << dropped.dump();
+  EXPECT_GE(dropped["telemetry_fields"].get<int>(), 3 * (ticks - 1)) << dropped.dump();
+  EXPECT_GE(dropped["telemetry_events"].get<int>(), 2 * (ticks - 1)) << dropped.dump();
+  EXPECT_EQ(honest["input_dropped"]["telemetry_fields"], 0) << honest.dump();
+  // Logged once a second, not once a command: ~ticks / tick_rate lines at most (plus the first).
+  const auto reports = events_of("liar", "telemetry_dropped");
+  EXPECT_GE(reports.size(), 1u);
+  EXPECT_LE(reports.size(), static_cast<std::size_t>(ticks / 5 + 2));
+  // Nothing of it recorded as a fact.
+  for (const Row& r : rows("liar")) {
+    if (r.id != kLiar) continue;
+    EXPECT_GE(r.label, -1) << "tick " << r.tick;
+    EXPECT_LT(r.label, 9) << "tick " << r.tick;
+    EXPECT_GE(r.parent, -1) << "tick " << r.tick;
+    EXPECT_LT(r.parent, kRobots) << "tick " << r.tick;
+  }
+  const std::string csv = read_file(path("liar") + "/robots.csv");
+  EXPECT_EQ(csv.find("nan"), std::string::npos);
+  EXPECT_EQ(csv.find("2000000000"), std::string::npos);
+  std::istringstream events(read_file(path("liar") + "/events.jsonl"));
+  std::size_t formed = 0;
+  for (std::string line; std::getline(events, line);) {
+    EXPECT_LT(line.size(), 1000u) << line.substr(0, 200);
+    EXPECT_EQ(line.find("xxxxxxxxxx"), std::string::npos);
+    EXPECT_EQ(line.find("\\u001b"), std::string::npos) << line;
+    if (line.find("\"kind\":\"formed\"") != std::string::npos) ++formed;
+  }
+  // "formed" is in range: recorded as what the robot said (a controller event), never as the metric.
+  EXPECT_GT(formed, 0u);
 }
 
 }  // namespace

@@ -1,0 +1,78 @@
+#include "world_server/run/provenance.hpp"
+
+#include "swarmform_build_info.hpp"
+#include "world_server/run/sha256.hpp"
+
+namespace swarmform::world {
+
+namespace {
+
+using ojson = nlohmann::ordered_json;
+
+ojson xy(Vec2 v) {
+  return ojson::array({v.x, v.y});
+}
+
+// Every field of the loaded scenario but its source path, in a fixed order.
+ojson canonical(const Scenario& s) {
+  ojson j;
+  j["arena"] = {{"centre", xy(s.arena_centre)},
+                {"width", s.arena_width},
+                {"height", s.arena_height},
+                {"walls", s.walls},
+                {"wall_thickness", s.wall_thickness}};
+  ojson obstacles = ojson::array();
+  for (const Obstacle& o : s.obstacles) {
+    obstacles.push_back({{"kind", o.kind == Obstacle::Kind::Box ? "box" : "cylinder"},
+                         {"name", o.name},
+                         {"centre", xy(o.centre)},
+                         {"half_extents", xy(o.half_extents)},
+                         {"yaw", o.yaw},
+                         {"radius", o.radius}});
+  }
+  j["obstacles"] = std::move(obstacles);
+  ojson robots = ojson::array();
+  for (const Pose2D& p : s.robots) robots.push_back(ojson::array({p.x, p.y, p.theta}));
+  j["robots"] = std::move(robots);
+  j["medium"] = {{"comm_range", s.comm_range},
+                 {"range_noise_sd", s.range_noise_sd},
+                 {"bearing_noise_sd", s.bearing_noise_sd},
+                 {"ultrasonic_noise_sd", s.ultrasonic_noise_sd},
+                 {"packet_loss", s.packet_loss},
+                 {"occlusion", s.occlusion}};
+  j["time"] = {
+      {"mode", std::string(to_string(s.mode))},       {"tick_rate", s.tick_rate}, {"substeps", s.substeps},
+      {"lockstep_deadline_s", s.lockstep_deadline_s}, {"seed", s.seed},           {"max_ticks", s.max_ticks}};
+  ojson kills = ojson::array();
+  for (const Kill& k : s.kills) kills.push_back(ojson::array({k.id, k.tick}));
+  j["kills"] = std::move(kills);
+  const Mission& m = s.mission;
+  j["mission"] = {{"behaviour", m.behaviour},
+                  {"shape", {{"rows", m.shape.rows}, {"cols", m.shape.cols}, {"cells", m.shape.cells}}},
+                  {"grid_spacing", m.grid_spacing},
+                  {"goal", xy(m.goal)},
+                  {"goal_radius", m.goal_radius},
+                  {"max_speed", m.max_speed},
+                  {"tick_rate", m.tick_rate},
+                  {"comm_range", m.comm_range},
+                  {"max_message_bytes", m.max_message_bytes},
+                  {"seed", m.seed},
+                  {"params", m.params}};
+  return j;
+}
+
+}  // namespace
+
+std::string scenario_sha256(const Scenario& scenario) {
+  return sha256_hex(canonical(scenario).dump());
+}
+
+ojson provenance(const Scenario& scenario) {
+  return {{"product", "swarmform"},
+          {"version", SWARMFORM_VERSION},
+          {"git_commit", SWARMFORM_GIT_COMMIT},
+          {"build_type", SWARMFORM_BUILD_TYPE},
+          {"scenario_sha256", scenario_sha256(scenario)}};
+}
+
+}  // namespace swarmform::world

@@ -1,0 +1,71 @@
+#include "world_server/run/telemetry_check.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/robot_state.hpp"
+
+namespace swarmform::world {
+
+namespace {
+
+// Printable ASCII only: an event string is written into JSON and a log line; control bytes and invalid
+// UTF-8 have no business there.
+bool printable(const std::string& s) {
+  return std::all_of(s.begin(), s.end(), [](char c) { return c >= 0x20 && c < 0x7f; });
+}
+
+void note(TelemetryDrops& d, const std::string& what) {
+  if (d.first.empty()) d.first = what;
+}
+
+}  // namespace
+
+TelemetryDrops check_telemetry(Telemetry& t, const Telemetry& accepted, const TelemetryLimits& limits) {
+  TelemetryDrops d;
+  if (t.state < static_cast<std::int32_t>(RobotState::Idle) ||
+      t.state > static_cast<std::int32_t>(RobotState::Arrived)) {
+    note(d, "state " + std::to_string(t.state) + " outside 0..6");
+    t.state = accepted.state;
+    ++d.fields;
+  }
+  if (t.label < -1 || t.label >= limits.labels) {
+    note(d, "label " + std::to_string(t.label) + " outside -1.." + std::to_string(limits.labels - 1));
+    t.label = accepted.label;
+    ++d.fields;
+  }
+  if (t.parent < -1 || (t.parent >= 0 && static_cast<std::uint32_t>(t.parent) >= limits.robots)) {
+    note(d, "parent " + std::to_string(t.parent) + " outside -1.." + std::to_string(limits.robots) + "-1");
+    t.parent = accepted.parent;
+    ++d.fields;
+  }
+  if (!std::isfinite(t.net_force) || t.net_force < 0.0 || t.net_force > limits.max_net_force) {
+    note(d, "net_force " + std::to_string(t.net_force) + " not finite in 0.." +
+                std::to_string(limits.max_net_force));
+    t.net_force = accepted.net_force;
+    ++d.fields;
+  }
+  if (!t.events.empty()) {
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < t.events.size(); ++i) {
+      std::string& e = t.events[i];
+      if (kept >= limits.max_events) {
+        note(d, "more than " + std::to_string(limits.max_events) + " event strings");
+      } else if (e.size() > limits.max_event_bytes) {
+        note(d, "an event string of " + std::to_string(e.size()) + " bytes (at most " +
+                    std::to_string(limits.max_event_bytes) + ")");
+      } else if (!printable(e)) {
+        note(d, "an event string with bytes other than printable ASCII");
+      } else {
+        if (kept != i) t.events[kept] = std::move(e);
+        ++kept;
+        continue;
+      }
+      ++d.events;
+    }
+    t.events.resize(kept);
+  }
+  return d;
+}
+
+}  // namespace swarmform::world
