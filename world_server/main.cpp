@@ -32,6 +32,7 @@ struct Options {
   std::uint32_t domain = 0;
   std::string interface_address = "127.0.0.1";
   std::vector<std::string> kills;
+  std::vector<std::string> faults;
   std::vector<std::string> agent_pids;
   double connect_timeout_s = 60.0;
   Tick warmup_ticks = 100;
@@ -64,6 +65,7 @@ swarmform::world::ScenarioOverrides overrides_of(const Options& o) {
     const auto [id, tick] = split_pair("--kill", k, '@');
     ov.kills.push_back(swarmform::world::Kill{static_cast<RobotId>(id), tick});
   }
+  ov.faults = o.faults;
   return ov;
 }
 
@@ -124,7 +126,13 @@ int main(int argc, char** argv) {
                  "local interface address (agents on other hosts: this "
                  "host's address; default loopback)");
   app.add_option("--kill", o.kills, "ID@TICK: SIGKILL agent ID at TICK (needs --agent-pid ID=PID)");
-  app.add_option("--agent-pid", o.agent_pids, "ID=PID: the process of agent ID, for --kill");
+  app.add_option(
+      "--fault", o.faults,
+      std::string("a scheduled fault, added to the scenario's `faults`: ") +
+          swarmform::world::kFaultFormatHelp +
+          ". kill and stall signal the --agent-pid process (a stall without one withholds the "
+          "robot's packets); restart prints `restart id=ID tick=T` for the launcher to start the agent");
+  app.add_option("--agent-pid", o.agent_pids, "ID=PID: the process of agent ID, for --kill and stalls");
   app.add_option("--connect-timeout", o.connect_timeout_s, "seconds to wait for every agent (default 60)")
       ->check(CLI::PositiveNumber);
   app.add_option("--warmup-ticks", o.warmup_ticks,

@@ -66,7 +66,8 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
       session_(world_, world::RunOptions{options_.run_dir, std::string(world::to_string(scenario.mode))}),
       registry_(scenario.robots.size()),
       link_(options_.dds, scenario.robots.size(), scenario.mode == world::Mode::Realtime),
-      late_(scenario.robots.size()) {
+      late_(scenario.robots.size()),
+      faults_(scenario, options_.agent_pids) {
   const std::size_t n = scenario.robots.size();
   written_at_.assign(n, 0);
   latest_.resize(n);
@@ -102,6 +103,7 @@ int Server::run() {
   }
   const dds_time_t end = dds_time();
   const double wall = to_s(end - start_);
+  faults_.resume_all(&session_);  // a stalled agent must hear the end
   announce_end();
   progress(true);
   session_.finish(
@@ -338,11 +340,12 @@ void Server::begin_round() {
       session_.record_event(id, "killed", "no --agent-pid for it: the robot was killed in the world");
     }
   }
+  faults_.at_round(t, session_, world_);
   waiting_count_ = 0;
   const std::size_t n = scenario_.robots.size();
   for (std::size_t i = 0; i < n; ++i) {
     const auto id = static_cast<RobotId>(i);
-    const bool live = world_.alive(id) && registry_.connected(id);
+    const bool live = world_.alive(id) && registry_.connected(id) && !faults_.withheld(id);
     const bool awaited = live && !unresponsive_[i];
     waiting_[i] = awaited ? 1 : 0;
     waiting_count_ += awaited ? 1 : 0;

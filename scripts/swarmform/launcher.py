@@ -8,6 +8,7 @@ Order of a run:
      lets `swarm kill` find them;
   4. the world's `progress` lines become one status line; every other line it prints is shown and logged;
   5. when the world exits, the agents get a deadline to exit, then SIGKILL.
+A `restart id=K` line of the world (a scheduled restart fault) starts a new agent K (faults.py).
 Ctrl-C, SIGTERM and SIGHUP only set a flag that the loop (which polls, never blocks) acts on: the world gets
 SIGTERM (it closes the recording and writes summary.json), then every process we started is killed by pid and
 by group, and the launcher exits 130. Every child also has PR_SET_PDEATHSIG = SIGKILL, so even a SIGKILLed
@@ -24,6 +25,8 @@ import signal
 import subprocess
 import sys
 import time
+
+from . import faults
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 PROGRESS = re.compile(r"^progress tick=(\d+) alive=(\d+)/(\d+) tps=([0-9.eE+-]+|nan|inf)")
@@ -76,6 +79,8 @@ def overrides(args):
             out += [flag, str(value)]
     for kill in args.kill:
         out += ["--kill", kill]
+    for fault in getattr(args, "fault", None) or []:
+        out += ["--fault", fault]
     return out
 
 
@@ -256,8 +261,9 @@ class Status:
             self.dirty = False
 
 
-def _follow(proc, stop, status, console_log, max_ticks, prefix="world"):
-    """Reads the world's output until it exits or a stop is asked; returns the `done` line's fields or None."""
+def _follow(proc, stop, status, console_log, max_ticks, prefix="world", on_line=None):
+    """Reads the world's output until it exits or a stop is asked; returns the `done` line's fields or None.
+    `on_line(line, status)` may take a line first (True: handled)."""
     fd = proc.stdout.fileno()
     os.set_blocking(fd, False)
     buf, done = b"", None
@@ -271,6 +277,8 @@ def _follow(proc, stop, status, console_log, max_ticks, prefix="world"):
         m = PROGRESS.match(line)
         if m:
             status.progress(int(m[1]), int(m[2]), int(m[3]), float(m[4]), max_ticks)
+            return
+        if on_line is not None and on_line(line, status):
             return
         m = DONE.match(line)
         if m:
@@ -340,7 +348,8 @@ def run(args, render_pictures):
         started = time.monotonic()
         with open(os.path.join(logs, "world_console.log"), "ab") as console_log:
             procs.start_world(cmd)
-            done = _follow(procs.world, stop, status, console_log, max_ticks)
+            restarter = faults.Restarter(procs, agent_exe, args.domain, logs, run_dir, n)
+            done = _follow(procs.world, stop, status, console_log, max_ticks, on_line=restarter.handle)
             while procs.world.poll() is None and not stop:  # its output closed; it should be exiting
                 time.sleep(0.1)
         status.end()

@@ -42,7 +42,8 @@ class RunSession {
   void record_death(RobotId id);
   void record_rejoin(RobotId id);
   void record_command_verdict(RobotId id, CommandVerdict verdict);
-  void record_event(RobotId id, const std::string& kind, const std::string& detail);
+  // `id` -1: about no single robot (e.g. a fault of every robot).
+  void record_event(std::int64_t id, const std::string& kind, const std::string& detail);
 
   const Metrics& metrics() const;
   // What the world's robot-to-place assignment has cost so far (metrics_tracker.hpp).
