@@ -101,7 +101,7 @@ Fault parse_fault(std::string_view text) {
       const auto s = unsigned_of(part, kUltrasonicCount - 1);
       if (!s) {
         bad(text, "the sensor '" + std::string(part) + "' is not one of 0.." +
-                      std::to_string(kUltrasonicCount - 1) + " (0 the front, counter-clockwise)");
+                      std::to_string(kUltrasonicCount - 1) + " (0 right, 1 front-right, 2 front, 3 front-left, 4 left)");
       }
       f.part = static_cast<int>(*s);
     } else if (f.kind == FaultKind::Wheel) {

@@ -23,7 +23,8 @@ enum class FaultKind {
   Kill,        // kill:ID@TICK                 the agent is SIGKILLed (in-process: the robot dies)
   Stall,       // stall:ID@TICK+TICKS          SIGSTOP, then SIGCONT TICKS later (in-process: not stepped)
   Restart,     // restart:ID@TICK              a new agent for a killed robot (in-process: a fresh controller)
-  Ultrasonic,  // ultrasonic:ID[/S]@TICK[+T]   sensor S (0..4; all five if left out) reads its maximum range
+  Ultrasonic,  // ultrasonic:ID[/S]@TICK[+T]   sensor S (0 right .. 2 front .. 4 left; all
+               //                               five if left out) reads its maximum range
   Wheel,       // wheel:ID/left|right@TICK[+T] that wheel stops (speed 0 whatever is commanded)
   Loss,        // loss:ID|all@TICK[+T]         every message to and from the robot (or every message) is lost
   Range,       // range:ID|all@TICK[+T]=M      the message range of the robot (or of all) is cut to M metres
