@@ -2,7 +2,8 @@
 // test's own offset, below kTestDomainWindow. Two builds (say Release and the sanitizer build) run their
 // tests side by side when their bases lie a window apart. Offsets in use (tests/README.md keeps the table):
 //   1..15 multiprocess_test (11: wire_endpoints_test), 16..20 paper_multiprocess_test, 21..22
-//   bench_lockstep_smoke, 23..26 tests/scripts/test_launcher_e2e.py, 27..35 tests/bench/test_bench_script.py.
+//   bench_lockstep_smoke, 23..26 tests/scripts/test_launcher_e2e.py, 27..35 tests/bench/test_bench_script.py,
+//   36..38 faults_process_test, 39 tests/scripts/test_faults_e2e.py.
 #pragma once
 
 #include <cstdlib>
