@@ -55,12 +55,25 @@ void ProcessFaults::at_round(Tick t, world::RunSession& session, const world::Wo
         }
       }
     } else if (f.kind == world::FaultKind::Restart && f.tick == t) {
-      // The launcher owns the agent processes: it starts the new one on this line.
-      std::cout << "restart id=" << *f.robot << " tick=" << t << std::endl;
-      world::record_process_fault_event(session, f, true,
-                                        "asked for a new agent process (stdout: restart id=" +
-                                            std::to_string(*f.robot) + "; scripts/swarm run starts it)");
+      pending_restarts_.push_back(&f);
     }
+  }
+  // A restart waits for the death of the killed agent to be seen (its lease, ~0.5 s after the SIGKILL): until
+  // then the old owner holds the id and would refuse the new agent's claim.
+  for (auto it = pending_restarts_.begin(); it != pending_restarts_.end();) {
+    const world::Fault& f = **it;
+    if (world.alive(*f.robot)) {
+      ++it;
+      continue;
+    }
+    // The launcher owns the agent processes: it starts the new one on this line.
+    std::cout << "restart id=" << *f.robot << " tick=" << t << std::endl;
+    world::record_process_fault_event(
+        session, f, true,
+        "asked for a new agent process (stdout: restart id=" + std::to_string(*f.robot) +
+            "; scripts/swarm run starts it)" +
+            (t == f.tick ? std::string() : "; after its death was seen at tick " + std::to_string(t)));
+    it = pending_restarts_.erase(it);
   }
   world::record_world_fault_events(session, scenario_.faults, t);
 }

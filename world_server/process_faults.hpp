@@ -5,9 +5,10 @@
 //                 while no kill of K has been sent (the pid may be reused after a kill): otherwise the world
 //                 withholds K's packets for those ticks instead (its agent is then not stepped, as the
 //                 in-process harness does).
-//   restart:K@T   the world prints `restart id=K tick=T` on stdout; scripts/swarm run (which owns the agent
-//                 processes) starts a new robot_agent --id K, which claims the id and rejoins. A world run by
-//                 hand prints the line and nothing else happens until someone starts that agent.
+//   restart:K@T   the world prints `restart id=K tick=T` on stdout (at T, or later when the kill's death is
+//                 not yet seen at T: the old owner would refuse the claim); scripts/swarm run (which owns the
+//                 agent processes) starts a new robot_agent --id K, which claims the id and rejoins. A world
+//                 run by hand prints the line and nothing else happens until someone starts that agent.
 //
 // Each start and end is an event (`fault` / `fault_end`) saying what was done. A stopped agent is always
 // continued before the world ends the run (resume_all; also in the destructor), so the END reaches it.
@@ -46,7 +47,8 @@ class ProcessFaults {
   const world::Scenario& scenario_;
   std::map<RobotId, pid_t> pids_;
   std::vector<char> withheld_;
-  std::map<const world::Fault*, pid_t> stopped_;  // stalls in progress by SIGSTOP, and the pid stopped
+  std::map<const world::Fault*, pid_t> stopped_;       // stalls in progress by SIGSTOP, and the pid stopped
+  std::vector<const world::Fault*> pending_restarts_;  // due, waiting for the killed robot's death to be seen
 };
 
 }  // namespace swarmform::server

@@ -117,8 +117,9 @@ def make_parser():
 
     run = sub.add_parser("run", help="run a swarm", formatter_class=argparse.RawDescriptionHelpFormatter,
                          description="Starts N robot_agent processes and the world_server, shows progress (tick, "
-                                     "robots alive, ticks/s),\nSIGKILLs the --kill agents at their ticks, writes "
-                                     "the run directory and draws the pictures.\nCtrl-C stops everything "
+                                     "robots alive, ticks/s),\nSIGKILLs the --kill agents at their ticks, executes the "
+                                     "--fault faults, writes the run directory and draws the pictures.\nCtrl-C "
+                                     "stops everything "
                                      "(the recording so far is kept) and exits 130.")
     _add_run_flags(run)
 

@@ -57,6 +57,21 @@ class FaultsEndToEndTest(unittest.TestCase):
         self.assertEqual(claims[1]["detail"], f"pid {pids[1]}")
         self.assertEqual([p for p in pids.values() if helpers.pid_alive(p)], [], "agents left running")
 
+    def test_a_restart_due_before_the_kill_is_seen_waits_for_the_death(self):
+        # Realtime: the SIGKILLed agent's death is seen ~0.5 s (~5 ticks) after tick 20, so at tick 21 the old
+        # owner still holds id 1; the world asks for the new agent once the death is seen, and it rejoins.
+        r = self.swarm_run("--mode", "realtime", "--max-ticks", "150", "--domain", str(helpers.test_domain(39)),
+                           "--fault", "kill:1@20", "--fault", "restart:1@21")
+        self.assertEqual(r.returncode, 0, f"stdout:\n{r.stdout}\nstderr:\n{r.stderr}")
+        ev = events(self.out)
+        death = [e["tick"] for e in ev if e["kind"] == "death" and e["id"] == 1]
+        restart = [e for e in ev if e["kind"] == "fault" and e["detail"].startswith("restart:1@21:")]
+        self.assertEqual(len(death), 1, ev)
+        self.assertEqual(len(restart), 1, ev)
+        self.assertGreaterEqual(restart[0]["tick"], max(21, death[0]))
+        self.assertEqual([e["kind"] for e in ev if e["kind"] == "claim_refused"], [])
+        self.assertEqual(len([e for e in ev if e["kind"] == "rejoin" and e["id"] == 1]), 1, ev)
+
     def test_an_in_process_run_takes_the_faults(self):
         r = self.swarm_run("--in-process", "--max-ticks", "60", "--fault", "kill:1@20", "--fault", "restart:1@40",
                            "--fault", "stall:2@5+10", "--fault", "wheel:3/right@10", "--fault", "loss:all@30+5")
