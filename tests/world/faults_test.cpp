@@ -152,6 +152,11 @@ TEST(ScenarioFaults, BadFaultsInTheFileNameTheirLine) {
   expect_rejected(kHead + "faults:\n  - restart:2@50\n", 4, "robot 2 is not killed before tick 50");
   expect_rejected(kHead + "faults:\n  - kill:2@50\n  - restart:2@50\n", 5,
                   "robot 2 is not killed before tick 50");
+  expect_rejected(kHead + "faults:\n  - kill:2@10\n  - restart:2@20\n  - restart:2@30\n", 6,
+                  "robot 2 is not killed before tick 30 since its restart at tick 20");
+  EXPECT_EQ(parse(kHead + "faults:\n  - kill:2@10\n  - restart:2@20\n  - kill:2@25\n  - restart:2@30\n")
+                .faults.size(),
+            2u);
   expect_rejected(kHead + "faults:\n  - stall:1@10+10\n  - stall:1@19+2\n", 5, "overlaps 'stall:1@10+10'");
 }
 

@@ -101,7 +101,8 @@ Fault parse_fault(std::string_view text) {
       const auto s = unsigned_of(part, kUltrasonicCount - 1);
       if (!s) {
         bad(text, "the sensor '" + std::string(part) + "' is not one of 0.." +
-                      std::to_string(kUltrasonicCount - 1) + " (0 right, 1 front-right, 2 front, 3 front-left, 4 left)");
+                      std::to_string(kUltrasonicCount - 1) +
+                      " (0 right, 1 front-right, 2 front, 3 front-left, 4 left)");
       }
       f.part = static_cast<int>(*s);
     } else if (f.kind == FaultKind::Wheel) {
@@ -173,12 +174,25 @@ std::string check_fault(const std::vector<Fault>& faults, std::size_t index, con
     return what.str();
   }
   if (f.kind == FaultKind::Restart) {
+    // The kill it follows must come after any earlier restart of the robot (a restart of a live robot has no
+    // process to replace).
+    Tick after = 0;
+    bool earlier = false;
+    for (const Fault& g : faults) {
+      if (g.kind == FaultKind::Restart && g.robot == f.robot && g.tick < f.tick &&
+          (!earlier || g.tick > after)) {
+        after = g.tick;
+        earlier = true;
+      }
+    }
     bool killed = false;
-    for (const auto& [id, tick] : context.kills) killed = killed || (id == *f.robot && tick < f.tick);
+    for (const auto& [id, tick] : context.kills)
+      killed = killed || (id == *f.robot && tick < f.tick && (!earlier || tick >= after));
     if (!killed) {
       return "robot " + std::to_string(*f.robot) + " is not killed before tick " + std::to_string(f.tick) +
-             " (a restart follows a kill: add kill:" + std::to_string(*f.robot) + "@T with T < " +
-             std::to_string(f.tick) + ")";
+             (earlier ? " since its restart at tick " + std::to_string(after) : std::string()) +
+             " (a restart follows a kill: add kill:" + std::to_string(*f.robot) + "@T with " +
+             (earlier ? std::to_string(after) + " <= T < " : "T < ") + std::to_string(f.tick) + ")";
     }
   }
   if (f.kind == FaultKind::Stall) {
