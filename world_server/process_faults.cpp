@@ -79,6 +79,14 @@ void ProcessFaults::at_round(Tick t, world::RunSession& session, const world::Wo
 }
 
 void ProcessFaults::resume_all(world::RunSession* session) {
+  if (session != nullptr) {
+    for (const world::Fault* f : pending_restarts_) {
+      world::record_process_fault_event(
+          *session, *f, true,
+          "not done: robot " + std::to_string(*f->robot) + "'s death was not seen before the end of the run");
+    }
+  }
+  pending_restarts_.clear();
   for (const auto& [fault, pid] : stopped_) {
     const bool ok = ::kill(pid, SIGCONT) == 0;
     if (session != nullptr) {

@@ -135,6 +135,9 @@ TEST(FaultsInProcess, WorldFaultsAreEventsWithTheRobotOrMinusOneAndChangeTheRun)
     h.run();
     with_faults = Json::parse(h.finish(0.0))["trajectory_sha256"];
   }
+  std::ifstream world_json(dir.str() + "/world.json");
+  EXPECT_EQ(Json::parse(world_json)["faults"],
+            Json({"wheel:1/left@10+30", "loss:all@20+5", "range:4@30=1", "ultrasonic:5/2@3"}));
   const auto all = events(dir.str());
   EXPECT_EQ(fault_events(all, "fault", "wheel:1/left@10+30"), (std::vector<std::pair<int, int>>{{10, 1}}));
   EXPECT_EQ(fault_events(all, "fault_end", "wheel:1/left@10+30"),
