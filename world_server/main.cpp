@@ -41,6 +41,7 @@ struct Options {
   std::uint32_t domain = 0;
   std::string interface_address = "127.0.0.1";
   std::vector<std::string> kills;
+  std::vector<std::string> faults;
   std::vector<std::string> agent_pids;
   double connect_timeout_s = 60.0;
   Tick warmup_ticks = 100;
@@ -75,6 +76,7 @@ swarmform::world::ScenarioOverrides overrides_of(const Options& o) {
     const auto [id, tick] = split_pair("--kill", k, '@');
     ov.kills.push_back(swarmform::world::Kill{static_cast<RobotId>(id), tick});
   }
+  ov.faults = o.faults;
   return ov;
 }
 
@@ -144,10 +146,16 @@ int main(int argc, char** argv) {
                  "local interface address (agents on other hosts: this "
                  "host's address; default loopback)");
   app.add_option("--kill", o.kills, "ID@TICK: SIGKILL agent ID at TICK (needs --agent-pid ID=PID)");
-  app.add_option("--agent-pid", o.agent_pids, "ID=PID: the process of agent ID, for --kill");
+  app.add_option(
+      "--fault", o.faults,
+      std::string("a scheduled fault, added to the scenario's `faults`: ") +
+          swarmform::world::kFaultFormatHelp +
+          ". kill and stall signal the --agent-pid process (a stall without one withholds the "
+          "robot's packets); restart prints `restart id=ID tick=T` for the launcher to start the agent");
+  app.add_option("--agent-pid", o.agent_pids, "ID=PID: the process of agent ID, for --kill and stalls");
   app.add_option(
       "--agent-pids", o.agent_pids_file,
-      "FILE: JSON object {\"ID\": PID} of the agents' processes, for --kill, read when a kill is due "
+      "FILE: JSON object {\"ID\": PID} of the agents' processes, for --kill and stalls, read when one is due "
       "(the launcher starts the world first and writes it once the agents run)");
   app.add_option("--run-nonce", o.run_nonce,
                  "this run's nonce, 16 hex digits (default: drawn at random); agents started with the same "

@@ -76,7 +76,8 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
       link_(options_.dds, scenario.robots.size(), scenario.mode == world::Mode::Realtime, options_.run_nonce),
       refusals_("world_server", std::cerr),
       guard_(scenario.mode == world::Mode::Realtime ? realtime_limits(scenario.tick_rate) : GuardLimits{}),
-      late_(scenario.robots.size()) {
+      late_(scenario.robots.size()),
+      faults_(scenario, [this](RobotId id) { return agent_pid(id); }) {
   const std::size_t n = scenario.robots.size();
   generation_.assign(n, 1);
   owner_nonce_.assign(n, 0);
@@ -153,6 +154,7 @@ int Server::run_inner() {
   }
   const dds_time_t end = dds_time();
   const double wall = to_s(end - start_);
+  faults_.resume_all(&session_);  // a stalled agent must hear the end
   announce_end();
   progress(true);
   if (stopping()) session_.set_end_reason(world::EndReason::Interrupted);
@@ -523,11 +525,12 @@ void Server::begin_round() {
       session_.record_event(id, "killed", "no --agent-pid for it: the robot was killed in the world");
     }
   }
+  faults_.at_round(t, session_, world_);
   waiting_count_ = 0;
   const std::size_t n = scenario_.robots.size();
   for (std::size_t i = 0; i < n; ++i) {
     const auto id = static_cast<RobotId>(i);
-    const bool live = world_.alive(id) && registry_.connected(id);
+    const bool live = world_.alive(id) && registry_.connected(id) && !faults_.withheld(id);
     const bool awaited = live && !unresponsive_[i];
     waiting_[i] = awaited ? 1 : 0;
     waiting_count_ += awaited ? 1 : 0;

@@ -24,6 +24,7 @@
 #include "world_server/input_guard.hpp"
 #include "world_server/late_commands.hpp"
 #include "world_server/run/end_reason.hpp"
+#include "world_server/process_faults.hpp"
 #include "world_server/run/run_session.hpp"
 #include "world_server/stall_guard.hpp"
 #include "world_server/run/telemetry_check.hpp"
@@ -36,7 +37,7 @@ struct ServerOptions {
   std::string run_dir;
   dds::DdsSettings dds;                 // role World
   double connect_timeout_s = 60.0;      // every agent must have claimed its id by then
-  std::map<RobotId, pid_t> agent_pids;  // for --kill: the world SIGKILLs these processes
+  std::map<RobotId, pid_t> agent_pids;  // for --kill and stalls: the world SIGKILLs / SIGSTOPs these
   Tick warmup_ticks = 100;              // left out of summary.json's steady_ticks_per_second
   std::uint64_t run_nonce = 0;          // this run's (docs/wire.md); 0: drawn at random
   // --agent-pids FILE: {"id": pid} JSON the launcher writes after starting the agents (after the world);
@@ -146,6 +147,7 @@ class Server {
   dds_time_t round_start_ = 0;
   std::vector<dds_time_t> written_at_;
   LateCommands late_;
+  ProcessFaults faults_;  // scheduled stalls and restarts (process_faults.hpp), and world faults' events
 
   // Where a round's wall time goes (printed on stderr at the end; issue 6 P1's first question).
   struct Profile {

@@ -7,7 +7,7 @@ import argparse
 import os
 import sys
 
-from . import launcher
+from . import faults, launcher
 
 DEFAULT_SCENARIO = os.path.join("scenarios", "paper.yaml")
 
@@ -30,6 +30,7 @@ robots.csv, events.jsonl; docs/recording-format.md), summary.json, logs/ and pic
 examples:
   scripts/swarm demo
   scripts/swarm run --scenario scenarios/paper.yaml --kill 0@900 --kill 5@1200
+  scripts/swarm run --fault stall:3@200+30 --fault kill:2@300 --fault restart:2@400 --fault loss:all@500+20
   scripts/swarm run --shape shapes/v.txt --robots 12 --seed 7 --mode realtime
   scripts/swarm kill 3                      # while a swarm runs (agents.json of runs/latest)
   scripts/swarm replay runs/latest --ticks 500 1000
@@ -99,6 +100,7 @@ def _add_run_flags(p, demo=False):
     p.add_argument("--out", metavar="DIR", help="run directory (default runs/<UTC time>/, and runs/latest)")
     p.add_argument("--kill", type=_kill_spec, action="append", default=[], metavar="ID@TICK",
                    help="SIGKILL agent ID at tick TICK (repeatable)")
+    p.add_argument("--fault", action="append", default=[], metavar="FAULT", help=faults.FAULT_HELP)
     p.add_argument("--domain", type=_domain, metavar="D", help="DDS domain id (default: the programs' own)")
     p.add_argument("--no-pictures", action="store_true", help="do not draw the pictures at the end")
     p.add_argument("--ticks", type=_int_at_least(0), nargs="+", default=[], metavar="T",
@@ -114,10 +116,10 @@ def make_parser():
     sub = top.add_subparsers(dest="command", metavar="command", parser_class=Parser, prog="swarm")
 
     run = sub.add_parser("run", help="run a swarm", formatter_class=argparse.RawDescriptionHelpFormatter,
-                         description="Starts N robot_agent processes and the world_server, shows progress (tick, "
-                                     "robots alive, ticks/s),\nSIGKILLs the --kill agents at their ticks, writes "
-                                     "the run directory and draws the pictures.\nCtrl-C stops everything "
-                                     "(the recording so far is kept) and exits 130.",
+                         description="Starts the world_server, then N robot_agent processes, shows progress (tick, "
+                                     "robots alive, ticks/s),\nSIGKILLs the --kill agents at their ticks, executes "
+                                     "the --fault faults, writes the run directory\nand draws the pictures. Ctrl-C "
+                                     "stops everything (the recording so far is kept) and exits 130.",
                          epilog=launcher.EXIT_CODES[0].upper() + launcher.EXIT_CODES[1:])
     _add_run_flags(run)
 

@@ -11,6 +11,7 @@ Order of a run:
      run (a refused claim, a lost id) is a loud warning with the last line of its log;
   4. the world's `progress` lines become one status line; every other line it prints is shown and logged;
   5. when the world exits, the agents get a deadline to exit, then SIGKILL.
+A `restart id=K` line of the world (a scheduled restart fault) starts a new agent K (faults.py).
 Ctrl-C, SIGTERM and SIGHUP only set a flag that the loop (which polls, never blocks) acts on: the world gets
 SIGTERM (it closes the recording and writes summary.json), then every process we started is killed by pid and
 by group, and the launcher exits 130. Every child also has PR_SET_PDEATHSIG = SIGKILL, so even a SIGKILLed
@@ -30,6 +31,7 @@ import sys
 import time
 
 from . import domains
+from . import faults
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 PROGRESS = re.compile(r"^progress tick=(\d+) alive=(\d+)/(\d+) tps=([0-9.eE+-]+|nan|inf)")
@@ -93,6 +95,8 @@ def overrides(args):
             out += [flag, str(value)]
     for kill in args.kill:
         out += ["--kill", kill]
+    for fault in getattr(args, "fault", None) or []:
+        out += ["--fault", fault]
     return out
 
 
@@ -332,9 +336,11 @@ def _write_json_atomically(path, data):
     os.replace(tmp, path)
 
 
-def _follow(proc, stop, status, console_log, max_ticks, prefix="world", on_ready=None, on_idle=None):
+def _follow(proc, stop, status, console_log, max_ticks, prefix="world", on_ready=None, on_idle=None,
+            on_line=None):
     """Reads the world's output until it exits or a stop is asked; returns the `done` line's fields or None.
-    `on_ready()` runs at the world's `world ready` line, `on_idle()` every time round the loop."""
+    `on_ready()` runs at the world's `world ready` line, `on_idle()` every time round the loop, and
+    `on_line(line, status)` may take a line first (True: handled)."""
     fd = proc.stdout.fileno()
     os.set_blocking(fd, False)
     buf, done = b"", None
@@ -348,6 +354,8 @@ def _follow(proc, stop, status, console_log, max_ticks, prefix="world", on_ready
         m = PROGRESS.match(line)
         if m:
             status.progress(int(m[1]), int(m[2]), int(m[3]), float(m[4]), max_ticks)
+            return
+        if on_line is not None and on_line(line, status):
             return
         m = READY.match(line)
         if m:
@@ -437,8 +445,9 @@ def run(args, render_pictures):
         started = time.monotonic()
         with open(os.path.join(logs, "world_console.log"), "ab") as console_log:
             procs.start_world(cmd)
+            restarter = faults.Restarter(procs, agent_exe, domain, nonce, logs, run_dir, n)
             done = _follow(procs.world, stop, status, console_log, max_ticks, on_ready=start_agents,
-                           on_idle=watch.check)
+                           on_idle=watch.check, on_line=restarter.handle)
             while procs.world.poll() is None and not stop:  # its output closed; it should be exiting
                 time.sleep(0.1)
         status.end()

@@ -186,9 +186,10 @@ int nan_agent(dds::Participant& participant, RobotId id, double timeout_s) {
 std::optional<dds::MissionAnnouncement> wait_mission(dds::Participant& participant, dds_time_t deadline) {
   dds::Waiter waiter(participant);
   dds::MissionReader reader(participant);
+  dds::RefusalLog refusals("rogue_agent", std::cerr);
   waiter.attach(reader.condition());
   while (dds_time() < deadline) {
-    if (auto m = reader.take()) return m;
+    if (auto m = reader.take(std::nullopt, refusals)) return m;
     waiter.wait_until(deadline);
   }
   return std::nullopt;
@@ -218,6 +219,8 @@ int flood(dds::Participant& participant, double seconds, std::uint32_t ids, bool
   dds::CommandWriter commands(participant, realtime);
   waiter.attach(state.condition());
   const dds_time_t deadline = after(timeout_s);
+  // Stamped with this run's nonce and version: the flood comes from inside the run, past the wire check.
+  commands.set_stamp(run_nonce_of(participant, deadline));
   while (!dds::writer_matched(commands.get())) {
     if (dds_time() >= deadline) return 3;
     waiter.wait_until(std::min(deadline, after(0.05)));
@@ -262,6 +265,7 @@ int claim_storm(dds::Participant& participant, double seconds, std::uint32_t fir
   dds::Waiter waiter(participant);
   dds::CommandWriter commands(participant);
   const dds_time_t deadline = after(timeout_s);
+  commands.set_stamp(run_nonce_of(participant, deadline));  // claims of this run: refused for their ids only
   while (!dds::writer_matched(commands.get())) {
     if (dds_time() >= deadline) return 3;
     waiter.wait_until(std::min(deadline, after(0.05)));

@@ -7,6 +7,7 @@
 //   picker, given SWARM_DOMAINS=base+38-base+39).
 //   40..43 issue 18's abuse tests (40 paper liar, 41 lockstep flood, 42 full disk + end reasons, 43 realtime
 //   flood).
+//   44..46 faults_process_test, 47 tests/scripts/test_faults_e2e.py.
 #pragma once
 
 #include <cstdlib>

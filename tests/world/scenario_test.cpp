@@ -146,6 +146,7 @@ TEST(Scenario, TheFullExampleOfTheReadmeParses) {
   EXPECT_EQ(s.robots.size(), 9u);
   EXPECT_EQ(s.obstacles.size(), 2u);
   EXPECT_EQ(s.kills.size(), 1u);
+  EXPECT_EQ(s.faults.size(), 4u);  // the Faults example: stall, wheel, loss, range
   EXPECT_EQ(s.mission.params.size(), 2u);
 }
 

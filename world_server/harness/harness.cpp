@@ -1,6 +1,11 @@
 // The in-process harness: the tick order of the DDS world_server without DDS. One tick:
-//   scheduled kills due now -> every live robot's controller steps on its perception -> the commands go to
-//   the world (verdicts other than Ok are recorded) -> world.step() -> the session records the new tick.
+//   scheduled kills due now -> scheduled faults due now (events; restarts) -> every live robot's controller
+//   that is not stalled steps on its perception -> the commands go to the world (verdicts other than Ok are
+//   recorded) -> world.step() -> the session records the new tick.
+// Process faults in-process (world/faults.hpp): a stall is the robot's controller not stepped for its ticks
+// (the world keeps the robot's last wheel speeds and it says nothing, as with a SIGSTOPped agent); a
+// restart is a fresh controller (init with the mission) for the killed robot, which comes back to life where
+// its body stands. The world faults act inside World, as in the DDS world_server.
 // The controllers step on the worker pool (world_server/world/parallel_for.hpp): each reads only its own
 // perception (copied into its worker's buffer) and writes only its own command slot; the commands then go to
 // the world one after the other in id order, exactly as a serial loop would, so a run is deterministic for a
@@ -11,6 +16,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "world_server/run/fault_events.hpp"
 #include "world_server/run/run_end.hpp"
 #include "world_server/world/parallel_for.hpp"
 
@@ -53,11 +59,35 @@ struct Harness::Impl {
     session.record_rejoin(id);
   }
 
+  // Process faults due at tick t (stalls start or end, restarts) and the world faults' events.
+  void faults_at(Tick t) {
+    stalled.assign(controllers.size(), 0);
+    for (const world::Fault& f : scenario.faults) {
+      if (f.kind == world::FaultKind::Stall) {
+        const RobotId id = *f.robot;
+        if (f.active_at(t)) stalled[id] = 1;
+        if (f.tick == t) {
+          world::record_process_fault_event(
+              session, f, true,
+              world.alive(id) ? "its controller is not stepped for " + std::to_string(*f.duration) + " ticks"
+                              : "the robot is dead: nothing to stall");
+        } else if (f.end_tick() == t) {
+          world::record_process_fault_event(session, f, false, "its controller is stepped again");
+        }
+      } else if (f.kind == world::FaultKind::Restart && f.tick == t) {
+        revive(*f.robot);
+        world::record_process_fault_event(session, f, true, "a fresh controller for the robot");
+      }
+    }
+    world::record_world_fault_events(session, scenario.faults, t);
+  }
+
   void step() {
     while (next_kill < kills.size() && kills[next_kill].tick <= world.tick()) {
       kill(kills[next_kill].id);
       ++next_kill;
     }
+    faults_at(world.tick());
     const std::size_t n = controllers.size();
     commands.resize(n);
     stepped.assign(n, 0);
@@ -66,7 +96,7 @@ struct Harness::Impl {
       world::World::PerceptionCopy& copy = copies[worker].copy;
       for (std::size_t i = begin; i < end; ++i) {
         const auto id = static_cast<RobotId>(i);
-        if (!controllers[i] || !world.alive(id)) continue;
+        if (!controllers[i] || !world.alive(id) || stalled[i]) continue;
         commands[i] = controllers[i]->step(world.copy_perception(id, copy));
         stepped[i] = 1;
       }
@@ -88,6 +118,7 @@ struct Harness::Impl {
   std::vector<world::Kill> kills;                                    // by tick
   std::vector<Command> commands;  // this tick's, one slot per robot (kept: their message buffers are reused)
   std::vector<char> stepped;      // 1: commands[id] is this tick's
+  std::vector<char> stalled;      // 1: a stall fault holds this robot's controller this tick
   // One perception copy per worker: a controller steps on its robot's perception copied into its worker's
   // buffers, which stay in that core's cache from robot to robot (World::copy_perception says why).
   struct alignas(64) WorkerCopy {

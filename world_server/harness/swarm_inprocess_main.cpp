@@ -94,6 +94,7 @@ int main(int argc, char** argv) {
   std::string out;
   std::string behaviour;
   std::vector<std::string> kill_texts;
+  std::vector<std::string> fault_texts;
   double fragment_range = 0.0;
   bool no_record = false;
   bool quiet = false;
@@ -105,6 +106,10 @@ int main(int argc, char** argv) {
   app.add_option("--behaviour", behaviour, "controller: paper or random_walk, instead of the scenario's");
   app.add_option("--out", out, "run directory (default runs/<UTC time>, and runs/latest points at it)");
   app.add_option("--kill", kill_texts, "kill robot ID at tick TICK (ID@TICK); repeatable");
+  app.add_option(
+      "--fault", fault_texts,
+      std::string("a scheduled fault, added to the scenario's `faults`: ") + world::kFaultFormatHelp +
+          ". In-process a stall is the robot's controller not stepped, a restart a fresh controller");
   app.add_option("--fragment-range", fragment_range,
                  "m: range of the shape robots' graph for fragment events (default: the comm range)")
       ->check(CLI::NonNegativeNumber);
@@ -130,6 +135,7 @@ int main(int argc, char** argv) {
     if (app.count("--seed") > 0) overrides.seed = seed;
     if (app.count("--max-ticks") > 0) overrides.max_ticks = max_ticks;
     for (const auto& k : kill_texts) overrides.kills.push_back(parse_kill(k));
+    overrides.faults = fault_texts;
     world::Scenario scenario = world::load_scenario(scenario_path, overrides);
     if (!behaviour.empty()) {
       if (behaviour != "paper" && behaviour != "random_walk") {

@@ -73,6 +73,9 @@ ojson describe_world(const Scenario& scenario, const std::string& mode) {
   ojson kills = ojson::array();
   for (const auto& k : scenario.kills) kills.push_back({{"id", k.id}, {"tick", k.tick}});
   j["kills"] = std::move(kills);
+  ojson faults = ojson::array();  // every other scheduled fault, as written (scenarios/README.md, Faults)
+  for (const auto& f : scenario.faults) faults.push_back(f.text);
+  j["faults"] = std::move(faults);
   return j;
 }
 

@@ -145,7 +145,7 @@ void RunSession::record_command_verdict(RobotId id, CommandVerdict verdict, std:
   impl_->emit(e);
 }
 
-void RunSession::record_event(RobotId id, const std::string& kind, const std::string& detail) {
+void RunSession::record_event(std::int64_t id, const std::string& kind, const std::string& detail) {
   Event e = make_event(impl_->world.tick(), kind, id);
   e["detail"] = detail;
   impl_->emit(e);

@@ -46,7 +46,8 @@ class RunSession {
   // stands for `event_for` such commands (its `count` field when > 1); 0: counted, no event (a front end
   // that logs repeated bad input once a second).
   void record_command_verdict(RobotId id, CommandVerdict verdict, std::uint64_t event_for = 1);
-  void record_event(RobotId id, const std::string& kind, const std::string& detail);
+  // `id` -1: about no single robot (e.g. a fault of every robot).
+  void record_event(std::int64_t id, const std::string& kind, const std::string& detail);
 
   const Metrics& metrics() const;
   // What the world's robot-to-place assignment has cost so far (metrics_tracker.hpp).

@@ -29,14 +29,15 @@ bool Medium::occluded(const Pose2D& a, const Pose2D& b) const {
 //      positions), the loss and noise draws, in the same order as a single loop would draw them.
 void Medium::deliver(const std::vector<Pose2D>& poses, const std::vector<char>& alive,
                      const std::vector<Outbox>& outboxes, const SpatialGrid& grid,
-                     std::vector<Perception>& perceptions, bool with_bytes) {
+                     std::vector<Perception>& perceptions, bool with_bytes, const MediumFaults* faults) {
+  if (faults != nullptr && !faults->any) faults = nullptr;
   const std::size_t n = poses.size();
   spare_.resize(n);
   parallel::for_range(
       n,
       [&](std::size_t begin, std::size_t end, std::size_t) {
         for (std::size_t r = begin; r < end; ++r)
-          gather(r, poses, alive, outboxes, grid, perceptions[r].messages, with_bytes);
+          gather(r, poses, alive, outboxes, grid, perceptions[r].messages, with_bytes, faults);
       },
       parallel::kMinRobotsPerWorker);
   const bool random =
@@ -59,25 +60,29 @@ void Medium::deliver(const std::vector<Pose2D>& poses, const std::vector<char>& 
 
 void Medium::gather(std::size_t r, const std::vector<Pose2D>& poses, const std::vector<char>& alive,
                     const std::vector<Outbox>& outboxes, const SpatialGrid& grid,
-                    std::vector<RabReading>& inbox, bool with_bytes) {
+                    std::vector<RabReading>& inbox, bool with_bytes, const MediumFaults* faults) {
   std::vector<RabReading>& spare = spare_[r];
   std::size_t used = 0;
-  if (alive[r]) {
+  if (alive[r] && (faults == nullptr || !faults->silent[r])) {
     const Pose2D& me = poses[r];
+    const double reach =
+        faults == nullptr ? params_.comm_range : std::min(params_.comm_range, faults->range[r]);
     // The grid hands over the sender's offset (sender - receiver), so the reading is to_receiver_frame's
     // without reading the sender's pose again.
-    grid.for_each_near_offset(me.x, me.y, params_.comm_range,
-                              [&](std::uint32_t s, double dx, double dy, double d2) {
-                                if (s == r || !alive[s] || !outboxes[s].has_message) return;
-                                if (params_.occlusion && occluded(poses[s], me)) return;
-                                // Reuse the receiver's earlier RabReading objects (and their data buffers)
-                                // where there are some.
-                                if (used == inbox.size()) resize_reusing(inbox, used + 1, spare);
-                                RabReading& m = inbox[used++];
-                                m.sender = s;
-                                m.range = std::sqrt(d2);
-                                m.bearing = bearing_in_frame(dx, dy, me.theta);
-                              });
+    grid.for_each_near_offset(me.x, me.y, reach, [&](std::uint32_t s, double dx, double dy, double d2) {
+      if (s == r || !alive[s] || !outboxes[s].has_message) return;
+      if (faults != nullptr && (faults->silent[s] || d2 > faults->range[s] * faults->range[s])) {
+        return;
+      }
+      if (params_.occlusion && occluded(poses[s], me)) return;
+      // Reuse the receiver's earlier RabReading objects (and their data buffers)
+      // where there are some.
+      if (used == inbox.size()) resize_reusing(inbox, used + 1, spare);
+      RabReading& m = inbox[used++];
+      m.sender = s;
+      m.range = std::sqrt(d2);
+      m.bearing = bearing_in_frame(dx, dy, me.theta);
+    });
   }
   resize_reusing(inbox, used, spare);
   if (with_bytes) fill_bytes(inbox, outboxes);

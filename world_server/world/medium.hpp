@@ -50,6 +50,14 @@ struct Outbox {
   std::vector<std::uint8_t> data;
 };
 
+// Scheduled radio faults of one tick (faults.hpp: loss and range), per robot. A silent robot's messages are
+// lost and it hears none; a pair hears each other only within the smaller of their two ranges.
+struct MediumFaults {
+  bool any = false;           // false: the rest is not read
+  std::vector<char> silent;   // 1: every copy to and from this robot is lost
+  std::vector<double> range;  // m: this robot's cut range (comm_range when not cut)
+};
+
 class Medium {
  public:
   Medium(const MediumParams& params, const std::vector<Obstacle>& statics, std::uint64_t seed);
@@ -59,9 +67,11 @@ class Medium {
   // written and each reading's `data` is left as it was: the caller fills it later with fill_bytes (the
   // World does, when a perception is read: copying every message's bytes into every receiver's inbox at once
   // streams tens of MB a tick through memory at N = 1000, which the controllers then read back cold).
+  // `faults` (may be null): this tick's loss bursts and range cuts.
   void deliver(const std::vector<Pose2D>& poses, const std::vector<char>& alive,
                const std::vector<Outbox>& outboxes, const SpatialGrid& grid,
-               std::vector<Perception>& perceptions, bool with_bytes = true);
+               std::vector<Perception>& perceptions, bool with_bytes = true,
+               const MediumFaults* faults = nullptr);
 
   // Copies into each reading of `inbox` its sender's bytes from `outboxes` (those given to deliver()).
   static void fill_bytes(std::vector<RabReading>& inbox, const std::vector<Outbox>& outboxes) {
@@ -97,7 +107,7 @@ class Medium {
   // One receiver's noiseless inbox (pass 1 of deliver; touches only inbox and spare_[r]).
   void gather(std::size_t r, const std::vector<Pose2D>& poses, const std::vector<char>& alive,
               const std::vector<Outbox>& outboxes, const SpatialGrid& grid, std::vector<RabReading>& inbox,
-              bool with_bytes);
+              bool with_bytes, const MediumFaults* faults);
 
   MediumParams params_;
   std::vector<StaticShape> statics_;

@@ -331,6 +331,10 @@ void Physics::set_wheels(RobotId id, double left, double right) {
   impl_->wheels[id] = {left, right};
 }
 
+void Physics::stop_wheel(RobotId id, int side) {
+  (side == 0 ? impl_->wheels[id].left : impl_->wheels[id].right) = 0.0;
+}
+
 // Substep k's velocities are set from each body's heading at the start of substep k: before the first
 // substep here, and for the next ones right after the body's integration in the previous substep (the last
 // thing that moves a body within a substep; PlanarDynamicsWorld::integrateTransforms).

@@ -25,6 +25,8 @@ class Physics {
 
   // Wheel rim speeds (m/s) used for every substep of the next tick_forward().
   void set_wheels(RobotId id, double left, double right);
+  // A failed wheel (faults.hpp): the stored speed of the left (side 0) or right (1) wheel becomes 0.
+  void stop_wheel(RobotId id, int side);
 
   // One tick: `substeps` Bullet steps of 1/(tick_rate*substeps) s, the velocities re-set from the wheel
   // speeds before each (v = (l+r)/2 along the heading, w = (r-l)/wheel_spacing), contacts collected.

@@ -232,6 +232,39 @@ void parse_kills(const Source& src, MapReader& top, std::vector<Kill>& kills,
   }
 }
 
+// `faults:` a list of fault texts (faults.hpp). Kill faults join `kills` (one kill machinery); the others
+// are kept with their nodes, to be checked once the robot count is known.
+void parse_faults(const Source& src, MapReader& top, std::vector<Fault>& faults,
+                  std::vector<YAML::Node>& fault_nodes, std::vector<std::string>& fault_paths,
+                  std::vector<Kill>& kills, std::vector<YAML::Node>& kill_nodes,
+                  std::vector<std::string>& kill_paths) {
+  auto node = top.get("faults");
+  if (!node || node->IsNull()) return;
+  if (!node->IsSequence()) {
+    yaml::fail(src, *node, "faults", "expected a list of faults, e.g. [stall:3@200+30, loss:all@400+20]");
+  }
+  for (std::size_t i = 0; i < node->size(); ++i) {
+    const std::string path = "faults[" + std::to_string(i) + "]";
+    const YAML::Node n = (*node)[i];
+    if (!n.IsScalar()) yaml::fail(src, n, path, "expected a fault text KIND:TARGET@TICK[+TICKS][=VALUE]");
+    Fault f;
+    try {
+      f = parse_fault(n.Scalar());
+    } catch (const FaultSyntaxError& e) {
+      yaml::fail(src, n, path, "'" + n.Scalar() + "': " + e.what());
+    }
+    if (f.kind == FaultKind::Kill) {
+      kills.push_back(Kill{*f.robot, f.tick});
+      kill_nodes.push_back(n);
+      kill_paths.push_back(path);
+    } else {
+      faults.push_back(std::move(f));
+      fault_nodes.push_back(n);
+      fault_paths.push_back(path);
+    }
+  }
+}
+
 int parse_goal(const Source& src, MapReader& top, Mission& mission) {
   auto node = top.get("goal");
   if (!node) return 0;
@@ -426,6 +459,12 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
       static_cast<Tick>(top.integer("max_ticks", static_cast<std::int64_t>(s.max_ticks), 1, 1000000000));
   std::vector<YAML::Node> kill_nodes;
   parse_kills(src, top, s.kills, kill_nodes);
+  std::vector<std::string> kill_paths;
+  for (std::size_t i = 0; i < kill_nodes.size(); ++i)
+    kill_paths.push_back("kills[" + std::to_string(i) + "]");
+  std::vector<YAML::Node> fault_nodes;
+  std::vector<std::string> fault_paths;
+  parse_faults(src, top, s.faults, fault_nodes, fault_paths, s.kills, kill_nodes, kill_paths);
   const int goal_line = parse_goal(src, top, s.mission);
   s.mission.grid_spacing = top.positive("grid_spacing", s.mission.grid_spacing, 100.0);
   s.mission.max_speed = top.positive("max_speed", s.mission.max_speed, kMaxSpeedLimit);
@@ -440,13 +479,17 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
   parse_controller(src, top, s.mission);
   auto shape_node = top.get("shape");
   if (auto d = top.get("description")) yaml::to_string(src, *d, "description");  // for people; not used
-  top.finish({"description", "arena",      "obstacles",
-              "robots",      "comm_range", "noise",
-              "packet_loss", "occlusion",  "mode",
-              "tick_rate",   "substeps",   "lockstep_deadline",
-              "seed",        "max_ticks",  "kills",
-              "goal",        "shape",      "grid_spacing",
-              "max_speed",   "behaviour",  "max_message_bytes",
+  top.finish({"description",  "arena",
+              "obstacles",    "robots",
+              "comm_range",   "noise",
+              "packet_loss",  "occlusion",
+              "mode",         "tick_rate",
+              "substeps",     "lockstep_deadline",
+              "seed",         "max_ticks",
+              "kills",        "faults",
+              "goal",         "shape",
+              "grid_spacing", "max_speed",
+              "behaviour",    "max_message_bytes",
               "controller"});
 
   // Overrides (before placement, so --robots and --seed take effect).
@@ -497,12 +540,45 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
                    ov.shape_file.has_value());
 
   s.kills.insert(s.kills.end(), ov.kills.begin(), ov.kills.end());
+  // --fault texts: kills join the kills (after --kill's), the others the faults.
+  std::vector<std::string> flag_kill_texts;
+  std::vector<std::string> flag_fault_texts;
+  for (const std::string& text : ov.faults) {
+    Fault f;
+    try {
+      f = parse_fault(text);
+    } catch (const FaultSyntaxError& e) {
+      throw InputError("command line", 0, "--fault '" + text + "': " + e.what());
+    }
+    if (f.kind == FaultKind::Kill) {
+      s.kills.push_back(Kill{*f.robot, f.tick});
+      flag_kill_texts.push_back(text);
+    } else {
+      s.faults.push_back(std::move(f));
+      flag_fault_texts.push_back(text);
+    }
+  }
+  const std::size_t flag_kills_from = s.kills.size() - flag_kill_texts.size();
   for (std::size_t i = 0; i < s.kills.size(); ++i) {
     if (s.kills[i].id < s.robots.size()) continue;
     const std::string what = "kill of robot " + std::to_string(s.kills[i].id) + ", but there are only " +
                              std::to_string(s.robots.size()) + " robots";
-    if (i < kill_nodes.size()) yaml::fail(src, kill_nodes[i], "kills[" + std::to_string(i) + "]", what);
+    // The file's kills, then its kill faults: kill_nodes holds their nodes in this order.
+    if (i < kill_nodes.size()) yaml::fail(src, kill_nodes[i], kill_paths[i], what);
+    if (i >= flag_kills_from) {
+      throw InputError("command line", 0, "--fault '" + flag_kill_texts[i - flag_kills_from] + "': " + what);
+    }
     throw InputError("command line", 0, "--kill: " + what);
+  }
+  FaultContext context{s.robots.size(), s.comm_range, {}};
+  for (const Kill& k : s.kills) context.kills.emplace_back(k.id, k.tick);
+  const std::size_t flag_faults_from = s.faults.size() - flag_fault_texts.size();
+  for (std::size_t i = 0; i < s.faults.size(); ++i) {
+    const std::string what = check_fault(s.faults, i, context);
+    if (what.empty()) continue;
+    if (i < flag_faults_from)
+      yaml::fail(src, fault_nodes[i], fault_paths[i], "'" + s.faults[i].text + "': " + what);
+    throw InputError("command line", 0, "--fault '" + s.faults[i].text + "': " + what);
   }
 
   // What the robots are told.

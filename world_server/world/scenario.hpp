@@ -10,6 +10,7 @@
 
 #include "common/mission.hpp"
 #include "common/types.hpp"
+#include "world_server/world/faults.hpp"
 
 namespace swarmform::world {
 
@@ -61,7 +62,9 @@ struct Scenario {
   double lockstep_deadline_s = 2.0;  // lockstep waits at most this long for a live agent's command
   std::uint64_t seed = 1;
   Tick max_ticks = 3000;
-  std::vector<Kill> kills;
+  std::vector<Kill> kills;  // the file's `kills`, kill faults and --kill
+  // Every other scheduled fault (faults.hpp), checked against the robots, the comm range and the kills.
+  std::vector<Fault> faults;
 
   // What the robots are told (goal, shape, speed limit, controller parameters...).
   Mission mission;
@@ -75,7 +78,8 @@ struct ScenarioOverrides {
   std::optional<std::uint64_t> seed;
   std::optional<Mode> mode;
   std::optional<Tick> max_ticks;
-  std::vector<Kill> kills;  // appended to the file's
+  std::vector<Kill> kills;          // appended to the file's
+  std::vector<std::string> faults;  // --fault texts (faults.hpp), appended to the file's
 };
 
 // Loads and checks a scenario; throws InputError (file:line: what) on anything wrong. A relative shape path

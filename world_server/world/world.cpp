@@ -2,14 +2,17 @@
 //
 //   apply_command(i, cmd of tick t)   wheel speeds checked and stored, outgoing message queued
 //   step():
-//     1. act      the stored wheel speeds of every live robot go to the physics
+//     1. act      the stored wheel speeds of every live robot go to the physics (a failed wheel's as 0)
 //     2. physics  `substeps` Bullet steps; contact onsets counted
 //     3. truth    poses read back into RobotTruth; spatial grid rebuilt
 //     4. medium   messages of tick t -> perceptions of tick t+1 (at the new positions); the bytes of each
 //                 perception's messages are copied in when it is first read (perception()), or straight
 //                 into the caller's buffer (copy_perception()), from `sent` (the outboxes of tick t)
-//     5. sense    pose and ultrasonics of every live robot
+//     5. sense    pose and ultrasonics of every live robot (a failed sensor reads its maximum)
 //     6. tick t+1
+// Scheduled world faults (faults.hpp) act on the tick they are active at: a wheel on the command of tick t
+// (step 1 of the step from t), loss and range on the perceptions of tick t (step 4 of the step to t), a
+// sensor on the readings of tick t.
 #include "world_server/world/world.hpp"
 
 #include <algorithm>
@@ -73,6 +76,8 @@ struct World::Impl {
   std::vector<UltrasonicReading> sonar;
   std::vector<RobotTruth> truth;
   ContactCounts contacts;
+  std::vector<Fault> faults;   // the scenario's world faults (ultrasonic, wheel, loss, range)
+  MediumFaults medium_faults;  // this tick's loss and range faults, per robot
 
   explicit Impl(const Scenario& s)
       : scenario(s),
@@ -87,7 +92,40 @@ struct World::Impl {
     perceptions.resize(n);
     truth.resize(n);
     for (std::size_t i = 0; i < n; ++i) truth[i].id = static_cast<RobotId>(i);
+    for (const Fault& f : scenario.faults) {
+      if (f.in_world()) faults.push_back(f);
+    }
     refresh(/*with_medium=*/false);
+  }
+
+  // The loss and range faults active at tick t, per robot (none: medium_faults.any false).
+  void medium_faults_at(Tick t) {
+    MediumFaults& mf = medium_faults;
+    mf.any = false;
+    for (const Fault& f : faults) {
+      if ((f.kind != FaultKind::Loss && f.kind != FaultKind::Range) || !f.active_at(t)) continue;
+      if (!mf.any) {
+        mf.any = true;
+        mf.silent.assign(poses.size(), 0);
+        mf.range.assign(poses.size(), scenario.comm_range);
+      }
+      const std::size_t lo = f.robot ? *f.robot : 0;
+      const std::size_t hi = f.robot ? *f.robot + 1 : poses.size();
+      for (std::size_t i = lo; i < hi; ++i) {
+        if (f.kind == FaultKind::Loss) mf.silent[i] = 1;
+        if (f.kind == FaultKind::Range) mf.range[i] = std::min(mf.range[i], f.value);
+      }
+    }
+  }
+
+  // The failed ultrasonic sensors of robot `id` at tick t read their maximum range.
+  void sonar_faults(RobotId id, Tick t, UltrasonicReading& reading) const {
+    for (const Fault& f : faults) {
+      if (f.kind != FaultKind::Ultrasonic || f.robot != id || !f.active_at(t)) continue;
+      for (std::size_t k = 0; k < reading.size(); ++k) {
+        if (f.part < 0 || static_cast<std::size_t>(f.part) == k) reading[k] = kUltrasonicMaxRange;
+      }
+    }
   }
 
   // Steps 3-5 of the tick: truth, grid, (medium), sensors.
@@ -102,7 +140,8 @@ struct World::Impl {
       // The messages of this tick become `sent` (a swap: no copy), and the outboxes are free for the next.
       std::swap(outboxes, sent);
       for (Outbox& o : outboxes) o.has_message = false;
-      medium.deliver(poses, alive, sent, grid, perceptions, /*with_bytes=*/false);
+      medium_faults_at(tick);
+      medium.deliver(poses, alive, sent, grid, perceptions, /*with_bytes=*/false, &medium_faults);
       for (std::size_t i = 0; i < perceptions.size(); ++i)
         bytes_pending[i] = !perceptions[i].messages.empty();
     }
@@ -112,6 +151,10 @@ struct World::Impl {
       p.tick = tick;
       p.pose = poses[i];
       if (alive[i]) p.ultrasonic = sonar[i];
+    }
+    for (const Fault& f : faults) {
+      if (f.kind == FaultKind::Ultrasonic && f.active_at(tick) && alive[*f.robot])
+        sonar_faults(*f.robot, tick, perceptions[*f.robot].ultrasonic);
     }
   }
 };
@@ -204,6 +247,9 @@ CommandVerdict World::apply_command(RobotId id, const Command& command) {
 
 void World::step() {
   Impl& m = *impl_;
+  for (const Fault& f : m.faults) {
+    if (f.kind == FaultKind::Wheel && f.active_at(m.tick)) m.physics.stop_wheel(*f.robot, f.part);
+  }
   m.physics.tick_forward();  // acts with the wheel speeds set by apply_command (or kept from before)
   m.contacts.robot_robot = m.physics.onsets_robot_robot();
   m.contacts.robot_obstacle = m.physics.onsets_robot_obstacle();
@@ -235,6 +281,7 @@ void World::revive(RobotId id) {
   p.messages.clear();
   m.bytes_pending[id] = 0;
   p.ultrasonic = m.ultrasonic.read(id, m.poses, m.grid);
+  m.sonar_faults(id, m.tick, p.ultrasonic);
 }
 
 }  // namespace swarmform::world

@@ -1,0 +1,55 @@
+"""Scheduled faults in `swarm run` (--fault; format in scenarios/README.md, "Faults").
+
+The world server checks and executes them (a bad fault fails `world_server --check` with a clear message);
+the launcher's only part is the one fault the world cannot execute: a restart needs a new agent process, and
+the launcher owns the agents. The world prints `restart id=K tick=T` at the restart's tick; the launcher
+starts `robot_agent --id K` (its output appended to logs/agent-K.log), updates agents.json, and the new agent
+claims id K and rejoins.
+"""
+
+import json
+import os
+import re
+import subprocess
+
+RESTART = re.compile(r"^restart id=(\d+) tick=(\d+)$")
+RETIRED_WAIT_S = 5.0
+
+FAULT_HELP = ("a scheduled fault KIND:TARGET@TICK[+TICKS][=VALUE] (repeatable): kill:ID@T, stall:ID@T+TICKS "
+              "(SIGSTOP/SIGCONT), restart:ID@T (a new agent after a kill), ultrasonic:ID[/SENSOR]@T[+TICKS] "
+              "(reads its maximum), wheel:ID/left|right@T[+TICKS] (stops), loss:ID|all@T[+TICKS] (messages "
+              "lost), range:ID|all@T[+TICKS]=METRES (range cut); scenarios/README.md, Faults")
+
+
+class Restarter:
+    """Starts a new agent for each `restart id=K tick=T` line of the world."""
+
+    def __init__(self, procs, agent_exe, domain, run_nonce, logs, run_dir, robots):
+        self.procs, self.agent_exe, self.domain, self.run_nonce = procs, agent_exe, domain, run_nonce
+        self.logs, self.run_dir, self.robots = logs, run_dir, robots
+
+    def handle(self, line, status):
+        """True when `line` was a restart request (acted on and reported)."""
+        m = RESTART.match(line)
+        if not m:
+            return False
+        rid, tick = int(m[1]), int(m[2])
+        if rid >= self.robots:
+            status.line(f"swarm: the world asked to restart agent {rid}, but the run has {self.robots}; ignored")
+            return True
+        old = self.procs.agents.get(rid)
+        if old is not None and old.poll() is None:  # a restart follows a kill: it is dying; make sure of it
+            try:
+                old.kill()
+                old.wait(timeout=RETIRED_WAIT_S)
+            except (ProcessLookupError, subprocess.TimeoutExpired):
+                pass
+        p = self.procs.start_agent(self.agent_exe, rid, self.domain, os.path.join(self.logs, f"agent-{rid}.log"),
+                                   self.run_nonce)
+        # The world reads agents.json when a kill or a stall is due: replaced whole, never seen half written.
+        path = os.path.join(self.run_dir, "agents.json")
+        with open(f"{path}.tmp-{os.getpid()}", "w") as f:
+            json.dump({str(k): q.pid for k, q in self.procs.agents.items()}, f, indent=1)
+        os.replace(f"{path}.tmp-{os.getpid()}", path)
+        status.line(f"swarm: restarted agent {rid} at tick {tick} (pid {p.pid})")
+        return True
