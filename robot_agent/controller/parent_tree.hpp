@@ -48,6 +48,27 @@ struct ParentTree {
 ParentTree build_parent_tree(const std::vector<Vec2>& places, const std::vector<bool>& present, int root,
                              double spacing, double link_range, double far_range, double heading);
 
+// build_parent_tree, rebuilt only when one of its inputs differs from the last call's (compared in full, so
+// the tree is exactly the one build_parent_tree would give). Each robot asks for the tree every tick of Ready
+// and Motion, but its inputs (the shape, the labels live robots hold, the leader's label, the heading) change
+// only when a robot dies or the leader changes: building it every tick cost O(L k) per robot per tick.
+class ParentTreeCache {
+ public:
+  const ParentTree& get(const std::vector<Vec2>& places, const std::vector<bool>& present, int root,
+                        double spacing, double link_range, double far_range, double heading);
+  // How many times get() has built the tree (for tests).
+  std::size_t builds() const { return builds_; }
+
+ private:
+  bool valid_ = false;
+  std::vector<Vec2> places_;
+  std::vector<bool> present_;
+  int root_ = -1;
+  double spacing_ = 0.0, link_range_ = 0.0, far_range_ = 0.0, heading_ = 0.0;
+  ParentTree tree_;
+  std::size_t builds_ = 0;
+};
+
 // True when `self` taking `candidate` as its parent would close a cycle in `parents` (id -> parent id; ids
 // absent from the map have no parent): i.e. when walking up from `candidate` reaches `self`.
 bool would_close_cycle(const std::map<RobotId, RobotId>& parents, RobotId self, RobotId candidate);
