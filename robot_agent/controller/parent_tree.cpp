@@ -40,21 +40,8 @@ int link_cost(double d, double spacing, double link_range, double far_range) {
 
 }  // namespace
 
-namespace {
-
-// Each live label's links (to live labels within `far_range`), in ascending label order. The places are
-// bucketed in square cells of side `reach` (the longest link), so each label looks only at the 3 x 3 cells
-// about its own: O(L k) for k labels within reach, instead of every pair. A reach that would not give
-// bounded cells (zero, negative, not finite) falls back to one bucket: every pair, as before.
-struct Link {
-  std::size_t to;
-  int cost;
-  double d;
-};
-std::vector<std::vector<Link>> live_links(const std::vector<Vec2>& places, const std::vector<bool>& present,
-                                          double spacing, double link_range, double far_range) {
+LabelLinks label_links(const std::vector<Vec2>& places, double spacing, double link_range, double far_range) {
   const std::size_t n = places.size();
-  auto live = [&](std::size_t l) { return l < present.size() && present[l]; };
   const double reach = std::max({1.5 * spacing, link_range, far_range});
   const bool bucketed = std::isfinite(reach) && reach > 0.0;
   // Cell coordinates, clamped so that a far-off place cannot overflow; a clamped cell only holds more labels.
@@ -64,12 +51,9 @@ std::vector<std::vector<Link>> live_links(const std::vector<Vec2>& places, const
                     : 0;
   };
   std::map<std::pair<std::int64_t, std::int64_t>, std::vector<std::size_t>> cells;
-  for (std::size_t l = 0; l < n; ++l) {
-    if (live(l)) cells[{cell(places[l].x), cell(places[l].y)}].push_back(l);
-  }
-  std::vector<std::vector<Link>> links(n);
+  for (std::size_t l = 0; l < n; ++l) cells[{cell(places[l].x), cell(places[l].y)}].push_back(l);
+  LabelLinks links(n);
   for (std::size_t u = 0; u < n; ++u) {
-    if (!live(u)) continue;
     const std::int64_t cx = cell(places[u].x), cy = cell(places[u].y);
     for (std::int64_t dx = -1; dx <= 1; ++dx) {
       for (std::int64_t dy = -1; dy <= 1; ++dy) {
@@ -84,15 +68,20 @@ std::vector<std::vector<Link>> live_links(const std::vector<Vec2>& places, const
         }
       }
     }
-    std::sort(links[u].begin(), links[u].end(), [](const Link& a, const Link& b) { return a.to < b.to; });
+    std::sort(links[u].begin(), links[u].end(),
+              [](const LabelLink& a, const LabelLink& b) { return a.to < b.to; });
   }
   return links;
 }
 
-}  // namespace
-
 ParentTree build_parent_tree(const std::vector<Vec2>& places, const std::vector<bool>& present, int root,
                              double spacing, double link_range, double far_range, double heading) {
+  return build_parent_tree(label_links(places, spacing, link_range, far_range), places, present, root,
+                           heading);
+}
+
+ParentTree build_parent_tree(const LabelLinks& links, const std::vector<Vec2>& places,
+                             const std::vector<bool>& present, int root, double heading) {
   const std::size_t n = places.size();
   ParentTree tree;
   tree.root = root;
@@ -100,7 +89,6 @@ ParentTree build_parent_tree(const std::vector<Vec2>& places, const std::vector<
   tree.cost.assign(n, kUnreachable);
   auto live = [&](std::size_t l) { return l < present.size() && present[l]; };
   if (root < 0 || static_cast<std::size_t>(root) >= n || !live(static_cast<std::size_t>(root))) return tree;
-  const auto links = live_links(places, present, spacing, link_range, far_range);
 
   // Dijkstra over the labels held by live robots. The costs are integers, so they do not depend on the order
   // in which links are relaxed.
@@ -112,7 +100,8 @@ ParentTree build_parent_tree(const std::vector<Vec2>& places, const std::vector<
     const auto [cost, u] = open.top();
     open.pop();
     if (cost != tree.cost[u]) continue;
-    for (const Link& link : links[u]) {
+    for (const LabelLink& link : links[u]) {
+      if (!live(link.to)) continue;
       if (cost + link.cost < tree.cost[link.to]) {
         tree.cost[link.to] = cost + link.cost;
         open.push({cost + link.cost, link.to});
@@ -127,9 +116,9 @@ ParentTree build_parent_tree(const std::vector<Vec2>& places, const std::vector<
     if (!live(v) || static_cast<int>(v) == root || tree.cost[v] == kUnreachable) continue;
     int best = -1;
     double best_d = 0.0, best_ahead = 0.0;
-    for (const Link& link : links[v]) {  // ascending labels
+    for (const LabelLink& link : links[v]) {  // ascending labels
       const std::size_t u = link.to;
-      if (tree.cost[u] == kUnreachable || tree.cost[u] + link.cost != tree.cost[v]) continue;
+      if (!live(u) || tree.cost[u] == kUnreachable || tree.cost[u] + link.cost != tree.cost[v]) continue;
       const double d = link.d;
       const double ahead = vdot(vsub(places[u], places[v]), forward);
       constexpr double kEps = 1e-9;
@@ -154,18 +143,24 @@ const ParentTree& ParentTreeCache::get(const std::vector<Vec2>& places, const st
     return std::equal(places.begin(), places.end(), places_.begin(), places_.end(),
                       [](Vec2 a, Vec2 b) { return a.x == b.x && a.y == b.y; });
   };
-  const bool same = valid_ && root == root_ && spacing == spacing_ && link_range == link_range_ &&
-                    far_range == far_range_ && heading == heading_ && present == present_ && same_places();
-  if (!same) {
-    tree_ = build_parent_tree(places, present, root, spacing, link_range, far_range, heading);
+  const bool same_links = has_links_ && spacing == spacing_ && link_range == link_range_ &&
+                          far_range == far_range_ && same_places();
+  if (!same_links) {
+    links_ = label_links(places, spacing, link_range, far_range);
     places_ = places;
-    present_ = present;
-    root_ = root;
     spacing_ = spacing;
     link_range_ = link_range;
     far_range_ = far_range;
+    has_links_ = true;
+    has_tree_ = false;
+    ++link_builds_;
+  }
+  if (!has_tree_ || root != root_ || heading != heading_ || present != present_) {
+    tree_ = build_parent_tree(links_, places_, present, root, heading);
+    present_ = present;
+    root_ = root;
     heading_ = heading;
-    valid_ = true;
+    has_tree_ = true;
     ++builds_;
   }
   return tree_;

@@ -138,12 +138,17 @@ TEST(ParentTreeScale, CacheRebuildsOnlyWhenAnInputChanges) {
   EXPECT_EQ(cache.builds(), 3u);
   cache.get(places, present, 1, 1.0, 2.7, 3.0, 0.5);  // another heading
   EXPECT_EQ(cache.builds(), 4u);
+  EXPECT_EQ(cache.link_builds(), 1u);  // deaths, leaders and headings reuse the links
   auto moved = places;
   moved[7].x += 1e-12;  // another shape, however slightly
   cache.get(moved, present, 1, 1.0, 2.7, 3.0, 0.5);
   EXPECT_EQ(cache.builds(), 5u);
+  EXPECT_EQ(cache.link_builds(), 2u);
   cache.get(moved, present, 1, 1.0, 2.7, 3.0, 0.5);
   EXPECT_EQ(cache.builds(), 5u);
+  const auto& other_range = cache.get(moved, present, 1, 1.0, 2.0, 2.5, 0.5);  // other ranges: new links
+  EXPECT_EQ(cache.link_builds(), 3u);
+  EXPECT_EQ(other_range.parent, build_parent_tree(moved, present, 1, 1.0, 2.0, 2.5, 0.5).parent);
 }
 
 }  // namespace
