@@ -30,7 +30,9 @@ inline constexpr std::array kControllerParams = {
               "heading error at which a reached robot stops turning, rad"},
     ParamSpec{"neighbour_timeout", 20, 1, 1e6,
               "ticks without a message before a neighbour is taken for dead"},
-    ParamSpec{"label_timeout", 40, 1, 1e6, "ticks before a silent robot's label is freed for others"},
+    ParamSpec{"label_timeout", 40, 1, 1e6,
+              "ticks before a silent robot's label is freed for others; raised for shapes over ~50 labels "
+              "(robot_agent/controller/label_timeout.hpp)"},
     ParamSpec{"k_move", 1.0, 0.0, 100.0, "proportional gain towards the target place, 1/s"},
     ParamSpec{
         "seed_settle", 30, 1, 1e6,

@@ -280,8 +280,8 @@ void PaperMotion::choose_leader_and_parent(const FormationContext& ctx, MotionSt
   std::optional<RobotId> parent;
   if (*leader_ != ctx.self) {
     const int root = ctx.members.count(*leader_) ? ctx.members.at(*leader_) : -1;
-    const auto tree = build_parent_tree(ctx.places, present, root, p_.spacing, p_.link_range, p_.comm_range,
-                                        ctx.common_heading);
+    const auto& tree = tree_cache_.get(ctx.places, present, root, p_.spacing, p_.link_range, p_.comm_range,
+                                       ctx.common_heading);
     if (ctx.label >= 0 && static_cast<std::size_t>(ctx.label) < tree.parent.size()) {
       const int parent_label = tree.parent[static_cast<std::size_t>(ctx.label)];
       if (parent_label >= 0 && holder.count(parent_label)) parent = holder.at(parent_label);

@@ -31,6 +31,7 @@
 #include "robot_agent/controller/motion_hooks.hpp"
 #include "robot_agent/controller/motion_params.hpp"
 #include "robot_agent/controller/obstacle_forces.hpp"
+#include "robot_agent/controller/parent_tree.hpp"
 #include "robot_agent/controller/place_approach.hpp"
 #include "robot_agent/controller/wall_follow.hpp"
 
@@ -105,6 +106,7 @@ class PaperMotion final : public MotionPhases {
   std::uint64_t seed_ = 1;
   std::optional<RobotId> arrived_parent_;  // the parent when it arrived
   bool arrived_alone_ = false;             // it arrived at its own target (no parent heard)
+  ParentTreeCache tree_cache_;             // the shared tree, rebuilt only when its inputs change
 };
 
 }  // namespace swarmform::controller::motion

@@ -7,6 +7,7 @@
 #include "common/splitmix64.hpp"
 #include "robot_agent/controller/collision_avoidance.hpp"
 #include "robot_agent/controller/drive.hpp"
+#include "robot_agent/controller/label_timeout.hpp"
 
 namespace swarmform::controller {
 
@@ -51,6 +52,11 @@ void PaperController::init(const Mission& mission, RobotId self) {
   self_ = self;
   params_ = params_from_mission(mission);
   table_ = ShapeTable(mission.shape, params_.grid_spacing);
+  // A large shape needs a longer label timeout, so that its holders' heartbeats fit the messages
+  // (label_timeout.hpp).
+  params_.label_timeout = scaled_label_timeout(
+      params_.label_timeout, table_.size(), formation_entries_per_message(params_.max_message_bytes),
+      shape_diameter_hops(mission.shape, params_.grid_spacing, params_.comm_range));
   if (!motion_) motion_ = make_motion_phases(params_);
   reset();
 }

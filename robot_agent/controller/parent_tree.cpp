@@ -1,7 +1,10 @@
 #include "robot_agent/controller/parent_tree.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <functional>
+#include <map>
 #include <numbers>
 #include <queue>
 #include <utility>
@@ -37,8 +40,48 @@ int link_cost(double d, double spacing, double link_range, double far_range) {
 
 }  // namespace
 
+LabelLinks label_links(const std::vector<Vec2>& places, double spacing, double link_range, double far_range) {
+  const std::size_t n = places.size();
+  const double reach = std::max({1.5 * spacing, link_range, far_range});
+  const bool bucketed = std::isfinite(reach) && reach > 0.0;
+  // Cell coordinates, clamped so that a far-off place cannot overflow; a clamped cell only holds more labels.
+  constexpr double kCellLimit = 1e6;
+  auto cell = [&](double v) {
+    return bucketed ? static_cast<std::int64_t>(std::clamp(std::floor(v / reach), -kCellLimit, kCellLimit))
+                    : 0;
+  };
+  std::map<std::pair<std::int64_t, std::int64_t>, std::vector<std::size_t>> cells;
+  for (std::size_t l = 0; l < n; ++l) cells[{cell(places[l].x), cell(places[l].y)}].push_back(l);
+  LabelLinks links(n);
+  for (std::size_t u = 0; u < n; ++u) {
+    const std::int64_t cx = cell(places[u].x), cy = cell(places[u].y);
+    for (std::int64_t dx = -1; dx <= 1; ++dx) {
+      for (std::int64_t dy = -1; dy <= 1; ++dy) {
+        if (!bucketed && (dx != 0 || dy != 0)) continue;
+        auto it = cells.find({cx + dx, cy + dy});
+        if (it == cells.end()) continue;
+        for (const std::size_t v : it->second) {
+          if (v == u) continue;
+          const double d = vnorm(vsub(places[v], places[u]));
+          const int w = link_cost(d, spacing, link_range, far_range);
+          if (w != 0) links[u].push_back({v, w, d});
+        }
+      }
+    }
+    std::sort(links[u].begin(), links[u].end(),
+              [](const LabelLink& a, const LabelLink& b) { return a.to < b.to; });
+  }
+  return links;
+}
+
 ParentTree build_parent_tree(const std::vector<Vec2>& places, const std::vector<bool>& present, int root,
                              double spacing, double link_range, double far_range, double heading) {
+  return build_parent_tree(label_links(places, spacing, link_range, far_range), places, present, root,
+                           heading);
+}
+
+ParentTree build_parent_tree(const LabelLinks& links, const std::vector<Vec2>& places,
+                             const std::vector<bool>& present, int root, double heading) {
   const std::size_t n = places.size();
   ParentTree tree;
   tree.root = root;
@@ -47,7 +90,8 @@ ParentTree build_parent_tree(const std::vector<Vec2>& places, const std::vector<
   auto live = [&](std::size_t l) { return l < present.size() && present[l]; };
   if (root < 0 || static_cast<std::size_t>(root) >= n || !live(static_cast<std::size_t>(root))) return tree;
 
-  // Dijkstra over the labels held by live robots (n <= a few hundred: a dense scan is fine).
+  // Dijkstra over the labels held by live robots. The costs are integers, so they do not depend on the order
+  // in which links are relaxed.
   using Item = std::pair<int, std::size_t>;  // (cost, label)
   std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
   tree.cost[static_cast<std::size_t>(root)] = 0;
@@ -56,13 +100,11 @@ ParentTree build_parent_tree(const std::vector<Vec2>& places, const std::vector<
     const auto [cost, u] = open.top();
     open.pop();
     if (cost != tree.cost[u]) continue;
-    for (std::size_t v = 0; v < n; ++v) {
-      if (v == u || !live(v)) continue;
-      const int w = link_cost(vnorm(vsub(places[v], places[u])), spacing, link_range, far_range);
-      if (w == 0) continue;
-      if (cost + w < tree.cost[v]) {
-        tree.cost[v] = cost + w;
-        open.push({cost + w, v});
+    for (const LabelLink& link : links[u]) {
+      if (!live(link.to)) continue;
+      if (cost + link.cost < tree.cost[link.to]) {
+        tree.cost[link.to] = cost + link.cost;
+        open.push({cost + link.cost, link.to});
       }
     }
   }
@@ -74,13 +116,11 @@ ParentTree build_parent_tree(const std::vector<Vec2>& places, const std::vector<
     if (!live(v) || static_cast<int>(v) == root || tree.cost[v] == kUnreachable) continue;
     int best = -1;
     double best_d = 0.0, best_ahead = 0.0;
-    for (std::size_t u = 0; u < n; ++u) {
-      if (u == v || !live(u) || tree.cost[u] == kUnreachable) continue;
-      const Vec2 rel = vsub(places[u], places[v]);
-      const double d = vnorm(rel);
-      const int w = link_cost(d, spacing, link_range, far_range);
-      if (w == 0 || tree.cost[u] + w != tree.cost[v]) continue;
-      const double ahead = vdot(rel, forward);
+    for (const LabelLink& link : links[v]) {  // ascending labels
+      const std::size_t u = link.to;
+      if (!live(u) || tree.cost[u] == kUnreachable || tree.cost[u] + link.cost != tree.cost[v]) continue;
+      const double d = link.d;
+      const double ahead = vdot(vsub(places[u], places[v]), forward);
       constexpr double kEps = 1e-9;
       const bool better =
           best < 0 || d < best_d - kEps || (std::abs(d - best_d) <= kEps && ahead > best_ahead + kEps);
@@ -93,6 +133,37 @@ ParentTree build_parent_tree(const std::vector<Vec2>& places, const std::vector<
     tree.parent[v] = best;
   }
   return tree;
+}
+
+const ParentTree& ParentTreeCache::get(const std::vector<Vec2>& places, const std::vector<bool>& present,
+                                       int root, double spacing, double link_range, double far_range,
+                                       double heading) {
+  // Compared with ==: any change rebuilds (a NaN never compares equal, so it rebuilds every call).
+  auto same_places = [&] {
+    return std::equal(places.begin(), places.end(), places_.begin(), places_.end(),
+                      [](Vec2 a, Vec2 b) { return a.x == b.x && a.y == b.y; });
+  };
+  const bool same_links = has_links_ && spacing == spacing_ && link_range == link_range_ &&
+                          far_range == far_range_ && same_places();
+  if (!same_links) {
+    links_ = label_links(places, spacing, link_range, far_range);
+    places_ = places;
+    spacing_ = spacing;
+    link_range_ = link_range;
+    far_range_ = far_range;
+    has_links_ = true;
+    has_tree_ = false;
+    ++link_builds_;
+  }
+  if (!has_tree_ || root != root_ || heading != heading_ || present != present_) {
+    tree_ = build_parent_tree(links_, places_, present, root, heading);
+    present_ = present;
+    root_ = root;
+    heading_ = heading;
+    has_tree_ = true;
+    ++builds_;
+  }
+  return tree_;
 }
 
 bool would_close_cycle(const std::map<RobotId, RobotId>& parents, RobotId self, RobotId candidate) {

@@ -44,9 +44,49 @@ struct ParentTree {
   std::vector<int> cost;    // by label: path cost from the root; kUnreachable if absent or cut off
 };
 
+// Every label's links (the labels within `far_range`, with the cost and length of the link), in ascending
+// label order. The places are bucketed in square cells of side the longest link, so each label looks only at
+// the 3 x 3 cells about its own: O(L k) for k labels within reach, not every pair (a reach that is zero or
+// not finite falls back to one cell: every pair). They depend on the shape alone, not on who is alive.
+struct LabelLink {
+  std::size_t to;
+  int cost;
+  double d;
+};
+using LabelLinks = std::vector<std::vector<LabelLink>>;
+LabelLinks label_links(const std::vector<Vec2>& places, double spacing, double link_range, double far_range);
+
 // `present[label]`: the label is held by a live robot. `heading`: common heading (rad, arena frame).
 ParentTree build_parent_tree(const std::vector<Vec2>& places, const std::vector<bool>& present, int root,
                              double spacing, double link_range, double far_range, double heading);
+// The same over links already found (label_links of the same places and ranges): O(L k log L).
+ParentTree build_parent_tree(const LabelLinks& links, const std::vector<Vec2>& places,
+                             const std::vector<bool>& present, int root, double heading);
+
+// build_parent_tree, rebuilt only when one of its inputs differs from the last call's (compared in full, so
+// the tree is exactly the one build_parent_tree would give). Each robot asks for the tree every tick of Ready
+// and Motion; the links (label_links) change only with the shape and ranges, so they are found once; the tree
+// is rebuilt over them when the labels live robots hold, the leader's label or the heading change (while the
+// views of the stigmergy settle after Ready, or after a death), without a single distance computed.
+class ParentTreeCache {
+ public:
+  const ParentTree& get(const std::vector<Vec2>& places, const std::vector<bool>& present, int root,
+                        double spacing, double link_range, double far_range, double heading);
+  // How many times get() has built the tree, and found the links (for tests).
+  std::size_t builds() const { return builds_; }
+  std::size_t link_builds() const { return link_builds_; }
+
+ private:
+  bool has_links_ = false, has_tree_ = false;
+  std::vector<Vec2> places_;
+  double spacing_ = 0.0, link_range_ = 0.0, far_range_ = 0.0;
+  LabelLinks links_;
+  std::vector<bool> present_;
+  int root_ = -1;
+  double heading_ = 0.0;
+  ParentTree tree_;
+  std::size_t builds_ = 0, link_builds_ = 0;
+};
 
 // True when `self` taking `candidate` as its parent would close a cycle in `parents` (id -> parent id; ids
 // absent from the map have no parent): i.e. when walking up from `candidate` reaches `self`.

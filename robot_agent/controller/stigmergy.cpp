@@ -61,18 +61,31 @@ void Stigmergy::merge_all(std::span<const StigmergyEntry> entries) {
 }
 
 void Stigmergy::mark_changed(std::uint32_t key) {
-  pending_[key] = kResendCount;
+  auto [it, inserted] = pending_.try_emplace(key, kResendCount);
+  if (inserted) {
+    queue_.emplace(next_turn_++, key);
+  } else {
+    it->second = kResendCount;  // changed again while waiting: it keeps its place in the queue
+  }
 }
 
 std::vector<StigmergyEntry> Stigmergy::outgoing(std::size_t max_entries) {
   std::vector<StigmergyEntry> out;
   out.reserve(std::min(max_entries, table_.size()));
-  for (auto it = pending_.begin(); it != pending_.end() && out.size() < max_entries;) {
-    out.push_back(*entry(it->first));
+  // Changed entries, the longest-waiting first; one sent with sends left goes to the back of the queue. So
+  // when more entries changed than a message carries (hundreds of labels' heartbeats), every one of them
+  // still goes out in turn: in key order, the low keys took every message and the high ones starved.
+  const std::size_t waiting = queue_.size();
+  for (std::size_t i = 0; i < waiting && out.size() < max_entries; ++i) {
+    const auto front = queue_.begin();
+    const std::uint32_t key = front->second;
+    queue_.erase(front);
+    out.push_back(*entry(key));
+    auto it = pending_.find(key);
     if (--it->second <= 0) {
-      it = pending_.erase(it);
+      pending_.erase(it);
     } else {
-      ++it;
+      queue_.emplace(next_turn_++, key);
     }
   }
   const std::size_t n_changed = out.size();
@@ -107,6 +120,7 @@ std::map<std::uint32_t, StigmergyEntry> Stigmergy::in_namespace(std::uint32_t ns
 void Stigmergy::clear() {
   table_.clear();
   pending_.clear();
+  queue_.clear();
   digest_ = 0;
   cursor_ = 0;
 }

@@ -8,7 +8,8 @@
 //   value), so every robot that has seen the same entries holds the same one, whatever the order they came
 //   in: conflicts resolve the same way everywhere.
 // - Flooding: an entry that changed locally (put, or a merge that took a newer entry) is sent in the next
-//   kResendCount messages; the rest of each message's quota goes round-robin over the whole table, so every
+//   kResendCount messages, the longest-waiting first (a queue, so none starves when more changed than a
+//   message carries); the rest of each message's quota goes round-robin over the whole table, so every
 //   entry keeps propagating even when copies are lost. A robot whose live neighbours all sent its own
 //   table's digest sends no entries at all (paper_controller.cpp: neighbours_hold_our_table).
 //
@@ -108,7 +109,11 @@ class Stigmergy {
   // contiguous array of tens of entries is several times cheaper than walking tree nodes; inserts (a key
   // seen for the first time) are rare.
   std::vector<StigmergyEntry> table_;
-  std::map<std::uint32_t, int> pending_;  // key -> sends left
+  // Changed entries still to send: key -> sends left; and the queue they go out in, turn -> key, oldest
+  // first (each key is in it exactly once while pending).
+  std::map<std::uint32_t, int> pending_;
+  std::map<std::uint64_t, std::uint32_t> queue_;
+  std::uint64_t next_turn_ = 0;
   std::uint64_t digest_ = 0;
   std::uint32_t cursor_ = 0;  // round-robin: the next key to send is the first >= cursor_
 };

@@ -1,7 +1,9 @@
 // Virtual stigmergy: Buzz semantics, multi-hop flooding under loss, one conflict rule everywhere.
 #include <gtest/gtest.h>
 
+#include <map>
 #include <random>
+#include <set>
 #include <vector>
 
 #include "robot_agent/controller/stigmergy.hpp"
@@ -93,6 +95,24 @@ TEST(Stigmergy, OutgoingSendsChangesFirstThenRoundRobin) {
     for (const auto& e : s.outgoing(2)) seen.insert(e.key);
   }
   EXPECT_EQ(seen.size(), 10u);
+}
+
+// More changes than a message carries, and the low keys changing again all the time (hundreds of holders'
+// heartbeats): every changed entry still goes out, the longest-waiting first. Sent in key order, the high
+// keys starved for as long as the low ones kept changing.
+TEST(Stigmergy, ChangedEntriesGoOutInTurnWhenMoreChangedThanAMessageCarries) {
+  Stigmergy s(1);
+  for (std::uint32_t k = 0; k < 100; ++k) s.put(k, 1);
+  std::map<std::uint32_t, int> sends;
+  for (int message = 0; message < 15; ++message) {
+    for (std::uint32_t k = 0; k < 10; ++k) s.put(k, message);  // the low keys change every tick
+    std::set<std::uint32_t> in_message;
+    for (const auto& e : s.outgoing(24)) {
+      EXPECT_TRUE(in_message.insert(e.key).second) << "key " << e.key << " twice in one message";
+      ++sends[e.key];
+    }
+  }
+  for (std::uint32_t k = 10; k < 100; ++k) EXPECT_GE(sends[k], 1) << "key " << k << " never sent";
 }
 
 // A chain of robots, each hearing only its two neighbours, every copy lost with probability `loss`.

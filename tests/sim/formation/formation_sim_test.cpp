@@ -468,5 +468,41 @@ TEST(FormationSim, ThePaperRunFormsByTick607) {
   EXPECT_EQ(o.obstacle_contacts, 0u);
 }
 
+// Scale: a 12 x 12 block (144 labels) with as many robots in an open arena. With the default label timeout
+// (40 ticks) its 144 holders' heartbeats did not fit the messages and starved in key order: live robots'
+// labels were freed as dead (the 20 x 20 block: ~50 times per 100 ticks) and the block had not formed after
+// 6000 ticks. With the timeout scaled to the shape and the changed entries sent in turn
+// (robot_agent/README.md, "Large shapes") it forms (tick 1634), and no live holder's label is freed.
+TEST(FormationSim, ATwelveByTwelveBlockFormsWithNoLiveHoldersLabelFreed) {
+  constexpr Tick kMaxTicks = 4000;
+  const std::string yaml = "shape: " + kRepo +
+                           "/scenarios/scale/block_12x12.txt\n"
+                           "arena: {centre: [0.0, 0.0], width: 40.0, height: 40.0}\n"
+                           "goal: {x: 10.0, y: 0.0, radius: 0.5}\n"
+                           "seed: 1\nmax_ticks: 4000\n"
+                           "controller: {ready_timeout: 100000}\n";
+  harness::Harness h(world::parse_scenario_text(yaml, "<formation_sim_test>"));
+  int live_frees = 0;
+  Outcome o;
+  while (h.world().tick() < kMaxTicks && !h.metrics().formation_tick) {
+    h.step();
+    for (const auto& r : h.world().robots()) {
+      for (const auto& e : r.telemetry.events) {
+        if (e.rfind("label_freed", 0) == 0 && e.find("holder") != std::string::npos) ++live_frees;
+        if (e.rfind("label_lost", 0) == 0) ++o.conflicts;
+      }
+    }
+  }
+  o.formation_tick = h.metrics().formation_tick;
+  o.shape_error = h.metrics().shape_error_at_formation;
+  o.robot_contacts = h.metrics().collisions_robot_robot;
+  o.frees = live_frees;
+  report("block_12x12", 1, o);
+  ASSERT_TRUE(o.formation_tick.has_value()) << snapshot(h);
+  EXPECT_LE(*o.shape_error, 0.1);
+  EXPECT_EQ(o.robot_contacts, 0u);
+  EXPECT_EQ(live_frees, 0);
+}
+
 }  // namespace
 }  // namespace swarmform
