@@ -200,8 +200,10 @@ class LauncherTest(unittest.TestCase):
 
     def test_the_launchers_own_write_failing_on_a_full_disk_is_one_line(self):
         out = os.path.join(self.dir, "run")
-        os.makedirs(out)
-        os.symlink("/dev/full", os.path.join(out, "agents.json"))  # writes fail with ENOSPC, as on a full disk
+        os.makedirs(os.path.join(out, "logs"))
+        # The world's console log is the launcher's own file (agents.json is replaced whole, so a symlink there
+        # would be replaced, not written through): every write fails with ENOSPC, as on a full disk.
+        os.symlink("/dev/full", os.path.join(out, "logs", "world_console.log"))
         r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "2", "--max-ticks", "40", "--out", out,
                           "--no-pictures", env={"FAKE_AGENT_EXIT_S": "0.5"})
         self.assertEqual(r.returncode, 5, r.stderr)
