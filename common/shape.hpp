@@ -3,8 +3,8 @@
 // In the shape's own frame, column index grows along +x and row index grows along -y (the matrix is drawn as
 // it looks from above), one grid spacing apart: the neighbour at grid offset (drow, dcol) is at angle
 // atan2(-drow, dcol). This reproduces the paper's Table II for the triangle's label 0 (labels 1 and 3 at
-// -3pi/4 and -pi/4, distances 1.4, 1.0, 1.4) except the sign of label 2's angle, which no grid orientation can
-// reproduce together with the other two (shapes/README.md). In the arena the shape's "up" (towards row 0)
+// -3pi/4 and -pi/4, distances 1.4, 1.0, 1.4) except the sign of label 2's angle, which no grid orientation
+// can reproduce together with the other two (shapes/README.md). In the arena the shape's "up" (towards row 0)
 // points along the controller parameter shape_heading (default pi/2: shape frame = arena frame).
 #pragma once
 

@@ -23,11 +23,11 @@
 #include "world_server/dds_bridge.hpp"
 #include "world_server/input_guard.hpp"
 #include "world_server/late_commands.hpp"
-#include "world_server/run/end_reason.hpp"
 #include "world_server/process_faults.hpp"
+#include "world_server/run/end_reason.hpp"
 #include "world_server/run/run_session.hpp"
-#include "world_server/stall_guard.hpp"
 #include "world_server/run/telemetry_check.hpp"
+#include "world_server/stall_guard.hpp"
 #include "world_server/world/scenario.hpp"
 #include "world_server/world/world.hpp"
 

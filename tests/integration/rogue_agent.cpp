@@ -44,7 +44,8 @@
 //       seconds, then prints "claims sent=K" and exits 0. The world must refuse them, hold no channel per
 //       refused id, and log them at most once a second.
 //
-// Exits 0 when the world announces the end (nan, slow, silent, liar) or finishes (spoof, forge), 3 on --timeout.
+// Exits 0 when the world announces the end (nan, slow, silent, liar) or finishes (spoof, forge), 3 on
+// --timeout.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -55,8 +56,8 @@
 #include <optional>
 #include <thread>
 
-#include "common/dds/refusal_log.hpp"
 #include "common/dds/dds_error.hpp"
+#include "common/dds/refusal_log.hpp"
 #include "common/dds/signal_watch.hpp"
 #include "common/dds/wire.hpp"
 #include "robot_agent/controller/controller.hpp"
