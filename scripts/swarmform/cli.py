@@ -101,7 +101,9 @@ def _add_run_flags(p, demo=False):
     p.add_argument("--kill", type=_kill_spec, action="append", default=[], metavar="ID@TICK",
                    help="SIGKILL agent ID at tick TICK (repeatable)")
     p.add_argument("--fault", action="append", default=[], metavar="FAULT", help=faults.FAULT_HELP)
-    p.add_argument("--domain", type=_domain, metavar="D", help="DDS domain id (default: the programs' own)")
+    p.add_argument("--domain", type=_domain, metavar="D",
+                   help="DDS domain id (default: a free one on this host, picked and said; SWARM_DOMAINS=LO-HI "
+                        "bounds the pick, 0-99 by default)")
     p.add_argument("--no-pictures", action="store_true", help="do not draw the pictures at the end")
     p.add_argument("--ticks", type=_int_at_least(0), nargs="+", default=[], metavar="T",
                    help="also draw snapshots at these ticks")
