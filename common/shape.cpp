@@ -188,6 +188,19 @@ ShapeMatrix parse_shape_text(const std::string& text, const std::string& origin)
   return shape;
 }
 
+void check_shape(const ShapeMatrix& shape, const std::string& origin) {
+  if (shape.rows <= 0 || shape.cols <= 0 ||
+      static_cast<std::size_t>(shape.rows) * static_cast<std::size_t>(shape.cols) != shape.cells.size()) {
+    throw InputError(origin, 0,
+                     "shape of " + std::to_string(shape.rows) + "x" + std::to_string(shape.cols) + " with " +
+                         std::to_string(shape.cells.size()) + " cells");
+  }
+  std::vector<int> row_line(static_cast<std::size_t>(shape.rows));
+  for (int r = 0; r < shape.rows; ++r) row_line[static_cast<std::size_t>(r)] = r + 1;
+  check_labels(shape, row_line, origin);
+  check_connected(shape, row_line, origin);
+}
+
 ShapeMatrix load_shape_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "cannot open the shape file");

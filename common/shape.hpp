@@ -28,5 +28,8 @@ struct ShapeMatrix {
 // `origin` is the name used in error messages (a path, or e.g. "<mission>").
 ShapeMatrix parse_shape_text(const std::string& text, const std::string& origin);
 ShapeMatrix load_shape_file(const std::string& path);
+// The checks parse_shape_text makes (labels 0..n-1 once each, one 8-connected piece), on a matrix that came
+// from elsewhere, e.g. a mission off the wire: InputError at `origin`, line = the row + 1.
+void check_shape(const ShapeMatrix& shape, const std::string& origin);
 
 }  // namespace swarmform

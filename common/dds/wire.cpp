@@ -21,6 +21,7 @@
 #include "common/dds/readings_blob.hpp"
 #include "common/dds/refusal_log.hpp"
 #include "common/input_error.hpp"
+#include "common/mission_check.hpp"
 #include "swarmform.h"
 
 namespace swarmform::dds {
@@ -311,18 +312,9 @@ std::optional<MissionAnnouncement> MissionReader::take(std::optional<std::uint64
     a.realtime = s.realtime;
     Mission& m = a.mission;
     m.behaviour = str(s.behaviour);
-    if (s.rows < 0 || s.cols < 0 ||
-        static_cast<std::uint64_t>(s.rows) * static_cast<std::uint64_t>(s.cols) != s.cells._length) {
-      throw InputError("<mission>", 0,
-                       "shape of " + std::to_string(s.rows) + "x" + std::to_string(s.cols) + " with " +
-                           std::to_string(s.cells._length) + " cells");
-    }
     m.shape.rows = s.rows;
     m.shape.cols = s.cols;
     m.shape.cells.assign(s.cells._buffer, s.cells._buffer + s.cells._length);
-    for (int c : m.shape.cells) {
-      if (c < -1) throw InputError("<mission>", 0, "shape cell " + std::to_string(c) + " below -1");
-    }
     m.grid_spacing = s.grid_spacing;
     m.goal = Vec2{s.goal_x, s.goal_y};
     m.goal_radius = s.goal_radius;
@@ -334,6 +326,8 @@ std::optional<MissionAnnouncement> MissionReader::take(std::optional<std::uint64
     for (std::uint32_t k = 0; k < s.params._length; ++k) {
       m.params[str(s.params._buffer[k].name)] = s.params._buffer[k].value;
     }
+    check_mission(m,
+                  "<mission>");  // common/mission_check.hpp: a malformed mission never reaches a controller
     out = std::move(a);
   }
   return out;
