@@ -538,7 +538,12 @@ TEST_F(Abuse, FloodOfCommandsAndClaimsFromAProcessThatOwnsNoIdLeavesTheLockstepR
   EXPECT_LE(count_lines(flooded.err, "a claim of id"), static_cast<std::size_t>(2 * seconds)) << flooded.err;
   EXPECT_LE(flooded.summary["input_dropped"]["refused_claims"].get<double>(), 4 * seconds);
   EXPECT_LT(flooded.bytes, clean.bytes + 5u * 1024 * 1024);
+#ifndef __SANITIZE_ADDRESS__
+  // Not under AddressSanitizer: its quarantine keeps up to 256 MB of freed memory, so a flood's churn shows
+  // as growth that is the sanitizer's own (seen: +245 MB). The Release suite and scripts/bench-faults measure
+  // it.
   EXPECT_LT(flooded.peak_kb, clean.peak_kb + 40 * 1024);
+#endif
 }
 
 // Realtime at 10 ticks/s, 8 s: one process floods best-effort commands for every id and made-up ones for
