@@ -7,7 +7,6 @@ starts `robot_agent --id K` (its output appended to logs/agent-K.log), updates a
 claims id K and rejoins.
 """
 
-import json
 import os
 import re
 import subprocess
@@ -24,9 +23,10 @@ FAULT_HELP = ("a scheduled fault KIND:TARGET@TICK[+TICKS][=VALUE] (repeatable): 
 class Restarter:
     """Starts a new agent for each `restart id=K tick=T` line of the world."""
 
-    def __init__(self, procs, agent_exe, domain, run_nonce, logs, run_dir, robots):
+    def __init__(self, procs, agent_exe, domain, run_nonce, logs, write_agents, robots):
+        """`write_agents()` rewrites agents.json from procs (the launcher's own writer, replaced whole)."""
         self.procs, self.agent_exe, self.domain, self.run_nonce = procs, agent_exe, domain, run_nonce
-        self.logs, self.run_dir, self.robots = logs, run_dir, robots
+        self.logs, self.write_agents, self.robots = logs, write_agents, robots
 
     def handle(self, line, status):
         """True when `line` was a restart request (acted on and reported)."""
@@ -46,10 +46,6 @@ class Restarter:
                 pass
         p = self.procs.start_agent(self.agent_exe, rid, self.domain, os.path.join(self.logs, f"agent-{rid}.log"),
                                    self.run_nonce)
-        # The world reads agents.json when a kill or a stall is due: replaced whole, never seen half written.
-        path = os.path.join(self.run_dir, "agents.json")
-        with open(f"{path}.tmp-{os.getpid()}", "w") as f:
-            json.dump({str(k): q.pid for k, q in self.procs.agents.items()}, f, indent=1)
-        os.replace(f"{path}.tmp-{os.getpid()}", path)
+        self.write_agents()
         status.line(f"swarm: restarted agent {rid} at tick {tick} (pid {p.pid})")
         return True

@@ -439,13 +439,16 @@ def run(args, render_pictures):
                 if stop or rid in procs.agents:
                     continue
                 procs.start_agent(agent_exe, rid, domain, os.path.join(logs, f"agent-{rid}.log"), nonce)
+            write_agents()
+
+        def write_agents():  # the world reads it when a kill or a stall is due: replaced whole
             _write_json_atomically(agents_json, {str(k): p.pid for k, p in procs.agents.items()})
 
         watch = AgentWatch(procs, logs, status)
         started = time.monotonic()
         with open(os.path.join(logs, "world_console.log"), "ab") as console_log:
             procs.start_world(cmd)
-            restarter = faults.Restarter(procs, agent_exe, domain, nonce, logs, run_dir, n)
+            restarter = faults.Restarter(procs, agent_exe, domain, nonce, logs, write_agents, n)
             done = _follow(procs.world, stop, status, console_log, max_ticks, on_ready=start_agents,
                            on_idle=watch.check, on_line=restarter.handle)
             while procs.world.poll() is None and not stop:  # its output closed; it should be exiting

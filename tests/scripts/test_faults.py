@@ -50,7 +50,11 @@ class RestarterTest(unittest.TestCase):
     def setUp(self):
         self.dir = tempfile.mkdtemp(prefix="swarm-faults-")
         self.procs, self.status = FakeProcs(), Lines()
-        self.r = faults.Restarter(self.procs, "/bin/agent", 7, "00000000000000ab", self.dir, self.dir, robots=2)
+        self.r = faults.Restarter(self.procs, "/bin/agent", 7, "00000000000000ab", self.dir, self.write_agents, robots=2)
+
+    def write_agents(self):  # as the launcher's writer does
+        with open(os.path.join(self.dir, "agents.json"), "w") as f:
+            json.dump({str(k): q.pid for k, q in self.procs.agents.items()}, f, indent=1)
 
     def tearDown(self):
         shutil.rmtree(self.dir)
