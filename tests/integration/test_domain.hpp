@@ -8,6 +8,8 @@
 //   40..43 issue 18's abuse tests (40 paper liar, 41 lockstep flood, 42 full disk + end reasons, 43 realtime
 //   flood).
 //   44..46 faults_process_test, 47 tests/scripts/test_faults_e2e.py.
+//   48..63 reserved for issues 19-21 (48..51 plug-ins, 52..55 external agents, 56..59 hosts, 60..61 secure,
+//   62..63 viewer); each area's README or test header says which it took.
 #pragma once
 
 #include <cstdlib>
@@ -18,7 +20,7 @@
 
 namespace swarmform::testing {
 
-inline constexpr int kTestDomainWindow = 48;
+inline constexpr int kTestDomainWindow = 64;
 inline constexpr int kDefaultTestDomainBase = 100;
 
 // Throws (the test fails, naming the variable) when the base is not a number or its window passes kMaxDomain.
