@@ -335,11 +335,25 @@ bool PaperMotion::parent_lost(const FormationContext& ctx) const {
 // eq. (2) at the end of Ready: the vector to every neighbour as it stands now.
 void PaperMotion::record_references(const FormationContext& ctx) {
   for (const auto& [id, pos] : last_position_) {
-    if (ctx.members.count(id) == 0) continue;
+    const auto member = ctx.members.find(id);
+    if (member == ctx.members.end()) continue;
     const auto sum = ready_sums_.find(id);
     references_[id] = sum != ready_sums_.end() && sum->second.count > 0
                           ? vscale(sum->second.total, 1.0 / sum->second.count)
                           : vsub(pos, {ctx.pose.x, ctx.pose.y});
+    // Way out (extends eq. 2's record): a pair that stood well off the shape's own geometry at Ready -- one
+    // of them took its place as reached short of a dead robot's body (blocked place) -- keeps the geometry
+    // instead, or the shape would carry that offset to the goal, away from the body, and never match its
+    // matrix there (spares.yaml --seed 66 --kill 11@105 --kill 1@1061). Noise leaves the mean within a few
+    // cm; kOffShape is well above that.
+    constexpr double kOffShape = 0.2;  // x spacing
+    const int label = member->second;
+    if (label >= 0 && ctx.label >= 0 &&
+        static_cast<std::size_t>(std::max(label, ctx.label)) < ctx.places.size()) {
+      const Vec2 geometry =
+          vsub(ctx.places[static_cast<std::size_t>(label)], ctx.places[static_cast<std::size_t>(ctx.label)]);
+      if (vnorm(vsub(references_[id], geometry)) > kOffShape * p_.spacing) references_[id] = geometry;
+    }
   }
   if (parent_) parent_reference_ = reference_to(ctx, *parent_);
 }
