@@ -12,6 +12,11 @@ bool barrier_contains(const Stigmergy& stigmergy, RobotId self) {
   return stigmergy.entry(stig::key(stig::Ns::Barrier, self)) != nullptr;
 }
 
+void barrier_withdraw(Stigmergy& stigmergy, RobotId id) {
+  const auto key = stig::key(stig::Ns::Barrier, id);
+  if (const auto entry = stigmergy.get(key); entry && *entry != -1) stigmergy.put(key, -1);
+}
+
 BarrierView read_barrier(const Stigmergy& stigmergy, int label_count, Tick now, int label_timeout) {
   BarrierView view;
   for (int label = 0; label < label_count; ++label) {

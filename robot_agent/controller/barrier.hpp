@@ -19,6 +19,9 @@ namespace swarmform::controller {
 
 void barrier_enter(Stigmergy& stigmergy, RobotId self, int label);
 bool barrier_contains(const Stigmergy& stigmergy, RobotId self);
+// Withdraws `id`'s entry (value -1, counted by nobody): a robot that lost its label, or a dead holder whose
+// label was freed (reserve.hpp: a stale entry would stand for a live member of that label).
+void barrier_withdraw(Stigmergy& stigmergy, RobotId id);
 
 struct BarrierView {
   int count = 0;                   // valid entries

@@ -8,6 +8,7 @@
 #include "robot_agent/controller/collision_avoidance.hpp"
 #include "robot_agent/controller/drive.hpp"
 #include "robot_agent/controller/label_timeout.hpp"
+#include "robot_agent/controller/reserve.hpp"
 
 namespace swarmform::controller {
 
@@ -58,6 +59,11 @@ void PaperController::init(const Mission& mission, RobotId self) {
       params_.label_timeout, table_.size(), formation_entries_per_message(params_.max_message_bytes),
       shape_diameter_hops(mission.shape, params_.grid_spacing, params_.comm_range));
   if (!motion_) motion_ = make_motion_phases(params_);
+  const auto places = table_.places({}, params_.shape_heading);
+  Vec2 centroid;
+  for (const auto& pl : places) centroid = centroid + (1.0 / static_cast<double>(places.size())) * pl;
+  shape_radius_ = 0.0;
+  for (const auto& pl : places) shape_radius_ = std::max(shape_radius_, norm(pl - centroid));
   reset();
 }
 
@@ -82,6 +88,10 @@ void PaperController::reset() {
   stigmergy_ = Stigmergy(self_);
   election_.reset();
   barrier_at_ready_ = {};
+  reserve_ = false;
+  last_shape_heard_ = 0;
+  members_digest_ = 0;
+  members_.clear();
   events_.clear();
   last_motion_ = {};
   if (!in_motion_phases(state_) && motion_) motion_ = make_motion_phases(params_);
@@ -93,8 +103,10 @@ Command PaperController::step(const Perception& p) {
 
   // Hear: neighbour table, stigmergy entries, the shape's origin.
   neighbours_.update(p, self_, stigmergy_.digest());
+  bool shape_heard_moving = false;
   for (const auto& [id, n] : neighbours_.all()) {
     if (n.last_heard != tick_) continue;
+    shape_heard_moving = shape_heard_moving || in_motion_phases(n.message.state);
     // Same digest, same table: its entries would change nothing here (stigmergy.hpp). 0 is "no digest".
     const std::uint64_t digest = n.message.table_digest;
     if (digest == 0 || digest != stigmergy_.digest()) stigmergy_.merge_all(neighbours_.entries_heard(n));
@@ -105,10 +117,48 @@ Command PaperController::step(const Perception& p) {
   }
   track_holders();
 
-  // Keep the label.
+  // A spare that learns the shape is moving becomes a reserve (reserve.hpp): from then on its label 0's
+  // place follows the shape, as estimated from the shape's robots it hears.
+  if (state_ == RobotState::Searching && !reserve_ && (shape_heard_moving || shape_in_motion(stigmergy_))) {
+    reserve_ = true;
+    event("reserve");
+  }
+  if (reserve_ && !in_motion_phases(state_)) {
+    if (const auto origin = moving_origin(neighbours_, p.pose, table_, params_.shape_heading)) {
+      origin_ = *origin;
+      has_origin_ = true;
+      last_shape_heard_ = tick_;
+    }
+  }
+
+  // Keep the label. (A reserve frees nobody's: members in motion no longer heartbeat their entries.)
   if (in_shape_before_ready(state_)) {
     keep_label();
-    if (label_ >= 0) free_dead_labels();
+    if (label_ >= 0 && !reserve_) free_dead_labels();
+    if (label_ >= 0 && reserve_) {
+      if (const auto member = live_member_of(stigmergy_, label_, self_)) {
+        // Its labels entry names the member again, or the barrier would no longer count the member.
+        put_label_holder(stigmergy_, label_, *member);
+        lose_label("to live member " + std::to_string(*member));
+      }
+    }
+  }
+
+  // In the motion phases the labels entry settles who holds a label (reserve.hpp): a reserve that joined
+  // and finds another robot named gives way (two reserves reached the same place, or the member marked dead
+  // by mistake is back); a member of the barrier re-asserts its entry over a reserve's claim.
+  if (in_motion_phases(state_) && label_ >= 0) {
+    const auto s = label_status(stigmergy_, label_);
+    if (s.kind == LabelStatus::Kind::Held && s.holder != self_) {
+      if (reserve_) {
+        lose_label("to " + std::to_string(s.holder) + " in motion");
+        barrier_at_ready_ = {};
+        members_digest_ = 0;
+        motion_ = make_motion_phases(params_);
+      } else if (barrier_at_ready_.members.count(s.holder) == 0) {
+        put_label_holder(stigmergy_, label_, self_);
+      }
+    }
   }
 
   // The state's behaviour.
@@ -124,7 +174,7 @@ Command PaperController::step(const Perception& p) {
     case RobotState::Idle:
     case RobotState::Searching:
       state_ = RobotState::Searching;
-      velocity = searching_step(p);
+      velocity = reserve_ ? reserve_step(p) : searching_step(p);
       break;
     case RobotState::Moving:
       velocity = moving_step(p);
@@ -254,6 +304,69 @@ Vec2 PaperController::searching_step(const Perception& p) {
                           params_.r_o, params_.max_speed);
 }
 
+// ---- The reserve: a spare once the shape moves (reserve.hpp) ----
+
+Vec2 PaperController::reserve_step(const Perception& p) {
+  const Vec2 pos = position(p.pose);
+  const double s = params_.grid_spacing;
+  const auto places = table_.places(origin_, params_.shape_heading);
+  // The nearest vacancy, unless a searching robot heard is nearer to it (ties: the lower id).
+  int vacancy = -1;
+  double vacancy_distance = 1e18;
+  for (int l : vacant_labels(stigmergy_, table_.size(), holder_since_, tick_, params_.label_timeout)) {
+    const double d = norm(places[static_cast<std::size_t>(l)] - pos);
+    if (d < vacancy_distance) {
+      vacancy = l;
+      vacancy_distance = d;
+    }
+  }
+  if (vacancy >= 0 && has_origin_ && tick_ >= backoff_until_) {
+    const Vec2 place = places[static_cast<std::size_t>(vacancy)];
+    const bool nearest =
+        std::none_of(neighbours_.all().begin(), neighbours_.all().end(), [&](const auto& entry) {
+          const auto& [id, n] = entry;
+          if (n.last_heard != tick_ || n.message.state != RobotState::Searching) return false;
+          const double d = norm(Vec2{n.message.pose.x, n.message.pose.y} - place);
+          return d < vacancy_distance || (d == vacancy_distance && id < self_);
+        });
+    if (nearest) {
+      take_label(vacancy, -1, origin_, "reserve_takes");
+      return {};
+    }
+  }
+
+  // Trail the shape; out of the way of its places.
+  Vec2 centre = mission_.goal;
+  Vec2 centroid;
+  for (const auto& pl : places) centroid = centroid + (1.0 / static_cast<double>(places.size())) * pl;
+  // Where the shape is now, as far as it is heard; a reserve that hears none of it makes for the goal.
+  const bool shape_heard =
+      has_origin_ && tick_ <= last_shape_heard_ + static_cast<Tick>(params_.neighbour_timeout);
+  if (shape_heard) centre = centroid;
+  double nearest = 1e18;
+  Vec2 nearest_place;
+  for (const auto& pl : places) {
+    if (norm(pl - pos) < nearest) {
+      nearest = norm(pl - pos);
+      nearest_place = pl;
+    }
+  }
+  Vec2 v;
+  if (shape_heard && nearest < kSpareClearance * s) {
+    Vec2 away = pos - centroid;
+    if (norm(away) < 1e-6) away = pos - nearest_place;
+    v = (params_.max_speed / std::max(norm(away), 1e-9)) * away;
+  } else {
+    // Unheard, it walks to the goal itself: where the shape is, or will be, within radio range.
+    const Vec2 to =
+        (shape_heard ? trailing_point(centre, shape_radius_, mission_.goal, pos, s) : mission_.goal) - pos;
+    if (norm(to) > 0.5 * s) v = limit(params_.k_move * to, params_.max_speed);
+  }
+  fresh_neighbour_positions();
+  return avoid_collisions(limit(v, params_.max_speed), with_echoes(p, echo_range()), params_.k_collision,
+                          params_.r_o, params_.max_speed);
+}
+
 void PaperController::take_label(int label, int parent_label, Vec2 origin, const std::string& why) {
   label_ = label;
   parent_label_ = parent_label;
@@ -273,6 +386,7 @@ void PaperController::take_label(int label, int parent_label, Vec2 origin, const
 
 void PaperController::lose_label(const std::string& why) {
   event("label_lost " + std::to_string(label_) + " " + why);
+  barrier_withdraw(stigmergy_, self_);
   label_ = -1;
   parent_label_ = -1;
   state_ = RobotState::Searching;
@@ -326,6 +440,7 @@ void PaperController::free_dead_labels() {
                               params_.label_timeout)) {
     const auto holder = label_status(stigmergy_, l).holder;
     put_label_freed(stigmergy_, l, tick_);
+    barrier_withdraw(stigmergy_, holder);
     event("label_freed " + std::to_string(l) + " holder " + std::to_string(holder));
   }
   // A label of our grid that nobody has taken while we stood at our place for label_timeout ticks: no
@@ -355,6 +470,7 @@ void PaperController::free_seed_label() {
   if (const auto heard = neighbours_.last_heard(status.holder)) quiet_since = std::max(quiet_since, *heard);
   if (tick_ < quiet_since + timeout) return;
   put_label_freed(stigmergy_, 0, tick_);
+  barrier_withdraw(stigmergy_, status.holder);
   event("label_freed 0 holder " + std::to_string(status.holder));
 }
 
@@ -467,6 +583,7 @@ std::optional<WheelSpeeds> PaperController::reached_step(const Perception& p) {
     const auto view = read_barrier(stigmergy_, table_.size(), tick_, params_.label_timeout);
     if (view.passed() && view.members.contains(self_)) {
       barrier_at_ready_ = view;
+      members_digest_ = 0;
       enter_ready();
       return WheelSpeeds{};
     }
@@ -495,7 +612,11 @@ FormationContext PaperController::context(const Perception& p) const {
   ctx.common_heading = params_.shape_heading;
   ctx.neighbours = &neighbours_;
   ctx.stigmergy = const_cast<Stigmergy*>(&stigmergy_);
-  ctx.members = barrier_at_ready_.members;
+  if (members_digest_ != stigmergy_.digest() || members_digest_ == 0) {
+    members_ = motion_members(stigmergy_, barrier_at_ready_.members);
+    members_digest_ = stigmergy_.digest();
+  }
+  ctx.members = members_;
   ctx.abandoned_labels = barrier_at_ready_.abandoned;
   ctx.ready_tick = ready_tick_;
   return ctx;
@@ -542,7 +663,7 @@ RobotMessage PaperController::compose_message(const Perception& p, const std::ve
   m.seed_candidate = state_ == RobotState::Searching ? election_.candidate() : self_;
   m.seed_distance = state_ == RobotState::Searching ? election_.distance() : norm(position(p.pose));
   m.seed_age = state_ == RobotState::Searching ? election_.age() : 0;
-  if (in_shape_before_ready(state_))
+  if (in_shape_before_ready(state_) && !reserve_)
     m.free_labels = free_grid_labels(table_, label_, stigmergy_, neighbours_);
   if (m.free_labels.size() > kMaxFreeLabels) m.free_labels.resize(kMaxFreeLabels);
   m.motion = motion;

@@ -54,6 +54,7 @@ class PaperController final : public Controller {
 
  private:
   Vec2 searching_step(const Perception& p);
+  Vec2 reserve_step(const Perception& p);
   Vec2 moving_step(const Perception& p);
   std::optional<WheelSpeeds> reached_step(const Perception& p);
   void keep_label();
@@ -114,6 +115,14 @@ class PaperController final : public Controller {
   Stigmergy stigmergy_;
   SeedElection election_;
   BarrierView barrier_at_ready_;
+  // A spare that knows the shape is in its motion phases (reserve.hpp), and the last tick it heard one of
+  // the shape's robots (its origin_ follows the shape from then on).
+  bool reserve_ = false;
+  Tick last_shape_heard_ = 0;
+  double shape_radius_ = 0.0;  // m: the largest distance of a place from the shape's centroid
+  // The motion phases' members (reserve.hpp's motion_members), recomputed when the stigmergy changes.
+  mutable std::uint64_t members_digest_ = 0;
+  mutable std::map<RobotId, int> members_;
   std::vector<std::string> events_;
   MotionStep last_motion_;
   std::vector<NeighbourPosition> positions_;  // fresh_neighbour_positions

@@ -1,0 +1,112 @@
+#include "robot_agent/controller/reserve.hpp"
+
+#include <cmath>
+
+#include "robot_agent/controller/allotment.hpp"
+#include "robot_agent/controller/drive.hpp"
+#include "robot_agent/controller/motion_phase.hpp"
+
+namespace swarmform::controller {
+
+namespace {
+
+// Calls f(id, label) for every barrier entry, in id order.
+template <class F>
+void for_each_barrier_entry(const Stigmergy& stigmergy, F&& f) {
+  const auto barrier = static_cast<std::uint32_t>(stig::Ns::Barrier);
+  for (const auto& e : stigmergy.entries()) {
+    if (stig::ns_of(e.key) == barrier) f(static_cast<RobotId>(stig::index_of(e.key)), e.value);
+  }
+}
+
+bool in_motion_phases(RobotState s) {
+  return s == RobotState::Ready || s == RobotState::Motion || s == RobotState::Arrived;
+}
+
+}  // namespace
+
+bool marked_dead_in_motion(const Stigmergy& stigmergy, RobotId id) {
+  return stigmergy.get(stig::key(stig::Ns::Parents, id)) == motion::kDeadMark;
+}
+
+bool shape_in_motion(const Stigmergy& stigmergy) {
+  return stigmergy.get(stig::key(stig::Ns::Leader, 0)).has_value();
+}
+
+std::map<RobotId, int> motion_members(const Stigmergy& stigmergy, const std::map<RobotId, int>& at_ready) {
+  std::map<RobotId, int> members = at_ready;
+  for_each_barrier_entry(stigmergy, [&](RobotId id, std::int64_t label) {
+    if (label < 0 || at_ready.count(id) != 0 || marked_dead_in_motion(stigmergy, id)) return;
+    const auto holder = label_status(stigmergy, static_cast<int>(label));
+    if (holder.kind != LabelStatus::Kind::Held || holder.holder != id) return;
+    for (const auto& [member, member_label] : at_ready) {
+      if (member_label == label && !marked_dead_in_motion(stigmergy, member)) return;
+    }
+    members[id] = static_cast<int>(label);
+  });
+  return members;
+}
+
+std::vector<int> vacant_labels(const Stigmergy& stigmergy, int label_count,
+                               const std::map<int, Tick>& holder_since, Tick now, int label_timeout) {
+  // Per label: whether it has a barrier entry, and whether one of them is alive.
+  std::vector<char> entered(static_cast<std::size_t>(label_count), 0);
+  std::vector<char> live(static_cast<std::size_t>(label_count), 0);
+  std::map<RobotId, int> entry_of;
+  for_each_barrier_entry(stigmergy, [&](RobotId id, std::int64_t label) {
+    if (label < 0 || label >= label_count) return;
+    entered[static_cast<std::size_t>(label)] = 1;
+    entry_of[id] = static_cast<int>(label);
+    if (!marked_dead_in_motion(stigmergy, id)) live[static_cast<std::size_t>(label)] = 1;
+  });
+  std::vector<int> out;
+  for (int l = 0; l < label_count; ++l) {
+    if (!entered[static_cast<std::size_t>(l)] || live[static_cast<std::size_t>(l)]) continue;
+    const auto status = label_status(stigmergy, l);
+    bool claimed = status.kind == LabelStatus::Kind::Held;
+    if (claimed) {
+      const auto entry = entry_of.find(status.holder);
+      const bool a_dead_member = entry != entry_of.end() && entry->second == l;
+      const auto since = holder_since.find(l);
+      const bool silent =
+          since == holder_since.end() || now >= since->second + static_cast<Tick>(label_timeout);
+      claimed = !a_dead_member && !silent;
+    }
+    if (!claimed) out.push_back(l);
+  }
+  return out;
+}
+
+std::optional<RobotId> live_member_of(const Stigmergy& stigmergy, int label, RobotId self) {
+  std::optional<RobotId> member;
+  for_each_barrier_entry(stigmergy, [&](RobotId id, std::int64_t entry_label) {
+    if (!member && entry_label == label && id != self && !marked_dead_in_motion(stigmergy, id)) member = id;
+  });
+  return member;
+}
+
+std::optional<Vec2> moving_origin(const NeighbourTable& neighbours, const Pose2D& self,
+                                  const ShapeTable& table, double shape_heading) {
+  Vec2 sum;
+  int count = 0;
+  for (const auto& [id, n] : neighbours.all()) {
+    if (!neighbours.fresh(id) || !in_motion_phases(n.message.state) || n.message.label < 0 ||
+        n.message.label >= table.size())
+      continue;
+    const Vec2 at{self.x + n.range * std::cos(n.azimuth), self.y + n.range * std::sin(n.azimuth)};
+    sum = sum + (at - table.place(n.message.label, {}, shape_heading));
+    ++count;
+  }
+  if (count == 0) return std::nullopt;
+  return (1.0 / static_cast<double>(count)) * sum;
+}
+
+Vec2 trailing_point(Vec2 centre, double radius, Vec2 goal, Vec2 self, double spacing) {
+  const double keep = radius + 1.5 * spacing;
+  Vec2 away = centre - goal;                      // behind the shape, seen from the goal
+  if (norm(away) < radius) away = self - centre;  // at the goal: stay on its own side
+  if (norm(away) < 1e-9) away = {-1.0, 0.0};
+  return centre + (keep / norm(away)) * away;
+}
+
+}  // namespace swarmform::controller
