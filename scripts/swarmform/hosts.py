@@ -75,12 +75,27 @@ def check_can_make_hosts():
     if os.geteuid() != 0:
         raise HostsError("--hosts needs root (it creates network namespaces, veths and a bridge); run as root, "
                          "or leave --hosts out to run on loopback")
-    try:
-        inside = os.stat("/proc/self/ns/net").st_ino != os.stat("/proc/1/ns/net").st_ino
-    except OSError:
-        inside = False
+    inside = in_named_namespace()
     if inside:
-        raise HostsError(NETNS_ROOT_HINT)
+        raise HostsError(f"this process runs in the network namespace {inside}: {NETNS_ROOT_HINT}")
+
+
+def in_named_namespace():
+    """The `ip netns` namespace this process runs in, or None (the root one, or one without a name). Compares
+    inodes with /run/netns/*: /proc/1/ns/net may be unreadable even to root in a container."""
+    try:
+        mine = os.stat("/proc/self/ns/net")
+        names = os.listdir("/run/netns")
+    except OSError:
+        return None
+    for name in names:
+        try:
+            st = os.stat(os.path.join("/run/netns", name))
+        except OSError:
+            continue
+        if (st.st_dev, st.st_ino) == (mine.st_dev, mine.st_ino):
+            return name
+    return None
 
 
 def _run(cmd, what):
