@@ -23,6 +23,7 @@ hosts.json in the run directory says which namespace, interface and switch port 
 import json
 import os
 import re
+import shutil
 import signal
 import subprocess
 
@@ -241,6 +242,11 @@ class Hosts:
         self._shape(ns, iface)
 
     def _shape(self, ns, iface):
+        for key, tool, package in (("loss", "nft", "nftables"), ("rate", "tc", "iproute2"),
+                                   ("delay", "tc", "iproute2")):
+            if key in self.link and shutil.which(tool) is None:
+                raise HostsError(f"--link {key} needs `{tool}`, which is not installed (Debian package {package}; "
+                                 "scripts/setup installs it)")
         if "loss" in self.link:
             what = f"--link loss on {ns} (nftables)"
             table = f"{self.prefix}-link"
