@@ -95,6 +95,14 @@ class HostsEndToEndTest(unittest.TestCase):
                            env=self.env())
         return r
 
+    @staticmethod
+    def log(out, rid):
+        try:
+            with open(os.path.join(out, "logs", f"agent-{rid}.log"), encoding="utf-8") as f:
+                return f.read()[-2000:]
+        except OSError as e:
+            return str(e)
+
     def assert_nothing_left(self, out):
         """No namespace, root-namespace link, pid file or process of the run at `out` remains."""
         with open(os.path.join(out, "hosts.json"), encoding="utf-8") as f:
@@ -153,13 +161,21 @@ class HostsEndToEndTest(unittest.TestCase):
         self.assertEqual(s["deaths"], [])
         self.assertEqual(s["alive_at_end"], 6)
 
-    def test_a_host_cut_off_has_its_agents_taken_for_dead_and_rejoin_when_restored(self):
-        # Lockstep (reliable commands: a cut-off agent's liveliness assertions reach the world again once the
-        # link is back; docs/multi-host.md says why realtime differs). The run is long; Ctrl-C ends it once the
-        # agents rejoined, which also checks that an interrupted --hosts run leaves nothing behind.
-        out = self.out("cut")
+    def test_a_host_cut_off_in_lockstep_has_its_agents_taken_for_dead_and_rejoin_when_restored(self):
+        self.cut_and_restore("lockstep")
+
+    def test_a_host_cut_off_in_realtime_has_its_agents_taken_for_dead_and_rejoin_when_restored(self):
+        # Best effort: the agents' liveliness heartbeats do not revive them at the world (docs/multi-host.md);
+        # their claims, re-sent while the world's writers are not alive, do.
+        self.cut_and_restore("realtime")
+
+    def cut_and_restore(self, mode):
+        # The run is long; Ctrl-C ends it once the agents rejoined, which also checks that an interrupted
+        # --hosts run leaves nothing behind.
+        out = self.out(f"cut-{mode}")
         p = subprocess.Popen(self.swarm_args(out, "--scenario", WALK, "--robots", "6", "--max-ticks", "1000000",
-                                             "--domain", str(helpers.test_domain(57)), "--hosts", "2"),
+                                             "--mode", mode, "--domain", str(helpers.test_domain(57)),
+                                             "--hosts", "2"),
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=self.env(),
                              process_group=0)
         try:
@@ -178,7 +194,11 @@ class HostsEndToEndTest(unittest.TestCase):
             wait_for(f"deaths of {cut['agents']}", dead, 20, p)
             subprocess.run(port + ["up"], check=True, timeout=30)
             back = lambda: {e["id"] for e in events(out) if e["kind"] == "rejoin"} >= set(cut["agents"])  # noqa
-            wait_for(f"rejoins of {cut['agents']}", back, 30, p)
+            try:
+                wait_for(f"rejoins of {cut['agents']}", back, 30, p)
+            except AssertionError as e:
+                raise AssertionError(f"{e}; events: {[x for x in events(out) if x['kind'] != 'fault']}; "
+                                     f"agent {cut['agents'][0]}'s log: {self.log(out, cut['agents'][0])}") from None
         finally:
             if p.poll() is None:
                 os.killpg(p.pid, signal.SIGINT)
