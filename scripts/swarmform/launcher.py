@@ -11,11 +11,13 @@ Order of a run:
      run (a refused claim, a lost id) is a loud warning with the last line of its log;
   4. the world's `progress` lines become one status line; every other line it prints is shown and logged;
   5. when the world exits, the agents get a deadline to exit, then SIGKILL.
+With --hosts K the world and each agent start inside their emulated host's network namespace (hosts.py),
+and the namespaces are removed in the same `finally` that kills the processes.
 A `restart id=K` line of the world (a scheduled restart fault) starts a new agent K (faults.py).
 Ctrl-C, SIGTERM and SIGHUP only set a flag that the loop (which polls, never blocks) acts on: the world gets
 SIGTERM (it closes the recording and writes summary.json), then every process we started is killed by pid and
 by group, and the launcher exits 130. Every child also has PR_SET_PDEATHSIG = SIGKILL, so even a SIGKILLed
-launcher leaves nothing behind.
+launcher leaves no process behind (its --hosts namespaces are removed by the next --hosts run).
 """
 
 import ctypes
@@ -521,7 +523,11 @@ def _make_hosts(args, status, run_dir, robots):
         hosts.create()
     except hosts_mod.HostsError as e:
         raise LaunchError(str(e), EXIT_BAD_INPUT if "--link" in str(e) else EXIT_WORLD_FAILED) from None
-    hosts_mod.write_description(hosts, run_dir, robots)
+    try:
+        hosts_mod.write_description(hosts, run_dir, robots)
+    except BaseException:
+        hosts.remove()
+        raise
     link = " ".join(f"{k} {v:g}%" if k == "loss" else f"{k} {v}" for k, v in hosts.link.items())
     status.line(f"swarm: {args.hosts} agent hosts and the world's, as network namespaces {hosts.prefix}-*"
                 f"{'; links: ' + link if link else ''} (hosts.json)")
