@@ -103,6 +103,11 @@ WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out)
   dds_time_t idle_deadline = after(idle_timeout_s);
   dds_time_t reclaim = dds_time() + kReclaimPeriod;
   bool reclaim_refused = false;
+  // Realtime: a packet every tick; none for 3 ticks (at least a reclaim period) means the world took us for
+  // dead.
+  const double tick_s = mission_taken_.mission.tick_rate > 0 ? 1.0 / mission_taken_.mission.tick_rate : 0.1;
+  const dds_duration_t starved_after =
+      std::max(kReclaimPeriod, static_cast<dds_duration_t>(3 * tick_s * 1e9));
   dds_time_t world_silent_since = DDS_NEVER;  // in awake time (clock_)
   const auto world_timeout = static_cast<dds_duration_t>(options_.world_timeout_s * 1e9);
   for (;;) {
@@ -138,7 +143,7 @@ WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out)
     }
     // Re-claims before the first packet, while the world's writers are not alive, and in realtime (a packet
     // every tick) when none came for a reclaim period (see the header).
-    const bool starved = mission_taken_.realtime && packets_ > 0 && now - last_packet_at_ >= kReclaimPeriod;
+    const bool starved = mission_taken_.realtime && packets_ > 0 && now - last_packet_at_ >= starved_after;
     const bool reclaiming =
         !reclaim_refused && (packets_ == 0 || (alive == 0 && inbox_->world_seen()) || starved);
     if (reclaiming && now >= reclaim) {
