@@ -4,9 +4,11 @@ agents in network namespaces of their own, over real UDP through a bridge.
 - 12 agents of the paper's scenario over 3 agent hosts reach the goal with the trajectory hash of the same run on
   loopback (lockstep is deterministic whatever the transport; the loopback run is in a namespace this test makes,
   so it never meets another run's traffic);
-- 2 hosts whose links lose 20% of the datagrams: the run completes, no robot taken for dead;
-- one host's link cut mid-run (`ip link set down` on its switch port): its agents are recorded dead, the other
-  host's carry on; restored: they rejoin;
+- 2 hosts whose links lose 20% of the datagrams: the run completes, no robot taken for dead; `loss 5% rate
+  20mbit`: the nftables rule and the tbf qdisc are on every host's interface while the run goes;
+- one host's link cut mid-run (`ip link set down` on its switch port), in lockstep and in realtime: its agents
+  are recorded dead, the other host's carry on; restored: they rejoin (the run then ends by Ctrl-C);
+- a launcher killed with SIGKILL leaves its namespaces, and the next --hosts run removes them;
 - the flags' errors (a --link without --hosts, delay without netem here, a bad --link) are clear, exit 2.
 After every run: no namespace, link, pid file or process of the run is left (asserted).
 
@@ -160,6 +162,35 @@ class HostsEndToEndTest(unittest.TestCase):
         self.assertEqual(s["ticks"], 150)
         self.assertEqual(s["deaths"], [])
         self.assertEqual(s["alive_at_end"], 6)
+
+    def test_loss_and_rate_are_applied_to_every_hosts_link(self):
+        out = self.out("shaped")
+        p = subprocess.Popen(self.swarm_args(out, "--scenario", WALK, "--robots", "4", "--max-ticks", "1000000",
+                                             "--domain", str(helpers.test_domain(57)), "--hosts", "2",
+                                             "--link", "loss 5% rate 20mbit"),
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=self.env(),
+                             process_group=0)
+        try:
+            ev = os.path.join(out, "events.jsonl")
+            wait_for("4 connected agents", lambda: os.path.exists(ev) and len(
+                {e["id"] for e in events(out) if e["kind"] == "agent_connected"}) == 4, 60, p)
+            with open(os.path.join(out, "hosts.json"), encoding="utf-8") as f:
+                hosts = json.load(f)
+            for h in [hosts["world"]] + hosts["agent_hosts"]:
+                qdisc = subprocess.run(["tc", "-n", h["namespace"], "qdisc", "show", "dev", h["interface"]],
+                                       capture_output=True, text=True, timeout=30).stdout
+                self.assertIn("tbf", qdisc)
+                self.assertIn("rate 20Mbit", qdisc)
+                rules = subprocess.run(["ip", "netns", "exec", h["namespace"], "nft", "list", "ruleset"],
+                                       capture_output=True, text=True, timeout=30).stdout
+                self.assertIn(f'oifname "{h["interface"]}" numgen random mod 10000 < 500 drop', rules)
+        finally:
+            if p.poll() is None:
+                os.killpg(p.pid, signal.SIGINT)
+            _, err = p.communicate(timeout=60)
+        self.assertEqual(p.returncode, 130, err)
+        self.assertIn("links: loss 5% rate 20mbit", err)
+        self.assert_nothing_left(out)
 
     def test_a_host_cut_off_in_lockstep_has_its_agents_taken_for_dead_and_rejoin_when_restored(self):
         self.cut_and_restore("lockstep")
