@@ -9,7 +9,8 @@ agents in network namespaces of their own, over real UDP through a bridge.
 - one host's link cut mid-run (`ip link set down` on its switch port), in lockstep and in realtime: its agents
   are recorded dead, the other host's carry on; restored: they rejoin (the run then ends by Ctrl-C);
 - a launcher killed with SIGKILL leaves its namespaces, and the next --hosts run removes them;
-- the flags' errors (a --link without --hosts, delay without netem here, a bad --link) are clear, exit 2.
+- the flags' errors (a --link without --hosts, delay without netem here, a bad --link) are clear, exit 2;
+- scripts/bench-hosts runs tiny in every setting and writes figures (none asserted as a speed).
 After every run: no namespace, link, pid file or process of the run is left (asserted).
 
 Needs root and the root network namespace (namespaces made from inside another do not work): each test skips with
@@ -274,6 +275,23 @@ class HostsEndToEndTest(unittest.TestCase):
         with open(os.path.join(crashed, "agents.json"), encoding="utf-8") as f:
             pids = list(json.load(f).values())
         self.assertEqual([x for x in pids if helpers.pid_alive(x)], [], "the crashed run's agents left running")
+
+    def test_the_benchmark_runs_tiny_and_writes_valid_figures(self):
+        # scripts/bench-hosts cannot rot: tiny, every setting, figures > 0 (no speed asserted), nothing left.
+        before = [ns for ns in namespaces() if ns.startswith("sfh")]
+        out = self.out("bench.json")
+        r = subprocess.run([os.path.join(helpers.ROOT, "scripts", "bench-hosts"), "--sizes", "4", "--ticks", "20",
+                            "--rounds", "20", "--warmup", "5", "--timeout", "30", "--out", out],
+                           capture_output=True, text=True, timeout=300, env=self.env())
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(out, encoding="utf-8") as f:
+            results = json.load(f)["results"]
+        self.assertEqual([x["setting"] for x in results], ["loopback", "hosts4", "hosts4_loss1"])
+        for x in results:
+            self.assertGreater(x["emulator_ticks_per_second"], 0)
+            self.assertGreater(x["bare_rounds_per_second"], 0)
+            self.assertGreater(x["connect_seconds"], 0)
+        self.assertEqual([ns for ns in namespaces() if ns.startswith("sfh")], before)
 
     def test_bad_link_flags_are_refused_clearly(self):
         r = self.run_swarm(self.out("x"), "--scenario", WALK, "--link", "loss 5%")
