@@ -2,8 +2,10 @@
 // exactly the emulator's wire (common/dds: same Cyclone config, same QoS, same partition per robot, same
 // SensorPacket and Command types), and nothing else: no physics, no sensors, no controller, no recording.
 //
-//   bare_round world --robots N [--rounds R] [--warmup W] [--domain D] [--timeout SEC]
-//   bare_round robot --id K [--count N] [--domain D]   (--count: robots K..K+N-1, forked from one process)
+//   bare_round [--domain D] [--interface ADDR] world --robots N [--rounds R] [--warmup W] [--timeout SEC]
+//   bare_round [--domain D] [--interface ADDR] robot --id K [--count N] [--world-host ADDR]
+//   (--count: robots K..K+N-1, forked from one process; --world-host/--interface: on other (emulated) hosts,
+//   as world_server's and robot_agent's flags of the same names)
 //
 // The world waits for N claims, then each round writes one SensorPacket per robot (with a few neighbour
 // messages, as the random walk's) and waits for every robot's Command of that round. It prints one JSON line:
@@ -33,9 +35,7 @@ struct Payload {
 };
 
 int run_world(std::uint32_t robots, std::uint32_t rounds, std::uint32_t warmup, const Payload& payload,
-              std::uint32_t domain, double timeout_s, dds::SignalWatch& signals) {
-  dds::DdsSettings settings;
-  settings.domain = domain;
+              dds::DdsSettings settings, double timeout_s, dds::SignalWatch& signals) {
   settings.role = dds::Role::World;
   dds::Participant participant(settings);
   dds::Waiter waiter(participant);
@@ -102,10 +102,8 @@ int run_world(std::uint32_t robots, std::uint32_t rounds, std::uint32_t warmup, 
   return 0;
 }
 
-int run_robot(RobotId id, const Payload& payload, std::uint32_t domain, double timeout_s,
+int run_robot(RobotId id, const Payload& payload, dds::DdsSettings settings, double timeout_s,
               dds::SignalWatch& signals) {
-  dds::DdsSettings settings;
-  settings.domain = domain;
   settings.role = dds::Role::Agent;
   dds::Participant participant(settings);
   dds::Waiter waiter(participant);
@@ -160,6 +158,10 @@ int main(int argc, char** argv) {
   double timeout_s = 60.0;
   app.add_option("--domain", domain, "DDS domain id")->check(CLI::Range(0u, 232u));
   app.add_option("--timeout", timeout_s, "seconds to wait for the other side")->check(CLI::PositiveNumber);
+  dds::DdsSettings net;
+  app.add_option("--interface", net.interface_address,
+                 "local interface address (default: loopback for the world, and for robots whose world is on "
+                 "loopback)");
   auto* world = app.add_subcommand("world", "the world side");
   std::uint32_t robots = 16, rounds = 2000, warmup = 100;
   world->add_option("--robots", robots, "robot processes to wait for")->check(CLI::Range(1u, 1024u));
@@ -185,12 +187,14 @@ int main(int argc, char** argv) {
                    "robots --id..--id+count-1, each its own process forked from this one (as robot_agent "
                    "--count, so that P1 compares like with like)")
       ->check(CLI::Range(1u, dds::kMaxRobotBlock));
+  robot->add_option("--world-host", net.world_host, "address of the world's host (default 127.0.0.1)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
   }
+  net.domain = domain;
   // Robots are scheduled as robot_agent schedules itself (common/dds/robot_process.hpp), so P1's ratio
   // compares like with like.
   if (robot->parsed()) (void)dds::yield_to_world_on_wakeup();
@@ -201,7 +205,7 @@ int main(int argc, char** argv) {
           [&](std::uint32_t one) {
             try {
               dds::SignalWatch signals;
-              return run_robot(one, payload, domain, timeout_s, signals);
+              return run_robot(one, payload, net, timeout_s, signals);
             } catch (const std::exception& e) {
               std::cerr << "bare_round: " << e.what() << "\n";
               return 1;
@@ -215,8 +219,8 @@ int main(int argc, char** argv) {
   }
   try {
     dds::SignalWatch signals;
-    if (world->parsed()) return run_world(robots, rounds, warmup, payload, domain, timeout_s, signals);
-    return run_robot(id, payload, domain, timeout_s, signals);
+    if (world->parsed()) return run_world(robots, rounds, warmup, payload, net, timeout_s, signals);
+    return run_robot(id, payload, net, timeout_s, signals);
   } catch (const std::exception& e) {
     std::cerr << "bare_round: " << e.what() << "\n";
     return 1;

@@ -101,20 +101,27 @@ std::uint64_t AgentLink::refused_samples() const {
 
 WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out) {
   dds_time_t idle_deadline = after(idle_timeout_s);
-  dds_time_t reclaim = packets_ == 0 ? dds_time() + kReclaimPeriod : DDS_NEVER;
+  dds_time_t reclaim = dds_time() + kReclaimPeriod;
+  bool reclaim_refused = false;
+  // Realtime: a packet every tick; none for 3 ticks (at least a reclaim period) means the world took us for
+  // dead.
+  const double tick_s = mission_taken_.mission.tick_rate > 0 ? 1.0 / mission_taken_.mission.tick_rate : 0.1;
+  const dds_duration_t starved_after =
+      std::max(kReclaimPeriod, static_cast<dds_duration_t>(3 * tick_s * 1e9));
   dds_time_t world_silent_since = DDS_NEVER;  // in awake time (clock_)
   const auto world_timeout = static_cast<dds_duration_t>(options_.world_timeout_s * 1e9);
   for (;;) {
     clock_.observe(dds_time());
     if (inbox_->take_packet(out, foreign_)) {
       ++packets_;
+      last_packet_at_ = dds_time();
       return WaitResult::Ok;
     }
     (void)mission_.take(options_.run_nonce, mission_refusals_);
     if (auto answer = inbox_->take_claim_reply();
         answer && answer->nonce == claim_nonce_ && !answer->accepted) {
       // Another agent took the id over while we were lost: stop claiming it (the world says why once).
-      reclaim = DDS_NEVER;
+      reclaim_refused = true;
     }
     if (signals_.stop_requested()) return WaitResult::Stopped;
     const std::uint32_t alive = inbox_->world_writers_alive();
@@ -134,13 +141,19 @@ WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out)
         return WaitResult::Timeout;
       }
     }
-    if (now >= reclaim) {  // before the first packet only (see the header)
+    // Re-claims before the first packet, while the world's writers are not alive, and in realtime (a packet
+    // every tick) when none came for a reclaim period (see the header).
+    const bool starved = mission_taken_.realtime && packets_ > 0 && now - last_packet_at_ >= starved_after;
+    const bool reclaiming =
+        !reclaim_refused && (packets_ == 0 || (alive == 0 && inbox_->world_seen()) || starved);
+    if (reclaiming && now >= reclaim) {
       commands_->claim(self_, claim_nonce_, static_cast<std::uint32_t>(getpid()));
       reclaim = now + kReclaimPeriod;
     }
     // Wake at least once a second to re-check the world's liveliness against the idle deadline, and to keep
     // our own alive while the world sends nothing (before the run, or a slow lockstep round).
-    dds_time_t wake = std::min({now + DDS_SECS(1), reclaim, commands_->keep_alive(now)});
+    dds_time_t wake =
+        std::min({now + DDS_SECS(1), reclaiming ? reclaim : DDS_NEVER, commands_->keep_alive(now)});
     if (!inbox_->world_seen()) wake = std::min(wake, idle_deadline);
     waiter_.wait_until(wake);
   }

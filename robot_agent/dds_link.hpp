@@ -46,11 +46,15 @@ class AgentLink {
   // Until the first packet it re-sends the accepted claim every second (kReclaimPeriod): an agent stalled
   // past its writer's lease after its claim (starved of CPU while 256 agents discover the world) is lost to
   // the world, and Cyclone reports its liveliness back only when the writer sends again; an agent that sends
-  // nothing before the run would then never be counted. The world answers a claim it already holds as a
-  // repeat, and takes a lost owner's claim back. WorldGone only after the world's writers have stayed not
-  // alive for world_timeout_s of this agent's own awake time (OwnClock): an agent stalled past their 2 s
-  // lease finds it expired when it resumes, until the world's next liveliness message arrives, and a world
-  // stalled for seconds is not a dead one.
+  // nothing before the run would then never be counted. It re-sends it as well while the world's writers
+  // are not alive, and in realtime when no packet came for a reclaim period (a network path lost and back,
+  // issue 19; a cut shorter than the world's 2 s writer lease leaves those writers alive here): the world
+  // took this agent for dead and sends it nothing, and in realtime (best effort) Cyclone 0.10.2 drops the
+  // writer's liveliness heartbeats ("no-reliable-readers") before they revive it, so only a sample does. The
+  // world answers a claim it already holds as a repeat, and takes a lost owner's claim back. WorldGone only
+  // after the world's writers have stayed not alive for world_timeout_s of this agent's own awake time
+  // (OwnClock): an agent stalled past their 2 s lease finds it expired when it resumes, until the world's
+  // next liveliness message arrives, and a world stalled for seconds is not a dead one.
   WaitResult next_packet(double idle_timeout_s, dds::SensorSample& out);
   void send(Tick tick, const Command& command);
 
@@ -67,6 +71,7 @@ class AgentLink {
   std::string who_;
   dds::RefusalLog mission_refusals_;
   dds::MissionAnnouncement mission_taken_;
+  dds_time_t last_packet_at_ = 0;    // when next_packet last returned one
   OwnClock clock_{DDS_MSECS(1500)};  // the loop wakes at least every second
   dds::Participant participant_;
   dds::Waiter waiter_;

@@ -13,8 +13,10 @@
 // (R: samples refused as not of this world, run or wire version; S: controller restarts after a rejoin).
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "common/dds/robot_block.hpp"
 #include "common/dds/robot_process.hpp"
@@ -37,17 +39,26 @@ struct Options {
   double world_timeout_s = 10.0;
   std::string run_nonce;
   std::uint32_t count = 1;
+  std::string dds_config;                                 // --dds-config FILE
+  std::optional<swarmform::dds::UserDdsConfig> user_dds;  // resolved from it or CYCLONEDDS_URI
+  bool print_dds_config = false;
 };
 
-constexpr int kExitLostId = 5;
-
-int run(const Options& o, swarmform::dds::SignalWatch& signals) {
-  const std::string me = "robot_agent " + std::to_string(o.id);
+swarmform::dds::DdsSettings dds_settings(const Options& o) {
   swarmform::dds::DdsSettings settings;
   settings.domain = o.domain;
   settings.role = swarmform::dds::Role::Agent;
   settings.world_host = o.world_host;
   settings.interface_address = o.interface_address;
+  settings.user = o.user_dds;
+  return settings;
+}
+
+constexpr int kExitLostId = 5;
+
+int run(const Options& o, swarmform::dds::SignalWatch& signals) {
+  const std::string me = "robot_agent " + std::to_string(o.id);
+  const swarmform::dds::DdsSettings settings = dds_settings(o);
   swarmform::agent::LinkOptions lo;
   lo.world_timeout_s = o.world_timeout_s;
   if (!o.run_nonce.empty()) lo.run_nonce = std::stoull(o.run_nonce, nullptr, 16);  // checked in main
@@ -165,7 +176,7 @@ int run_agent(const Options& o) {
 int main(int argc, char** argv) {
   Options o;
   CLI::App app{"robot_agent: one robot of a swarmform run, as its own process over DDS"};
-  app.add_option("--id", o.id, "this robot's id (0..N-1)")->required();
+  CLI::Option* id_option = app.add_option("--id", o.id, "this robot's id (0..N-1)")->required();
   app.add_option("--domain", o.domain, "DDS domain id (0..232)")->check(CLI::Range(0u, 232u));
   app.add_option("--world-host", o.world_host, "address of the world server's host (its discovery peer)");
   app.add_option("--interface", o.interface_address,
@@ -189,10 +200,29 @@ int main(int argc, char** argv) {
                  "(faster to start than as many executables); this process supervises them and prints "
                  "'robot_agent: id K pid P' for each")
       ->check(CLI::Range(1u, swarmform::dds::kMaxRobotBlock));
+  app.add_option("--dds-config", o.dds_config,
+                 "FILE: a Cyclone DDS XML configuration merged on top of the built-in one (default: the file "
+                 "CYCLONEDDS_URI names, if set); docs/dds-config.md says what may be overridden");
+  app.add_flag("--print-dds-config", o.print_dds_config,
+               "print the Cyclone DDS configuration in force (built-in, then --dds-config or CYCLONEDDS_URI) "
+               "for these flags, and exit (--id not needed)");
+  for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]) == "--print-dds-config") id_option->required(false);
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return e.get_exit_code() == 0 ? app.exit(e) : (app.exit(e), 2);
+  }
+  try {
+    o.user_dds = swarmform::dds::user_dds_config(o.dds_config, std::getenv("CYCLONEDDS_URI"));
+    if (o.print_dds_config) {
+      std::cout << swarmform::dds::cyclone_config_listing(dds_settings(o), "robot_agent");
+      return 0;
+    }
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "robot_agent: " << e.what() << "\n";
+    return 2;
   }
   if (o.count == 1) return run_agent(o);
   (void)swarmform::dds::yield_to_world_on_wakeup();  // inherited by every child

@@ -9,6 +9,7 @@
 // summary.json is written when the disk allows.
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
@@ -48,6 +49,8 @@ struct Options {
   std::string run_nonce;
   std::string agent_pids_file;
   bool check = false;
+  std::string dds_config;  // --dds-config FILE
+  bool print_dds_config = false;
 };
 
 // "A<sep>B" with two unsigned integers; throws std::invalid_argument naming the flag.
@@ -80,7 +83,20 @@ swarmform::world::ScenarioOverrides overrides_of(const Options& o) {
   return ov;
 }
 
+swarmform::dds::DdsSettings dds_settings(const Options& o) {
+  swarmform::dds::DdsSettings settings;
+  settings.domain = o.domain;
+  settings.role = swarmform::dds::Role::World;
+  settings.interface_address = o.interface_address;
+  settings.user = swarmform::dds::user_dds_config(o.dds_config, std::getenv("CYCLONEDDS_URI"));
+  return settings;
+}
+
 int run(const Options& o) {
+  if (o.print_dds_config) {
+    std::cout << swarmform::dds::cyclone_config_listing(dds_settings(o), "world_server");
+    return 0;
+  }
   const swarmform::world::Scenario scenario = swarmform::world::load_scenario(o.scenario, overrides_of(o));
   for (const auto& k : scenario.kills) {
     if (k.id >= scenario.robots.size()) {
@@ -102,9 +118,7 @@ int run(const Options& o) {
 
   swarmform::server::ServerOptions so;
   so.run_dir = o.out;
-  so.dds.domain = o.domain;
-  so.dds.role = swarmform::dds::Role::World;
-  so.dds.interface_address = o.interface_address;
+  so.dds = dds_settings(o);
   so.connect_timeout_s = o.connect_timeout_s;
   so.warmup_ticks = o.warmup_ticks;
   so.agent_pids_file = o.agent_pids_file;
@@ -131,7 +145,8 @@ int run(const Options& o) {
 int main(int argc, char** argv) {
   Options o;
   CLI::App app{"world_server: the world of a swarmform run (Bullet physics, sensors, medium) over DDS"};
-  app.add_option("--scenario", o.scenario, "scenario file (YAML, scenarios/README.md)")->required();
+  CLI::Option* scenario =
+      app.add_option("--scenario", o.scenario, "scenario file (YAML, scenarios/README.md)")->required();
   app.add_option("--shape", o.shape, "shape file, overrides the scenario's");
   app.add_option("--robots", o.robots, "number of robots, overrides the scenario's")
       ->check(CLI::PositiveNumber);
@@ -167,6 +182,15 @@ int main(int argc, char** argv) {
                  "freshly started agents are slower)")
       ->check(CLI::Range(Tick{0}, Tick{1000000000}));
   app.add_flag("--check", o.check, "load and validate the scenario, print a JSON line, exit");
+  app.add_option("--dds-config", o.dds_config,
+                 "FILE: a Cyclone DDS XML configuration merged on top of the built-in one (default: the file "
+                 "CYCLONEDDS_URI names, if set); docs/dds-config.md says what may be overridden");
+  app.add_flag("--print-dds-config", o.print_dds_config,
+               "print the Cyclone DDS configuration in force (built-in, then --dds-config or CYCLONEDDS_URI) "
+               "for these flags, and exit (--scenario not needed)");
+  for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]) == "--print-dds-config") scenario->required(false);
+  }
   app.footer(kExitCodes);
   try {
     app.parse(argc, argv);

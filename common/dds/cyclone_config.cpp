@@ -1,5 +1,8 @@
 #include "common/dds/cyclone_config.hpp"
 
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 namespace swarmform::dds {
@@ -20,22 +23,24 @@ void check_address(const std::string& what, const std::string& value) {
   }
 }
 
+constexpr std::size_t kMaxUserConfigBytes = 1 << 20;
+
 }  // namespace
 
 std::uint16_t world_discovery_port(std::uint32_t domain) {
   return static_cast<std::uint16_t>(kPortBase + kDomainGain * domain + 10);
 }
 
-std::string cyclone_config_xml(const DdsSettings& s) {
-  if (s.domain > kMaxDomain) {
-    throw std::invalid_argument("DDS domain " + std::to_string(s.domain) + " is out of range 0.." +
-                                std::to_string(kMaxDomain));
-  }
+// The document is built from one function per section of <Domain>, so a section can be added (a Security
+// section for --secure) without touching the others.
+namespace {
+
+std::string general_section(const DdsSettings& s) {
   std::string iface = s.interface_address;
   if (iface.empty() && (s.role == Role::World || is_loopback(s.world_host))) iface = "127.0.0.1";
   if (!iface.empty()) check_address("interface address", iface);
 
-  std::string xml = "<CycloneDDS><Domain id=\"any\"><General>";
+  std::string xml = "<General>";
   if (!iface.empty()) xml += "<Interfaces><NetworkInterface address=\"" + iface + "\"/></Interfaces>";
   // Loopback has no multicast flag; say so rather than let Cyclone find out, on every interface alike.
   xml += "<AllowMulticast>false</AllowMulticast>";
@@ -45,7 +50,11 @@ std::string cyclone_config_xml(const DdsSettings& s) {
   // datagrams while they connected (tcpdump, BENCHMARKS.md), and their receive threads the largest share of
   // their CPU. Measured: connected 17.0-21.2 s -> 9.9-11.9 s.
   xml += "<MaxRexmitMessageSize>" + std::to_string(kMaxRexmitMessageBytes) + "B</MaxRexmitMessageSize>";
-  xml += "</General><Discovery>";
+  return xml + "</General>";
+}
+
+std::string discovery_section(const DdsSettings& s) {
+  std::string xml = "<Discovery>";
   // A domain gain of 100 (RTPS default 250) keeps every domain's fixed ports below Linux's ephemeral range
   // (32768-60999): with 250, a domain above ~100 puts the world's port among the ephemeral ones that any
   // agent socket may hold, and the world then fails to start ("failed to create unicast sockets"), as seen.
@@ -70,11 +79,129 @@ std::string cyclone_config_xml(const DdsSettings& s) {
   // AUTOMATIC writers still sends a reliable liveliness message (with heartbeat and acknowledgement) to every
   // peer each 0.8 x its lease: an agent's 1 s lease cost the world ~840 submessages a second from 256 agents
   // (tcpdump, BENCHMARKS.md).
-  xml += "<LeaseDuration>5s</LeaseDuration></Discovery>";
-  // iceoryx shared memory is compiled in but loses samples with keep-last 1 and ignores partitions in 0.10.2.
-  xml += "<SharedMemory><Enable>false</Enable></SharedMemory>";
-  xml += "</Domain></CycloneDDS>";
-  return xml;
+  return xml + "<LeaseDuration>5s</LeaseDuration></Discovery>";
+}
+
+// iceoryx shared memory is compiled in but loses samples with keep-last 1 and ignores partitions in 0.10.2.
+std::string shared_memory_section() {
+  return "<SharedMemory><Enable>false</Enable></SharedMemory>";
+}
+
+// Our document indented two spaces a level; an element holding only text stays on one line. Only for our own
+// generated XML (no comments, no '<' in text).
+std::string indented(const std::string& xml) {
+  std::string out;
+  int depth = 0;
+  std::size_t i = 0;
+  while (i < xml.size()) {
+    const std::size_t close = xml.find('>', i);
+    if (xml[i] != '<' || close == std::string::npos) break;
+    const std::string tag = xml.substr(i, close - i + 1);
+    i = close + 1;
+    if (tag[1] == '/') {
+      --depth;
+      out += std::string(2 * static_cast<std::size_t>(depth), ' ') + tag + "\n";
+      continue;
+    }
+    out += std::string(2 * static_cast<std::size_t>(depth), ' ') + tag;
+    if (tag[tag.size() - 2] == '/') {
+      out += "\n";
+      continue;
+    }
+    const std::size_t next = xml.find('<', i);
+    if (next != std::string::npos && next > i && xml.compare(next, 2, "</") == 0) {  // text, then its end tag
+      const std::size_t end = xml.find('>', next);
+      out += xml.substr(i, end + 1 - i) + "\n";
+      i = end + 1;
+      continue;
+    }
+    out += "\n";
+    ++depth;
+  }
+  return out;
+}
+
+std::string trimmed(const std::string& text) {
+  const std::size_t b = text.find_first_not_of(" \t\r\n");
+  if (b == std::string::npos) return "";
+  const std::size_t e = text.find_last_not_of(" \t\r\n");
+  return text.substr(b, e + 1 - b);
+}
+
+UserDdsConfig read_user_file(const std::string& path, const std::string& source) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path abs = fs::absolute(path, ec);
+  const std::string where = source + " " + (ec ? path : abs.string());
+  if (!fs::exists(abs, ec)) throw std::invalid_argument(where + ": no such file");
+  if (fs::is_directory(abs, ec)) throw std::invalid_argument(where + ": is a directory, not an XML file");
+  std::ifstream in(abs, std::ios::binary);
+  if (!in) throw std::invalid_argument(where + ": cannot be read");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (text.str().size() > kMaxUserConfigBytes) {
+    throw std::invalid_argument(where + ": larger than " + std::to_string(kMaxUserConfigBytes) +
+                                " bytes; not a Cyclone DDS configuration");
+  }
+  std::string xml = trimmed(text.str());
+  if (xml.rfind("\xEF\xBB\xBF", 0) == 0) xml = trimmed(xml.substr(3));  // a UTF-8 byte order mark
+  if (xml.empty()) throw std::invalid_argument(where + ": is empty; want a <CycloneDDS> XML document");
+  if (xml.front() != '<' || xml.find("<CycloneDDS") == std::string::npos) {
+    throw std::invalid_argument(where +
+                                ": is not a Cyclone DDS configuration (want an XML document whose "
+                                "root element is <CycloneDDS>)");
+  }
+  return UserDdsConfig{where, xml};
+}
+
+}  // namespace
+
+std::string cyclone_config_xml(const DdsSettings& s) {
+  if (s.domain > kMaxDomain) {
+    throw std::invalid_argument("DDS domain " + std::to_string(s.domain) + " is out of range 0.." +
+                                std::to_string(kMaxDomain));
+  }
+  return "<CycloneDDS><Domain id=\"any\">" + general_section(s) + discovery_section(s) +
+         shared_memory_section() + "</Domain></CycloneDDS>";
+}
+
+std::string cyclone_config_string(const DdsSettings& s) {
+  std::string config = cyclone_config_xml(s);
+  if (s.user) config += "," + s.user->xml;
+  return config;
+}
+
+std::string cyclone_config_listing(const DdsSettings& s, const std::string& program) {
+  const std::string count = s.user ? "2" : "1";
+  std::string out = "<!-- The Cyclone DDS configuration of " + program + " on DDS domain " +
+                    std::to_string(s.domain) + ": the document";
+  out += s.user ? "s below, merged in this order (a setting of the later one overrides the earlier one's; "
+                  "docs/dds-config.md) -->\n"
+                : " below (no --dds-config, no CYCLONEDDS_URI; docs/dds-config.md) -->\n";
+  out += "<!-- 1 of " + count + ": swarmform's own (common/dds/cyclone_config.cpp) -->\n";
+  out += indented(cyclone_config_xml(s));
+  if (s.user) out += "<!-- 2 of 2: from " + s.user->source + " -->\n" + s.user->xml + "\n";
+  return out;
+}
+
+std::optional<UserDdsConfig> user_dds_config(const std::string& flag_file, const char* env_uri) {
+  if (!flag_file.empty()) return read_user_file(flag_file, "--dds-config");
+  if (env_uri == nullptr || trimmed(env_uri).empty()) return std::nullopt;
+  const std::string uri = trimmed(env_uri);
+  if (uri.front() == '<') {
+    if (uri.find("<CycloneDDS") == std::string::npos) {
+      throw std::invalid_argument(
+          "CYCLONEDDS_URI: an inline document must have the root element <CycloneDDS>");
+    }
+    return UserDdsConfig{"CYCLONEDDS_URI (inline)", uri};
+  }
+  if (uri.find(',') != std::string::npos) {
+    throw std::invalid_argument("CYCLONEDDS_URI='" + uri +
+                                "': a list of configurations is not taken here; give one file (or "
+                                "merge them into one and pass --dds-config FILE)");
+  }
+  const std::string path = uri.rfind("file://", 0) == 0 ? uri.substr(7) : uri;
+  return read_user_file(path, "CYCLONEDDS_URI");
 }
 
 }  // namespace swarmform::dds

@@ -7,9 +7,14 @@
 // as its only peer: agents never discover each other, and the world discovers each agent once. Death
 // detection is the agents' command writers' liveliness (MANUAL_BY_TOPIC, 500 ms, qos.hpp): a SIGKILLed
 // agent's writer loses liveliness at the world within ~0.5 s. Participant leases (5 s) tell no death.
+//
+// A user's configuration (--dds-config FILE, else CYCLONEDDS_URI) is merged on top: cyclone_config_string
+// gives Cyclone our document first and the user's second, and Cyclone lets a later document's settings
+// override an earlier one's (docs/dds-config.md says what may be overridden).
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,6 +23,12 @@ namespace swarmform::dds {
 enum class Role {
   World,  // ParticipantIndex 0: the fixed discovery port the agents peer with
   Agent,  // ParticipantIndex none, the world as the only peer (agents, bench robots, test programs)
+};
+
+// A user's Cyclone DDS configuration document, read and checked by user_dds_config.
+struct UserDdsConfig {
+  std::string source;  // where it came from, for messages: "--dds-config /abs/path" or "CYCLONEDDS_URI=..."
+  std::string xml;     // the document, given to Cyclone as an XML fragment after ours
 };
 
 struct DdsSettings {
@@ -32,6 +43,8 @@ struct DdsSettings {
   // Agent role: more discovery peers ("host:port") beside the world. For test programs that play a forger
   // on the host, which peers with an agent directly (tests/integration/rogue_agent.cpp forge).
   std::vector<std::string> extra_peers;
+  // A user's Cyclone XML merged on top of ours (user_dds_config), or none.
+  std::optional<UserDdsConfig> user;
 };
 
 inline constexpr std::uint32_t kMaxDomain = 232;
@@ -42,7 +55,20 @@ inline constexpr std::uint32_t kDomainGain = 100;  // ports per domain: all fixe
 // The world's SPDP unicast port for a domain (RTPS port mapping: base + gain*domain + 10 + 2*index, index 0).
 std::uint16_t world_discovery_port(std::uint32_t domain);
 
-// The XML configuration for these settings (throws std::invalid_argument on a bad domain or address).
+// Our own XML configuration for these settings (throws std::invalid_argument on a bad domain or address).
 std::string cyclone_config_xml(const DdsSettings& settings);
+
+// What dds_create_domain is given: our document, then the user's (if any), comma-separated as Cyclone's
+// configuration lists are.
+std::string cyclone_config_string(const DdsSettings& settings);
+
+// The configuration in force, for --print-dds-config: our document indented, then the user's as written,
+// each under a comment naming its source and the merge order.
+std::string cyclone_config_listing(const DdsSettings& settings, const std::string& program);
+
+// The user's configuration: the file `flag_file` (--dds-config) when not empty, else CYCLONEDDS_URI when
+// `env_uri` is set and not empty (a file path, a file:// URI or an inline <CycloneDDS> document), else none.
+// Throws std::invalid_argument naming the source on a missing, unreadable, empty or non-XML file, or a list.
+std::optional<UserDdsConfig> user_dds_config(const std::string& flag_file, const char* env_uri);
 
 }  // namespace swarmform::dds

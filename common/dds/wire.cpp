@@ -177,17 +177,22 @@ bool writer_matched(dds_entity_t writer) {
 // -------------------------------------------------------------------------------------------
 
 Participant::Participant(const DdsSettings& settings) : impl_(std::make_unique<Impl>()) {
-  const std::string xml = cyclone_config_xml(settings);
+  const std::string xml = cyclone_config_string(settings);
   const dds_entity_t domain = dds_create_domain(static_cast<dds_domainid_t>(settings.domain), xml.c_str());
   if (domain < 0) {
-    // The usual cause is a port in use: say which, rather than Cyclone's bare "Error".
-    const std::string what =
-        "dds_create_domain(domain " + std::to_string(settings.domain) +
-        (settings.role == Role::World
-             ? "; is another world_server on this domain? its port " +
-                   std::to_string(world_discovery_port(settings.domain)) + " may be taken)"
-             : ")");
-    throw DdsError(what, domain);
+    // The usual cause is a port in use, or a user's configuration Cyclone refused: say which, rather than
+    // Cyclone's bare "Error".
+    std::string what = "dds_create_domain(domain " + std::to_string(settings.domain);
+    if (settings.user) {
+      what += "; the configuration of " + settings.user->source +
+              " is merged on top of ours: Cyclone's messages above say what it refused; --print-dds-config "
+              "shows both";
+    }
+    if (settings.role == Role::World) {
+      what += "; is another world_server on this domain? its port " +
+              std::to_string(world_discovery_port(settings.domain)) + " may be taken";
+    }
+    throw DdsError(what + ")", domain);
   }
   impl_->domain = Entity(domain, "dds_create_domain");
   impl_->participant =

@@ -7,7 +7,7 @@ import argparse
 import os
 import sys
 
-from . import faults, launcher
+from . import faults, hosts, launcher
 
 DEFAULT_SCENARIO = os.path.join("scenarios", "paper.yaml")
 
@@ -32,6 +32,7 @@ examples:
   scripts/swarm run --scenario scenarios/paper.yaml --kill 0@900 --kill 5@1200
   scripts/swarm run --fault stall:3@200+30 --fault kill:2@300 --fault restart:2@400 --fault loss:all@500+20
   scripts/swarm run --shape shapes/v.txt --robots 12 --seed 7 --mode realtime
+  scripts/swarm run --hosts 3 --link "loss 5% rate 20mbit"   # as root: 3 agent hosts (network namespaces)
   scripts/swarm kill 3                      # while a swarm runs (agents.json of runs/latest)
   scripts/swarm replay runs/latest --ticks 500 1000
   scripts/swarm report runs/latest
@@ -66,6 +67,20 @@ def _domain(text):
     if v > 232:
         raise argparse.ArgumentTypeError(f"DDS domain ids go up to 232, got {v}")
     return v
+
+
+def _hosts_count(text):
+    v = _int_at_least(1)(text)
+    if v > hosts.MAX_HOSTS:
+        raise argparse.ArgumentTypeError(f"at most {hosts.MAX_HOSTS} agent hosts, got {v}")
+    return v
+
+
+def _link_spec(text):
+    try:
+        return hosts.parse_link(text)
+    except hosts.HostsError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
 
 
 def _kill_spec(text):
@@ -107,6 +122,10 @@ def _add_run_flags(p, demo=False):
     p.add_argument("--no-pictures", action="store_true", help="do not draw the pictures at the end")
     p.add_argument("--ticks", type=_int_at_least(0), nargs="+", default=[], metavar="T",
                    help="also draw snapshots at these ticks")
+    p.add_argument("--hosts", type=_hosts_count, metavar="K",
+                   help="emulate K agent hosts and the world's as network namespaces joined by a bridge (root "
+                        "only): the world in its own, agent i on host i mod K, over real UDP (docs/multi-host.md)")
+    p.add_argument("--link", type=_link_spec, metavar="SPEC", help=hosts.LINK_HELP)
     p.add_argument("--in-process", action="store_true",
                    help="run every robot's controller inside one process (swarm_inprocess; no DDS, "
                         "deterministic, fast); same run directory")
@@ -245,6 +264,10 @@ def main(argv=None):
         parser.print_help(sys.stderr)
         return 2
     if args.command in ("run", "demo"):
+        if args.link and not args.hosts:
+            parser.error("--link shapes the links of emulated hosts: it needs --hosts K")
+        if args.hosts and args.in_process:
+            parser.error("--hosts and --in-process exclude each other (an in-process run has no network)")
         if args.command == "demo" or args.scenario is None:
             args.scenario = DEFAULT_SCENARIO
             if not os.path.isfile(args.scenario):

@@ -11,11 +11,13 @@ Order of a run:
      run (a refused claim, a lost id) is a loud warning with the last line of its log;
   4. the world's `progress` lines become one status line; every other line it prints is shown and logged;
   5. when the world exits, the agents get a deadline to exit, then SIGKILL.
+With --hosts K the world and each agent start inside their emulated host's network namespace (hosts.py),
+and the namespaces are removed in the same `finally` that kills the processes.
 A `restart id=K` line of the world (a scheduled restart fault) starts a new agent K (faults.py).
 Ctrl-C, SIGTERM and SIGHUP only set a flag that the loop (which polls, never blocks) acts on: the world gets
 SIGTERM (it closes the recording and writes summary.json), then every process we started is killed by pid and
 by group, and the launcher exits 130. Every child also has PR_SET_PDEATHSIG = SIGKILL, so even a SIGKILLed
-launcher leaves nothing behind.
+launcher leaves no process behind (its --hosts namespaces are removed by the next --hosts run).
 """
 
 import ctypes
@@ -32,6 +34,7 @@ import time
 
 from . import domains
 from . import faults
+from . import hosts as hosts_mod
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 PROGRESS = re.compile(r"^progress tick=(\d+) alive=(\d+)/(\d+) tps=([0-9.eE+-]+|nan|inf)")
@@ -151,6 +154,8 @@ class Processes:
         self.groups = set()
         self.world = None
         self._files = []
+        # rid -> (command prefix, extra flags): where agent rid runs (hosts.Hosts.agent_wrap under --hosts)
+        self.placement = None
 
     def _log(self, path):
         f = open(path, "ab")
@@ -158,8 +163,9 @@ class Processes:
         return f
 
     def start_agent(self, exe, rid, domain, log_path, run_nonce=None):
-        cmd = [exe, "--id", str(rid)] + (["--domain", str(domain)] if domain is not None else [])
-        cmd += ["--run-nonce", run_nonce] if run_nonce else []
+        wrap, extra = self.placement(rid) if self.placement else ([], [])
+        cmd = wrap + [exe, "--id", str(rid)] + (["--domain", str(domain)] if domain is not None else [])
+        cmd += (["--run-nonce", run_nonce] if run_nonce else []) + extra
         log = self._log(log_path)
         group = next(iter(self.groups), 0)
         try:
@@ -403,9 +409,15 @@ def run(args, render_pictures):
     procs = Processes()
     status = Status()
     lease = None
+    hosts = None
     try:
         if args.in_process:
             return _run_in_process(args, stop, status, render_pictures)
+        if getattr(args, "hosts", None):
+            try:
+                hosts_mod.check_can_make_hosts()
+            except hosts_mod.HostsError as e:
+                raise LaunchError(str(e), EXIT_BAD_INPUT) from None
         world_exe, agent_exe = executable("world"), executable("agent")
         info = check_scenario(world_exe, args)
         if stop:
@@ -418,11 +430,14 @@ def run(args, render_pictures):
         status.line(f"swarm: {n} robot agents, {info.get('mode', '?')} mode, up to {max_ticks} ticks, "
                     f"seed {info.get('seed')}; run directory {run_dir}")
         domain = args.domain
-        if domain is not None and not domains.ports_free(domain):
+        if getattr(args, "hosts", None):
+            hosts = _make_hosts(args, status, run_dir, n)
+            domain = 0 if domain is None else domain  # the run's own namespaces: no other run to avoid
+        elif domain is not None and not domains.ports_free(domain):
             ports = " and ".join(str(p) for p in domains.world_ports(domain))
             raise LaunchError(f"DDS domain {domain} is in use on this host (UDP port {ports} held: another run's "
                               "world?); choose another --domain, or leave it out to pick a free one")
-        if domain is None:
+        if domain is None and hosts is None:
             try:
                 lease = domains.pick_free_domain()
             except (domains.DomainError, OSError) as e:
@@ -433,6 +448,10 @@ def run(args, render_pictures):
         agents_json = os.path.join(run_dir, "agents.json")
         cmd = [world_exe] + overrides(args) + ["--out", run_dir, "--domain", str(domain), "--run-nonce", nonce,
                                                "--agent-pids", agents_json]
+        if hosts is not None:
+            wrap, extra = hosts.world_wrap()
+            cmd = wrap + cmd + extra
+            procs.placement = hosts.agent_wrap
 
         def start_agents():  # at the world's `world ready`: its mission is out
             for rid in range(n):
@@ -483,9 +502,36 @@ def run(args, render_pictures):
         procs.stop_world(WORLD_STOP_DEADLINE_S)
         procs.kill_agents()
         _close_quietly(procs)
+        if hosts is not None:
+            hosts.remove()
         if lease:
             lease.release()
         stop.restore()
+
+
+def _make_hosts(args, status, run_dir, robots):
+    """--hosts: the namespaces of this run (after removing a crashed run's), described in hosts.json."""
+    try:
+        for prefix in hosts_mod.remove_leftovers():
+            status.line(f"swarm: removed the namespaces left by a --hosts run that did not end cleanly ({prefix}-*)")
+        hosts = hosts_mod.Hosts(args.hosts, args.link)
+    except hosts_mod.HostsError as e:
+        raise LaunchError(str(e), EXIT_BAD_INPUT) from None
+    if args.hosts > robots:
+        raise LaunchError(f"--hosts {args.hosts}: more agent hosts than the run's {robots} robots", EXIT_BAD_INPUT)
+    try:
+        hosts.create()
+    except hosts_mod.HostsError as e:
+        raise LaunchError(str(e), EXIT_BAD_INPUT if "--link" in str(e) else EXIT_WORLD_FAILED) from None
+    try:
+        hosts_mod.write_description(hosts, run_dir, robots)
+    except BaseException:
+        hosts.remove()
+        raise
+    link = " ".join(f"{k} {v:g}%" if k == "loss" else f"{k} {v}" for k, v in hosts.link.items())
+    status.line(f"swarm: {args.hosts} agent hosts and the world's, as network namespaces {hosts.prefix}-*"
+                f"{'; links: ' + link if link else ''} (hosts.json)")
+    return hosts
 
 
 def _os_error_line(e):
