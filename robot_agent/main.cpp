@@ -18,6 +18,7 @@
 
 #include "common/dds/robot_block.hpp"
 #include "common/dds/robot_process.hpp"
+#include "common/dds/security_config.hpp"
 #include "common/dds/signal_watch.hpp"
 #include "common/input_error.hpp"
 #include "robot_agent/controller/controller.hpp"
@@ -37,6 +38,7 @@ struct Options {
   double world_timeout_s = 10.0;
   std::string run_nonce;
   std::uint32_t count = 1;
+  std::string security_dir;
 };
 
 constexpr int kExitLostId = 5;
@@ -48,6 +50,9 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
   settings.role = swarmform::dds::Role::Agent;
   settings.world_host = o.world_host;
   settings.interface_address = o.interface_address;
+  if (!o.security_dir.empty()) {
+    settings.security = swarmform::dds::security_files(o.security_dir, swarmform::dds::robot_identity(o.id));
+  }
   swarmform::agent::LinkOptions lo;
   lo.world_timeout_s = o.world_timeout_s;
   if (!o.run_nonce.empty()) lo.run_nonce = std::stoull(o.run_nonce, nullptr, 16);  // checked in main
@@ -189,6 +194,11 @@ int main(int argc, char** argv) {
                  "(faster to start than as many executables); this process supervises them and prints "
                  "'robot_agent: id K pid P' for each")
       ->check(CLI::Range(1u, swarmform::dds::kMaxRobotBlock));
+  app.add_option(
+      "--security-dir", o.security_dir,
+      "DDS Security: the run's security directory (made by `swarm run --secure`); this robot "
+      "authenticates as robot-K with DIR/robot-K.pem, .key and .permissions.p7s, and talks only to "
+      "participants of the same authority (docs/security.md)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

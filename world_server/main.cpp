@@ -12,6 +12,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "common/dds/security_config.hpp"
 #include "common/dds/signal_watch.hpp"
 #include "common/input_error.hpp"
 #include "world_server/server.hpp"
@@ -48,6 +49,7 @@ struct Options {
   std::string run_nonce;
   std::string agent_pids_file;
   bool check = false;
+  std::string security_dir;
 };
 
 // "A<sep>B" with two unsigned integers; throws std::invalid_argument naming the flag.
@@ -105,6 +107,9 @@ int run(const Options& o) {
   so.dds.domain = o.domain;
   so.dds.role = swarmform::dds::Role::World;
   so.dds.interface_address = o.interface_address;
+  if (!o.security_dir.empty()) {
+    so.dds.security = swarmform::dds::security_files(o.security_dir, swarmform::dds::world_identity());
+  }
   so.connect_timeout_s = o.connect_timeout_s;
   so.warmup_ticks = o.warmup_ticks;
   so.agent_pids_file = o.agent_pids_file;
@@ -166,6 +171,12 @@ int main(int argc, char** argv) {
                  "ticks left out of summary.json's steady_ticks_per_second (default 100; the first ticks of "
                  "freshly started agents are slower)")
       ->check(CLI::Range(Tick{0}, Tick{1000000000}));
+  app.add_option(
+      "--security-dir", o.security_dir,
+      "DDS Security: the run's security directory (made by `swarm run --secure`); the world "
+      "authenticates as `world` (DIR/world.pem, .key, .permissions.p7s), talks only to participants "
+      "of the same authority, and gives id K only to the participant authenticated as robot K "
+      "(docs/security.md)");
   app.add_flag("--check", o.check, "load and validate the scenario, print a JSON line, exit");
   app.footer(kExitCodes);
   try {

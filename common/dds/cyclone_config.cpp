@@ -73,6 +73,7 @@ std::string cyclone_config_xml(const DdsSettings& s) {
   xml += "<LeaseDuration>5s</LeaseDuration></Discovery>";
   // iceoryx shared memory is compiled in but loses samples with keep-last 1 and ignores partitions in 0.10.2.
   xml += "<SharedMemory><Enable>false</Enable></SharedMemory>";
+  if (s.security) xml += security_config_xml(*s.security);
   xml += "</Domain></CycloneDDS>";
   return xml;
 }

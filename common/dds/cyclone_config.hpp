@@ -10,8 +10,11 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "common/dds/security_config.hpp"
 
 namespace swarmform::dds {
 
@@ -32,6 +35,9 @@ struct DdsSettings {
   // Agent role: more discovery peers ("host:port") beside the world. For test programs that play a forger
   // on the host, which peers with an agent directly (tests/integration/rogue_agent.cpp forge).
   std::vector<std::string> extra_peers;
+  // DDS Security (`--security-dir`, issue 19): when set, the domain's <Security> section
+  // (security_config.hpp); the participant then talks only to participants of the same run's authority.
+  std::optional<SecurityFiles> security;
 };
 
 inline constexpr std::uint32_t kMaxDomain = 232;

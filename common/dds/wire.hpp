@@ -59,6 +59,9 @@ class Participant {
   dds_entity_t get() const;
   struct Topics;
   const Topics& topics() const;
+  // Made with DDS Security (DdsSettings::security): commands then travel in their robot's partition
+  // (CommandWriter, CommandReader), where the access control lets only that robot's identity write.
+  bool secure() const;
 
  private:
   struct Impl;
@@ -228,7 +231,12 @@ struct CommandSample {
 
 class CommandWriter {
  public:
-  explicit CommandWriter(const Participant& participant, bool realtime = false);
+  // `robot`: the robot whose commands this writer carries. On a secure participant it is required and the
+  // writer is in partition robot/K, the only one robot K's permissions let it write (docs/security.md);
+  // otherwise the writer is in the default partition and may write for any id (the world binds ids to
+  // writers).
+  explicit CommandWriter(const Participant& participant, bool realtime = false,
+                         std::optional<RobotId> robot = std::nullopt);
   ~CommandWriter();
   CommandWriter(const CommandWriter&) = delete;
   CommandWriter& operator=(const CommandWriter&) = delete;
@@ -280,6 +288,11 @@ class CommandReader {
   void take_liveliness_changes(std::vector<LivelinessChange>& out);
   // Samples dropped by the `accept_ids` filter so far (thread-safe).
   std::uint64_t filtered() const;
+  // On a secure participant (the reader then reads partition robot/*): the robot whose partition `writer`
+  // writes in, when it writes in exactly one partition robot/K. DDS Security let that writer match only if
+  // its participant's certificate and permissions are robot K's, so this is the writer's authenticated robot
+  // id. Looked up once per writer. nullopt: not secure, unknown writer, or any other partition set.
+  std::optional<RobotId> authenticated_robot(PublicationHandle writer);
 
  private:
   struct Impl;

@@ -107,6 +107,11 @@ def _add_run_flags(p, demo=False):
     p.add_argument("--no-pictures", action="store_true", help="do not draw the pictures at the end")
     p.add_argument("--ticks", type=_int_at_least(0), nargs="+", default=[], metavar="T",
                    help="also draw snapshots at these ticks")
+    p.add_argument("--secure", action="store_true",
+                   help="DDS Security: a certificate authority, a certificate per robot, the world and an observer, "
+                        "signed governance and permissions, made fresh in RUN_DIR/security (keys 0600); traffic "
+                        "is encrypted, only this run's identities take part, robot K reads only its own packets "
+                        "and only robot K's identity may claim id K (docs/security.md)")
     p.add_argument("--in-process", action="store_true",
                    help="run every robot's controller inside one process (swarm_inprocess; no DDS, "
                         "deterministic, fast); same run directory")

@@ -32,6 +32,7 @@ import time
 
 from . import domains
 from . import faults
+from . import security
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 PROGRESS = re.compile(r"^progress tick=(\d+) alive=(\d+)/(\d+) tps=([0-9.eE+-]+|nan|inf)")
@@ -150,6 +151,7 @@ class Processes:
         self.agents = {}  # id -> Popen
         self.groups = set()
         self.world = None
+        self.agent_args = []  # given to every agent (--security-dir under --secure)
         self._files = []
 
     def _log(self, path):
@@ -160,6 +162,7 @@ class Processes:
     def start_agent(self, exe, rid, domain, log_path, run_nonce=None):
         cmd = [exe, "--id", str(rid)] + (["--domain", str(domain)] if domain is not None else [])
         cmd += ["--run-nonce", run_nonce] if run_nonce else []
+        cmd += self.agent_args
         log = self._log(log_path)
         group = next(iter(self.groups), 0)
         try:
@@ -404,6 +407,8 @@ def run(args, render_pictures):
     status = Status()
     lease = None
     try:
+        if args.in_process and getattr(args, "secure", False):
+            raise LaunchError("--secure secures DDS, and --in-process runs without DDS: choose one", EXIT_BAD_INPUT)
         if args.in_process:
             return _run_in_process(args, stop, status, render_pictures)
         world_exe, agent_exe = executable("world"), executable("agent")
@@ -429,10 +434,21 @@ def run(args, render_pictures):
                 raise LaunchError(str(e)) from None
             domain = lease.domain
             status.line(f"swarm: DDS domain {domain} (free on this host; --domain D chooses one)")
+        secure_args = []
+        if getattr(args, "secure", False):
+            made = time.monotonic()
+            try:
+                sec_dir = security.make_security_dir(run_dir, n, domain)
+            except (security.SecurityError, OSError) as e:
+                raise LaunchError(f"--secure: {e}") from None
+            secure_args = ["--security-dir", sec_dir]
+            procs.agent_args = list(secure_args)
+            status.line(f"swarm: DDS Security: a certificate authority and {n + 2} identities made in "
+                        f"{time.monotonic() - made:.1f} s in {sec_dir} (keys 0600; docs/security.md)")
         nonce = domains.run_nonce()
         agents_json = os.path.join(run_dir, "agents.json")
         cmd = [world_exe] + overrides(args) + ["--out", run_dir, "--domain", str(domain), "--run-nonce", nonce,
-                                               "--agent-pids", agents_json]
+                                               "--agent-pids", agents_json] + secure_args
 
         def start_agents():  # at the world's `world ready`: its mission is out
             for rid in range(n):
