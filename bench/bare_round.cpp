@@ -115,7 +115,8 @@ int run_robot(RobotId id, const Payload& payload, std::uint32_t domain, const st
   dds::Participant participant(settings);
   dds::Waiter waiter(participant);
   dds::AgentInbox inbox(participant, id, waiter);
-  dds::CommandWriter commands(participant, /*realtime=*/false, id);
+  dds::CommandWriter commands(participant, /*realtime=*/false,
+                              participant.secure() ? std::optional<RobotId>(id) : std::nullopt);
   // Against world_server: its mission names the run, whose nonce every claim and command must carry (the
   // bare world publishes none, and takes anything).
   dds::MissionReader mission(participant);

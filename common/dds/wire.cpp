@@ -705,8 +705,10 @@ struct CommandWriter::Impl {
 CommandWriter::CommandWriter(const Participant& participant, bool realtime, std::optional<RobotId> robot)
     : impl_(std::make_unique<Impl>()) {
   dds_entity_t parent = participant.get();
-  if (participant.secure()) {
-    if (!robot) throw std::logic_error("CommandWriter on a secure participant needs its robot id");
+  if (participant.secure() && !robot) {
+    throw std::logic_error("CommandWriter on a secure participant needs its robot id");
+  }
+  if (robot) {
     impl_->publisher = make_partitioned(participant.get(), robot_partition(*robot), true);
     parent = impl_->publisher.get();
   }

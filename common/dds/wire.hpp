@@ -231,10 +231,9 @@ struct CommandSample {
 
 class CommandWriter {
  public:
-  // `robot`: the robot whose commands this writer carries. On a secure participant it is required and the
-  // writer is in partition robot/K, the only one robot K's permissions let it write (docs/security.md);
-  // otherwise the writer is in the default partition and may write for any id (the world binds ids to
-  // writers).
+  // `robot`: put the writer in robot K's partition robot/K, where a secure world reads commands (required on
+  // a secure participant: robot K's permissions let it write only there, docs/security.md). Without it the
+  // writer is in the default partition, where a world without security reads them (it binds ids to writers).
   explicit CommandWriter(const Participant& participant, bool realtime = false,
                          std::optional<RobotId> robot = std::nullopt);
   ~CommandWriter();
