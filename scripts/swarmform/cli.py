@@ -7,7 +7,7 @@ import argparse
 import os
 import sys
 
-from . import faults, launcher
+from . import faults, launcher, security
 
 DEFAULT_SCENARIO = os.path.join("scenarios", "paper.yaml")
 
@@ -256,6 +256,11 @@ def main(argv=None):
                 args.scenario = os.path.join(launcher.ROOT, DEFAULT_SCENARIO)
             if not os.path.isfile(args.scenario):
                 parser.error(f"the default scenario {DEFAULT_SCENARIO} is missing")
+        if args.secure and args.in_process:
+            parser.error("--secure secures DDS and --in-process runs without it: choose one")
+        if args.secure and args.domain is not None and args.domain > security.MAX_SECURE_DOMAIN:
+            parser.error(f"--secure: DDS domain {args.domain} is above {security.MAX_SECURE_DOMAIN}, the highest "
+                         "Cyclone 0.10.2's access control takes")
         if os.environ.get("SWARM_PARSE_ONLY") == "1":  # scripts/swarm checks the flags before it builds
             return 0
         code = launcher.run(args, lambda run_dir: render_pictures(run_dir, args.ticks))

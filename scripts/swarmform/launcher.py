@@ -407,8 +407,6 @@ def run(args, render_pictures):
     status = Status()
     lease = None
     try:
-        if args.in_process and getattr(args, "secure", False):
-            raise LaunchError("--secure secures DDS, and --in-process runs without DDS: choose one", EXIT_BAD_INPUT)
         if args.in_process:
             return _run_in_process(args, stop, status, render_pictures)
         world_exe, agent_exe = executable("world"), executable("agent")
