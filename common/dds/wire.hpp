@@ -48,7 +48,7 @@ std::string robot_partition(RobotId id);  // "robot/<id>"
 // True once `writer` has matched at least one reader (before that, what it writes goes to nobody).
 bool writer_matched(dds_entity_t writer);
 
-// The domain (created from cyclone_config_xml), the participant and the five topics.
+// The domain (created from cyclone_config_xml), the participant and its topics (made on first use).
 class Participant {
  public:
   explicit Participant(const DdsSettings& settings);

@@ -6,6 +6,7 @@
 - meanwhile a participant with no certificate and one with a certificate of another authority, on the same
   domain, receive 0 samples and match no reader with their writes, though discovery shows them the world;
 - robot 3 of the run, authenticated, claims other robots' ids: the world refuses each for its identity;
+- the same listener with the run's observer identity does hear (the mission, the world state): the control;
 - robot 3's certificate cannot subscribe to robot 4's packets (and can to its own);
 - a key readable by others is refused by the programs, naming the file.
 Each wait has a deadline; every process started here is killed by pid; temporary folders are removed.
@@ -97,6 +98,9 @@ class SecureRunTest(unittest.TestCase):
         time.sleep(0.5)  # the last file is written (created first, then filled)
         impostor = self.spawn([OUTSIDER, "--domain", str(domain), "--security-dir", sec, "--identity", "robot-3",
                                "impostor", "--robots", str(ROBOTS), "--seconds", "4"], "impostor.txt")
+        # The control: the same listener with this run's observer identity hears the mission and the world state.
+        observer = self.spawn([OUTSIDER, "--domain", str(domain), "--security-dir", sec, "--identity", "observer"]
+                              + ["listen", "--robots", str(ROBOTS), "--seconds", "6"], "observer.txt")
         text, _ = run.communicate(timeout=240)
         self.assertEqual(run.returncode, 0, text)
 
@@ -125,6 +129,12 @@ class SecureRunTest(unittest.TestCase):
             world_log = f.read()
         self.assertIn("the claimant is authenticated as robot 3, not robot", world_log)
         self.assertNotIn("claimed by pid 1\n", world_log, "an impostor's claim was accepted")
+
+        # The observer of this run reads (the outsiders' zeros below are not a deaf program's), and its own
+        # permissions refused it every robot's packets and every command writer.
+        obs = counts(self.output(observer, "observer.txt", 30), "outsider")
+        self.assertGreater(obs["samples"], 0)
+        self.assertEqual((obs["readers"], obs["writers"], obs["skipped"]), (2, 0, 2 * ROBOTS))
 
         # Outsiders: discovery shows them the world, nothing else passes either way.
         for p, name in ((bare, "bare.txt"), (stranger, "stranger.txt")):
