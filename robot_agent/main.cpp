@@ -74,7 +74,12 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
       return stopped(128 + signals.signal());
     default:
       std::cerr << me << ": no world on DDS domain " << o.domain << " (peer " << o.world_host << ") within "
-                << o.timeout_s << " s; is world_server running?\n";
+                << o.timeout_s << " s; is world_server running"
+                << (o.security_dir.empty()
+                        ? std::string("?")
+                        : " with DDS Security, from the same run's directory as --security-dir " +
+                              o.security_dir + "?")
+                << "\n";
       return stopped(3);
   }
 

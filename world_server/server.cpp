@@ -229,7 +229,11 @@ bool Server::connect_agents() {
       } else {
         std::cerr << "world_server: " << n - registry_.connected_count() << " of " << n
                   << " agents missing after " << options_.connect_timeout_s
-                  << " s: " << ids_text(registry_.missing()) << "\n";
+                  << " s: " << ids_text(registry_.missing())
+                  << (link_.participant.secure()
+                          ? " (DDS Security: only agents started with this run's --security-dir can connect)"
+                          : "")
+                  << "\n";
       }
       return false;
     }
