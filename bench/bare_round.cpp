@@ -6,6 +6,7 @@
 //   bare_round [--domain D] [--interface ADDR] robot --id K [--count N] [--world-host ADDR]
 //   (--count: robots K..K+N-1, forked from one process; --world-host/--interface: on other (emulated) hosts,
 //   as world_server's and robot_agent's flags of the same names)
+//   --security-dir DIR (before the subcommand): both sides with DDS Security, as `swarm run --secure`
 //
 // The world waits for N claims, then each round writes one SensorPacket per robot (with a few neighbour
 // messages, as the random walk's) and waits for every robot's Command of that round. It prints one JSON line:
@@ -19,6 +20,7 @@
 #include "common/dds/refusal_log.hpp"
 #include "common/dds/robot_block.hpp"
 #include "common/dds/robot_process.hpp"
+#include "common/dds/security_config.hpp"
 #include "common/dds/signal_watch.hpp"
 #include "common/dds/wire.hpp"
 
@@ -35,8 +37,10 @@ struct Payload {
 };
 
 int run_world(std::uint32_t robots, std::uint32_t rounds, std::uint32_t warmup, const Payload& payload,
-              dds::DdsSettings settings, double timeout_s, dds::SignalWatch& signals) {
+              dds::DdsSettings settings, const std::string& security_dir, double timeout_s,
+              dds::SignalWatch& signals) {
   settings.role = dds::Role::World;
+  if (!security_dir.empty()) settings.security = dds::security_files(security_dir, dds::world_identity());
   dds::Participant participant(settings);
   dds::Waiter waiter(participant);
   dds::RobotChannels channels(participant, robots);
@@ -102,13 +106,15 @@ int run_world(std::uint32_t robots, std::uint32_t rounds, std::uint32_t warmup, 
   return 0;
 }
 
-int run_robot(RobotId id, const Payload& payload, dds::DdsSettings settings, double timeout_s,
-              dds::SignalWatch& signals) {
+int run_robot(RobotId id, const Payload& payload, dds::DdsSettings settings, const std::string& security_dir,
+              double timeout_s, dds::SignalWatch& signals) {
   settings.role = dds::Role::Agent;
+  if (!security_dir.empty()) settings.security = dds::security_files(security_dir, dds::robot_identity(id));
   dds::Participant participant(settings);
   dds::Waiter waiter(participant);
   dds::AgentInbox inbox(participant, id, waiter);
-  dds::CommandWriter commands(participant);
+  dds::CommandWriter commands(participant, /*realtime=*/false,
+                              participant.secure() ? std::optional<RobotId>(id) : std::nullopt);
   // Against world_server: its mission names the run, whose nonce every claim and command must carry (the
   // bare world publishes none, and takes anything).
   dds::MissionReader mission(participant);
@@ -162,6 +168,10 @@ int main(int argc, char** argv) {
   app.add_option("--interface", net.interface_address,
                  "local interface address (default: loopback for the world, and for robots whose world is on "
                  "loopback)");
+  std::string security_dir;
+  app.add_option("--security-dir", security_dir,
+                 "DDS Security with the identities of this directory (made by `swarm run --secure` or "
+                 "scripts/bench-lockstep --secure): the world as `world`, robot K as `robot-K`");
   auto* world = app.add_subcommand("world", "the world side");
   std::uint32_t robots = 16, rounds = 2000, warmup = 100;
   world->add_option("--robots", robots, "robot processes to wait for")->check(CLI::Range(1u, 1024u));
@@ -205,7 +215,7 @@ int main(int argc, char** argv) {
           [&](std::uint32_t one) {
             try {
               dds::SignalWatch signals;
-              return run_robot(one, payload, net, timeout_s, signals);
+              return run_robot(one, payload, net, security_dir, timeout_s, signals);
             } catch (const std::exception& e) {
               std::cerr << "bare_round: " << e.what() << "\n";
               return 1;
@@ -219,8 +229,9 @@ int main(int argc, char** argv) {
   }
   try {
     dds::SignalWatch signals;
-    if (world->parsed()) return run_world(robots, rounds, warmup, payload, net, timeout_s, signals);
-    return run_robot(id, payload, net, timeout_s, signals);
+    if (world->parsed())
+      return run_world(robots, rounds, warmup, payload, net, security_dir, timeout_s, signals);
+    return run_robot(id, payload, net, security_dir, timeout_s, signals);
   } catch (const std::exception& e) {
     std::cerr << "bare_round: " << e.what() << "\n";
     return 1;

@@ -54,7 +54,9 @@ WaitResult AgentLink::wait_mission(double timeout_s, dds::MissionAnnouncement& o
         inbox_.emplace(participant_, self_, waiter_, out.realtime);
         inbox_->bind(dds::WorldBinding{out.world, out.run_nonce}, who_);
         waiter_.attach(inbox_->packet_condition());
-        commands_.emplace(participant_, out.realtime);
+        // Secure: in its own partition robot/K, the only one its permissions let it write (docs/security.md).
+        commands_.emplace(participant_, out.realtime,
+                          participant_.secure() ? std::optional<RobotId>(self_) : std::nullopt);
         commands_->set_stamp(out.run_nonce);
       }
       return WaitResult::Ok;

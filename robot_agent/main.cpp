@@ -20,6 +20,7 @@
 
 #include "common/dds/robot_block.hpp"
 #include "common/dds/robot_process.hpp"
+#include "common/dds/security_config.hpp"
 #include "common/dds/signal_watch.hpp"
 #include "common/input_error.hpp"
 #include "robot_agent/controller/controller.hpp"
@@ -42,6 +43,7 @@ struct Options {
   std::string dds_config;                                 // --dds-config FILE
   std::optional<swarmform::dds::UserDdsConfig> user_dds;  // resolved from it or CYCLONEDDS_URI
   bool print_dds_config = false;
+  std::string security_dir;
 };
 
 swarmform::dds::DdsSettings dds_settings(const Options& o) {
@@ -51,6 +53,9 @@ swarmform::dds::DdsSettings dds_settings(const Options& o) {
   settings.world_host = o.world_host;
   settings.interface_address = o.interface_address;
   settings.user = o.user_dds;
+  if (!o.security_dir.empty()) {
+    settings.security = swarmform::dds::security_files(o.security_dir, swarmform::dds::robot_identity(o.id));
+  }
   return settings;
 }
 
@@ -80,7 +85,12 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
       return stopped(128 + signals.signal());
     default:
       std::cerr << me << ": no world on DDS domain " << o.domain << " (peer " << o.world_host << ") within "
-                << o.timeout_s << " s; is world_server running?\n";
+                << o.timeout_s << " s; is world_server running"
+                << (o.security_dir.empty()
+                        ? std::string("?")
+                        : " with DDS Security, from the same run's directory as --security-dir " +
+                              o.security_dir + "?")
+                << "\n";
       return stopped(3);
   }
 
@@ -209,6 +219,11 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     if (std::string(argv[i]) == "--print-dds-config") id_option->required(false);
   }
+  app.add_option(
+      "--security-dir", o.security_dir,
+      "DDS Security: the run's security directory (made by `swarm run --secure`); this robot "
+      "authenticates as robot-K with DIR/robot-K.pem, .key and .permissions.p7s, and talks only to "
+      "participants of the same authority (docs/security.md)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -13,6 +13,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "common/dds/security_config.hpp"
 #include "common/dds/signal_watch.hpp"
 #include "common/input_error.hpp"
 #include "world_server/server.hpp"
@@ -51,6 +52,7 @@ struct Options {
   bool check = false;
   std::string dds_config;  // --dds-config FILE
   bool print_dds_config = false;
+  std::string security_dir;
 };
 
 // "A<sep>B" with two unsigned integers; throws std::invalid_argument naming the flag.
@@ -89,6 +91,9 @@ swarmform::dds::DdsSettings dds_settings(const Options& o) {
   settings.role = swarmform::dds::Role::World;
   settings.interface_address = o.interface_address;
   settings.user = swarmform::dds::user_dds_config(o.dds_config, std::getenv("CYCLONEDDS_URI"));
+  if (!o.security_dir.empty()) {
+    settings.security = swarmform::dds::security_files(o.security_dir, swarmform::dds::world_identity());
+  }
   return settings;
 }
 
@@ -181,6 +186,12 @@ int main(int argc, char** argv) {
                  "ticks left out of summary.json's steady_ticks_per_second (default 100; the first ticks of "
                  "freshly started agents are slower)")
       ->check(CLI::Range(Tick{0}, Tick{1000000000}));
+  app.add_option(
+      "--security-dir", o.security_dir,
+      "DDS Security: the run's security directory (made by `swarm run --secure`); the world "
+      "authenticates as `world` (DIR/world.pem, .key, .permissions.p7s), talks only to participants "
+      "of the same authority, and gives id K only to the participant authenticated as robot K "
+      "(docs/security.md)");
   app.add_flag("--check", o.check, "load and validate the scenario, print a JSON line, exit");
   app.add_option("--dds-config", o.dds_config,
                  "FILE: a Cyclone DDS XML configuration merged on top of the built-in one (default: the file "

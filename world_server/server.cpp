@@ -229,7 +229,11 @@ bool Server::connect_agents() {
       } else {
         std::cerr << "world_server: " << n - registry_.connected_count() << " of " << n
                   << " agents missing after " << options_.connect_timeout_s
-                  << " s: " << ids_text(registry_.missing()) << "\n";
+                  << " s: " << ids_text(registry_.missing())
+                  << (link_.participant.secure()
+                          ? " (DDS Security: only agents started with this run's --security-dir can connect)"
+                          : "")
+                  << "\n";
       }
       return false;
     }
@@ -354,6 +358,22 @@ void Server::on_claim(const dds::CommandSample& s, bool running) {
     }
     refusals_.refuse(s.writer, writer_text(s), "claim", why, dds_time());
     return;
+  }
+  if (link_.participant.secure()) {
+    // Under --secure an id goes only to the participant authenticated as that robot: its claim must come
+    // from a writer in partition robot/K, which DDS Security lets only robot K's certificate write.
+    const auto who = link_.commands.authenticated_robot(s.writer);
+    if (who != s.robot_id) {
+      const std::string why = who ? "the claimant is authenticated as robot " + std::to_string(*who) +
+                                        ", not robot " + std::to_string(s.robot_id)
+                                  : "the claimant's writer is not in partition " +
+                                        dds::robot_partition(s.robot_id) + " (under --secure only robot " +
+                                        std::to_string(s.robot_id) + "'s certificate may claim it)";
+      link_.robots.reply_claim(dds::ClaimAnswer{s.robot_id, s.nonce, false, why});
+      report(s, Abuse::RefusedClaim, "claim_refused",
+             "refused a claim of id " + std::to_string(s.robot_id) + ": " + why, true);
+      return;
+    }
   }
   const ClaimResult r = registry_.claim(s.robot_id, s.writer, s.pid);
   const bool accepted = r.outcome == ClaimOutcome::Accepted || r.outcome == ClaimOutcome::Repeated ||

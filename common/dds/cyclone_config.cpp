@@ -162,7 +162,8 @@ std::string cyclone_config_xml(const DdsSettings& s) {
                                 std::to_string(kMaxDomain));
   }
   return "<CycloneDDS><Domain id=\"any\">" + general_section(s) + discovery_section(s) +
-         shared_memory_section() + "</Domain></CycloneDDS>";
+         shared_memory_section() + (s.security ? security_config_xml(*s.security) : std::string()) +
+         "</Domain></CycloneDDS>";
 }
 
 std::string cyclone_config_string(const DdsSettings& s) {

@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include "common/dds/security_config.hpp"
+
 namespace swarmform::dds {
 
 enum class Role {
@@ -45,6 +47,9 @@ struct DdsSettings {
   std::vector<std::string> extra_peers;
   // A user's Cyclone XML merged on top of ours (user_dds_config), or none.
   std::optional<UserDdsConfig> user;
+  // DDS Security (`--security-dir`, issue 19): when set, the domain's <Security> section
+  // (security_config.hpp); the participant then talks only to participants of the same run's authority.
+  std::optional<SecurityFiles> security;
 };
 
 inline constexpr std::uint32_t kMaxDomain = 232;

@@ -14,6 +14,7 @@
 #include <mutex>
 #include <optional>
 #include <span>
+#include <stdexcept>
 #include <unordered_map>
 #include <utility>
 
@@ -29,14 +30,36 @@ namespace swarmform::dds {
 static_assert(kWireVersion == sfdds_WIRE_VERSION,
               "kWireVersion (wire.hpp) must equal the IDL's WIRE_VERSION");
 
+// Topics are created on first use: under DDS Security a participant may create only the topics its
+// permissions name (an agent's name no sf_world_state), so each process makes just the ones its endpoints
+// use.
 struct Participant::Topics {
-  Entity mission, sensor, command, world_state;
+  dds_entity_t mission() const { return get(mission_, kMission); }
+  dds_entity_t sensor() const { return get(sensor_, kSensor); }
+  dds_entity_t command() const { return get(command_, kCommand); }
+  dds_entity_t world_state() const { return get(world_state_, kWorldState); }
+  void reset() {
+    std::lock_guard lock(mutex_);
+    mission_.reset();
+    sensor_.reset();
+    command_.reset();
+    world_state_.reset();
+  }
+
+  dds_entity_t participant = 0;
+
+ private:
+  enum Which { kMission, kSensor, kCommand, kWorldState };
+  dds_entity_t get(Entity& slot, Which which) const;
+  mutable std::mutex mutex_;
+  mutable Entity mission_, sensor_, command_, world_state_;
 };
 
 struct Participant::Impl {
   Entity domain;
   Entity participant;
   Topics topics;
+  bool secure = false;
 };
 
 namespace {
@@ -50,7 +73,12 @@ constexpr std::uint32_t kTakeBatch = 64;
 constexpr std::int32_t kInboxDepth = 16;  // AgentInbox's history per instance (see its constructor)
 
 Entity make_topic(dds_entity_t participant, const dds_topic_descriptor_t* desc, const char* name) {
-  return Entity(dds_create_topic(participant, desc, name, nullptr, nullptr), "dds_create_topic");
+  const dds_entity_t topic = dds_create_topic(participant, desc, name, nullptr, nullptr);
+  if (topic == DDS_RETCODE_NOT_ALLOWED_BY_SECURITY) {
+    throw DdsError(std::string("dds_create_topic(") + name + "): not allowed by this identity's permissions",
+                   topic);
+  }
+  return Entity(topic, "dds_create_topic");
 }
 
 // A publisher or subscriber whose only partition is `partition`.
@@ -195,20 +223,48 @@ Participant::Participant(const DdsSettings& settings) : impl_(std::make_unique<I
     throw DdsError(what + ")", domain);
   }
   impl_->domain = Entity(domain, "dds_create_domain");
-  impl_->participant =
-      Entity(dds_create_participant(static_cast<dds_domainid_t>(settings.domain), nullptr, nullptr),
-             "dds_create_participant");
+  const dds_entity_t participant =
+      dds_create_participant(static_cast<dds_domainid_t>(settings.domain), nullptr, nullptr);
+  if (participant < 0 && settings.security) {
+    // Cyclone's security plugins say why on stderr (a certificate of another authority, an expired one,
+    // permissions that name another subject or are not signed by the CA): name the files here.
+    throw DdsError("dds_create_participant with DDS Security as '" + settings.security->identity +
+                       "' (certificate " + settings.security->certificate + ", permissions " +
+                       settings.security->permissions + ", governance " + settings.security->governance +
+                       "; Cyclone's message above says what it refused)",
+                   participant);
+  }
+  impl_->participant = Entity(participant, "dds_create_participant");
   const dds_entity_t p = impl_->participant.get();
-  impl_->topics.mission = make_topic(p, &sfdds_Mission_desc, kMissionTopic);
-  impl_->topics.sensor = make_topic(p, &sfdds_SensorPacket_desc, kSensorTopic);
-  impl_->topics.command = make_topic(p, &sfdds_Command_desc, kCommandTopic);
-  impl_->topics.world_state = make_topic(p, &sfdds_WorldState_desc, kWorldStateTopic);
+  impl_->topics.participant = p;
+  impl_->secure = settings.security.has_value();
+}
+
+dds_entity_t Participant::Topics::get(Entity& slot, Which which) const {
+  std::lock_guard lock(mutex_);
+  if (!slot) {
+    switch (which) {
+      case kMission:
+        slot = make_topic(participant, &sfdds_Mission_desc, kMissionTopic);
+        break;
+      case kSensor:
+        slot = make_topic(participant, &sfdds_SensorPacket_desc, kSensorTopic);
+        break;
+      case kCommand:
+        slot = make_topic(participant, &sfdds_Command_desc, kCommandTopic);
+        break;
+      case kWorldState:
+        slot = make_topic(participant, &sfdds_WorldState_desc, kWorldStateTopic);
+        break;
+    }
+  }
+  return slot.get();
 }
 
 Participant::~Participant() {
   // Children before the participant, the participant before the domain.
   if (impl_) {
-    impl_->topics = Topics{};
+    impl_->topics.reset();
     impl_->participant.reset();
     impl_->domain.reset();
   }
@@ -219,6 +275,9 @@ dds_entity_t Participant::get() const {
 }
 const Participant::Topics& Participant::topics() const {
   return impl_->topics;
+}
+bool Participant::secure() const {
+  return impl_->secure;
 }
 
 // ---- Waiter -----------------------------------------------------------------------------------------------
@@ -249,7 +308,7 @@ void Waiter::wake() {
 // ---- Mission ----------------------------------------------------------------------------------------------
 
 MissionWriter::MissionWriter(const Participant& participant)
-    : writer_(make_writer(participant.get(), participant.topics().mission.get(), Channel::Mission)) {}
+    : writer_(make_writer(participant.get(), participant.topics().mission(), Channel::Mission)) {}
 
 void MissionWriter::publish(const MissionAnnouncement& a) {
   const Mission& m = a.mission;
@@ -284,7 +343,7 @@ void MissionWriter::publish(const MissionAnnouncement& a) {
 }
 
 MissionReader::MissionReader(const Participant& participant)
-    : reader_(make_reader(participant.get(), participant.topics().mission.get(), Channel::Mission)),
+    : reader_(make_reader(participant.get(), participant.topics().mission(), Channel::Mission)),
       condition_(make_condition(reader_.get())) {}
 
 std::optional<MissionAnnouncement> MissionReader::take(std::optional<std::uint64_t> want_nonce,
@@ -356,7 +415,7 @@ sfdds_SensorPacket perception_key(RobotId id) {
 RobotChannel make_robot_channel(const Participant& p, RobotId id, Pace pace) {
   RobotChannel c;
   c.publisher = make_partitioned(p.get(), robot_partition(id), true);
-  c.sensor = make_writer(c.publisher.get(), p.topics().sensor.get(), Channel::Sensor, pace);
+  c.sensor = make_writer(c.publisher.get(), p.topics().sensor(), Channel::Sensor, pace);
   const sfdds_SensorPacket key = perception_key(id);
   keep_instance(c.sensor.get(), &key);
   return c;
@@ -588,9 +647,9 @@ AgentInbox::AgentInbox(const Participant& participant, RobotId self, Waiter& wai
     // world's own perception out before it is taken (docs/wire.md "Writer binding").
     Qos qos = make_qos(Channel::Sensor, pace_of(realtime));
     dds_qset_history(qos.get(), DDS_HISTORY_KEEP_LAST, kInboxDepth);
-    impl_->packets = Entity(
-        dds_create_reader(impl_->subscriber.get(), participant.topics().sensor.get(), qos.get(), listener),
-        "dds_create_reader(sensor)");
+    impl_->packets =
+        Entity(dds_create_reader(impl_->subscriber.get(), participant.topics().sensor(), qos.get(), listener),
+               "dds_create_reader(sensor)");
   } catch (...) {
     dds_delete_listener(listener);
     throw;
@@ -639,6 +698,7 @@ std::optional<ClaimAnswer> AgentInbox::take_claim_reply() {
 // ---- Commands ---------------------------------------------------------------------------------------------
 
 struct CommandWriter::Impl {
+  Entity publisher;  // secure: the robot's own partition
   Entity writer;
   std::uint64_t run_nonce = 0;
   std::uint16_t wire_version = kWireVersion;
@@ -647,10 +707,17 @@ struct CommandWriter::Impl {
   std::optional<RobotId> registered;  // the id whose instance is kept (keep_instance), from the first claim
 };
 
-CommandWriter::CommandWriter(const Participant& participant, bool realtime)
+CommandWriter::CommandWriter(const Participant& participant, bool realtime, std::optional<RobotId> robot)
     : impl_(std::make_unique<Impl>()) {
-  impl_->writer =
-      make_writer(participant.get(), participant.topics().command.get(), Channel::Command, pace_of(realtime));
+  dds_entity_t parent = participant.get();
+  if (participant.secure() && !robot) {
+    throw std::logic_error("CommandWriter on a secure participant needs its robot id");
+  }
+  if (robot) {
+    impl_->publisher = make_partitioned(participant.get(), robot_partition(*robot), true);
+    parent = impl_->publisher.get();
+  }
+  impl_->writer = make_writer(parent, participant.topics().command(), Channel::Command, pace_of(realtime));
 }
 CommandWriter::~CommandWriter() = default;
 dds_entity_t CommandWriter::get() const {
@@ -733,7 +800,10 @@ struct CommandReader::Impl {
   dds_entity_t topic = 0;                 // with the id filter set on it (0: none)
   std::uint32_t accept_ids = 0;
   std::atomic<std::uint64_t> filtered{0};
+  bool secure = false;
+  Entity subscriber;  // secure: partition robot/* (every robot's own)
   Entity reader, condition;
+  std::unordered_map<PublicationHandle, std::optional<RobotId>> authenticated;  // per writer, looked up once
 
   // Runs on Cyclone's receive thread for every sample, before the sample is stored: a sample for an id at or
   // above accept_ids never creates an instance in the reader (each costs ~0.9 KB for as long as its writer
@@ -770,7 +840,7 @@ CommandReader::CommandReader(const Participant& participant, Waiter& waiter, boo
   if (accept_ids > 0) {
     // Set before the reader exists (Cyclone's rule for topic filters); only the world reads this topic in
     // its participant.
-    impl_->topic = participant.topics().command.get();
+    impl_->topic = participant.topics().command();
     impl_->accept_ids = accept_ids;
     dds_topic_filter filter{};
     filter.mode = DDS_TOPIC_FILTER_SAMPLE_ARG;
@@ -778,11 +848,18 @@ CommandReader::CommandReader(const Participant& participant, Waiter& waiter, boo
     filter.arg = impl_.get();
     check(dds_set_topic_filter_extended(impl_->topic, &filter), "dds_set_topic_filter_extended(command)");
   }
+  dds_entity_t parent = participant.get();
+  if (participant.secure()) {
+    // Every robot's commands come in its own partition (CommandWriter); a wildcard reads them all.
+    impl_->secure = true;
+    impl_->subscriber = make_partitioned(participant.get(), "robot/*", false);
+    parent = impl_->subscriber.get();
+  }
   dds_listener_t* listener = dds_create_listener(impl_.get());
   dds_lset_liveliness_changed(listener, &Impl::on_liveliness);
   try {
-    impl_->reader = make_reader(participant.get(), participant.topics().command.get(), Channel::Command,
-                                listener, pace_of(realtime));
+    impl_->reader =
+        make_reader(parent, participant.topics().command(), Channel::Command, listener, pace_of(realtime));
   } catch (...) {
     dds_delete_listener(listener);
     throw;
@@ -805,6 +882,33 @@ CommandReader::~CommandReader() {
 
 std::uint64_t CommandReader::filtered() const {
   return impl_->filtered.load(std::memory_order_relaxed);
+}
+
+std::optional<RobotId> CommandReader::authenticated_robot(PublicationHandle writer) {
+  if (!impl_->secure) return std::nullopt;
+  if (auto it = impl_->authenticated.find(writer); it != impl_->authenticated.end()) return it->second;
+  dds_builtintopic_endpoint_t* e = dds_get_matched_publication_data(impl_->reader.get(), writer);
+  if (e == nullptr) return std::nullopt;  // gone already: asked again if it writes again
+  std::optional<RobotId> robot;
+  std::uint32_t n = 0;
+  char** names = nullptr;
+  if (dds_qget_partition(e->qos, &n, &names) && n == 1) {
+    const std::string name = names[0];
+    const std::string prefix = "robot/";
+    if (name.size() > prefix.size() && name.size() <= prefix.size() + 10 && name.rfind(prefix, 0) == 0 &&
+        name.find_first_not_of("0123456789", prefix.size()) == std::string::npos) {
+      const unsigned long long id = std::stoull(name.substr(prefix.size()));
+      if (id <= 0xffffffffULL && robot_partition(static_cast<RobotId>(id)) == name) {
+        robot = static_cast<RobotId>(id);
+      }
+    }
+  }
+  for (std::uint32_t i = 0; i < n; ++i) dds_free(names[i]);
+  dds_free(names);
+  dds_builtintopic_free_endpoint(e);
+  // Bounded: one entry per matched writer, and only matched (authenticated, permitted) writers get here.
+  impl_->authenticated.emplace(writer, robot);
+  return robot;
 }
 
 dds_entity_t CommandReader::condition() const {
@@ -867,7 +971,7 @@ struct WorldStateWriter::Impl {
 WorldStateWriter::WorldStateWriter(const Participant& participant, std::uint64_t run_nonce)
     : impl_(std::make_unique<Impl>()) {
   impl_->run_nonce = run_nonce;
-  impl_->writer = make_writer(participant.get(), participant.topics().world_state.get(), Channel::WorldState);
+  impl_->writer = make_writer(participant.get(), participant.topics().world_state(), Channel::WorldState);
 }
 WorldStateWriter::~WorldStateWriter() = default;
 
@@ -891,7 +995,7 @@ void WorldStateWriter::publish(Tick tick, bool finished, std::uint32_t alive,
 }
 
 WorldStateReader::WorldStateReader(const Participant& participant)
-    : reader_(make_reader(participant.get(), participant.topics().world_state.get(), Channel::WorldState)),
+    : reader_(make_reader(participant.get(), participant.topics().world_state(), Channel::WorldState)),
       condition_(make_condition(reader_.get())) {}
 
 std::optional<WorldStateHeader> WorldStateReader::take() {

@@ -48,7 +48,7 @@ std::string robot_partition(RobotId id);  // "robot/<id>"
 // True once `writer` has matched at least one reader (before that, what it writes goes to nobody).
 bool writer_matched(dds_entity_t writer);
 
-// The domain (created from cyclone_config_xml), the participant and the five topics.
+// The domain (created from cyclone_config_xml), the participant and its topics (made on first use).
 class Participant {
  public:
   explicit Participant(const DdsSettings& settings);
@@ -59,6 +59,9 @@ class Participant {
   dds_entity_t get() const;
   struct Topics;
   const Topics& topics() const;
+  // Made with DDS Security (DdsSettings::security): commands then travel in their robot's partition
+  // (CommandWriter, CommandReader), where the access control lets only that robot's identity write.
+  bool secure() const;
 
  private:
   struct Impl;
@@ -228,7 +231,11 @@ struct CommandSample {
 
 class CommandWriter {
  public:
-  explicit CommandWriter(const Participant& participant, bool realtime = false);
+  // `robot`: put the writer in robot K's partition robot/K, where a secure world reads commands (required on
+  // a secure participant: robot K's permissions let it write only there, docs/security.md). Without it the
+  // writer is in the default partition, where a world without security reads them (it binds ids to writers).
+  explicit CommandWriter(const Participant& participant, bool realtime = false,
+                         std::optional<RobotId> robot = std::nullopt);
   ~CommandWriter();
   CommandWriter(const CommandWriter&) = delete;
   CommandWriter& operator=(const CommandWriter&) = delete;
@@ -280,6 +287,11 @@ class CommandReader {
   void take_liveliness_changes(std::vector<LivelinessChange>& out);
   // Samples dropped by the `accept_ids` filter so far (thread-safe).
   std::uint64_t filtered() const;
+  // On a secure participant (the reader then reads partition robot/*): the robot whose partition `writer`
+  // writes in, when it writes in exactly one partition robot/K. DDS Security let that writer match only if
+  // its participant's certificate and permissions are robot K's, so this is the writer's authenticated robot
+  // id. Looked up once per writer. nullopt: not secure, unknown writer, or any other partition set.
+  std::optional<RobotId> authenticated_robot(PublicationHandle writer);
 
  private:
   struct Impl;

@@ -7,7 +7,7 @@ import argparse
 import os
 import sys
 
-from . import faults, hosts, launcher
+from . import faults, hosts, launcher, security
 
 DEFAULT_SCENARIO = os.path.join("scenarios", "paper.yaml")
 
@@ -126,6 +126,11 @@ def _add_run_flags(p, demo=False):
                    help="emulate K agent hosts and the world's as network namespaces joined by a bridge (root "
                         "only): the world in its own, agent i on host i mod K, over real UDP (docs/multi-host.md)")
     p.add_argument("--link", type=_link_spec, metavar="SPEC", help=hosts.LINK_HELP)
+    p.add_argument("--secure", action="store_true",
+                   help="DDS Security: a certificate authority, a certificate per robot, the world and an observer, "
+                        "signed governance and permissions, made fresh in RUN_DIR/security (keys 0600); traffic "
+                        "is encrypted, only this run's identities take part, robot K reads only its own packets "
+                        "and only robot K's identity may claim id K (docs/security.md)")
     p.add_argument("--in-process", action="store_true",
                    help="run every robot's controller inside one process (swarm_inprocess; no DDS, "
                         "deterministic, fast); same run directory")
@@ -274,6 +279,11 @@ def main(argv=None):
                 args.scenario = os.path.join(launcher.ROOT, DEFAULT_SCENARIO)
             if not os.path.isfile(args.scenario):
                 parser.error(f"the default scenario {DEFAULT_SCENARIO} is missing")
+        if args.secure and args.in_process:
+            parser.error("--secure secures DDS and --in-process runs without it: choose one")
+        if args.secure and args.domain is not None and args.domain > security.MAX_SECURE_DOMAIN:
+            parser.error(f"--secure: DDS domain {args.domain} is above {security.MAX_SECURE_DOMAIN}, the highest "
+                         "Cyclone 0.10.2's access control takes")
         if os.environ.get("SWARM_PARSE_ONLY") == "1":  # scripts/swarm checks the flags before it builds
             return 0
         code = launcher.run(args, lambda run_dir: render_pictures(run_dir, args.ticks))

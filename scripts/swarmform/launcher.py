@@ -35,6 +35,7 @@ import time
 from . import domains
 from . import faults
 from . import hosts as hosts_mod
+from . import security
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 PROGRESS = re.compile(r"^progress tick=(\d+) alive=(\d+)/(\d+) tps=([0-9.eE+-]+|nan|inf)")
@@ -153,6 +154,7 @@ class Processes:
         self.agents = {}  # id -> Popen
         self.groups = set()
         self.world = None
+        self.agent_args = []  # given to every agent (--security-dir under --secure)
         self._files = []
         # rid -> (command prefix, extra flags): where agent rid runs (hosts.Hosts.agent_wrap under --hosts)
         self.placement = None
@@ -166,6 +168,7 @@ class Processes:
         wrap, extra = self.placement(rid) if self.placement else ([], [])
         cmd = wrap + [exe, "--id", str(rid)] + (["--domain", str(domain)] if domain is not None else [])
         cmd += (["--run-nonce", run_nonce] if run_nonce else []) + extra
+        cmd += self.agent_args
         log = self._log(log_path)
         group = next(iter(self.groups), 0)
         try:
@@ -444,10 +447,21 @@ def run(args, render_pictures):
                 raise LaunchError(str(e)) from None
             domain = lease.domain
             status.line(f"swarm: DDS domain {domain} (free on this host; --domain D chooses one)")
+        secure_args = []
+        if getattr(args, "secure", False):
+            made = time.monotonic()
+            try:
+                sec_dir = security.make_security_dir(run_dir, n, domain)
+            except (security.SecurityError, OSError) as e:
+                raise LaunchError(f"--secure: {e}") from None
+            secure_args = ["--security-dir", sec_dir]
+            procs.agent_args = list(secure_args)
+            status.line(f"swarm: DDS Security: a certificate authority and {n + 2} identities made in "
+                        f"{time.monotonic() - made:.1f} s in {sec_dir} (keys 0600; docs/security.md)")
         nonce = domains.run_nonce()
         agents_json = os.path.join(run_dir, "agents.json")
         cmd = [world_exe] + overrides(args) + ["--out", run_dir, "--domain", str(domain), "--run-nonce", nonce,
-                                               "--agent-pids", agents_json]
+                                               "--agent-pids", agents_json] + secure_args
         if hosts is not None:
             wrap, extra = hosts.world_wrap()
             cmd = wrap + cmd + extra

@@ -27,7 +27,7 @@ class CliTest(unittest.TestCase):
         for word in ("run", "demo", "kill", "replay", "report", "runs/latest", "--help"):
             self.assertIn(word, r.stdout)
         for cmd, flags in (("run", ["--scenario", "--shape", "--robots", "--seed", "--mode", "--max-ticks", "--out",
-                                    "--kill", "--domain", "--no-pictures", "--in-process"]),
+                                    "--kill", "--domain", "--no-pictures", "--in-process", "--secure"]),
                            ("demo", ["--robots"]), ("kill", ["--run"]), ("replay", ["--ticks"]), ("report", [])):
             r = helpers.swarm(cmd, "--help", env={"SWARM_NO_BUILD": "0"},
                               build_dir=os.path.join(self.dir, "nothing"))
@@ -44,6 +44,8 @@ class CliTest(unittest.TestCase):
                  (["run", "--scenario", "/no/such.yaml"], "argument --scenario: no such file '/no/such.yaml'"),
                  (["run", "--domain", "300"], "DDS domain ids go up to 232"),
                  (["run", "--frobnicate"], "unrecognized arguments: --frobnicate"),
+                 (["run", "--secure", "--in-process"], "--secure secures DDS and --in-process runs without it"),
+                 (["run", "--secure", "--domain", "231"], "--secure: DDS domain 231 is above 230"),
                  (["replay"], "the following arguments are required: RUN_DIR"),
                  (["kill", "x"], "argument ID"),
                  (["explode"], "invalid choice: 'explode'"),
