@@ -107,6 +107,14 @@ def _add_run_flags(p, demo=False):
     p.add_argument("--no-pictures", action="store_true", help="do not draw the pictures at the end")
     p.add_argument("--ticks", type=_int_at_least(0), nargs="+", default=[], metavar="T",
                    help="also draw snapshots at these ticks")
+    p.add_argument("--exec", metavar="CMD",
+                   help="run each robot's behaviour as the program CMD (one child process per robot_agent, any "
+                        "language) speaking the JSON line protocol of docs/agent-protocol.md on stdin/stdout; "
+                        "the agent keeps the DDS side. CMD is one argument, run by /bin/sh (quote it), e.g. "
+                        "--exec 'python3 examples/agents/aggregation.py'. A child that exits, hangs or writes "
+                        "garbage makes its robot dead, saying why. Not with --in-process")
+    p.add_argument("--exec-timeout", type=_float_at_least(0.001), metavar="S",
+                   help="seconds the --exec program may take to answer each perception (default 5)")
     p.add_argument("--in-process", action="store_true",
                    help="run every robot's controller inside one process (swarm_inprocess; no DDS, "
                         "deterministic, fast); same run directory")

@@ -100,6 +100,17 @@ def overrides(args):
     return out
 
 
+def exec_args(args):
+    """The flags every robot_agent gets for `swarm run --exec CMD` (a behaviour as a child process per robot,
+    docs/agent-protocol.md): the command line is passed through as one argument, run by /bin/sh in the agent."""
+    cmd = getattr(args, "exec", None)
+    if not cmd:
+        return []
+    out = ["--exec", cmd]
+    timeout = getattr(args, "exec_timeout", None)
+    return out + (["--exec-timeout", f"{timeout:g}"] if timeout is not None else [])
+
+
 def check_scenario(world_exe, args):
     """Runs `world_server --check`; returns its JSON ({robots, labels, mode, max_ticks, seed})."""
     cmd = [world_exe] + overrides(args) + ["--check"]
@@ -148,6 +159,7 @@ class Processes:
 
     def __init__(self):
         self.agents = {}  # id -> Popen
+        self.agent_args = []  # given to every agent, restarted ones too (--exec CMD)
         self.groups = set()
         self.world = None
         self._files = []
@@ -160,6 +172,7 @@ class Processes:
     def start_agent(self, exe, rid, domain, log_path, run_nonce=None):
         cmd = [exe, "--id", str(rid)] + (["--domain", str(domain)] if domain is not None else [])
         cmd += ["--run-nonce", run_nonce] if run_nonce else []
+        cmd += self.agent_args
         log = self._log(log_path)
         group = next(iter(self.groups), 0)
         try:
@@ -407,6 +420,7 @@ def run(args, render_pictures):
         if args.in_process:
             return _run_in_process(args, stop, status, render_pictures)
         world_exe, agent_exe = executable("world"), executable("agent")
+        procs.agent_args = exec_args(args)
         info = check_scenario(world_exe, args)
         if stop:
             return EXIT_INTERRUPTED
@@ -545,6 +559,9 @@ def _interrupted(procs, stop, status, run_dir):
 def _run_in_process(args, stop, status, render_pictures):
     """--in-process: the same scenario in one process (no DDS), the same run directory. Its stdout (the
     summary) goes to the log; its stderr carries the progress lines and messages."""
+    if getattr(args, "exec", None):
+        raise LaunchError("--exec runs each robot's behaviour as a child process of its robot_agent; an in-process "
+                          "run has no agents: leave out --in-process", 2)
     exe = executable("inprocess")
     help_text = subprocess.run([exe, "--help"], capture_output=True, text=True, timeout=30).stdout
     cmd, flags, dropped = [exe], overrides(args), []
