@@ -7,7 +7,7 @@ import argparse
 import os
 import sys
 
-from . import faults, launcher
+from . import expect, faults, launcher
 
 DEFAULT_SCENARIO = os.path.join("scenarios", "paper.yaml")
 
@@ -75,6 +75,13 @@ def _kill_spec(text):
     return f"{int(rid)}@{int(tick)}"
 
 
+def _expectation(text):
+    try:
+        return expect.parse(text)
+    except expect.ExpectationError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+
+
 def _existing_file():
     def parse(text):
         if not os.path.isfile(text):
@@ -115,6 +122,11 @@ def _add_run_flags(p, demo=False):
                         "garbage makes its robot dead, saying why. Not with --in-process")
     p.add_argument("--exec-timeout", type=_float_at_least(0.001), metavar="S",
                    help="seconds the --exec program may take to answer each perception (default 5)")
+    p.add_argument("--expect", type=_expectation, action="append", default=[], metavar="'KEY OP VALUE'",
+                   help="after the run, check summary.json: KEY a summary key, OP one of == != <= >= < >, e.g. "
+                        "--expect 'outcome == arrived' --expect 'collisions_robot_robot == 0' --expect "
+                        "'deaths <= 2' (a list compares by its length); repeatable. Each is printed met or "
+                        "FAILED; exit 4 when one failed, 2 for a key summary.json lacks (docs/testing-your-swarm.md)")
     p.add_argument("--in-process", action="store_true",
                    help="run every robot's controller inside one process (swarm_inprocess; no DDS, "
                         "deterministic, fast); same run directory")
@@ -262,6 +274,9 @@ def main(argv=None):
         if os.environ.get("SWARM_PARSE_ONLY") == "1":  # scripts/swarm checks the flags before it builds
             return 0
         code = launcher.run(args, lambda run_dir: render_pictures(run_dir, args.ticks))
+        if args.expect and code != launcher.EXIT_INTERRUPTED and getattr(args, "run_dir", None):
+            checked = expect.evaluate(args.expect, args.run_dir, lambda m: print(m, file=sys.stderr))
+            code = code or checked  # a failed run keeps its own exit code
         if args.command == "demo" and code == 0:
             where = os.path.relpath(args.run_dir)
             where = args.run_dir if where.startswith("..") else where

@@ -48,7 +48,8 @@ EXIT_AGENTS_MISSING = 3
 EXIT_DISK_FULL = 5
 # `swarm run`'s exit codes (cli.py's --help and scripts/README.md print this table).
 EXIT_CODES = ("exit codes: 0 the run ended (completed or max_ticks); 1 the world failed (crashed, or a DDS "
-              "failure); 2 bad input; 3 agents missing at the connect timeout; 5 a write failed (disk full); "
+              "failure); 2 bad input (also an --expect key summary.json lacks); 3 agents missing at the connect "
+              "timeout; 4 an --expect expectation failed; 5 a write failed (disk full); "
               "130 interrupted (Ctrl-C, SIGTERM, SIGHUP). summary.json's end_reason says why, when it could be "
               "written.")
 REPEATS_SHOWN = 3
