@@ -53,12 +53,14 @@ constexpr int kExitBehaviourFailed = 6;
 
 // The robot's controller: the mission's built-in behaviour, or the --exec program behind the same interface.
 std::unique_ptr<swarmform::controller::Controller> make_robot_controller(const Options& o,
-                                                                         const swarmform::Mission& mission) {
+                                                                         const swarmform::Mission& mission,
+                                                                         AgentLink& link) {
   if (o.exec_command.empty()) return swarmform::controller::make_controller(mission, o.id);
   swarmform::agent::ExecOptions eo;
   eo.command = o.exec_command;
   eo.reply_timeout = std::chrono::milliseconds(static_cast<long long>(o.exec_timeout_s * 1000.0));
   eo.hello_timeout = std::max(eo.hello_timeout, eo.reply_timeout);
+  eo.keep_alive = [&link] { link.keep_alive(); };  // a slow behaviour is not a dead robot
   auto c = std::make_unique<swarmform::agent::ExecController>(eo);
   c->init(mission, o.id);
   return c;
@@ -108,7 +110,7 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
   // said after the claim, so that it is a dead robot of the run, not an agent the world waits for.
   std::optional<swarmform::agent::BehaviourFailure> failed_start;
   try {
-    controller = make_robot_controller(o, mission.mission);
+    controller = make_robot_controller(o, mission.mission, link);
   } catch (const swarmform::agent::BehaviourFailure& e) {
     failed_start = e;
   } catch (const swarmform::InputError& e) {
@@ -172,7 +174,7 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
       // afresh from the mission, as a restarted agent's would, rather than act on a state that went stale.
       controller.reset();  // an --exec child ends before its successor starts
       try {
-        controller = make_robot_controller(o, link.mission().mission);
+        controller = make_robot_controller(o, link.mission().mission, link);
       } catch (const swarmform::agent::BehaviourFailure& e) {
         return behaviour_failed(e);
       }

@@ -1,5 +1,7 @@
 #include "robot_agent/exec/exec_controller.hpp"
 
+#include <algorithm>
+
 #include "robot_agent/exec/line_protocol.hpp"
 
 namespace swarmform::agent {
@@ -7,6 +9,7 @@ namespace swarmform::agent {
 namespace {
 
 constexpr std::chrono::milliseconds kExitGrace{500};  // for the child to be reaped once its stdout closed
+constexpr std::chrono::milliseconds kKeepAlivePeriod{100};  // well within the agents' 500 ms liveliness lease
 
 std::string ms_text(std::chrono::milliseconds ms) {
   const auto whole = ms.count() / 1000;
@@ -29,7 +32,17 @@ void ExecController::fail(const std::string& what) {
 
 std::string ExecController::read_reply(std::chrono::milliseconds timeout, const std::string& due) {
   std::string line;
-  switch (child_->read_line(timeout, line, kMaxLineBytes)) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  ChildProcess::Read got = ChildProcess::Read::Timeout;
+  for (;;) {
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) break;
+    got = child_->read_line(std::min(left, kKeepAlivePeriod), line, kMaxLineBytes);
+    if (got != ChildProcess::Read::Timeout) break;
+    if (options_.keep_alive) options_.keep_alive();
+  }
+  switch (got) {
     case ChildProcess::Read::Line:
       return line;
     case ChildProcess::Read::Timeout:

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -24,6 +25,9 @@ struct ExecOptions {
   std::string command;                             // as given to --exec: run by /bin/sh -c "exec CMD"
   std::chrono::milliseconds reply_timeout{5000};   // for each command
   std::chrono::milliseconds hello_timeout{10000};  // for the hello (an interpreter's start-up included)
+  // Called at least every 100 ms while the child is being waited for: the agent renews its liveliness, so a
+  // behaviour that is slow (but within its deadline) is not taken for a dead robot. May be empty.
+  std::function<void()> keep_alive;
 };
 
 class ExecController final : public controller::Controller {

@@ -1,8 +1,9 @@
 """examples/agents/aggregation.py over `robot_agent --exec` in a real multi-process swarm (scripts/swarm run
 --exec): six Python behaviours gather, a killed agent takes its child with it, and a child that writes NaN makes
-its robot dead with a message naming the robot, while the rest of the swarm runs on. Every process this test
+its robot dead with a message naming the robot, while the rest of the swarm runs on; a child slower than the
+liveliness lease (but within its deadline) is not taken for dead. Every process this test
 starts is found by its command line (the run's own temporary folder) and must be gone at the end. DDS test
-domains 52 and 53."""
+domains 52 and 53 (53 reused in turn)."""
 
 import csv
 import json
@@ -33,6 +34,20 @@ for line in sys.stdin:
     t = json.loads(line)["tick"]
     left = float("nan") if me == 3 and t == 20 else 0.0
     print(json.dumps({"type": "command", "tick": t, "left": left, "right": 0.0}), flush=True)
+'''
+
+# Robot 2 takes 0.9 s over each of ticks 10-12: longer than the agents' 500 ms liveliness lease, within the
+# --exec deadline and the world's lockstep deadline (2 s).
+SLOW = r'''
+import json, os, sys, time
+me = int(os.environ["SWARMFORM_ROBOT_ID"])
+json.loads(sys.stdin.readline())
+print(json.dumps({"type": "hello", "protocol": 1}), flush=True)
+for line in sys.stdin:
+    t = json.loads(line)["tick"]
+    if me == 2 and t in (10, 11, 12):
+        time.sleep(0.9)
+    print(json.dumps({"type": "command", "tick": t, "left": 0.05, "right": 0.05, "message": "01"}), flush=True)
 '''
 
 
@@ -106,6 +121,13 @@ class PythonAgentEndToEndTest(unittest.TestCase):
         self.assertRegex(r.stderr, r"WARNING: agent 3 exited with code 6: .*robot 3: the behaviour 'python3 "
                                    r".*faulty.py' \(pid \d+\) wrote a non-finite number \(NaN or Infinity\) as its "
                                    r"command; robot 3 is dead")
+
+    def test_a_slow_child_within_its_deadline_is_not_a_dead_robot(self):
+        slow = os.path.join(self.dir, "slow.py")
+        with open(slow, "w") as f:
+            f.write(SLOW)
+        r, s = self.swarm("--exec", f"python3 {slow}", "--max-ticks", "40", domain=helpers.test_domain(53))
+        self.assertEqual((s["deaths"], s["rejoins"], s["alive_at_end"]), ([], [], 6), r.stderr)
 
 
 if __name__ == "__main__":

@@ -18,8 +18,9 @@ namespace {
 
 using std::chrono::milliseconds;
 
-// A behaviour in Python with a fault chosen by argv[1], due at tick 2: ok, exit, hang, garbage, nan,
-// wrong_tick, ignore_eof (never exits by itself). Modes *_hello misbehave instead of answering the hello.
+// A behaviour in Python with a fault chosen by argv[1], due at tick 2: ok, exit, hang, slow (0.35 s late),
+// garbage, nan, wrong_tick, ignore_eof (never exits by itself). Modes *_hello misbehave instead of answering
+// the hello.
 constexpr const char* kChild = R"PY(
 import json, sys, time
 mode = sys.argv[1]
@@ -36,6 +37,7 @@ for line in sys.stdin:
     if t == 2:
         if mode == "exit": sys.exit(7)
         if mode == "hang": time.sleep(1000)
+        if mode == "slow": time.sleep(0.35)
         if mode == "garbage": print("left=1 right=2", flush=True); continue
         if mode == "nan": left = float("nan")
         if mode == "wrong_tick": t += 1
@@ -129,6 +131,21 @@ TEST_F(ExecControllerTest, AHungChildIsKilledAtItsDeadline) {
   EXPECT_NE(msg.find("robot 1"), std::string::npos) << msg;
   EXPECT_NE(msg.find("did not answer the perception of tick 2 within 300 ms"), std::string::npos) << msg;
   EXPECT_TRUE(gone(pid));
+}
+
+TEST_F(ExecControllerTest, ASlowChildWithinItsDeadlineKeepsTheAgentAlive) {
+  ExecOptions o = options("slow");
+  o.reply_timeout = milliseconds(2000);
+  int calls = 0;
+  o.keep_alive = [&calls] { ++calls; };
+  ExecController c(o);
+  c.init(mission_, 0);
+  (void)c.step(perception(0));
+  (void)c.step(perception(1));
+  const int before_slow = calls;
+  (void)c.step(perception(2));  // 0.35 s: the agent's liveliness is renewed meanwhile (at least every 100 ms)
+  EXPECT_GE(calls - before_slow, 3);
+  EXPECT_EQ(c.step(perception(3)).left_speed, 0.75);
 }
 
 TEST_F(ExecControllerTest, GarbageNanAndAWrongTickAreDeadRobots) {
