@@ -91,6 +91,8 @@ ChildProcess::ChildProcess(const std::string& command, const std::string& env_na
   ::close(out_pipe[1]);
   to_child_ = in_pipe[1];
   from_child_ = out_pipe[0];
+  // Writes never block: a child that stops reading is a timeout (flush), not a hung agent.
+  ::fcntl(to_child_, F_SETFL, ::fcntl(to_child_, F_GETFL) | O_NONBLOCK);
 }
 
 ChildProcess::~ChildProcess() {
@@ -134,20 +136,34 @@ ChildProcess::Read ChildProcess::read_line(std::chrono::milliseconds timeout, st
   }
 }
 
-bool ChildProcess::write_line(const std::string& line) {
-  if (to_child_ < 0) return false;
-  std::string out = line;
-  out.push_back('\n');
-  std::size_t done = 0;
-  while (done < out.size()) {
-    const ssize_t n = ::write(to_child_, out.data() + done, out.size() - done);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      return false;  // EPIPE: the child closed its stdin or exited
+void ChildProcess::queue_line(const std::string& line) {
+  pending_ += line;
+  pending_.push_back('\n');
+}
+
+ChildProcess::Write ChildProcess::flush(std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (!pending_.empty()) {
+    if (to_child_ < 0) return Write::Closed;
+    const ssize_t n = ::write(to_child_, pending_.data(), pending_.size());
+    if (n > 0) {
+      pending_.erase(0, static_cast<std::size_t>(n));
+      continue;
     }
-    done += static_cast<std::size_t>(n);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0 && errno != EAGAIN) {
+      close_fd(to_child_);  // EPIPE: the child closed its stdin or exited
+      return Write::Closed;
+    }
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) return Write::Timeout;
+    pollfd p{to_child_, POLLOUT, 0};
+    if (::poll(&p, 1, static_cast<int>(left.count())) < 0 && errno != EINTR) {
+      throw os_error("poll on the behaviour's stdin");
+    }
   }
-  return true;
+  return Write::Done;
 }
 
 bool ChildProcess::reap(std::chrono::milliseconds wait) {

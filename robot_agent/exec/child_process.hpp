@@ -29,8 +29,13 @@ class ChildProcess {
   // (it exited or is exiting); Timeout: nothing complete within the deadline; TooLong: more than max_line
   // bytes without a newline.
   Read read_line(std::chrono::milliseconds timeout, std::string& line, std::size_t max_line);
-  // Writes `line` and a '\n'; false when the child no longer reads (its stdin closed: it exited).
-  bool write_line(const std::string& line);
+  enum class Write { Done, Closed, Timeout };
+  // Queues `line` and a '\n' for the child's stdin.
+  void queue_line(const std::string& line);
+  // Writes what is queued, waiting at most `timeout` for the child to read it (a line longer than the pipe's
+  // buffer needs the child to read; one that never reads must not hang us). Closed: its stdin is closed (it
+  // exited); Timeout: some is still queued (call again to go on).
+  Write flush(std::chrono::milliseconds timeout);
   // How the child ended, as a phrase ("exited with code 3", "was killed by signal 9 (Killed)"), waiting at
   // most `grace` for it to end after its stdout closed; "is still running" otherwise.
   std::string exit_description(std::chrono::milliseconds grace);
@@ -46,6 +51,7 @@ class ChildProcess {
   int to_child_ = -1;    // its stdin
   int from_child_ = -1;  // its stdout
   std::string buffer_;   // bytes read past the last line returned
+  std::string pending_;  // bytes queued for its stdin, not yet written
   bool reaped_ = false;
   int status_ = 0;  // waitpid status once reaped_
 };

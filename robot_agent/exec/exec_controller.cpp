@@ -30,9 +30,10 @@ void ExecController::fail(const std::string& what) {
                          pid + " " + what);
 }
 
-std::string ExecController::read_reply(std::chrono::milliseconds timeout, const std::string& due) {
+std::string ExecController::read_reply(std::chrono::milliseconds timeout,
+                                       std::chrono::steady_clock::time_point since, const std::string& due) {
   std::string line;
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  const auto deadline = since + timeout;
   ChildProcess::Read got = ChildProcess::Read::Timeout;
   for (;;) {
     const auto left =
@@ -55,6 +56,26 @@ std::string ExecController::read_reply(std::chrono::milliseconds timeout, const 
   fail(child_->exit_description(kExitGrace) + " instead of answering " + due);
 }
 
+void ExecController::send(const std::string& line, std::chrono::milliseconds timeout,
+                          const std::string& what) {
+  child_->queue_line(line);
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  for (;;) {
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    switch (child_->flush(std::max(std::chrono::milliseconds(0), std::min(left, kKeepAlivePeriod)))) {
+      case ChildProcess::Write::Done:
+        return;
+      case ChildProcess::Write::Closed:
+        fail(child_->exit_description(kExitGrace) + " before reading " + what);
+      case ChildProcess::Write::Timeout:
+        break;
+    }
+    if (left.count() <= 0) fail("did not read " + what + " within " + ms_text(timeout) + " (hung)");
+    if (options_.keep_alive) options_.keep_alive();
+  }
+}
+
 void ExecController::init(const Mission& mission, RobotId self) {
   mission_ = mission;
   self_ = self;
@@ -64,10 +85,9 @@ void ExecController::init(const Mission& mission, RobotId self) {
   } catch (const std::exception& e) {
     fail(std::string("could not be started: ") + e.what());
   }
-  if (!child_->write_line(encode_hello(mission, self))) {
-    fail(child_->exit_description(kExitGrace) + " before reading the hello");
-  }
-  const std::string reply = read_reply(options_.hello_timeout, "the hello");
+  const auto start = std::chrono::steady_clock::now();
+  send(encode_hello(mission, self), options_.hello_timeout, "the hello");
+  const std::string reply = read_reply(options_.hello_timeout, start, "the hello");
   try {
     (void)parse_hello_reply(reply);
   } catch (const ProtocolError& e) {
@@ -78,10 +98,10 @@ void ExecController::init(const Mission& mission, RobotId self) {
 Command ExecController::step(const Perception& perception) {
   if (!child_) fail("is not running (it failed before)");
   const std::string due = "the perception of tick " + std::to_string(perception.tick);
-  if (!child_->write_line(encode_perception(perception))) {
-    fail(child_->exit_description(kExitGrace) + " before reading " + due);
-  }
-  const std::string reply = read_reply(options_.reply_timeout, due);
+  // One deadline for the whole exchange: the child reads the perception and answers within reply_timeout.
+  const auto start = std::chrono::steady_clock::now();
+  send(encode_perception(perception), options_.reply_timeout, due);
+  const std::string reply = read_reply(options_.reply_timeout, start, due);
   try {
     return parse_command(reply, perception.tick, mission_.max_message_bytes);
   } catch (const ProtocolError& e) {

@@ -44,7 +44,10 @@ class ExecController final : public controller::Controller {
 
  private:
   [[noreturn]] void fail(const std::string& what);
-  std::string read_reply(std::chrono::milliseconds timeout, const std::string& due);
+  // The child's next line, within `timeout` of `since` (when the exchange began).
+  std::string read_reply(std::chrono::milliseconds timeout, std::chrono::steady_clock::time_point since,
+                         const std::string& due);
+  void send(const std::string& line, std::chrono::milliseconds timeout, const std::string& what);
 
   ExecOptions options_;
   Mission mission_;
