@@ -25,6 +25,8 @@ import json
 import os
 import re
 import select
+import shlex
+import shutil
 import signal
 import subprocess
 import sys
@@ -110,6 +112,27 @@ def exec_args(args):
     out = ["--exec", cmd]
     timeout = getattr(args, "exec_timeout", None)
     return out + (["--exec-timeout", f"{timeout:g}"] if timeout is not None else [])
+
+
+def check_exec(cmd):
+    """Refuses an --exec command whose program cannot be found, before any process starts (each robot's agent would
+    otherwise die of it, one WARNING each). Only a plain command line is checked: one with shell syntax (pipes,
+    variables, redirections) is left to the shell."""
+    if not cmd:
+        return
+    try:
+        words = shlex.split(cmd)
+    except ValueError as e:
+        raise LaunchError(f"--exec {cmd!r}: not a command line ({e})", 2) from None
+    if not words:
+        raise LaunchError("--exec: the command is empty", 2)
+    if any(c in cmd for c in "|&;<>()$`*?[") or "=" in words[0]:
+        return
+    program = words[0]
+    found = os.access(program, os.X_OK) and os.path.isfile(program) if os.sep in program else shutil.which(program)
+    if not found:
+        where = "no such executable file" if os.sep in program else "not found on PATH"
+        raise LaunchError(f"--exec {cmd!r}: {program}: {where}", 2)
 
 
 def check_scenario(world_exe, args):
@@ -421,6 +444,7 @@ def run(args, render_pictures):
         if args.in_process:
             return _run_in_process(args, stop, status, render_pictures)
         world_exe, agent_exe = executable("world"), executable("agent")
+        check_exec(getattr(args, "exec", None))
         procs.agent_args = exec_args(args)
         info = check_scenario(world_exe, args)
         if stop:
