@@ -5,13 +5,16 @@
 
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
+#include <thread>
 
 namespace swarmform::agent {
 namespace {
@@ -228,6 +231,47 @@ TEST_F(ExecControllerTest, TheAdapterKillsAndReapsAChildThatWillNotExit) {
     ASSERT_GT(pid, 0);
   }
   EXPECT_TRUE(gone(pid));
+}
+
+// A process is gone, or a zombie nobody reaped yet (an orphan's reaper may be slow, or absent in a
+// container).
+bool dead_or_zombie(pid_t pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string text((std::istreambuf_iterator<char>(stat)), std::istreambuf_iterator<char>());
+  if (text.empty()) return true;
+  const auto close = text.rfind(')');
+  return close != std::string::npos && close + 2 < text.size() && text[close + 2] == 'Z';
+}
+
+TEST_F(ExecControllerTest, AChildDiesWithItsAgentEvenIfItIgnoresTheEndOfItsInput) {
+  int fds[2];
+  ASSERT_EQ(::pipe(fds), 0);
+  const pid_t agent = ::fork();
+  ASSERT_GE(agent, 0);
+  if (agent == 0) {  // a stand-in agent: starts its behaviour, says its pid, waits to be killed
+    ::close(fds[0]);
+    ExecController c(options("ignore_eof"));
+    c.init(mission_, 0);
+    const pid_t child = c.child_pid();
+    if (::write(fds[1], &child, sizeof child) != static_cast<ssize_t>(sizeof child)) ::_exit(1);
+    ::pause();
+    ::_exit(0);
+  }
+  ::close(fds[1]);
+  pid_t child = -1;
+  const bool got = ::read(fds[0], &child, sizeof child) == static_cast<ssize_t>(sizeof child);
+  ::close(fds[0]);
+  ::kill(agent, SIGKILL);  // as `swarm kill`: no destructor runs
+  int status = 0;
+  ::waitpid(agent, &status, 0);
+  ASSERT_TRUE(got) << "the stand-in agent did not start its behaviour";
+  bool died = false;
+  for (int i = 0; i < 500 && !died; ++i) {  // SIGKILL is immediate; the deadline is for a loaded machine
+    died = dead_or_zombie(child);
+    if (!died) std::this_thread::sleep_for(milliseconds(10));
+  }
+  EXPECT_TRUE(died) << "the behaviour (pid " << child << ") outlived its agent";
+  if (!died) ::kill(child, SIGKILL);
 }
 
 TEST_F(ExecControllerTest, TheChildKnowsItsRobotIdFromTheEnvironment) {
