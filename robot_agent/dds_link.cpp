@@ -161,6 +161,10 @@ WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out)
   }
 }
 
+void AgentLink::keep_alive() {
+  if (commands_) (void)commands_->keep_alive(dds_time());
+}
+
 void AgentLink::send(Tick tick, const Command& command) {
   commands_->step(self_, tick, command);
 }

@@ -57,6 +57,9 @@ class AgentLink {
   // next liveliness message arrives, and a world stalled for seconds is not a dead one.
   WaitResult next_packet(double idle_timeout_s, dds::SensorSample& out);
   void send(Tick tick, const Command& command);
+  // Renews this agent's liveliness if it is due (cheap otherwise): for a caller that is busy for longer than
+  // the lease without sending, e.g. waiting on an --exec behaviour that is slow but not dead.
+  void keep_alive();
 
   std::uint64_t packets() const { return packets_; }
   std::uint64_t foreign_packets() const { return foreign_; }

@@ -6,12 +6,17 @@
 //
 // Exit codes: 0 the run ended (or --help); 2 bad flags or an unusable mission; 3 no world within --timeout,
 // or the world went away mid-run (silent for --world-timeout); 4 the id was refused; 5 the id was lost to
-// another agent (this one was taken for dead and a restarted one claimed it); 1 anything else (a DDS
-// failure, a controller exception); 128+signal when stopped by SIGINT/SIGTERM. The last stdout line is a
-// summary a test can read:
+// another agent (this one was taken for dead and a restarted one claimed it); 6 the --exec behaviour failed
+// (exited, hung past its deadline, or wrote garbage: the robot is dead, the message says what the child did);
+// 1 anything else (a DDS failure, a controller exception); 128+signal when stopped by SIGINT/SIGTERM. The
+// last stdout line is a summary a test can read:
 //   agent id=K packets=P foreign_packets=F refused=R restarts=S
 // (R: samples refused as not of this world, run or wire version; S: controller restarts after a rejoin).
+// robot_agent --exec "CMD": the behaviour is the program CMD, one child process per robot, spoken to through
+// the line protocol of docs/agent-protocol.md (robot_agent/exec/); the DDS side stays here.
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -25,6 +30,7 @@
 #include "common/input_error.hpp"
 #include "robot_agent/controller/controller.hpp"
 #include "robot_agent/dds_link.hpp"
+#include "robot_agent/exec/exec_controller.hpp"
 
 namespace {
 
@@ -44,6 +50,8 @@ struct Options {
   std::optional<swarmform::dds::UserDdsConfig> user_dds;  // resolved from it or CYCLONEDDS_URI
   bool print_dds_config = false;
   std::string security_dir;
+  std::string exec_command;  // --exec: the behaviour as a child process; empty: the mission's built-in one
+  double exec_timeout_s = 5.0;
 };
 
 swarmform::dds::DdsSettings dds_settings(const Options& o) {
@@ -60,6 +68,22 @@ swarmform::dds::DdsSettings dds_settings(const Options& o) {
 }
 
 constexpr int kExitLostId = 5;
+constexpr int kExitBehaviourFailed = 6;
+
+// The robot's controller: the mission's built-in behaviour, or the --exec program behind the same interface.
+std::unique_ptr<swarmform::controller::Controller> make_robot_controller(const Options& o,
+                                                                         const swarmform::Mission& mission,
+                                                                         AgentLink& link) {
+  if (o.exec_command.empty()) return swarmform::controller::make_controller(mission, o.id);
+  swarmform::agent::ExecOptions eo;
+  eo.command = o.exec_command;
+  eo.reply_timeout = std::chrono::milliseconds(static_cast<long long>(o.exec_timeout_s * 1000.0));
+  eo.hello_timeout = std::max(eo.hello_timeout, eo.reply_timeout);
+  eo.keep_alive = [&link] { link.keep_alive(); };  // a slow behaviour is not a dead robot
+  auto c = std::make_unique<swarmform::agent::ExecController>(eo);
+  c->init(mission, o.id);
+  return c;
+}
 
 int run(const Options& o, swarmform::dds::SignalWatch& signals) {
   const std::string me = "robot_agent " + std::to_string(o.id);
@@ -101,8 +125,14 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
   }
 
   std::unique_ptr<swarmform::controller::Controller> controller;
+  // An --exec child starts (an interpreter may take a second) before the claim, so that it cannot stall the
+  // agent past its liveliness lease between the claim and the first command; a child that fails its hello is
+  // said after the claim, so that it is a dead robot of the run, not an agent the world waits for.
+  std::optional<swarmform::agent::BehaviourFailure> failed_start;
   try {
-    controller = swarmform::controller::make_controller(mission.mission, o.id);
+    controller = make_robot_controller(o, mission.mission, link);
+  } catch (const swarmform::agent::BehaviourFailure& e) {
+    failed_start = e;
   } catch (const swarmform::InputError& e) {
     std::cerr << me << ": unusable mission: " << e.what() << "\n";
     return stopped(2);
@@ -123,6 +153,13 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
     std::cerr << me << ": refused: " << answer.reason << "\n";
     return stopped(4);
   }
+
+  const auto behaviour_failed = [&](const swarmform::agent::BehaviourFailure& e) {
+    std::cerr << me << ": " << e.what() << "; robot " << o.id << " is dead (its agent exits "
+              << kExitBehaviourFailed << ")\n";
+    return stopped(kExitBehaviourFailed);
+  };
+  if (failed_start) return behaviour_failed(*failed_start);
 
   swarmform::dds::SensorSample packet;
   std::uint32_t generation = 0;  // of the controller: the world's generation of the robot when it was made
@@ -155,13 +192,23 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
     } else if (packet.generation > generation) {
       // The world took this robot for dead and brought it back (issue 18 point 1): its controller starts
       // afresh from the mission, as a restarted agent's would, rather than act on a state that went stale.
-      controller = swarmform::controller::make_controller(link.mission().mission, o.id);
+      controller.reset();  // an --exec child ends before its successor starts
+      try {
+        controller = make_robot_controller(o, link.mission().mission, link);
+      } catch (const swarmform::agent::BehaviourFailure& e) {
+        return behaviour_failed(e);
+      }
       generation = packet.generation;
       ++restarts;
       std::cerr << me << ": rejoined at tick " << packet.perception.tick
                 << " after the world took this robot for dead; controller started afresh\n";
     }
-    const swarmform::Command command = controller->step(packet.perception);
+    swarmform::Command command;
+    try {
+      command = controller->step(packet.perception);
+    } catch (const swarmform::agent::BehaviourFailure& e) {
+      return behaviour_failed(e);
+    }
     link.send(packet.perception.tick, command);
   }
 }
@@ -224,6 +271,21 @@ int main(int argc, char** argv) {
       "DDS Security: the run's security directory (made by `swarm run --secure`); this robot "
       "authenticates as robot-K with DIR/robot-K.pem, .key and .permissions.p7s, and talks only to "
       "participants of the same authority (docs/security.md)");
+  app.add_option(
+         "--exec", o.exec_command,
+         "run the robot's behaviour as this program instead of the mission's built-in one: one child "
+         "process per robot, started by /bin/sh -c 'exec CMD' with SWARMFORM_ROBOT_ID set, speaking the "
+         "JSON line protocol of docs/agent-protocol.md on its stdin/stdout (its stderr goes to this "
+         "agent's). A child that exits, hangs past --exec-timeout or writes garbage or NaN makes the robot "
+         "dead (exit 6, saying what the child did)")
+      ->check([](const std::string& v) {
+        return v.find_first_not_of(" \t") == std::string::npos ? std::string("want a command")
+                                                               : std::string();
+      });
+  app.add_option("--exec-timeout", o.exec_timeout_s,
+                 "seconds the --exec behaviour may take to answer each perception (default 5; the hello gets "
+                 "at least 10)")
+      ->check(CLI::Range(0.001, 3600.0));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

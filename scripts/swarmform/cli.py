@@ -7,7 +7,7 @@ import argparse
 import os
 import sys
 
-from . import faults, hosts, launcher, security
+from . import expect, faults, hosts, launcher, security
 
 DEFAULT_SCENARIO = os.path.join("scenarios", "paper.yaml")
 
@@ -20,8 +20,8 @@ commands:
   demo     `run` with the paper's scenario; prints where the pictures are
   kill     SIGKILL one agent of the running swarm (the swarm carries on)
   replay   draw the pictures again from a run directory's recording
-  report   print a run's summary.json as a readable table
-  sweep    a grid of in-process runs (scenarios x shapes x seeds x kill schedules) on every core:
+  report   print a run's summary.json as a readable table (or --json, --csv)
+  sweep    a grid of in-process runs (scenarios x shapes x seeds x kill schedules x --param values) on every core:
            sweep.csv, sweep.json (success rates, worst cases with the command that reproduces each)
 
 A run directory (default runs/<UTC time>/, runs/latest points to the newest) holds the recording (world.json,
@@ -36,6 +36,8 @@ examples:
   scripts/swarm kill 3                      # while a swarm runs (agents.json of runs/latest)
   scripts/swarm replay runs/latest --ticks 500 1000
   scripts/swarm report runs/latest
+  scripts/swarm report runs/a runs/b --csv > runs.csv
+  scripts/swarm run --no-pictures --expect 'outcome == arrived' --expect 'collisions_robot_robot == 0'
   scripts/swarm sweep --kills none random:2 --seeds 1-20
 
 `scripts/swarm <command> --help` tells more. Exit codes: 0 ok, 1 failed, 2 bad input, 130 interrupted.
@@ -90,6 +92,13 @@ def _kill_spec(text):
     return f"{int(rid)}@{int(tick)}"
 
 
+def _expectation(text):
+    try:
+        return expect.parse(text)
+    except expect.ExpectationError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+
+
 def _existing_file():
     def parse(text):
         if not os.path.isfile(text):
@@ -131,6 +140,19 @@ def _add_run_flags(p, demo=False):
                         "signed governance and permissions, made fresh in RUN_DIR/security (keys 0600); traffic "
                         "is encrypted, only this run's identities take part, robot K reads only its own packets "
                         "and only robot K's identity may claim id K (docs/security.md)")
+    p.add_argument("--exec", metavar="CMD",
+                   help="run each robot's behaviour as the program CMD (one child process per robot_agent, any "
+                        "language) speaking the JSON line protocol of docs/agent-protocol.md on stdin/stdout; "
+                        "the agent keeps the DDS side. CMD is one argument, run by /bin/sh (quote it), e.g. "
+                        "--exec 'python3 examples/agents/aggregation.py'. A child that exits, hangs or writes "
+                        "garbage makes its robot dead, saying why. Not with --in-process")
+    p.add_argument("--exec-timeout", type=_float_at_least(0.001), metavar="S",
+                   help="seconds the --exec program may take to answer each perception (default 5)")
+    p.add_argument("--expect", type=_expectation, action="append", default=[], metavar="'KEY OP VALUE'",
+                   help="after the run, check summary.json: KEY a summary key, OP one of == != <= >= < >, e.g. "
+                        "--expect 'outcome == arrived' --expect 'collisions_robot_robot == 0' --expect "
+                        "'deaths <= 2' (a list compares by its length); repeatable. Each is printed met or "
+                        "FAILED; exit 4 when one failed, 2 for a key summary.json lacks (docs/testing-your-swarm.md)")
     p.add_argument("--in-process", action="store_true",
                    help="run every robot's controller inside one process (swarm_inprocess; no DDS, "
                         "deterministic, fast); same run directory")
@@ -170,9 +192,17 @@ def make_parser():
     replay.add_argument("--out", metavar="DIR", help="write the pictures here instead of RUN_DIR/pictures")
     replay.add_argument("--no-animation", action="store_true", help="skip animation.mp4 and animation.gif")
 
-    report = sub.add_parser("report", help="print a run's summary as a table",
-                            description="Prints RUN_DIR/summary.json as a readable table.")
-    report.add_argument("run_dir", metavar="RUN_DIR")
+    report = sub.add_parser("report", help="print a run's summary as a table, JSON or CSV",
+                            description="Prints RUN_DIR/summary.json as a readable table; --json and --csv give it "
+                                        "to programs. Several RUN_DIRs: one table each, a JSON list, or one CSV "
+                                        "row each.")
+    report.add_argument("run_dir", metavar="RUN_DIR", nargs="+")
+    fmt = report.add_mutually_exclusive_group()
+    fmt.add_argument("--json", action="store_true",
+                     help="summary.json itself, every key (docs/recording-format.md), with run_dir added")
+    fmt.add_argument("--csv", action="store_true",
+                     help="a header and one row per RUN_DIR: run_dir, then every scalar key of the summaries (lists "
+                          "of ids or {id, tick} as '3 7' / '3@120 7@900', as sweep.csv; per-tick series left out)")
 
     _add_sweep_parser(sub)
     return top
@@ -217,6 +247,11 @@ def _add_sweep_parser(sub):
                    help="seeds: 7, 1-20, 1-5,9 (default 1-10)")
     g.add_argument("--kills", nargs="+", action="extend", type=_checked(sweep.parse_kill_schedule),
                    metavar="SCHEDULE", help="kill schedules: none, ID@TICK[,ID@TICK...], random:K (default none)")
+    g.add_argument("--param", action="append", type=_checked(sweep.parse_param), metavar="NAME=V1,V2,...",
+                   help="a behaviour parameter (a scenario `controller:` key) and its values: one axis of the grid; "
+                        "repeatable (one flag per NAME). Checked against the behaviour's parameter table before "
+                        "any run: an unknown NAME or a value out of bounds is refused naming it. sweep.csv gets a "
+                        "param_NAME column, sweep.json the grid's values, each run's and by_params rates")
     g.add_argument("--max-ticks", type=_int_at_least(1), metavar="T",
                    help="cut every run at tick T (default: each scenario's max_ticks)")
     g.add_argument("--kill-window", type=_int_at_least(1), default=sweep.DEFAULT_KILL_WINDOW, metavar="T",
@@ -287,6 +322,9 @@ def main(argv=None):
         if os.environ.get("SWARM_PARSE_ONLY") == "1":  # scripts/swarm checks the flags before it builds
             return 0
         code = launcher.run(args, lambda run_dir: render_pictures(run_dir, args.ticks))
+        if args.expect and code != launcher.EXIT_INTERRUPTED and getattr(args, "run_dir", None):
+            checked = expect.evaluate(args.expect, args.run_dir, lambda m: print(m, file=sys.stderr))
+            code = code or checked  # a failed run keeps its own exit code
         if args.command == "demo" and code == 0:
             where = os.path.relpath(args.run_dir)
             where = args.run_dir if where.startswith("..") else where
@@ -315,7 +353,13 @@ def main(argv=None):
     if args.command == "report":
         from . import report, recording
         try:
-            report.report(args.run_dir)
+            if args.json or args.csv:
+                report.machine_readable(args.run_dir, "json" if args.json else "csv", sys.stdout)
+            else:
+                for i, run_dir in enumerate(args.run_dir):
+                    if i:
+                        print()
+                    report.report(run_dir)
         except recording.RecordingError as e:
             print(f"swarm report: {e}", file=sys.stderr)
             return 1

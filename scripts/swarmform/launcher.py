@@ -27,6 +27,8 @@ import json
 import os
 import re
 import select
+import shlex
+import shutil
 import signal
 import subprocess
 import sys
@@ -52,7 +54,8 @@ EXIT_AGENTS_MISSING = 3
 EXIT_DISK_FULL = 5
 # `swarm run`'s exit codes (cli.py's --help and scripts/README.md print this table).
 EXIT_CODES = ("exit codes: 0 the run ended (completed or max_ticks); 1 the world failed (crashed, or a DDS "
-              "failure); 2 bad input; 3 agents missing at the connect timeout; 5 a write failed (disk full); "
+              "failure); 2 bad input (also an --expect key summary.json lacks); 3 agents missing at the connect "
+              "timeout; 4 an --expect expectation failed; 5 a write failed (disk full); "
               "130 interrupted (Ctrl-C, SIGTERM, SIGHUP). summary.json's end_reason says why, when it could be "
               "written.")
 REPEATS_SHOWN = 3
@@ -104,6 +107,38 @@ def overrides(args):
     return out
 
 
+def exec_args(args):
+    """The flags every robot_agent gets for `swarm run --exec CMD` (a behaviour as a child process per robot,
+    docs/agent-protocol.md): the command line is passed through as one argument, run by /bin/sh in the agent."""
+    cmd = getattr(args, "exec", None)
+    if not cmd:
+        return []
+    out = ["--exec", cmd]
+    timeout = getattr(args, "exec_timeout", None)
+    return out + (["--exec-timeout", f"{timeout:g}"] if timeout is not None else [])
+
+
+def check_exec(cmd):
+    """Refuses an --exec command whose program cannot be found, before any process starts (each robot's agent would
+    otherwise die of it, one WARNING each). Only a plain command line is checked: one with shell syntax (pipes,
+    variables, redirections) is left to the shell."""
+    if not cmd:
+        return
+    try:
+        words = shlex.split(cmd)
+    except ValueError as e:
+        raise LaunchError(f"--exec {cmd!r}: not a command line ({e})", 2) from None
+    if not words:
+        raise LaunchError("--exec: the command is empty", 2)
+    if any(c in cmd for c in "|&;<>()$`*?[") or "=" in words[0]:
+        return
+    program = words[0]
+    found = os.access(program, os.X_OK) and os.path.isfile(program) if os.sep in program else shutil.which(program)
+    if not found:
+        where = "no such executable file" if os.sep in program else "not found on PATH"
+        raise LaunchError(f"--exec {cmd!r}: {program}: {where}", 2)
+
+
 def check_scenario(world_exe, args):
     """Runs `world_server --check`; returns its JSON ({robots, labels, mode, max_ticks, seed})."""
     cmd = [world_exe] + overrides(args) + ["--check"]
@@ -152,9 +187,9 @@ class Processes:
 
     def __init__(self):
         self.agents = {}  # id -> Popen
+        self.agent_args = []  # given to every agent, restarted ones too (--exec CMD, --security-dir)
         self.groups = set()
         self.world = None
-        self.agent_args = []  # given to every agent (--security-dir under --secure)
         self._files = []
         # rid -> (command prefix, extra flags): where agent rid runs (hosts.Hosts.agent_wrap under --hosts)
         self.placement = None
@@ -422,6 +457,8 @@ def run(args, render_pictures):
             except hosts_mod.HostsError as e:
                 raise LaunchError(str(e), EXIT_BAD_INPUT) from None
         world_exe, agent_exe = executable("world"), executable("agent")
+        check_exec(getattr(args, "exec", None))
+        procs.agent_args = exec_args(args)
         info = check_scenario(world_exe, args)
         if stop:
             return EXIT_INTERRUPTED
@@ -455,7 +492,7 @@ def run(args, render_pictures):
             except (security.SecurityError, OSError) as e:
                 raise LaunchError(f"--secure: {e}") from None
             secure_args = ["--security-dir", sec_dir]
-            procs.agent_args = list(secure_args)
+            procs.agent_args += secure_args
             status.line(f"swarm: DDS Security: a certificate authority and {n + 2} identities made in "
                         f"{time.monotonic() - made:.1f} s in {sec_dir} (keys 0600; docs/security.md)")
         nonce = domains.run_nonce()
@@ -605,6 +642,9 @@ def _interrupted(procs, stop, status, run_dir):
 def _run_in_process(args, stop, status, render_pictures):
     """--in-process: the same scenario in one process (no DDS), the same run directory. Its stdout (the
     summary) goes to the log; its stderr carries the progress lines and messages."""
+    if getattr(args, "exec", None):
+        raise LaunchError("--exec runs each robot's behaviour as a child process of its robot_agent; an in-process "
+                          "run has no agents: leave out --in-process", 2)
     exe = executable("inprocess")
     help_text = subprocess.run([exe, "--help"], capture_output=True, text=True, timeout=30).stdout
     cmd, flags, dropped = [exe], overrides(args), []

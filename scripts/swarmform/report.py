@@ -1,8 +1,10 @@
-"""`swarm report RUN_DIR`: summary.json as a readable table, grouped as a reader asks about a run: what ran, did
+"""`swarm report RUN_DIR`: summary.json as a readable table (or, with --json / --csv, for programs), grouped as a reader asks about a run: what ran, did
 the shape form and reach the goal, what failed, what collided. Ticks are also given in simulated seconds.
 Keys the table does not know (added to summary.json later) are listed at the end, so nothing is hidden.
 """
 
+import csv
+import json
 import os
 
 from .recording import RecordingError, read_json, read_world
@@ -84,8 +86,8 @@ def table(summary, tick_rate=None, title=None):
     return lines
 
 
-def report(run_dir, out=print):
-    """Prints the table; raises RecordingError when summary.json is missing or not valid."""
+def load_summary(run_dir):
+    """RUN_DIR/summary.json as a dict; RecordingError when it is missing or not valid."""
     path = os.path.join(run_dir, "summary.json")
     if not os.path.isdir(run_dir):
         raise RecordingError(run_dir, None, "not a directory (expected a run directory)")
@@ -95,6 +97,40 @@ def report(run_dir, out=print):
     summary = read_json(path)
     if not isinstance(summary, dict):
         raise RecordingError(path, 1, "expected a JSON object")
+    return summary
+
+
+def csv_cell(value):
+    """A summary value as one CSV cell (the sweep.csv convention); None for what has no cell (a series, an
+    object)."""
+    from .sweep import _cell  # one convention for both files
+    return _cell(value)
+
+
+def machine_readable(run_dirs, fmt, stream):
+    """--json: the summary (a list of them for several RUN_DIRs), each with run_dir; --csv: a header and one row
+    per RUN_DIR, the union of the scalar keys in first-seen order. RecordingError on the first bad RUN_DIR, before
+    anything is written."""
+    summaries = [(d, load_summary(d)) for d in run_dirs]
+    if fmt == "json":
+        docs = [dict(s, run_dir=d) for d, s in summaries]
+        json.dump(docs[0] if len(docs) == 1 else docs, stream, indent=1)
+        stream.write("\n")
+        return
+    keys = []
+    for _, s in summaries:
+        for k, v in s.items():
+            if k not in keys and k != "run_dir" and csv_cell(v) is not None:
+                keys.append(k)
+    w = csv.writer(stream)
+    w.writerow(["run_dir"] + keys)
+    for d, s in summaries:
+        w.writerow([d] + [csv_cell(s.get(k)) or "" for k in keys])
+
+
+def report(run_dir, out=print):
+    """Prints the table; raises RecordingError when summary.json is missing or not valid."""
+    summary = load_summary(run_dir)
     tick_rate = None
     world_path = os.path.join(run_dir, "world.json")
     if os.path.exists(world_path):

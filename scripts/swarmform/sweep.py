@@ -1,10 +1,12 @@
-"""`swarm sweep`: a grid of in-process runs (scenarios x shapes x robot counts x seeds x kill schedules), run on
+"""`swarm sweep`: a grid of in-process runs (scenarios x shapes x robot counts x seeds x kill schedules x behaviour
+parameter values), run on
 every core with `swarm_inprocess --no-record --quiet`, judged, and written as sweep.csv and sweep.json.
 
 Order of a sweep:
   1. the grid is checked: every flag, every kill schedule's text (`none`, `ID@TICK[,ID@TICK...]`, `random:K`);
   2. a probe per (scenario, shape, robots): `swarm_inprocess ... --max-ticks 1 --no-record --quiet` validates the
      files (a bad one: its `file:line: what`, exit 2, before anything long starts) and says N and the shape;
+     and one per scenario and --param value, which the behaviour checks against its own parameter table;
   3. the kill schedules become `--kill ID@TICK` flags per run (a random one from an RNG seeded by the run's seed
      and the schedule's text: the same run gets the same kills every time);
   4. the runs, `--jobs` at a time, each with a wall-time cap; a progress line on stderr;
@@ -17,6 +19,7 @@ import csv
 import ctypes
 import datetime
 import glob
+import itertools
 import json
 import math
 import os
@@ -43,16 +46,16 @@ WORST_SHOWN = 5
 
 HELP = """\
 Runs a grid of in-process runs (build/world_server/harness/swarm_inprocess --no-record --quiet):
-every --scenario x every --shape x every --robots x every seed of --seeds x every --kills schedule,
---jobs at a time, and writes into --out:
+every --scenario x every --shape x every --robots x every seed of --seeds x every --kills schedule x every
+combination of the --param values, --jobs at a time, and writes into --out:
 
   sweep.csv   one row per run: the grid coordinates (scenario, shape, robots, seed, kills and the --kill
-              flags they gave), the exact command, its exit code, wall seconds, success and the reason of a
+              flags they gave, and a param_NAME column per --param), the exact command, its exit code, wall seconds, success and the reason of a
               failure, then every scalar key of the run's summary.json (lists of ids or {id, tick} are
               written as "3 7" / "3@120 7@900"; the per-tick distortion series is left out). A summary key
               named like one of the sweep's own columns is written as summary_<key>.
   sweep.json  the grid, the commit, the success rates (overall, per scenario, per shape, per kill schedule,
-              per scenario x shape x schedule, with median formation/goal ticks and the largest shape
+              per parameter combination, per scenario x shape x schedule x parameters, with median formation/goal ticks and the largest shape
               errors), and the worst runs: failed ones first, then the largest shape error, then the latest
               goal, each with the command that reproduces it (and the same command writing a run directory).
               Commands are relative to the folder the sweep ran in (sweep.json's cwd).
@@ -69,6 +72,11 @@ Kill schedules (--kills, repeatable; each is one value of the grid's kill axis):
                        included) and ticks uniformly in [1, min(--kill-window, max_ticks)]; the draw is seeded
                        by the run's seed and the schedule's text, so it is the same on every sweep and machine
                        (K must leave one robot alive)
+
+Behaviour parameters (--param NAME=V1,V2,..., repeatable; each NAME one axis of the grid):
+  NAME is a parameter of the scenario's behaviour (a `controller:` key: robot_agent/README.md lists the paper's),
+  each run gets `--param NAME=V` over the scenario's value. Every value is checked by the behaviour before any
+  run starts: an unknown NAME or a value out of its bounds is refused naming it (exit 2).
 
 Success: the summary's `outcome` is the one --expect asks for (arrived: outcome arrived; formed: arrived or
 formed_not_arrived; not_formed; none; any: a clean exit with a summary). A summary without `outcome` (older
@@ -94,6 +102,7 @@ examples:
   scripts/swarm sweep --scenario scenarios/*.yaml --seeds 1-10 --max-shape-error 0.1
   scripts/swarm sweep --kills random:1 random:2 random:3 --seeds 1-30
   scripts/swarm sweep --kills none 5@10 2@10,7@1500 --seeds 1-5 --max-ticks 8000 --jobs 2
+  scripts/swarm sweep --param k_goal=0.5,1,2 --param m_obstacle=0.5,1 --seeds 1-10   # 3 x 2 x 10 runs
 """
 
 
@@ -166,6 +175,50 @@ def parse_kill_schedule(text):
     return KillSchedule(",".join(f"{r}@{k}" for r, k in kills), kills=kills)
 
 
+_PARAM_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+
+
+def parse_param(text):
+    """`NAME=V1,V2,...` -> (NAME, [(text, value)]); ValueError naming the text. The values' own spelling is kept for
+    the command line (no precision lost); whether NAME exists and the values are in bounds is the behaviour's to
+    say (the probe)."""
+    name, sep, values = text.partition("=")
+    name = name.strip()
+    usage = "expected NAME=V1,V2,... (e.g. k_goal=0.5,1,2)"
+    if not sep or not _PARAM_NAME.match(name):
+        raise ValueError(f"'{text}': {usage}")
+    out = []
+    for part in values.split(","):
+        part = part.strip()
+        try:
+            v = float(part)
+        except ValueError:
+            raise ValueError(f"'{text}': '{part}' is not a number; {usage}") from None
+        if not math.isfinite(v):
+            raise ValueError(f"'{text}': '{part}' is not a finite number")
+        if v in (x for _, x in out):
+            raise ValueError(f"'{text}': the value {part} is given twice")
+        out.append((part, v))
+    return name, out
+
+
+def param_combinations(params):
+    """[(NAME, [(text, value)])] -> every combination as a dict NAME -> (text, value), in the flags' order."""
+    if not params:
+        return [{}]
+    names = [n for n, _ in params]
+    return [dict(zip(names, combo)) for combo in itertools.product(*(values for _, values in params))]
+
+
+def param_flags(combo):
+    return [a for name, (text, _) in combo.items() for a in ("--param", f"{name}={text}")]
+
+
+def param_label(combo):
+    """'k_goal=0.5 m_obstacle=1' (the key of sweep.json's by_params), or 'defaults'."""
+    return " ".join(f"{n}={t}" for n, (t, _) in combo.items()) or "defaults"
+
+
 def parse_seeds(text):
     """`7`, `1-20`, `1-5,9,12-13` -> list of seeds; ValueError naming the text."""
     seeds = []
@@ -219,10 +272,11 @@ def scenario_max_ticks(path):
 
 class Run:
     def __init__(self, index, scenario, shape, shape_name, robots_asked, robots, seed, schedule, kill_flags,
-                 max_ticks_asked, cmd):
+                 max_ticks_asked, cmd, params=None):
         self.index, self.scenario, self.shape, self.shape_name = index, scenario, shape, shape_name
         self.robots_asked, self.robots, self.seed, self.schedule = robots_asked, robots, seed, schedule
         self.kill_flags, self.max_ticks_asked, self.cmd = kill_flags, max_ticks_asked, cmd
+        self.params = params or {}  # NAME -> (text, value)
         self.exit_code = None
         self.wall = None
         self.summary = None
@@ -281,9 +335,10 @@ def parse_summary(text):
     return None
 
 
-def probe(exe, scenario, shape, robots):
-    """Runs one tick: validates the files and returns the summary (robots, labels, shape_file)."""
-    cmd = base_command(exe, scenario, shape, robots, None, 1) + ["--no-record", "--quiet"]
+def probe(exe, scenario, shape, robots, params=None):
+    """Runs one tick: validates the files (and the --param values) and returns the summary (robots, labels,
+    shape_file)."""
+    cmd = base_command(exe, scenario, shape, robots, None, 1) + param_flags(params or {}) + ["--no-record", "--quiet"]
     try:
         p = subprocess.run(cmd, capture_output=True, text=True, timeout=PROBE_TIMEOUT_S,
                            preexec_fn=_die_with_parent)
@@ -566,17 +621,20 @@ def summary_columns(runs):
     return keys
 
 
-def write_csv(path, runs):
+def write_csv(path, runs, param_names=()):
+    """param_names: the --param axes, a `param_NAME` column each, after the fixed columns."""
     keys = summary_columns(runs)
-    names = [f"summary_{k}" if k in FIXED_COLUMNS else k for k in keys]
+    fixed = FIXED_COLUMNS + [f"param_{n}" for n in param_names]
+    names = [f"summary_{k}" if k in fixed else k for k in keys]
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(FIXED_COLUMNS + names)
+        w.writerow(fixed + names)
         for r in runs:
             row = [r.index, r.scenario, r.shape or "", "" if r.robots_asked is None else r.robots_asked, r.seed,
                    r.schedule.text, " ".join(r.kill_flags), "" if r.max_ticks_asked is None else r.max_ticks_asked,
                    1 if r.success else 0, r.reason, "" if r.exit_code is None else r.exit_code,
                    "" if r.wall is None else f"{r.wall:.3f}", command_text(r.cmd)]
+            row += [r.params[n][0] if n in r.params else "" for n in param_names]
             s = r.summary or {}
             row += [_cell(s.get(k)) or "" for k in keys]
             w.writerow(row)
@@ -629,7 +687,8 @@ def run_record(r):
     s = r.summary or {}
     rec = {"index": r.index, "success": r.success, "reason": r.reason, "scenario": r.scenario,
            "shape": r.shape_name, "robots": r.robots, "seed": r.seed, "kills": r.schedule.text,
-           "kill_flags": r.kill_flags, "exit_code": r.exit_code,
+           "kill_flags": r.kill_flags, "params": {n: v for n, (_, v) in r.params.items()},
+           "exit_code": r.exit_code,
            "wall_seconds": None if r.wall is None else round(r.wall, 3)}
     for k in ("outcome", "ticks", "formation_tick", "motion_start_tick", "goal_tick", "shape_error_at_formation",
               "shape_error_at_goal", "peak_distortion", "collisions_robot_robot", "collisions_robot_obstacle",
@@ -656,15 +715,16 @@ def results(runs, opts, grid, started, wall, interrupted, worst_n):
     finished = [r for r in runs if r.reason != "not run" and r.reason != "interrupted"]
     by = {}
     for name, key in (("by_scenario", lambda r: r.scenario), ("by_shape", lambda r: r.shape_name),
-                      ("by_kills", lambda r: r.schedule.text), ("by_robots", lambda r: str(r.robots))):
+                      ("by_kills", lambda r: r.schedule.text), ("by_robots", lambda r: str(r.robots)),
+                      ("by_params", lambda r: param_label(r.params))):
         groups = {}
         for r in finished:
             groups.setdefault(key(r), []).append(r)
         by[name] = {k: group_stats(v) for k, v in groups.items()}
     cells = {}
     for r in finished:
-        cells.setdefault((r.scenario, r.shape_name, r.robots, r.schedule.text), []).append(r)
-    by["by_cell"] = [dict(scenario=k[0], shape=k[1], robots=k[2], kills=k[3], **group_stats(v))
+        cells.setdefault((r.scenario, r.shape_name, r.robots, r.schedule.text, param_label(r.params)), []).append(r)
+    by["by_cell"] = [dict(scenario=k[0], shape=k[1], robots=k[2], kills=k[3], params=k[4], **group_stats(v))
                      for k, v in cells.items()]
     ordered = sorted(finished, key=worst_key(opts))
     overall = group_stats(finished)
@@ -689,6 +749,9 @@ def _opt(value):
 def print_table(res, out=print):
     cells = res["by_cell"]
     head = ("scenario", "shape", "N", "kills", "ok", "rate", "formed@", "goal@", "err@form", "err@goal", "contacts")
+    with_params = any(c.get("params", "defaults") != "defaults" for c in cells)
+    if with_params:
+        head = head[:4] + ("params",) + head[4:]
     rows = []
     for c in cells:
         def f(v, fmt):
@@ -698,6 +761,8 @@ def print_table(res, out=print):
                      f(c["median_formation_tick"], ".0f"), f(c["median_goal_tick"], ".0f"),
                      f(c["max_shape_error_at_formation"], ".3f"), f(c["max_shape_error_at_goal"], ".3f"),
                      f"{c['contacts_robot_robot']}+{c['contacts_robot_obstacle']}"))
+        if with_params:
+            rows[-1] = rows[-1][:4] + (c["params"],) + rows[-1][4:]
     widths = [max(len(h), *(len(r[i]) for r in rows)) if rows else len(h) for i, h in enumerate(head)]
     out("  ".join(h.ljust(w) for h, w in zip(head, widths)))
     for r in rows:
@@ -743,8 +808,20 @@ def plan(opts, exe):
     robots_list = opts.robots or [None]
     seeds = list(dict.fromkeys(opts.seeds or list(range(1, 11))))
     schedules = list({s.text: s for s in (opts.kills or [parse_kill_schedule("none")])}.values())
+    params = list(getattr(opts, "param", None) or [])
+    seen = set()
+    for name, _ in params:
+        if name in seen:
+            raise SweepError(f"--param {name} is given twice (one flag per parameter: NAME=V1,V2,...)")
+        seen.add(name)
+    combos = param_combinations(params)
     runs = []
     for scenario in scenarios:
+        # Each value once per scenario (its behaviour decides): an unknown name or a value out of bounds is said
+        # before anything long starts. The first shape and robot count stand for the rest.
+        for name, values in params:
+            for text, value in values:
+                probe(exe, scenario, shapes[0], robots_list[0], {name: (text, value)})
         window_cap = opts.max_ticks or scenario_max_ticks(scenario)
         window = min(opts.kill_window, window_cap)
         for shape in shapes:
@@ -752,19 +829,21 @@ def plan(opts, exe):
                 info = probe(exe, scenario, shape, robots)
                 n = info["robots"]
                 shape_name = os.path.basename(str(info.get("shape_file") or shape or "?"))
-                for schedule in schedules:
-                    for seed in seeds:
-                        flags = schedule.flags(seed, n, window)
-                        cmd = base_command(exe, scenario, shape, robots, seed, opts.max_ticks)
-                        for k in flags:
-                            cmd += ["--kill", k]
-                        cmd += ["--no-record", "--quiet"]
-                        runs.append(Run(len(runs), scenario, shape, shape_name, robots, n, seed, schedule, flags,
-                                        opts.max_ticks, cmd))
+                for combo in combos:
+                    for schedule in schedules:
+                        for seed in seeds:
+                            flags = schedule.flags(seed, n, window)
+                            cmd = base_command(exe, scenario, shape, robots, seed, opts.max_ticks)
+                            for k in flags:
+                                cmd += ["--kill", k]
+                            cmd += param_flags(combo) + ["--no-record", "--quiet"]
+                            runs.append(Run(len(runs), scenario, shape, shape_name, robots, n, seed, schedule,
+                                            flags, opts.max_ticks, cmd, combo))
     grid = {"scenarios": scenarios, "shapes": [s or "(the scenario's)" for s in shapes],
             "robots": [r or "(the scenario's)" for r in robots_list], "seeds": _ranges(seeds),
             "seed_count": len(seeds), "kills": [s.text for s in schedules], "kill_window": opts.kill_window,
-            "max_ticks": opts.max_ticks}
+            "max_ticks": opts.max_ticks, "params": {name: [v for _, v in values] for name, values in params},
+            "param_combinations": len(combos)}
     return runs, grid
 
 
@@ -804,7 +883,9 @@ def sweep(opts):
     progress = Progress(len(runs), quiet=opts.quiet)
     progress.line(f"sweep: {len(runs)} runs ({len(grid['scenarios'])} scenario(s) x {len(grid['shapes'])} shape(s)"
                   f" x {len(grid['robots'])} robot count(s) x {grid['seed_count']} seed(s) x "
-                  f"{len(grid['kills'])} kill schedule(s)), {jobs} at a time; results in {out_dir}")
+                  f"{len(grid['kills'])} kill schedule(s)"
+                  + (f" x {grid['param_combinations']} parameter combination(s)" if grid["params"] else "")
+                  + f"), {jobs} at a time; results in {out_dir}")
     stop = launcher.StopFlag()
     started = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
     t0 = time.monotonic()
@@ -816,7 +897,8 @@ def sweep(opts):
     progress.end()
     interrupted = bool(stop)
     res = results(runs, opts, grid, started, time.monotonic() - t0, interrupted, opts.worst)
-    write_csv(os.path.join(out_dir, "sweep.csv"), [r for r in runs if r.reason not in ("not run", "interrupted")])
+    write_csv(os.path.join(out_dir, "sweep.csv"), [r for r in runs if r.reason not in ("not run", "interrupted")],
+              list(grid["params"]))
     with open(os.path.join(out_dir, "sweep.json"), "w") as f:
         json.dump(res, f, indent=1)
         f.write("\n")

@@ -1,6 +1,9 @@
 """The command line: help before any build, bad flags exit 2, the report table, damaged recordings reported
 as file:line by the commands (never a traceback)."""
 
+import csv
+import io
+import json
 import os
 import shutil
 import tempfile
@@ -74,6 +77,30 @@ class CliTest(unittest.TestCase):
         self.assertNotIn("stuck_robot_count", r.stdout)
         for group in ("Run", "Outcome", "Formation and motion", "Faults", "Collisions (contact onsets)", "Reproducibility"):
             self.assertIn(group, lines)
+
+    def test_report_json_and_csv(self):
+        fixture.make_run(self.dir, ticks=40, distortion=True)
+        r = helpers.swarm("report", self.dir, "--json")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        doc = json.loads(r.stdout)
+        with open(os.path.join(self.dir, "summary.json")) as f:
+            summary = json.load(f)
+        self.assertEqual(doc, dict(summary, run_dir=self.dir), "every key of summary.json, and run_dir")
+        r = helpers.swarm("report", self.dir, self.dir, "--csv")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        rows = list(csv.DictReader(io.StringIO(r.stdout)))
+        self.assertEqual(len(rows), 2)
+        self.assertEqual(rows[0]["run_dir"], self.dir)
+        self.assertEqual(rows[0]["ticks"], "40")
+        self.assertEqual(rows[0]["deaths"], "2@50")
+        self.assertEqual(rows[0]["stuck_robots"], "3 5")
+        self.assertNotIn("distortion", rows[0], "a per-tick series is no cell")
+        both = helpers.swarm("report", self.dir, "--json", "--csv")
+        self.assertEqual(both.returncode, 2)
+        missing = helpers.swarm("report", self.dir, os.path.join(self.dir, "nope"), "--csv")
+        self.assertEqual(missing.returncode, 1)
+        self.assertEqual(missing.stdout, "", "nothing written before the bad RUN_DIR is found")
+        self.assertIn("nope: not a directory", missing.stderr)
 
     def test_report_without_summary_explains(self):
         fixture.make_run(self.dir, ticks=20, summary=False)

@@ -273,5 +273,38 @@ class LauncherTest(unittest.TestCase):
         self.assertIn("is not robot_agent --id 0", r.stderr)
 
 
+class ExecFlagTest(unittest.TestCase):
+    """`swarm run --exec`: refused before anything starts when its program cannot be found or with --in-process;
+    passed to every agent otherwise (the end-to-end use: tests/examples/test_agents_e2e.py)."""
+
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="swarm-exec-flag-")
+
+    def tearDown(self):
+        shutil.rmtree(self.dir)
+
+    def run_swarm(self, *args):
+        return helpers.swarm("run", "--robots", "2", "--max-ticks", "5", "--no-pictures",
+                             "--out", os.path.join(self.dir, "run"), *args)
+
+    def test_a_program_that_cannot_be_found_is_refused(self):
+        for cmd, says in (("pyhton3 agent.py", "--exec 'pyhton3 agent.py': pyhton3: not found on PATH"),
+                          ("./no/such/agent --x", "./no/such/agent: no such executable file"),
+                          ("python3 'unclosed", "not a command line")):
+            r = self.run_swarm("--exec", cmd)
+            self.assertEqual(r.returncode, 2, r.stderr)
+            self.assertIn(says, r.stderr)
+            self.assertFalse(os.path.exists(os.path.join(self.dir, "run", "agents.json")), "nothing was started")
+
+    def test_shell_syntax_is_left_to_the_shell_and_in_process_is_refused(self):
+        from swarmform import launcher
+        launcher.check_exec("env A=1 python3 x.py")  # env is on PATH
+        launcher.check_exec("A=1 nosuch x.py")       # an assignment: the shell's to judge
+        launcher.check_exec("nosuch < in.txt")       # a redirection: the same
+        r = self.run_swarm("--exec", "python3 x.py", "--in-process")
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn("leave out --in-process", r.stderr)
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -96,7 +96,8 @@ class SweepCliTest(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stderr)
         for word in ("--scenario", "--shape", "--shapes-dir", "--robots", "--seeds", "--kills", "--max-ticks",
                      "--kill-window", "--expect", "--max-shape-error", "--max-contacts", "--max-robot-contacts",
-                     "--jobs", "--timeout", "--out", "random:K", "sweep.csv", "sweep.json", "Exit codes",
+                     "--jobs", "--timeout", "--out", "random:K", "sweep.csv", "sweep.json", "Exit codes", "--param",
+                     "param_NAME",
                      "130 interrupted"):
             self.assertIn(word, r.stdout)
         top = helpers.swarm("--help", build_dir=os.path.join(self.dir, "no"))
@@ -115,7 +116,14 @@ class SweepCliTest(unittest.TestCase):
                  (["--max-shape-error", "-1"], "argument --max-shape-error: must be a finite number >= 0"),
                  (["--expect", "maybe"], "argument --expect: invalid choice"),
                  (["--shape", os.path.join(self.dir, "*.nothing")], "no file matches"),
-                 (["--scenario", bad_scenario], f"{bad_scenario}:1: fake: a bad scenario")]
+                 (["--scenario", bad_scenario], f"{bad_scenario}:1: fake: a bad scenario"),
+                 (["--param", "k_goal"], "argument --param: 'k_goal': expected NAME=V1,V2,..."),
+                 (["--param", "k_goal=1,fast"], "'fast' is not a number"),
+                 (["--param", "k_goal=1,1"], "the value 1 is given twice"),
+                 (["--param", "k_goal=nan"], "not a finite number"),
+                 (["--param", "k_goal=1", "--param", "k_goal=2"], "--param k_goal is given twice"),
+                 (["--param", "k_wobble=1,2"], "--param k_wobble=1: unknown controller parameter 'k_wobble'"),
+                 (["--param", "k_goal=1,200"], "--param k_goal=200: controller parameter 'k_goal' = 200 is outside")]
         for args, message in cases:
             r = self.sweep(*args)
             self.assertEqual(r.returncode, 2, f"{args}: {r.stderr}")
@@ -224,6 +232,25 @@ class SweepCliTest(unittest.TestCase):
         self.assertEqual(rows[9]["ticks"], "1234", "the summary it printed when told to stop")
         with open(os.path.join(self.out, "sweep.json")) as f:
             self.assertTrue(json.load(f)["interrupted"])
+
+    def test_params_are_a_grid_axis_recorded_in_csv_and_json(self):
+        r = self.sweep("--seeds", "1", "--param", "k_goal=0.5,2", "--param", "m_obstacle=1,3.25", "--expect", "any")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        rows = read_csv(os.path.join(self.out, "sweep.csv"))
+        self.assertEqual([(row["param_k_goal"], row["param_m_obstacle"]) for row in rows],
+                         [("0.5", "1"), ("0.5", "3.25"), ("2", "1"), ("2", "3.25")])
+        for row in rows:
+            flags = f"--param k_goal={row['param_k_goal']} --param m_obstacle={row['param_m_obstacle']}"
+            self.assertIn(flags, row["command"])
+            self.assertEqual(row["fake_params"], flags.replace("--param ", ""), "the values reached the run")
+        with open(os.path.join(self.out, "sweep.json")) as f:
+            res = json.load(f)
+        self.assertEqual(res["grid"]["params"], {"k_goal": [0.5, 2.0], "m_obstacle": [1.0, 3.25]})
+        self.assertEqual(sorted(res["by_params"]), ["k_goal=0.5 m_obstacle=1", "k_goal=0.5 m_obstacle=3.25",
+                                                    "k_goal=2 m_obstacle=1", "k_goal=2 m_obstacle=3.25"])
+        self.assertEqual({w["index"]: w["params"] for w in res["worst"]}[3], {"k_goal": 2.0, "m_obstacle": 3.25})
+        self.assertEqual(len(res["by_cell"]), 4)
+        self.assertIn("params", r.stdout.splitlines()[0], "the table shows the parameters")
 
     def test_random_schedule_flags_reach_the_runs_and_repeat(self):
         self.sweep("--seeds", "1-3,7", "--kills", "random:2", "--kill-window", "100", "--max-ticks", "80",

@@ -90,6 +90,23 @@ class SweepSmokeTest(unittest.TestCase):
         self.assertEqual([r["kill_flags"] for r in rows2], [r["kill_flags"] for r in rows])
         self.assertEqual([r["trajectory_sha256"] for r in rows2], [r["trajectory_sha256"] for r in rows])
 
+    def test_a_param_reaches_the_behaviour_and_a_bad_one_is_refused_naming_it(self):
+        out = os.path.join(self.dir, "p")
+        r = helpers.swarm("sweep", "--scenario", PAPER, "--seeds", "1", "--param", "k_move=0.5,1", "--max-ticks",
+                          "150", "--jobs", "2", "--expect", "any", "--out", out, build_dir=BUILD_DIR, timeout=240)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        rows = read_csv(os.path.join(out, "sweep.csv"))
+        self.assertEqual([row["param_k_move"] for row in rows], ["0.5", "1"])
+        self.assertNotEqual(rows[0]["trajectory_sha256"], rows[1]["trajectory_sha256"],
+                            "k_move changes how the robots move to their places")
+        for args, says in ((["--param", "k_wobble=1"], "--param k_wobble=1: unknown controller parameter 'k_wobble'"),
+                           (["--param", "k_move=0.5,500"], "--param k_move=500: controller parameter 'k_move'")):
+            r = helpers.swarm("sweep", "--scenario", PAPER, "--out", os.path.join(self.dir, "q"), *args,
+                              build_dir=BUILD_DIR, timeout=60)
+            self.assertEqual(r.returncode, 2, r.stderr)
+            self.assertIn(says, r.stderr)
+            self.assertFalse(os.path.exists(os.path.join(self.dir, "q", "sweep.csv")))
+
     def test_a_bad_scenario_is_refused_before_any_run(self):
         bad = os.path.join(self.dir, "bad.yaml")
         with open(bad, "w") as f:

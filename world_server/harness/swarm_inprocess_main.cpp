@@ -17,6 +17,7 @@
 
 #include "common/input_error.hpp"
 #include "world_server/harness/harness.hpp"
+#include "world_server/harness/param_flags.hpp"
 #include "world_server/run/run_end.hpp"
 
 namespace {
@@ -95,6 +96,7 @@ int main(int argc, char** argv) {
   std::string behaviour;
   std::vector<std::string> kill_texts;
   std::vector<std::string> fault_texts;
+  std::vector<std::string> param_texts;
   double fragment_range = 0.0;
   bool no_record = false;
   bool quiet = false;
@@ -104,6 +106,11 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "seed, instead of the scenario's");
   app.add_option("--max-ticks", max_ticks, "stop after this many ticks at the latest");
   app.add_option("--behaviour", behaviour, "controller: paper or random_walk, instead of the scenario's");
+  app.add_option(
+      "--param", param_texts,
+      "NAME=VALUE: set the behaviour's parameter NAME (a scenario `controller:` key) over the "
+      "scenario's value; repeatable; checked against the behaviour's parameter table (unknown name or "
+      "out of bounds: exit 2 naming it)");
   app.add_option("--out", out, "run directory (default runs/<UTC time>, and runs/latest points at it)");
   app.add_option("--kill", kill_texts, "kill robot ID at tick TICK (ID@TICK); repeatable");
   app.add_option(
@@ -143,6 +150,7 @@ int main(int argc, char** argv) {
       }
       scenario.mission.behaviour = behaviour;
     }
+    harness::apply_param_flags(param_texts, scenario.mission);
 
     const bool default_out = out.empty();
     const std::string run_dir = no_record ? std::string() : (default_out ? default_run_dir() : out);

@@ -1,0 +1,176 @@
+// nlohmann::json with exceptions off for parsing (a bad line is the behaviour's error, said in one
+// sentence, not a parser's exception text). Doubles are written with round-trip precision, so a behaviour
+// sees exactly the perception the world sent.
+#include "robot_agent/exec/line_protocol.hpp"
+
+#include <cmath>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+namespace swarmform::agent {
+
+namespace {
+
+using nlohmann::json;
+
+json parse_object(const std::string& line, const char* what) {
+  json j = json::parse(line, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded()) {
+    const bool non_finite =
+        line.find("NaN") != std::string::npos || line.find("Infinity") != std::string::npos;
+    throw ProtocolError(non_finite
+                            ? std::string("wrote a non-finite number (NaN or Infinity) as its ") + what
+                            : std::string("wrote a line that is not JSON where its ") + what + " was due");
+  }
+  if (!j.is_object()) throw ProtocolError(std::string("wrote JSON that is not an object as its ") + what);
+  return j;
+}
+
+std::string type_of(const json& j) {
+  const auto it = j.find("type");
+  return it != j.end() && it->is_string() ? it->get<std::string>() : std::string();
+}
+
+double finite_number(const json& j, const char* key, const char* what) {
+  const auto it = j.find(key);
+  if (it == j.end()) throw ProtocolError(std::string(what) + " has no \"" + key + "\"");
+  if (!it->is_number()) throw ProtocolError(std::string(what) + "'s \"" + key + "\" is not a number");
+  const double v = it->get<double>();
+  if (!std::isfinite(v)) throw ProtocolError(std::string(what) + "'s \"" + key + "\" is not finite");
+  return v;
+}
+
+int hex_digit(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return -1;
+}
+
+}  // namespace
+
+std::string to_hex(const std::vector<std::uint8_t>& bytes) {
+  static constexpr char kDigits[] = "0123456789abcdef";
+  std::string out;
+  out.reserve(bytes.size() * 2);
+  for (const std::uint8_t b : bytes) {
+    out.push_back(kDigits[b >> 4]);
+    out.push_back(kDigits[b & 15]);
+  }
+  return out;
+}
+
+std::string encode_hello(const Mission& mission, RobotId self) {
+  json params = json::object();
+  for (const auto& [name, value] : mission.params) params[name] = value;
+  json shape = json::array();
+  for (int r = 0; r < mission.shape.rows; ++r) {
+    json row = json::array();
+    for (int c = 0; c < mission.shape.cols; ++c) row.push_back(mission.shape.at(r, c));
+    shape.push_back(std::move(row));
+  }
+  const json hello = {
+      {"type", "hello"},
+      {"protocol", kProtocolVersion},
+      {"robot", self},
+      {"behaviour", mission.behaviour},
+      {"params", std::move(params)},
+      {"seed", mission.seed},
+      {"tick_rate", mission.tick_rate},
+      {"max_speed", mission.max_speed},
+      {"comm_range", mission.comm_range},
+      {"max_message_bytes", mission.max_message_bytes},
+      {"goal", {{"x", mission.goal.x}, {"y", mission.goal.y}, {"radius", mission.goal_radius}}},
+      {"grid_spacing", mission.grid_spacing},
+      {"shape", std::move(shape)},
+  };
+  return hello.dump();
+}
+
+std::string parse_hello_reply(const std::string& line) {
+  const json j = parse_object(line, "hello");
+  if (type_of(j) != "hello") {
+    throw ProtocolError("answered the hello with a line whose \"type\" is not \"hello\"");
+  }
+  const auto p = j.find("protocol");
+  if (p == j.end() || !p->is_number_integer())
+    throw ProtocolError("said hello without an integer \"protocol\"");
+  if (p->get<long long>() != kProtocolVersion) {
+    throw ProtocolError("speaks protocol " + std::to_string(p->get<long long>()) + ", this agent speaks " +
+                        std::to_string(kProtocolVersion));
+  }
+  const auto name = j.find("name");
+  return name != j.end() && name->is_string() ? name->get<std::string>() : std::string();
+}
+
+std::string encode_perception(const Perception& perception) {
+  json messages = json::array();
+  for (const RabReading& m : perception.messages) {
+    messages.push_back(
+        {{"sender", m.sender}, {"range", m.range}, {"bearing", m.bearing}, {"data", to_hex(m.data)}});
+  }
+  const json out = {
+      {"type", "perception"},
+      {"tick", perception.tick},
+      {"pose", {{"x", perception.pose.x}, {"y", perception.pose.y}, {"theta", perception.pose.theta}}},
+      {"ultrasonic", perception.ultrasonic},
+      {"messages", std::move(messages)},
+  };
+  return out.dump();
+}
+
+Command parse_command(const std::string& line, Tick tick, std::size_t max_message_bytes) {
+  const json j = parse_object(line, "command");
+  if (type_of(j) != "command") throw ProtocolError("wrote a line whose \"type\" is not \"command\"");
+  const auto t = j.find("tick");
+  if (t == j.end() || !t->is_number_unsigned() || t->get<Tick>() != tick) {
+    throw ProtocolError("answered the perception of tick " + std::to_string(tick) +
+                        " with a command whose \"tick\" is " +
+                        (t == j.end() ? std::string("missing") : t->dump()));
+  }
+  Command c;
+  c.left_speed = finite_number(j, "left", "the command");
+  c.right_speed = finite_number(j, "right", "the command");
+  if (const auto m = j.find("message"); m != j.end()) {
+    if (!m->is_string()) throw ProtocolError("the command's \"message\" is not a hex string");
+    const auto& hex = m->get_ref<const std::string&>();
+    if (hex.size() % 2 != 0) throw ProtocolError("the command's \"message\" has an odd number of hex digits");
+    if (hex.size() / 2 > max_message_bytes) {
+      throw ProtocolError("the command's \"message\" has " + std::to_string(hex.size() / 2) +
+                          " bytes, over the mission's max_message_bytes " +
+                          std::to_string(max_message_bytes));
+    }
+    c.message.reserve(hex.size() / 2);
+    for (std::size_t i = 0; i < hex.size(); i += 2) {
+      const int hi = hex_digit(hex[i]);
+      const int lo = hex_digit(hex[i + 1]);
+      if (hi < 0 || lo < 0) throw ProtocolError("the command's \"message\" is not hex");
+      c.message.push_back(static_cast<std::uint8_t>(hi * 16 + lo));
+    }
+  }
+  if (const auto s = j.find("state"); s != j.end()) {
+    if (!s->is_number_integer() || s->get<long long>() < 0 ||
+        s->get<long long>() > std::numeric_limits<std::int32_t>::max()) {
+      throw ProtocolError("the command's \"state\" is not a non-negative integer");
+    }
+    c.telemetry.state = static_cast<std::int32_t>(s->get<long long>());
+  }
+  if (const auto e = j.find("events"); e != j.end()) {
+    if (!e->is_array() || e->size() > kMaxEvents) {
+      throw ProtocolError("the command's \"events\" is not a list of at most " + std::to_string(kMaxEvents) +
+                          " strings");
+    }
+    for (const json& ev : *e) {
+      if (!ev.is_string() || ev.get_ref<const std::string&>().empty() ||
+          ev.get_ref<const std::string&>().size() > kMaxEventBytes ||
+          ev.get_ref<const std::string&>().find('\n') != std::string::npos) {
+        throw ProtocolError("the command's \"events\" holds something other than a one-line string of 1.." +
+                            std::to_string(kMaxEventBytes) + " bytes");
+      }
+      c.telemetry.events.push_back(ev.get<std::string>());
+    }
+  }
+  return c;
+}
+
+}  // namespace swarmform::agent

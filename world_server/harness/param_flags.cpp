@@ -1,0 +1,41 @@
+#include "world_server/harness/param_flags.hpp"
+
+#include <cmath>
+
+#include "common/input_error.hpp"
+#include "robot_agent/controller/controller.hpp"
+
+namespace swarmform::harness {
+
+void apply_param_flags(const std::vector<std::string>& texts, Mission& mission) {
+  if (texts.empty()) return;
+  std::string names;
+  for (const std::string& text : texts) {
+    const auto eq = text.find('=');
+    const std::string name = eq == std::string::npos ? std::string() : text.substr(0, eq);
+    const std::string value_text = eq == std::string::npos ? std::string() : text.substr(eq + 1);
+    double value = 0.0;
+    std::size_t used = 0;
+    try {
+      value = std::stod(value_text, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (name.empty() || used == 0 || used != value_text.size() || !std::isfinite(value)) {
+      throw InputError(
+          "command line", 0,
+          "--param '" + text + "': expected NAME=VALUE, VALUE a finite number (e.g. k_move=0.5)");
+    }
+    mission.params[name] = value;
+    names += (names.empty() ? "" : " ") + text;
+  }
+  try {
+    (void)controller::make_controller(mission, 0);  // the behaviour's own check of every parameter
+  } catch (const InputError& e) {
+    std::string why = e.what();
+    if (const std::string prefix = e.file() + ": "; why.rfind(prefix, 0) == 0) why.erase(0, prefix.size());
+    throw InputError("command line", 0, "--param " + names + ": " + why);
+  }
+}
+
+}  // namespace swarmform::harness
