@@ -102,13 +102,20 @@ class LiveViewTest(unittest.TestCase):
         self.assertIn("heard", heard)
         self.assertIn("ultrasonic", heard)
         self.assertIn("last command", heard)
-        # Let the run end; then robots.csv holds the paused tick's rows.
+        # Kill it from its panel (the path of --kill: at the next round), then let the run end; robots.csv then
+        # holds the paused tick's rows.
+        b.click_element("kill")
         b.click_element("resume")
         code, text = run.wait(timeout=120)
         self.assertEqual(code, 0, text)
+        with open(os.path.join(out, "summary.json")) as f:
+            deaths = json.load(f)["deaths"]
+        self.assertEqual([d["id"] for d in deaths], [rid], "the robot killed from the page")
+        self.assertGreater(deaths[0]["tick"], tick)
         self.assertIn(f"viewer at http://127.0.0.1:{port}/", text)
         rows = vh.rows_at(out, tick)
         self.assertEqual(len(rows), 9)
+        self.assertTrue(all(r["alive"] == "1" for r in rows.values()))
         colours = {int(v): c for v, c in drawn["states"]}
 
         self.assertEqual(b.eval("sfViewer.view"), drawn["view"])
