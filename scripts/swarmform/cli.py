@@ -344,6 +344,8 @@ def main(argv=None):
         print(f"killed agent {args.id} (pid {pid})")
         return 0
     if args.command == "view":
+        if os.environ.get("SWARM_PARSE_ONLY") == "1":
+            return 0
         return launcher.view(args.run_dir, args.port, args.host)
     if args.command == "replay":
         return render_pictures(args.run_dir, args.ticks, args.out, not args.no_animation)

@@ -42,6 +42,7 @@ AGENT_WATCH_PERIOD_S = 0.5
 CHECK_TIMEOUT_S = 60
 AGENT_EXIT_DEADLINE_S = 5.0
 WORLD_STOP_DEADLINE_S = 10.0
+VIEWER_START_S = 5.0  # --view 0: how long to wait for the viewer to say its port
 EXIT_INTERRUPTED = 130
 EXIT_WORLD_FAILED = 1
 EXIT_BAD_INPUT = 2
@@ -539,9 +540,18 @@ class _ViewerStart:
             return
         cmd = [self.exe, "--domain", str(self.domain), "--run-nonce", self.nonce, "--token", self.token,
                "--run-dir", self.run_dir, "--port", str(self.port), "--host", self.host]
-        self.procs.start_viewer(cmd, os.path.join(self.logs, "viewer.log"))
+        log = os.path.join(self.logs, "viewer.log")
+        self.procs.start_viewer(cmd, log)
+        port = self.port
+        if port == 0:  # any free port: the viewer says which once it listens (`viewer http://HOST:PORT/`)
+            deadline = time.monotonic() + VIEWER_START_S
+            while port == 0 and time.monotonic() < deadline and self.procs.viewer.poll() is None:
+                m = re.search(r"^viewer http://[^\s/]+:(\d+)/", _read_text(log), re.M)
+                port = int(m[1]) if m else 0
+                time.sleep(0.05)
         shown = "127.0.0.1" if self.host in ("0.0.0.0", "::") else self.host
-        self.status.line(f"swarm: viewer at http://{shown}:{self.port}/" +
+        where = f"http://{shown}:{port}/" if port else f"(port not known yet: see {log})"
+        self.status.line(f"swarm: viewer at {where}" +
                          (" (the run waits at tick 0 until the page says go)" if self.paused else ""))
 
     def check(self):
@@ -552,6 +562,14 @@ class _ViewerStart:
         if v.returncode != 0:
             self.status.line(f"swarm: WARNING: the viewer exited with code {v.returncode}: "
                              f"{_last_log_line(os.path.join(self.logs, 'viewer.log'))}; the run goes on")
+
+
+def _read_text(path):
+    try:
+        with open(path, "rb") as f:
+            return f.read().decode(errors="replace")
+    except OSError:
+        return ""
 
 
 def _last_log_line(path):
