@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <csignal>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -114,9 +115,24 @@ struct WebServer::Impl {
     const auto& wanted = con->get_requested_subprotocols();
     if (std::find(wanted.begin(), wanted.end(), kFoxgloveSubprotocol) != wanted.end()) {
       con->select_subprotocol(kFoxgloveSubprotocol);
+      return true;  // Foxglove's channels only read: any origin (Foxglove's web app) may subscribe
+    }
+    // The page's protocol can pause and kill: a browser may open it only from our own page. WebSockets have
+    // no same-origin rule, so without this any web site the user visits could drive ws://127.0.0.1:8765.
+    // Clients that are not browsers send no Origin.
+    const std::string origin = con->get_request_header("Origin");
+    if (!origin.empty() && origin != "http://" + con->get_request_header("Host")) {
+      ++refused_origins;
+      if (refused_origins == 1 || refused_origins % 100 == 0) {
+        std::cerr << "swarm_viewer: refused " << refused_origins << " WebSocket(s) from another origin, e.g. "
+                  << origin.substr(0, 80) << "\n";
+      }
+      con->set_status(websocketpp::http::status_code::forbidden);
+      return false;
     }
     return true;
   }
+  std::uint64_t refused_origins = 0;
 };
 
 WebServer::WebServer(const WebServerOptions& options, Handlers handlers, int period_ms)

@@ -166,6 +166,14 @@ class LiveViewTest(unittest.TestCase):
 
     async def foxglove_session(self, port):
         got = {"poses": [], "telemetry": [], "first_scene": None}
+        # A browser on another site may not drive the run (the page's protocol); Foxglove's may read.
+        with self.assertRaises(websockets.exceptions.InvalidStatusCode) as refused:
+            async with websockets.connect(f"ws://127.0.0.1:{port}/ws", origin="http://evil.example"):
+                pass
+        self.assertEqual(refused.exception.status_code, 403)
+        async with websockets.connect(f"ws://127.0.0.1:{port}/", origin="https://app.foxglove.dev",
+                                      subprotocols=["foxglove.websocket.v1"]) as other:
+            self.assertEqual(json.loads(await asyncio.wait_for(other.recv(), 10))["op"], "serverInfo")
         async with websockets.connect(f"ws://127.0.0.1:{port}/", subprotocols=["foxglove.websocket.v1"]) as fox, \
                 websockets.connect(f"ws://127.0.0.1:{port}/ws") as page:
             self.assertEqual(fox.subprotocol, "foxglove.websocket.v1")
