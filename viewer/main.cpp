@@ -122,14 +122,22 @@ int live(const Options& o) {
   dds::ControlWriter control(participant);
 
   std::uint64_t seq = 0;
+  bool got_frame = false;
+  // A page's command before the world has bound this viewer would go to a reader not matched yet (sf_control
+  // is volatile) and be lost: it waits here until the first frame shows the binding.
+  std::vector<dds::ControlSample> pending;
   auto send = [&](dds::ControlKind kind, std::uint64_t count, double value) {
     dds::ControlSample c;
     c.run_nonce = nonce;
     c.token = token;
-    c.seq = ++seq;
     c.kind = static_cast<std::uint8_t>(kind);
     c.count = count;
     c.value = value;
+    if (!got_frame && kind != dds::ControlKind::Hello) {
+      if (pending.size() < 1000) pending.push_back(c);
+      return;
+    }
+    c.seq = ++seq;
     control.send(c);
   };
 
@@ -137,7 +145,6 @@ int live(const Options& o) {
   std::string last_frame;
   std::deque<json> events;
   EventTail tail(o.run_dir + "/events.jsonl");
-  bool got_frame = false;
   double rate = o.rate;
   dds_time_t last_hello = 0;
   std::optional<dds_time_t> finished_at;
@@ -215,7 +222,14 @@ int live(const Options& o) {
       server_ptr->broadcast_text(ClientKind::Page, json{{"type", "events"}, {"events", fresh}}.dump());
     }
     if (frames.take(nonce, frame)) {
-      got_frame = true;
+      if (!got_frame) {
+        got_frame = true;
+        for (dds::ControlSample& c : pending) {
+          c.seq = ++seq;
+          control.send(c);
+        }
+        pending.clear();
+      }
       last_frame = swarmform::viewer::frame_json(frame).dump();
       server_ptr->broadcast_text(ClientKind::Page, last_frame);
       read_world();

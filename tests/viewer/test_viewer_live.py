@@ -17,6 +17,7 @@ import unittest
 
 import viewer_helpers as vh
 
+import websockets.exceptions  # noqa: F401 (websockets.exceptions below)
 import websockets  # Debian's python3-websockets (scripts/setup)
 
 import cdp
