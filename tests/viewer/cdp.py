@@ -9,6 +9,7 @@ import itertools
 import json
 import os
 import shutil
+import signal
 import subprocess
 import tempfile
 import time
@@ -36,11 +37,17 @@ class Browser:
              f"--window-size={width},{height}", "--force-device-scale-factor=1", "--hide-scrollbars",
              "about:blank"],
             stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+        try:
+            self._attach()
+        except BaseException:  # the browser started: never leave it running
+            self.close()
+            raise
+
+    def _attach(self):
         port_file = os.path.join(self.profile, "DevToolsActivePort")
         deadline = time.monotonic() + 60
         while not _read(port_file):
             if time.monotonic() > deadline or self.proc.poll() is not None:
-                self.close()
                 raise RuntimeError(f"chromium did not open its debugging port (exit {self.proc.poll()})")
             time.sleep(0.1)
         port = int(_read(port_file).split()[0])
@@ -109,12 +116,14 @@ class Browser:
 
     def close(self):
         try:
-            if getattr(self, "ws", None) is not None:
+            if getattr(self, "ws", None) is not None and getattr(self, "loop", None) is not None:
                 self.loop.run_until_complete(self.ws.close())
         except Exception:  # the browser may be gone already
             pass
-        if self.proc.poll() is None:
-            self.proc.kill()
+        try:
+            os.killpg(self.proc.pid, signal.SIGKILL)  # the browser and its helper processes (its own session)
+        except ProcessLookupError:
+            pass
         try:
             self.proc.wait(timeout=10)
         except subprocess.TimeoutExpired:
@@ -122,4 +131,5 @@ class Browser:
         if getattr(self, "loop", None) is not None:
             asyncio.set_event_loop(None)
             self.loop.close()
+            self.loop = None
         shutil.rmtree(self.profile, ignore_errors=True)
