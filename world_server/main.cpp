@@ -49,6 +49,8 @@ struct Options {
   Tick warmup_ticks = 100;
   std::string run_nonce;
   std::string agent_pids_file;
+  std::string viewer_token;
+  bool start_paused = false;
   bool check = false;
   std::string dds_config;  // --dds-config FILE
   bool print_dds_config = false;
@@ -135,6 +137,19 @@ int run(const Options& o) {
     }
     so.run_nonce = std::stoull(o.run_nonce, nullptr, 16);
   }
+  if (!o.viewer_token.empty()) {
+    if (o.viewer_token.size() > 16 ||
+        o.viewer_token.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos ||
+        std::stoull(o.viewer_token, nullptr, 16) == 0) {
+      throw std::invalid_argument("--viewer-token " + o.viewer_token +
+                                  ": want 1 to 16 hex digits, not all zero");
+    }
+    so.viewer_token = std::stoull(o.viewer_token, nullptr, 16);
+  }
+  if (o.start_paused && so.viewer_token == 0) {
+    throw std::invalid_argument("--start-paused needs --viewer-token (only the run's viewer can say go)");
+  }
+  so.start_paused = o.start_paused;
   for (const std::string& p : o.agent_pids) {
     const auto [id, pid] = split_pair("--agent-pid", p, '=');
     if (pid == 0 || pid > 4194304) throw std::invalid_argument("--agent-pid " + p + ": not a process id");
@@ -180,6 +195,14 @@ int main(int argc, char** argv) {
   app.add_option("--run-nonce", o.run_nonce,
                  "this run's nonce, 16 hex digits (default: drawn at random); agents started with the same "
                  "--run-nonce take only this world's mission (docs/wire.md)");
+  app.add_option(
+      "--viewer-token", o.viewer_token,
+      "16 hex digits: publish sf_observe frames for the run's viewer and take sf_control (pause, step, "
+      "speed, kill) from the one viewer that presents this token (docs/wire.md \"Observers\")");
+  app.add_flag(
+      "--start-paused", o.start_paused,
+      "lockstep: hold tick 0 until the viewer says go (needs --viewer-token; runs anyway if no viewer "
+      "binds within 30 s)");
   app.add_option("--connect-timeout", o.connect_timeout_s, "seconds to wait for every agent (default 60)")
       ->check(CLI::PositiveNumber);
   app.add_option("--warmup-ticks", o.warmup_ticks,

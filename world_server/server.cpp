@@ -91,6 +91,12 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
   waiting_.assign(n, 0);
   unresponsive_.assign(n, 0);
   for (const world::Kill& k : scenario.kills) kills_.emplace(k.tick, k.id);
+  if (options_.viewer_token != 0) {
+    viewer_ = std::make_unique<ViewerControl>(link_.participant, options_.run_nonce, options_.viewer_token,
+                                              scenario.mode == world::Mode::Lockstep, options_.start_paused,
+                                              describe_behaviour(scenario.mission.behaviour));
+    link_.waiter.attach(viewer_->condition());
+  }
   signals_.notify(&link_.waiter);
 }
 
@@ -287,6 +293,7 @@ void Server::pump(bool running) {
   expired_.clear();
   stalls_.expired(expired_);
   for (const dds::PublicationHandle w : expired_) on_dead(w, running);
+  if (viewer_) viewer_->poll(dds_time());
 }
 
 bool Server::admit(const dds::CommandSample& s, bool running) {
@@ -528,6 +535,11 @@ void Server::begin_round() {
   round_start_ = t0;
   const Tick t = world_.tick();
   const bool realtime = scenario_.mode == world::Mode::Realtime;
+  if (viewer_) {
+    for (const RobotId id : viewer_->take_kills()) {
+      if (id < scenario_.robots.size()) kills_.emplace(t, id);  // the path of --kill, this tick
+    }
+  }
   for (auto [it, end] = kills_.equal_range(t); it != end; ++it) {
     const RobotId id = it->second;
     if (const auto pid = agent_pid(id)) {
@@ -559,6 +571,8 @@ void Server::begin_round() {
       if (realtime) written_at_[i] = dds_time();  // for late_commands; lockstep has no deadline to miss
     }
   }
+  // While the agents compute this round: the frame is off the round's critical path in lockstep.
+  if (viewer_) viewer_->offer_frame(world_, latest_, session_.metrics(), dds_time());
   profile_.publish += dds_time() - t0;
   const ThreadClock c1 = thread_clock();
   profile_.publish_cpu += c1.cpu - c0.cpu;
@@ -605,6 +619,7 @@ bool Server::end_round() {
 void Server::run_lockstep() {
   const dds_duration_t deadline_span = seconds(scenario_.lockstep_deadline_s);
   for (;;) {
+    if (viewer_ && !wait_for_viewer()) return;
     begin_round();
     const dds_time_t collect_start = dds_time();
     // In the world's awake time (stall_guard.hpp): the world's own pause makes no agent late.
@@ -629,6 +644,20 @@ void Server::run_lockstep() {
     profile_.collect += dds_time() - collect_start;
     if (stopping()) return;  // the round in flight is not stepped: every recorded tick is a whole one
     if (end_round()) return;
+    if (viewer_) viewer_->ticked();
+  }
+}
+
+bool Server::wait_for_viewer() {
+  const dds_time_t earliest = viewer_->next_round_at(round_start_);
+  for (;;) {
+    const dds_time_t now = dds_time();
+    if (!viewer_->holding(now) && now >= earliest) return true;
+    // The page sees the pause at once, and keeps seeing frames (a pause changes nothing it draws).
+    viewer_->offer_frame(world_, latest_, session_.metrics(), now);
+    wait_a_while(viewer_->holding(now) ? now + DDS_MSECS(100) : earliest);
+    pump(true);
+    if (stopping()) return false;
   }
 }
 
@@ -671,6 +700,7 @@ void Server::announce_end() {
   std::uint32_t alive = 0;
   for (const auto& r : rows_) alive += r.alive ? 1 : 0;
   link_.state.publish(world_.tick(), true, alive, rows_);
+  if (viewer_) viewer_->offer_frame(world_, latest_, session_.metrics(), dds_time(), true);
   link_.robots.wait_for_acks(DDS_SECS(2));
 }
 

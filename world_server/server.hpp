@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,6 +29,7 @@
 #include "world_server/run/run_session.hpp"
 #include "world_server/run/telemetry_check.hpp"
 #include "world_server/stall_guard.hpp"
+#include "world_server/viewer_control.hpp"
 #include "world_server/world/scenario.hpp"
 #include "world_server/world/world.hpp"
 
@@ -43,6 +45,10 @@ struct ServerOptions {
   // --agent-pids FILE: {"id": pid} JSON the launcher writes after starting the agents (after the world);
   // read when a --kill is due for an id not in agent_pids.
   std::string agent_pids_file;
+  // Issue 21: the run's viewer (viewer_control.hpp). A token != 0 makes the observer endpoints; the viewer
+  // presents the same token. start_paused: lockstep holds tick 0 until the viewer says go.
+  std::uint64_t viewer_token = 0;
+  bool start_paused = false;
 };
 
 // Exit codes of a run (main.cpp documents them all; scripts/README.md too).
@@ -87,6 +93,9 @@ class Server {
   std::optional<pid_t> agent_pid(RobotId id);
   void announce_end();
   void progress(bool force);
+  // Lockstep: holds the next round while the viewer paused the run or its speed cap says wait (pumping DDS
+  // meanwhile: deaths and claims are still handled). False when a stop was asked.
+  bool wait_for_viewer();
   bool stopping() const;
   // run() without its failure handling: a RecordingError or another exception out of it ends in fail().
   int run_inner();
@@ -148,6 +157,7 @@ class Server {
   std::vector<dds_time_t> written_at_;
   LateCommands late_;
   ProcessFaults faults_;  // scheduled stalls and restarts (process_faults.hpp), and world faults' events
+  std::unique_ptr<ViewerControl> viewer_;  // null without --viewer-token
 
   // Where a round's wall time goes (printed on stderr at the end; issue 6 P1's first question).
   struct Profile {

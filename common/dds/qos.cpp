@@ -38,6 +38,18 @@ Qos make_qos(Channel channel, Pace pace) {
       dds_qset_durability(q, DDS_DURABILITY_VOLATILE);
       dds_qset_history(q, DDS_HISTORY_KEEP_LAST, 1);
       break;
+    case Channel::Observe:
+      dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+      dds_qset_durability(q, DDS_DURABILITY_VOLATILE);
+      dds_qset_history(q, DDS_HISTORY_KEEP_LAST, 1);
+      break;
+    case Channel::Control:
+      // Keep-last 256, not keep-all: the topic has no key, so a flooding writer could otherwise grow the
+      // world's reader without bound; a viewer sends a few samples a second.
+      dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+      dds_qset_durability(q, DDS_DURABILITY_VOLATILE);
+      dds_qset_history(q, DDS_HISTORY_KEEP_LAST, 256);
+      break;
   }
   return qos;
 }

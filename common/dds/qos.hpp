@@ -18,6 +18,8 @@ enum class Channel {
   Command,     // agents -> world: reliable, volatile, keep-all (a flood of spoofed samples for an id can
                // never push the owner's command out of the world's reader before it is taken)
   WorldState,  // world -> viewers: best effort, keep-last 1
+  Observe,     // world -> its viewer (issue 21): reliable, keep-last 1 (the newest frame is what matters)
+  Control,     // viewer -> world (issue 21): reliable, keep-last 256
 };
 
 // Liveliness of the agents' command writers (and the world's command reader): MANUAL_BY_TOPIC, this lease,

@@ -62,8 +62,9 @@ def _gif_filter(width, colours):
             f"[b][p]paletteuse=dither=bayer:bayer_scale=4:diff_mode=rectangle")
 
 
-def render(rec, out_dir, log=print, max_frames=MAX_FRAMES):
-    """Writes animation.mp4 and animation.gif into out_dir; returns their paths."""
+def render(rec, out_dir, log=print, max_frames=MAX_FRAMES, progress=None):
+    """Writes animation.mp4 and animation.gif into out_dir; returns their paths. `progress(text)`, when given, is
+    told how far the frames are (the slow part of the pictures)."""
     mp4 = os.path.join(out_dir, "animation.mp4")
     gif = os.path.join(out_dir, "animation.gif")
     frames, gif_every, fps = frame_plan(len(rec.track.ticks), max_frames)
@@ -84,6 +85,8 @@ def render(rec, out_dir, log=print, max_frames=MAX_FRAMES):
             for a in scene.dynamic:
                 a.set_visible(True)
             for n, i in enumerate(frames):
+                if progress and n % 25 == 0:
+                    progress(f"animation frame {n + 1}/{len(frames)}")
                 scene.show(i)
                 canvas.restore_region(background)
                 for a in scene.dynamic:

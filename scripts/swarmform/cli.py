@@ -6,6 +6,7 @@ matplotlib is imported only by the commands that draw, so `--help`, `kill` and `
 import argparse
 import os
 import sys
+import time
 
 from . import expect, faults, hosts, launcher, security
 
@@ -20,6 +21,7 @@ commands:
   demo     `run` with the paper's scenario; prints where the pictures are
   kill     SIGKILL one agent of the running swarm (the swarm carries on)
   replay   draw the pictures again from a run directory's recording
+  view     the browser view of a recording (timeline, play, jump to events); `run --view` shows a live run
   report   print a run's summary.json as a readable table (or --json, --csv)
   sweep    a grid of in-process runs (scenarios x shapes x seeds x kill schedules x --param values) on every core:
            sweep.csv, sweep.json (success rates, worst cases with the command that reproduces each)
@@ -35,6 +37,9 @@ examples:
   scripts/swarm run --hosts 3 --link "loss 5% rate 20mbit"   # as root: 3 agent hosts (network namespaces)
   scripts/swarm kill 3                      # while a swarm runs (agents.json of runs/latest)
   scripts/swarm replay runs/latest --ticks 500 1000
+  scripts/swarm run --view                  # watch it live at http://127.0.0.1:8765/ (pause, step, click a robot)
+  scripts/swarm run --view-paused           # ... starting paused at tick 0 until the page says go
+  scripts/swarm view runs/latest            # the same page over the recording
   scripts/swarm report runs/latest
   scripts/swarm report runs/a runs/b --csv > runs.csv
   scripts/swarm run --no-pictures --expect 'outcome == arrived' --expect 'collisions_robot_robot == 0'
@@ -85,6 +90,16 @@ def _link_spec(text):
         raise argparse.ArgumentTypeError(str(e)) from None
 
 
+DEFAULT_VIEW_PORT = 8765
+
+
+def _port(text):
+    v = _int_at_least(0)(text)
+    if v > 65535:
+        raise argparse.ArgumentTypeError(f"a TCP port is 0..65535, got {v}")
+    return v
+
+
 def _kill_spec(text):
     rid, sep, tick = text.partition("@")
     if not sep or not rid.isdigit() or not tick.isdigit():
@@ -129,6 +144,17 @@ def _add_run_flags(p, demo=False):
                    help="DDS domain id (default: a free one on this host, picked and said; SWARM_DOMAINS=LO-HI "
                         "bounds the pick, 0-99 by default)")
     p.add_argument("--no-pictures", action="store_true", help="do not draw the pictures at the end")
+    p.add_argument("--no-animation", action="store_true",
+                   help="draw the pictures but not animation.mp4 / animation.gif (the slow part)")
+    p.add_argument("--view", nargs="?", type=_port, const=DEFAULT_VIEW_PORT, default=None, metavar="PORT",
+                   help=f"watch the run in a browser: a viewer process serves the page at http://HOST:PORT/ "
+                        f"(default port {DEFAULT_VIEW_PORT}; viewer/README.md). Pause, step, speed cap and kill "
+                        "from the page in lockstep; the run never waits for the viewer or dies with it")
+    p.add_argument("--view-host", default="127.0.0.1", metavar="ADDR",
+                   help="the address the viewer listens on (default 127.0.0.1: this machine only; 0.0.0.0: "
+                        "every interface, and anyone who reaches it can pause and kill)")
+    p.add_argument("--view-paused", action="store_true",
+                   help="--view, and the run (lockstep) waits at tick 0 until the page says go (resume or step)")
     p.add_argument("--ticks", type=_int_at_least(0), nargs="+", default=[], metavar="T",
                    help="also draw snapshots at these ticks")
     p.add_argument("--hosts", type=_hosts_count, metavar="K",
@@ -160,7 +186,7 @@ def _add_run_flags(p, demo=False):
 
 def make_parser():
     top = Parser(prog="swarm", description=MAIN_HELP, formatter_class=argparse.RawDescriptionHelpFormatter,
-                 usage="swarm {run,demo,kill,replay,report,sweep} [options]   (swarm <command> --help)")
+                 usage="swarm {run,demo,kill,replay,view,report,sweep} [options]   (swarm <command> --help)")
     sub = top.add_subparsers(dest="command", metavar="command", parser_class=Parser, prog="swarm")
 
     run = sub.add_parser("run", help="run a swarm", formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -191,6 +217,17 @@ def make_parser():
                         help="also draw snapshots at these ticks")
     replay.add_argument("--out", metavar="DIR", help="write the pictures here instead of RUN_DIR/pictures")
     replay.add_argument("--no-animation", action="store_true", help="skip animation.mp4 and animation.gif")
+
+    view = sub.add_parser("view", help="the browser view of a recording",
+                          description="Serves the live view's page over RUN_DIR's recording (world.json, robots.csv, "
+                                      "events.jsonl, summary.json) at http://HOST:PORT/: a timeline to scrub, "
+                                      "play/pause, speed, jump to events (deaths, formation, leader changes), "
+                                      "click a robot. Ctrl-C ends it.")
+    view.add_argument("run_dir", metavar="RUN_DIR")
+    view.add_argument("--port", type=_port, default=DEFAULT_VIEW_PORT,
+                      help=f"TCP port (default {DEFAULT_VIEW_PORT}; 0: any free one, printed)")
+    view.add_argument("--host", default="127.0.0.1", metavar="ADDR",
+                      help="address to listen on (default 127.0.0.1: this machine only)")
 
     report = sub.add_parser("report", help="print a run's summary as a table, JSON or CSV",
                             description="Prints RUN_DIR/summary.json as a readable table; --json and --csv give it "
@@ -278,14 +315,46 @@ def _add_sweep_parser(sub):
     r.add_argument("--quiet", action="store_true", help="no progress line")
 
 
+class _DrawingProgress:
+    """What is being drawn, on one line rewritten in place on a terminal; a plain line every 5 s otherwise."""
+
+    def __init__(self, stream=sys.stderr):
+        self.stream, self.tty, self.last, self.dirty = stream, stream.isatty(), 0.0, False
+        self.start = time.monotonic()
+
+    def __call__(self, text):
+        line = f"pictures: {text} ({time.monotonic() - self.start:.0f} s)"
+        if self.tty:
+            self.stream.write("\r\033[K" + line)
+            self.dirty = True
+        elif time.monotonic() - self.last >= 5.0:
+            self.stream.write(line + "\n")
+            self.last = time.monotonic()
+        self.stream.flush()
+
+    def end(self):
+        if self.dirty:
+            self.stream.write("\r\033[K")
+            self.stream.flush()
+            self.dirty = False
+
+
 def render_pictures(run_dir, ticks=(), out_dir=None, animate=True):
     """Loads the recording and draws every picture; 0, or 1 with a file:line message."""
     from . import animation, pictures, recording  # matplotlib: only when drawing
+    progress = _DrawingProgress()
+    print("swarm: drawing the pictures" + ("" if animate else " (no animation)") +
+          ("; --no-animation skips the video, --no-pictures all of it" if animate else ""), file=sys.stderr)
     try:
+        progress("loading the recording")
         rec = recording.load(run_dir)
         for w in rec.warnings:
             print(f"swarm: warning: {w}", file=sys.stderr)
-        written = pictures.render_all(rec, out_dir, ticks, animate, log=lambda m: print(m, file=sys.stderr))
+        try:
+            written = pictures.render_all(rec, out_dir, ticks, animate, log=lambda m: print(m, file=sys.stderr),
+                                          progress=progress)
+        finally:
+            progress.end()
     except recording.RecordingError as e:
         print(f"swarm: {e}", file=sys.stderr)
         return 1
@@ -321,7 +390,10 @@ def main(argv=None):
                          "Cyclone 0.10.2's access control takes")
         if os.environ.get("SWARM_PARSE_ONLY") == "1":  # scripts/swarm checks the flags before it builds
             return 0
-        code = launcher.run(args, lambda run_dir: render_pictures(run_dir, args.ticks))
+        if args.view_paused and args.view is None:
+            args.view = DEFAULT_VIEW_PORT
+        code = launcher.run(args, lambda run_dir: render_pictures(run_dir, args.ticks,
+                                                                  animate=not args.no_animation))
         if args.expect and code != launcher.EXIT_INTERRUPTED and getattr(args, "run_dir", None):
             checked = expect.evaluate(args.expect, args.run_dir, lambda m: print(m, file=sys.stderr))
             code = code or checked  # a failed run keeps its own exit code
@@ -342,6 +414,10 @@ def main(argv=None):
             return e.code
         print(f"killed agent {args.id} (pid {pid})")
         return 0
+    if args.command == "view":
+        if os.environ.get("SWARM_PARSE_ONLY") == "1":
+            return 0
+        return launcher.view(args.run_dir, args.port, args.host)
     if args.command == "replay":
         return render_pictures(args.run_dir, args.ticks, args.out, not args.no_animation)
     if args.command == "sweep":

@@ -26,6 +26,7 @@ import errno
 import json
 import os
 import re
+import secrets
 import select
 import shlex
 import shutil
@@ -47,6 +48,7 @@ AGENT_WATCH_PERIOD_S = 0.5
 CHECK_TIMEOUT_S = 60
 AGENT_EXIT_DEADLINE_S = 5.0
 WORLD_STOP_DEADLINE_S = 10.0
+VIEWER_START_S = 5.0  # --view 0: how long to wait for the viewer to say its port
 EXIT_INTERRUPTED = 130
 EXIT_WORLD_FAILED = 1
 EXIT_BAD_INPUT = 2
@@ -73,7 +75,7 @@ def build_dir():
 
 def executable(kind):
     rel = {"world": "world_server/world_server", "agent": "robot_agent/robot_agent",
-           "inprocess": "world_server/harness/swarm_inprocess"}[kind]
+           "inprocess": "world_server/harness/swarm_inprocess", "viewer": "viewer/swarm_viewer"}[kind]
     path = os.path.join(build_dir(), rel)
     if not os.access(path, os.X_OK):
         raise LaunchError(f"{path} not found: build it first (scripts/build), or set BUILD_DIR")
@@ -190,6 +192,7 @@ class Processes:
         self.agent_args = []  # given to every agent, restarted ones too (--exec CMD, --security-dir)
         self.groups = set()
         self.world = None
+        self.viewer = None
         self._files = []
         # rid -> (command prefix, extra flags): where agent rid runs (hosts.Hosts.agent_wrap under --hosts)
         self.placement = None
@@ -220,6 +223,23 @@ class Processes:
         self.world = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                                       stderr=subprocess.STDOUT, process_group=0, preexec_fn=_die_with_parent)
         return self.world
+
+    def start_viewer(self, cmd, log_path):
+        """The viewer (--view): its own process group, its output to its log. Its death is said, never fatal."""
+        self.viewer = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=self._log(log_path),
+                                       stderr=subprocess.STDOUT, process_group=0, preexec_fn=_die_with_parent)
+        return self.viewer
+
+    def stop_viewer(self, deadline_s=3.0):
+        v = self.viewer
+        if v is None or v.poll() is not None:
+            return
+        v.send_signal(signal.SIGTERM)
+        try:
+            v.wait(timeout=deadline_s)
+        except subprocess.TimeoutExpired:
+            _kill_quietly(v.kill)
+            v.wait(timeout=5)
 
     def stop_world(self, deadline_s):
         """SIGTERM (the world closes its recording), then SIGKILL after the deadline. Returns its exit code."""
@@ -499,12 +519,16 @@ def run(args, render_pictures):
         agents_json = os.path.join(run_dir, "agents.json")
         cmd = [world_exe] + overrides(args) + ["--out", run_dir, "--domain", str(domain), "--run-nonce", nonce,
                                                "--agent-pids", agents_json] + secure_args
+        view = _ViewerStart(args, info, run_dir, domain, nonce, logs, procs, status)
+        view.extra = list(secure_args)
+        cmd += view.world_flags()
         if hosts is not None:
             wrap, extra = hosts.world_wrap()
             cmd = wrap + cmd + extra
             procs.placement = hosts.agent_wrap
 
         def start_agents():  # at the world's `world ready`: its mission is out
+            view.start()
             for rid in range(n):
                 if stop or rid in procs.agents:
                     continue
@@ -520,10 +544,11 @@ def run(args, render_pictures):
             procs.start_world(cmd)
             restarter = faults.Restarter(procs, agent_exe, domain, nonce, logs, write_agents, n)
             done = _follow(procs.world, stop, status, console_log, max_ticks, on_ready=start_agents,
-                           on_idle=watch.check, on_line=restarter.handle)
+                           on_idle=lambda: (watch.check(), view.check()), on_line=restarter.handle)
             while procs.world.poll() is None and not stop:  # its output closed; it should be exiting
                 time.sleep(0.1)
         status.end()
+        procs.stop_viewer()
         if stop:
             return _interrupted(procs, stop, status, run_dir)
         code = procs.world.returncode
@@ -551,6 +576,7 @@ def run(args, render_pictures):
         return _os_error_code(e)
     finally:
         procs.stop_world(WORLD_STOP_DEADLINE_S)
+        procs.stop_viewer()
         procs.kill_agents()
         _close_quietly(procs)
         if hosts is not None:
@@ -583,6 +609,99 @@ def _make_hosts(args, status, run_dir, robots):
     status.line(f"swarm: {args.hosts} agent hosts and the world's, as network namespaces {hosts.prefix}-*"
                 f"{'; links: ' + link if link else ''} (hosts.json)")
     return hosts
+
+
+class _ViewerStart:
+    """--view: the world gets a viewer token (and --start-paused for --view-paused); at `world ready` the viewer
+    starts with the same token, and its URL is printed. A viewer that fails or dies is said once; the run goes on
+    (the world forgets a viewer that went away: viewer_control.hpp)."""
+
+    def __init__(self, args, info, run_dir, domain, nonce, logs, procs, status):
+        self.port = getattr(args, "view", None)
+        self.host = getattr(args, "view_host", "127.0.0.1")
+        self.paused = bool(getattr(args, "view_paused", False))
+        self.run_dir, self.domain, self.nonce, self.logs = run_dir, domain, nonce, logs
+        self.procs, self.status, self.said = procs, status, False
+        self.token = secrets.token_hex(8) if self.port is not None else None
+        if self.paused and info.get("mode") != "lockstep":
+            raise LaunchError("--view-paused needs a lockstep run (a realtime run ticks on the clock and cannot "
+                              "be held); leave out --view-paused, or use --mode lockstep", EXIT_BAD_INPUT)
+        if self.port is not None and getattr(args, "hosts", None):
+            raise LaunchError("--view with --hosts: the viewer would run outside the hosts' network namespaces, "
+                              "where the world cannot be reached; not supported yet (docs/multi-host.md)",
+                              EXIT_BAD_INPUT)
+        self.exe = executable("viewer") if self.port is not None else None
+        self.extra = []  # --security-dir under --secure: the viewer takes the run's observer identity
+
+    def world_flags(self):
+        if self.token is None:
+            return []
+        return ["--viewer-token", self.token] + (["--start-paused"] if self.paused else [])
+
+    def start(self):
+        if self.token is None or self.procs.viewer is not None:
+            return
+        cmd = [self.exe, "--domain", str(self.domain), "--run-nonce", self.nonce, "--token", self.token,
+               "--run-dir", self.run_dir, "--port", str(self.port), "--host", self.host] + self.extra
+        log = os.path.join(self.logs, "viewer.log")
+        self.procs.start_viewer(cmd, log)
+        port = self.port
+        if port == 0:  # any free port: the viewer says which once it listens (`viewer http://HOST:PORT/`)
+            deadline = time.monotonic() + VIEWER_START_S
+            while port == 0 and time.monotonic() < deadline and self.procs.viewer.poll() is None:
+                m = re.search(r"^viewer http://[^\s/]+:(\d+)/", _read_text(log), re.M)
+                port = int(m[1]) if m else 0
+                time.sleep(0.05)
+        shown = "127.0.0.1" if self.host in ("0.0.0.0", "::") else self.host
+        where = f"http://{shown}:{port}/" if port else f"(port not known yet: see {log})"
+        self.status.line(f"swarm: viewer at {where}" +
+                         (" (the run waits at tick 0 until the page says go)" if self.paused else ""))
+
+    def check(self):
+        v = self.procs.viewer
+        if v is None or self.said or v.poll() is None:
+            return
+        self.said = True
+        if v.returncode != 0:
+            self.status.line(f"swarm: WARNING: the viewer exited with code {v.returncode}: "
+                             f"{_last_log_line(os.path.join(self.logs, 'viewer.log'))}; the run goes on")
+
+
+def _read_text(path):
+    try:
+        with open(path, "rb") as f:
+            return f.read().decode(errors="replace")
+    except OSError:
+        return ""
+
+
+def _last_log_line(path):
+    try:
+        with open(path, "rb") as f:
+            lines = [x.strip() for x in f.read().decode(errors="replace").splitlines() if x.strip()]
+    except OSError:
+        return f"(no log at {path})"
+    return lines[-1] if lines else "(empty log)"
+
+
+def view(run_dir, port, host):
+    """`swarm view RUN_DIR`: the viewer over a recording, until Ctrl-C."""
+    if not os.path.isfile(os.path.join(run_dir, "world.json")):
+        print(f"swarm view: {run_dir}/world.json: no such file (is {run_dir} a run directory?)", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    try:
+        exe = executable("viewer")
+    except LaunchError as e:
+        print(f"swarm view: {e}", file=sys.stderr)
+        return e.code
+    p = subprocess.Popen([exe, "--replay", os.path.abspath(run_dir), "--port", str(port), "--host", host],
+                         stdin=subprocess.DEVNULL, preexec_fn=_die_with_parent)
+    try:
+        return p.wait()
+    except KeyboardInterrupt:
+        p.send_signal(signal.SIGTERM)
+        p.wait(timeout=5)
+        return EXIT_INTERRUPTED
 
 
 def _os_error_line(e):
@@ -655,6 +774,8 @@ def _run_in_process(args, stop, status, render_pictures):
             dropped.append(flags[i])
     if args.domain is not None:
         dropped.append("--domain")
+    if getattr(args, "view", None) is not None:
+        dropped.append("--view")
     if dropped:
         status.line(f"swarm: {', '.join(sorted(set(dropped)))} do(es) not apply to an in-process run; ignored")
     run_dir = args.run_dir = make_run_dir(args.out)

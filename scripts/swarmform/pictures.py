@@ -74,8 +74,10 @@ def snapshot_ticks(rec, extra=()):
     return sorted(out.items())
 
 
-def render_all(rec, out_dir=None, extra_ticks=(), animate=True, log=print):
-    """Writes every picture; returns the list of paths written."""
+def render_all(rec, out_dir=None, extra_ticks=(), animate=True, log=print, progress=None):
+    """Writes every picture; returns the list of paths written. `progress(text)`, when given, hears what is being
+    drawn (the launcher shows it: the pictures take longer than a lockstep run)."""
+    say = progress or (lambda _text: None)
     out_dir = out_dir or os.path.join(rec.run_dir, "pictures")
     os.makedirs(out_dir, exist_ok=True)
     for name in os.listdir(out_dir):  # snapshots of an earlier drawing (other ticks) would mislead
@@ -85,18 +87,20 @@ def render_all(rec, out_dir=None, extra_ticks=(), animate=True, log=print):
     ticks = snapshot_ticks(rec, extra_ticks)
     view = Scene(rec, picture_size(rec, "snapshot"), DPI)
     try:
-        for tick, caption in ticks:
+        for k, (tick, caption) in enumerate(ticks):
+            say(f"snapshot {k + 1}/{len(ticks)} (tick {tick})")
             view.show(rec.track.index_of(tick), caption)
             path = os.path.join(out_dir, f"snapshot_t{tick:05d}.png")
             view.fig.savefig(path, dpi=DPI)
             written.append(path)
     finally:
         view.close()
+    say("trajectories, residual force, shape error")
     written.append(trajectories(rec, os.path.join(out_dir, "trajectories.png")))
     written.append(residual_force(rec, os.path.join(out_dir, "residual_force.png")))
     written.append(shape_error(rec, os.path.join(out_dir, "shape_error.png")))
     if animate:
-        written += animation.render(rec, out_dir, log=log)
+        written += animation.render(rec, out_dir, log=log, progress=progress)
     return written
 
 

@@ -27,10 +27,12 @@ class CliTest(unittest.TestCase):
         r = helpers.swarm("--help", env={"SWARM_NO_BUILD": "0"}, build_dir=os.path.join(self.dir, "nothing"))
         self.assertLess(time.monotonic() - start, 10.0)
         self.assertEqual(r.returncode, 0, r.stderr)
-        for word in ("run", "demo", "kill", "replay", "report", "runs/latest", "--help"):
+        for word in ("run", "demo", "kill", "replay", "view", "report", "runs/latest", "--help"):
             self.assertIn(word, r.stdout)
         for cmd, flags in (("run", ["--scenario", "--shape", "--robots", "--seed", "--mode", "--max-ticks", "--out",
-                                    "--kill", "--domain", "--no-pictures", "--in-process", "--secure"]),
+                                    "--kill", "--domain", "--no-pictures", "--in-process", "--secure",
+                                    "--no-animation", "--view", "--view-host", "--view-paused"]),
+                           ("view", ["--port", "--host", "RUN_DIR"]),
                            ("demo", ["--robots"]), ("kill", ["--run"]), ("replay", ["--ticks"]), ("report", [])):
             r = helpers.swarm(cmd, "--help", env={"SWARM_NO_BUILD": "0"},
                               build_dir=os.path.join(self.dir, "nothing"))
@@ -50,6 +52,9 @@ class CliTest(unittest.TestCase):
                  (["run", "--secure", "--in-process"], "--secure secures DDS and --in-process runs without it"),
                  (["run", "--secure", "--domain", "231"], "--secure: DDS domain 231 is above 230"),
                  (["replay"], "the following arguments are required: RUN_DIR"),
+                 (["run", "--view", "70000"], "a TCP port is 0..65535, got 70000"),
+                 (["view"], "the following arguments are required: RUN_DIR"),
+                 (["view", "runs/x", "--port", "-1"], "must be >= 0"),
                  (["kill", "x"], "argument ID"),
                  (["explode"], "invalid choice: 'explode'"),
                  ([], "usage")]

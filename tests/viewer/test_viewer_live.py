@@ -1,0 +1,226 @@
+"""The live view (issue 21) against a real lockstep swarm (world_server + robot_agent + swarm_viewer through
+scripts/swarm, DDS test domain offset 62, one run at a time): in a headless Chromium the page draws the robots where
+robots.csv puts them in their state's colour, pause holds the tick, step 1 moves it by exactly one, a click on a
+robot opens its panel; a Foxglove client (foxglove.websocket.v1) gets the channels with their schemas, and poses
+that are robots.csv's."""
+
+import asyncio
+import json
+import math
+import os
+import shutil
+import signal
+import struct
+import tempfile
+import time
+import unittest
+
+import viewer_helpers as vh
+
+import websockets.exceptions  # noqa: F401 (websockets.exceptions below)
+import websockets  # Debian's python3-websockets (scripts/setup)
+
+import cdp
+
+SCENARIO = os.path.join(vh.ROOT, "scenarios", "paper.yaml")
+
+
+@unittest.skipUnless(vh.built("world", "agent", "viewer"), f"world_server/robot_agent/swarm_viewer not built in "
+                                                          f"{vh.BUILD_DIR}")
+class LiveViewTest(unittest.TestCase):
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="sf-view-")
+        self.runs = []
+        self.browser = None
+
+    def tearDown(self):
+        if self.browser:
+            self.browser.close()
+        for r in self.runs:
+            r.stop()
+        leftovers = vh.processes_mentioning(self.dir)
+        for pid in leftovers:
+            os.kill(pid, signal.SIGKILL)
+        shutil.rmtree(self.dir)
+        self.assertEqual(leftovers, [], "a process of this test was left running")
+
+    def start(self, out, *extra, domain):
+        r = vh.SwarmRun("--scenario", SCENARIO, "--domain", str(domain), "--out", out, "--no-pictures", *extra)
+        self.runs.append(r)
+        return r
+
+    @unittest.skipIf(not os.path.exists(cdp.CHROMIUM), "chromium missing (scripts/setup installs it)")
+    def test_page_draws_pauses_steps_and_selects(self):
+        out = os.path.join(self.dir, "run")
+        port = vh.free_port()
+        run = self.start(out, "--view-paused", "--view", str(port), "--max-ticks", "400",
+                         domain=vh.helpers.test_domain(62))
+        url = f"http://127.0.0.1:{port}/"
+        vh.wait_http(url)
+        b = self.browser = cdp.Browser()
+        b.navigate(url)
+        frame = "window.sfViewer && sfViewer.frame"
+        b.wait_for(f"{frame} && sfViewer.frame.paused && sfViewer.frame.tick === 0", what="a paused frame of tick 0")
+        # A paused start holds tick 0 until the page says go.
+        time.sleep(1.0)
+        self.assertEqual(b.eval("sfViewer.frame.tick"), 0)
+        self.assertEqual(b.eval("document.getElementById('run-state').textContent"), "PAUSED")
+        # A speed cap, so that the run is still going when the test pauses it; then go.
+        b.eval("document.getElementById('speed').value = '60'")
+        b.click_element("speed-set")
+        b.wait_for("sfViewer.frame.speed_cap === 60", what="the speed cap in the frames")
+        b.click_element("resume")
+        b.wait_for("sfViewer.frame.tick >= 50", timeout=60, what="tick 50")
+        b.click_element("pause")
+        b.wait_for("sfViewer.frame.paused", what="paused")
+        tick = b.eval("sfViewer.frame.tick")
+        self.assertGreaterEqual(tick, 50)
+        # Paused: the tick does not move for 2 s.
+        for _ in range(10):
+            time.sleep(0.2)
+            self.assertEqual(b.eval("sfViewer.frame.tick"), tick, "the tick moved while paused")
+        img, png = b.screenshot()
+        with open(os.path.join(self.dir, "page.png"), "wb") as f:
+            f.write(png)
+        # Where the page projects each robot of its frame, and the state colours it was given.
+        drawn = b.eval("""(() => { const c = document.getElementById('arena').getBoundingClientRect();
+            return {x0: c.x, y0: c.y, states: Array.from(sfViewer.states, ([v, s]) => [v, s.colour]),
+                    view: sfViewer.view, w: c.width, h: c.height}; })()""")
+        # Step once: exactly one tick further, and held there.
+        b.click_element("step1")
+        b.wait_for(f"sfViewer.frame.tick === {tick + 1} && sfViewer.frame.paused", what="one step")
+        time.sleep(1.0)
+        self.assertEqual(b.eval("sfViewer.frame.tick"), tick + 1)
+        # Click a robot: its panel shows its id.
+        rid = 4
+        x, y = b.eval(f"(() => {{ const r = sfViewer.frame.robots.find(q => q.id === {rid});"
+                      f" const c = document.getElementById('arena').getBoundingClientRect();"
+                      f" const p = sfViewer.project(r.x, r.y); return [c.x + p[0], c.y + p[1]]; }})()")
+        b.click(x, y)
+        b.wait_for(f"document.getElementById('panel-id').textContent === '{rid}'", what="robot 4's panel")
+        self.assertFalse(b.eval("document.getElementById('robot').hidden"))
+        heard = b.eval("document.getElementById('robot-fields').textContent")
+        self.assertIn("heard", heard)
+        self.assertIn("ultrasonic", heard)
+        self.assertIn("last command", heard)
+        # Kill it from its panel (the path of --kill: at the next round), then let the run end; robots.csv then
+        # holds the paused tick's rows.
+        b.click_element("kill")
+        b.click_element("resume")
+        code, text = run.wait(timeout=120)
+        self.assertEqual(code, 0, text)
+        with open(os.path.join(out, "summary.json")) as f:
+            deaths = json.load(f)["deaths"]
+        self.assertEqual([d["id"] for d in deaths], [rid], "the robot killed from the page")
+        self.assertGreater(deaths[0]["tick"], tick)
+        self.assertIn(f"viewer at http://127.0.0.1:{port}/", text)
+        rows = vh.rows_at(out, tick)
+        self.assertEqual(len(rows), 9)
+        self.assertTrue(all(r["alive"] == "1" for r in rows.values()))
+        colours = {int(v): c for v, c in drawn["states"]}
+
+        self.assertEqual(b.eval("sfViewer.view"), drawn["view"])
+        wrong = []
+        for rid, r in rows.items():
+            # The page's projection (its view has not moved since the screenshot), checked against the arena frame.
+            px, py = vh.check_projection(self, b, float(r["x"]), float(r["y"]))
+            want = vh.hex_rgb(colours[int(r["state"])])
+            got, d = vh.drawn_near(img, px, py, want)
+            if d > 12:
+                wrong.append(f"robot {rid} at ({px:.1f}, {py:.1f}): drawn {got}, its state {r['state']} is {want}")
+        self.assertEqual(wrong, [], "robots not drawn where robots.csv puts them (screenshot: page.png)")
+
+
+    def test_foxglove_channels_schemas_and_poses(self):
+        out = os.path.join(self.dir, "fox")
+        port = vh.free_port()
+        run = self.start(out, "--view-paused", "--view", str(port), "--max-ticks", "200",
+                         domain=vh.helpers.test_domain(62))
+        vh.wait_http(f"http://127.0.0.1:{port}/")
+        got = asyncio.run(self.foxglove_session(port))
+        code, text = run.wait(timeout=120)
+        self.assertEqual(code, 0, text)
+        rate = 10.0  # scenarios/paper.yaml's tick rate: the messages' timestamps are tick / rate
+        checked = 0
+        for stamp, poses in got["poses"]:
+            tick = round(stamp * rate)
+            rows = vh.rows_at(out, tick)
+            self.assertEqual(len(poses), len(rows))
+            for rid, p in enumerate(poses):
+                r = rows[rid]
+                self.assertAlmostEqual(p["position"]["x"], float(r["x"]), places=9)
+                self.assertAlmostEqual(p["position"]["y"], float(r["y"]), places=9)
+                yaw = 2 * math.atan2(p["orientation"]["z"], p["orientation"]["w"])
+                self.assertAlmostEqual(math.remainder(yaw - float(r["theta"]), 2 * math.pi), 0.0, places=9)
+            checked += 1
+        self.assertGreaterEqual(checked, 3, "too few pose messages to compare")
+        ids = [e["id"] for e in got["first_scene"]["entities"]]
+        self.assertEqual(ids, ["arena", "robots"])
+        robots = got["first_scene"]["entities"][1]
+        self.assertEqual(len(robots["cylinders"]), 9)
+        self.assertEqual(sorted(t["text"] for t in robots["texts"]), sorted(str(i) for i in range(9)))
+        arena = got["first_scene"]["entities"][0]
+        self.assertEqual(len(arena["cubes"]), 4 + 1, "four walls and the large box of paper.yaml")
+        self.assertGreaterEqual(len(got["telemetry"]), 3)
+        self.assertEqual(len(got["telemetry"][0]["robots"]), 9)
+        self.assertIn("state_name", got["telemetry"][0]["robots"][0])
+
+    async def foxglove_session(self, port):
+        got = {"poses": [], "telemetry": [], "first_scene": None}
+        # A browser on another site may not drive the run (the page's protocol); Foxglove's may read.
+        with self.assertRaises(websockets.exceptions.InvalidStatusCode) as refused:
+            async with websockets.connect(f"ws://127.0.0.1:{port}/ws", origin="http://evil.example"):
+                pass
+        self.assertEqual(refused.exception.status_code, 403)
+        async with websockets.connect(f"ws://127.0.0.1:{port}/", origin="https://app.foxglove.dev",
+                                      subprotocols=["foxglove.websocket.v1"]) as other:
+            self.assertEqual(json.loads(await asyncio.wait_for(other.recv(), 10))["op"], "serverInfo")
+        async with websockets.connect(f"ws://127.0.0.1:{port}/", subprotocols=["foxglove.websocket.v1"]) as fox, \
+                websockets.connect(f"ws://127.0.0.1:{port}/ws") as page:
+            self.assertEqual(fox.subprotocol, "foxglove.websocket.v1")
+            info = json.loads(await asyncio.wait_for(fox.recv(), 10))
+            self.assertEqual(info["op"], "serverInfo")
+            adv = json.loads(await asyncio.wait_for(fox.recv(), 10))
+            self.assertEqual(adv["op"], "advertise")
+            channels = {c["topic"]: c for c in adv["channels"]}
+            self.assertEqual({t: c["schemaName"] for t, c in channels.items()},
+                             {"/scene": "foxglove.SceneUpdate", "/robots/poses": "foxglove.PosesInFrame",
+                              "/robots/telemetry": "swarmform.RobotTelemetry"})
+            for c in channels.values():
+                self.assertEqual((c["encoding"], c["schemaEncoding"]), ("json", "jsonschema"))
+                schema = json.loads(c["schema"])
+                self.assertEqual(schema["type"], "object")
+            self.assertIn("poses", json.loads(channels["/robots/poses"]["schema"])["properties"])
+            self.assertIn("entities", json.loads(channels["/scene"]["schema"])["properties"])
+            subs = {10: channels["/scene"]["id"], 11: channels["/robots/poses"]["id"],
+                    12: channels["/robots/telemetry"]["id"]}
+            await fox.send(json.dumps({"op": "subscribe",
+                                       "subscriptions": [{"id": k, "channelId": v} for k, v in subs.items()]}))
+            # A subscription to a channel that does not exist is answered with an error status.
+            await fox.send(json.dumps({"op": "subscribe", "subscriptions": [{"id": 99, "channelId": 77}]}))
+            await page.send(json.dumps({"cmd": "speed", "value": 100}))
+            await page.send(json.dumps({"cmd": "resume"}))
+            status = None
+            deadline = time.monotonic() + 60
+            while time.monotonic() < deadline and (len(got["poses"]) < 5 or status is None):
+                m = await asyncio.wait_for(fox.recv(), 30)
+                if isinstance(m, str):
+                    status = json.loads(m)
+                    continue
+                self.assertEqual(m[0], 1, "Message Data opcode")
+                sub = struct.unpack_from("<I", m, 1)[0]
+                stamp = struct.unpack_from("<Q", m, 5)[0] / 1e9
+                payload = json.loads(m[13:])
+                if subs.get(sub) == channels["/robots/poses"]["id"]:
+                    got["poses"].append((stamp, payload["poses"]))
+                elif subs.get(sub) == channels["/robots/telemetry"]["id"]:
+                    got["telemetry"].append(payload)
+                elif got["first_scene"] is None:
+                    got["first_scene"] = payload
+            self.assertIsNotNone(status, "no status for the bad subscription")
+            self.assertEqual((status["op"], status["level"]), ("status", 2))
+        return got
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,153 @@
+"""The viewer against recordings and its own death (issue 21; DDS test domain offset 63, one run at a time): a
+viewer SIGKILLed mid-run changes nothing of a lockstep run (the same trajectory hash as a run without one), and
+`swarm view RUN_DIR` serves the same page over a recording: scrubbed to a tick, a headless Chromium draws the robots
+where robots.csv puts them."""
+
+import asyncio
+import json
+import os
+import shutil
+import signal
+import subprocess
+import tempfile
+import time
+import unittest
+
+import viewer_helpers as vh
+
+import websockets  # Debian's python3-websockets (scripts/setup)
+
+import cdp
+
+SCENARIO = os.path.join(vh.ROOT, "scenarios", "paper.yaml")
+
+
+@unittest.skipUnless(vh.built("world", "agent", "viewer"), f"world_server/robot_agent/swarm_viewer not built in "
+                                                          f"{vh.BUILD_DIR}")
+class RecordedRunsTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        # One run without a viewer: the reference trajectory and the recording the replay test views.
+        cls.dir = tempfile.mkdtemp(prefix="sf-view-runs-")
+        cls.plain = os.path.join(cls.dir, "plain")
+        r = vh.SwarmRun("--scenario", SCENARIO, "--domain", str(vh.helpers.test_domain(63)), "--out", cls.plain,
+                        "--no-pictures", "--max-ticks", "300")
+        cls.plain_result = r.wait(timeout=120)
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.dir)
+
+    def setUp(self):
+        self.assertEqual(self.plain_result[0], 0, self.plain_result[1])
+        self.runs = []
+        self.procs = []
+        self.browser = None
+
+    def tearDown(self):
+        if self.browser:
+            self.browser.close()
+        for r in self.runs:
+            r.stop()
+        for p in self.procs:  # `swarm view` and its swarm_viewer: their own process group
+            try:
+                os.killpg(p.pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+            p.wait(timeout=10)
+        time.sleep(0.2)
+        left = [p for p in vh.processes_mentioning(self.dir) if p != os.getpid()]
+        for pid in left:
+            os.kill(pid, signal.SIGKILL)
+        self.assertEqual(left, [], "a process of this test was left running")
+
+    def start(self, out, *extra, domain):
+        r = vh.SwarmRun("--scenario", SCENARIO, "--domain", str(domain), "--out", out, "--no-pictures", *extra)
+        self.runs.append(r)
+        return r
+
+    def test_a_viewer_killed_mid_run_changes_nothing(self):
+        domain = vh.helpers.test_domain(63)
+        plain = self.plain
+        viewed = os.path.join(self.dir, "viewed")
+        port = vh.free_port()
+        # Paused at tick 0, then run on under a speed cap (50 ticks/s) through the page's protocol; the viewer is
+        # SIGKILLed at tick 60 or later, while it caps the run: the world sees it gone (2 s of silence) and the run
+        # goes on without it.
+        run = self.start(viewed, "--max-ticks", "300", "--view-paused", "--view", str(port), domain=domain)
+        vh.wait_http(f"http://127.0.0.1:{port}/")
+        viewers = [p for p in vh.processes_mentioning(viewed) if "swarm_viewer" in vh.cmdline(p)]
+        self.assertEqual(len(viewers), 1, "the viewer process")
+        killed_at = asyncio.run(self.kill_viewer_at(port, 60, viewers[0]))
+        self.assertGreaterEqual(killed_at, 60)
+        self.assertLess(killed_at, 150)
+        code, text = run.wait(timeout=120)
+        self.assertEqual(code, 0, text)
+        self.assertIn("the viewer exited with code -9", text)
+        with open(os.path.join(viewed, "logs", "world_console.log")) as f:
+            self.assertIn("the viewer went away", f.read())
+        hashes = []
+        for d in (plain, viewed):
+            with open(os.path.join(d, "summary.json")) as f:
+                s = json.load(f)
+            self.assertEqual(s["ticks"], 300)
+            hashes.append(s["trajectory_sha256"])
+        self.assertEqual(hashes[0], hashes[1], "a viewer that died changed the run")
+
+    async def kill_viewer_at(self, port, tick, pid):
+        async with websockets.connect(f"ws://127.0.0.1:{port}/ws") as ws:
+            await ws.send(json.dumps({"cmd": "speed", "value": 50}))
+            await ws.send(json.dumps({"cmd": "resume"}))
+            deadline = time.monotonic() + 60
+            while time.monotonic() < deadline:
+                m = json.loads(await asyncio.wait_for(ws.recv(), 30))
+                if m["type"] == "frame" and m["tick"] >= tick:
+                    os.kill(pid, signal.SIGKILL)
+                    return m["tick"]
+        raise AssertionError(f"no frame of tick {tick} within 60 s")
+
+    @unittest.skipIf(not os.path.exists(cdp.CHROMIUM), "chromium missing (scripts/setup installs it)")
+    def test_replay_scrubbed_to_a_tick_draws_the_recording(self):
+        port = vh.free_port()
+        env = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=vh.BUILD_DIR)
+        p = subprocess.Popen([vh.SWARM, "view", self.plain, "--port", str(port)], stdin=subprocess.DEVNULL,
+                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env, start_new_session=True)
+        self.procs.append(p)
+        url = f"http://127.0.0.1:{port}/"
+        vh.wait_http(url)
+        b = self.browser = cdp.Browser()
+        b.navigate(url)
+        b.wait_for("window.sfViewer && sfViewer.replay && sfViewer.frame", what="the recording loaded")
+        self.assertEqual(b.eval("sfViewer.replay.ticks"), 301)
+        checked = 0
+        for tick in (0, 137, 300):
+            # Scrub: the timeline set as a user's drag sets it.
+            b.eval(f"(() => {{ const t = document.getElementById('timeline'); t.value = '{tick}';"
+                   f" t.dispatchEvent(new Event('input')); }})()")
+            b.wait_for(f"sfViewer.frame.tick === {tick}", what=f"tick {tick}")
+            self.assertEqual(b.eval("document.getElementById('tick').textContent"), str(tick))
+            img, _ = b.screenshot()
+            drawn = b.eval("""(() => { const c = document.getElementById('arena').getBoundingClientRect();
+                return {x0: c.x, y0: c.y, w: c.width, h: c.height, view: sfViewer.view,
+                        states: Array.from(sfViewer.states, ([v, s]) => [v, s.colour])}; })()""")
+            colours = {int(v): c for v, c in drawn["states"]}
+            for rid, r in vh.rows_at(self.plain, tick).items():
+                px, py = vh.check_projection(self, b, float(r["x"]), float(r["y"]))
+                want = vh.hex_rgb(colours[int(r["state"])])
+                got, d = vh.drawn_near(img, px, py, want)
+                self.assertLessEqual(d, 12,
+                                     f"tick {tick} robot {rid} at ({px:.1f}, {py:.1f}): drawn {got}, want {want}")
+                checked += 1
+        self.assertEqual(checked, 27)
+        # Jump to an event: the list holds the recording's deaths, rejoins, leader changes, formation and arrival.
+        with open(os.path.join(self.plain, "events.jsonl")) as f:
+            events = [json.loads(line) for line in f if line.strip()]
+        with open(os.path.join(self.plain, "summary.json")) as f:
+            summary = json.load(f)
+        marks = sum(e["kind"] in ("death", "rejoin", "leader", "leader_lost") for e in events)
+        marks += sum(summary.get(k) is not None for k in ("formation_tick", "goal_tick"))
+        self.assertEqual(b.eval("document.getElementById('jump').options.length"), 1 + marks)
+
+
+if __name__ == "__main__":
+    unittest.main()

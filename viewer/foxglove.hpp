@@ -1,0 +1,57 @@
+// The Foxglove WebSocket protocol (`foxglove.websocket.v1`, github.com/foxglove/ws-protocol docs/spec.md) on
+// the viewer's socket, so Foxglove connects to ws://HOST:PORT with no plug-in. JSON encoding; three channels:
+//   /scene             foxglove.SceneUpdate   the arena (walls, obstacles, goal) and the robots as cylinders
+//   in
+//                                            their state's colour with their id as text
+//   /robots/poses      foxglove.PosesInFrame  every robot's pose (frame "arena", z = 0)
+//   /robots/telemetry  swarmform.RobotTelemetry  per robot: state (and its name), label, parent, leader, net
+//                                            force, last wheel speeds
+// The schemas are JSON Schema written here for the fields we send (schemaEncoding "jsonschema"). Message
+// timestamps are the run's simulated time (tick / tick_rate).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "common/dds/observe_wire.hpp"
+
+namespace swarmform::viewer {
+
+class Foxglove {
+ public:
+  // `world`: world.json of the run (arena, obstacles, goal, tick_rate); may be null until it is read.
+  void set_world(const nlohmann::json& world) { world_ = world; }
+  bool has_world() const { return world_.is_object(); }
+
+  // The server's first messages to a new client: serverInfo, advertise.
+  std::vector<std::string> hello() const;
+  // A client's text message (subscribe / unsubscribe); returns a status message to send back, or "".
+  std::string on_text(std::uint64_t client, const std::string& text);
+  void forget(std::uint64_t client) { subscriptions_.erase(client); }
+
+  // The binary Message Data messages of `frame` for every subscription: (client, bytes).
+  std::vector<std::pair<std::uint64_t, std::string>> messages(const dds::ObserveFrameData& frame);
+
+  static constexpr std::uint32_t kScene = 1;
+  static constexpr std::uint32_t kPoses = 2;
+  static constexpr std::uint32_t kTelemetry = 3;
+
+ private:
+  nlohmann::json scene(const dds::ObserveFrameData& frame, bool with_arena) const;
+  nlohmann::json poses(const dds::ObserveFrameData& frame) const;
+  nlohmann::json telemetry(const dds::ObserveFrameData& frame) const;
+  double seconds(std::uint64_t tick) const;
+
+  nlohmann::json world_;
+  struct Subscription {
+    std::uint32_t channel = 0;
+    bool arena_sent = false;  // /scene: the static entities go once per subscription
+  };
+  // client -> subscription id -> subscription
+  std::map<std::uint64_t, std::map<std::uint32_t, Subscription>> subscriptions_;
+};
+
+}  // namespace swarmform::viewer

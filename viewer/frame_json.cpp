@@ -1,0 +1,55 @@
+#include "viewer/frame_json.hpp"
+
+#include <cmath>
+
+namespace swarmform::viewer {
+
+namespace {
+
+// Rounded to 0.1 mm / 1 mrad: the page draws pixels; 17 digits would triple the bytes on the socket.
+double r4(double v) {
+  return std::isfinite(v) ? std::round(v * 1e4) / 1e4 : 0.0;
+}
+
+}  // namespace
+
+nlohmann::json frame_json(const dds::ObserveFrameData& f) {
+  nlohmann::json states = nlohmann::json::array();
+  for (const auto& s : f.states)
+    states.push_back({{"value", s.value}, {"name", s.name}, {"colour", s.colour}});
+  nlohmann::json robots = nlohmann::json::array();
+  for (const auto& r : f.robots) {
+    nlohmann::json us = nlohmann::json::array();
+    for (double u : r.ultrasonic) us.push_back(r4(u));
+    robots.push_back({{"id", r.id},
+                      {"x", r4(r.pose.x)},
+                      {"y", r4(r.pose.y)},
+                      {"theta", r4(r.pose.theta)},
+                      {"alive", r.alive},
+                      {"state", r.state},
+                      {"label", r.label},
+                      {"parent", r.parent},
+                      {"leader", r.leader},
+                      {"net_force", r4(r.net_force)},
+                      {"ultrasonic", us},
+                      {"heard", r.heard},
+                      {"left_speed", r4(r.left_speed)},
+                      {"right_speed", r4(r.right_speed)},
+                      {"message_bytes", r.message_bytes}});
+  }
+  return {{"type", "frame"},
+          {"tick", f.tick},
+          {"finished", f.finished},
+          {"paused", f.paused},
+          {"controllable", f.controllable},
+          {"speed_cap", f.speed_cap},
+          {"alive", f.alive},
+          {"formation_tick", f.formation_tick},
+          {"shape_error", f.shape_error},
+          {"behaviour", f.behaviour},
+          {"states", states},
+          {"telemetry_fields", f.telemetry_fields},
+          {"robots", robots}};
+}
+
+}  // namespace swarmform::viewer

@@ -1,0 +1,492 @@
+// The swarmform viewer page (viewer/README.md "The page"). Live: frames over the WebSocket from swarm_viewer,
+// commands back. Replay: the recording (robots.csv, events.jsonl) fetched once and played here. The behaviour's
+// states (names, colours) come from the server: nothing here knows the paper's algorithm.
+"use strict";
+
+const $ = (id) => document.getElementById(id);
+const canvas = $("arena");
+const ctx = canvas.getContext("2d");
+// The Khepera IV's ultrasonic sensors, in the robot frame (common/types.hpp kUltrasonicAngles).
+const ULTRASONIC_ANGLES = [-Math.PI / 2, -Math.PI / 4, 0, Math.PI / 4, Math.PI / 2];
+const UNKNOWN_COLOUR = "#000000";
+const DEAD_COLOUR = "#bdbdbd";
+
+const S = {
+  mode: null,          // "live" | "replay"
+  world: null,         // world.json
+  frame: null,         // the frame drawn: {tick, robots: [...], ...}
+  states: new Map(),   // state value -> {name, colour}
+  fields: [],          // telemetry fields a robot's panel lists
+  events: [],          // every event so far (live) or of the recording (replay)
+  selected: null,      // robot id
+  view: null,          // {cx, cy, scale}: world point at the canvas centre, pixels per metre
+  tps: 0, lastTick: null, lastTickAt: 0,
+  ws: null,
+  replay: null,        // {n, ticks, cols: {...}, playing, speed, tick}
+};
+window.sfViewer = S;  // for tests and the curious
+
+// ---- the view --------------------------------------------------------------------------------------------
+
+function fit() {
+  if (!S.world) return;
+  const a = S.world.arena;
+  const w = canvas.clientWidth, h = canvas.clientHeight;
+  const margin = 0.05;
+  const scale = Math.min(w / (a.width * (1 + margin)), h / (a.height * (1 + margin)));
+  S.view = { cx: a.centre[0], cy: a.centre[1], scale: scale };
+}
+
+// World (m) -> canvas CSS pixels.
+function project(x, y) {
+  const v = S.view;
+  return [canvas.clientWidth / 2 + (x - v.cx) * v.scale, canvas.clientHeight / 2 - (y - v.cy) * v.scale];
+}
+function unproject(px, py) {
+  const v = S.view;
+  return [v.cx + (px - canvas.clientWidth / 2) / v.scale, v.cy - (py - canvas.clientHeight / 2) / v.scale];
+}
+S.project = project;
+
+function resize() {
+  const dpr = window.devicePixelRatio || 1;
+  canvas.width = Math.round(canvas.clientWidth * dpr);
+  canvas.height = Math.round(canvas.clientHeight * dpr);
+  ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
+  if (!S.view) fit();
+  draw();
+}
+window.addEventListener("resize", resize);
+
+canvas.addEventListener("wheel", (e) => {
+  if (!S.view) return;
+  e.preventDefault();
+  const [wx, wy] = unproject(e.offsetX, e.offsetY);
+  S.view.scale *= Math.exp(-e.deltaY * 0.0015);
+  S.view.scale = Math.min(Math.max(S.view.scale, 2), 5000);
+  const [nx, ny] = unproject(e.offsetX, e.offsetY);
+  S.view.cx += wx - nx;
+  S.view.cy += wy - ny;
+  draw();
+}, { passive: false });
+
+let drag = null;
+canvas.addEventListener("mousedown", (e) => { drag = { x: e.offsetX, y: e.offsetY, moved: false }; });
+canvas.addEventListener("mousemove", (e) => {
+  if (!drag || !S.view) return;
+  const dx = e.offsetX - drag.x, dy = e.offsetY - drag.y;
+  if (Math.abs(dx) + Math.abs(dy) > 3) drag.moved = true;
+  if (!drag.moved) return;
+  S.view.cx -= dx / S.view.scale;
+  S.view.cy += dy / S.view.scale;
+  drag.x = e.offsetX; drag.y = e.offsetY;
+  draw();
+});
+canvas.addEventListener("mouseup", (e) => {
+  if (drag && !drag.moved) pick(e.offsetX, e.offsetY);
+  drag = null;
+});
+$("fit").addEventListener("click", (e) => { e.preventDefault(); fit(); draw(); });
+
+function pick(px, py) {
+  if (!S.frame || !S.view) return;
+  let best = null, bestD = Infinity;
+  for (const r of S.frame.robots) {
+    const [x, y] = project(r.x, r.y);
+    const d = Math.hypot(x - px, y - py);
+    if (d < bestD) { bestD = d; best = r; }
+  }
+  const reach = Math.max(8, robotRadius() * S.view.scale * 1.5);
+  S.selected = best && bestD <= reach ? best.id : null;
+  draw();
+  panel();
+}
+
+function robotRadius() { return (S.world && S.world.robot_radius) || 0.0704; }
+function stateColour(r) {
+  if (!r.alive) return DEAD_COLOUR;
+  const s = S.states.get(r.state);
+  return s ? s.colour : UNKNOWN_COLOUR;
+}
+function stateName(v) { const s = S.states.get(v); return s ? s.name : "state " + v; }
+
+// ---- drawing ---------------------------------------------------------------------------------------------
+
+function draw() {
+  const w = canvas.clientWidth, h = canvas.clientHeight;
+  ctx.clearRect(0, 0, w, h);
+  if (!S.world || !S.view) return;
+  const k = S.view.scale;
+  const a = S.world.arena;
+  // Walls.
+  if (a.walls) {
+    const t = (a.wall_thickness || 0.1) * k;
+    const [x0, y0] = project(a.centre[0] - a.width / 2, a.centre[1] + a.height / 2);
+    ctx.strokeStyle = "#424242";
+    ctx.lineWidth = t;
+    ctx.strokeRect(x0 - t / 2, y0 - t / 2, a.width * k + t, a.height * k + t);
+  }
+  // Obstacles.
+  ctx.fillStyle = "#6d4c41";
+  for (const o of S.world.obstacles || []) {
+    const [ox, oy] = project(o.centre[0], o.centre[1]);
+    ctx.beginPath();
+    if (o.kind === "cylinder") {
+      ctx.arc(ox, oy, o.radius * k, 0, 2 * Math.PI);
+    } else {
+      ctx.save();
+      ctx.translate(ox, oy);
+      ctx.rotate(-(o.yaw || 0));
+      ctx.rect(-o.half_extents[0] * k, -o.half_extents[1] * k, 2 * o.half_extents[0] * k, 2 * o.half_extents[1] * k);
+      ctx.restore();
+    }
+    ctx.fill();
+  }
+  // Goal.
+  const g = S.world.goal;
+  if (g) {
+    const [gx, gy] = project(g.x, g.y);
+    ctx.setLineDash([6, 4]);
+    ctx.strokeStyle = "#8e24aa";
+    ctx.lineWidth = 2;
+    ctx.beginPath();
+    ctx.arc(gx, gy, g.radius * k, 0, 2 * Math.PI);
+    ctx.stroke();
+    ctx.setLineDash([]);
+    ctx.fillStyle = "#8e24aa";
+    ctx.fillText("goal", gx + g.radius * k + 3, gy);
+  }
+  const f = S.frame;
+  if (!f) return;
+  const byId = new Map(f.robots.map((r) => [r.id, r]));
+  // Parent links.
+  ctx.strokeStyle = "rgba(38,50,56,0.45)";
+  ctx.lineWidth = 1;
+  for (const r of f.robots) {
+    const p = r.parent >= 0 ? byId.get(r.parent) : null;
+    if (!p || !r.alive) continue;
+    const [x1, y1] = project(r.x, r.y), [x2, y2] = project(p.x, p.y);
+    ctx.beginPath(); ctx.moveTo(x1, y1); ctx.lineTo(x2, y2); ctx.stroke();
+  }
+  // The selected robot's neighbours heard and ultrasonic rays, under the bodies.
+  const sel = S.selected !== null ? byId.get(S.selected) : null;
+  if (sel) {
+    const [sx, sy] = project(sel.x, sel.y);
+    ctx.strokeStyle = "rgba(30,136,229,0.8)";
+    ctx.lineWidth = 1.5;
+    for (const id of sel.heard || []) {
+      const n = byId.get(id);
+      if (!n) continue;
+      const [nx, ny] = project(n.x, n.y);
+      ctx.beginPath(); ctx.moveTo(sx, sy); ctx.lineTo(nx, ny); ctx.stroke();
+    }
+    if (sel.ultrasonic && sel.alive) {
+      ctx.strokeStyle = "rgba(229,57,53,0.8)";
+      sel.ultrasonic.forEach((d, i) => {
+        const ang = sel.theta + ULTRASONIC_ANGLES[i];
+        const [ex, ey] = project(sel.x + d * Math.cos(ang), sel.y + d * Math.sin(ang));
+        ctx.beginPath(); ctx.moveTo(sx, sy); ctx.lineTo(ex, ey); ctx.stroke();
+      });
+    }
+  }
+  // Rings (leader amber, selected blue) and ids first, the bodies over them: a body's own disc is only ever its
+  // state's colour and its heading notch, whatever its neighbours' rings and labels (the tests read its centre).
+  const rr = Math.max(4, robotRadius() * k);
+  ctx.font = "11px system-ui, sans-serif";
+  for (const r of f.robots) {
+    const [x, y] = project(r.x, r.y);
+    if (r.leader && r.alive) {
+      ctx.beginPath();
+      ctx.arc(x, y, rr + 3, 0, 2 * Math.PI);
+      ctx.strokeStyle = "#ffb300";
+      ctx.lineWidth = 2.5;
+      ctx.stroke();
+    }
+    if (r.id === S.selected) {
+      ctx.beginPath();
+      ctx.arc(x, y, rr + 6, 0, 2 * Math.PI);
+      ctx.strokeStyle = "#1e88e5";
+      ctx.lineWidth = 2;
+      ctx.stroke();
+    }
+    ctx.fillStyle = "#263238";
+    ctx.fillText(String(r.id), x + rr * 0.8 + 2, y - rr * 0.8 - 2);
+  }
+  // Bodies: a disc in the state's colour, a heading notch from mid-radius to the rim; the dead grey and crossed.
+  for (const r of f.robots) {
+    const [x, y] = project(r.x, r.y);
+    ctx.beginPath();
+    ctx.arc(x, y, rr, 0, 2 * Math.PI);
+    ctx.fillStyle = stateColour(r);
+    ctx.fill();
+    ctx.lineWidth = 1;
+    ctx.strokeStyle = "#263238";
+    ctx.stroke();
+    const c = Math.cos(r.theta), s = Math.sin(r.theta);
+    ctx.beginPath();
+    ctx.moveTo(x + c * rr * 0.45, y - s * rr * 0.45);
+    ctx.lineTo(x + c * rr, y - s * rr);
+    ctx.lineWidth = 2;
+    ctx.strokeStyle = "#263238";
+    ctx.stroke();
+    if (!r.alive) {
+      ctx.strokeStyle = "#b71c1c";
+      ctx.lineWidth = 2;
+      const d = rr * 0.7;
+      ctx.beginPath();
+      ctx.moveTo(x - d, y - d); ctx.lineTo(x - d * 0.3, y - d * 0.3);
+      ctx.moveTo(x + d, y + d); ctx.lineTo(x + d * 0.3, y + d * 0.3);
+      ctx.moveTo(x - d, y + d); ctx.lineTo(x - d * 0.3, y + d * 0.3);
+      ctx.moveTo(x + d, y - d); ctx.lineTo(x + d * 0.3, y - d * 0.3);
+      ctx.stroke();
+    }
+  }
+}
+
+// ---- status bar, legend, robot panel ---------------------------------------------------------------------
+
+function status() {
+  const f = S.frame;
+  if (!f) return;
+  $("tick").textContent = f.tick;
+  $("tps").textContent = S.tps.toFixed(1);
+  $("alive").textContent = f.alive + "/" + f.robots.length;
+  $("formation").textContent = f.formation_tick >= 0 ? "tick " + f.formation_tick : "–";
+  $("shape-error").textContent = f.shape_error >= 0 ? f.shape_error.toFixed(3) : "–";
+  const rs = $("run-state");
+  rs.className = "";
+  if (f.finished) { rs.textContent = "run ended"; rs.className = "ended"; }
+  else if (f.paused) { rs.textContent = "PAUSED"; rs.className = "paused"; }
+  else rs.textContent = S.mode === "live" ? (f.speed_cap > 0 ? "running (≤ " + f.speed_cap + " ticks/s)" : "running") : "";
+}
+
+function legend() {
+  const l = $("legend");
+  l.textContent = "";
+  for (const [v, s] of S.states) {
+    const span = document.createElement("span");
+    const dot = document.createElement("i");
+    dot.style.background = s.colour;
+    span.append(dot, s.name);
+    l.append(span);
+  }
+}
+
+function fmt(v) { return typeof v === "number" && !Number.isInteger(v) ? v.toFixed(3) : String(v); }
+
+function panel() {
+  const r = S.frame && S.selected !== null ? S.frame.robots.find((q) => q.id === S.selected) : null;
+  $("robot").hidden = !r;
+  $("nothing-selected").hidden = !!r;
+  if (!r) return;
+  $("panel-id").textContent = r.id;
+  const rows = [["alive", r.alive ? "yes" : "dead"], ["x, y", fmt(r.x) + ", " + fmt(r.y)],
+                ["heading", (r.theta * 180 / Math.PI).toFixed(1) + "°"]];
+  for (const f of S.fields) {
+    if (!(f in r)) continue;
+    rows.push([f, f === "state" ? stateName(r.state) + " (" + r.state + ")" : fmt(r[f])]);
+  }
+  if (r.heard) rows.push(["heard", r.heard.length ? r.heard.join(" ") : "nobody"]);
+  if (r.ultrasonic) rows.push(["ultrasonic (m)", r.ultrasonic.map((d) => d.toFixed(2)).join(" ")]);
+  if ("left_speed" in r) {
+    rows.push(["last command", "L " + fmt(r.left_speed) + " R " + fmt(r.right_speed) + " m/s, " +
+                               r.message_bytes + " B message"]);
+  }
+  const t = $("robot-fields");
+  t.textContent = "";
+  for (const [k, v] of rows) {
+    const tr = document.createElement("tr");
+    const a = document.createElement("td"), b = document.createElement("td");
+    a.textContent = k; b.textContent = v;
+    tr.append(a, b);
+    t.append(tr);
+  }
+  $("kill").hidden = S.mode !== "live" || !r.alive;
+  const ol = $("robot-events");
+  ol.textContent = "";
+  const upto = S.frame.tick;
+  const mine = S.events.filter((e) => e.id === r.id && e.tick <= upto).slice(-200);
+  for (const e of mine) {
+    const li = document.createElement("li");
+    const extra = e.detail !== undefined ? " " + e.detail : e.to_name !== undefined ? " " + e.from_name + " → " + e.to_name
+                : e.to !== undefined ? " " + e.from + " → " + e.to : "";
+    li.textContent = "t" + e.tick + " " + e.kind + extra;
+    ol.append(li);
+  }
+}
+
+function setDescription(m) {
+  S.states = new Map((m.states || []).map((s) => [s.value, { name: s.name, colour: s.colour }]));
+  S.fields = m.telemetry_fields || [];
+  legend();
+}
+
+function show(frame) {
+  const now = performance.now();
+  if (S.lastTick !== null && frame.tick !== S.lastTick) {
+    const dt = (now - S.lastTickAt) / 1000;
+    if (dt > 0) S.tps = 0.7 * S.tps + 0.3 * ((frame.tick - S.lastTick) / dt);
+    S.lastTickAt = now;
+  } else if (S.lastTick === null || now - S.lastTickAt > 1500) {
+    if (S.lastTick !== null) S.tps = 0;
+    S.lastTickAt = now;
+  }
+  S.lastTick = frame.tick;
+  S.frame = frame;
+  draw();
+  status();
+  panel();
+}
+
+// ---- live ------------------------------------------------------------------------------------------------
+
+function send(cmd, value) {
+  if (S.ws && S.ws.readyState === WebSocket.OPEN) S.ws.send(JSON.stringify({ cmd: cmd, value: value }));
+}
+$("pause").onclick = () => send("pause");
+$("resume").onclick = () => send("resume");
+$("step1").onclick = () => send("step", 1);
+$("stepn").onclick = () => send("step", Math.max(1, parseInt($("stepn-count").value, 10) || 1));
+$("speed-set").onclick = () => send("speed", Math.max(0, parseFloat($("speed").value) || 0));
+$("kill").onclick = () => { if (S.selected !== null) send("kill", S.selected); };
+
+async function loadWorld() {
+  for (let i = 0; i < 100 && !S.world; i++) {
+    try {
+      const r = await fetch("run/world.json", { cache: "no-store" });
+      if (r.ok) { S.world = await r.json(); break; }
+    } catch (e) { /* not yet */ }
+    await new Promise((res) => setTimeout(res, 200));
+  }
+  if (!S.world) { $("mode").textContent = "no world.json from the server"; return; }
+  fit();
+  resize();
+}
+
+function connect() {
+  const ws = new WebSocket((location.protocol === "https:" ? "wss://" : "ws://") + location.host + "/ws");
+  S.ws = ws;
+  ws.onmessage = (ev) => {
+    const m = JSON.parse(ev.data);
+    if (m.type === "hello") {
+      S.mode = m.mode;
+      $("mode").textContent = m.mode;
+      if (m.mode === "replay") { setDescription(m); startReplay(); }
+    } else if (m.type === "frame") {
+      if (m.states) setDescription(m);
+      show(m);
+      $("live-controls").style.opacity = m.controllable ? 1 : 0.5;
+    } else if (m.type === "events") {
+      S.events.push(...m.events);
+      panel();
+    }
+  };
+  ws.onclose = () => {
+    if (S.mode === "live") {
+      $("mode").textContent = "live (viewer closed: the run is over)";
+      $("run-state").textContent = S.frame && S.frame.finished ? "run ended" : "disconnected";
+      $("run-state").className = "ended";
+    }
+  };
+}
+
+// ---- replay ----------------------------------------------------------------------------------------------
+
+async function startReplay() {
+  $("live-controls").hidden = true;
+  $("replay-controls").hidden = false;
+  const [csv, ev, sum] = await Promise.all([
+    fetch("run/robots.csv").then((r) => r.text()),
+    fetch("run/events.jsonl").then((r) => (r.ok ? r.text() : "")),
+    fetch("run/summary.json").then((r) => (r.ok ? r.json() : null)).catch(() => null),
+  ]);
+  const lines = csv.split("\n");
+  const head = lines[0].split(",");
+  const col = (name) => head.indexOf(name);
+  const n = S.world.robots;
+  const rows = lines.slice(1).filter((l) => l.length > 0 && l.split(",").length === head.length);
+  const ticks = Math.floor(rows.length / n);
+  const cols = {};
+  for (const name of ["x", "y", "theta", "alive", "state", "label", "parent", "leader", "net_force"]) {
+    cols[name] = new Float64Array(ticks * n);
+  }
+  for (let i = 0; i < ticks * n; i++) {
+    const p = rows[i].split(",");
+    for (const name in cols) cols[name][i] = parseFloat(p[col(name)]);
+  }
+  const firstTick = ticks > 0 ? parseInt(rows[0].split(",")[col("tick")], 10) : 0;
+  S.events = ev.split("\n").filter((l) => l).map((l) => { try { return JSON.parse(l); } catch (e) { return null; } })
+    .filter((e) => e);
+  S.replay = { n: n, ticks: ticks, first: firstTick, cols: cols, playing: false, speed: 1, tick: firstTick,
+               summary: sum };
+  const tl = $("timeline");
+  tl.min = firstTick; tl.max = firstTick + ticks - 1; tl.value = firstTick;
+  tl.oninput = () => { replayShow(parseInt(tl.value, 10)); };
+  $("play").onclick = () => { S.replay.playing = !S.replay.playing; $("play").textContent = S.replay.playing ? "pause" : "play"; };
+  $("replay-speed").onchange = () => { S.replay.speed = parseFloat($("replay-speed").value); };
+  const jump = $("jump");
+  const marks = [];
+  if (sum && sum.formation_tick != null) marks.push([sum.formation_tick, "formed"]);
+  if (sum && sum.goal_tick != null) marks.push([sum.goal_tick, "at the goal"]);
+  for (const e of S.events) {
+    if (e.kind === "death") marks.push([e.tick, "death of " + e.id]);
+    else if (e.kind === "rejoin") marks.push([e.tick, "rejoin of " + e.id]);
+    else if (e.kind === "leader") marks.push([e.tick, "leader " + e.id]);
+    else if (e.kind === "leader_lost") marks.push([e.tick, "leader lost (" + e.id + ")"]);
+  }
+  marks.sort((a, b) => a[0] - b[0]);
+  for (const [t, what] of marks) {
+    const o = document.createElement("option");
+    o.value = t; o.textContent = "t" + t + " " + what;
+    jump.append(o);
+  }
+  jump.onchange = () => { if (jump.value !== "") replayShow(parseInt(jump.value, 10)); jump.value = ""; };
+  replayShow(firstTick);
+  let last = performance.now(), carry = 0;
+  const rate = S.world.tick_rate || 10;
+  function loop(now) {
+    const dt = (now - last) / 1000;
+    last = now;
+    if (S.replay.playing) {
+      carry += dt * rate * S.replay.speed;
+      const step = Math.floor(carry);
+      carry -= step;
+      if (step > 0) {
+        const t = Math.min(S.replay.tick + step, S.replay.first + S.replay.ticks - 1);
+        replayShow(t);
+        if (t === S.replay.first + S.replay.ticks - 1) { S.replay.playing = false; $("play").textContent = "play"; }
+      }
+    }
+    requestAnimationFrame(loop);
+  }
+  requestAnimationFrame(loop);
+}
+
+// The frame of recorded tick t (rows of one tick are the robots in id order: docs/recording-format.md).
+function replayShow(t) {
+  const R = S.replay;
+  t = Math.max(R.first, Math.min(t, R.first + R.ticks - 1));
+  R.tick = t;
+  $("timeline").value = t;
+  const base = (t - R.first) * R.n;
+  const robots = [];
+  let alive = 0;
+  for (let i = 0; i < R.n; i++) {
+    const c = R.cols, k = base + i;
+    const r = { id: i, x: c.x[k], y: c.y[k], theta: c.theta[k], alive: c.alive[k] === 1, state: c.state[k],
+                label: c.label[k], parent: c.parent[k], leader: c.leader[k] === 1, net_force: c.net_force[k] };
+    alive += r.alive ? 1 : 0;
+    robots.push(r);
+  }
+  const sum = R.summary || {};
+  const formed = sum.formation_tick != null && sum.formation_tick <= t;
+  S.tps = R.playing ? (S.world.tick_rate || 10) * R.speed : 0;
+  S.frame = { tick: t, robots: robots, alive: alive, paused: !R.playing, finished: false,
+              formation_tick: formed ? sum.formation_tick : -1,
+              shape_error: formed && sum.shape_error_at_formation != null ? sum.shape_error_at_formation : -1 };
+  draw();
+  status();
+  panel();
+}
+
+loadWorld().then(connect);

@@ -1,0 +1,45 @@
+#include "world_server/observe_frame.hpp"
+
+namespace swarmform::server {
+
+void build_frame(const world::World& world, const std::vector<Command>& latest, const world::Metrics& metrics,
+                 const BehaviourView& behaviour, dds::ObserveFrameData& frame) {
+  const auto& truth = world.robots();
+  frame.tick = world.tick();
+  frame.finished = false;
+  frame.behaviour = behaviour.name;
+  frame.states = behaviour.states;
+  frame.telemetry_fields = behaviour.telemetry_fields;
+  frame.formation_tick = metrics.formation_tick ? static_cast<std::int64_t>(*metrics.formation_tick) : -1;
+  frame.shape_error = metrics.shape_error_at_formation.value_or(-1.0);
+  frame.robots.resize(truth.size());
+  frame.alive = 0;
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    const world::RobotTruth& t = truth[i];
+    dds::ObservedRobotRow& r = frame.robots[i];
+    r.id = t.id;
+    r.pose = t.pose;
+    r.alive = t.alive;
+    r.state = t.telemetry.state;
+    r.label = t.telemetry.label;
+    r.parent = t.telemetry.parent;
+    r.leader = t.telemetry.leader;
+    r.net_force = t.telemetry.net_force;
+    r.heard.clear();
+    r.ultrasonic.fill(0.0);
+    if (t.alive) {
+      // A live robot's perception of this tick was made when its packet went out: nothing is computed here.
+      const Perception& p = world.perception(t.id);
+      r.ultrasonic = p.ultrasonic;
+      for (const RabReading& m : p.messages) r.heard.push_back(m.sender);
+    }
+    frame.alive += t.alive ? 1 : 0;
+    if (i < latest.size()) {
+      r.left_speed = latest[i].left_speed;
+      r.right_speed = latest[i].right_speed;
+      r.message_bytes = static_cast<std::uint32_t>(latest[i].message.size());
+    }
+  }
+}
+
+}  // namespace swarmform::server

@@ -1,0 +1,20 @@
+// A viewer's frame (sf_observe) from what the world already holds: the truth, the controllers' last
+// telemetry, this tick's perceptions and the last commands. Called between publishing a round's packets and
+// collecting its commands, while the agents compute: it adds nothing to the round's critical path in
+// lockstep.
+#pragma once
+
+#include <vector>
+
+#include "common/dds/observe_wire.hpp"
+#include "world_server/behaviour_view.hpp"
+#include "world_server/run/metrics.hpp"
+#include "world_server/world/world.hpp"
+
+namespace swarmform::server {
+
+// `latest`: each robot's last command taken (indexed by id). `frame`'s rows are reused.
+void build_frame(const world::World& world, const std::vector<Command>& latest, const world::Metrics& metrics,
+                 const BehaviourView& behaviour, dds::ObserveFrameData& frame);
+
+}  // namespace swarmform::server
