@@ -6,21 +6,24 @@
 //
 // Exit codes: 0 the run ended (or --help); 2 bad flags or an unusable mission; 3 no world within --timeout,
 // or the world went away mid-run (silent for --world-timeout); 4 the id was refused; 5 the id was lost to
-// another agent (this one was taken for dead and a restarted one claimed it); 1 anything else (a DDS
-// failure, a controller exception); 128+signal when stopped by SIGINT/SIGTERM. The last stdout line is a
+// another agent (this one was taken for dead and a restarted one claimed it); 6 the behaviour returned a
+// non-finite wheel speed; 1 anything else (a DDS failure, a controller exception); 128+signal when stopped
+// by SIGINT/SIGTERM. The last stdout line is a
 // summary a test can read:
 //   agent id=K packets=P foreign_packets=F refused=R restarts=S
 // (R: samples refused as not of this world, run or wire version; S: controller restarts after a rejoin).
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
 
+#include "behaviour/registry.hpp"
 #include "common/dds/robot_block.hpp"
 #include "common/dds/robot_process.hpp"
 #include "common/dds/signal_watch.hpp"
 #include "common/input_error.hpp"
-#include "robot_agent/controller/controller.hpp"
+#include "robot_agent/controller/builtins.hpp"
 #include "robot_agent/dds_link.hpp"
 
 namespace {
@@ -37,9 +40,11 @@ struct Options {
   double world_timeout_s = 10.0;
   std::string run_nonce;
   std::uint32_t count = 1;
+  std::vector<std::string> plugin_dirs;  // with SWARMFORM_PLUGIN_PATH's: where plug-ins may load from
 };
 
 constexpr int kExitLostId = 5;
+constexpr int kExitBehaviourFailed = 6;
 
 int run(const Options& o, swarmform::dds::SignalWatch& signals) {
   const std::string me = "robot_agent " + std::to_string(o.id);
@@ -79,11 +84,21 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
     return stopped(4);
   }
 
+  // The behaviours this agent may run: the built-ins, and plug-ins from its own --plugin-dir and
+  // SWARMFORM_PLUGIN_PATH folders only. The mission names a plug-in's path; it is loaded only when it lies
+  // in one of those folders (behaviour/registry.hpp), never because the wire said so.
+  swarmform::behaviour::Registry behaviours;
+  swarmform::controller::add_builtins(behaviours);
+  for (const std::string& d : o.plugin_dirs) behaviours.add_folder(d);
+  behaviours.add_folders_from_environment();
   std::unique_ptr<swarmform::controller::Controller> controller;
   try {
-    controller = swarmform::controller::make_controller(mission.mission, o.id);
+    controller = behaviours.make(mission.mission, o.id);
   } catch (const swarmform::InputError& e) {
     std::cerr << me << ": unusable mission: " << e.what() << "\n";
+    return stopped(2);
+  } catch (const swarmform::behaviour::PluginError& e) {
+    std::cerr << me << ": " << e.what() << "\n";
     return stopped(2);
   }
 
@@ -134,13 +149,21 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
     } else if (packet.generation > generation) {
       // The world took this robot for dead and brought it back (issue 18 point 1): its controller starts
       // afresh from the mission, as a restarted agent's would, rather than act on a state that went stale.
-      controller = swarmform::controller::make_controller(link.mission().mission, o.id);
+      controller = behaviours.make(link.mission().mission, o.id);
       generation = packet.generation;
       ++restarts;
       std::cerr << me << ": rejoined at tick " << packet.perception.tick
                 << " after the world took this robot for dead; controller started afresh\n";
     }
     const swarmform::Command command = controller->step(packet.perception);
+    if (!std::isfinite(command.left_speed) || !std::isfinite(command.right_speed)) {
+      // A behaviour that lost its numbers: this robot stops (the world takes it for dead once its lease
+      // lapses), the world and the other robots go on.
+      std::cerr << me << ": behaviour '" << mission.mission.behaviour << "' returned a non-finite wheel speed"
+                << " (left " << command.left_speed << ", right " << command.right_speed << ") at tick "
+                << packet.perception.tick << "; this robot stops\n";
+      return stopped(kExitBehaviourFailed);
+    }
     link.send(packet.perception.tick, command);
   }
 }
@@ -189,6 +212,9 @@ int main(int argc, char** argv) {
                  "(faster to start than as many executables); this process supervises them and prints "
                  "'robot_agent: id K pid P' for each")
       ->check(CLI::Range(1u, swarmform::dds::kMaxRobotBlock));
+  app.add_option("--plugin-dir", o.plugin_dirs,
+                 "a folder behaviour plug-ins may be loaded from (with those of SWARMFORM_PLUGIN_PATH, "
+                 "':'-separated); repeatable. A mission naming a plug-in anywhere else is refused (exit 2)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -12,8 +12,12 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
+
+#include "behaviour/registry.hpp"
 #include "common/dds/signal_watch.hpp"
 #include "common/input_error.hpp"
+#include "robot_agent/controller/builtins.hpp"
 #include "world_server/server.hpp"
 #include "world_server/world/scenario.hpp"
 
@@ -47,6 +51,7 @@ struct Options {
   Tick warmup_ticks = 100;
   std::string run_nonce;
   std::string agent_pids_file;
+  std::vector<std::string> plugin_dirs;
   bool check = false;
 };
 
@@ -81,7 +86,15 @@ swarmform::world::ScenarioOverrides overrides_of(const Options& o) {
 }
 
 int run(const Options& o) {
-  const swarmform::world::Scenario scenario = swarmform::world::load_scenario(o.scenario, overrides_of(o));
+  // The behaviours the scenario may name: the built-ins, and plug-ins from the scenario's own folder,
+  // --plugin-dir and SWARMFORM_PLUGIN_PATH only (behaviour/registry.hpp).
+  swarmform::behaviour::Registry behaviours;
+  swarmform::controller::add_builtins(behaviours);
+  behaviours.add_folder(std::filesystem::absolute(o.scenario).parent_path());
+  for (const std::string& d : o.plugin_dirs) behaviours.add_folder(d);
+  behaviours.add_folders_from_environment();
+  const swarmform::world::Scenario scenario =
+      swarmform::world::load_scenario(o.scenario, overrides_of(o), behaviours);
   for (const auto& k : scenario.kills) {
     if (k.id >= scenario.robots.size()) {
       throw std::invalid_argument("--kill " + std::to_string(k.id) + "@" + std::to_string(k.tick) +
@@ -166,6 +179,10 @@ int main(int argc, char** argv) {
                  "ticks left out of summary.json's steady_ticks_per_second (default 100; the first ticks of "
                  "freshly started agents are slower)")
       ->check(CLI::Range(Tick{0}, Tick{1000000000}));
+  app.add_option(
+      "--plugin-dir", o.plugin_dirs,
+      "a folder behaviour plug-ins may be loaded from, besides the scenario's own folder and those "
+      "of SWARMFORM_PLUGIN_PATH (':'-separated); repeatable. A plug-in anywhere else is refused");
   app.add_flag("--check", o.check, "load and validate the scenario, print a JSON line, exit");
   app.footer(kExitCodes);
   try {

@@ -82,8 +82,7 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
   generation_.assign(n, 1);
   owner_nonce_.assign(n, 0);
   latest_writer_.assign(n, 0);
-  telemetry_limits_.labels = scenario.mission.shape.label_count();
-  telemetry_limits_.robots = static_cast<std::uint32_t>(n);
+  telemetry_limits_ = world::telemetry_limits(scenario);
   written_at_.assign(n, 0);
   latest_.resize(n);
   latest_tick_.assign(n, 0);

@@ -66,7 +66,7 @@ def build_dir():
 
 def executable(kind):
     rel = {"world": "world_server/world_server", "agent": "robot_agent/robot_agent",
-           "inprocess": "world_server/harness/swarm_inprocess"}[kind]
+           "inprocess": "harness/swarm_inprocess"}[kind]
     path = os.path.join(build_dir(), rel)
     if not os.access(path, os.X_OK):
         raise LaunchError(f"{path} not found: build it first (scripts/build), or set BUILD_DIR")
@@ -97,6 +97,17 @@ def overrides(args):
         out += ["--kill", kill]
     for fault in getattr(args, "fault", None) or []:
         out += ["--fault", fault]
+    for folder in getattr(args, "plugin_dir", None) or []:
+        out += ["--plugin-dir", os.path.abspath(folder)]
+    return out
+
+
+def agent_plugin_flags(args):
+    """The folders an agent may load behaviour plug-ins from: the scenario's own and each --plugin-dir (the
+    world and swarm_inprocess add the scenario's folder themselves; docs/behaviour-api.md)."""
+    out = ["--plugin-dir", os.path.dirname(os.path.abspath(args.scenario))]
+    for folder in getattr(args, "plugin_dir", None) or []:
+        out += ["--plugin-dir", os.path.abspath(folder)]
     return out
 
 
@@ -151,6 +162,7 @@ class Processes:
         self.groups = set()
         self.world = None
         self._files = []
+        self.agent_flags = []  # added to every agent's command line (its plug-in folders)
 
     def _log(self, path):
         f = open(path, "ab")
@@ -160,6 +172,7 @@ class Processes:
     def start_agent(self, exe, rid, domain, log_path, run_nonce=None):
         cmd = [exe, "--id", str(rid)] + (["--domain", str(domain)] if domain is not None else [])
         cmd += ["--run-nonce", run_nonce] if run_nonce else []
+        cmd += self.agent_flags
         log = self._log(log_path)
         group = next(iter(self.groups), 0)
         try:
@@ -401,6 +414,7 @@ def run(args, render_pictures):
     """`swarm run`. Returns the exit code; `render_pictures(run_dir)` draws the figures afterwards."""
     stop = StopFlag()
     procs = Processes()
+    procs.agent_flags = agent_plugin_flags(args)
     status = Status()
     lease = None
     try:

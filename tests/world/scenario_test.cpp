@@ -1,5 +1,6 @@
 // The scenario loader: every file in scenarios/ loads; bad files are refused with file:line and what.
 #include "world_server/world/scenario.hpp"
+#include "robot_agent/controller/builtins.hpp"
 
 #include <gtest/gtest.h>
 
@@ -22,7 +23,7 @@ const std::string kRepo = SWARMFORM_REPO_DIR;
 const std::string kOrigin = kRepo + "/scenarios/inline-test.yaml";
 
 Scenario parse(const std::string& text, const ScenarioOverrides& ov = {}) {
-  return parse_scenario_text(text, kOrigin, ov);
+  return parse_scenario_text(text, kOrigin, ov, swarmform::controller::builtin_registry());
 }
 
 // Parsing must fail at `line` with a message containing `what`.
@@ -67,7 +68,7 @@ TEST(Scenario, EveryFileInScenariosLoads) {
     if (entry.path().extension() != ".yaml") continue;
     ++files;
     EXPECT_NO_THROW({
-      const Scenario s = load_scenario(entry.path().string());
+      const Scenario s = load_scenario(entry.path().string(), {}, swarmform::controller::builtin_registry());
       EXPECT_GT(s.robots.size(), 0u);
       EXPECT_GT(s.mission.shape.label_count(), 0);
     }) << entry.path();
@@ -93,7 +94,7 @@ TEST(Scenario, RefusesAShapeThatCannotFitInsideTheWalls) {
   ScenarioOverrides ov;
   ov.shape_file = block;
   try {
-    load_scenario(kRepo + "/scenarios/paper.yaml", ov);
+    load_scenario(kRepo + "/scenarios/paper.yaml", ov, swarmform::controller::builtin_registry());
     ADD_FAILURE() << "a 10 x 10 block was accepted in the paper's 20 x 12 m arena";
   } catch (const InputError& e) {
     EXPECT_EQ(e.file(), kRepo + "/scenarios/paper.yaml");
@@ -129,7 +130,8 @@ TEST(Scenario, EveryShippedShapeFitsEveryShippedScenario) {
       if (shape.path().extension() != ".txt") continue;
       ScenarioOverrides ov;
       ov.shape_file = shape.path().string();
-      EXPECT_NO_THROW(load_scenario(scenario.path().string(), ov)) << scenario.path() << " " << shape.path();
+      EXPECT_NO_THROW(load_scenario(scenario.path().string(), ov, swarmform::controller::builtin_registry()))
+          << scenario.path() << " " << shape.path();
     }
   }
 }
@@ -151,7 +153,8 @@ TEST(Scenario, TheFullExampleOfTheReadmeParses) {
 }
 
 TEST(Scenario, PaperScenarioIsThePapersRun) {
-  const Scenario s = load_scenario(kRepo + "/scenarios/paper.yaml");
+  const Scenario s =
+      load_scenario(kRepo + "/scenarios/paper.yaml", {}, swarmform::controller::builtin_registry());
   EXPECT_EQ(s.mode, Mode::Lockstep);
   EXPECT_EQ(s.robots.size(), static_cast<std::size_t>(s.mission.shape.label_count()));
   EXPECT_NEAR(std::hypot(s.mission.goal.x, s.mission.goal.y), 10.0, 1.0);
@@ -366,7 +369,7 @@ TEST(Scenario, CommandLineOverridesAreCheckedToo) {
 
 TEST(Scenario, LoadReportsAnUnreadableFile) {
   try {
-    load_scenario(kRepo + "/scenarios/does-not-exist.yaml");
+    load_scenario(kRepo + "/scenarios/does-not-exist.yaml", {}, swarmform::controller::builtin_registry());
     ADD_FAILURE();
   } catch (const InputError& e) {
     EXPECT_EQ(e.line(), 0);

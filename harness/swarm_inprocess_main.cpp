@@ -2,8 +2,10 @@
 // run directory as `swarm run`. For users who want a quick answer and for the large-N benchmarks.
 //
 // Exit codes (also in --help): 0 the run ended (completed or max_ticks); 1 an internal error; 2 bad flags or
-// a bad scenario/shape; 5 a write of the run directory failed (a full disk: end_reason disk_full); 130
-// interrupted by SIGINT/SIGTERM (summary.json written, end_reason interrupted).
+// a bad scenario/shape/plug-in; 5 a write of the run directory failed (a full disk: end_reason disk_full); 6
+// a robot's behaviour failed (threw or returned a non-finite wheel speed: end_reason behaviour_failed, the
+// message names the robot and the behaviour); 130 interrupted by SIGINT/SIGTERM (summary.json written,
+// end_reason interrupted).
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -15,8 +17,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include "behaviour/registry.hpp"
 #include "common/input_error.hpp"
-#include "world_server/harness/harness.hpp"
+#include "harness/harness.hpp"
+#include "robot_agent/controller/builtins.hpp"
 #include "world_server/run/run_end.hpp"
 
 namespace {
@@ -25,6 +29,7 @@ using namespace swarmform;
 namespace fs = std::filesystem;
 
 constexpr int kExitRecordingFailed = 5;
+constexpr int kExitBehaviourFailed = 6;
 constexpr int kExitInterrupted = 130;
 
 std::atomic<bool> g_interrupted{false};
@@ -93,6 +98,7 @@ int main(int argc, char** argv) {
   Tick max_ticks = 0;
   std::string out;
   std::string behaviour;
+  std::vector<std::string> plugin_dirs;
   std::vector<std::string> kill_texts;
   std::vector<std::string> fault_texts;
   double fragment_range = 0.0;
@@ -103,7 +109,12 @@ int main(int argc, char** argv) {
   app.add_option("--robots", robots, "number of robots (random placement), instead of the scenario's");
   app.add_option("--seed", seed, "seed, instead of the scenario's");
   app.add_option("--max-ticks", max_ticks, "stop after this many ticks at the latest");
-  app.add_option("--behaviour", behaviour, "controller: paper or random_walk, instead of the scenario's");
+  app.add_option("--behaviour", behaviour,
+                 "a built-in behaviour (paper, random_walk) or an already named plug-in's, instead of the "
+                 "scenario's");
+  app.add_option("--plugin-dir", plugin_dirs,
+                 "a folder plug-ins may be loaded from, besides the scenario's own folder and those of "
+                 "SWARMFORM_PLUGIN_PATH (':'-separated); repeatable. A plug-in anywhere else is refused");
   app.add_option("--out", out, "run directory (default runs/<UTC time>, and runs/latest points at it)");
   app.add_option("--kill", kill_texts, "kill robot ID at tick TICK (ID@TICK); repeatable");
   app.add_option(
@@ -118,7 +129,8 @@ int main(int argc, char** argv) {
   app.footer(
       "Exit codes: 0 the run ended (completed or max_ticks: summary.json's end_reason says which); 1 an "
       "internal error; 2 bad flags, scenario or shape; 5 a write of the run directory failed (disk full: "
-      "end_reason disk_full); 130 interrupted by SIGINT/SIGTERM (end_reason interrupted).");
+      "end_reason disk_full); 6 a robot's behaviour failed (threw or returned a non-finite wheel speed: "
+      "end_reason behaviour_failed); 130 interrupted by SIGINT/SIGTERM (end_reason interrupted).");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -136,13 +148,14 @@ int main(int argc, char** argv) {
     if (app.count("--max-ticks") > 0) overrides.max_ticks = max_ticks;
     for (const auto& k : kill_texts) overrides.kills.push_back(parse_kill(k));
     overrides.faults = fault_texts;
-    world::Scenario scenario = world::load_scenario(scenario_path, overrides);
-    if (!behaviour.empty()) {
-      if (behaviour != "paper" && behaviour != "random_walk") {
-        throw InputError("command line", 0, "--behaviour '" + behaviour + "': expected paper or random_walk");
-      }
-      scenario.mission.behaviour = behaviour;
-    }
+    if (!behaviour.empty()) overrides.behaviour = behaviour;
+    // Plug-ins load from the scenario's folder, --plugin-dir and SWARMFORM_PLUGIN_PATH only.
+    behaviour::Registry behaviours;
+    controller::add_builtins(behaviours);
+    behaviours.add_folder(fs::absolute(scenario_path).parent_path());
+    for (const std::string& d : plugin_dirs) behaviours.add_folder(d);
+    behaviours.add_folders_from_environment();
+    world::Scenario scenario = world::load_scenario(scenario_path, overrides, behaviours);
 
     const bool default_out = out.empty();
     const std::string run_dir = no_record ? std::string() : (default_out ? default_run_dir() : out);
@@ -156,6 +169,7 @@ int main(int argc, char** argv) {
     auto last_print = start;
     Tick last_tick = 0;
     std::optional<world::RecordingError> failed;
+    std::optional<harness::BehaviourFailure> behaviour_failed;
     try {
       harness.run([&](const harness::Harness& h) {
         const auto now = std::chrono::steady_clock::now();
@@ -175,8 +189,21 @@ int main(int argc, char** argv) {
       });
     } catch (const world::RecordingError& e) {
       failed = e;
+    } catch (const harness::BehaviourFailure& e) {
+      behaviour_failed = e;
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (behaviour_failed) {
+      std::string written = "summary.json written";
+      try {
+        harness.finish(wall, world::EndReason::BehaviourFailed);
+      } catch (const std::exception& e) {
+        written = std::string("summary.json not written: ") + e.what();
+      }
+      std::cerr << "swarm_inprocess: run ended (behaviour_failed): " << behaviour_failed->what() << "; "
+                << written << "\n";
+      return kExitBehaviourFailed;
+    }
     if (failed) {
       std::string written = "summary.json written";
       try {
