@@ -97,6 +97,9 @@ def _add_run_flags(p, demo=False):
                    help="lockstep: the world waits for every live agent each tick (reproducible); "
                         "realtime: fixed tick rate, latest command")
     p.add_argument("--max-ticks", type=_int_at_least(1), metavar="T", help="stop after T ticks")
+    p.add_argument("--plugin-dir", action="append", default=[], metavar="DIR",
+                   help="a folder behaviour plug-ins may be loaded from, besides the scenario's own "
+                        "(docs/behaviour-api.md); repeatable")
     p.add_argument("--out", metavar="DIR", help="run directory (default runs/<UTC time>/, and runs/latest)")
     p.add_argument("--kill", type=_kill_spec, action="append", default=[], metavar="ID@TICK",
                    help="SIGKILL agent ID at tick TICK (repeatable)")
@@ -107,6 +110,8 @@ def _add_run_flags(p, demo=False):
     p.add_argument("--no-pictures", action="store_true", help="do not draw the pictures at the end")
     p.add_argument("--ticks", type=_int_at_least(0), nargs="+", default=[], metavar="T",
                    help="also draw snapshots at these ticks")
+    p.add_argument("--labels", action="store_true",
+                   help="write each robot's id beside it and draw its heading on the snapshots")
     p.add_argument("--in-process", action="store_true",
                    help="run every robot's controller inside one process (swarm_inprocess; no DDS, "
                         "deterministic, fast); same run directory")
@@ -139,12 +144,16 @@ def make_parser():
     replay = sub.add_parser("replay", help="draw the pictures again from a recording",
                             description="Draws RUN_DIR/pictures/ from the recording: snapshots (start, formation, "
                                         "motion start, through the motion, end, and --ticks), trajectories, "
-                                        "residual force, shape error, animation.mp4 and animation.gif.")
+                                        "residual force and shape error (a behaviour with a shape and a goal), "
+                                        "states, telemetry (a behaviour with columns of its own), animation.mp4 "
+                                        "and animation.gif.")
     replay.add_argument("run_dir", metavar="RUN_DIR")
     replay.add_argument("--ticks", type=_int_at_least(0), nargs="+", default=[], metavar="T",
                         help="also draw snapshots at these ticks")
     replay.add_argument("--out", metavar="DIR", help="write the pictures here instead of RUN_DIR/pictures")
     replay.add_argument("--no-animation", action="store_true", help="skip animation.mp4 and animation.gif")
+    replay.add_argument("--labels", action="store_true",
+                        help="write each robot's id beside it and draw its heading on the snapshots")
 
     report = sub.add_parser("report", help="print a run's summary as a table",
                             description="Prints RUN_DIR/summary.json as a readable table.")
@@ -219,14 +228,15 @@ def _add_sweep_parser(sub):
     r.add_argument("--quiet", action="store_true", help="no progress line")
 
 
-def render_pictures(run_dir, ticks=(), out_dir=None, animate=True):
+def render_pictures(run_dir, ticks=(), out_dir=None, animate=True, labels=False):
     """Loads the recording and draws every picture; 0, or 1 with a file:line message."""
     from . import animation, pictures, recording  # matplotlib: only when drawing
     try:
         rec = recording.load(run_dir)
         for w in rec.warnings:
             print(f"swarm: warning: {w}", file=sys.stderr)
-        written = pictures.render_all(rec, out_dir, ticks, animate, log=lambda m: print(m, file=sys.stderr))
+        written = pictures.render_all(rec, out_dir, ticks, animate, log=lambda m: print(m, file=sys.stderr),
+                                      labels=labels)
     except recording.RecordingError as e:
         print(f"swarm: {e}", file=sys.stderr)
         return 1
@@ -253,7 +263,7 @@ def main(argv=None):
                 parser.error(f"the default scenario {DEFAULT_SCENARIO} is missing")
         if os.environ.get("SWARM_PARSE_ONLY") == "1":  # scripts/swarm checks the flags before it builds
             return 0
-        code = launcher.run(args, lambda run_dir: render_pictures(run_dir, args.ticks))
+        code = launcher.run(args, lambda run_dir: render_pictures(run_dir, args.ticks, labels=args.labels))
         if args.command == "demo" and code == 0:
             where = os.path.relpath(args.run_dir)
             where = args.run_dir if where.startswith("..") else where
@@ -272,7 +282,7 @@ def main(argv=None):
         print(f"killed agent {args.id} (pid {pid})")
         return 0
     if args.command == "replay":
-        return render_pictures(args.run_dir, args.ticks, args.out, not args.no_animation)
+        return render_pictures(args.run_dir, args.ticks, args.out, not args.no_animation, args.labels)
     if args.command == "sweep":
         if os.environ.get("SWARM_PARSE_ONLY") == "1":
             return 0
