@@ -25,6 +25,14 @@
 
 namespace swarmform::harness {
 
+namespace {
+thread_local std::int64_t t_stepping = -1;  // robot_being_stepped()
+}  // namespace
+
+std::int64_t robot_being_stepped() {
+  return t_stepping;
+}
+
 struct Harness::Impl {
   Impl(const world::Scenario& s, HarnessOptions o)
       : scenario(s),
@@ -117,11 +125,15 @@ struct Harness::Impl {
         if (!controllers[i] || !world.alive(id) || stalled[i]) continue;
         // An exception must not leave a worker thread: it is kept and raised below, on this thread.
         try {
+          t_stepping = static_cast<std::int64_t>(i);
           commands[i] = controllers[i]->step(world.copy_perception(id, copy));
+          t_stepping = -1;
           stepped[i] = 1;
         } catch (const std::exception& e) {
+          t_stepping = -1;
           errors[i] = std::string("threw: ") + e.what();
         } catch (...) {
+          t_stepping = -1;
           errors[i] = "threw an exception that is not a std::exception";
         }
       }

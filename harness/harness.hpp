@@ -3,6 +3,7 @@
 // its perception, the commands go to the world, the world steps, the session records; scheduled kills apply.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -26,6 +27,10 @@ class BehaviourFailure : public std::runtime_error {
  private:
   RobotId robot_;
 };
+
+// The robot whose controller the calling thread is stepping now, or -1: for a crash handler (a plug-in's
+// SIGSEGV) to name the robot. A plain thread-local read, safe in a signal handler.
+std::int64_t robot_being_stepped();
 
 struct HarnessOptions {
   std::string run_dir;          // empty: no files written

@@ -6,10 +6,13 @@
 // a robot's behaviour failed (threw or returned a non-finite wheel speed: end_reason behaviour_failed, the
 // message names the robot and the behaviour); 130 interrupted by SIGINT/SIGTERM (summary.json written,
 // end_reason interrupted).
+#include <unistd.h>
+
 #include <atomic>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
 #include <iostream>
@@ -33,6 +36,47 @@ constexpr int kExitBehaviourFailed = 6;
 constexpr int kExitInterrupted = 130;
 
 std::atomic<bool> g_interrupted{false};
+
+// A behaviour that crashes (SIGSEGV, SIGBUS, SIGFPE, SIGILL) takes the whole process: say which robot and
+// which behaviour before it goes. Only async-signal-safe calls here (write, signal, raise); the text is made
+// before the run.
+char g_behaviour_text[1024] = "";
+std::size_t g_behaviour_text_size = 0;
+
+void say(const char* text, std::size_t n) {
+  while (n > 0) {
+    const ssize_t w = ::write(2, text, n);
+    if (w <= 0) return;
+    text += w;
+    n -= static_cast<std::size_t>(w);
+  }
+}
+void say(const char* text) {
+  say(text, std::strlen(text));
+}
+
+extern "C" void on_crash(int sig) {
+  say("swarm_inprocess: ");
+  const std::int64_t robot = harness::robot_being_stepped();
+  if (robot >= 0) {
+    char digits[24];
+    std::size_t n = 0;
+    for (std::int64_t v = robot; n == 0 || v > 0; v /= 10) digits[n++] = static_cast<char>('0' + v % 10);
+    say("robot ");
+    for (; n > 0; --n) say(&digits[n - 1], 1);
+    say("'s ");
+  } else {
+    say("the run (no robot's controller was stepping) with ");
+  }
+  say(g_behaviour_text, g_behaviour_text_size);
+  say(sig == SIGSEGV  ? " crashed (SIGSEGV)"
+      : sig == SIGBUS ? " crashed (SIGBUS)"
+      : sig == SIGFPE ? " crashed (SIGFPE)"
+                      : " crashed (SIGILL)");
+  say("; the run ends here, summary.json is not written\n");
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
+}
 extern "C" void on_signal(int) {
   g_interrupted = true;
 }
@@ -111,7 +155,7 @@ int main(int argc, char** argv) {
   app.add_option("--max-ticks", max_ticks, "stop after this many ticks at the latest");
   app.add_option("--behaviour", behaviour,
                  "a built-in behaviour (paper, random_walk) or an already named plug-in's, instead of the "
-                 "scenario's");
+                 "scenario's (the scenario's parameters it does not have are left out)");
   app.add_option("--plugin-dir", plugin_dirs,
                  "a folder plug-ins may be loaded from, besides the scenario's own folder and those of "
                  "SWARMFORM_PLUGIN_PATH (':'-separated); repeatable. A plug-in anywhere else is refused");
@@ -153,7 +197,10 @@ int main(int argc, char** argv) {
     behaviour::Registry behaviours;
     controller::add_builtins(behaviours);
     behaviours.add_folder(fs::absolute(scenario_path).parent_path());
-    for (const std::string& d : plugin_dirs) behaviours.add_folder(d);
+    for (const std::string& d : plugin_dirs) {
+      if (!fs::is_directory(d)) throw InputError("command line", 0, "--plugin-dir '" + d + "': not a folder");
+      behaviours.add_folder(d);
+    }
     behaviours.add_folders_from_environment();
     world::Scenario scenario = world::load_scenario(scenario_path, overrides, behaviours);
 
@@ -162,6 +209,11 @@ int main(int argc, char** argv) {
 
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
+    const std::string described =
+        "behaviour '" + scenario.mission.behaviour + "'" +
+        (scenario.mission.plugin.empty() ? "" : " (plug-in " + scenario.mission.plugin + ")");
+    g_behaviour_text_size = described.copy(g_behaviour_text, sizeof(g_behaviour_text));
+    for (const int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL}) std::signal(sig, on_crash);
 
     const auto start = std::chrono::steady_clock::now();
     harness::Harness harness(scenario, {run_dir, fragment_range});

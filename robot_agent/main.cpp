@@ -15,6 +15,7 @@
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 
@@ -89,7 +90,13 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
   // in one of those folders (behaviour/registry.hpp), never because the wire said so.
   swarmform::behaviour::Registry behaviours;
   swarmform::controller::add_builtins(behaviours);
-  for (const std::string& d : o.plugin_dirs) behaviours.add_folder(d);
+  for (const std::string& d : o.plugin_dirs) {
+    if (!std::filesystem::is_directory(d)) {
+      std::cerr << me << ": --plugin-dir '" << d << "': not a folder\n";
+      return stopped(2);
+    }
+    behaviours.add_folder(d);
+  }
   behaviours.add_folders_from_environment();
   std::unique_ptr<swarmform::controller::Controller> controller;
   try {

@@ -91,7 +91,12 @@ int run(const Options& o) {
   swarmform::behaviour::Registry behaviours;
   swarmform::controller::add_builtins(behaviours);
   behaviours.add_folder(std::filesystem::absolute(o.scenario).parent_path());
-  for (const std::string& d : o.plugin_dirs) behaviours.add_folder(d);
+  for (const std::string& d : o.plugin_dirs) {
+    if (!std::filesystem::is_directory(d)) {
+      throw swarmform::InputError("command line", 0, "--plugin-dir '" + d + "': not a folder");
+    }
+    behaviours.add_folder(d);
+  }
   behaviours.add_folders_from_environment();
   const swarmform::world::Scenario scenario =
       swarmform::world::load_scenario(o.scenario, overrides_of(o), behaviours);

@@ -157,9 +157,9 @@ int main(int argc, char** argv) {
     world::ScenarioOverrides ov;
     ov.robots = robots;
     ov.seed = seed;
+    ov.behaviour = behaviour;
     world::Scenario scenario =
         world::load_scenario(scenario_path, ov, swarmform::controller::builtin_registry());
-    scenario.mission.behaviour = behaviour;
     scenario.kills.clear();
 
     std::vector<double> rates;

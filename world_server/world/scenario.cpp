@@ -353,6 +353,9 @@ void parse_behaviour(const Source& src, MapReader& top, const ScenarioOverrides&
   for (const auto& kv : *params_node) {
     const std::string name = kv.first.Scalar();
     const std::string path = params_path + "." + name;
+    // A --behaviour override runs another behaviour than the file's: the file's parameters that it does not
+    // have belong to the file's behaviour and are left out (those it has are checked and kept).
+    if (ov.behaviour && !behaviour::find_param(*d, name)) continue;
     if (!behaviour::find_param(*d, name))
       yaml::fail(src, kv.first, path, behaviour::check_param(*d, name, 0.0));
     const double value = yaml::to_number(src, kv.second, path);

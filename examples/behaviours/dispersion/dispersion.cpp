@@ -1,7 +1,7 @@
 // dispersion: every robot backs away from the neighbours it hears closer than `spacing` (a repulsion summed
-// over them, each weighted by how far inside `spacing` it is) and stops once nobody is that close. Walls and
-// obstacles seen by the ultrasonics repel the same way. The swarm spreads out to about `spacing` apart, as
-// far as the arena and the communication range let it.
+// over them, each weighted by how far inside `spacing` it is) and stops once nobody is nearer than
+// (1 - tolerance) x spacing. Walls and obstacles seen by the ultrasonics repel the same way. The swarm
+// spreads out to about `spacing` apart, as far as the arena and the communication range let it.
 #include <swarmform/behaviour.hpp>
 
 #include <algorithm>
@@ -18,6 +18,8 @@ constexpr std::array kParams = {
     behaviour::ParamSpec{"k_turn", 2.0, 0.0, 20.0, "turn rate per radian of the escape bearing, 1/s"},
     behaviour::ParamSpec{"wall_distance", 0.4, 0.25, 2.0,
                          "echoes nearer than this repel like a neighbour, m"},
+    behaviour::ParamSpec{"tolerance", 0.1, 0.0, 0.9,
+                         "settled once no neighbour is nearer than (1 - this) x spacing"},
 };
 enum State : std::int32_t { kSpreading = 0, kSettled = 1 };
 constexpr std::array kStates = {
@@ -49,6 +51,7 @@ class Dispersion final : public controller::Controller {
     spacing_ = behaviour::param(mission, kDescriptor, "spacing");
     k_turn_ = behaviour::param(mission, kDescriptor, "k_turn");
     wall_ = behaviour::param(mission, kDescriptor, "wall_distance");
+    tolerance_ = behaviour::param(mission, kDescriptor, "tolerance");
   }
 
   Command step(const Perception& p) override {
@@ -61,21 +64,24 @@ class Dispersion final : public controller::Controller {
       fx -= weight * std::cos(r.bearing);
       fy -= weight * std::sin(r.bearing);
     }
+    bool echo = false;
     for (std::size_t k = 0; k < kUltrasonicCount; ++k) {
       if (p.ultrasonic[k] >= wall_) continue;
+      echo = true;
       const double weight = (wall_ - p.ultrasonic[k]) / wall_;
       fx -= weight * std::cos(kUltrasonicAngles[k]);
       fy -= weight * std::sin(kUltrasonicAngles[k]);
     }
     Command c;
     const double push = std::hypot(fx, fy);
-    const bool settled = push < 1e-3;
+    const bool settled = !echo && (nearest < 0.0 || nearest >= (1.0 - tolerance_) * spacing_);
     if (!settled) {
       const double bearing = std::atan2(fy, fx);
       // Forward when the escape lies ahead, backward when it lies behind (the robot need not turn round).
       const bool ahead = std::abs(bearing) <= M_PI / 2.0;
       const double heading_error = ahead ? bearing : std::remainder(bearing + M_PI, 2.0 * M_PI);
-      const double v = (ahead ? 1.0 : -1.0) * speed_ * std::min(1.0, push) * std::abs(std::cos(bearing));
+      const double v =
+          (ahead ? 1.0 : -1.0) * speed_ * std::min(1.0, 3.0 * push) * std::abs(std::cos(bearing));
       drive(v, k_turn_ * heading_error, c);
     }
     c.telemetry.state = settled ? kSettled : kSpreading;
@@ -100,7 +106,7 @@ class Dispersion final : public controller::Controller {
     c.right_speed = std::clamp(r, -max_speed_, max_speed_);
   }
 
-  double max_speed_ = 0.1, speed_ = 0.1, spacing_ = 1.0, k_turn_ = 2.0, wall_ = 0.4;
+  double max_speed_ = 0.1, speed_ = 0.1, spacing_ = 1.0, k_turn_ = 2.0, wall_ = 0.4, tolerance_ = 0.1;
 };
 
 std::unique_ptr<controller::Controller> make() {

@@ -6,6 +6,7 @@
 // domain offsets 48..51 (tests/integration/test_domain.hpp).
 #include <gtest/gtest.h>
 
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -169,11 +170,17 @@ TEST_F(ExampleRuns, AFailingPluginEndsAnInProcessRunNamingTheRobotAndTheBehaviou
   const std::string terr = read_file(path("throw.err"));
   EXPECT_NE(terr.find("robot 1's behaviour 'faulty'"), std::string::npos) << terr;
   EXPECT_NE(terr.find("threw: faulty: thrown on purpose"), std::string::npos) << terr;
+
+  const std::string c = edited(s, path("crash.yaml"), "how: 0", "how: 2");
+  EXPECT_EQ(inprocess({"--scenario", c, "--plugin-dir", FAULTY_DIR, "--no-record"}, "crash"), 128 + SIGSEGV);
+  const std::string cerr = read_file(path("crash.err"));
+  EXPECT_NE(cerr.find("swarm_inprocess: robot 1's behaviour 'faulty'"), std::string::npos) << cerr;
+  EXPECT_NE(cerr.find("crashed (SIGSEGV)"), std::string::npos) << cerr;
 }
 
 TEST_F(ExampleRuns, AFailingPluginIsADeadRobotNotADeadWorld) {
   const std::string s = kExamples + "/tests/faulty/faulty.yaml";
-  for (const std::string how : {"0", "1"}) {
+  for (const std::string how : {"0", "1", "2"}) {  // NaN, an exception, a crash
     SCOPED_TRACE("how " + how);
     const std::string run = "run" + how;
     const std::string scen = edited(s, path(run + ".yaml"), "how: 0", "how: " + how);
