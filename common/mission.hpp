@@ -12,18 +12,23 @@
 namespace swarmform {
 
 struct Mission {
-  std::string behaviour = "paper";  // "paper" (the paper's algorithm) or "random_walk"
-  ShapeMatrix shape;                // the label matrix (common/shape.hpp)
-  double grid_spacing = 1.0;        // m between horizontally/vertically adjacent labels (paper Table II)
-  Vec2 goal{10.0, 0.0};             // m, arena frame; only the elected leader uses it (paper eq. 3)
-  double goal_radius = 0.5;         // m
-  double max_speed = 0.1;           // m/s, wheel speed limit (the world clamps anything above)
-  double tick_rate = 10.0;          // ticks per second of simulated time
-  double comm_range = 3.0;          // m, range-and-bearing range (for the controller's own reasoning only)
+  // The behaviour's name (a built-in: "paper", "random_walk"; or a plug-in's own name) and, for a plug-in,
+  // the canonical path of its shared library. An agent loads it only from its own plug-in folders
+  // (behaviour/registry.hpp), never because the mission names it.
+  std::string behaviour = "paper";
+  std::string plugin;         // empty: a built-in
+  ShapeMatrix shape;          // the label matrix (common/shape.hpp)
+  double grid_spacing = 1.0;  // m between horizontally/vertically adjacent labels (paper Table II)
+  Vec2 goal{10.0, 0.0};       // m, arena frame; only the elected leader uses it (paper eq. 3)
+  double goal_radius = 0.5;   // m
+  double max_speed = 0.1;     // m/s, wheel speed limit (the world clamps anything above)
+  double tick_rate = 10.0;    // ticks per second of simulated time
+  double comm_range = 3.0;    // m, range-and-bearing range (for the controller's own reasoning only)
   std::uint32_t max_message_bytes = 1024;  // the world drops larger outgoing messages
   std::uint64_t seed = 1;  // per-run seed; a controller mixes in its id for its own randomness
-  // Controller parameters by name (scenario `controller:` section). The controller library owns the names and
-  // their defaults; robot_agent/controller/params.hpp validates them.
+  // The behaviour's parameters by name, as the scenario sets them (`behaviour: {params: ...}` or
+  // `controller:`); the behaviour's own table (behaviour/descriptor.hpp) holds the names, bounds and
+  // defaults.
   std::map<std::string, double> params;
 };
 

@@ -21,7 +21,9 @@ void check_mission(const Mission& m, const std::string& origin) {
   for (const int c : m.shape.cells) {
     if (c < -1) throw InputError(origin, 0, "shape cell " + std::to_string(c) + " below -1");
   }
-  check_shape(m.shape, origin);
+  // No shape at all (0 x 0) is a behaviour that forms none; the registry refuses it to one that needs a
+  // shape.
+  if (m.shape.rows != 0 || m.shape.cols != 0 || !m.shape.cells.empty()) check_shape(m.shape, origin);
   positive(m.grid_spacing, "grid_spacing", origin);
   positive(m.max_speed, "max_speed", origin);
   positive(m.tick_rate, "tick_rate", origin);

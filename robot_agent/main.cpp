@@ -6,8 +6,9 @@
 //
 // Exit codes: 0 the run ended (or --help); 2 bad flags or an unusable mission; 3 no world within --timeout,
 // or the world went away mid-run (silent for --world-timeout); 4 the id was refused; 5 the id was lost to
-// another agent (this one was taken for dead and a restarted one claimed it); 6 the --exec behaviour failed
-// (exited, hung past its deadline, or wrote garbage: the robot is dead, the message says what the child did);
+// another agent (this one was taken for dead and a restarted one claimed it); 6 the robot's behaviour failed
+// (an --exec child exited, hung past its deadline or wrote garbage, the message says what it did; or a
+// built-in or plug-in behaviour returned a non-finite wheel speed): the robot is dead, the world goes on;
 // 1 anything else (a DDS failure, a controller exception); 128+signal when stopped by SIGINT/SIGTERM. The
 // last stdout line is a summary a test can read:
 //   agent id=K packets=P foreign_packets=F refused=R restarts=S
@@ -17,18 +18,21 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <optional>
 
+#include "behaviour/registry.hpp"
 #include "common/dds/robot_block.hpp"
 #include "common/dds/robot_process.hpp"
 #include "common/dds/security_config.hpp"
 #include "common/dds/signal_watch.hpp"
 #include "common/input_error.hpp"
-#include "robot_agent/controller/controller.hpp"
+#include "robot_agent/controller/builtins.hpp"
 #include "robot_agent/dds_link.hpp"
 #include "robot_agent/exec/exec_controller.hpp"
 
@@ -52,6 +56,7 @@ struct Options {
   std::string security_dir;
   std::string exec_command;  // --exec: the behaviour as a child process; empty: the mission's built-in one
   double exec_timeout_s = 5.0;
+  std::vector<std::string> plugin_dirs;  // with SWARMFORM_PLUGIN_PATH's: where plug-ins may load from
 };
 
 swarmform::dds::DdsSettings dds_settings(const Options& o) {
@@ -73,8 +78,9 @@ constexpr int kExitBehaviourFailed = 6;
 // The robot's controller: the mission's built-in behaviour, or the --exec program behind the same interface.
 std::unique_ptr<swarmform::controller::Controller> make_robot_controller(const Options& o,
                                                                          const swarmform::Mission& mission,
-                                                                         AgentLink& link) {
-  if (o.exec_command.empty()) return swarmform::controller::make_controller(mission, o.id);
+                                                                         AgentLink& link,
+                                                                         swarmform::behaviour::Registry& behaviours) {
+  if (o.exec_command.empty()) return behaviours.make(mission, o.id);
   swarmform::agent::ExecOptions eo;
   eo.command = o.exec_command;
   eo.reply_timeout = std::chrono::milliseconds(static_cast<long long>(o.exec_timeout_s * 1000.0));
@@ -124,17 +130,33 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
     return stopped(4);
   }
 
+  // The behaviours this agent may run: the built-ins, and plug-ins from its own --plugin-dir and
+  // SWARMFORM_PLUGIN_PATH folders only. The mission names a plug-in's path; it is loaded only when it lies
+  // in one of those folders (behaviour/registry.hpp), never because the wire said so.
+  swarmform::behaviour::Registry behaviours;
+  swarmform::controller::add_builtins(behaviours);
+  for (const std::string& d : o.plugin_dirs) {
+    if (!std::filesystem::is_directory(d)) {
+      std::cerr << me << ": --plugin-dir '" << d << "': not a folder\n";
+      return stopped(2);
+    }
+    behaviours.add_folder(d);
+  }
+  behaviours.add_folders_from_environment();
   std::unique_ptr<swarmform::controller::Controller> controller;
   // An --exec child starts (an interpreter may take a second) before the claim, so that it cannot stall the
   // agent past its liveliness lease between the claim and the first command; a child that fails its hello is
   // said after the claim, so that it is a dead robot of the run, not an agent the world waits for.
   std::optional<swarmform::agent::BehaviourFailure> failed_start;
   try {
-    controller = make_robot_controller(o, mission.mission, link);
+    controller = make_robot_controller(o, mission.mission, link, behaviours);
   } catch (const swarmform::agent::BehaviourFailure& e) {
     failed_start = e;
   } catch (const swarmform::InputError& e) {
     std::cerr << me << ": unusable mission: " << e.what() << "\n";
+    return stopped(2);
+  } catch (const swarmform::behaviour::PluginError& e) {
+    std::cerr << me << ": " << e.what() << "\n";
     return stopped(2);
   }
 
@@ -194,7 +216,7 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
       // afresh from the mission, as a restarted agent's would, rather than act on a state that went stale.
       controller.reset();  // an --exec child ends before its successor starts
       try {
-        controller = make_robot_controller(o, link.mission().mission, link);
+        controller = make_robot_controller(o, link.mission().mission, link, behaviours);
       } catch (const swarmform::agent::BehaviourFailure& e) {
         return behaviour_failed(e);
       }
@@ -208,6 +230,14 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
       command = controller->step(packet.perception);
     } catch (const swarmform::agent::BehaviourFailure& e) {
       return behaviour_failed(e);
+    }
+    if (!std::isfinite(command.left_speed) || !std::isfinite(command.right_speed)) {
+      // A behaviour that lost its numbers: this robot stops (the world takes it for dead once its lease
+      // lapses), the world and the other robots go on.
+      std::cerr << me << ": behaviour '" << mission.mission.behaviour << "' returned a non-finite wheel speed"
+                << " (left " << command.left_speed << ", right " << command.right_speed << ") at tick "
+                << packet.perception.tick << "; this robot stops\n";
+      return stopped(kExitBehaviourFailed);
     }
     link.send(packet.perception.tick, command);
   }
@@ -286,6 +316,9 @@ int main(int argc, char** argv) {
                  "seconds the --exec behaviour may take to answer each perception (default 5; the hello gets "
                  "at least 10)")
       ->check(CLI::Range(0.001, 3600.0));
+  app.add_option("--plugin-dir", o.plugin_dirs,
+                 "a folder behaviour plug-ins may be loaded from (with those of SWARMFORM_PLUGIN_PATH, "
+                 "':'-separated); repeatable. A mission naming a plug-in anywhere else is refused (exit 2)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -80,12 +80,20 @@ json read_json(const std::string& path) {
   return f ? json::parse(f, nullptr, false) : json();
 }
 
-json behaviour_json(const std::string& behaviour) {
-  const swarmform::server::BehaviourView v = swarmform::server::describe_behaviour(behaviour);
-  json states = json::array();
-  for (const auto& s : v.states)
-    states.push_back({{"value", s.value}, {"name", s.name}, {"colour", s.colour}});
-  return {{"behaviour", v.name}, {"states", states}, {"telemetry_fields", v.telemetry_fields}};
+// The recording's own description of its behaviour (world.json's behaviour_descriptor: the descriptor's
+// states and telemetry columns, docs/recording-format.md), in the form the live frames give it.
+json behaviour_json(const json& world) {
+  const json d = world.value("behaviour_descriptor", json::object());
+  const swarmform::server::BehaviourView fixed = swarmform::server::describe_behaviour("", nullptr);
+  json fields = fixed.telemetry_fields;
+  for (const auto& t : d.value("telemetry", json::array())) {
+    if (t.is_object() && t.contains("name") && t["name"].is_string()) fields.push_back(t["name"]);
+  }
+  json states = d.value("states", json::array());
+  if (!states.is_array()) states = json::array();
+  return {{"behaviour", world.value("behaviour", std::string("?"))},
+          {"states", states},
+          {"telemetry_fields", fields}};
 }
 
 int replay(const Options& o) {
@@ -97,7 +105,7 @@ int replay(const Options& o) {
     return 2;
   }
   json hello = {{"type", "hello"}, {"mode", "replay"}};
-  hello.update(behaviour_json(world.value("behaviour", std::string("paper"))));
+  hello.update(behaviour_json(world));
   swarmform::viewer::WebServer* server_ptr = nullptr;
   swarmform::viewer::WebServer::Handlers h;
   h.opened = [&](ClientId c, ClientKind k) {

@@ -1,12 +1,13 @@
 // What a viewer needs to know about the behaviour the robots run: the names and colours of its states and the
 // telemetry a robot's panel lists. The ONE place the world describes a behaviour to observers: the viewer
-// page never hard-codes the paper's states. (The behaviour plug-in API, issue 20, will give each behaviour
-// its own descriptor; this function is then the one thing to wire to it.)
+// page never hard-codes the paper's states: they come from the behaviour's own descriptor (behaviour/
+// descriptor.hpp: a built-in's or a plug-in's), as the post-run pictures' do.
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "behaviour/descriptor.hpp"
 #include "common/dds/observe_wire.hpp"
 
 namespace swarmform::server {
@@ -17,7 +18,9 @@ struct BehaviourView {
   std::vector<std::string> telemetry_fields;  // of "state", "label", "parent", "leader", "net_force"
 };
 
-// The description of `behaviour` (mission.behaviour). An unknown name gets its state numbers drawn grey.
-BehaviourView describe_behaviour(const std::string& behaviour);
+// The description of behaviour `name` from its descriptor `d`: its states' names and colours, the fixed
+// telemetry fields, then its own columns. Without a descriptor (a recording made before descriptors), the
+// state numbers are drawn grey.
+BehaviourView describe_behaviour(const std::string& name, const behaviour::Descriptor* d);
 
 }  // namespace swarmform::server

@@ -14,8 +14,12 @@
 #include <nlohmann/json.hpp>
 
 #include "common/dds/security_config.hpp"
+#include <filesystem>
+
+#include "behaviour/registry.hpp"
 #include "common/dds/signal_watch.hpp"
 #include "common/input_error.hpp"
+#include "robot_agent/controller/builtins.hpp"
 #include "world_server/server.hpp"
 #include "world_server/world/scenario.hpp"
 
@@ -51,6 +55,7 @@ struct Options {
   std::string agent_pids_file;
   std::string viewer_token;
   bool start_paused = false;
+  std::vector<std::string> plugin_dirs;
   bool check = false;
   std::string dds_config;  // --dds-config FILE
   bool print_dds_config = false;
@@ -104,7 +109,20 @@ int run(const Options& o) {
     std::cout << swarmform::dds::cyclone_config_listing(dds_settings(o), "world_server");
     return 0;
   }
-  const swarmform::world::Scenario scenario = swarmform::world::load_scenario(o.scenario, overrides_of(o));
+  // The behaviours the scenario may name: the built-ins, and plug-ins from the scenario's own folder,
+  // --plugin-dir and SWARMFORM_PLUGIN_PATH only (behaviour/registry.hpp).
+  swarmform::behaviour::Registry behaviours;
+  swarmform::controller::add_builtins(behaviours);
+  behaviours.add_folder(std::filesystem::absolute(o.scenario).parent_path());
+  for (const std::string& d : o.plugin_dirs) {
+    if (!std::filesystem::is_directory(d)) {
+      throw swarmform::InputError("command line", 0, "--plugin-dir '" + d + "': not a folder");
+    }
+    behaviours.add_folder(d);
+  }
+  behaviours.add_folders_from_environment();
+  const swarmform::world::Scenario scenario =
+      swarmform::world::load_scenario(o.scenario, overrides_of(o), behaviours);
   for (const auto& k : scenario.kills) {
     if (k.id >= scenario.robots.size()) {
       throw std::invalid_argument("--kill " + std::to_string(k.id) + "@" + std::to_string(k.tick) +
@@ -215,6 +233,10 @@ int main(int argc, char** argv) {
       "authenticates as `world` (DIR/world.pem, .key, .permissions.p7s), talks only to participants "
       "of the same authority, and gives id K only to the participant authenticated as robot K "
       "(docs/security.md)");
+  app.add_option(
+      "--plugin-dir", o.plugin_dirs,
+      "a folder behaviour plug-ins may be loaded from, besides the scenario's own folder and those "
+      "of SWARMFORM_PLUGIN_PATH (':'-separated); repeatable. A plug-in anywhere else is refused");
   app.add_flag("--check", o.check, "load and validate the scenario, print a JSON line, exit");
   app.add_option("--dds-config", o.dds_config,
                  "FILE: a Cyclone DDS XML configuration merged on top of the built-in one (default: the file "

@@ -82,8 +82,7 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
   generation_.assign(n, 1);
   owner_nonce_.assign(n, 0);
   latest_writer_.assign(n, 0);
-  telemetry_limits_.labels = scenario.mission.shape.label_count();
-  telemetry_limits_.robots = static_cast<std::uint32_t>(n);
+  telemetry_limits_ = world::telemetry_limits(scenario);
   written_at_.assign(n, 0);
   latest_.resize(n);
   latest_tick_.assign(n, 0);
@@ -92,9 +91,9 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
   unresponsive_.assign(n, 0);
   for (const world::Kill& k : scenario.kills) kills_.emplace(k.tick, k.id);
   if (options_.viewer_token != 0) {
-    viewer_ = std::make_unique<ViewerControl>(link_.participant, options_.run_nonce, options_.viewer_token,
-                                              scenario.mode == world::Mode::Lockstep, options_.start_paused,
-                                              describe_behaviour(scenario.mission.behaviour));
+    viewer_ = std::make_unique<ViewerControl>(
+        link_.participant, options_.run_nonce, options_.viewer_token, scenario.mode == world::Mode::Lockstep,
+        options_.start_paused, describe_behaviour(scenario.mission.behaviour, scenario.behaviour));
     link_.waiter.attach(viewer_->condition());
   }
   signals_.notify(&link_.waiter);

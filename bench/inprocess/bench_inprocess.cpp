@@ -3,7 +3,7 @@
 //   bench_inprocess [--scenario bench/inprocess/field.yaml] [--robots 1000] [--behaviour paper|random_walk]
 //                   [--ticks 100] [--warmup 10] [--samples 3] [--seed 1]
 //
-// Each sample builds a fresh in-process harness (world_server/harness: the same World, controllers and
+// Each sample builds a fresh in-process harness (harness: the same World, controllers and
 // RunSession metrics as swarm_inprocess --no-record), runs `warmup` ticks, then times `ticks` ticks of
 // Harness::step with a monotonic clock. Then one more timed pass drives the same parts by hand (World,
 // controllers, RunSession: the harness's tick order) to split the tick into controllers, world and session.
@@ -23,8 +23,8 @@
 #include <vector>
 
 #include "common/input_error.hpp"
-#include "robot_agent/controller/controller.hpp"
-#include "world_server/harness/harness.hpp"
+#include "harness/harness.hpp"
+#include "robot_agent/controller/builtins.hpp"
 #include "world_server/run/run_session.hpp"
 #include "world_server/world/perception_bytes.hpp"
 #include "world_server/world/scenario.hpp"
@@ -157,8 +157,9 @@ int main(int argc, char** argv) {
     world::ScenarioOverrides ov;
     ov.robots = robots;
     ov.seed = seed;
-    world::Scenario scenario = world::load_scenario(scenario_path, ov);
-    scenario.mission.behaviour = behaviour;
+    ov.behaviour = behaviour;
+    world::Scenario scenario =
+        world::load_scenario(scenario_path, ov, swarmform::controller::builtin_registry());
     scenario.kills.clear();
 
     std::vector<double> rates;

@@ -337,6 +337,7 @@ void MissionWriter::publish(const MissionAnnouncement& a) {
   s.run_nonce = a.run_nonce;
   s.robots = a.robots;
   s.behaviour = const_cast<char*>(m.behaviour.c_str());
+  s.plugin = const_cast<char*>(m.plugin.c_str());
   s.rows = m.shape.rows;
   s.cols = m.shape.cols;
   s.cells._buffer = cells.data();
@@ -390,6 +391,7 @@ std::optional<MissionAnnouncement> MissionReader::take(std::optional<std::uint64
     a.realtime = s.realtime;
     Mission& m = a.mission;
     m.behaviour = str(s.behaviour);
+    m.plugin = str(s.plugin);
     m.shape.rows = s.rows;
     m.shape.cols = s.cols;
     m.shape.cells.assign(s.cells._buffer, s.cells._buffer + s.cells._length);
@@ -803,6 +805,8 @@ void CommandWriter::step(RobotId id, Tick tick, const Command& c) {
   for (const std::string& e : c.telemetry.events) events.push_back(const_cast<char*>(e.c_str()));
   s.events._buffer = events.data();
   s.events._length = s.events._maximum = static_cast<std::uint32_t>(events.size());
+  s.extra._buffer = const_cast<double*>(c.telemetry.extra.data());
+  s.extra._length = s.extra._maximum = static_cast<std::uint32_t>(c.telemetry.extra.size());
   check(dds_write(impl_->writer.get(), &s), "dds_write(command)");
   impl_->alive_at = dds_time();
 }
@@ -968,6 +972,7 @@ std::size_t CommandReader::take(std::vector<CommandSample>& buf, std::size_t max
       t.net_force = s.net_force;
       t.events.resize(s.events._length);
       for (std::uint32_t k = 0; k < s.events._length; ++k) t.events[k] = str(s.events._buffer[k]);
+      t.extra.assign(s.extra._buffer, s.extra._buffer + s.extra._length);
     }
     if (n < static_cast<int>(batch)) break;
   }

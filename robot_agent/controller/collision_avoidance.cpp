@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "common/controller_params.hpp"
 #include "robot_agent/controller/drive.hpp"
 #include "robot_agent/controller/obstacle_forces.hpp"
+#include "robot_agent/controller/paper_params.hpp"
 
 namespace swarmform::controller {
 

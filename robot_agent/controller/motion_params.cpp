@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "common/controller_params.hpp"
+#include "robot_agent/controller/paper_params.hpp"
 
 namespace swarmform::controller::motion {
 

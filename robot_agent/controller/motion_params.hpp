@@ -1,5 +1,6 @@
-// The motion phases' parameters, typed: the mission's values and the rows of common/controller_params.hpp
-// that the Ready and motion phases read (robot_agent/README.md, "Ready and motion", says what each does).
+// The motion phases' parameters, typed: the mission's values and the rows of
+// robot_agent/controller/paper_params.hpp that the Ready and motion phases read (robot_agent/README.md,
+// "Ready and motion", says what each does).
 #pragma once
 
 #include "common/types.hpp"

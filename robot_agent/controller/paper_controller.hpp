@@ -17,10 +17,10 @@
 #include <string>
 #include <vector>
 
+#include "behaviour/controller.hpp"
 #include "robot_agent/controller/allotment.hpp"
 #include "robot_agent/controller/barrier.hpp"
 #include "robot_agent/controller/collision_avoidance.hpp"
-#include "robot_agent/controller/controller.hpp"
 #include "robot_agent/controller/motion_hooks.hpp"
 #include "robot_agent/controller/neighbours.hpp"
 #include "robot_agent/controller/params.hpp"

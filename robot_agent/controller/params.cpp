@@ -3,8 +3,8 @@
 #include <cmath>
 #include <string>
 
-#include "common/controller_params.hpp"
 #include "common/input_error.hpp"
+#include "robot_agent/controller/paper_params.hpp"
 
 namespace swarmform::controller {
 

@@ -1,5 +1,6 @@
-// The controller's typed parameters: the mission's values plus every row of common/controller_params.hpp,
-// checked once at init (unknown name or out of bounds -> InputError naming the parameter).
+// The controller's typed parameters: the mission's values plus every row of
+// robot_agent/controller/paper_params.hpp, checked once at init (unknown name or out of bounds -> InputError
+// naming the parameter).
 #pragma once
 
 #include <cstdint>
@@ -39,7 +40,7 @@ struct FormationParams {
   double obstacle_range = 0.6;
   double neighbour_mask_angle = 0.35;
   // Every parameter as the mission set it (name -> value), for phases that read their own rows of
-  // common/controller_params.hpp with param_value() (the motion phases: motion_params.hpp).
+  // robot_agent/controller/paper_params.hpp with param_value() (the motion phases: motion_params.hpp).
   std::map<std::string, double> overrides;
 
   double dt() const { return 1.0 / tick_rate; }  // s per tick

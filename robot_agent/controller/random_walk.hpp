@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <random>
 
-#include "robot_agent/controller/controller.hpp"
+#include "behaviour/controller.hpp"
 
 namespace swarmform::controller {
 

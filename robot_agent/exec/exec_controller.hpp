@@ -12,7 +12,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "robot_agent/controller/controller.hpp"
+#include "behaviour/controller.hpp"
 #include "robot_agent/exec/child_process.hpp"
 
 namespace swarmform::agent {

@@ -136,6 +136,9 @@ def _add_run_flags(p, demo=False):
                    help="lockstep: the world waits for every live agent each tick (reproducible); "
                         "realtime: fixed tick rate, latest command")
     p.add_argument("--max-ticks", type=_int_at_least(1), metavar="T", help="stop after T ticks")
+    p.add_argument("--plugin-dir", action="append", default=[], metavar="DIR",
+                   help="a folder behaviour plug-ins may be loaded from, besides the scenario's own "
+                        "(docs/behaviour-api.md); repeatable")
     p.add_argument("--out", metavar="DIR", help="run directory (default runs/<UTC time>/, and runs/latest)")
     p.add_argument("--kill", type=_kill_spec, action="append", default=[], metavar="ID@TICK",
                    help="SIGKILL agent ID at tick TICK (repeatable)")
@@ -179,6 +182,8 @@ def _add_run_flags(p, demo=False):
                         "--expect 'outcome == arrived' --expect 'collisions_robot_robot == 0' --expect "
                         "'deaths <= 2' (a list compares by its length); repeatable. Each is printed met or "
                         "FAILED; exit 4 when one failed, 2 for a key summary.json lacks (docs/testing-your-swarm.md)")
+    p.add_argument("--labels", action="store_true",
+                   help="write each robot's id beside it and draw its heading on the snapshots")
     p.add_argument("--in-process", action="store_true",
                    help="run every robot's controller inside one process (swarm_inprocess; no DDS, "
                         "deterministic, fast); same run directory")
@@ -211,12 +216,16 @@ def make_parser():
     replay = sub.add_parser("replay", help="draw the pictures again from a recording",
                             description="Draws RUN_DIR/pictures/ from the recording: snapshots (start, formation, "
                                         "motion start, through the motion, end, and --ticks), trajectories, "
-                                        "residual force, shape error, animation.mp4 and animation.gif.")
+                                        "residual force and shape error (a behaviour with a shape and a goal), "
+                                        "states, telemetry (a behaviour with columns of its own), animation.mp4 "
+                                        "and animation.gif.")
     replay.add_argument("run_dir", metavar="RUN_DIR")
     replay.add_argument("--ticks", type=_int_at_least(0), nargs="+", default=[], metavar="T",
                         help="also draw snapshots at these ticks")
     replay.add_argument("--out", metavar="DIR", help="write the pictures here instead of RUN_DIR/pictures")
     replay.add_argument("--no-animation", action="store_true", help="skip animation.mp4 and animation.gif")
+    replay.add_argument("--labels", action="store_true",
+                        help="write each robot's id beside it and draw its heading on the snapshots")
 
     view = sub.add_parser("view", help="the browser view of a recording",
                           description="Serves the live view's page over RUN_DIR's recording (world.json, robots.csv, "
@@ -339,7 +348,7 @@ class _DrawingProgress:
             self.dirty = False
 
 
-def render_pictures(run_dir, ticks=(), out_dir=None, animate=True):
+def render_pictures(run_dir, ticks=(), out_dir=None, animate=True, labels=False):
     """Loads the recording and draws every picture; 0, or 1 with a file:line message."""
     from . import animation, pictures, recording  # matplotlib: only when drawing
     progress = _DrawingProgress()
@@ -352,7 +361,7 @@ def render_pictures(run_dir, ticks=(), out_dir=None, animate=True):
             print(f"swarm: warning: {w}", file=sys.stderr)
         try:
             written = pictures.render_all(rec, out_dir, ticks, animate, log=lambda m: print(m, file=sys.stderr),
-                                          progress=progress)
+                                          progress=progress, labels=labels)
         finally:
             progress.end()
     except recording.RecordingError as e:
@@ -393,7 +402,8 @@ def main(argv=None):
         if args.view_paused and args.view is None:
             args.view = DEFAULT_VIEW_PORT
         code = launcher.run(args, lambda run_dir: render_pictures(run_dir, args.ticks,
-                                                                  animate=not args.no_animation))
+                                                                  animate=not args.no_animation,
+                                                                  labels=args.labels))
         if args.expect and code != launcher.EXIT_INTERRUPTED and getattr(args, "run_dir", None):
             checked = expect.evaluate(args.expect, args.run_dir, lambda m: print(m, file=sys.stderr))
             code = code or checked  # a failed run keeps its own exit code
@@ -419,7 +429,7 @@ def main(argv=None):
             return 0
         return launcher.view(args.run_dir, args.port, args.host)
     if args.command == "replay":
-        return render_pictures(args.run_dir, args.ticks, args.out, not args.no_animation)
+        return render_pictures(args.run_dir, args.ticks, args.out, not args.no_animation, args.labels)
     if args.command == "sweep":
         if os.environ.get("SWARM_PARSE_ONLY") == "1":
             return 0

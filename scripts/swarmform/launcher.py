@@ -75,7 +75,7 @@ def build_dir():
 
 def executable(kind):
     rel = {"world": "world_server/world_server", "agent": "robot_agent/robot_agent",
-           "inprocess": "world_server/harness/swarm_inprocess", "viewer": "viewer/swarm_viewer"}[kind]
+           "inprocess": "harness/swarm_inprocess", "viewer": "viewer/swarm_viewer"}[kind]
     path = os.path.join(build_dir(), rel)
     if not os.access(path, os.X_OK):
         raise LaunchError(f"{path} not found: build it first (scripts/build), or set BUILD_DIR")
@@ -106,6 +106,17 @@ def overrides(args):
         out += ["--kill", kill]
     for fault in getattr(args, "fault", None) or []:
         out += ["--fault", fault]
+    for folder in getattr(args, "plugin_dir", None) or []:
+        out += ["--plugin-dir", os.path.abspath(folder)]
+    return out
+
+
+def agent_plugin_flags(args):
+    """The folders an agent may load behaviour plug-ins from: the scenario's own and each --plugin-dir (the
+    world and swarm_inprocess add the scenario's folder themselves; docs/behaviour-api.md)."""
+    out = ["--plugin-dir", os.path.dirname(os.path.abspath(args.scenario))]
+    for folder in getattr(args, "plugin_dir", None) or []:
+        out += ["--plugin-dir", os.path.abspath(folder)]
     return out
 
 
@@ -189,7 +200,7 @@ class Processes:
 
     def __init__(self):
         self.agents = {}  # id -> Popen
-        self.agent_args = []  # given to every agent, restarted ones too (--exec CMD, --security-dir)
+        self.agent_args = []  # given to every agent, restarted ones too (--exec CMD, plug-in folders, --security-dir)
         self.groups = set()
         self.world = None
         self.viewer = None
@@ -478,7 +489,7 @@ def run(args, render_pictures):
                 raise LaunchError(str(e), EXIT_BAD_INPUT) from None
         world_exe, agent_exe = executable("world"), executable("agent")
         check_exec(getattr(args, "exec", None))
-        procs.agent_args = exec_args(args)
+        procs.agent_args = exec_args(args) + agent_plugin_flags(args)
         info = check_scenario(world_exe, args)
         if stop:
             return EXIT_INTERRUPTED

@@ -5,7 +5,13 @@
   trajectories.png      every robot's path (Fig. 10)
   residual_force.png    the net force summed over the robots against the path of the formation's centre (Fig. 3)
   shape_error.png       shape error (RMS after a rigid fit, grid units) over time
+  states.png            live robots in each of the behaviour's states over time (its own names and colours)
+  telemetry.png         the mean over the live robots of each of the behaviour's telemetry columns over time
   animation.mp4/.gif    the whole run (animation.py)
+
+residual_force.png and shape_error.png are the paper's: drawn only for a behaviour that forms a shape and goes to
+a goal (world.json's behaviour_descriptor), states.png for any other instead; telemetry.png only for a behaviour
+that records columns of its own.
 
 Every figure has a known pixel size (picture_size): the arena figures are 900 px wide and as tall as the view
 needs at equal scales; the plots have fixed sizes (PICTURE_SIZES); the videos too (animation.py).
@@ -25,7 +31,8 @@ from . import animation, geometry, scene  # noqa: E402
 from .scene import Scene, draw_static  # noqa: E402
 
 DPI = 100
-PICTURE_SIZES = {"residual_force": (900, 800), "shape_error": (900, 450)}
+PICTURE_SIZES = {"residual_force": (900, 800), "shape_error": (900, 450), "states": (900, 450),
+                 "telemetry": (900, 450)}
 
 
 def picture_size(rec, kind):
@@ -74,9 +81,10 @@ def snapshot_ticks(rec, extra=()):
     return sorted(out.items())
 
 
-def render_all(rec, out_dir=None, extra_ticks=(), animate=True, log=print, progress=None):
+def render_all(rec, out_dir=None, extra_ticks=(), animate=True, log=print, progress=None, labels=False):
     """Writes every picture; returns the list of paths written. `progress(text)`, when given, hears what is being
-    drawn (the launcher shows it: the pictures take longer than a lockstep run)."""
+    drawn (the launcher shows it: the pictures take longer than a lockstep run). labels: robot ids and headings on
+    the snapshots."""
     say = progress or (lambda _text: None)
     out_dir = out_dir or os.path.join(rec.run_dir, "pictures")
     os.makedirs(out_dir, exist_ok=True)
@@ -85,7 +93,7 @@ def render_all(rec, out_dir=None, extra_ticks=(), animate=True, log=print, progr
             os.remove(os.path.join(out_dir, name))
     written = []
     ticks = snapshot_ticks(rec, extra_ticks)
-    view = Scene(rec, picture_size(rec, "snapshot"), DPI)
+    view = Scene(rec, picture_size(rec, "snapshot"), DPI, labels=labels)
     try:
         for k, (tick, caption) in enumerate(ticks):
             say(f"snapshot {k + 1}/{len(ticks)} (tick {tick})")
@@ -97,8 +105,16 @@ def render_all(rec, out_dir=None, extra_ticks=(), animate=True, log=print, progr
         view.close()
     say("trajectories, residual force, shape error")
     written.append(trajectories(rec, os.path.join(out_dir, "trajectories.png")))
-    written.append(residual_force(rec, os.path.join(out_dir, "residual_force.png")))
-    written.append(shape_error(rec, os.path.join(out_dir, "shape_error.png")))
+    paper = rec.world.needs_shape and rec.world.needs_goal
+    kinds = ["residual_force", "shape_error"] if paper else ["states"]
+    kinds += ["telemetry"] if rec.track.extra else []
+    for name in ("residual_force", "shape_error", "states", "telemetry"):  # none left from an earlier drawing
+        path = os.path.join(out_dir, f"{name}.png")
+        if name not in kinds and os.path.exists(path):
+            os.remove(path)
+    draw = {"residual_force": residual_force, "shape_error": shape_error, "states": states, "telemetry": telemetry}
+    for name in kinds:
+        written.append(draw[name](rec, os.path.join(out_dir, f"{name}.png")))
     if animate:
         written += animation.render(rec, out_dir, log=log, progress=progress)
     return written
@@ -207,4 +223,45 @@ def shape_error(rec, path):
                     xytext=(2, -10 - 11 * (n % 3)), fontsize=8, color=colour)  # staggered: ticks may be close
     source = "summary.json" if (rec.summary or {}).get("distortion") else "computed from robots.csv"
     ax.set_title(f"Shape error after the best rigid fit ({source})", fontsize=11)
+    return _save(fig, path)
+
+
+def states(rec, path):
+    """Live robots in each of the behaviour's states over time, stacked, in its own colours."""
+    t = rec.track
+    fig = _figure(PICTURE_SIZES["states"])
+    ax = fig.add_axes([0.08, 0.13, 0.70, 0.77])
+    ax.set_xlabel("tick")
+    ax.set_ylabel("live robots")
+    ax.grid(True, color="#e0e0e0", linewidth=0.5)
+    present = sorted(set(int(s) for s in np.unique(t.state[t.alive])))
+    names = rec.world.states
+    series = [((t.state == v) & t.alive).sum(axis=1) for v in present]
+    if series:
+        ax.stackplot(t.ticks, series, colors=[names.get(v, (str(v), "#000000"))[1] for v in present],
+                     labels=[names.get(v, (f"state {v}", ""))[0] for v in present])
+        fig.legend(loc="center left", bbox_to_anchor=(0.80, 0.5), fontsize=8, frameon=False)
+    ax.set_xlim(float(t.ticks[0]), max(float(t.ticks[-1]), float(t.ticks[0]) + 1))
+    ax.set_ylim(0, max(t.robots, 1))
+    ax.set_title(f"Robots by state ({rec.world.behaviour})", fontsize=11)
+    return _save(fig, path)
+
+
+def telemetry(rec, path):
+    """The mean over the live robots of each telemetry column the behaviour records, over time."""
+    t = rec.track
+    fig = _figure(PICTURE_SIZES["telemetry"])
+    ax = fig.add_axes([0.08, 0.13, 0.70, 0.77])
+    ax.set_xlabel("tick")
+    ax.grid(True, color="#e0e0e0", linewidth=0.5)
+    cmap = plt.get_cmap("tab10")
+    for k, (name, values) in enumerate(t.extra.items()):
+        live = np.where(t.alive, values, np.nan)
+        with np.errstate(all="ignore"):
+            counted = np.isfinite(live).sum(axis=1)
+            mean = np.where(counted > 0, np.nansum(live, axis=1) / np.maximum(counted, 1), np.nan)
+        ax.plot(t.ticks, mean, color=cmap(k % cmap.N), linewidth=1.2, label=name)
+    fig.legend(loc="center left", bbox_to_anchor=(0.80, 0.5), fontsize=8, frameon=False)
+    ax.set_xlim(float(t.ticks[0]), max(float(t.ticks[-1]), float(t.ticks[0]) + 1))
+    ax.set_title(f"Telemetry of {rec.world.behaviour} (mean of the live robots)", fontsize=11)
     return _save(fig, path)

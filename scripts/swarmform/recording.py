@@ -18,6 +18,10 @@ import numpy as np
 ROBOT_COLUMNS = ("tick", "id", "x", "y", "theta", "alive", "state", "label", "parent", "leader", "net_force")
 INT_COLUMNS = {"tick", "id", "alive", "state", "label", "parent", "leader"}
 STATE_NAMES = {0: "idle", 1: "searching", 2: "moving", 3: "reached", 4: "ready", 5: "motion", 6: "arrived"}
+# The paper's states' colours (robot_agent/controller/builtins.cpp), for a recording older than world.json's
+# behaviour_descriptor; a newer one carries its behaviour's own states and colours.
+STATE_COLOURS = {0: "#9e9e9e", 1: "#ff9800", 2: "#fdd835", 3: "#8bc34a", 4: "#2e7d32", 5: "#1e88e5",
+                 6: "#8e24aa"}
 READY, MOTION = 4, 5
 
 
@@ -77,6 +81,14 @@ class World:
     mode: str = ""
     tick_rate: float = 10.0
     robot_radius: float = 0.0704
+    # The behaviour (world.json's behaviour_descriptor; docs/behaviour-api.md): its states {value: (name,
+    # colour)}, its telemetry columns, and whether it forms a shape and goes to a goal (the paper's pictures and
+    # metrics apply only then).
+    behaviour: str = "paper"
+    states: dict = field(default_factory=lambda: {v: (n, STATE_COLOURS[v]) for v, n in STATE_NAMES.items()})
+    telemetry: list = field(default_factory=list)
+    needs_shape: bool = True
+    needs_goal: bool = True
 
 
 @dataclass
@@ -93,6 +105,9 @@ class Track:
     parent: np.ndarray  # int, id of the parent robot, -1 none
     leader: np.ndarray  # bool
     net_force: np.ndarray
+    # The behaviour's telemetry columns (robots.csv after the fixed ones): name -> [T, N] floats, nan where a
+    # robot had not reported them yet.
+    extra: dict = field(default_factory=dict)
 
     @property
     def robots(self):
@@ -215,7 +230,29 @@ def read_world(path):
     w.mode = str(doc.get("mode", ""))
     if doc.get("shape") is not None:
         w.shape = _read_shape(doc["shape"], path)
+    w.behaviour = str(doc.get("behaviour", "paper"))
+    desc = doc.get("behaviour_descriptor")
+    if isinstance(desc, dict):
+        _read_behaviour(desc, path, w)
     return w
+
+
+def _read_behaviour(desc, path, w):
+    """world.json's behaviour_descriptor into `w`: states and colours, telemetry columns, needs_shape/goal. A
+    behaviour without a shape has no shape to draw, one without a goal no goal."""
+    states = {}
+    for i, st in enumerate(desc.get("states") or []):
+        if not isinstance(st, dict) or not isinstance(st.get("value"), int):
+            raise RecordingError(path, None, f"behaviour_descriptor.states[{i}]: expected {{value, name, colour}}")
+        states[st["value"]] = (str(st.get("name", st["value"])), str(st.get("colour", "#1e88e5")))
+    w.states = states
+    w.telemetry = [str(t.get("name")) for t in desc.get("telemetry") or [] if isinstance(t, dict)]
+    w.needs_shape = bool(desc.get("needs_shape", True))
+    w.needs_goal = bool(desc.get("needs_goal", True))
+    if not w.needs_shape:
+        w.shape = None
+    if not w.needs_goal:
+        w.goal = None
 
 
 def _read_obstacle(ob, path, what):
@@ -294,18 +331,38 @@ def read_robots(path, expected_robots, warnings):
         sub = data[:, floats]
         sub[bad] = np.nan
         data[:, floats] = sub
-    return _to_track(path, data, line_numbers, expected_robots, warnings)
+    extra_names = [n for n in names if n not in ROBOT_COLUMNS]
+    if extra_names:
+        data = np.column_stack([data, _extra_columns(rows, [names.index(n) for n in extra_names])])
+    return _to_track(path, data, line_numbers, expected_robots, warnings, extra_names)
+
+
+def _extra_columns(rows, indices):
+    """The behaviour's telemetry columns as floats; an empty or unreadable field is nan."""
+    out = np.full((len(rows), len(indices)), np.nan)
+    for i, (_, text) in enumerate(rows):
+        parts = text.split(",")
+        for k, j in enumerate(indices):
+            if j < len(parts) and parts[j].strip():
+                try:
+                    out[i, k] = float(parts[j])
+                except ValueError:
+                    pass
+    return out
 
 
 def _parse_fast(rows, names, col):
-    """numpy's C parser for a well-formed file (10x faster than row by row); None if anything is off."""
+    """numpy's C parser for a well-formed file (10x faster than row by row); None if anything is off. Only the
+    fixed columns (the behaviour's own are read by _extra_columns)."""
+    if any(t.count(",") != len(names) - 1 for _, t in rows[:1] + rows[-1:]):
+        return None
     try:
-        table = np.loadtxt([t for _, t in rows], delimiter=",", dtype=np.float64, ndmin=2)
+        data = np.loadtxt([t for _, t in rows], delimiter=",", dtype=np.float64, ndmin=2,
+                          usecols=[col[c] for c in ROBOT_COLUMNS])
     except ValueError:
         return None
-    if table.shape != (len(rows), len(names)):
+    if data.shape != (len(rows), len(ROBOT_COLUMNS)):
         return None
-    data = table[:, [col[c] for c in ROBOT_COLUMNS]]
     ints = data[:, [ROBOT_COLUMNS.index(c) for c in INT_COLUMNS]]
     if not np.isfinite(ints).all() or (ints != np.round(ints)).any():
         return None
@@ -344,7 +401,7 @@ def _describe_bad_row(text, names, col):
     return f"cannot read '{text[:80]}'"
 
 
-def _to_track(path, data, line_numbers, expected_robots, warnings):
+def _to_track(path, data, line_numbers, expected_robots, warnings, extra_names=()):
     ticks_col = data[:, 0].astype(np.int64)
     ids = data[:, 1].astype(np.int64)
     back = np.nonzero(np.diff(ticks_col) < 0)[0]
@@ -385,10 +442,15 @@ def _to_track(path, data, line_numbers, expected_robots, warnings):
         out[tick_index, ids] = data[:, ROBOT_COLUMNS.index(column)].astype(dtype)
         return out
 
+    extra = {}
+    for k, name in enumerate(extra_names):
+        out = np.full(shape, np.nan)
+        out[tick_index, ids] = data[:, len(ROBOT_COLUMNS) + k]
+        extra[name] = out
     return Track(ticks=ticks, x=grid("x", np.float64), y=grid("y", np.float64), theta=grid("theta", np.float64),
                  alive=grid("alive", np.int64) != 0, state=grid("state", np.int64), label=grid("label", np.int64),
                  parent=grid("parent", np.int64), leader=grid("leader", np.int64) != 0,
-                 net_force=grid("net_force", np.float64))
+                 net_force=grid("net_force", np.float64), extra=extra)
 
 
 # --- events.jsonl -----------------------------------------------------------------------------------------

@@ -34,8 +34,15 @@ LAYOUT = [
                 ("command_verdicts", "commands clamped/dropped", "int")]),
     ("Collisions (contact onsets)", [("collisions_robot_robot", "robot-robot", "int"),
                                      ("collisions_robot_obstacle", "robot-obstacle", "int")]),
+    ("Behaviour at the end", [("states_at_end", "live robots by state", "counts"),
+                              ("telemetry_mean_at_end", "telemetry (live mean)", "means")]),
     ("Reproducibility", [("trajectory_sha256", "trajectory sha256", "text")]),
 ]
+# The paper's metrics: shown only for a behaviour that forms a shape and goes to a goal (world.json's
+# behaviour_descriptor); for any other they would read "not reached" for things it never tries.
+PAPER_ONLY = {"shape_file", "labels", "stuck_robots", "formation_tick", "shape_error_at_formation",
+              "motion_start_tick", "motion_ticks_minimum", "goal_tick", "shape_error_at_goal", "peak_distortion",
+              "mean_distortion", "path_length", "arrived", "silent_robots"}
 HIDDEN = {"format", "version", "distortion",  # plumbing, or series drawn in the pictures
           "stuck_robot_count"}  # shown with the stuck robots' list
 
@@ -55,6 +62,11 @@ def _fmt(value, kind, summary, tick_rate):
         return f"{value:.1f}"
     if kind == "alive" and isinstance(summary.get("robots"), int):
         return f"{value} / {summary['robots']}"
+    if kind == "counts" and isinstance(value, dict):
+        return ", ".join(f"{name} {count}" for name, count in value.items()) or "none"
+    if kind == "means" and isinstance(value, dict):
+        return ", ".join(f"{name} {v:.3g}" if isinstance(v, (int, float)) else f"{name} -"
+                         for name, v in value.items()) or "none"
     if kind == "list" and isinstance(value, list):
         if not value:
             return "none"
@@ -63,13 +75,14 @@ def _fmt(value, kind, summary, tick_rate):
     return str(value)
 
 
-def table(summary, tick_rate=None, title=None):
-    """The report as text lines."""
+def table(summary, tick_rate=None, title=None, paper_metrics=True):
+    """The report as text lines. paper_metrics False: the paper's formation and motion metrics are left out
+    (a behaviour without a shape or a goal)."""
     lines = [title] if title else []
     width = max(len(label) for _, rows in LAYOUT for _, label, _ in rows)
-    known = set(HIDDEN)
+    known = set(HIDDEN) | (set() if paper_metrics else PAPER_ONLY)
     for group, rows in LAYOUT:
-        present = [(k, label, kind) for k, label, kind in rows if k in summary]
+        present = [(k, label, kind) for k, label, kind in rows if k in summary and k not in known]
         known.update(k for k, _, _ in rows)
         if not present:
             continue
@@ -132,11 +145,14 @@ def report(run_dir, out=print):
     """Prints the table; raises RecordingError when summary.json is missing or not valid."""
     summary = load_summary(run_dir)
     tick_rate = None
+    paper_metrics = True
     world_path = os.path.join(run_dir, "world.json")
     if os.path.exists(world_path):
         try:
-            tick_rate = read_world(world_path).tick_rate
+            world = read_world(world_path)
+            tick_rate = world.tick_rate
+            paper_metrics = world.needs_shape and world.needs_goal
         except RecordingError:
             tick_rate = None  # the summary alone is still worth showing
-    for line in table(summary, tick_rate, f"swarmform run {run_dir}"):
+    for line in table(summary, tick_rate, f"swarmform run {run_dir}", paper_metrics):
         out(line)

@@ -18,12 +18,7 @@ from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Circle, Polygon, Rectangle  # noqa: E402
 
 from .geometry import view_bounds  # noqa: E402
-from .recording import STATE_NAMES  # noqa: E402
-
-# One colour per controller state (common/robot_state.hpp), chosen to read in order: grey before a label,
-# warm while forming, green when ready, blue in motion, purple at the goal.
-STATE_COLOURS = {0: "#9e9e9e", 1: "#ff9800", 2: "#fdd835", 3: "#8bc34a", 4: "#2e7d32", 5: "#1e88e5",
-                 6: "#8e24aa"}
+from .recording import STATE_COLOURS  # noqa: E402,F401  (the paper's; a recording carries its behaviour's)
 UNKNOWN_COLOUR = "#000000"
 OBSTACLE_COLOUR = "#6d4c41"
 WALL_COLOUR = "#424242"
@@ -50,8 +45,9 @@ def arena_axes_rect(size_px, axes=LEGEND_AXES):
     return [axes[0], MARGIN_BOTTOM_PX / h, axes[1], (h - MARGIN_BOTTOM_PX - MARGIN_TOP_PX) / h]
 
 
-def state_colours(states):
-    return [STATE_COLOURS.get(int(s), UNKNOWN_COLOUR) for s in states]
+def state_colours(states, world_states):
+    """The colour of each state value, from the behaviour's states {value: (name, colour)}."""
+    return [world_states.get(int(s), ("", UNKNOWN_COLOUR))[1] for s in states]
 
 
 def draw_static(ax, world, bounds):
@@ -85,22 +81,30 @@ def draw_static(ax, world, bounds):
                     color="#2e7d32", fontsize=8)
 
 
-def legend_handles(states_present):
-    handles = [Line2D([], [], marker="o", linestyle="", markerfacecolor=STATE_COLOURS[s], markeredgecolor="black",
-                      markersize=7, label=STATE_NAMES[s]) for s in sorted(states_present) if s in STATE_COLOURS]
-    handles.append(Line2D([], [], marker="*", linestyle="", markerfacecolor="none", markeredgecolor="red",
-                          markersize=12, label="leader"))
+def legend_handles(states_present, world_states, leaders=True, links=True):
+    """The legend: the behaviour's states shown in this run, then leader and parent link only when the run's
+    telemetry has any (the paper's), and the dead."""
+    handles = [Line2D([], [], marker="o", linestyle="", markerfacecolor=world_states[s][1], markeredgecolor="black",
+                      markersize=7, label=world_states[s][0]) for s in sorted(states_present) if s in world_states]
+    if leaders:
+        handles.append(Line2D([], [], marker="*", linestyle="", markerfacecolor="none", markeredgecolor="red",
+                              markersize=12, label="leader"))
     handles.append(Line2D([], [], marker="x", linestyle="", color="#757575", markersize=7, label="dead"))
-    handles.append(Line2D([], [], color="#455a64", linewidth=0.8, label="parent link"))
+    if links:
+        handles.append(Line2D([], [], color="#455a64", linewidth=0.8, label="parent link"))
     return handles
 
 
 class Scene:
     """A figure of the arena whose robots can be shown at any recorded tick."""
 
-    def __init__(self, rec, size_px=None, dpi=100, legend=True):
-        """size_px None: 900 px wide and as tall as the view needs (arena_figure_size)."""
+    def __init__(self, rec, size_px=None, dpi=100, legend=True, labels=False):
+        """size_px None: 900 px wide and as tall as the view needs (arena_figure_size). labels: each live robot's
+        id beside it and a line along its heading (snapshots' --labels)."""
         self.rec = rec
+        self.labels = labels
+        self.label_texts = []
+        self.world_states = rec.world.states  # the behaviour's {value: (name, colour)}
         self.bounds = view_bounds(rec)
         axes = LEGEND_AXES if legend else PLAIN_AXES
         self.size_px = size_px or arena_figure_size(self.bounds, axes)
@@ -109,8 +113,10 @@ class Scene:
         draw_static(self.ax, rec.world, self.bounds)
         if legend:
             present = set(int(s) for s in np.unique(rec.track.state))  # only the states this run shows
-            self.fig.legend(handles=legend_handles(present), loc="center left", bbox_to_anchor=(0.82, 0.5),
-                            fontsize=8, frameon=False)
+            handles = legend_handles(present, rec.world.states, bool(rec.track.leader.any()),
+                                     bool((rec.track.parent >= 0).any()))
+            self.fig.legend(handles=handles, loc="center left",
+                            bbox_to_anchor=(0.82, 0.5), fontsize=8, frameon=False)
         # Robots at true size, but never smaller than a few pixels (the arena is large, the robots small).
         ppm = self.ax.get_window_extent().width / (self.bounds[1] - self.bounds[0]) * 72.0 / dpi  # points/m
         diameter_pt = max(2 * rec.world.robot_radius * ppm, 5.0)
@@ -135,7 +141,7 @@ class Scene:
         x, y, alive = t.x[i], t.y[i], t.alive[i]
         live = np.nonzero(alive)[0]
         self.robots.set_offsets(np.column_stack([x[live], y[live]]) if live.size else np.empty((0, 2)))
-        self.robots.set_facecolors(state_colours(t.state[i][live]))
+        self.robots.set_facecolors(state_colours(t.state[i][live], self.world_states))
         deadi = np.nonzero(~alive)[0]
         self.dead.set_offsets(np.column_stack([x[deadi], y[deadi]]) if deadi.size else np.empty((0, 2)))
         lead = np.nonzero(alive & t.leader[i])[0]
@@ -147,10 +153,24 @@ class Scene:
             if 0 <= p < n and p != k:
                 segments.append([(x[k], y[k]), (x[p], y[p])])
         self.links.set_segments(segments)
+        if self.labels:
+            self._label(live, x, y, t.theta[i])
         tick = int(t.ticks[i])
         seconds = tick / self.rec.world.tick_rate if self.rec.world.tick_rate > 0 else 0.0
         text = f"t = {tick} ({seconds:.1f} s)   alive {len(live)}/{n}"
         self.title.set_text(f"{text}: {caption}" if caption else text)
+
+    def _label(self, live, x, y, theta):
+        """Ids and headings of the live robots (replacing the previous tick's)."""
+        for a in self.label_texts:
+            a.remove()
+        self.label_texts = []
+        r = 2.5 * self.rec.world.robot_radius
+        for k in live:
+            self.label_texts.append(self.ax.annotate(str(k), (x[k], y[k]), textcoords="offset points",
+                                                     xytext=(4, 4), fontsize=6, color="#212121", zorder=6))
+            self.label_texts += self.ax.plot([x[k], x[k] + r * np.cos(theta[k])], [y[k], y[k] + r * np.sin(theta[k])],
+                                             color="#212121", linewidth=0.8, zorder=6)
 
     def close(self):
         plt.close(self.fig)

@@ -45,7 +45,7 @@ SERIES_KEYS = {"distortion"}  # per-tick series: not a column
 WORST_SHOWN = 5
 
 HELP = """\
-Runs a grid of in-process runs (build/world_server/harness/swarm_inprocess --no-record --quiet):
+Runs a grid of in-process runs (build/harness/swarm_inprocess --no-record --quiet):
 every --scenario x every --shape x every --robots x every seed of --seeds x every --kills schedule x every
 combination of the --param values, --jobs at a time, and writes into --out:
 

@@ -60,7 +60,7 @@
 #include "common/dds/refusal_log.hpp"
 #include "common/dds/signal_watch.hpp"
 #include "common/dds/wire.hpp"
-#include "robot_agent/controller/controller.hpp"
+#include "robot_agent/controller/builtins.hpp"
 
 namespace {
 

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "robot_agent/controller/builtins.hpp"
 #include "world_server/run/recording_reader.hpp"
 #include "world_server/run/run_session.hpp"
 #include "world_server/world/scenario.hpp"
@@ -31,7 +32,7 @@ max_ticks: 100
 Scenario scenario() {
   std::string text = kScenario;
   text.replace(text.find("SHAPES"), 6, std::string(SWARMFORM_REPO_DIR) + "/shapes");
-  return parse_scenario_text(text, "<controller_events_test>");
+  return parse_scenario_text(text, "<controller_events_test>", {}, swarmform::controller::builtin_registry());
 }
 
 Command saying(std::vector<std::string> events) {

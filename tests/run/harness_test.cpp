@@ -8,7 +8,8 @@
 
 #include <gtest/gtest.h>
 
-#include "world_server/harness/harness.hpp"
+#include "harness/harness.hpp"
+#include "robot_agent/controller/builtins.hpp"
 #include "world_server/run/recording_reader.hpp"
 #include "world_server/run/run_end.hpp"
 #include "world_server/run/sha256.hpp"
@@ -33,7 +34,7 @@ kills: [{id: 2, tick: 40}]
 world::Scenario scenario() {
   std::string text = kScenario;
   text.replace(text.find("SHAPES"), 6, std::string(SWARMFORM_REPO_DIR) + "/shapes");
-  return world::parse_scenario_text(text, "<harness_test>");
+  return world::parse_scenario_text(text, "<harness_test>", {}, swarmform::controller::builtin_registry());
 }
 
 fs::path fresh_dir(const std::string& name) {

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "common/robot_state.hpp"
+#include "robot_agent/controller/builtins.hpp"
 #include "world_server/run/comm_graph.hpp"
 #include "world_server/run/metrics_tracker.hpp"
 #include "world_server/run/run_events.hpp"
@@ -43,7 +44,7 @@ std::vector<RobotTruth> line_at(double x0, std::int32_t state) {
 }
 
 TEST(MetricsTracker, FormationMotionGoalAndPath) {
-  MetricsTracker tracker(line_mission());
+  MetricsTracker tracker(line_mission(), &swarmform::controller::paper_descriptor());
   // In place from tick 0, but at rest only after kRestTicks ticks: formation at tick 10, whatever the
   // robots report (all still Reached).
   Tick t = 0;
@@ -97,7 +98,7 @@ TEST(MetricsTracker, FormationMotionGoalAndPath) {
 // shape's radius), when every robot reported Arrived, and for a wrecked line.
 TEST(MetricsTracker, ArrivalNeedsTheCentroidInTheGoalRadiusAndTheShapeFormed) {
   {
-    MetricsTracker tracker(line_mission());
+    MetricsTracker tracker(line_mission(), &swarmform::controller::paper_descriptor());
     // Formed and at rest, centroid 1.03 m short of the goal (x0 + 1 = 3.97), every robot saying Arrived.
     for (Tick t = 0; t < 40; ++t)
       tracker.observe(t, line_at(2.97, static_cast<std::int32_t>(RobotState::Arrived)), {});
@@ -108,7 +109,7 @@ TEST(MetricsTracker, ArrivalNeedsTheCentroidInTheGoalRadiusAndTheShapeFormed) {
   }
   {
     // The line wrecked at the goal: the three robots 0.2 m apart in a clump on the goal, at rest.
-    MetricsTracker tracker(line_mission());
+    MetricsTracker tracker(line_mission(), &swarmform::controller::paper_descriptor());
     auto robots = line_at(0.0, static_cast<std::int32_t>(RobotState::Arrived));
     robots[0].pose = {5.0, 0.0, 0.0};
     robots[1].pose = {5.2, 0.0, 0.0};
@@ -121,7 +122,7 @@ TEST(MetricsTracker, ArrivalNeedsTheCentroidInTheGoalRadiusAndTheShapeFormed) {
 }
 
 TEST(MetricsTracker, RobotsReportingWrongLabelsAreJudgedOnTheirPositions) {
-  MetricsTracker tracker(line_mission());
+  MetricsTracker tracker(line_mission(), &swarmform::controller::paper_descriptor());
   auto robots = line_at(0.0, kReady);
   robots[0].telemetry.label = 2;  // swapped
   robots[2].telemetry.label = 0;
@@ -135,7 +136,7 @@ TEST(MetricsTracker, RobotsReportingWrongLabelsAreJudgedOnTheirPositions) {
 }
 
 TEST(MetricsTracker, FewerRobotsThanPlacesCanForm) {
-  MetricsTracker tracker(line_mission());
+  MetricsTracker tracker(line_mission(), &swarmform::controller::paper_descriptor());
   auto robots = line_at(0.0, kReady);
   robots[1].alive = false;  // the middle label's robot died; the two ends still stand in line
   // With as many live robots as places, the spare would have to take a place too: it died as well.
@@ -149,7 +150,7 @@ TEST(MetricsTracker, FewerRobotsThanPlacesCanForm) {
 TEST(MetricsTracker, OutcomeNoneForRandomWalk) {
   Mission mission = line_mission();
   mission.behaviour = "random_walk";
-  MetricsTracker tracker(mission);
+  MetricsTracker tracker(mission, &swarmform::controller::random_walk_descriptor());
   for (Tick t = 0; t <= 20; ++t) tracker.observe(t, line_at(0.0, kSearching), {});
   EXPECT_EQ(tracker.metrics().outcome, "none");
   EXPECT_FALSE(tracker.metrics().formation_tick);
@@ -166,7 +167,7 @@ Mission block_mission() {
 // A live robot that has said nothing for kSilentTicks is left out of the shape (nobody hears it: it cannot
 // take part), so a silent agent's body standing at its start does not keep the others from forming.
 TEST(MetricsTracker, ASilentRobotIsLeftOutOfTheShapeAndListed) {
-  MetricsTracker tracker(line_mission());
+  MetricsTracker tracker(line_mission(), &swarmform::controller::paper_descriptor());
   Tick t = 0;
   for (; t < kSilentTicks + kRestTicks + 5; ++t) {
     // Two speaking robots on places 0 and 1, no spare; robot 2 (whose place is empty) never broadcast and
@@ -200,7 +201,7 @@ std::vector<RobotTruth> block_at(double x0) {
 }
 
 TEST(MetricsTracker, StuckRobotsAreStillAndNotAtAPlace) {
-  MetricsTracker tracker(block_mission());
+  MetricsTracker tracker(block_mission(), &swarmform::controller::paper_descriptor());
   // Robot 5 pinned 0.5 m off its place (so not formed); the spare walks, then stops for less than 300
   // ticks; robot 15 keeps trembling 2 cm off its place (it moves: not stuck).
   auto at = [](Tick t) {
@@ -224,7 +225,7 @@ TEST(MetricsTracker, StuckRobotsStrandedFarAwayDoNotMakeTheOthersStuck) {
   // Robots 14 and 15 stranded 6 m away (still); the other 14 and the spare's place: 14 in place. The least
   // squares fit of all 16 is pulled ~0.7 m towards the stranded pair; the robots in place are judged against
   // the fit of the robots that stand in shape.
-  MetricsTracker tracker(block_mission());
+  MetricsTracker tracker(block_mission(), &swarmform::controller::paper_descriptor());
   auto robots = block_at(0.0);
   robots[14].pose = {8.0, -8.0, 0.0};
   robots[15].pose = {8.5, -8.0, 0.0};
@@ -235,7 +236,7 @@ TEST(MetricsTracker, StuckRobotsStrandedFarAwayDoNotMakeTheOthersStuck) {
 }
 
 TEST(MetricsTracker, DeadRobotsAndContactsAndEvents) {
-  MetricsTracker tracker(line_mission());
+  MetricsTracker tracker(line_mission(), &swarmform::controller::paper_descriptor());
   auto robots = line_at(0.0, kReady);
   robots[2].alive = false;
   robots[2].telemetry.state = kSearching;  // a dead robot's report does not matter

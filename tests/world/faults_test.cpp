@@ -2,6 +2,7 @@
 // with file:line or flag errors, and each world fault's effect on the World: a failed wheel does not turn,
 // a failed sensor reads its maximum, a loss burst delivers nothing, a range cut hears only nearer robots.
 #include "world_server/world/faults.hpp"
+#include "robot_agent/controller/builtins.hpp"
 
 #include <gtest/gtest.h>
 
@@ -102,7 +103,7 @@ TEST(FaultFormat, RefusesBadTextsSayingWhatIsWrong) {
 // -----------------------------------------------------------------------------
 
 Scenario parse(const std::string& text, const ScenarioOverrides& ov = {}) {
-  return parse_scenario_text(text, kOrigin, ov);
+  return parse_scenario_text(text, kOrigin, ov, swarmform::controller::builtin_registry());
 }
 
 void expect_rejected(const std::string& text, int line, const std::string& what,

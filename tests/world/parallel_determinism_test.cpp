@@ -14,7 +14,8 @@
 
 #include <gtest/gtest.h>
 
-#include "world_server/harness/harness.hpp"
+#include "harness/harness.hpp"
+#include "robot_agent/controller/builtins.hpp"
 #include "world_server/world/parallel_for.hpp"
 #include "world_server/world/perception_bytes.hpp"
 
@@ -38,7 +39,8 @@ noise: {range: 0.02, bearing: 0.05, ultrasonic: 0.01}
 world::Scenario scenario() {
   std::string text = kScenario;
   text.replace(text.find("SHAPES"), 6, std::string(SWARMFORM_REPO_DIR) + "/shapes");
-  return world::parse_scenario_text(text, "<parallel_determinism_test>");
+  return world::parse_scenario_text(text, "<parallel_determinism_test>", {},
+                                    swarmform::controller::builtin_registry());
 }
 
 // Every bit of what the world shows the robots, tick after tick, as raw bytes.

@@ -1,5 +1,6 @@
 // The scenario loader: every file in scenarios/ loads; bad files are refused with file:line and what.
 #include "world_server/world/scenario.hpp"
+#include "robot_agent/controller/builtins.hpp"
 
 #include <gtest/gtest.h>
 
@@ -22,7 +23,7 @@ const std::string kRepo = SWARMFORM_REPO_DIR;
 const std::string kOrigin = kRepo + "/scenarios/inline-test.yaml";
 
 Scenario parse(const std::string& text, const ScenarioOverrides& ov = {}) {
-  return parse_scenario_text(text, kOrigin, ov);
+  return parse_scenario_text(text, kOrigin, ov, swarmform::controller::builtin_registry());
 }
 
 // Parsing must fail at `line` with a message containing `what`.
@@ -67,7 +68,7 @@ TEST(Scenario, EveryFileInScenariosLoads) {
     if (entry.path().extension() != ".yaml") continue;
     ++files;
     EXPECT_NO_THROW({
-      const Scenario s = load_scenario(entry.path().string());
+      const Scenario s = load_scenario(entry.path().string(), {}, swarmform::controller::builtin_registry());
       EXPECT_GT(s.robots.size(), 0u);
       EXPECT_GT(s.mission.shape.label_count(), 0);
     }) << entry.path();
@@ -93,7 +94,7 @@ TEST(Scenario, RefusesAShapeThatCannotFitInsideTheWalls) {
   ScenarioOverrides ov;
   ov.shape_file = block;
   try {
-    load_scenario(kRepo + "/scenarios/paper.yaml", ov);
+    load_scenario(kRepo + "/scenarios/paper.yaml", ov, swarmform::controller::builtin_registry());
     ADD_FAILURE() << "a 10 x 10 block was accepted in the paper's 20 x 12 m arena";
   } catch (const InputError& e) {
     EXPECT_EQ(e.file(), kRepo + "/scenarios/paper.yaml");
@@ -129,7 +130,8 @@ TEST(Scenario, EveryShippedShapeFitsEveryShippedScenario) {
       if (shape.path().extension() != ".txt") continue;
       ScenarioOverrides ov;
       ov.shape_file = shape.path().string();
-      EXPECT_NO_THROW(load_scenario(scenario.path().string(), ov)) << scenario.path() << " " << shape.path();
+      EXPECT_NO_THROW(load_scenario(scenario.path().string(), ov, swarmform::controller::builtin_registry()))
+          << scenario.path() << " " << shape.path();
     }
   }
 }
@@ -151,7 +153,8 @@ TEST(Scenario, TheFullExampleOfTheReadmeParses) {
 }
 
 TEST(Scenario, PaperScenarioIsThePapersRun) {
-  const Scenario s = load_scenario(kRepo + "/scenarios/paper.yaml");
+  const Scenario s =
+      load_scenario(kRepo + "/scenarios/paper.yaml", {}, swarmform::controller::builtin_registry());
   EXPECT_EQ(s.mode, Mode::Lockstep);
   EXPECT_EQ(s.robots.size(), static_cast<std::size_t>(s.mission.shape.label_count()));
   EXPECT_NEAR(std::hypot(s.mission.goal.x, s.mission.goal.y), 10.0, 1.0);
@@ -220,7 +223,7 @@ kills: [{id: 1, tick: 50}]
 goal: {x: 4, y: 3, radius: 0.4}
 grid_spacing: 1.4
 max_speed: 0.2
-behaviour: random_walk
+behaviour: paper
 max_message_bytes: 512
 controller: {k_o: 2.0, neighbour_timeout: 30}
 )");
@@ -234,7 +237,7 @@ controller: {k_o: 2.0, neighbour_timeout: 30}
   EXPECT_TRUE(s.occlusion);
   EXPECT_EQ(s.kills.size(), 1u);
   EXPECT_EQ(s.mission.params.at("k_o"), 2.0);
-  EXPECT_EQ(s.mission.behaviour, "random_walk");
+  EXPECT_EQ(s.mission.behaviour, "paper");
   EXPECT_EQ(s.mission.tick_rate, 20.0);
   EXPECT_EQ(s.mission.comm_range, 2.5);
   EXPECT_EQ(s.mission.max_message_bytes, 512u);
@@ -301,10 +304,64 @@ TEST(Scenario, RejectsAMissingShapeFile) {
 
 TEST(Scenario, RejectsBadControllerParameters) {
   expect_rejected("shape: triangle.txt\ncontroller:\n  k_o: 1.0\n  k_wobble: 2\n", 4,
-                  "controller.k_wobble: unknown controller parameter");
+                  "controller.k_wobble: unknown parameter of behaviour 'paper' (known: k_collision, r_o");
   expect_rejected("shape: triangle.txt\ncontroller:\n  r_o: 50\n", 3, "controller.r_o: must be in [0, 5]");
   expect_rejected("shape: triangle.txt\ncontroller:\n  k_o: lots\n", 3,
                   "controller.k_o: expected a finite number");
+}
+
+TEST(Scenario, TheBehavioursOwnTableChecksItsParameters) {
+  // behaviour.params: the same table, the same file:line.
+  expect_rejected("shape: triangle.txt\nbehaviour:\n  name: paper\n  params: {r_o: 50}\n", 4,
+                  "behaviour.params.r_o: must be in [0, 5]");
+  // The random walk has no parameter: any name is unknown, and its message says there are none.
+  expect_rejected("behaviour: {name: random_walk, params: {r_o: 0.3}}\nrobots: {count: 3}\n", 1,
+                  "behaviour.params.r_o: unknown parameter of behaviour 'random_walk' (known: none)");
+  expect_rejected("shape: triangle.txt\nbehaviour: {name: paper, params: {k_o: 1}}\ncontroller: {k_o: 2}\n",
+                  3, "controller: the parameters are already given in behaviour.params");
+  const Scenario s = parse("shape: triangle.txt\nbehaviour: {name: paper, params: {k_o: 2.5}}\n");
+  EXPECT_EQ(s.mission.params.at("k_o"), 2.5);
+  ASSERT_NE(s.behaviour, nullptr);
+  EXPECT_EQ(s.behaviour->name, "paper");
+}
+
+TEST(Scenario, ABehaviourOverrideKeepsOnlyTheParametersItHas) {
+  // --behaviour random_walk on a paper scenario: the file's paper parameters are the paper's, not the walk's.
+  ScenarioOverrides ov;
+  ov.behaviour = "random_walk";
+  const Scenario s = parse("shape: triangle.txt\ncontroller: {k_o: 2.0}\n", ov);
+  EXPECT_EQ(s.mission.behaviour, "random_walk");
+  EXPECT_TRUE(s.mission.params.empty());
+  ov.behaviour = "dance";
+  EXPECT_THROW(parse("shape: triangle.txt\n", ov), InputError);
+}
+
+TEST(Scenario, AnUnknownBehaviourListsTheRegisteredOnes) {
+  expect_rejected(
+      "shape: triangle.txt\nbehaviour: dance\n", 2,
+      "behaviour: unknown behaviour 'dance' (built in: paper, random_walk; a plug-in is named by its "
+      "library");
+  expect_rejected("shape: triangle.txt\nbehaviour: {plugin: libnothing.so}\n", 2,
+                  "behaviour.plugin: plug-in");
+  expect_rejected("behaviour: {}\nrobots: {count: 2}\n", 1,
+                  "behaviour: expected name: (a built-in) or plugin:");
+}
+
+TEST(Scenario, AShapeAndAGoalOnlyWhenTheBehaviourNeedsThem) {
+  // The random walk forms no shape and goes to no goal: neither is required, a goal outside the walls is no
+  // error.
+  const Scenario s = parse(
+      "behaviour: random_walk\nrobots: {count: 4}\narena: {centre: [0, 0], width: 6, height: 6}\n"
+      "goal: {x: 40, y: 0}\n");
+  EXPECT_EQ(s.robots.size(), 4u);
+  EXPECT_EQ(s.mission.shape.label_count(), 0);
+  EXPECT_TRUE(s.shape_file.empty());
+  // Without a shape the robots must be counted.
+  expect_rejected("behaviour: random_walk\nrobots: {region: {centre: [0, 0], width: 2, height: 2}}\n", 2,
+                  "robots: give robots.count or robots.poses (behaviour 'random_walk' has no shape");
+  // The paper's needs both.
+  expect_rejected("behaviour: paper\nrobots: {count: 4}\n", 0,
+                  "shape: missing (behaviour 'paper' forms a shape");
 }
 
 TEST(Scenario, RejectsSyntaxErrorsAndDuplicatesWithTheirLine) {
@@ -366,7 +423,7 @@ TEST(Scenario, CommandLineOverridesAreCheckedToo) {
 
 TEST(Scenario, LoadReportsAnUnreadableFile) {
   try {
-    load_scenario(kRepo + "/scenarios/does-not-exist.yaml");
+    load_scenario(kRepo + "/scenarios/does-not-exist.yaml", {}, swarmform::controller::builtin_registry());
     ADD_FAILURE();
   } catch (const InputError& e) {
     EXPECT_EQ(e.line(), 0);

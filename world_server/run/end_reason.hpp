@@ -10,12 +10,13 @@
 namespace swarmform::world {
 
 enum class EndReason {
-  Completed,    // arrived at the goal (and the settle ticks after it were recorded)
-  MaxTicks,     // the scenario's max_ticks used up
-  Interrupted,  // SIGINT/SIGTERM
-  WorldFailed,  // the world could not go on (a failed write other than a full disk, a DDS failure)
-  DiskFull,     // a write of the recording failed with ENOSPC or EDQUOT
-  NoAgents,     // not every agent connected within --connect-timeout
+  Completed,        // arrived at the goal (and the settle ticks after it were recorded)
+  MaxTicks,         // the scenario's max_ticks used up
+  Interrupted,      // SIGINT/SIGTERM
+  WorldFailed,      // the world could not go on (a failed write other than a full disk, a DDS failure)
+  DiskFull,         // a write of the recording failed with ENOSPC or EDQUOT
+  NoAgents,         // not every agent connected within --connect-timeout
+  BehaviourFailed,  // in-process: a robot's controller threw or returned a non-finite wheel speed
 };
 
 constexpr std::string_view to_string(EndReason r) {
@@ -32,6 +33,8 @@ constexpr std::string_view to_string(EndReason r) {
       return "disk_full";
     case EndReason::NoAgents:
       return "no_agents";
+    case EndReason::BehaviourFailed:
+      return "behaviour_failed";
   }
   return "unknown";
 }

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <string>
 
-#include "common/controller_params.hpp"
+#include <numbers>
+
+#include "behaviour/params.hpp"
 #include "common/robot_state.hpp"
 
 namespace swarmform::world {
@@ -15,9 +17,18 @@ Tick full_solve_interval(std::size_t places, bool near_formed) {
   return kFullSolveEvery * static_cast<Tick>(std::max(1.0, std::floor(scale * scale)));
 }
 
-MetricsTracker::MetricsTracker(const Mission& mission)
-    : has_mission_(mission.behaviour == "paper" && mission.shape.label_count() > 0),
-      assigner_(mission.shape, mission.grid_spacing, param_value(mission.params, "shape_heading")),
+namespace {
+// The heading the behaviour turns its shape by: its `shape_heading` parameter, or 'up' along +y.
+double shape_heading(const Mission& mission, const behaviour::Descriptor* d) {
+  if (d && behaviour::find_param(*d, "shape_heading")) return behaviour::param(mission, *d, "shape_heading");
+  return std::numbers::pi / 2.0;
+}
+}  // namespace
+
+MetricsTracker::MetricsTracker(const Mission& mission, const behaviour::Descriptor* behaviour)
+    : has_mission_(behaviour && behaviour->needs_shape && behaviour->needs_goal &&
+                   mission.shape.label_count() > 0),
+      assigner_(mission.shape, mission.grid_spacing, shape_heading(mission, behaviour)),
       grid_spacing_(mission.grid_spacing),
       goal_(mission.goal),
       goal_radius_(mission.goal_radius),

@@ -31,6 +31,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "behaviour/descriptor.hpp"
 #include "common/mission.hpp"
 #include "world_server/run/assignment.hpp"
 #include "world_server/run/metrics.hpp"
@@ -63,7 +64,9 @@ struct AssignmentStats {
 
 class MetricsTracker {
  public:
-  explicit MetricsTracker(const Mission& mission);
+  // The paper's metrics (formation, motion, outcome) apply to a behaviour that needs both a shape and a goal;
+  // for any other the outcome is "none" and only the collisions and distances are measured.
+  MetricsTracker(const Mission& mission, const behaviour::Descriptor* behaviour);
 
   void observe(Tick tick, const std::vector<RobotTruth>& robots, ContactCounts contacts);
   // An event as written to events.jsonl ({"tick","kind","id",...}); deaths, rejoins, leader, fragment and

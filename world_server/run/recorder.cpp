@@ -48,14 +48,17 @@ std::FILE* RecordingWriter::open(const std::string& path, const char* mode) {
   return f;
 }
 
-RecordingWriter::RecordingWriter(const std::string& run_dir) : run_dir_(run_dir) {
+RecordingWriter::RecordingWriter(const std::string& run_dir, std::vector<std::string> extra_columns)
+    : run_dir_(run_dir), extra_columns_(extra_columns.size()) {
   std::error_code ec;
   std::filesystem::create_directories(run_dir_, ec);
   if (ec) throw std::runtime_error(run_dir_ + ": cannot create the run directory: " + ec.message());
   robots_ = open(run_dir_ + "/robots.csv", "w");
   events_ = open(run_dir_ + "/events.jsonl", "w");
   log_ = open(run_dir_ + "/world.log", "w");
-  write_all(robots_, std::string(kRobotsCsvHeader) + "\n", run_dir_, "robots.csv");
+  std::string header = kRobotsCsvHeader;
+  for (const std::string& c : extra_columns) header += "," + c;
+  write_all(robots_, header + "\n", run_dir_, "robots.csv");
   if (std::fflush(robots_) != 0) fail(run_dir_, "robots.csv", errno);
 }
 
@@ -112,6 +115,13 @@ void RecordingWriter::write_rows(Tick tick, const std::vector<RobotTruth>& robot
     append_int(row_buffer_, r.telemetry.parent);
     row_buffer_.append(r.telemetry.leader ? ",1," : ",0,");
     append_double(row_buffer_, r.telemetry.net_force);
+    // The behaviour's columns: its values, or empty fields before it has said any (telemetry_check.hpp
+    // lets through exactly extra_columns_ values or none).
+    const auto& extra = r.telemetry.extra;
+    for (std::size_t k = 0; k < extra_columns_; ++k) {
+      row_buffer_.push_back(',');
+      if (k < extra.size()) append_double(row_buffer_, extra[k]);
+    }
     row_buffer_.push_back('\n');
   }
   write_all(robots_, row_buffer_, run_dir_, "robots.csv");

@@ -21,7 +21,8 @@ class RecordingWriter {
  public:
   // Creates `run_dir` (and parents) and opens the files; throws std::runtime_error naming the path on
   // failure.
-  explicit RecordingWriter(const std::string& run_dir);
+  // `extra_columns`: the behaviour's telemetry columns (its descriptor's), written after the fixed ones.
+  explicit RecordingWriter(const std::string& run_dir, std::vector<std::string> extra_columns = {});
   ~RecordingWriter();
   RecordingWriter(const RecordingWriter&) = delete;
   RecordingWriter& operator=(const RecordingWriter&) = delete;
@@ -46,6 +47,7 @@ class RecordingWriter {
   std::FILE* events_ = nullptr;
   std::FILE* log_ = nullptr;
   std::string row_buffer_;
+  std::size_t extra_columns_ = 0;
   Tick ticks_since_flush_ = 0;
 };
 

@@ -41,7 +41,72 @@ ojson deaths_json(const std::vector<DeathRecord>& records) {
   return list;
 }
 
+// The live robots' states by the behaviour's names, and the mean of each of its telemetry columns over the
+// live robots that reported them: what a run of any behaviour ended with (the report's "Behaviour" group).
+void behaviour_at_end(const Scenario& scenario, const std::vector<RobotTruth>& robots, ojson& j) {
+  const behaviour::Descriptor* d = scenario.behaviour;
+  if (d == nullptr) return;
+  ojson states = ojson::object();
+  for (const auto& st : d->states) states[std::string(st.name)] = 0;
+  for (const RobotTruth& r : robots) {
+    if (!r.alive) continue;
+    std::string name = "state " + std::to_string(r.telemetry.state);
+    for (const auto& st : d->states) {
+      if (st.value == r.telemetry.state) name = std::string(st.name);
+    }
+    states[name] = states.value(name, 0) + 1;
+  }
+  j["states_at_end"] = std::move(states);
+  if (d->telemetry.empty()) return;
+  ojson means = ojson::object();
+  for (std::size_t k = 0; k < d->telemetry.size(); ++k) {
+    double sum = 0.0;
+    std::size_t n = 0;
+    for (const RobotTruth& r : robots) {
+      if (!r.alive || r.telemetry.extra.size() != d->telemetry.size()) continue;
+      sum += r.telemetry.extra[k];
+      ++n;
+    }
+    means[std::string(d->telemetry[k].name)] = n > 0 ? ojson(sum / static_cast<double>(n)) : ojson(nullptr);
+  }
+  j["telemetry_mean_at_end"] = std::move(means);
+}
+
 }  // namespace
+
+ojson describe_behaviour(const Scenario& scenario) {
+  ojson j;
+  const behaviour::Descriptor* d = scenario.behaviour;
+  j["name"] = scenario.mission.behaviour;
+  j["plugin"] = scenario.mission.plugin.empty() ? ojson(nullptr) : ojson(scenario.mission.plugin);
+  if (d == nullptr) return j;
+  j["summary"] = std::string(d->summary);
+  j["needs_shape"] = d->needs_shape;
+  j["needs_goal"] = d->needs_goal;
+  ojson params = ojson::array();
+  for (const auto& p : d->params) {
+    auto it = scenario.mission.params.find(std::string(p.name));
+    params.push_back({{"name", std::string(p.name)},
+                      {"value", it != scenario.mission.params.end() ? it->second : p.default_value},
+                      {"default", p.default_value},
+                      {"min", p.min_value},
+                      {"max", p.max_value},
+                      {"doc", std::string(p.doc)}});
+  }
+  j["params"] = std::move(params);
+  ojson states = ojson::array();
+  for (const auto& st : d->states) {
+    states.push_back(
+        {{"value", st.value}, {"name", std::string(st.name)}, {"colour", std::string(st.colour)}});
+  }
+  j["states"] = std::move(states);
+  ojson telemetry = ojson::array();
+  for (const auto& t : d->telemetry) {
+    telemetry.push_back({{"name", std::string(t.name)}, {"doc", std::string(t.doc)}});
+  }
+  j["telemetry"] = std::move(telemetry);
+  return j;
+}
 
 ojson describe_world(const Scenario& scenario, const std::string& mode) {
   const Mission& m = scenario.mission;
@@ -68,6 +133,7 @@ ojson describe_world(const Scenario& scenario, const std::string& mode) {
   j["robot_radius"] = kRobotRadius;
   j["shape_file"] = scenario.shape_file;
   j["behaviour"] = m.behaviour;
+  j["behaviour_descriptor"] = describe_behaviour(scenario);
   j["max_speed"] = m.max_speed;
   j["max_ticks"] = scenario.max_ticks;
   ojson kills = ojson::array();
@@ -131,6 +197,7 @@ ojson make_summary(const SummaryInputs& in) {
   j["stuck_robot_count"] = m.stuck_robots.size();
   j["silent_robots"] = m.silent_robots;
   j["command_verdicts"] = in.command_verdicts;
+  behaviour_at_end(*in.scenario, *in.robots, j);
   j["trajectory_sha256"] = in.trajectory_sha256.empty() ? ojson(nullptr) : ojson(in.trajectory_sha256);
   j["end_reason"] = in.end_reason;
   j["provenance"] = in.provenance;

@@ -19,6 +19,10 @@ inline constexpr int kRecordingVersion = 1;
 // "in-process".
 nlohmann::ordered_json describe_world(const Scenario& scenario, const std::string& mode);
 
+// world.json's `behaviour_descriptor`: the behaviour's name, plug-in path, parameters (with the run's
+// values), states and colours, telemetry columns, needs_shape and needs_goal (docs/recording-format.md).
+nlohmann::ordered_json describe_behaviour(const Scenario& scenario);
+
 // The steady part of a run's wall clock: the time after its first `from_tick` ticks, which are slower than
 // the rest (world_server --warmup-ticks says why). bench-lockstep compares this rate with bare_round's.
 struct SteadyWindow {

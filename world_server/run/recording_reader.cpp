@@ -1,5 +1,7 @@
 #include "world_server/run/recording_reader.hpp"
 
+#include <algorithm>
+
 #include <charconv>
 #include <fstream>
 #include <sstream>
@@ -59,9 +61,12 @@ std::vector<RecordedRow> read_robots_csv(const std::string& path, bool allow_tru
   const std::string text = slurp(path);
   bool complete = true;
   auto lines = split_lines(text, complete);
-  if (lines.empty() || lines[0] != kRobotsCsvHeader) {
+  // The fixed columns, then the behaviour's own (its telemetry), if any.
+  const std::string fixed = kRobotsCsvHeader;
+  if (lines.empty() || (lines[0] != fixed && lines[0].rfind(fixed + ",", 0) != 0)) {
     throw InputError(path, 1, std::string("expected the header '") + kRobotsCsvHeader + "'");
   }
+  const std::size_t fields = 1 + static_cast<std::size_t>(std::count(lines[0].begin(), lines[0].end(), ','));
   if (!complete) {
     if (!allow_truncated_tail) {
       throw InputError(path, static_cast<int>(lines.size()), "last line cut off (truncated recording)");
@@ -80,8 +85,9 @@ std::vector<RecordedRow> read_robots_csv(const std::string& path, bool allow_tru
       if (comma == std::string_view::npos) break;
       rest.remove_prefix(comma + 1);
     }
-    if (f.size() != 11) {
-      throw InputError(path, line, "expected 11 fields, found " + std::to_string(f.size()));
+    if (f.size() != fields) {
+      throw InputError(path, line,
+                       "expected " + std::to_string(fields) + " fields, found " + std::to_string(f.size()));
     }
     RecordedRow r;
     r.tick = parse_field<Tick>(f[0], path, line, "tick");

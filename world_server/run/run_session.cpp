@@ -44,11 +44,15 @@ struct RunSession::Impl {
   Impl(const World& w, RunOptions o)
       : world(w),
         options(std::move(o)),
-        tracker(w.scenario().mission),
+        tracker(w.scenario().mission, w.scenario().behaviour),
         fragment_range(options.fragment_range > 0.0 ? options.fragment_range : w.scenario().comm_range),
         events(fragment_range) {
     if (!options.run_dir.empty()) {
-      writer.emplace(options.run_dir);
+      std::vector<std::string> columns;
+      if (const behaviour::Descriptor* d = world.scenario().behaviour) {
+        for (const auto& c : d->telemetry) columns.emplace_back(c.name);
+      }
+      writer.emplace(options.run_dir, std::move(columns));
       auto description = describe_world(world.scenario(), options.mode);
       description["fragment_range"] = fragment_range;
       writer->write_world(description);

@@ -21,11 +21,28 @@ void note(TelemetryDrops& d, const std::string& what) {
 
 }  // namespace
 
+TelemetryLimits telemetry_limits(const Scenario& scenario) {
+  TelemetryLimits l;
+  l.labels = scenario.mission.shape.label_count();
+  l.robots = static_cast<std::uint32_t>(scenario.robots.size());
+  if (scenario.behaviour != nullptr) {
+    const auto& states = scenario.behaviour->states;
+    l.min_state = 0;
+    l.max_state = 0;
+    for (const auto& st : states) {
+      l.min_state = std::min(l.min_state, st.value);
+      l.max_state = std::max(l.max_state, st.value);
+    }
+    l.extra = scenario.behaviour->telemetry.size();
+  }
+  return l;
+}
+
 TelemetryDrops check_telemetry(Telemetry& t, const Telemetry& accepted, const TelemetryLimits& limits) {
   TelemetryDrops d;
-  if (t.state < static_cast<std::int32_t>(RobotState::Idle) ||
-      t.state > static_cast<std::int32_t>(RobotState::Arrived)) {
-    note(d, "state " + std::to_string(t.state) + " outside 0..6");
+  if (t.state < limits.min_state || t.state > limits.max_state) {
+    note(d, "state " + std::to_string(t.state) + " outside " + std::to_string(limits.min_state) + ".." +
+                std::to_string(limits.max_state));
     t.state = accepted.state;
     ++d.fields;
   }
@@ -43,6 +60,14 @@ TelemetryDrops check_telemetry(Telemetry& t, const Telemetry& accepted, const Te
     note(d, "net_force " + std::to_string(t.net_force) + " not finite in 0.." +
                 std::to_string(limits.max_net_force));
     t.net_force = accepted.net_force;
+    ++d.fields;
+  }
+  bool extra_ok = t.extra.empty() || t.extra.size() == limits.extra;
+  for (const double v : t.extra) extra_ok = extra_ok && std::isfinite(v);
+  if (!extra_ok) {
+    note(d, std::to_string(t.extra.size()) + " telemetry columns, expected " + std::to_string(limits.extra) +
+                " finite values");
+    t.extra = accepted.extra;
     ++d.fields;
   }
   if (!t.events.empty()) {

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "common/types.hpp"
+#include "world_server/world/scenario.hpp"
 
 namespace swarmform::world {
 
@@ -20,11 +21,17 @@ struct TelemetryLimits {
   double max_net_force = 1e6;         // |F_net| is finite and in 0..max_net_force
   std::size_t max_events = 16;        // event strings in one command; more are dropped
   std::size_t max_event_bytes = 256;  // a longer event string is dropped
+  std::int32_t min_state = 0;         // a state is one of the behaviour's (its descriptor's `states`)
+  std::int32_t max_state = 6;
+  std::size_t extra = 0;  // telemetry columns of the behaviour: `extra` holds 0 or exactly this many
 };
+
+// The limits of a run of `scenario`: its shape's labels, its robots, its behaviour's states and columns.
+TelemetryLimits telemetry_limits(const Scenario& scenario);
 
 // What one check dropped (0 everywhere for an honest controller).
 struct TelemetryDrops {
-  std::uint32_t fields = 0;  // state, label, parent, net_force: each one out of range
+  std::uint32_t fields = 0;  // state, label, parent, net_force, extra: each one out of range
   std::uint32_t events = 0;  // event strings dropped (too many, too long, or not printable ASCII)
   std::string first;         // the first problem, e.g. "label 2000000000 outside -1..2" (for the log)
   bool any() const { return fields > 0 || events > 0; }

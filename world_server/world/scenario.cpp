@@ -9,7 +9,7 @@
 #include <numbers>
 #include <sstream>
 
-#include "common/controller_params.hpp"
+#include "behaviour/params.hpp"
 #include "common/input_error.hpp"
 #include "common/shape.hpp"
 #include "world_server/world/placement.hpp"
@@ -276,19 +276,92 @@ int parse_goal(const Source& src, MapReader& top, Mission& mission) {
   return yaml::line_of(*node);
 }
 
-void parse_controller(const Source& src, MapReader& top, Mission& mission) {
-  auto node = top.get("controller");
-  if (!node || node->IsNull()) return;
-  MapReader m(src, *node, "controller");
-  for (const auto& kv : *node) {
-    const std::string name = kv.first.Scalar();
-    const ParamSpec* spec = find_param(name);
-    if (spec == nullptr) {
-      std::string known;
-      for (const auto& p : kControllerParams) known += (known.empty() ? "" : ", ") + std::string(p.name);
-      yaml::fail(src, kv.first, "controller." + name, "unknown controller parameter (known: " + known + ")");
+// A plug-in's path: as given when absolute; else under the scenario's folder, then under each plug-in folder
+// of the registry (the first that holds it). The registry then refuses any path outside its folders.
+std::string resolve_plugin(const std::string& given, const fs::path& base,
+                           const std::vector<fs::path>& folders) {
+  std::error_code ec;
+  const fs::path g(given);
+  if (g.is_absolute()) return g.string();
+  if (fs::exists(base / g, ec)) return (base / g).string();
+  for (const fs::path& f : folders) {
+    if (fs::exists(f / g, ec)) return (f / g).string();
+  }
+  return (base / g).string();  // not found: the registry says so, naming this path
+}
+
+const behaviour::Descriptor& named_behaviour(const Source& src, const YAML::Node* at, const std::string& name,
+                                             behaviour::Registry& registry) {
+  if (const behaviour::Descriptor* d = registry.find(name)) return *d;
+  const std::string why = "unknown behaviour '" + name + "' (built in: " + registry.names() +
+                          "; a plug-in is named by its library: behaviour: {plugin: path/libx.so})";
+  if (at) yaml::fail(src, *at, "behaviour", why);
+  throw InputError(at ? src.file : "command line", 0, (at ? "" : "--behaviour: ") + why);
+}
+
+// behaviour: NAME | {name: NAME, params: {...}} | {plugin: PATH, params: {...}} (scenarios/README.md), and
+// the older `controller:` section for the parameters. Every parameter is checked against the behaviour's own
+// table, with the line it is on.
+void parse_behaviour(const Source& src, MapReader& top, const ScenarioOverrides& ov, const fs::path& base,
+                     behaviour::Registry& registry, Scenario& s) {
+  std::optional<YAML::Node> params_node;
+  std::string params_path;
+  const behaviour::Descriptor* d = nullptr;
+  auto node = top.get("behaviour");
+  if (node && node->IsMap()) {
+    MapReader m(src, *node, "behaviour");
+    auto name = m.get("name");
+    auto plugin = m.get("plugin");
+    if (name && plugin)
+      yaml::fail(src, *node, "behaviour", "give name (a built-in) or plugin (a library), not both");
+    if (plugin) {
+      const std::string given = yaml::to_string(src, *plugin, "behaviour.plugin");
+      const std::string path = resolve_plugin(given, base, registry.folders());
+      try {
+        d = &registry.load_plugin(path);
+      } catch (const behaviour::PluginError& e) {
+        yaml::fail(src, *plugin, "behaviour.plugin", e.what());
+      }
+      s.mission.plugin = fs::canonical(path).string();
+    } else if (name) {
+      d = &named_behaviour(src, &*name, yaml::to_string(src, *name, "behaviour.name"), registry);
+    } else {
+      yaml::fail(src, *node, "behaviour", "expected name: (a built-in) or plugin: (a shared library)");
     }
-    mission.params[name] = m.number(name, spec->default_value, spec->min_value, spec->max_value);
+    params_node = m.get("params");
+    params_path = "behaviour.params";
+    m.finish({"name", "plugin", "params"});
+  } else if (node) {
+    d = &named_behaviour(src, &*node, yaml::to_string(src, *node, "behaviour"), registry);
+  } else {
+    d = &named_behaviour(src, nullptr, s.mission.behaviour, registry);  // the default: the paper's
+  }
+  if (auto c = top.get("controller")) {
+    if (params_node)
+      yaml::fail(src, *c, "controller", "the parameters are already given in behaviour.params");
+    params_node = c;
+    params_path = "controller";
+  }
+  if (ov.behaviour) {
+    d = &named_behaviour(src, nullptr, *ov.behaviour, registry);
+    s.mission.plugin.clear();
+  }
+  s.behaviour = d;
+  s.mission.behaviour = std::string(d->name);
+  if (!params_node || params_node->IsNull()) return;
+  if (!params_node->IsMap()) yaml::fail(src, *params_node, params_path, "expected a map of name: value");
+  for (const auto& kv : *params_node) {
+    const std::string name = kv.first.Scalar();
+    const std::string path = params_path + "." + name;
+    // A --behaviour override runs another behaviour than the file's: the file's parameters that it does not
+    // have belong to the file's behaviour and are left out (those it has are checked and kept).
+    if (ov.behaviour && !behaviour::find_param(*d, name)) continue;
+    if (!behaviour::find_param(*d, name))
+      yaml::fail(src, kv.first, path, behaviour::check_param(*d, name, 0.0));
+    const double value = yaml::to_number(src, kv.second, path);
+    const std::string why = behaviour::check_param(*d, name, value);
+    if (!why.empty()) yaml::fail(src, kv.second, path, why);
+    s.mission.params[name] = value;
   }
 }
 
@@ -315,6 +388,11 @@ void resolve_robots(const Source& src, const RobotsSection& r, const ScenarioOve
   const std::size_t n = ov.robots ? *ov.robots
                         : r.count ? *r.count
                                   : static_cast<std::size_t>(s.mission.shape.label_count());
+  if (n < 1 && s.shape_file.empty()) {
+    throw InputError(src.file, yaml::line_of(r.node),
+                     "robots: give robots.count or robots.poses (behaviour '" + s.mission.behaviour +
+                         "' has no shape to count the robots from)");
+  }
   if (n < 1) throw InputError(src.file, yaml::line_of(r.node), "robots: need at least one robot");
   PlacementRegion region = r.region ? *r.region : default_region(n);
   if (!r.region && s.walls) {
@@ -348,11 +426,15 @@ void resolve_robots(const Source& src, const RobotsSection& r, const ScenarioOve
 // and, should it die and another be elected, at every robot less than one grid spacing farther from the
 // origin than it; every place must then lie inside the walls less a body radius.
 void check_shape_fits(const Source& src, const Scenario& s, int shape_line, bool shape_from_command_line) {
-  if (!s.walls || s.mission.behaviour != "paper") return;
+  if (!s.walls || !s.behaviour->needs_shape) return;
   const ShapeMatrix& shape = s.mission.shape;
   const auto [r0, c0] = shape.cell_of(0);
   if (r0 < 0) return;
-  const double heading = param_value(s.mission.params, "shape_heading");
+  // A behaviour that needs a shape forms it as the paper's does; its `shape_heading` parameter, if it has
+  // one, turns it (the default: 'up' along +y).
+  const double heading = behaviour::find_param(*s.behaviour, "shape_heading")
+                             ? behaviour::param(s.mission, *s.behaviour, "shape_heading")
+                             : std::numbers::pi / 2.0;
   const double rot = heading - std::numbers::pi / 2.0;
   const double cr = std::cos(rot);
   const double sr = std::sin(rot);
@@ -432,7 +514,8 @@ void check_shape_fits(const Source& src, const Scenario& s, int shape_line, bool
   }
 }
 
-Scenario parse(const YAML::Node& root, const std::string& origin, const ScenarioOverrides& ov) {
+Scenario parse(const YAML::Node& root, const std::string& origin, const ScenarioOverrides& ov,
+               behaviour::Registry& registry) {
   const Source src{origin};
   Scenario s;
   s.source = origin;
@@ -468,15 +551,10 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
   const int goal_line = parse_goal(src, top, s.mission);
   s.mission.grid_spacing = top.positive("grid_spacing", s.mission.grid_spacing, 100.0);
   s.mission.max_speed = top.positive("max_speed", s.mission.max_speed, kMaxSpeedLimit);
-  if (auto n = top.get("behaviour")) {
-    const std::string b = yaml::to_string(src, *n, "behaviour");
-    if (b != "paper" && b != "random_walk")
-      yaml::fail(src, *n, "behaviour", "expected paper or random_walk, got '" + b + "'");
-    s.mission.behaviour = b;
-  }
   s.mission.max_message_bytes =
       static_cast<std::uint32_t>(top.integer("max_message_bytes", s.mission.max_message_bytes, 1, 65536));
-  parse_controller(src, top, s.mission);
+  const fs::path base = base_folder(origin);
+  parse_behaviour(src, top, ov, base, registry, s);
   auto shape_node = top.get("shape");
   if (auto d = top.get("description")) yaml::to_string(src, *d, "description");  // for people; not used
   top.finish({"description",  "arena",
@@ -503,8 +581,8 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
     throw InputError("command line", 0, "--robots must be in [1, " + std::to_string(kMaxRobots) + "]");
   }
 
-  // The shape: the override's path (from the working directory first), else the file's `shape`.
-  const fs::path base = base_folder(origin);
+  // The shape: the override's path (from the working directory first), else the file's `shape`; required only
+  // by a behaviour that needs one.
   std::vector<std::string> tried;
   if (ov.shape_file) {
     s.shape_file = resolve_shape(*ov.shape_file, {fs::current_path(), base}, tried);
@@ -514,9 +592,7 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
       throw InputError("command line", 0,
                        "--shape: file '" + *ov.shape_file + "' not found (looked at " + list + ")");
     }
-  } else {
-    if (!shape_node)
-      throw InputError(origin, 0, "shape: missing (the shape file to form, e.g. shape: triangle.txt)");
+  } else if (shape_node) {
     const std::string given = yaml::to_string(src, *shape_node, "shape");
     s.shape_file = resolve_shape(given, {base}, tried);
     if (s.shape_file.empty()) {
@@ -524,11 +600,15 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
       for (const auto& t : tried) list += (list.empty() ? "" : ", ") + t;
       yaml::fail(src, *shape_node, "shape", "file '" + given + "' not found (looked at " + list + ")");
     }
+  } else if (s.behaviour->needs_shape) {
+    throw InputError(origin, 0,
+                     "shape: missing (behaviour '" + s.mission.behaviour +
+                         "' forms a shape: give the shape file, e.g. shape: triangle.txt)");
   }
-  s.mission.shape = load_shape_file(s.shape_file);
+  if (!s.shape_file.empty()) s.mission.shape = load_shape_file(s.shape_file);
 
-  // Goal inside the walls (else the formation can never get there).
-  if (s.walls && !inside_arena(s, s.mission.goal)) {
+  // Goal inside the walls (else the formation can never get there), for a behaviour that goes to one.
+  if (s.behaviour->needs_goal && s.walls && !inside_arena(s, s.mission.goal)) {
     std::ostringstream what;
     what << "goal: (" << s.mission.goal.x << ", " << s.mission.goal.y << ")"
          << (goal_line == 0 ? " (the default)" : "") << " lies outside the arena's walls";
@@ -595,7 +675,7 @@ std::string_view to_string(Mode m) {
 }
 
 Scenario parse_scenario_text(const std::string& yaml_text, const std::string& origin,
-                             const ScenarioOverrides& overrides) {
+                             const ScenarioOverrides& overrides, behaviour::Registry& behaviours) {
   YAML::Node root;
   try {
     root = YAML::Load(yaml_text);
@@ -603,19 +683,20 @@ Scenario parse_scenario_text(const std::string& yaml_text, const std::string& or
     throw InputError(origin, e.mark.is_null() ? 0 : e.mark.line + 1, "YAML syntax: " + e.msg);
   }
   try {
-    return parse(root, origin, overrides);
+    return parse(root, origin, overrides, behaviours);
   } catch (const YAML::Exception& e) {  // anything yaml-cpp throws that our checks did not foresee
     throw InputError(origin, e.mark.is_null() ? 0 : e.mark.line + 1, e.msg);
   }
 }
 
-Scenario load_scenario(const std::string& path, const ScenarioOverrides& overrides) {
+Scenario load_scenario(const std::string& path, const ScenarioOverrides& overrides,
+                       behaviour::Registry& behaviours) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "cannot open the scenario file");
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw InputError(path, 0, "cannot read the scenario file");
-  return parse_scenario_text(text.str(), path, overrides);
+  return parse_scenario_text(text.str(), path, overrides, behaviours);
 }
 
 }  // namespace swarmform::world

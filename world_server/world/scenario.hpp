@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "behaviour/descriptor.hpp"
+#include "behaviour/registry.hpp"
 #include "common/mission.hpp"
 #include "common/types.hpp"
 #include "world_server/world/faults.hpp"
@@ -66,9 +68,12 @@ struct Scenario {
   // Every other scheduled fault (faults.hpp), checked against the robots, the comm range and the kills.
   std::vector<Fault> faults;
 
-  // What the robots are told (goal, shape, speed limit, controller parameters...).
+  // What the robots are told (goal, shape, speed limit, the behaviour's name, plug-in and parameters...).
   Mission mission;
-  std::string shape_file;  // path the shape came from (for the log)
+  std::string shape_file;  // path the shape came from (for the log); empty when the scenario has no shape
+  // The behaviour's descriptor (static data: a built-in's or a loaded plug-in's), resolved at load through
+  // the registry given to load_scenario. Never null in a loaded scenario.
+  const behaviour::Descriptor* behaviour = nullptr;
 };
 
 // Command-line overrides, applied before random placement is resolved (so --robots and --seed take effect).
@@ -78,15 +83,20 @@ struct ScenarioOverrides {
   std::optional<std::uint64_t> seed;
   std::optional<Mode> mode;
   std::optional<Tick> max_ticks;
-  std::vector<Kill> kills;          // appended to the file's
-  std::vector<std::string> faults;  // --fault texts (faults.hpp), appended to the file's
+  std::vector<Kill> kills;               // appended to the file's
+  std::vector<std::string> faults;       // --fault texts (faults.hpp), appended to the file's
+  std::optional<std::string> behaviour;  // a registered behaviour's name, instead of the file's
 };
 
 // Loads and checks a scenario; throws InputError (file:line: what) on anything wrong. A relative shape path
-// is resolved against the scenario file's folder, then against the repository's shapes/ folder.
-Scenario load_scenario(const std::string& path, const ScenarioOverrides& overrides = {});
+// is resolved against the scenario file's folder, then against the repository's shapes/ folder. The
+// behaviour is resolved through `behaviours` (a plug-in is loaded into it: relative paths against the
+// scenario's folder, then each of the registry's plug-in folders) and its parameters are checked against its
+// own table; `shape:` is required only when the behaviour needs one, the goal only checked when it needs one.
+Scenario load_scenario(const std::string& path, const ScenarioOverrides& overrides,
+                       behaviour::Registry& behaviours);
 Scenario parse_scenario_text(const std::string& yaml_text, const std::string& origin,
-                             const ScenarioOverrides& overrides = {});
+                             const ScenarioOverrides& overrides, behaviour::Registry& behaviours);
 
 std::string_view to_string(Mode m);
 

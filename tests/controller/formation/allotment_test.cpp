@@ -8,7 +8,7 @@
 #include "common/shape.hpp"
 #include "robot_agent/controller/allotment.hpp"
 #include "robot_agent/controller/barrier.hpp"
-#include "robot_agent/controller/controller.hpp"
+#include "robot_agent/controller/builtins.hpp"
 #include "robot_agent/controller/message.hpp"
 #include "robot_agent/controller/paper_controller.hpp"
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "common/mission.hpp"
-#include "robot_agent/controller/controller.hpp"
+#include "robot_agent/controller/builtins.hpp"
 #include "robot_agent/controller/drive.hpp"
 
 namespace swarmform::controller::testing {

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "common/input_error.hpp"
-#include "robot_agent/controller/controller.hpp"
+#include "robot_agent/controller/builtins.hpp"
 #include "robot_agent/controller/message.hpp"
 
 namespace swarmform::controller {

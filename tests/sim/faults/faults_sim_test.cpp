@@ -10,7 +10,8 @@
 #include <sstream>
 #include <string>
 
-#include "world_server/harness/harness.hpp"
+#include "harness/harness.hpp"
+#include "robot_agent/controller/builtins.hpp"
 #include "world_server/world/scenario.hpp"
 
 namespace swarmform::harness {
@@ -25,7 +26,7 @@ world::Scenario scenario_with(std::vector<std::string> faults, Tick max_ticks = 
   world::ScenarioOverrides ov;
   ov.faults = std::move(faults);
   ov.max_ticks = max_ticks;
-  return world::load_scenario(kScenario, ov);
+  return world::load_scenario(kScenario, ov, swarmform::controller::builtin_registry());
 }
 
 // Counts its steps and stands still.

@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "common/robot_state.hpp"
-#include "robot_agent/controller/controller.hpp"
-#include "world_server/harness/harness.hpp"
+#include "harness/harness.hpp"
+#include "robot_agent/controller/builtins.hpp"
 #include "world_server/world/scenario.hpp"
 
 namespace swarmform {
@@ -41,7 +41,8 @@ world::Scenario scenario(const std::string& shape, std::uint64_t seed, std::opti
                      "controller: {ready_timeout: 100000}\n";
   if (robots) yaml += "robots: {count: " + std::to_string(*robots) + "}\n";
   yaml += extra_yaml;
-  return world::parse_scenario_text(yaml, "<formation_sim_test>");
+  return world::parse_scenario_text(yaml, "<formation_sim_test>", {},
+                                    swarmform::controller::builtin_registry());
 }
 
 struct Outcome {
@@ -243,7 +244,7 @@ TEST(FormationSim, WithNoSpareTheShapeCompletesWithoutTheDeadRobot) {
 // ---- Issue 17: a way out of every formation phase (robot_agent/README.md, shape formation) ----
 
 world::Scenario paper_scenario() {
-  return world::load_scenario(kRepo + "/scenarios/paper.yaml");
+  return world::load_scenario(kRepo + "/scenarios/paper.yaml", {}, swarmform::controller::builtin_registry());
 }
 
 // Counts the events of one kind over a whole run.
@@ -413,7 +414,8 @@ TEST(FormationSim, TheSquareSeed13FormsNoSymmetricDeadlock) {
   world::ScenarioOverrides overrides;
   overrides.shape_file = kRepo + "/shapes/square.txt";
   overrides.seed = 13;
-  harness::Harness h(world::load_scenario(kRepo + "/scenarios/paper.yaml", overrides));
+  harness::Harness h(world::load_scenario(kRepo + "/scenarios/paper.yaml", overrides,
+                                          swarmform::controller::builtin_registry()));
   const Outcome o = run_to_formation(h, kMaxTicks);
   report("paper arena,square", 13, o);
   ASSERT_TRUE(o.formation_tick.has_value()) << snapshot(h);
@@ -443,7 +445,8 @@ TEST(FormationSim, AMoverPinnedInAPocketTakesADetour) {
   world::ScenarioOverrides overrides;
   overrides.shape_file = kRepo + "/shapes/arrow.txt";
   overrides.seed = 2;
-  harness::Harness h(world::load_scenario(kRepo + "/scenarios/paper.yaml", overrides));
+  harness::Harness h(world::load_scenario(kRepo + "/scenarios/paper.yaml", overrides,
+                                          swarmform::controller::builtin_registry()));
   while (h.world().tick() < 300) h.step();
   h.kill(0);
   int detours = 0;
@@ -481,7 +484,8 @@ TEST(FormationSim, ATwelveByTwelveBlockFormsWithNoLiveHoldersLabelFreed) {
                            "goal: {x: 10.0, y: 0.0, radius: 0.5}\n"
                            "seed: 1\nmax_ticks: 4000\n"
                            "controller: {ready_timeout: 100000}\n";
-  harness::Harness h(world::parse_scenario_text(yaml, "<formation_sim_test>"));
+  harness::Harness h(world::parse_scenario_text(yaml, "<formation_sim_test>", {},
+                                                swarmform::controller::builtin_registry()));
   int live_frees = 0;
   Outcome o;
   while (h.world().tick() < kMaxTicks && !h.metrics().formation_tick) {

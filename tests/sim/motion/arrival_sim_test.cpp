@@ -10,9 +10,10 @@
 #include <vector>
 
 #include "common/shape.hpp"
+#include "harness/harness.hpp"
+#include "robot_agent/controller/builtins.hpp"
 #include "tests/sim/motion/preformed.hpp"
 #include "tests/sim/motion/sim_checks.hpp"
-#include "world_server/harness/harness.hpp"
 #include "world_server/world/scenario.hpp"
 
 namespace swarmform::sim_motion {
@@ -73,7 +74,8 @@ TEST(MotionArrival, FollowerKilledBesideTheBoxLeavesNobodyBehind) {
   world::ScenarioOverrides o;
   o.kills.push_back({2, 1500});
   o.max_ticks = 7000;
-  const auto scenario = world::load_scenario(repo("scenarios/paper.yaml"), o);
+  const auto scenario =
+      world::load_scenario(repo("scenarios/paper.yaml"), o, swarmform::controller::builtin_registry());
   const auto out = run_to_arrival(scenario);
   print("kill 2@1500", out);
   ASSERT_TRUE(out.arrived.has_value()) << "not arrived by tick 7000: error " << out.error << ", centroid "
@@ -82,7 +84,8 @@ TEST(MotionArrival, FollowerKilledBesideTheBoxLeavesNobodyBehind) {
 
 // The paper's run: arrival by the issue's rule, and the motion's pace (the leader cruises at the limit).
 TEST(MotionArrival, PaperRunArrivesAtPace) {
-  const auto scenario = world::load_scenario(repo("scenarios/paper.yaml"));
+  const auto scenario =
+      world::load_scenario(repo("scenarios/paper.yaml"), {}, swarmform::controller::builtin_registry());
   const auto out = run_to_arrival(scenario);
   print("paper", out);
   ASSERT_TRUE(out.arrived.has_value());
@@ -117,7 +120,7 @@ Outcome run_preformed(const world::Scenario& scenario, Vec2 origin) {
 class MotionBlockAtTheBox : public testing::TestWithParam<double> {};
 
 TEST_P(MotionBlockAtTheBox, LeaderHeldAtTheBoxGetsRoundAndTheBlockArrives) {
-  auto s = world::load_scenario(repo("scenarios/paper.yaml"));
+  auto s = world::load_scenario(repo("scenarios/paper.yaml"), {}, swarmform::controller::builtin_registry());
   s.mission.shape = load_shape_file(repo("tests/sim/motion/fixtures/block_2x8.txt"));
   s.max_ticks = 7000;
   // Label 0 (the leader: the front-most boundary robot, smallest id) at (0, y); the box spans y 1.6-4.1.
@@ -137,7 +140,8 @@ INSTANTIATE_TEST_SUITE_P(LeaderY, MotionBlockAtTheBox, testing::Values(4.0, 1.2)
 TEST(MotionArrival, BoxDeadAheadOfTheLeader) {
   world::ScenarioOverrides o;
   o.max_ticks = 4500;
-  const auto scenario = world::load_scenario(repo("tests/sim/motion/fixtures/dead_ahead.yaml"), o);
+  const auto scenario = world::load_scenario(repo("tests/sim/motion/fixtures/dead_ahead.yaml"), o,
+                                             swarmform::controller::builtin_registry());
   const auto out = run_to_arrival(scenario);
   print("dead ahead", out);
   ASSERT_TRUE(out.arrived.has_value()) << "not arrived by tick " << scenario.max_ticks << ": error "
@@ -149,7 +153,8 @@ TEST(MotionArrival, BoxDeadAheadOfTheLeader) {
 // them, and the line is whole again at the goal (robot_agent/README.md, "A piece that cannot hear its
 // parent").
 TEST(MotionArrival, PiecesSplitByDeathsMeetAgainAtTheGoal) {
-  auto s = world::load_scenario(repo("scenarios/open_field.yaml"));
+  auto s =
+      world::load_scenario(repo("scenarios/open_field.yaml"), {}, swarmform::controller::builtin_registry());
   s.mission.shape = load_shape_file(repo("shapes/line.txt"));
   s.max_ticks = 3000;
   s.comm_range = 2.5;

@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "robot_agent/controller/builtins.hpp"
 #include "tests/sim/motion/preformed.hpp"
 #include "tests/sim/motion/sim_checks.hpp"
 #include "world_server/world/scenario.hpp"
@@ -19,7 +20,8 @@ std::string repo(const std::string& rel) {
 }
 
 world::Scenario short_trip() {
-  auto s = world::load_scenario(repo("scenarios/open_field.yaml"));
+  auto s =
+      world::load_scenario(repo("scenarios/open_field.yaml"), {}, swarmform::controller::builtin_registry());
   s.mission.goal = {6.0, 0.0};
   s.max_ticks = 2500;
   return preformed_scenario(s, {0.0, 0.0});

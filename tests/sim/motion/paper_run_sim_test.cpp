@@ -10,8 +10,9 @@
 #include <optional>
 #include <string>
 
+#include "harness/harness.hpp"
+#include "robot_agent/controller/builtins.hpp"
 #include "tests/sim/motion/sim_checks.hpp"
-#include "world_server/harness/harness.hpp"
 #include "world_server/world/scenario.hpp"
 
 namespace swarmform::sim_motion {
@@ -45,7 +46,8 @@ double left_reach(const std::vector<world::RobotTruth>& robots) {
 }
 
 TEST(MotionPaperRun, EveryRobotArrivesPastBothObstaclesAndTheShapeRecovers) {
-  const auto scenario = world::load_scenario(repo("scenarios/paper.yaml"));
+  const auto scenario =
+      world::load_scenario(repo("scenarios/paper.yaml"), {}, swarmform::controller::builtin_registry());
   ASSERT_EQ(scenario.obstacles.size(), 2u);
   const double spacing = scenario.mission.grid_spacing;
   harness::Harness h(scenario);
@@ -124,7 +126,8 @@ TEST(MotionPaperRun, EveryRobotArrivesPastBothObstaclesAndTheShapeRecovers) {
 }
 
 TEST(MotionPaperRun, CorridorRunArrives) {
-  const auto scenario = world::load_scenario(repo("scenarios/corridor.yaml"));
+  const auto scenario =
+      world::load_scenario(repo("scenarios/corridor.yaml"), {}, swarmform::controller::builtin_registry());
   harness::Harness h(scenario);
   h.run();
   const auto& m = h.metrics();

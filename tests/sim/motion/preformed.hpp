@@ -11,7 +11,7 @@
 #include <set>
 #include <vector>
 
-#include "robot_agent/controller/controller.hpp"
+#include "robot_agent/controller/builtins.hpp"
 #include "robot_agent/controller/motion_phase.hpp"
 #include "robot_agent/controller/neighbours.hpp"
 #include "robot_agent/controller/shape_table.hpp"

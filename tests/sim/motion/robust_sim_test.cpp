@@ -8,7 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "world_server/harness/harness.hpp"
+#include "harness/harness.hpp"
+#include "robot_agent/controller/builtins.hpp"
 #include "world_server/world/scenario.hpp"
 
 namespace swarmform::sim_motion {
@@ -29,7 +30,7 @@ void expect_arrives(const Case& c) {
   world::ScenarioOverrides o;
   o.seed = c.seed;
   o.kills = c.kills;
-  const auto scenario = world::load_scenario(repo(c.scenario), o);
+  const auto scenario = world::load_scenario(repo(c.scenario), o, swarmform::controller::builtin_registry());
   harness::Harness h(scenario);
   h.run([](const harness::Harness& run) { return run.metrics().goal_tick.has_value(); });
   const auto& m = h.metrics();

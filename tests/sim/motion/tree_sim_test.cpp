@@ -9,6 +9,7 @@
 #include <string>
 
 #include "common/shape.hpp"
+#include "robot_agent/controller/builtins.hpp"
 #include "tests/sim/motion/preformed.hpp"
 #include "tests/sim/motion/sim_checks.hpp"
 #include "world_server/world/scenario.hpp"
@@ -30,7 +31,8 @@ std::vector<std::filesystem::path> shape_files() {
 }
 
 world::Scenario open_field_with(const std::string& shape) {
-  auto s = world::load_scenario(repo("scenarios/open_field.yaml"));
+  auto s =
+      world::load_scenario(repo("scenarios/open_field.yaml"), {}, swarmform::controller::builtin_registry());
   s.mission.shape = load_shape_file(shape);
   return preformed_scenario(s, {0.0, 0.0});
 }

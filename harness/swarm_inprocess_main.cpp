@@ -2,12 +2,17 @@
 // run directory as `swarm run`. For users who want a quick answer and for the large-N benchmarks.
 //
 // Exit codes (also in --help): 0 the run ended (completed or max_ticks); 1 an internal error; 2 bad flags or
-// a bad scenario/shape; 5 a write of the run directory failed (a full disk: end_reason disk_full); 130
-// interrupted by SIGINT/SIGTERM (summary.json written, end_reason interrupted).
+// a bad scenario/shape/plug-in; 5 a write of the run directory failed (a full disk: end_reason disk_full); 6
+// a robot's behaviour failed (threw or returned a non-finite wheel speed: end_reason behaviour_failed, the
+// message names the robot and the behaviour); 130 interrupted by SIGINT/SIGTERM (summary.json written,
+// end_reason interrupted).
+#include <unistd.h>
+
 #include <atomic>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
 #include <iostream>
@@ -15,9 +20,11 @@
 
 #include <CLI/CLI.hpp>
 
+#include "behaviour/registry.hpp"
 #include "common/input_error.hpp"
-#include "world_server/harness/harness.hpp"
-#include "world_server/harness/param_flags.hpp"
+#include "harness/harness.hpp"
+#include "harness/param_flags.hpp"
+#include "robot_agent/controller/builtins.hpp"
 #include "world_server/run/run_end.hpp"
 
 namespace {
@@ -26,9 +33,51 @@ using namespace swarmform;
 namespace fs = std::filesystem;
 
 constexpr int kExitRecordingFailed = 5;
+constexpr int kExitBehaviourFailed = 6;
 constexpr int kExitInterrupted = 130;
 
 std::atomic<bool> g_interrupted{false};
+
+// A behaviour that crashes (SIGSEGV, SIGBUS, SIGFPE, SIGILL) takes the whole process: say which robot and
+// which behaviour before it goes. Only async-signal-safe calls here (write, signal, raise); the text is made
+// before the run.
+char g_behaviour_text[1024] = "";
+std::size_t g_behaviour_text_size = 0;
+
+void say(const char* text, std::size_t n) {
+  while (n > 0) {
+    const ssize_t w = ::write(2, text, n);
+    if (w <= 0) return;
+    text += w;
+    n -= static_cast<std::size_t>(w);
+  }
+}
+void say(const char* text) {
+  say(text, std::strlen(text));
+}
+
+extern "C" void on_crash(int sig) {
+  say("swarm_inprocess: ");
+  const std::int64_t robot = harness::robot_being_stepped();
+  if (robot >= 0) {
+    char digits[24];
+    std::size_t n = 0;
+    for (std::int64_t v = robot; n == 0 || v > 0; v /= 10) digits[n++] = static_cast<char>('0' + v % 10);
+    say("robot ");
+    for (; n > 0; --n) say(&digits[n - 1], 1);
+    say("'s ");
+  } else {
+    say("the run (no robot's controller was stepping) with ");
+  }
+  say(g_behaviour_text, g_behaviour_text_size);
+  say(sig == SIGSEGV  ? " crashed (SIGSEGV)"
+      : sig == SIGBUS ? " crashed (SIGBUS)"
+      : sig == SIGFPE ? " crashed (SIGFPE)"
+                      : " crashed (SIGILL)");
+  say("; the run ends here, summary.json is not written\n");
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
+}
 extern "C" void on_signal(int) {
   g_interrupted = true;
 }
@@ -94,6 +143,7 @@ int main(int argc, char** argv) {
   Tick max_ticks = 0;
   std::string out;
   std::string behaviour;
+  std::vector<std::string> plugin_dirs;
   std::vector<std::string> kill_texts;
   std::vector<std::string> fault_texts;
   std::vector<std::string> param_texts;
@@ -105,7 +155,12 @@ int main(int argc, char** argv) {
   app.add_option("--robots", robots, "number of robots (random placement), instead of the scenario's");
   app.add_option("--seed", seed, "seed, instead of the scenario's");
   app.add_option("--max-ticks", max_ticks, "stop after this many ticks at the latest");
-  app.add_option("--behaviour", behaviour, "controller: paper or random_walk, instead of the scenario's");
+  app.add_option("--behaviour", behaviour,
+                 "a built-in behaviour (paper, random_walk) or an already named plug-in's, instead of the "
+                 "scenario's (the scenario's parameters it does not have are left out)");
+  app.add_option("--plugin-dir", plugin_dirs,
+                 "a folder plug-ins may be loaded from, besides the scenario's own folder and those of "
+                 "SWARMFORM_PLUGIN_PATH (':'-separated); repeatable. A plug-in anywhere else is refused");
   app.add_option(
       "--param", param_texts,
       "NAME=VALUE: set the behaviour's parameter NAME (a scenario `controller:` key) over the "
@@ -125,7 +180,8 @@ int main(int argc, char** argv) {
   app.footer(
       "Exit codes: 0 the run ended (completed or max_ticks: summary.json's end_reason says which); 1 an "
       "internal error; 2 bad flags, scenario or shape; 5 a write of the run directory failed (disk full: "
-      "end_reason disk_full); 130 interrupted by SIGINT/SIGTERM (end_reason interrupted).");
+      "end_reason disk_full); 6 a robot's behaviour failed (threw or returned a non-finite wheel speed: "
+      "end_reason behaviour_failed); 130 interrupted by SIGINT/SIGTERM (end_reason interrupted).");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -143,20 +199,29 @@ int main(int argc, char** argv) {
     if (app.count("--max-ticks") > 0) overrides.max_ticks = max_ticks;
     for (const auto& k : kill_texts) overrides.kills.push_back(parse_kill(k));
     overrides.faults = fault_texts;
-    world::Scenario scenario = world::load_scenario(scenario_path, overrides);
-    if (!behaviour.empty()) {
-      if (behaviour != "paper" && behaviour != "random_walk") {
-        throw InputError("command line", 0, "--behaviour '" + behaviour + "': expected paper or random_walk");
-      }
-      scenario.mission.behaviour = behaviour;
+    if (!behaviour.empty()) overrides.behaviour = behaviour;
+    // Plug-ins load from the scenario's folder, --plugin-dir and SWARMFORM_PLUGIN_PATH only.
+    behaviour::Registry behaviours;
+    controller::add_builtins(behaviours);
+    behaviours.add_folder(fs::absolute(scenario_path).parent_path());
+    for (const std::string& d : plugin_dirs) {
+      if (!fs::is_directory(d)) throw InputError("command line", 0, "--plugin-dir '" + d + "': not a folder");
+      behaviours.add_folder(d);
     }
-    harness::apply_param_flags(param_texts, scenario.mission);
+    behaviours.add_folders_from_environment();
+    world::Scenario scenario = world::load_scenario(scenario_path, overrides, behaviours);
+    harness::apply_param_flags(param_texts, scenario.mission, behaviours);
 
     const bool default_out = out.empty();
     const std::string run_dir = no_record ? std::string() : (default_out ? default_run_dir() : out);
 
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
+    const std::string described =
+        "behaviour '" + scenario.mission.behaviour + "'" +
+        (scenario.mission.plugin.empty() ? "" : " (plug-in " + scenario.mission.plugin + ")");
+    g_behaviour_text_size = described.copy(g_behaviour_text, sizeof(g_behaviour_text));
+    for (const int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL}) std::signal(sig, on_crash);
 
     const auto start = std::chrono::steady_clock::now();
     harness::Harness harness(scenario, {run_dir, fragment_range});
@@ -164,6 +229,7 @@ int main(int argc, char** argv) {
     auto last_print = start;
     Tick last_tick = 0;
     std::optional<world::RecordingError> failed;
+    std::optional<harness::BehaviourFailure> behaviour_failed;
     try {
       harness.run([&](const harness::Harness& h) {
         const auto now = std::chrono::steady_clock::now();
@@ -183,8 +249,21 @@ int main(int argc, char** argv) {
       });
     } catch (const world::RecordingError& e) {
       failed = e;
+    } catch (const harness::BehaviourFailure& e) {
+      behaviour_failed = e;
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (behaviour_failed) {
+      std::string written = "summary.json written";
+      try {
+        harness.finish(wall, world::EndReason::BehaviourFailed);
+      } catch (const std::exception& e) {
+        written = std::string("summary.json not written: ") + e.what();
+      }
+      std::cerr << "swarm_inprocess: run ended (behaviour_failed): " << behaviour_failed->what() << "; "
+                << written << "\n";
+      return kExitBehaviourFailed;
+    }
     if (failed) {
       std::string written = "summary.json written";
       try {

@@ -10,17 +10,28 @@
 // perception (copied into its worker's buffer) and writes only its own command slot; the commands then go to
 // the world one after the other in id order, exactly as a serial loop would, so a run is deterministic for a
 // scenario and seed whatever the worker count.
-#include "world_server/harness/harness.hpp"
+#include "harness/harness.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
+#include "behaviour/registry.hpp"
 #include "world_server/run/fault_events.hpp"
 #include "world_server/run/run_end.hpp"
 #include "world_server/world/parallel_for.hpp"
 
 namespace swarmform::harness {
+
+namespace {
+thread_local std::int64_t t_stepping = -1;  // robot_being_stepped()
+}  // namespace
+
+std::int64_t robot_being_stepped() {
+  return t_stepping;
+}
 
 struct Harness::Impl {
   Impl(const world::Scenario& s, HarnessOptions o)
@@ -30,11 +41,25 @@ struct Harness::Impl {
         session(world, {options.run_dir, "in-process", options.fragment_range}) {
     controllers.reserve(scenario.robots.size());
     for (RobotId id = 0; id < scenario.robots.size(); ++id) {
-      controllers.push_back(controller::make_controller(scenario.mission, id));
+      controllers.push_back(make(id));
     }
     kills = scenario.kills;
     std::stable_sort(kills.begin(), kills.end(),
                      [](const world::Kill& a, const world::Kill& b) { return a.tick < b.tick; });
+  }
+
+  // A controller of the scenario's behaviour (resolved through the registry when the scenario was loaded).
+  std::unique_ptr<controller::Controller> make(RobotId id) const {
+    if (scenario.behaviour == nullptr) throw std::logic_error("harness: the scenario has no behaviour");
+    return behaviour::make_controller(*scenario.behaviour, scenario.mission, id);
+  }
+
+  BehaviourFailure failure(RobotId id, const std::string& what) const {
+    std::ostringstream m;
+    m << "robot " << id << "'s behaviour '" << scenario.mission.behaviour << "'"
+      << (scenario.mission.plugin.empty() ? "" : " (plug-in " + scenario.mission.plugin + ")") << " at tick "
+      << world.tick() << ": " << what;
+    return BehaviourFailure(id, m.str());
   }
 
   void check_id(RobotId id) const {
@@ -55,7 +80,7 @@ struct Harness::Impl {
   void revive(RobotId id) {
     check_id(id);
     if (!world.alive(id)) world.revive(id);  // a live robot only gets the fresh controller (agent restart)
-    controllers[id] = controller::make_controller(scenario.mission, id);
+    controllers[id] = make(id);
     session.record_rejoin(id);
   }
 
@@ -91,16 +116,39 @@ struct Harness::Impl {
     const std::size_t n = controllers.size();
     commands.resize(n);
     stepped.assign(n, 0);
+    errors.assign(n, std::string());
     copies.resize(parallel::worker_count());
     parallel::for_range(n, [&](std::size_t begin, std::size_t end, std::size_t worker) {
       world::World::PerceptionCopy& copy = copies[worker].copy;
       for (std::size_t i = begin; i < end; ++i) {
         const auto id = static_cast<RobotId>(i);
         if (!controllers[i] || !world.alive(id) || stalled[i]) continue;
-        commands[i] = controllers[i]->step(world.copy_perception(id, copy));
-        stepped[i] = 1;
+        // An exception must not leave a worker thread: it is kept and raised below, on this thread.
+        try {
+          t_stepping = static_cast<std::int64_t>(i);
+          commands[i] = controllers[i]->step(world.copy_perception(id, copy));
+          t_stepping = -1;
+          stepped[i] = 1;
+        } catch (const std::exception& e) {
+          t_stepping = -1;
+          errors[i] = std::string("threw: ") + e.what();
+        } catch (...) {
+          t_stepping = -1;
+          errors[i] = "threw an exception that is not a std::exception";
+        }
       }
     });
+    for (RobotId id = 0; id < n; ++id) {
+      if (!errors[id].empty()) throw failure(id, errors[id]);
+      if (!stepped[id]) continue;
+      const Command& c = commands[id];
+      if (!std::isfinite(c.left_speed) || !std::isfinite(c.right_speed)) {
+        std::ostringstream what;
+        what << "returned a non-finite wheel speed (left " << c.left_speed << ", right " << c.right_speed
+             << " m/s)";
+        throw failure(id, what.str());
+      }
+    }
     for (RobotId id = 0; id < n; ++id) {
       if (!stepped[id]) continue;
       const auto verdict = world.apply_command(id, commands[id]);
@@ -119,6 +167,7 @@ struct Harness::Impl {
   std::vector<Command> commands;  // this tick's, one slot per robot (kept: their message buffers are reused)
   std::vector<char> stepped;      // 1: commands[id] is this tick's
   std::vector<char> stalled;      // 1: a stall fault holds this robot's controller this tick
+  std::vector<std::string> errors;  // this tick's: what robot id's controller threw (empty: nothing)
   // One perception copy per worker: a controller steps on its robot's perception copied into its worker's
   // buffers, which stay in that core's cache from robot to robot (World::copy_perception says why).
   struct alignas(64) WorkerCopy {

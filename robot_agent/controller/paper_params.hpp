@@ -1,7 +1,7 @@
-// The controller's parameters: every name a scenario's `controller:` section may set, with its default and
-// unit. One table, read by the scenario parser (to reject unknown names with file:line) and by the controller
-// (to fill its typed parameter struct). Add a parameter by adding a row here; document it in
-// robot_agent/README.md.
+// The paper behaviour's parameters: every name a scenario may set for it, with its default, bounds and unit.
+// The table is the behaviour's descriptor's (builtins.cpp), so the world checks a scenario against it
+// (file:line) and the controller fills its typed parameter struct from it. Add a parameter by adding a row
+// here; document it in robot_agent/README.md.
 #pragma once
 
 #include <array>
@@ -10,17 +10,13 @@
 #include <string>
 #include <string_view>
 
-namespace swarmform {
+#include "behaviour/descriptor.hpp"
 
-struct ParamSpec {
-  std::string_view name;
-  double default_value;
-  double min_value;  // inclusive bounds, checked by the scenario parser
-  double max_value;
-  std::string_view doc;  // meaning and unit
-};
+namespace swarmform::controller {
 
-inline constexpr std::array kControllerParams = {
+using behaviour::ParamSpec;
+
+inline constexpr std::array kPaperParams = {
     // Label allotment and shape formation (paper III.C).
     ParamSpec{"k_collision", 0.002, 0.0, 10.0, "eq. (1) collision repulsion gain"},
     ParamSpec{"r_o", 0.35, 0.0, 5.0, "eq. (1) threshold distance under which neighbours repel, m"},
@@ -73,7 +69,7 @@ inline constexpr std::array kControllerParams = {
 };
 
 inline const ParamSpec* find_param(std::string_view name) {
-  for (const auto& p : kControllerParams) {
+  for (const auto& p : kPaperParams) {
     if (p.name == name) return &p;
   }
   return nullptr;
@@ -87,4 +83,4 @@ inline double param_value(const std::map<std::string, double>& overrides, std::s
   return spec ? spec->default_value : 0.0;
 }
 
-}  // namespace swarmform
+}  // namespace swarmform::controller

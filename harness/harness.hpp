@@ -3,17 +3,34 @@
 // its perception, the commands go to the world, the world steps, the session records; scheduled kills apply.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
-#include "robot_agent/controller/controller.hpp"
+#include "behaviour/controller.hpp"
 #include "world_server/run/run_session.hpp"
 #include "world_server/world/scenario.hpp"
 #include "world_server/world/world.hpp"
 
 namespace swarmform::harness {
+
+// A robot's controller threw, or returned a non-finite wheel speed: the in-process run cannot go on (all the
+// behaviours share one process). what() names the robot, the behaviour, the tick and what happened.
+class BehaviourFailure : public std::runtime_error {
+ public:
+  BehaviourFailure(RobotId robot, const std::string& what) : std::runtime_error(what), robot_(robot) {}
+  RobotId robot() const { return robot_; }
+
+ private:
+  RobotId robot_;
+};
+
+// The robot whose controller the calling thread is stepping now, or -1: for a crash handler (a plug-in's
+// SIGSEGV) to name the robot. A plain thread-local read, safe in a signal handler.
+std::int64_t robot_being_stepped();
 
 struct HarnessOptions {
   std::string run_dir;          // empty: no files written
@@ -25,7 +42,9 @@ class Harness {
   explicit Harness(const world::Scenario& scenario, HarnessOptions options = {});
   ~Harness();
 
-  void step();  // one tick for everyone
+  // One tick for everyone. Throws BehaviourFailure when a controller fails (the lowest id's failure when
+  // several fail in one tick); the world has not stepped then.
+  void step();
   // Steps until the scenario's max_ticks, or until `stop` returns true (checked after each tick).
   void run(const std::function<bool(const Harness&)>& stop = {});
 

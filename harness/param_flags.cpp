@@ -1,13 +1,12 @@
-#include "world_server/harness/param_flags.hpp"
+#include "harness/param_flags.hpp"
 
 #include <cmath>
 
 #include "common/input_error.hpp"
-#include "robot_agent/controller/controller.hpp"
 
 namespace swarmform::harness {
 
-void apply_param_flags(const std::vector<std::string>& texts, Mission& mission) {
+void apply_param_flags(const std::vector<std::string>& texts, Mission& mission, behaviour::Registry& behaviours) {
   if (texts.empty()) return;
   std::string names;
   for (const std::string& text : texts) {
@@ -30,7 +29,7 @@ void apply_param_flags(const std::vector<std::string>& texts, Mission& mission) 
     names += (names.empty() ? "" : " ") + text;
   }
   try {
-    (void)controller::make_controller(mission, 0);  // the behaviour's own check of every parameter
+    (void)behaviours.make(mission, 0);  // the behaviour's own check of every parameter
   } catch (const InputError& e) {
     std::string why = e.what();
     if (const std::string prefix = e.file() + ": "; why.rfind(prefix, 0) == 0) why.erase(0, prefix.size());

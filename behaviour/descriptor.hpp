@@ -1,0 +1,54 @@
+// What a behaviour says about itself (docs/behaviour-api.md): its name, its parameter table, its states and
+// their colours, the telemetry columns it records, whether it needs a shape or a goal, and how to make one
+// controller. The built-in behaviours and the shared-library plug-ins describe themselves with this one
+// struct; the world validates a scenario's parameters through `params`, the pictures colour robots by
+// `states`, the recorder names `telemetry`'s columns. A descriptor is static data: it lives as long as the
+// program (a plug-in is never unloaded).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string_view>
+
+#include "behaviour/controller.hpp"
+
+namespace swarmform::behaviour {
+
+// Raised with any change to Descriptor, Controller, Mission, Perception or Command: a plug-in built against
+// another version is refused with both numbers named, never run.
+inline constexpr std::uint32_t kApiVersion = 1;
+
+struct ParamSpec {
+  std::string_view name;  // as written in the scenario: `behaviour: {params: {name: value}}`
+  double default_value;
+  double min_value;  // inclusive bounds, checked by the world with the scenario's file:line
+  double max_value;
+  std::string_view doc;  // meaning and unit
+};
+
+struct StateSpec {
+  std::int32_t value;       // Telemetry::state as the controller reports it
+  std::string_view name;    // for legends, the report and events
+  std::string_view colour;  // for pictures: "#rrggbb"
+};
+
+struct TelemetryColumn {
+  std::string_view name;  // robots.csv column (after the fixed ones); lower_case, no commas
+  std::string_view doc;   // meaning and unit
+};
+
+struct Descriptor {
+  std::uint32_t api_version = kApiVersion;
+  std::string_view name;     // the scenario's `behaviour: NAME`; a plug-in's own name (unique in a run)
+  std::string_view summary;  // one line for --help and the report
+  std::span<const ParamSpec> params;
+  std::span<const StateSpec> states;  // empty: every robot is drawn in one colour
+  // Telemetry::extra[k] is telemetry[k]; a controller fills exactly telemetry.size() values (or none).
+  std::span<const TelemetryColumn> telemetry;
+  bool needs_shape = false;  // the scenario must give `shape:`; the paper's metrics apply
+  bool needs_goal = false;   // the scenario's goal must lie inside the walls; the run has an outcome
+  std::unique_ptr<controller::Controller> (*make)() = nullptr;  // a fresh, not yet initialised controller
+};
+
+}  // namespace swarmform::behaviour
