@@ -99,8 +99,8 @@ class SweepSmokeTest(unittest.TestCase):
         self.assertEqual([row["param_k_move"] for row in rows], ["0.5", "1"])
         self.assertNotEqual(rows[0]["trajectory_sha256"], rows[1]["trajectory_sha256"],
                             "k_move changes how the robots move to their places")
-        for args, says in ((["--param", "k_wobble=1"], "--param k_wobble=1: unknown controller parameter 'k_wobble'"),
-                           (["--param", "k_move=0.5,500"], "--param k_move=500: controller parameter 'k_move'")):
+        for args, says in ((["--param", "k_wobble=1"], "--param k_wobble=1: behaviour 'paper' parameter 'k_wobble'"),
+                           (["--param", "k_move=0.5,500"], "--param k_move=500: behaviour 'paper' parameter 'k_move'")):
             r = helpers.swarm("sweep", "--scenario", PAPER, "--out", os.path.join(self.dir, "q"), *args,
                               build_dir=BUILD_DIR, timeout=60)
             self.assertEqual(r.returncode, 2, r.stderr)
