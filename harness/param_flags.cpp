@@ -6,7 +6,8 @@
 
 namespace swarmform::harness {
 
-void apply_param_flags(const std::vector<std::string>& texts, Mission& mission, behaviour::Registry& behaviours) {
+void apply_param_flags(const std::vector<std::string>& texts, Mission& mission,
+                       behaviour::Registry& behaviours) {
   if (texts.empty()) return;
   std::string names;
   for (const std::string& text : texts) {

@@ -76,10 +76,9 @@ constexpr int kExitLostId = 5;
 constexpr int kExitBehaviourFailed = 6;
 
 // The robot's controller: the mission's built-in behaviour, or the --exec program behind the same interface.
-std::unique_ptr<swarmform::controller::Controller> make_robot_controller(const Options& o,
-                                                                         const swarmform::Mission& mission,
-                                                                         AgentLink& link,
-                                                                         swarmform::behaviour::Registry& behaviours) {
+std::unique_ptr<swarmform::controller::Controller> make_robot_controller(
+    const Options& o, const swarmform::Mission& mission, AgentLink& link,
+    swarmform::behaviour::Registry& behaviours) {
   if (o.exec_command.empty()) return behaviours.make(mission, o.id);
   swarmform::agent::ExecOptions eo;
   eo.command = o.exec_command;

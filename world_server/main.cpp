@@ -13,8 +13,8 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "common/dds/security_config.hpp"
 #include <filesystem>
+#include "common/dds/security_config.hpp"
 
 #include "behaviour/registry.hpp"
 #include "common/dds/signal_watch.hpp"
