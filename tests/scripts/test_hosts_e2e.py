@@ -286,7 +286,7 @@ class HostsEndToEndTest(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stderr)
         with open(out, encoding="utf-8") as f:
             results = json.load(f)["results"]
-        self.assertEqual([x["setting"] for x in results], ["loopback", "hosts4", "hosts4_loss1"])
+        self.assertEqual([x["setting"] for x in results], ["loopback", "hosts4", "hosts4_loss1", "secure"])
         for x in results:
             self.assertGreater(x["emulator_ticks_per_second"], 0)
             self.assertGreater(x["bare_rounds_per_second"], 0)
