@@ -44,6 +44,32 @@ constexpr Tick kSideTicks = 200;
 constexpr double kDetourDistance = 1.0;
 constexpr Tick kDetourTicks = 150;
 
+// The shape's places as a spare sees them: their centroid and the one nearest to `pos`.
+struct PlacesAround {
+  Vec2 centroid;
+  Vec2 nearest_place;
+  double nearest = 1e18;  // m
+};
+PlacesAround places_around(const std::vector<Vec2>& places, Vec2 pos) {
+  PlacesAround a;
+  for (const auto& pl : places) {
+    a.centroid = a.centroid + (1.0 / static_cast<double>(places.size())) * pl;
+    const double d = norm(pl - pos);
+    if (d < a.nearest) {
+      a.nearest = d;
+      a.nearest_place = pl;
+    }
+  }
+  return a;
+}
+
+// A spare leaves the shape's area at full speed: away from its centroid (from the nearest place when on it).
+Vec2 leave_the_shape(Vec2 pos, const PlacesAround& a, double max_speed) {
+  Vec2 away = pos - a.centroid;
+  if (norm(away) < 1e-6) away = pos - a.nearest_place;
+  return (max_speed / std::max(norm(away), 1e-9)) * away;
+}
+
 }  // namespace
 
 PaperController::PaperController(std::unique_ptr<MotionPhases> motion) : motion_(std::move(motion)) {}
@@ -264,23 +290,12 @@ Vec2 PaperController::searching_step(const Perception& p) {
     }
     const bool spare = held == table_.size();
     const double s = params_.grid_spacing;
-    double nearest = 1e18;
-    Vec2 nearest_place;
-    Vec2 centroid;
-    for (const auto& pl : places) {
-      centroid = centroid + (1.0 / static_cast<double>(places.size())) * pl;
-      const double d = norm(pl - pos);
-      if (d < nearest) {
-        nearest = d;
-        nearest_place = pl;
-      }
-    }
+    const PlacesAround around = places_around(places, pos);
+    const double nearest = around.nearest;
     if (spare && nearest < kSpareClearance * s) {
-      Vec2 away = pos - centroid;
-      if (norm(away) < 1e-6) away = pos - nearest_place;
-      v = (params_.max_speed / std::max(norm(away), 1e-9)) * away;
+      v = leave_the_shape(pos, around, params_.max_speed);
     } else if (nearest < kSearcherClearance * s) {
-      const Vec2 away = pos - nearest_place;
+      const Vec2 away = pos - around.nearest_place;
       v = (params_.k_move * (kSearcherClearance * s - nearest) / std::max(norm(away), 1e-9)) * away;
     } else if (!spare && tick_ > last_offer_tick_ + static_cast<Tick>(params_.neighbour_timeout)) {
       double best = 1e18;
@@ -337,25 +352,14 @@ Vec2 PaperController::reserve_step(const Perception& p) {
 
   // Trail the shape; out of the way of its places.
   Vec2 centre = mission_.goal;
-  Vec2 centroid;
-  for (const auto& pl : places) centroid = centroid + (1.0 / static_cast<double>(places.size())) * pl;
+  const PlacesAround around = places_around(places, pos);
   // Where the shape is now, as far as it is heard; a reserve that hears none of it makes for the goal.
   const bool shape_heard =
       has_origin_ && tick_ <= last_shape_heard_ + static_cast<Tick>(params_.neighbour_timeout);
-  if (shape_heard) centre = centroid;
-  double nearest = 1e18;
-  Vec2 nearest_place;
-  for (const auto& pl : places) {
-    if (norm(pl - pos) < nearest) {
-      nearest = norm(pl - pos);
-      nearest_place = pl;
-    }
-  }
+  if (shape_heard) centre = around.centroid;
   Vec2 v;
-  if (shape_heard && nearest < kSpareClearance * s) {
-    Vec2 away = pos - centroid;
-    if (norm(away) < 1e-6) away = pos - nearest_place;
-    v = (params_.max_speed / std::max(norm(away), 1e-9)) * away;
+  if (shape_heard && around.nearest < kSpareClearance * s) {
+    v = leave_the_shape(pos, around, params_.max_speed);
   } else {
     // Unheard, it walks to the goal itself: where the shape is, or will be, within radio range.
     const Vec2 to =
