@@ -1,7 +1,7 @@
 // libFuzzer target: the checks an agent makes on a mission off the wire (common/mission_check.cpp), on a
 // mission built from any bytes the way wire.cpp copies a DDS sample's fields: rows, cols, the cells, the
 // numbers, and named parameters. A rejection must be an InputError; an accepted mission must keep the
-// promises its controller relies on (a valid shape, finite positive lengths and rates).
+// promises its controller relies on (no shape or a valid one, finite positive lengths and rates).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -57,6 +57,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } catch (const swarmform::InputError&) {
     return 0;
   }
+  FUZZ_CHECK(std::isfinite(m.grid_spacing) && m.grid_spacing > 0 && std::isfinite(m.tick_rate) &&
+             m.tick_rate > 0);
+  FUZZ_CHECK(std::isfinite(m.comm_range) && m.comm_range > 0 && std::isfinite(m.max_speed) &&
+             m.max_speed > 0);
+  // No shape at all (0 x 0, no cells) is a mission for a behaviour that forms none (check_mission).
+  if (m.shape.rows == 0 && m.shape.cols == 0) {
+    FUZZ_CHECK(m.shape.cells.empty());
+    return 0;
+  }
   FUZZ_CHECK(m.shape.rows > 0 && m.shape.cols > 0);
   FUZZ_CHECK(m.shape.cells.size() == static_cast<std::size_t>(m.shape.rows * m.shape.cols));
   const int n = m.shape.label_count();
@@ -67,9 +76,5 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (v >= 0) ++seen[static_cast<std::size_t>(v)];
   }
   for (const int count : seen) FUZZ_CHECK(count == 1);
-  FUZZ_CHECK(std::isfinite(m.grid_spacing) && m.grid_spacing > 0 && std::isfinite(m.tick_rate) &&
-             m.tick_rate > 0);
-  FUZZ_CHECK(std::isfinite(m.comm_range) && m.comm_range > 0 && std::isfinite(m.max_speed) &&
-             m.max_speed > 0);
   return 0;
 }
