@@ -17,6 +17,7 @@ import concurrent.futures
 import datetime
 import os
 import subprocess
+from typing import Sequence
 
 # Topics and who may use them (docs/wire.md). Partitions: robot K's packets and commands in robot/K.
 MISSION, SENSOR, COMMAND, WORLD_STATE = "sf_mission", "sf_sensor", "sf_command", "sf_world_state"
@@ -34,16 +35,16 @@ class SecurityError(Exception):
     pass
 
 
-def subject(identity):
+def subject(identity: str) -> str:
     """The certificate subject of an identity, as the permissions name it (Cyclone compares name by name)."""
     return f"CN={identity},O={ORGANISATION}"
 
 
-def robot_identity(rid):
+def robot_identity(rid: int) -> str:
     return f"robot-{rid}"
 
 
-def _openssl(*args, cwd):
+def _openssl(*args: str, cwd: str) -> None:
     try:
         p = subprocess.run(["openssl", *args], cwd=cwd, capture_output=True, text=True, timeout=OPENSSL_TIMEOUT_S)
     except FileNotFoundError:
@@ -55,14 +56,14 @@ def _openssl(*args, cwd):
         raise SecurityError(f"openssl {' '.join(args[:2])} failed (exit {p.returncode}): {p.stderr.strip()[:400]}")
 
 
-def _rule(kind, topics, partitions):
+def _rule(kind: str, topics: Sequence[str], partitions: Sequence[str]) -> str:
     """One <publish> or <subscribe> criterion. partitions: names, '' for the default partition."""
     ts = "".join(f"<topic>{t}</topic>" for t in topics)
     ps = "".join(f"<partition>{p}</partition>" for p in partitions)
     return f"<{kind}><topics>{ts}</topics><partitions>{ps}</partitions></{kind}>"
 
 
-def _grants(identity):
+def _grants(identity: str) -> tuple[list[str], list[str]]:
     """(publish, subscribe) criteria of an identity: the least each needs (docs/security.md has the table)."""
     if identity == "world":
         return ([_rule("publish", [MISSION, WORLD_STATE, OBSERVE], [""]), _rule("publish", [SENSOR], ["robot/*"])],
@@ -75,15 +76,15 @@ def _grants(identity):
             [_rule("subscribe", [SENSOR], [part]), _rule("subscribe", [MISSION], [""])])
 
 
-def _stamp(t):
+def _stamp(t: datetime.datetime) -> str:
     return t.strftime("%Y-%m-%dT%H:%M:%S")
 
 
-def _domains(domain):
+def _domains(domain: int) -> str:
     return f"<domains><id>{domain}</id></domains>"
 
 
-def permissions_xml(identity, now, domain):
+def permissions_xml(identity: str, now: datetime.datetime, domain: int) -> str:
     publish, subscribe = _grants(identity)
     domains = _domains(domain)
     return ('<?xml version="1.0" encoding="UTF-8"?>\n'
@@ -97,7 +98,7 @@ def permissions_xml(identity, now, domain):
             '<default>DENY</default>\n</grant>\n</permissions>\n</dds>\n')
 
 
-def governance_xml(domain):
+def governance_xml(domain: int) -> str:
     return GOVERNANCE.replace("@DOMAINS@", _domains(domain))
 
 
@@ -129,13 +130,13 @@ GOVERNANCE = """<?xml version="1.0" encoding="UTF-8"?>
 """
 
 
-def _write(path, text, mode=0o644):
+def _write(path: str, text: str, mode: int = 0o644) -> None:
     fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, mode)
     with os.fdopen(fd, "w", encoding="utf-8") as f:
         f.write(text)
 
 
-def _identity(d, identity, serial, now, domain):
+def _identity(d: str, identity: str, serial: int, now: datetime.datetime, domain: int) -> None:
     """Key (0600), certificate signed by the CA, permissions signed by the CA."""
     key = f"{identity}.key"
     # The key file is created 0600 before openssl writes into it (never readable by others, not even briefly).
@@ -149,7 +150,7 @@ def _identity(d, identity, serial, now, domain):
              "-signer", "ca.pem", "-inkey", "ca.key", cwd=d)
 
 
-def make_security_dir(run_dir, robots, domain, workers=4):
+def make_security_dir(run_dir: str, robots: int, domain: int, workers: int = 4) -> str:
     """Makes RUN_DIR/security for a run of `robots` robots on DDS domain `domain` (the governance and every
     permission name that domain only); returns its path. Raises SecurityError."""
     if not 0 <= domain <= MAX_SECURE_DOMAIN:
@@ -178,7 +179,7 @@ def make_security_dir(run_dir, robots, domain, workers=4):
     return d
 
 
-def check_keys(d):
+def check_keys(d: str) -> list[str]:
     """The private keys of a security directory whose mode lets others than the owner read them."""
     return [n for n in sorted(os.listdir(d)) if n.endswith(".key") and os.stat(os.path.join(d, n)).st_mode & 0o077]
 
