@@ -352,14 +352,20 @@ $("speed-set").onclick = () => send("speed", Math.max(0, parseFloat($("speed").v
 $("kill").onclick = () => { if (S.selected !== null) send("kill", S.selected); };
 
 async function loadWorld() {
+  // Live, the world writes world.json as it starts: it may not be there, or not whole, for a moment.
+  let why = "no world.json from the server";
   for (let i = 0; i < 100 && !S.world; i++) {
     try {
       const r = await fetch("run/world.json", { cache: "no-store" });
-      if (r.ok) { S.world = await r.json(); break; }
-    } catch (e) { /* not yet */ }
+      if (r.ok) {
+        const w = await r.json();
+        if (w && w.arena && w.arena.width > 0 && w.arena.height > 0 && Array.isArray(w.arena.centre)) { S.world = w; break; }
+        why = "the run's world.json has no usable arena {centre, width, height}";
+      }
+    } catch (e) { why = "the run's world.json is not valid JSON (" + e.message + ")"; }
     await new Promise((res) => setTimeout(res, 200));
   }
-  if (!S.world) { $("mode").textContent = "no world.json from the server"; return; }
+  if (!S.world) { $("mode").textContent = why; return; }
   fit();
   resize();
 }
