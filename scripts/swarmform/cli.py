@@ -301,6 +301,9 @@ def _add_sweep_parser(sub: Any) -> None:
                         "param_NAME column, sweep.json the grid's values, each run's and by_params rates")
     g.add_argument("--max-ticks", type=_int_at_least(1), metavar="T",
                    help="cut every run at tick T (default: each scenario's max_ticks)")
+    g.add_argument("--plugin-dir", action="append", default=[], metavar="DIR",
+                   help="a folder behaviour plug-ins may be loaded from, besides each scenario's own "
+                        "(docs/behaviour-api.md); passed to every run; repeatable")
     g.add_argument("--kill-window", type=_int_at_least(1), default=sweep.DEFAULT_KILL_WINDOW, metavar="T",
                    help="random:K kills fall at ticks 1..min(T, max_ticks) (default %(default)s)")
     j = p.add_argument_group("judging")

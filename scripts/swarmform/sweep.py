@@ -4,8 +4,9 @@ every core with `swarm_inprocess --no-record --quiet`, judged, and written as sw
 
 Order of a sweep:
   1. the grid is checked: every flag, every kill schedule's text (`none`, `ID@TICK[,ID@TICK...]`, `random:K`);
-  2. a probe per (scenario, shape, robots): `swarm_inprocess ... --max-ticks 1 --no-record --quiet` validates the
-     files (a bad one: its `file:line: what`, exit 2, before anything long starts) and says N and the shape;
+  2. a probe per (scenario, shape, robots), with the grid's first --param values: `swarm_inprocess ... --max-ticks 1
+     --no-record --quiet` validates the files (a bad one: its `file:line: what`, exit 2, before anything long
+     starts) and says N and the shape;
      and one per scenario and --param value, which the behaviour checks against its own parameter table;
   3. the kill schedules become `--kill ID@TICK` flags per run (a random one from an RNG seeded by the run's seed
      and the schedule's text: the same run gets the same kills every time);
@@ -81,7 +82,9 @@ Kill schedules (--kills, repeatable; each is one value of the grid's kill axis):
 Behaviour parameters (--param NAME=V1,V2,..., repeatable; each NAME one axis of the grid):
   NAME is a parameter of the scenario's behaviour (a `controller:` key: robot_agent/README.md lists the paper's),
   each run gets `--param NAME=V` over the scenario's value. Every value is checked by the behaviour before any
-  run starts: an unknown NAME or a value out of its bounds is refused naming it (exit 2).
+  run starts: an unknown NAME or a value out of its bounds is refused naming it (exit 2). A plug-in behaviour
+  (`behaviour: {plugin: ...}`) loads from its scenario's folder; --plugin-dir DIR (repeatable) adds a folder,
+  passed to every run.
 
 Success: the summary's `outcome` is the one --expect asks for (arrived: outcome arrived; formed: arrived or
 formed_not_arrived; not_formed; none; any: a clean exit with a summary). A summary without `outcome` (older
@@ -310,8 +313,10 @@ def _die_with_parent() -> None:
 
 
 def base_command(exe: str, scenario: str, shape: Optional[str], robots: Optional[int], seed: Optional[int],
-                 max_ticks: Optional[int]) -> list[str]:
+                 max_ticks: Optional[int], plugin_dirs: Sequence[str] = ()) -> list[str]:
     cmd = [exe, "--scenario", scenario]
+    for d in plugin_dirs:  # a plug-in behaviour loads only from the scenario's folder and these
+        cmd += ["--plugin-dir", d]
     if shape:
         cmd += ["--shape", shape]
     if robots is not None:
@@ -343,11 +348,12 @@ def parse_summary(text: str) -> Optional[dict[str, Any]]:
     return None
 
 
-def probe(exe: str, scenario: str, shape: Optional[str], robots: Optional[int],
-          params: Optional[Combo] = None) -> dict[str, Any]:
+def probe(exe: str, scenario: str, shape: Optional[str], robots: Optional[int], params: Optional[Combo] = None,
+          plugin_dirs: Sequence[str] = ()) -> dict[str, Any]:
     """Runs one tick: validates the files (and the --param values) and returns the summary (robots, labels,
     shape_file)."""
-    cmd = base_command(exe, scenario, shape, robots, None, 1) + param_flags(params or {}) + ["--no-record", "--quiet"]
+    cmd = (base_command(exe, scenario, shape, robots, None, 1, plugin_dirs) + param_flags(params or {}) +
+           ["--no-record", "--quiet"])
     try:
         p = subprocess.run(cmd, capture_output=True, text=True, timeout=PROBE_TIMEOUT_S,
                            preexec_fn=_die_with_parent)
@@ -831,25 +837,31 @@ def plan(opts: argparse.Namespace, exe: str) -> tuple[list[Run], dict[str, Any]]
             raise SweepError(f"--param {name} is given twice (one flag per parameter: NAME=V1,V2,...)")
         seen.add(name)
     combos = param_combinations(params)
+    plugin_dirs = list(getattr(opts, "plugin_dir", None) or [])
+    for d in plugin_dirs:
+        if not os.path.isdir(d):
+            raise SweepError(f"--plugin-dir '{d}': no such folder")
     runs: list[Run] = []
     for scenario in scenarios:
         # Each value once per scenario (its behaviour decides): an unknown name or a value out of bounds is said
         # before anything long starts. The first shape and robot count stand for the rest.
         for name, values in params:
             for text, value in values:
-                probe(exe, scenario, shapes[0], robots_list[0], {name: (text, value)})
+                probe(exe, scenario, shapes[0], robots_list[0], {name: (text, value)}, plugin_dirs)
         window_cap = opts.max_ticks or scenario_max_ticks(scenario)
         window = min(opts.kill_window, window_cap)
         for shape in shapes:
             for robots in robots_list:
-                info = probe(exe, scenario, shape, robots)
+                # With the grid's first parameters: they may decide whether the scenario loads (shape_heading
+                # turns the shape, and the loader checks that it fits).
+                info = probe(exe, scenario, shape, robots, combos[0], plugin_dirs)
                 n = info["robots"]
                 shape_name = os.path.basename(str(info.get("shape_file") or shape or "?"))
                 for combo in combos:
                     for schedule in schedules:
                         for seed in seeds:
                             flags = schedule.flags(seed, n, window)
-                            cmd = base_command(exe, scenario, shape, robots, seed, opts.max_ticks)
+                            cmd = base_command(exe, scenario, shape, robots, seed, opts.max_ticks, plugin_dirs)
                             for k in flags:
                                 cmd += ["--kill", k]
                             cmd += param_flags(combo) + ["--no-record", "--quiet"]
@@ -858,7 +870,8 @@ def plan(opts: argparse.Namespace, exe: str) -> tuple[list[Run], dict[str, Any]]
     grid = {"scenarios": scenarios, "shapes": [s or "(the scenario's)" for s in shapes],
             "robots": [r or "(the scenario's)" for r in robots_list], "seeds": _ranges(seeds),
             "seed_count": len(seeds), "kills": [s.text for s in schedules], "kill_window": opts.kill_window,
-            "max_ticks": opts.max_ticks, "params": {name: [v for _, v in values] for name, values in params},
+            "max_ticks": opts.max_ticks, "plugin_dirs": plugin_dirs,
+            "params": {name: [v for _, v in values] for name, values in params},
             "param_combinations": len(combos)}
     return runs, grid
 
