@@ -1,5 +1,6 @@
 #include "common/dds/cyclone_config.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -31,6 +32,26 @@ std::uint16_t world_discovery_port(std::uint32_t domain) {
   return static_cast<std::uint16_t>(kPortBase + kDomainGain * domain + 10);
 }
 
+std::uint32_t face_of(std::uint32_t robot_id) {
+  return std::min(robot_id / kRobotsPerFace, kMaxFaces - 1);
+}
+
+std::uint32_t face_count(std::size_t robots) {
+  return robots == 0
+             ? 1
+             : face_of(static_cast<std::uint32_t>(std::min<std::size_t>(robots - 1, 0xffffffffu))) + 1;
+}
+
+std::uint16_t face_discovery_port(std::uint32_t domain, std::uint32_t face) {
+  return static_cast<std::uint16_t>(world_discovery_port(domain) + 2 * face);
+}
+
+std::uint32_t local_domain_id(const DdsSettings& s) {
+  constexpr std::uint32_t kSecureDomains = 231;  // 0..230: Cyclone 0.10.2's access-control parser
+  if (s.role != Role::World || s.face == 0) return s.domain;
+  return (s.domain + s.face) % kSecureDomains;
+}
+
 // The document is built from one function per section of <Domain>, so a section can be added (a Security
 // section for --secure) without touching the others.
 namespace {
@@ -60,12 +81,19 @@ std::string discovery_section(const DdsSettings& s) {
   // agent socket may hold, and the world then fails to start ("failed to create unicast sockets"), as seen.
   xml += "<Ports><Base>" + std::to_string(kPortBase) + "</Base><DomainGain>" + std::to_string(kDomainGain) +
          "</DomainGain></Ports>";
+  if (s.face >= kMaxFaces) {
+    throw std::invalid_argument("face " + std::to_string(s.face) + " is out of range 0.." +
+                                std::to_string(kMaxFaces - 1));
+  }
   if (s.role == Role::World) {
-    xml += "<ParticipantIndex>0</ParticipantIndex>";
+    // Face f: ParticipantIndex f, in a domain instance of its own whose wire domain id (and so its ports) is
+    // the run's (local_domain_id).
+    xml += "<ParticipantIndex>" + std::to_string(s.face) + "</ParticipantIndex><ExternalDomainId>" +
+           std::to_string(s.domain) + "</ExternalDomainId>";
   } else {
     check_address("world host", s.world_host);
     xml += "<ParticipantIndex>none</ParticipantIndex><Peers><Peer address=\"" + s.world_host + ":" +
-           std::to_string(world_discovery_port(s.domain)) + "\"/>";
+           std::to_string(face_discovery_port(s.domain, s.face)) + "\"/>";
     for (const std::string& peer : s.extra_peers) {
       check_address("peer", peer);
       xml += "<Peer address=\"" + peer + "\"/>";
