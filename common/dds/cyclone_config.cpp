@@ -42,6 +42,12 @@ std::uint32_t face_count(std::size_t robots) {
              : face_of(static_cast<std::uint32_t>(std::min<std::size_t>(robots - 1, 0xffffffffu))) + 1;
 }
 
+std::uint32_t world_receive_buffer(std::uint64_t rmem_max) {
+  constexpr std::uint64_t kCycloneDefault = 1u << 20;
+  if (rmem_max <= kCycloneDefault) return 0;
+  return static_cast<std::uint32_t>(std::min<std::uint64_t>(rmem_max, kWorldReceiveBufferBytes));
+}
+
 std::uint16_t face_discovery_port(std::uint32_t domain, std::uint32_t face) {
   return static_cast<std::uint16_t>(world_discovery_port(domain) + 2 * face);
 }
@@ -108,6 +114,25 @@ std::string discovery_section(const DdsSettings& s) {
   // peer each 0.8 x its lease: an agent's 1 s lease cost the world ~840 submessages a second from 256 agents
   // (tcpdump, BENCHMARKS.md).
   return xml + "<LeaseDuration>5s</LeaseDuration></Discovery>";
+}
+
+std::uint64_t host_rmem_max() {
+  std::ifstream in("/proc/sys/net/core/rmem_max");
+  std::uint64_t v = 0;
+  return (in >> v) ? v : 0;
+}
+
+// The world's sockets sized for the run. While 1024 agents start, each face's discovery socket takes the
+// SPDP, SEDP, heartbeats and acknowledgements of its 64 agents (~2,000 datagrams a second in all); Cyclone's
+// 1 MiB (2 MiB once the kernel doubles it) filled whenever the world's receive threads were kept off the CPU
+// for about a second on the loaded 2-core host: 54-78 thousand datagrams dropped a start
+// (bench/scale/README.md). Linux doubles what is asked, so 4 MiB asked is 8 MiB of queue. Agents receive
+// little: Cyclone's default.
+std::string internal_section(const DdsSettings& s) {
+  if (s.role != Role::World) return "";
+  const std::uint32_t bytes = world_receive_buffer(host_rmem_max());
+  if (bytes == 0) return "";
+  return "<Internal><SocketReceiveBufferSize min=\"" + std::to_string(bytes) + "B\"/></Internal>";
 }
 
 // iceoryx shared memory is compiled in but loses samples with keep-last 1 and ignores partitions in 0.10.2.
@@ -189,7 +214,7 @@ std::string cyclone_config_xml(const DdsSettings& s) {
     throw std::invalid_argument("DDS domain " + std::to_string(s.domain) + " is out of range 0.." +
                                 std::to_string(kMaxDomain));
   }
-  return "<CycloneDDS><Domain id=\"any\">" + general_section(s) + discovery_section(s) +
+  return "<CycloneDDS><Domain id=\"any\">" + general_section(s) + discovery_section(s) + internal_section(s) +
          shared_memory_section() + (s.security ? security_config_xml(*s.security) : std::string()) +
          "</Domain></CycloneDDS>";
 }

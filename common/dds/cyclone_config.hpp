@@ -80,6 +80,13 @@ std::uint16_t face_discovery_port(std::uint32_t domain, std::uint32_t face);
 // id are the domain's (Discovery/ExternalDomainId). Stays within 0..230, the range DDS Security accepts.
 std::uint32_t local_domain_id(const DdsSettings& settings);
 
+// The receive buffer a world face asks for (Internal/SocketReceiveBufferSize min), given the host's
+// net.core.rmem_max: kWorldReceiveBufferBytes when the host allows it, else rmem_max (Cyclone then gets what
+// it asked for and says nothing; asking past rmem_max makes it log an error at every start); 0 (Cyclone's own
+// 1 MiB) when rmem_max is below that.
+inline constexpr std::uint32_t kWorldReceiveBufferBytes = 4u << 20;
+std::uint32_t world_receive_buffer(std::uint64_t rmem_max);
+
 // Our own XML configuration for these settings (throws std::invalid_argument on a bad domain or address).
 std::string cyclone_config_xml(const DdsSettings& settings);
 
