@@ -31,7 +31,7 @@ using PublicationHandle = std::uint64_t;  // dds_instance_handle_t of a remote w
 
 // The wire-protocol version every sample carries (idl/swarmform.idl WIRE_VERSION; docs/wire.md says when to
 // bump it). wire.cpp checks the two are equal at compile time.
-inline constexpr std::uint16_t kWireVersion = 3;
+inline constexpr std::uint16_t kWireVersion = 4;
 
 // A participant's GUID (its key in DDS discovery), as 16 bytes.
 using ParticipantKey = std::array<std::uint8_t, 16>;
