@@ -644,6 +644,8 @@ def run(args, render_pictures):
         if stop:
             return _interrupted(procs, stop, status, run_dir)
         code = procs.world.returncode
+        # What became of the agents that never connected, before the stragglers are killed below.
+        missing = connecting.missing_text() if code == EXIT_AGENTS_MISSING and not connecting.connected else None
         stragglers = procs.wait_agents(AGENT_EXIT_DEADLINE_S)
         watch.check(force=True)
         if stragglers:
@@ -651,9 +653,9 @@ def run(args, render_pictures):
                         "ended were killed")
         if code != 0:
             status.line(f"swarm: {_world_failure(code, run_dir)}; details in {logs}/world_console.log")
-            if code == EXIT_AGENTS_MISSING and not connecting.connected:
+            if missing is not None:
                 status.line(f"swarm: {len(connecting.missing())} of {n} agents did not connect within {wait_s:g} s "
-                            f"(--connect-timeout): {connecting.missing_text()}")
+                            f"(--connect-timeout): {missing}")
             return code if code in (EXIT_BAD_INPUT, EXIT_AGENTS_MISSING, EXIT_DISK_FULL) else EXIT_WORLD_FAILED
         ticks = done[0] if done else "?"
         status.line(f"swarm: {ticks} ticks in {time.monotonic() - started:.1f} s; run directory {run_dir}")
