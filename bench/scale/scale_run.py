@@ -326,9 +326,10 @@ def main():
                 agent_pids = [p.pid for p in agents]
             else:
                 block_out = os.path.join(tmp, "block.out")
-                with open(block_out, "w") as out:
+                block_err = os.path.join(tmp, "block.err")  # why an agent gave up, if one did
+                with open(block_out, "w") as out, open(block_err, "w") as err_file:
                     block = spawn([agent_exe, "--id", "0", "--count", str(a.robots), "--domain", str(a.domain),
-                                   "--timeout", str(timeout)], stdout=out, stderr=subprocess.DEVNULL)
+                                   "--timeout", str(timeout)], stdout=out, stderr=err_file)
                 agent_pids = None
                 deadline = time.monotonic() + 60
                 while agent_pids is None and block.poll() is None and time.monotonic() < deadline:
@@ -362,8 +363,15 @@ def main():
                                       "world": cpu_seconds(world.pid)}
                 time.sleep(0.02)
             if not first:
-                raise RuntimeError(f"the world did not start ticking (exit {world.poll()}); "
-                                   f"last lines: {lines[-3:]}")
+                world_err.seek(0)
+                said = [x for x in world_err.read().splitlines() if "missing after" in x or "matched no" in x]
+                agents_said = []
+                if a.launch == "block":
+                    with open(block_err, errors="replace") as f:
+                        agents_said = [x for x in f.read().splitlines() if x.strip()][-3:]
+                raise RuntimeError(f"the world did not start ticking (exit {world.poll()}); its last lines: "
+                                   f"{lines[-3:]}; {said[-1:] or 'no missing ids said yet'}; the agents' last "
+                                   f"messages: {agents_said or 'none'}")
             clock_start_seconds = first[0][0] - first[0][1] / rate - t0
             connect_seconds = connected[0] - t0 if connected else clock_start_seconds
             # CPU over the middle of the run: from 20% to 80% of its ticks; RSS sampled at the end of it.
