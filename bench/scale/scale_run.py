@@ -90,8 +90,13 @@ def _die_with_parent():
     _libc.prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
 
 
-def spawn(argv, die_with_parent=True, **kw):
-    p = subprocess.Popen(argv, preexec_fn=_die_with_parent if die_with_parent else None, **kw)
+def spawn(argv, die_with_parent=True, nice=0, **kw):
+    def before_exec():
+        if die_with_parent:
+            _die_with_parent()
+        if nice:
+            os.nice(nice)
+    p = subprocess.Popen(argv, preexec_fn=before_exec if die_with_parent or nice else None, **kw)
     children.append(p)
     return p
 
@@ -277,6 +282,9 @@ def main():
                     help="seconds the world waits for every agent (default: world_server's, 30 + 0.025 x N)")
     ap.add_argument("--keep", metavar="DIR", help="copy the world's run folder (events.jsonl, summary.json) here")
     ap.add_argument("--build-dir", default=os.environ.get("BUILD_DIR", os.path.join(ROOT, "build")))
+    ap.add_argument("--agents-nice", type=int, default=0, metavar="N",
+                    help="start the agents' block at this niceness (0..19; --launch block only): an experiment in "
+                         "giving the world the larger CPU share")
     ap.add_argument("--launch", choices=("block", "each"), default="block",
                     help="one robot_agent --count N forking the agents (default), or N executables")
     a = ap.parse_args()
@@ -329,7 +337,7 @@ def main():
                 block_err = os.path.join(tmp, "block.err")  # why an agent gave up, if one did
                 with open(block_out, "w") as out, open(block_err, "w") as err_file:
                     block = spawn([agent_exe, "--id", "0", "--count", str(a.robots), "--domain", str(a.domain),
-                                   "--timeout", str(timeout)], stdout=out, stderr=err_file)
+                                   "--timeout", str(timeout)], nice=a.agents_nice, stdout=out, stderr=err_file)
                 agent_pids = None
                 deadline = time.monotonic() + 60
                 while agent_pids is None and block.poll() is None and time.monotonic() < deadline:
@@ -430,7 +438,7 @@ def main():
                 raise RuntimeError(f"the world said {said} missed ticks, its events hold {missed}")
             result = {
                 "robots": a.robots, "ticks": summary["ticks"], "tick_rate": rate, "behaviour": "random_walk",
-                "launch": a.launch, "region_side_m": side, "connect_timeout_s": a.connect_timeout,
+                "launch": a.launch, "agents_nice": a.agents_nice, "region_side_m": side, "connect_timeout_s": a.connect_timeout,
                 "load_average": {"start": load0, "end": load1},
                 "spawn_seconds": round(spawned, 3),
                 "connect_seconds": round(connect_seconds, 3),
