@@ -79,8 +79,35 @@ def _stamp(t):
     return t.strftime("%Y-%m-%dT%H:%M:%S")
 
 
+# The world's faces (docs/wire.md "Faces"): face f of a world on domain D is a Cyclone domain instance of its own
+# in the world's process, created with the local domain id (D + f) mod 231 (common/dds/cyclone_config.cpp
+# local_domain_id) and speaking domain D on the wire. Cyclone's access control checks the local id, so the
+# governance and the world's permissions name those ids too. Mirrors cyclone_config.hpp's constants.
+ROBOTS_PER_FACE, MAX_FACES = 64, 45
+
+
+def face_domain_ids(domain, robots):
+    """The local domain ids of the world's faces for `robots` robots on `domain`, face 0 (the domain) first."""
+    faces = min((max(robots, 1) - 1) // ROBOTS_PER_FACE, MAX_FACES - 1) + 1
+    return [domain] + [(domain + f) % (MAX_SECURE_DOMAIN + 1) for f in range(1, faces)]
+
+
+def _granted_domains(identity, faces):
+    """The domain ids an identity's permissions name: the world every face's; robot K the run's domain and its
+    face's local id (the world's face checks a remote participant's permissions against its own local id); the
+    observer the run's domain (face 0)."""
+    if identity == "world":
+        return faces
+    if identity.startswith("robot-"):
+        face = min(int(identity[len("robot-"):]) // ROBOTS_PER_FACE, len(faces) - 1)
+        return faces[:1] + ([faces[face]] if face > 0 else [])
+    return faces[:1]
+
+
 def _domains(domain):
-    return f"<domains><id>{domain}</id></domains>"
+    """<domains> naming one id, or each of a list of ids."""
+    ids = domain if isinstance(domain, (list, tuple)) else [domain]
+    return "<domains>" + "".join(f"<id>{d}</id>" for d in ids) + "</domains>"
 
 
 def permissions_xml(identity, now, domain):
@@ -151,7 +178,8 @@ def _identity(d, identity, serial, now, domain):
 
 def make_security_dir(run_dir, robots, domain, workers=4):
     """Makes RUN_DIR/security for a run of `robots` robots on DDS domain `domain` (the governance and every
-    permission name that domain only); returns its path. Raises SecurityError."""
+    permission name that domain only, and the world's faces' local ids: face_domain_ids); returns its path.
+    Raises SecurityError."""
     if not 0 <= domain <= MAX_SECURE_DOMAIN:
         raise SecurityError(f"DDS domain {domain}: Cyclone 0.10.2's access control takes domain ids 0.."
                             f"{MAX_SECURE_DOMAIN} only in governance and permissions; choose another --domain")
@@ -166,12 +194,14 @@ def make_security_dir(run_dir, robots, domain, workers=4):
     _openssl("req", "-x509", "-newkey", "ec", "-pkeyopt", "ec_paramgen_curve:prime256v1", "-nodes",
              "-keyout", "ca.key", "-subj", f"/O={ORGANISATION}/CN={ORGANISATION} run CA", "-days", str(VALID_DAYS),
              "-out", "ca.pem", cwd=d)
-    _write(os.path.join(d, "governance.xml"), governance_xml(domain))
+    faces = face_domain_ids(domain, robots)
+    _write(os.path.join(d, "governance.xml"), governance_xml(faces))
     _openssl("smime", "-sign", "-in", "governance.xml", "-text", "-out", "governance.p7s", "-signer", "ca.pem",
              "-inkey", "ca.key", cwd=d)
     identities = ["world", "observer"] + [robot_identity(k) for k in range(robots)]
     with concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:
-        for f in [pool.submit(_identity, d, ident, serial, now, domain) for serial, ident in enumerate(identities, 2)]:
+        for f in [pool.submit(_identity, d, ident, serial, now, _granted_domains(ident, faces))
+                  for serial, ident in enumerate(identities, 2)]:
             f.result()
     # Nothing is signed after this: without the CA's key no other identity or permission can be made.
     os.remove(os.path.join(d, "ca.key"))
