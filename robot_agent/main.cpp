@@ -62,6 +62,8 @@ struct Options {
 swarmform::dds::DdsSettings dds_settings(const Options& o) {
   swarmform::dds::DdsSettings settings;
   settings.domain = o.domain;
+  settings.face =
+      swarmform::dds::face_of(o.id);  // the world's participant for this id (docs/wire.md "Faces")
   settings.role = swarmform::dds::Role::Agent;
   settings.world_host = o.world_host;
   settings.interface_address = o.interface_address;

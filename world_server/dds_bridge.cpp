@@ -2,17 +2,72 @@
 
 namespace swarmform::server {
 
+WorldFaces::WorldFaces(const dds::DdsSettings& settings, std::size_t robots) {
+  const std::uint32_t n = dds::face_count(robots);
+  for (std::uint32_t f = 0; f < n; ++f) {
+    dds::DdsSettings face = settings;
+    face.face = f;
+    faces.push_back(std::make_unique<dds::Participant>(face));
+  }
+}
+
+std::vector<const dds::Participant*> WorldFaces::list() const {
+  std::vector<const dds::Participant*> out;
+  for (const auto& f : faces) out.push_back(f.get());
+  return out;
+}
+
+FaceMissions::FaceMissions(const WorldFaces& faces) {
+  for (const auto& f : faces.faces) writers_.push_back(std::make_unique<dds::MissionWriter>(*f));
+}
+
+void FaceMissions::publish(const dds::MissionAnnouncement& announcement) {
+  for (auto& w : writers_) w->publish(announcement);
+}
+
+FaceCommands::FaceCommands(const WorldFaces& faces, dds::Waiter& waiter, bool realtime,
+                           std::uint32_t accept_ids) {
+  for (std::uint32_t f = 0; f < faces.faces.size(); ++f) {
+    readers_.push_back(
+        std::make_unique<dds::CommandReader>(*faces.faces[f], waiter, realtime, accept_ids, f));
+    waiter.attach(readers_.back()->condition());
+  }
+}
+
+std::size_t FaceCommands::take(std::vector<dds::CommandSample>& buf, std::size_t max_samples) {
+  std::size_t n = 0;
+  for (auto& r : readers_) {
+    if (n >= max_samples) break;  // the rest stays triggered: taken at the next call
+    n += r->take(buf, max_samples - n, n);
+  }
+  return n;
+}
+
+void FaceCommands::take_liveliness_changes(std::vector<dds::CommandReader::LivelinessChange>& out) {
+  for (auto& r : readers_) r->take_liveliness_changes(out);
+}
+
+std::uint64_t FaceCommands::filtered() const {
+  std::uint64_t n = 0;
+  for (const auto& r : readers_) n += r->filtered();
+  return n;
+}
+
+std::optional<RobotId> FaceCommands::authenticated_robot(std::uint32_t face, dds::PublicationHandle writer) {
+  if (face >= readers_.size()) return std::nullopt;
+  return readers_[face]->authenticated_robot(writer);
+}
+
 WorldLink::WorldLink(const dds::DdsSettings& settings, std::size_t robot_count, bool realtime,
                      std::uint64_t run_nonce)
-    : participant(settings),
+    : faces(settings, robot_count),
+      participant(*faces.faces.front()),
       waiter(participant),
-      mission(participant),
-      robots(participant, robot_count, realtime),
-      commands(participant, waiter, realtime,
-               static_cast<std::uint32_t>(robot_count + dds::kMaxExtraChannels)),
+      mission(faces),
+      robots(faces.list(), robot_count, realtime),
+      commands(faces, waiter, realtime, static_cast<std::uint32_t>(robot_count + dds::kMaxExtraChannels)),
       state(participant, run_nonce) {
   robots.set_run_nonce(run_nonce);
-  waiter.attach(commands.condition());
 }
 
 dds::MissionAnnouncement mission_of(const world::Scenario& scenario, std::uint64_t run_nonce) {

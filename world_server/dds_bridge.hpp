@@ -3,6 +3,8 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <vector>
 
 #include "common/dds/signal_watch.hpp"
@@ -12,17 +14,52 @@
 
 namespace swarmform::server {
 
-// Declared in the order they must be built (participant first) and torn down (in reverse).
+// The world's faces (docs/wire.md "Faces"): one participant per block of dds::kRobotsPerFace robots, each in
+// a Cyclone domain instance of its own, so an agent discovers only its own face's per-robot writers. Face 0
+// also carries the world state and the viewer's endpoints.
+struct WorldFaces {
+  WorldFaces(const dds::DdsSettings& settings, std::size_t robots);
+  std::vector<std::unique_ptr<dds::Participant>> faces;
+  std::vector<const dds::Participant*> list() const;
+};
+
+// The mission on every face (each face's agents read it from their own face).
+class FaceMissions {
+ public:
+  explicit FaceMissions(const WorldFaces& faces);
+  void publish(const dds::MissionAnnouncement& announcement);
+
+ private:
+  std::vector<std::unique_ptr<dds::MissionWriter>> writers_;
+};
+
+// Every face's command reader, read as one (the world's pump).
+class FaceCommands {
+ public:
+  FaceCommands(const WorldFaces& faces, dds::Waiter& waiter, bool realtime, std::uint32_t accept_ids);
+  // As dds::CommandReader::take, over every face (each sample's `face` says whose reader took it).
+  std::size_t take(std::vector<dds::CommandSample>& buf, std::size_t max_samples = dds::kMaxCommandTake);
+  void take_liveliness_changes(std::vector<dds::CommandReader::LivelinessChange>& out);
+  std::uint64_t filtered() const;
+  // The authenticated robot of `writer`, asked of the reader of `face` (the one that took its sample).
+  std::optional<RobotId> authenticated_robot(std::uint32_t face, dds::PublicationHandle writer);
+
+ private:
+  std::vector<std::unique_ptr<dds::CommandReader>> readers_;
+};
+
+// Declared in the order they must be built (participants first) and torn down (in reverse).
 struct WorldLink {
   // realtime: the per-tick topics are best effort (common/dds/qos.hpp Pace), as the mission tells the agents.
   // run_nonce: stamped on every sample the world writes (docs/wire.md "Run nonce").
   WorldLink(const dds::DdsSettings& settings, std::size_t robots, bool realtime, std::uint64_t run_nonce);
 
-  dds::Participant participant;
+  WorldFaces faces;
+  dds::Participant& participant;  // face 0: the world state, the viewer
   dds::Waiter waiter;
-  dds::MissionWriter mission;
+  FaceMissions mission;
   dds::RobotChannels robots;
-  dds::CommandReader commands;
+  FaceCommands commands;
   dds::WorldStateWriter state;
 };
 

@@ -49,7 +49,7 @@ struct Options {
   std::vector<std::string> kills;
   std::vector<std::string> faults;
   std::vector<std::string> agent_pids;
-  double connect_timeout_s = 60.0;
+  std::optional<double> connect_timeout_s;  // default: default_connect_timeout(robots)
   Tick warmup_ticks = 100;
   std::string run_nonce;
   std::string agent_pids_file;
@@ -144,7 +144,8 @@ int run(const Options& o) {
   swarmform::server::ServerOptions so;
   so.run_dir = o.out;
   so.dds = dds_settings(o);
-  so.connect_timeout_s = o.connect_timeout_s;
+  so.connect_timeout_s =
+      o.connect_timeout_s.value_or(swarmform::server::default_connect_timeout(scenario.robots.size()));
   so.warmup_ticks = o.warmup_ticks;
   so.agent_pids_file = o.agent_pids_file;
   if (!o.run_nonce.empty()) {
@@ -221,7 +222,9 @@ int main(int argc, char** argv) {
       "--start-paused", o.start_paused,
       "lockstep: hold tick 0 until the viewer says go (needs --viewer-token; runs anyway if no viewer "
       "binds within 30 s)");
-  app.add_option("--connect-timeout", o.connect_timeout_s, "seconds to wait for every agent (default 60)")
+  app.add_option("--connect-timeout", o.connect_timeout_s,
+                 "seconds to wait for every agent to claim its id; then exit 3 naming the missing ids "
+                 "(default 30 + 0.025 x robots: 55.6 s for 1024)")
       ->check(CLI::PositiveNumber);
   app.add_option("--warmup-ticks", o.warmup_ticks,
                  "ticks left out of summary.json's steady_ticks_per_second (default 100; the first ticks of "

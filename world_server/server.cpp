@@ -365,10 +365,23 @@ void Server::on_claim(const dds::CommandSample& s, bool running) {
     refusals_.refuse(s.writer, writer_text(s), "claim", why, dds_time());
     return;
   }
+  if (const std::uint32_t face = link_.robots.face(s.robot_id); s.face != face) {
+    // Robot K's packets go out on face face(K) only (docs/wire.md "Faces"): an agent that claims K on another
+    // face would never hear its packets. (It does not hear this answer either: the world says it here.)
+    const std::string why = "robot " + std::to_string(s.robot_id) +
+                            "'s agent must peer with the world's face " + std::to_string(face) +
+                            " (UDP port " +
+                            std::to_string(dds::face_discovery_port(options_.dds.domain, face)) +
+                            "), not face " + std::to_string(s.face);
+    link_.robots.reply_claim(dds::ClaimAnswer{s.robot_id, s.nonce, false, why});
+    report(s, Abuse::RefusedClaim, "claim_refused",
+           "refused a claim of id " + std::to_string(s.robot_id) + ": " + why, true);
+    return;
+  }
   if (link_.participant.secure()) {
     // Under --secure an id goes only to the participant authenticated as that robot: its claim must come
     // from a writer in partition robot/K, which DDS Security lets only robot K's certificate write.
-    const auto who = link_.commands.authenticated_robot(s.writer);
+    const auto who = link_.commands.authenticated_robot(s.face, s.writer);
     if (who != s.robot_id) {
       const std::string why = who ? "the claimant is authenticated as robot " + std::to_string(*who) +
                                         ", not robot " + std::to_string(s.robot_id)

@@ -35,6 +35,16 @@
 
 namespace swarmform::server {
 
+// How long the world waits for every agent when --connect-timeout is not given: 30 s, plus 25 ms an agent
+// (1024 agents: 55.6 s). Start-up grows with N (each agent starts a DDS participant and discovers the world
+// on a shared machine), so a fixed wait is either too short at 2048 or needlessly long at 4; the launcher
+// (scripts/swarmform/launcher.py connect_timeout) mirrors this formula.
+inline constexpr double kConnectTimeoutBaseS = 30.0;
+inline constexpr double kConnectTimeoutPerAgentS = 0.025;
+inline double default_connect_timeout(std::size_t robots) {
+  return kConnectTimeoutBaseS + kConnectTimeoutPerAgentS * static_cast<double>(robots);
+}
+
 struct ServerOptions {
   std::string run_dir;
   dds::DdsSettings dds;                 // role World

@@ -1,9 +1,16 @@
 #!/usr/bin/python3
-"""Issue 6 P2: N agent processes and the world on this machine, realtime mode; prints one JSON line.
+"""Issue 6 / 22 P2: N agent processes and the world on this machine, realtime mode; prints one JSON line.
 
-  bench/scale/scale_run.py [--robots 256] [--ticks 600] [--scenario bench/scale/realtime.yaml]
-                           [--domain 180] [--connect-timeout 60] [--build-dir build] [--keep DIR]
-                           [--launch block|each]
+  bench/scale/scale_run.py [--agents 1024] [--ticks 600] [--scenario bench/scale/realtime.yaml]
+                           [--area-per-robot 0.6] [--domain 180] [--connect-timeout S] [--build-dir build]
+                           [--keep DIR] [--launch block|each]
+
+Run it in a network namespace of its own (`ip netns exec NS ...`): the UDP drop counters are then the run's
+alone (/proc/net/snmp and /proc/net/udp are per namespace), and no other DDS process is on its loopback.
+
+The scenario's start region is sized for N (--area-per-robot m^2 a robot, a square; the arena around it 10 m
+wider, at least the template's): the template's own region holds only ~300 robots. The sized copy is written
+next to the run (its `shape` made absolute).
 
 How the agents start (--launch): `block` (default) is one `robot_agent --id 0 --count N`, whose N robots are N
 processes forked from it (common/dds/robot_block.hpp: the way to start many agents on one machine, without
@@ -11,6 +18,8 @@ each paying ~20 ms of CPU to load the DDS libraries); `each` is N `robot_agent -
 world, as `scripts/swarm run` does.
 
 What it measures, in one run:
+  cpu_seconds_until_connected  CPU (utime + stime) the agents together and the world had used when every agent
+                    was connected: against 2 cores x connect_seconds, it says whether start-up is CPU-bound;
   connect_seconds   from the start of the first agent until the world had every agent connected: the arrival of
                     its `connected agents=N` line (read from its stdout as it comes). clock_start_seconds: when
                     its realtime clock started, from its first `progress tick=T` line, which comes T periods
@@ -19,6 +28,10 @@ What it measures, in one run:
                     for tick t not in before tick t+1; world_server/server.cpp), checked against the
                     "K missed ticks" line it prints on stderr;
   rss_mib           VmRSS of every agent (/proc/PID/status) sampled mid-run: max, median, mean; and the world's;
+  pss_mib           the proportional set size of every agent (/proc/PID/smaps_rollup Pss, sampled after the
+                    CPU window): a forked agent shares its pages with its siblings, so RSS counts the shared
+                    libraries in full in every agent and PSS divides them: the memory the N agents really
+                    take is agents_total; max, median, mean per agent;
   cpu               utime+stime (/proc/PID/stat) of the agents together and of the world over the middle of the
                     run, as % of one core. The agents are idle but for one control step and one DDS round
                     trip per 100 ms, so the agents' figure is reported as the idle CPU;
@@ -31,7 +44,11 @@ What it measures, in one run:
   world_publish_per_round  the world's own profile line: the publish phase's wall time, its main thread's CPU
                     time in it and its preemptions, per round;
   udp_receive_buffer_errors  datagrams the kernel dropped on full UDP receive buffers during the run
-                    (/proc/net/snmp RcvbufErrors; machine-wide, so other processes' drops count too).
+                    (/proc/net/snmp RcvbufErrors: the network namespace's; machine-wide without one);
+  udp_socket_drops  the same per socket at 95% of the run (/proc/net/udp `drops`, while every socket is open; since
+                    each socket opened), summed over the world's
+                    sockets (its fixed ports) and over the agents' (the rest), to say whose buffer overflowed;
+  load_average      /proc/loadavg at the start and at the end (the host is shared: read every figure with it).
 Every process started here is killed by its pid at the end, a block's agents too while the block runs (the
 world and the block also get PR_SET_PDEATHSIG, the block's agents get SIGTERM when it dies; executables started
 with --launch each give up by themselves after --timeout without a world); every wait has a deadline.
@@ -73,8 +90,13 @@ def _die_with_parent():
     _libc.prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
 
 
-def spawn(argv, die_with_parent=True, **kw):
-    p = subprocess.Popen(argv, preexec_fn=_die_with_parent if die_with_parent else None, **kw)
+def spawn(argv, die_with_parent=True, nice=0, **kw):
+    def before_exec():
+        if die_with_parent:
+            _die_with_parent()
+        if nice:
+            os.nice(nice)
+    p = subprocess.Popen(argv, preexec_fn=before_exec if die_with_parent or nice else None, **kw)
     children.append(p)
     return p
 
@@ -122,6 +144,81 @@ def rss_mib(pid):
     except OSError:
         return None
     return None
+
+
+def pss_mib(pid):
+    """Proportional set size of a live process (/proc/PID/smaps_rollup), MiB; None when unreadable."""
+    try:
+        with open(f"/proc/{pid}/smaps_rollup") as f:
+            for line in f:
+                if line.startswith("Pss:"):
+                    return int(line.split()[1]) / 1024.0
+    except OSError:
+        return None
+    return None
+
+
+def udp_socket_drops(domain):
+    """Drops per UDP socket now (/proc/net/udp and udp6, this namespace), summed for the world's fixed ports
+    (7400 + 100 x domain + 10..99: its faces' discovery and data ports) and for every other socket (the agents')."""
+    lo, hi = 7400 + 100 * domain + 10, 7400 + 100 * domain + 99
+    world = agents = 0
+    for path in ("/proc/net/udp", "/proc/net/udp6"):
+        try:
+            with open(path) as f:
+                rows = f.read().splitlines()[1:]
+        except OSError:
+            continue
+        for row in rows:
+            fields = row.split()
+            try:
+                port = int(fields[1].rsplit(":", 1)[1], 16)
+                drops = int(fields[-1])
+            except (IndexError, ValueError):
+                continue
+            if lo <= port <= hi:
+                world += drops
+            else:
+                agents += drops
+    return {"world_sockets": world, "agent_sockets": agents}
+
+
+def load_average():
+    try:
+        with open("/proc/loadavg") as f:
+            return [float(x) for x in f.read().split()[:3]]
+    except (OSError, ValueError):
+        return None
+
+
+def sized_scenario(template, agents, area_per_robot, out_path):
+    """The template with its start region a square of agents x area_per_robot m^2 (the arena 10 m wider, at least
+    the template's), its shape made absolute; written to out_path. Only the template's own one-line `arena:` and
+    `robots:` mappings and its `shape:` line are rewritten (bench/scale/realtime.yaml)."""
+    side = round((agents * area_per_robot) ** 0.5, 2)
+    folder = os.path.dirname(os.path.abspath(template))
+    lines = []
+    with open(template) as f:
+        for line in f:
+            m = re.match(r"arena: \{centre: \[([^]]*)\], width: ([0-9.]+), height: ([0-9.]+)(.*)$", line)
+            if m:
+                width = max(float(m[2]), side + 10.0)
+                height = max(float(m[3]), side + 10.0)
+                line = f"arena: {{centre: [{m[1]}], width: {width}, height: {height}{m[4]}\n"
+            m = re.match(r"robots: \{count: (\d+), region: \{centre: \[([^]]*)\], width: [0-9.]+, height: [0-9.]+\}\}",
+                         line)
+            if m:
+                line = f"robots: {{count: {agents}, region: {{centre: [{m[2]}], width: {side}, height: {side}}}}}\n"
+            m = re.match(r"shape: (\S+)\s*$", line)
+            if m and not os.path.isabs(m[1]):
+                for base in (folder, os.path.join(ROOT, "shapes")):
+                    if os.path.isfile(os.path.join(base, m[1])):
+                        line = f"shape: {os.path.join(base, m[1])}\n"
+                        break
+            lines.append(line)
+    with open(out_path, "w") as f:
+        f.writelines(lines)
+    return side
 
 
 def udp_receive_buffer_errors():
@@ -173,18 +270,37 @@ def read_world(world, lines, first_progress, connected):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__)
-    ap.add_argument("--robots", type=int, default=256)
+    ap.add_argument("--agents", "--robots", dest="robots", type=int, default=1024, metavar="N",
+                    help="agent processes (robots) in the run (default 1024)")
     ap.add_argument("--ticks", type=int, default=600)
-    ap.add_argument("--scenario", default=os.path.join(ROOT, "bench", "scale", "realtime.yaml"))
+    ap.add_argument("--scenario", default=os.path.join(ROOT, "bench", "scale", "realtime.yaml"),
+                    help="the template scenario (its region is resized for N)")
+    ap.add_argument("--area-per-robot", type=float, default=0.6, metavar="M2",
+                    help="start region per robot, m^2 (default 0.6, as P3's workload)")
     ap.add_argument("--domain", type=int, default=180, help="DDS domain id (0..232)")
-    ap.add_argument("--connect-timeout", type=float, default=60.0)
+    ap.add_argument("--connect-timeout", type=float, default=None, metavar="S",
+                    help="seconds the world waits for every agent (default: world_server's, 30 + 0.025 x N)")
     ap.add_argument("--keep", metavar="DIR", help="copy the world's run folder (events.jsonl, summary.json) here")
     ap.add_argument("--build-dir", default=os.environ.get("BUILD_DIR", os.path.join(ROOT, "build")))
+    ap.add_argument("--agents-nice", type=int, default=0, metavar="N",
+                    help="start the agents' block at this niceness (0..19; --launch block only): an experiment in "
+                         "giving the world the larger CPU share")
     ap.add_argument("--launch", choices=("block", "each"), default="block",
                     help="one robot_agent --count N forking the agents (default), or N executables")
     a = ap.parse_args()
-    if a.robots < 1 or a.ticks < 20 or not 0 <= a.domain <= 232:
-        print("scale_run: --robots >= 1, --ticks >= 20, --domain 0..232", file=sys.stderr)
+    if a.robots < 1 or a.ticks < 20 or not 0 <= a.domain <= 232 or not a.area_per_robot > 0:
+        print("scale_run: --agents >= 1, --ticks >= 20, --domain 0..232, --area-per-robot > 0", file=sys.stderr)
+        return 2
+    if a.connect_timeout is None:
+        a.connect_timeout = 30.0 + 0.025 * a.robots  # world_server's default (world_server/server.hpp)
+    scratch = tempfile.mkdtemp(prefix="bench-scale-scenario-")
+    template = a.scenario
+    a.scenario = os.path.join(scratch, "scale.yaml")
+    try:
+        side = sized_scenario(template, a.robots, a.area_per_robot, a.scenario)
+    except OSError as e:
+        print(f"scale_run: {template}: {e}", file=sys.stderr)
+        shutil.rmtree(scratch, ignore_errors=True)
         return 2
     world_exe = os.path.join(a.build_dir, "world_server", "world_server")
     agent_exe = os.path.join(a.build_dir, "robot_agent", "robot_agent")
@@ -196,6 +312,7 @@ def main():
                            capture_output=True, text=True, timeout=60)
     if check.returncode != 0:
         print(check.stderr.strip(), file=sys.stderr)
+        shutil.rmtree(scratch, ignore_errors=True)
         return 2
     rate = None
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
@@ -204,6 +321,7 @@ def main():
             run_dir = os.path.join(tmp, "run")
             timeout = a.connect_timeout + 10
             drops0 = udp_receive_buffer_errors()
+            load0 = load_average()
             t0 = time.monotonic()
             # No preexec_fn for the agents: it forces Python to fork itself 256 times (11 s on a loaded 2-core
             # machine, against 1.5 s with vfork), which would be measured as the swarm's start-up. An agent
@@ -216,9 +334,10 @@ def main():
                 agent_pids = [p.pid for p in agents]
             else:
                 block_out = os.path.join(tmp, "block.out")
-                with open(block_out, "w") as out:
+                block_err = os.path.join(tmp, "block.err")  # why an agent gave up, if one did
+                with open(block_out, "w") as out, open(block_err, "w") as err_file:
                     block = spawn([agent_exe, "--id", "0", "--count", str(a.robots), "--domain", str(a.domain),
-                                   "--timeout", str(timeout)], stdout=out, stderr=subprocess.DEVNULL)
+                                   "--timeout", str(timeout)], nice=a.agents_nice, stdout=out, stderr=err_file)
                 agent_pids = None
                 deadline = time.monotonic() + 60
                 while agent_pids is None and block.poll() is None and time.monotonic() < deadline:
@@ -244,11 +363,23 @@ def main():
                         rate = float(line.split(":", 1)[1].split("#")[0])
             # Wait for the first progress line (the run started), with a deadline.
             deadline = time.monotonic() + a.connect_timeout + 5
+            cpu_at_connect = None
             while not first and world.poll() is None and time.monotonic() < deadline:
+                if connected and cpu_at_connect is None:  # start-up's CPU: is connecting CPU-bound?
+                    cpu_at_connect = {"agents": round(sum(c for c in (cpu_seconds(p) for p in agent_pids)
+                                                          if c is not None), 2),
+                                      "world": cpu_seconds(world.pid)}
                 time.sleep(0.02)
             if not first:
-                raise RuntimeError(f"the world did not start ticking (exit {world.poll()}); "
-                                   f"last lines: {lines[-3:]}")
+                world_err.seek(0)
+                said = [x for x in world_err.read().splitlines() if "missing after" in x or "matched no" in x]
+                agents_said = []
+                if a.launch == "block":
+                    with open(block_err, errors="replace") as f:
+                        agents_said = [x for x in f.read().splitlines() if x.strip()][-3:]
+                raise RuntimeError(f"the world did not start ticking (exit {world.poll()}); its last lines: "
+                                   f"{lines[-3:]}; {said[-1:] or 'no missing ids said yet'}; the agents' last "
+                                   f"messages: {agents_said or 'none'}")
             clock_start_seconds = first[0][0] - first[0][1] / rate - t0
             connect_seconds = connected[0] - t0 if connected else clock_start_seconds
             # CPU over the middle of the run: from 20% to 80% of its ticks; RSS sampled at the end of it.
@@ -266,12 +397,18 @@ def main():
             rss = [r for r in (rss_mib(p) for p in pids) if r is not None]
             world_rss = rss_mib(world.pid)
             live = [(b - a_) for a_, b in zip(c0, c1) if a_ is not None and b is not None]
+            pss = [r for r in (pss_mib(p) for p in pids) if r is not None]  # after the CPU window: it costs
+            world_pss = pss_mib(world.pid)
+            # Per-socket drops while every socket is still open (the world closes its own at the end).
+            time.sleep(max(0.0, started + 0.95 * run_seconds - time.monotonic()))
+            socket_drops = udp_socket_drops(a.domain)
             try:
                 world.wait(timeout=run_seconds + 60)
             except subprocess.TimeoutExpired:
                 raise RuntimeError("the world did not finish in time")
             reader.join(timeout=5)
             drops1 = udp_receive_buffer_errors()
+            load1 = load_average()
             world_err.seek(0)
             err = world_err.read()
             if world.returncode != 0:
@@ -301,10 +438,12 @@ def main():
                 raise RuntimeError(f"the world said {said} missed ticks, its events hold {missed}")
             result = {
                 "robots": a.robots, "ticks": summary["ticks"], "tick_rate": rate, "behaviour": "random_walk",
-                "launch": a.launch,
+                "launch": a.launch, "agents_nice": a.agents_nice, "region_side_m": side, "connect_timeout_s": a.connect_timeout,
+                "load_average": {"start": load0, "end": load1},
                 "spawn_seconds": round(spawned, 3),
                 "connect_seconds": round(connect_seconds, 3),
                 "clock_start_seconds": round(clock_start_seconds, 3),
+                "cpu_seconds_until_connected": cpu_at_connect,
                 "missed_ticks": missed,
                 "missed_ticks_by_tenth_of_run": missed_by_tenth,
                 # Bursts: few ticks with many agents each (the world's publish phase ran late), or a spread.
@@ -316,12 +455,19 @@ def main():
                 # agents discover it (BENCHMARKS.md, P2); other processes' drops count too.
                 "udp_receive_buffer_errors": (drops1 - drops0) if drops0 is not None and drops1 is not None
                 else None,
+                "udp_socket_drops": socket_drops,
                 "achieved_ticks_per_second": summary["ticks_per_second"],
                 "rss_mib": {"agents_max": round(max(rss), 2) if rss else None,
                             "agents_median": round(statistics.median(rss), 2) if rss else None,
                             "agents_mean": round(statistics.mean(rss), 2) if rss else None,
                             "agents_sampled": len(rss),
                             "world": round(world_rss, 2) if world_rss is not None else None},
+                "pss_mib": {"agents_max": round(max(pss), 2) if pss else None,
+                            "agents_median": round(statistics.median(pss), 2) if pss else None,
+                            "agents_mean": round(statistics.mean(pss), 2) if pss else None,
+                            "agents_total": round(sum(pss), 1) if pss else None,
+                            "agents_sampled": len(pss),
+                            "world": round(world_pss, 2) if world_pss is not None else None},
                 "cpu_percent_of_one_core": {
                     "agents_total": round(100.0 * sum(live) / window, 1),
                     "agent_mean": round(100.0 * sum(live) / window / max(1, len(live)), 3),
@@ -336,6 +482,7 @@ def main():
         return 1
     finally:
         kill_all()
+        shutil.rmtree(scratch, ignore_errors=True)
     print(json.dumps(result), flush=True)
     return 0
 

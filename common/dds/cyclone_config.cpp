@@ -1,5 +1,6 @@
 #include "common/dds/cyclone_config.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -31,6 +32,32 @@ std::uint16_t world_discovery_port(std::uint32_t domain) {
   return static_cast<std::uint16_t>(kPortBase + kDomainGain * domain + 10);
 }
 
+std::uint32_t face_of(std::uint32_t robot_id) {
+  return std::min(robot_id / kRobotsPerFace, kMaxFaces - 1);
+}
+
+std::uint32_t face_count(std::size_t robots) {
+  return robots == 0
+             ? 1
+             : face_of(static_cast<std::uint32_t>(std::min<std::size_t>(robots - 1, 0xffffffffu))) + 1;
+}
+
+std::uint32_t world_receive_buffer(std::uint64_t rmem_max) {
+  constexpr std::uint64_t kCycloneDefault = 1u << 20;
+  if (rmem_max <= kCycloneDefault) return 0;
+  return static_cast<std::uint32_t>(std::min<std::uint64_t>(rmem_max, kWorldReceiveBufferBytes));
+}
+
+std::uint16_t face_discovery_port(std::uint32_t domain, std::uint32_t face) {
+  return static_cast<std::uint16_t>(world_discovery_port(domain) + 2 * face);
+}
+
+std::uint32_t local_domain_id(const DdsSettings& s) {
+  constexpr std::uint32_t kSecureDomains = 231;  // 0..230: Cyclone 0.10.2's access-control parser
+  if (s.role != Role::World || s.face == 0) return s.domain;
+  return (s.domain + s.face) % kSecureDomains;
+}
+
 // The document is built from one function per section of <Domain>, so a section can be added (a Security
 // section for --secure) without touching the others.
 namespace {
@@ -60,12 +87,19 @@ std::string discovery_section(const DdsSettings& s) {
   // agent socket may hold, and the world then fails to start ("failed to create unicast sockets"), as seen.
   xml += "<Ports><Base>" + std::to_string(kPortBase) + "</Base><DomainGain>" + std::to_string(kDomainGain) +
          "</DomainGain></Ports>";
+  if (s.face >= kMaxFaces) {
+    throw std::invalid_argument("face " + std::to_string(s.face) + " is out of range 0.." +
+                                std::to_string(kMaxFaces - 1));
+  }
   if (s.role == Role::World) {
-    xml += "<ParticipantIndex>0</ParticipantIndex>";
+    // Face f: ParticipantIndex f, in a domain instance of its own whose wire domain id (and so its ports) is
+    // the run's (local_domain_id).
+    xml += "<ParticipantIndex>" + std::to_string(s.face) + "</ParticipantIndex><ExternalDomainId>" +
+           std::to_string(s.domain) + "</ExternalDomainId>";
   } else {
     check_address("world host", s.world_host);
     xml += "<ParticipantIndex>none</ParticipantIndex><Peers><Peer address=\"" + s.world_host + ":" +
-           std::to_string(world_discovery_port(s.domain)) + "\"/>";
+           std::to_string(face_discovery_port(s.domain, s.face)) + "\"/>";
     for (const std::string& peer : s.extra_peers) {
       check_address("peer", peer);
       xml += "<Peer address=\"" + peer + "\"/>";
@@ -80,6 +114,25 @@ std::string discovery_section(const DdsSettings& s) {
   // peer each 0.8 x its lease: an agent's 1 s lease cost the world ~840 submessages a second from 256 agents
   // (tcpdump, BENCHMARKS.md).
   return xml + "<LeaseDuration>5s</LeaseDuration></Discovery>";
+}
+
+std::uint64_t host_rmem_max() {
+  std::ifstream in("/proc/sys/net/core/rmem_max");
+  std::uint64_t v = 0;
+  return (in >> v) ? v : 0;
+}
+
+// The world's sockets sized for the run. While 1024 agents start, each face's discovery socket takes the
+// SPDP, SEDP, heartbeats and acknowledgements of its 64 agents (~2,000 datagrams a second in all); Cyclone's
+// 1 MiB (2 MiB once the kernel doubles it) filled whenever the world's receive threads were kept off the CPU
+// for about a second on the loaded 2-core host: 54-78 thousand datagrams dropped a start
+// (bench/scale/README.md). Linux doubles what is asked, so 4 MiB asked is 8 MiB of queue. Agents receive
+// little: Cyclone's default.
+std::string internal_section(const DdsSettings& s) {
+  if (s.role != Role::World) return "";
+  const std::uint32_t bytes = world_receive_buffer(host_rmem_max());
+  if (bytes == 0) return "";
+  return "<Internal><SocketReceiveBufferSize min=\"" + std::to_string(bytes) + "B\"/></Internal>";
 }
 
 // iceoryx shared memory is compiled in but loses samples with keep-last 1 and ignores partitions in 0.10.2.
@@ -161,7 +214,7 @@ std::string cyclone_config_xml(const DdsSettings& s) {
     throw std::invalid_argument("DDS domain " + std::to_string(s.domain) + " is out of range 0.." +
                                 std::to_string(kMaxDomain));
   }
-  return "<CycloneDDS><Domain id=\"any\">" + general_section(s) + discovery_section(s) +
+  return "<CycloneDDS><Domain id=\"any\">" + general_section(s) + discovery_section(s) + internal_section(s) +
          shared_memory_section() + (s.security ? security_config_xml(*s.security) : std::string()) +
          "</Domain></CycloneDDS>";
 }

@@ -50,6 +50,10 @@ struct DdsSettings {
   // DDS Security (`--security-dir`, issue 19): when set, the domain's <Security> section
   // (security_config.hpp); the participant then talks only to participants of the same run's authority.
   std::optional<SecurityFiles> security;
+  // The world's face (docs/wire.md "Faces"): World role, the face this participant is (ParticipantIndex
+  // `face`, its own Cyclone domain instance in the world's process); Agent role, the face the agent peers
+  // with (face_of its robot id). 0 for everything else.
+  std::uint32_t face = 0;
 };
 
 inline constexpr std::uint32_t kMaxDomain = 232;
@@ -59,6 +63,29 @@ inline constexpr std::uint32_t kDomainGain = 100;  // ports per domain: all fixe
 
 // The world's SPDP unicast port for a domain (RTPS port mapping: base + gain*domain + 10 + 2*index, index 0).
 std::uint16_t world_discovery_port(std::uint32_t domain);
+
+// Faces (issue 22, docs/wire.md "Faces"): the world speaks to its robots through one participant per block of
+// kRobotsPerFace ids, each in a Cyclone domain instance of its own (so agents of one block never discover the
+// per-robot endpoints of another: discovery grows as N x 64, not N^2). Face f is ParticipantIndex f, so at
+// most kMaxFaces fit in a domain's 100 ports (10 + 2f + 1 < 100); ids past the last face share it.
+inline constexpr std::uint32_t kRobotsPerFace = 64;
+inline constexpr std::uint32_t kMaxFaces = 45;
+std::uint32_t face_of(std::uint32_t robot_id);
+// Faces a world of `robots` robots has (face_of(robots - 1) + 1; 1 for none).
+std::uint32_t face_count(std::size_t robots);
+// Face f's SPDP unicast port (world_discovery_port + 2f): where an agent of that face sends its discovery.
+std::uint16_t face_discovery_port(std::uint32_t domain, std::uint32_t face);
+// The domain id a participant is created with in its own process (dds_create_domain): the domain for face 0;
+// for face f another id, distinct per face (a process holds one instance per id), whose ports and wire domain
+// id are the domain's (Discovery/ExternalDomainId). Stays within 0..230, the range DDS Security accepts.
+std::uint32_t local_domain_id(const DdsSettings& settings);
+
+// The receive buffer a world face asks for (Internal/SocketReceiveBufferSize min), given the host's
+// net.core.rmem_max: kWorldReceiveBufferBytes when the host allows it, else rmem_max (Cyclone then gets what
+// it asked for and says nothing; asking past rmem_max makes it log an error at every start); 0 (Cyclone's own
+// 1 MiB) when rmem_max is below that.
+inline constexpr std::uint32_t kWorldReceiveBufferBytes = 4u << 20;
+std::uint32_t world_receive_buffer(std::uint64_t rmem_max);
 
 // Our own XML configuration for these settings (throws std::invalid_argument on a bad domain or address).
 std::string cyclone_config_xml(const DdsSettings& settings);

@@ -214,7 +214,8 @@ bool writer_matched(dds_entity_t writer) {
 
 Participant::Participant(const DdsSettings& settings) : impl_(std::make_unique<Impl>()) {
   const std::string xml = cyclone_config_string(settings);
-  const dds_entity_t domain = dds_create_domain(static_cast<dds_domainid_t>(settings.domain), xml.c_str());
+  const auto local_id = static_cast<dds_domainid_t>(local_domain_id(settings));  // a world face's own
+  const dds_entity_t domain = dds_create_domain(local_id, xml.c_str());
   if (domain < 0) {
     // The usual cause is a port in use, or a user's configuration Cyclone refused: say which, rather than
     // Cyclone's bare "Error".
@@ -226,13 +227,12 @@ Participant::Participant(const DdsSettings& settings) : impl_(std::make_unique<I
     }
     if (settings.role == Role::World) {
       what += "; is another world_server on this domain? its port " +
-              std::to_string(world_discovery_port(settings.domain)) + " may be taken";
+              std::to_string(face_discovery_port(settings.domain, settings.face)) + " may be taken";
     }
     throw DdsError(what + ")", domain);
   }
   impl_->domain = Entity(domain, "dds_create_domain");
-  const dds_entity_t participant =
-      dds_create_participant(static_cast<dds_domainid_t>(settings.domain), nullptr, nullptr);
+  const dds_entity_t participant = dds_create_participant(local_id, nullptr, nullptr);
   if (participant < 0 && settings.security) {
     // Cyclone's security plugins say why on stderr (a certificate of another authority, an expired one,
     // permissions that name another subject or are not signed by the CA): name the files here.
@@ -296,8 +296,10 @@ bool Participant::secure() const {
 
 // ---- Waiter -----------------------------------------------------------------------------------------------
 
+// The waitset belongs to the library, not to the participant: a world with several faces (each its own
+// domain instance) waits for the readers of all of them on one waitset.
 Waiter::Waiter(const Participant& participant)
-    : waitset_(dds_create_waitset(participant.get()), "dds_create_waitset"),
+    : waitset_(dds_create_waitset(DDS_CYCLONEDDS_HANDLE), "dds_create_waitset"),
       guard_(make_guard(participant.get())) {
   attach(guard_.get());
 }
@@ -443,7 +445,7 @@ struct RobotChannels::Impl {
     std::uint64_t claim_nonce = 0;
     std::uint32_t generation = 0;
   };
-  const Participant& participant;
+  std::vector<const Participant*> faces;  // robot K's channel is on faces[face(K)]
   Pace pace;
   std::uint64_t run_nonce = 0;
   std::vector<Owner> owners;
@@ -454,12 +456,21 @@ struct RobotChannels::Impl {
 };
 
 RobotChannels::RobotChannels(const Participant& participant, std::size_t robots, bool realtime)
-    : impl_(std::make_unique<Impl>(Impl{participant, pace_of(realtime), 0, {}, {}, {}, {}, {}})) {
+    : RobotChannels(std::vector<const Participant*>{&participant}, robots, realtime) {}
+
+RobotChannels::RobotChannels(std::vector<const Participant*> faces, std::size_t robots, bool realtime)
+    : impl_(std::make_unique<Impl>(Impl{std::move(faces), pace_of(realtime), 0, {}, {}, {}, {}, {}})) {
+  if (impl_->faces.empty()) throw std::invalid_argument("RobotChannels: no participant");
   impl_->owners.resize(robots);
   impl_->robots.reserve(robots);
   for (std::size_t i = 0; i < robots; ++i) {
-    impl_->robots.push_back(make_robot_channel(participant, static_cast<RobotId>(i), impl_->pace));
+    const auto id = static_cast<RobotId>(i);
+    impl_->robots.push_back(make_robot_channel(*impl_->faces[face(id)], id, impl_->pace));
   }
+}
+
+std::uint32_t RobotChannels::face(RobotId id) const {
+  return std::min<std::uint32_t>(face_of(id), static_cast<std::uint32_t>(impl_->faces.size() - 1));
 }
 
 RobotChannels::~RobotChannels() = default;
@@ -506,7 +517,9 @@ void RobotChannels::reply_claim(const ClaimAnswer& a) {
         impl_->extra.erase(impl_->extra_order.front());
         impl_->extra_order.pop_front();
       }
-      it = impl_->extra.emplace(a.robot_id, make_robot_channel(impl_->participant, a.robot_id, impl_->pace))
+      it = impl_->extra
+               .emplace(a.robot_id,
+                        make_robot_channel(*impl_->faces[face(a.robot_id)], a.robot_id, impl_->pace))
                .first;
       impl_->extra_order.push_back(a.robot_id);
     }
@@ -819,7 +832,8 @@ struct CommandReader::Impl {
   std::uint32_t accept_ids = 0;
   std::atomic<std::uint64_t> filtered{0};
   bool secure = false;
-  Entity subscriber;  // secure: partition robot/* (every robot's own)
+  std::uint32_t face = 0;  // stamped on every sample taken (CommandSample::face)
+  Entity subscriber;       // secure: partition robot/* (every robot's own)
   Entity reader, condition;
   std::unordered_map<PublicationHandle, std::optional<RobotId>> authenticated;  // per writer, looked up once
 
@@ -852,9 +866,10 @@ struct CommandReader::Impl {
 };
 
 CommandReader::CommandReader(const Participant& participant, Waiter& waiter, bool realtime,
-                             std::uint32_t accept_ids)
+                             std::uint32_t accept_ids, std::uint32_t face)
     : impl_(std::make_unique<Impl>()) {
   impl_->waiter = &waiter;
+  impl_->face = face;
   if (accept_ids > 0) {
     // Set before the reader exists (Cyclone's rule for topic filters); only the world reads this topic in
     // its participant.
@@ -939,8 +954,9 @@ void CommandReader::take_liveliness_changes(std::vector<LivelinessChange>& out) 
   impl_->changes.clear();
 }
 
-std::size_t CommandReader::take(std::vector<CommandSample>& buf, std::size_t max_samples) {
-  std::size_t count = 0;
+std::size_t CommandReader::take(std::vector<CommandSample>& buf, std::size_t max_samples, std::size_t first) {
+  std::size_t count = first;
+  max_samples += first;
   while (count < max_samples) {
     void* ptrs[kTakeBatch] = {};
     dds_sample_info_t infos[kTakeBatch];
@@ -961,6 +977,7 @@ std::size_t CommandReader::take(std::vector<CommandSample>& buf, std::size_t max
       c.pid = s.pid;
       c.writer = infos[i].publication_handle;
       c.sent_at = infos[i].source_timestamp;
+      c.face = impl_->face;
       c.command.left_speed = s.left_speed;
       c.command.right_speed = s.right_speed;
       assign_octets(c.command.message, s.message);
@@ -976,7 +993,7 @@ std::size_t CommandReader::take(std::vector<CommandSample>& buf, std::size_t max
     }
     if (n < static_cast<int>(batch)) break;
   }
-  return count;
+  return count - first;
 }
 
 // ---- World state ------------------------------------------------------------------------------------------

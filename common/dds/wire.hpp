@@ -31,7 +31,7 @@ using PublicationHandle = std::uint64_t;  // dds_instance_handle_t of a remote w
 
 // The wire-protocol version every sample carries (idl/swarmform.idl WIRE_VERSION; docs/wire.md says when to
 // bump it). wire.cpp checks the two are equal at compile time.
-inline constexpr std::uint16_t kWireVersion = 3;
+inline constexpr std::uint16_t kWireVersion = 4;
 
 // A participant's GUID (its key in DDS discovery), as 16 bytes.
 using ParticipantKey = std::array<std::uint8_t, 16>;
@@ -141,6 +141,9 @@ inline constexpr std::size_t kMaxExtraChannels = 8;
 class RobotChannels {
  public:
   RobotChannels(const Participant& participant, std::size_t robots, bool realtime = false);
+  // The world's faces (docs/wire.md "Faces"): robot K's channel is made on faces[face(K)], the participant
+  // its agent peers with. One face: every channel on it.
+  RobotChannels(std::vector<const Participant*> faces, std::size_t robots, bool realtime = false);
   ~RobotChannels();
   RobotChannels(const RobotChannels&) = delete;
   RobotChannels& operator=(const RobotChannels&) = delete;
@@ -167,6 +170,8 @@ class RobotChannels {
   bool holds_instance(RobotId id) const;
   // Channels held for ids outside the run (<= kMaxExtraChannels). For tests.
   std::size_t extra_channels() const;
+  // The face robot `id`'s channel is on: face_of(id), or the last face when there are fewer.
+  std::uint32_t face(RobotId id) const;
 
  private:
   struct Impl;
@@ -226,6 +231,7 @@ struct CommandSample {
   std::uint32_t pid = 0;
   Command command;
   PublicationHandle writer = 0;  // who sent it (the identity)
+  std::uint32_t face = 0;        // the world face whose reader took it (its CommandReader's `face`)
   std::int64_t sent_at = 0;      // the writer's source timestamp (ns, dds_time() on the sender's host)
 };
 
@@ -267,8 +273,9 @@ class CommandReader {
   // stores them (a topic filter; counted by filtered()), so no writer can make the reader hold an instance
   // per made-up id. The world passes its robot count plus kMaxExtraChannels (near misses still get their
   // "no robot K in this run" answer).
+  // `face`: stamped on every sample it takes (CommandSample::face), for a world with several faces.
   CommandReader(const Participant& participant, Waiter& waiter, bool realtime = false,
-                std::uint32_t accept_ids = 0);
+                std::uint32_t accept_ids = 0, std::uint32_t face = 0);
   ~CommandReader();
   CommandReader(const CommandReader&) = delete;
   CommandReader& operator=(const CommandReader&) = delete;
@@ -277,7 +284,10 @@ class CommandReader {
   // Takes what is available, at most `max_samples`, into buf[0..n) (grown as needed, elements reused: no
   // allocation once warm). The cap bounds the buffer under a flood; what is left is taken by the next call
   // (the reader's condition stays triggered).
-  std::size_t take(std::vector<CommandSample>& buf, std::size_t max_samples = kMaxCommandTake);
+  // `first`: fill from buf[first] on (buf holds at least `first` elements), to gather several readers'
+  // samples in one buffer; returns how many were taken.
+  std::size_t take(std::vector<CommandSample>& buf, std::size_t max_samples = kMaxCommandTake,
+                   std::size_t first = 0);
   // Liveliness changes of command writers since the last call, in the order they happened (appended to
   // `out`): alive = false when a writer lost liveliness or went away, true when one appeared or came back.
   struct LivelinessChange {

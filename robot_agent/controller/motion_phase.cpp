@@ -110,6 +110,7 @@ void PaperMotion::on_ready(const FormationContext& ctx) {
   net_force_ = 0.0;
   boundary_.reset();
   bug_side_ = 0;
+  bug_turns_ = 0;
   approach_.reset();
   rng_.seed(splitmix64(splitmix64(seed_) ^ static_cast<std::uint64_t>(ctx.self)));
   trace_.clear();
@@ -546,6 +547,7 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
   // boundary-following. Those keep an obstacle's range (0.6 m) or go round at wall_distance, so a dead
   // robot's body standing beside a place (0.25-0.5 m off it) held its robot off for good, circling it, and a
   // robot on its own among posts slid to and fro before every gap.
+  const BoundaryFollowParams bf{p_.wall_distance + kRobotRadius, p_.max_speed, 1.0, 20, 1200};
   if (place_still && (alone || vnorm(vsub(place, position)) < p_.fusion_range)) {
     if (boundary_.active()) out.events.push_back("boundary_follow_end");
     if (was_following) out.events.push_back("wall_follow_end");
@@ -564,12 +566,13 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
       if (r < to_place)  // nearer than the place: not a body just beyond it
         echoes.push_back({r + kRobotRadius, std::atan2(rel.y, rel.x), RightOfWay::Mutual, true});
     }
-    return approach_.step(position, place, desired, ctx.tick, echoes,
-                          {p_.k_collision, p_.r_o, p_.max_speed, p_.arrival_tolerance}, rng_, out.events);
+    const auto wall = trace_.surface(position, ctx.tick, p_.obstacle_range + kRobotRadius + 0.3, kTraceTicks);
+    return approach_.step(position, place, desired, ctx.tick, echoes, wall,
+                          {p_.k_collision, p_.r_o, p_.max_speed, p_.arrival_tolerance, p_.fusion_range, bf},
+                          rng_, out.events);
   }
   approach_.reset();
-  const auto echo = trace_.nearest(position, ctx.tick, p_.obstacle_range + kRobotRadius + 0.3, kTraceTicks);
-  const BoundaryFollowParams bf{p_.wall_distance + kRobotRadius, p_.max_speed, 1.0, 20, 1200};
+  const auto echo = trace_.surface(position, ctx.tick, p_.obstacle_range + kRobotRadius + 0.3, kTraceTicks);
   if (!boundary_.active() && !wall_.active() && echo && pinned) {
     // A head-on tie goes to a side drawn from the seed and the id: deterministic per run, and two robots
     // pinned face to face do not both pick the same way.
@@ -590,18 +593,28 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
     // sides every few dozen ticks and stay where it was (posts.yaml, seed 2: for 5,000 ticks).
     const double gap = vnorm(vsub(place, position));
     if (bug_side_ != 0 && gap > bug_gap_ - bf.keep) {
-      boundary_.start(bug_side_, ctx.tick, bug_since_);
+      boundary_.start(bug_side_, ctx.tick, bug_since_, bug_turns_);
     } else {
       boundary_.start(BoundaryFollower::choose_side(position, *echo, prefer, tie), ctx.tick);
       bug_gap_ = gap;
     }
+    hit_place_ = place;
+    hit_gap_ = gap;
     out.events.push_back("boundary_follow_start " + std::to_string(boundary_.side()));
   }
   if (boundary_.active()) {
     Vec2 v;
-    const bool following = boundary_.update(echo, position, desired, ctx.tick, bf, v);
+    // Bug2's leave rule: while its place stands where it stood when this episode began, a robot leaves the
+    // boundary only nearer it than it was then (by the distance it keeps from the obstacle). Leaving wherever
+    // the pull pointed away from the obstacle let it back into a concave one (a U open towards it), where
+    // the leader ran between the U's corners for good. A place that moved (a follower's, with the shape) is
+    // not a fixed point to measure progress against: then it leaves as soon as the way is clear.
+    const bool same_place = place_still && vnorm(vsub(place, hit_place_)) < bf.keep;
+    const bool may_leave = !same_place || vnorm(vsub(place, position)) < hit_gap_ - p_.arrival_tolerance;
+    const bool following = boundary_.update(echo, position, desired, ctx.tick, bf, v, may_leave);
     bug_side_ = boundary_.side();
     bug_since_ = boundary_.since();
+    bug_turns_ = boundary_.turns();
     if (following) return v;
     out.events.push_back("boundary_follow_end");
     anchor_ = position;

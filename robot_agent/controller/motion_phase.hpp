@@ -95,8 +95,11 @@ class PaperMotion final : public MotionPhases {
   PlaceApproach approach_;  // the last approach, and a cut-off robot's way to its place
   std::mt19937_64 rng_;     // its detours, seeded from the run's seed and the id
   int bug_side_ = 0;        // the way round last taken (0: none yet), since bug_since_, first chosen
-  Tick bug_since_ = 0;      // bug_gap_ m from its place
+  Tick bug_since_ = 0;      // bug_gap_ m from its place, turned back bug_turns_ times
   double bug_gap_ = 0.0;
+  int bug_turns_ = 0;
+  Vec2 hit_place_;        // this boundary episode began with its place here,
+  double hit_gap_ = 0.0;  // this far from it (Bug2's leave rule)
   EchoMemory trace_;
   Vec2 anchor_;  // where this progress window started, and when
   Tick anchor_tick_ = 0;

@@ -134,6 +134,23 @@ std::optional<Vec2> EchoMemory::nearest(Vec2 position, Tick tick, double within,
   return best;
 }
 
+std::optional<Vec2> EchoMemory::surface(Vec2 position, Tick tick, double within, Tick max_age) {
+  const auto best = nearest(position, tick, within, max_age);
+  if (!best) return std::nullopt;
+  constexpr double kSurfaceBand = 0.05;  // m: readings this close to the nearest are the same surface
+  const double d = vnorm(vsub(*best, position));
+  if (d < 1e-9) return best;
+  Vec2 sum;
+  for (const auto& e : echoes_) {
+    const Vec2 rel = vsub(e.point, position);
+    const double r = vnorm(rel);
+    if (r <= d + kSurfaceBand && r > 1e-9) sum = vadd(sum, vscale(rel, 1.0 / r));
+  }
+  const double n = vnorm(sum);
+  if (n < 1e-9) return best;  // echoes all round, cancelling out: the nearest one is as good as any
+  return vadd(position, vscale(sum, d / n));
+}
+
 bool EchoMemory::gap_ahead(Vec2 position, Vec2 d, double obstacle_range, double clearance, Tick tick,
                            Tick max_age) {
   std::erase_if(echoes_, [&](const Echo& e) { return e.tick + max_age < tick; });

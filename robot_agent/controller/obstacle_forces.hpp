@@ -95,6 +95,12 @@ class EchoMemory {
   Vec2 force(Vec2 position, Tick tick, double m, double obstacle_range, Tick max_age);
   // The nearest echo point of the last `max_age` ticks within `within` of `position` (centre to point).
   std::optional<Vec2> nearest(Vec2 position, Tick tick, double within, Tick max_age);
+  // Where the nearest surface is, for boundary following: at the nearest echo's distance, in the mean
+  // direction of the echoes within kSurfaceBand of that distance. A reading is placed on its sensor's axis,
+  // so one echo alone can lie well off the surface: against a wall, every cone that sees it reads the minimum
+  // range, and the nearest such point may lie beside the robot, along the wall (a leader then followed the
+  // wall into the wall and stood there for good). Their mean direction is the wall's normal.
+  std::optional<Vec2> surface(Vec2 position, Tick tick, double within, Tick max_age);
   // A gap ahead: echoes of the last `max_age` ticks within `obstacle_range` (of the robot's surface) on
   // both sides of the unit direction `d` (ahead of the robot's side-line), and none within `clearance` of
   // the way `obstacle_range` + a body radius along `d` (a robot centre driving straight there would come

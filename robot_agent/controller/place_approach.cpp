@@ -20,14 +20,27 @@ void PlaceApproach::reset() {
   started_ = false;
   side_ = 0;
   detour_.reset();
+  bug_.reset();
+  bug_next_ = true;
 }
 
 Vec2 PlaceApproach::step(Vec2 position, Vec2 place, Vec2 desired, Tick tick,
-                         const std::vector<NeighbourPosition>& echoes, const PlaceApproachParams& params,
-                         std::mt19937_64& rng, std::vector<std::string>& events) {
+                         const std::vector<NeighbourPosition>& echoes, const std::optional<Vec2>& wall,
+                         const PlaceApproachParams& params, std::mt19937_64& rng,
+                         std::vector<std::string>& events) {
   const double distance = vnorm(vsub(place, position));
   if (!started_) {
     started_ = true;
+    best_ = distance;
+    progress_tick_ = tick;
+  }
+  if (bug_.active()) {
+    Vec2 v;
+    if (bug_.update(wall, position, desired, tick, params.bug, v, distance < bug_gap_ - params.there))
+      return v;
+    events.push_back("boundary_follow_end");
+    bug_next_ = !bug_.looped();  // all the way round: the next time it is stuck, a random detour
+    side_ = 0;
     best_ = distance;
     progress_tick_ = tick;
   }
@@ -37,7 +50,15 @@ Vec2 PlaceApproach::step(Vec2 position, Vec2 place, Vec2 desired, Tick tick,
   } else if (distance < params.there) {
     progress_tick_ = tick;
   } else if (!detour_ && tick >= progress_tick_ + (side_ == 0 ? kStuckTicks : kSideTicks)) {
+    if (side_ != 0 && wall && distance > params.bug_from && bug_next_) {
+      bug_.start(BoundaryFollower::choose_side(position, *wall, desired, side_), tick);
+      bug_gap_ = distance;
+      events.push_back("boundary_follow_start " + std::to_string(bug_.side()));
+      side_ = 0;
+      return step(position, place, desired, tick, echoes, wall, params, rng, events);
+    }
     if (side_ != 0) {
+      bug_next_ = true;
       const double a = std::uniform_real_distribution<double>(-std::numbers::pi, std::numbers::pi)(rng);
       detour_ = vadd(position, vpolar(kDetourDistance, a));
       detour_until_ = tick + kDetourTicks;

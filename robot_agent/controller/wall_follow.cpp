@@ -69,7 +69,7 @@ int BoundaryFollower::choose_side(Vec2 position, Vec2 echo, Vec2 desired, int ti
 }
 
 bool BoundaryFollower::update(const std::optional<Vec2>& echo, Vec2 position, Vec2 desired, Tick tick,
-                              const BoundaryFollowParams& params, Vec2& velocity) {
+                              const BoundaryFollowParams& params, Vec2& velocity, bool may_leave) {
   if (!active_) return false;
   if (!echo) {
     active_ = false;
@@ -78,13 +78,24 @@ bool BoundaryFollower::update(const std::optional<Vec2>& echo, Vec2 position, Ve
   const Vec2 rel = vsub(position, *echo);
   const double dist = std::max(vnorm(rel), 1e-6);
   const Vec2 u = vscale(rel, 1.0 / dist);
-  if (tick >= started_ + params.min_ticks && vdot(desired, u) >= 0.0) {
+  if (!hit_) hit_ = position;
+  const double from_hit = vnorm(vsub(position, *hit_));
+  if (from_hit > 2.0 * params.keep) {
+    away_ = true;
+  } else if (away_ && from_hit < params.keep) {
+    looped_ = true;
+  }
+  if ((may_leave || looped_) && tick >= started_ + params.min_ticks && vdot(desired, u) >= 0.0) {
     active_ = false;  // the desired motion leads away from the obstacle: the way is clear
     return false;
   }
-  if (tick >= since_ + params.max_ticks) {
-    side_ = -side_;  // a dead end that way: back the other way
+  constexpr int kMaxDoublings = 6;  // 64 x max_ticks: longer than any run's budget
+  if (tick >= since_ + (params.max_ticks << std::min(turns_, kMaxDoublings))) {
+    side_ = -side_;  // a dead end that way: back the other way, searching twice as far
     since_ = tick;
+    ++turns_;
+    hit_ = position;  // a loop is judged from here: going back passes the old start
+    away_ = false;
   }
   const Vec2 tangent = vrotate(u, side_ * std::numbers::pi / 2.0);
   velocity = vclamp(vsub(vscale(tangent, params.speed), vscale(u, params.radial_gain * (dist - params.keep))),

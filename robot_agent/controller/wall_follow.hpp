@@ -64,9 +64,17 @@ namespace swarmform::controller::motion {
 // tick:
 //   v = speed t - gain (|p - e| - keep) u,   u = (p - e)/|p - e|,   t = u turned by side * pi/2
 // side +1: counter-clockwise about the obstacle (it on the robot's left), -1 clockwise. It leaves once the
-// desired motion no longer leads into the obstacle (desired . (e - p) <= 0, after `min_ticks`), or when
-// nothing is remembered near any more; after `max_ticks` on one side it turns back the other way (a dead
-// end). The side on entry: the tangent nearer the desired motion; a tie (head-on) goes to `tie_break`.
+// desired motion no longer leads into the obstacle (desired . (e - p) <= 0, after `min_ticks`) and the caller
+// allows it (`may_leave`: the leader leaves only nearer its goal than where it began, Bug2's rule; see
+// motion_phase.cpp), or when nothing is remembered near any more. After `max_ticks` on one side it turns back
+// the other way (a dead end), and each later turn-back waits twice as long as the one before: a boundary of
+// any finite length is searched both ways in the end (a fixed period turned a leader back before it could
+// round a long wall). Back within `keep` of where it began (or last turned back) after going more than 2 x
+// `keep` from there, it has
+// gone all the way round (Bug2's sign that the goal cannot be reached this way round: a post among posts, the
+// way past it blocked by the next one): `looped()`, and from then on it leaves as soon as the way is clear,
+// whatever the caller allows. The side on entry: the tangent nearer the desired motion; a tie (head-on) goes
+// to `tie_break`.
 struct BoundaryFollowParams {
   double keep = 0.4;         // m, robot centre to the nearest echo point
   double speed = 0.1;        // m/s
@@ -80,25 +88,37 @@ class BoundaryFollower {
   static int choose_side(Vec2 position, Vec2 echo, Vec2 desired, int tie_break);
   // `side_since`: when this side was first taken (a robot pinned again by the same obstacle keeps its way
   // round and its time on it; motion_phase.cpp); by default now.
-  void start(int side, Tick tick, std::optional<Tick> side_since = std::nullopt) {
+  // `turns`: how often it already turned back on this obstacle (its next turn-back waits 2^turns x
+  // max_ticks).
+  void start(int side, Tick tick, std::optional<Tick> side_since = std::nullopt, int turns = 0) {
     active_ = true;
     side_ = side;
     started_ = tick;
     since_ = side_since.value_or(tick);
+    turns_ = turns;
+    hit_.reset();
+    away_ = false;
+    looped_ = false;
   }
   // `echo`: the nearest remembered echo point (arena frame), none if nothing is remembered near.
   bool update(const std::optional<Vec2>& echo, Vec2 position, Vec2 desired, Tick tick,
-              const BoundaryFollowParams& params, Vec2& velocity);
+              const BoundaryFollowParams& params, Vec2& velocity, bool may_leave = true);
   bool active() const { return active_; }
   int side() const { return side_; }
   Tick since() const { return since_; }  // when it took this side
+  int turns() const { return turns_; }
+  bool looped() const { return looped_; }
   void reset() { active_ = false; }
 
  private:
   bool active_ = false;
   int side_ = 1;
-  Tick since_ = 0;    // on this side since
-  Tick started_ = 0;  // this episode since
+  Tick since_ = 0;           // on this side since
+  Tick started_ = 0;         // this episode since
+  int turns_ = 0;            // turn-backs so far
+  std::optional<Vec2> hit_;  // where this episode began
+  bool away_ = false;        // it has been more than 2 x keep from there
+  bool looped_ = false;      // and came back: all the way round
 };
 
 }  // namespace swarmform::controller::motion

@@ -147,6 +147,10 @@ def _add_run_flags(p: argparse.ArgumentParser, demo: bool = False) -> None:
     p.add_argument("--domain", type=_domain, metavar="D",
                    help="DDS domain id (default: a free one on this host, picked and said; SWARM_DOMAINS=LO-HI "
                         "bounds the pick, 0-99 by default)")
+    p.add_argument("--connect-timeout", type=_float_at_least(0.1), metavar="S",
+                   help="seconds every agent has to connect (claim its id) once the world is up; then the run "
+                        "ends with exit 3 and a line naming the missing ids and what became of their agents "
+                        "(default 30 + 0.025 x robots: 30.4 s for 16, 55.6 s for 1024)")
     p.add_argument("--no-pictures", action="store_true", help="do not draw the pictures at the end")
     p.add_argument("--no-animation", action="store_true",
                    help="draw the pictures but not animation.mp4 / animation.gif (the slow part)")

@@ -8,7 +8,9 @@ Order of a run:
      mission is out) N `robot_agent --id K --run-nonce X` processes, all in one process group of their own, so
      an agent can only join this run's world (docs/wire.md); agents.json (id -> pid) lets the world SIGKILL the
      --kill ones at their exact ticks and `swarm kill` find them; an agent that exits with an error during the
-     run (a refused claim, a lost id) is a loud warning with the last line of its log;
+     run (a refused claim, a lost id) is a loud warning with the last line of its log; every agent must connect
+     within --connect-timeout (passed to the world, which ends the run naming the missing ids; the launcher
+     stops a world that does not, naming the ids it never saw claimed and what became of their agents);
   4. the world's `progress` lines become one status line; every other line it prints is shown and logged;
   5. when the world exits, the agents get a deadline to exit, then SIGKILL.
 With --hosts K the world and each agent start inside their emulated host's network namespace (hosts.py),
@@ -47,6 +49,16 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 PROGRESS = re.compile(r"^progress tick=(\d+) alive=(\d+)/(\d+) tps=([0-9.eE+-]+|nan|inf)")
 DONE = re.compile(r"^done ticks=(\d+) run_dir=(.*)$")
 READY = re.compile(r"^world ready domain=(\d+) run_nonce=([0-9a-f]+)$")
+CLAIMED = re.compile(r"^world_server: id (\d+) claimed by pid \d+")
+CONNECTED = re.compile(r"^connected agents=\d+")
+# The connect deadline (--connect-timeout), when not given: world_server's default_connect_timeout
+# (world_server/server.hpp), which the launcher passes on so that both wait the same time.
+CONNECT_TIMEOUT_BASE_S = 30.0
+CONNECT_TIMEOUT_PER_AGENT_S = 0.025
+# The launcher's own deadline is the world's plus this: the world ends the wait itself and names the missing ids;
+# the launcher steps in only if the world does not (a hung world), naming the ids it never saw claimed.
+CONNECT_GRACE_S = (2.0, 10.0)  # 20% of the timeout, within these bounds
+MISSING_DETAILS_SHOWN = 10
 AGENT_WATCH_PERIOD_S = 0.5
 CHECK_TIMEOUT_S = 60
 AGENT_EXIT_DEADLINE_S = 5.0
@@ -383,6 +395,72 @@ class AgentWatch:
             self.status.line(f"swarm: WARNING: agent {rid} exited with code {code}: {_last_line(self.logs, rid)}")
 
 
+def connect_timeout(robots: int, given: Optional[float] = None) -> float:
+    """--connect-timeout, or the default that grows with the number of agents (30 s + 25 ms an agent)."""
+    return given if given is not None else CONNECT_TIMEOUT_BASE_S + CONNECT_TIMEOUT_PER_AGENT_S * robots
+
+
+class ConnectWatch:
+    """The start-up deadline (issue 22: a run must never wait for ever at "connecting 1023/1024"). It follows the
+    world's `id K claimed` and `connected agents=N` lines from `world ready` on; when the world has not said
+    `connected` by the world's own deadline plus a grace (CONNECT_GRACE_S), `check` raises a LaunchError (exit 3) naming the
+    ids never claimed and what became of their agents. `missing_text` says the same when the world timed out
+    itself (its exit 3)."""
+
+    def __init__(self, procs: Processes, logs: str, robots: int, timeout_s: float) -> None:
+        self.procs, self.logs, self.robots, self.timeout_s = procs, logs, robots, timeout_s
+        self.claimed: set[int] = set()
+        self.connected = False
+        self.since: Optional[float] = None
+
+    def start(self) -> None:
+        if self.since is None:
+            self.since = time.monotonic()
+
+    def line(self, line: str, _status: Status) -> bool:
+        """Sees every world line (never takes one: returns False)."""
+        m = CLAIMED.match(line)
+        if m:
+            self.claimed.add(int(m[1]))
+        elif CONNECTED.match(line):
+            self.connected = True
+        return False
+
+    def missing(self) -> list[int]:
+        return [rid for rid in range(self.robots) if rid not in self.claimed]
+
+    def missing_text(self) -> str:
+        """'1 (agent exited with code 3: <its last line>), 7 (agent running; logs/agent-7.log)' for the first few."""
+        ids = self.missing()
+        parts: list[str] = []
+        for rid in ids[:MISSING_DETAILS_SHOWN]:
+            p = self.procs.agents.get(rid)
+            if p is None:
+                what = "no agent was started"
+            else:
+                code = _exit_code_unreaped(p)
+                if code is None:
+                    what = f"agent pid {p.pid} still running; logs/agent-{rid}.log"
+                elif code < 0:
+                    what = f"agent killed by signal {-code}"
+                else:
+                    what = f"agent exited with code {code}: {_last_line(self.logs, rid)}"
+            parts.append(f"{rid} ({what})")
+        more = f" and {len(ids) - MISSING_DETAILS_SHOWN} more" if len(ids) > MISSING_DETAILS_SHOWN else ""
+        return ", ".join(parts) + more
+
+    def check(self) -> None:
+        if self.connected or self.since is None:
+            return
+        grace = min(CONNECT_GRACE_S[1], max(CONNECT_GRACE_S[0], 0.2 * self.timeout_s))
+        if time.monotonic() - self.since < self.timeout_s + grace:
+            return
+        missing = self.missing()
+        raise LaunchError(f"{len(missing)} of {self.robots} agents did not connect within {self.timeout_s:g} s "
+                          f"(--connect-timeout) and the world did not end the wait; stopped it. Missing ids: "
+                          f"{self.missing_text() or 'none claimed missing: the world hangs'}", EXIT_AGENTS_MISSING)
+
+
 def _exit_code_unreaped(p: "subprocess.Popen[bytes]") -> Optional[int]:
     """An agent's exit code (negative: killed by that signal), or None while it runs. Looked at without reaping it:
     an exited agent stays a zombie until the end of the run, so its pid cannot be reused by another process that
@@ -540,8 +618,10 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
                         f"{time.monotonic() - made:.1f} s in {sec_dir} (keys 0600; docs/security.md)")
         nonce = domains.run_nonce()
         agents_json = os.path.join(run_dir, "agents.json")
+        wait_s = connect_timeout(n, getattr(args, "connect_timeout", None))
         cmd = [world_exe] + overrides(args) + ["--out", run_dir, "--domain", str(domain), "--run-nonce", nonce,
-                                               "--agent-pids", agents_json] + secure_args
+                                               "--agent-pids", agents_json, "--connect-timeout", f"{wait_s:g}"]
+        cmd += secure_args
         view = _ViewerStart(args, info, run_dir, domain, nonce, logs, procs, status)
         view.extra = list(secure_args)
         cmd += view.world_flags()
@@ -551,6 +631,7 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
             procs.placement = hosts.agent_wrap
 
         def start_agents() -> None:  # at the world's `world ready`: its mission is out
+            connecting.start()
             view.start()
             for rid in range(n):
                 if stop or rid in procs.agents:
@@ -562,6 +643,7 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
             _write_json_atomically(agents_json, {str(k): p.pid for k, p in procs.agents.items()})
 
         watch = AgentWatch(procs, logs, status)
+        connecting = ConnectWatch(procs, logs, n, wait_s)
         started = time.monotonic()
         with open(os.path.join(logs, "world_console.log"), "ab") as console_log:
             world = procs.start_world(cmd)
@@ -570,9 +652,13 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
             def idle() -> None:
                 watch.check()
                 view.check()
+                connecting.check()
+
+            def on_line(line: str, st: Status) -> bool:
+                return connecting.line(line, st) or restarter.handle(line, st)
 
             done = _follow(world, stop, status, console_log, max_ticks, on_ready=start_agents, on_idle=idle,
-                           on_line=restarter.handle)
+                           on_line=on_line)
             while world.poll() is None and not stop:  # its output closed; it should be exiting
                 time.sleep(0.1)
         status.end()
@@ -580,6 +666,8 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
         if stop:
             return _interrupted(procs, stop, status, run_dir)
         code = world.returncode
+        # What became of the agents that never connected, before the stragglers are killed below.
+        missing = connecting.missing_text() if code == EXIT_AGENTS_MISSING and not connecting.connected else None
         stragglers = procs.wait_agents(AGENT_EXIT_DEADLINE_S)
         watch.check(force=True)
         if stragglers:
@@ -587,6 +675,9 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
                         "ended were killed")
         if code != 0:
             status.line(f"swarm: {_world_failure(code, run_dir)}; details in {logs}/world_console.log")
+            if missing is not None:
+                status.line(f"swarm: {len(connecting.missing())} of {n} agents did not connect within {wait_s:g} s "
+                            f"(--connect-timeout): {missing}")
             return code if code in (EXIT_BAD_INPUT, EXIT_AGENTS_MISSING, EXIT_DISK_FULL) else EXIT_WORLD_FAILED
         ticks = done[0] if done else "?"
         status.line(f"swarm: {ticks} ticks in {time.monotonic() - started:.1f} s; run directory {run_dir}")

@@ -17,7 +17,9 @@ import concurrent.futures
 import datetime
 import os
 import subprocess
-from typing import Sequence
+from typing import Sequence, Union
+
+Domains = Union[int, Sequence[int]]  # one DDS domain id, or several (the world's faces)
 
 # Topics and who may use them (docs/wire.md). Partitions: robot K's packets and commands in robot/K.
 MISSION, SENSOR, COMMAND, WORLD_STATE = "sf_mission", "sf_sensor", "sf_command", "sf_world_state"
@@ -80,11 +82,38 @@ def _stamp(t: datetime.datetime) -> str:
     return t.strftime("%Y-%m-%dT%H:%M:%S")
 
 
-def _domains(domain: int) -> str:
-    return f"<domains><id>{domain}</id></domains>"
+# The world's faces (docs/wire.md "Faces"): face f of a world on domain D is a Cyclone domain instance of its own
+# in the world's process, created with the local domain id (D + f) mod 231 (common/dds/cyclone_config.cpp
+# local_domain_id) and speaking domain D on the wire. Cyclone's access control checks the local id, so the
+# governance and the world's permissions name those ids too. Mirrors cyclone_config.hpp's constants.
+ROBOTS_PER_FACE, MAX_FACES = 64, 45
 
 
-def permissions_xml(identity: str, now: datetime.datetime, domain: int) -> str:
+def face_domain_ids(domain: int, robots: int) -> list[int]:
+    """The local domain ids of the world's faces for `robots` robots on `domain`, face 0 (the domain) first."""
+    faces = min((max(robots, 1) - 1) // ROBOTS_PER_FACE, MAX_FACES - 1) + 1
+    return [domain] + [(domain + f) % (MAX_SECURE_DOMAIN + 1) for f in range(1, faces)]
+
+
+def _granted_domains(identity: str, faces: list[int]) -> list[int]:
+    """The domain ids an identity's permissions name: the world every face's; robot K the run's domain and its
+    face's local id (the world's face checks a remote participant's permissions against its own local id); the
+    observer the run's domain (face 0)."""
+    if identity == "world":
+        return faces
+    if identity.startswith("robot-"):
+        face = min(int(identity[len("robot-"):]) // ROBOTS_PER_FACE, len(faces) - 1)
+        return faces[:1] + ([faces[face]] if face > 0 else [])
+    return faces[:1]
+
+
+def _domains(domain: Domains) -> str:
+    """<domains> naming one id, or each of a list of ids."""
+    ids = domain if isinstance(domain, (list, tuple)) else [domain]
+    return "<domains>" + "".join(f"<id>{d}</id>" for d in ids) + "</domains>"
+
+
+def permissions_xml(identity: str, now: datetime.datetime, domain: Domains) -> str:
     publish, subscribe = _grants(identity)
     domains = _domains(domain)
     return ('<?xml version="1.0" encoding="UTF-8"?>\n'
@@ -98,7 +127,7 @@ def permissions_xml(identity: str, now: datetime.datetime, domain: int) -> str:
             '<default>DENY</default>\n</grant>\n</permissions>\n</dds>\n')
 
 
-def governance_xml(domain: int) -> str:
+def governance_xml(domain: Domains) -> str:
     return GOVERNANCE.replace("@DOMAINS@", _domains(domain))
 
 
@@ -136,7 +165,7 @@ def _write(path: str, text: str, mode: int = 0o644) -> None:
         f.write(text)
 
 
-def _identity(d: str, identity: str, serial: int, now: datetime.datetime, domain: int) -> None:
+def _identity(d: str, identity: str, serial: int, now: datetime.datetime, domain: Domains) -> None:
     """Key (0600), certificate signed by the CA, permissions signed by the CA."""
     key = f"{identity}.key"
     # The key file is created 0600 before openssl writes into it (never readable by others, not even briefly).
@@ -152,7 +181,8 @@ def _identity(d: str, identity: str, serial: int, now: datetime.datetime, domain
 
 def make_security_dir(run_dir: str, robots: int, domain: int, workers: int = 4) -> str:
     """Makes RUN_DIR/security for a run of `robots` robots on DDS domain `domain` (the governance and every
-    permission name that domain only); returns its path. Raises SecurityError."""
+    permission name that domain only, and the world's faces' local ids: face_domain_ids); returns its path.
+    Raises SecurityError."""
     if not 0 <= domain <= MAX_SECURE_DOMAIN:
         raise SecurityError(f"DDS domain {domain}: Cyclone 0.10.2's access control takes domain ids 0.."
                             f"{MAX_SECURE_DOMAIN} only in governance and permissions; choose another --domain")
@@ -167,12 +197,14 @@ def make_security_dir(run_dir: str, robots: int, domain: int, workers: int = 4) 
     _openssl("req", "-x509", "-newkey", "ec", "-pkeyopt", "ec_paramgen_curve:prime256v1", "-nodes",
              "-keyout", "ca.key", "-subj", f"/O={ORGANISATION}/CN={ORGANISATION} run CA", "-days", str(VALID_DAYS),
              "-out", "ca.pem", cwd=d)
-    _write(os.path.join(d, "governance.xml"), governance_xml(domain))
+    faces = face_domain_ids(domain, robots)
+    _write(os.path.join(d, "governance.xml"), governance_xml(faces))
     _openssl("smime", "-sign", "-in", "governance.xml", "-text", "-out", "governance.p7s", "-signer", "ca.pem",
              "-inkey", "ca.key", cwd=d)
     identities = ["world", "observer"] + [robot_identity(k) for k in range(robots)]
     with concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:
-        for f in [pool.submit(_identity, d, ident, serial, now, domain) for serial, ident in enumerate(identities, 2)]:
+        for f in [pool.submit(_identity, d, ident, serial, now, _granted_domains(ident, faces))
+                  for serial, ident in enumerate(identities, 2)]:
             f.result()
     # Nothing is signed after this: without the CA's key no other identity or permission can be made.
     os.remove(os.path.join(d, "ca.key"))

@@ -68,6 +68,10 @@ class BenchScript(unittest.TestCase):
         self.assertGreaterEqual(p2["missed_ticks"], 0)
         self.assertEqual(p2["rss_mib"]["agents_sampled"], 8)
         self.assertTrue(positive(p2["rss_mib"]["agents_max"]) and positive(p2["rss_mib"]["world"]))
+        # Issue 22: PSS (forked agents share pages, so it is below RSS) and the drops split by socket owner.
+        self.assertEqual(p2["pss_mib"]["agents_sampled"], 8)
+        self.assertTrue(0 < p2["pss_mib"]["agents_max"] <= p2["rss_mib"]["agents_max"])
+        self.assertEqual(set(p2["udp_socket_drops"]), {"world_sockets", "agent_sockets"})
         self.assertGreaterEqual(p2["cpu_percent_of_one_core"]["agents_total"], 0)
         self.assertLessEqual(p2["ticks_with_a_miss"], p2["missed_ticks"])
         self.assertLessEqual(p2["most_misses_in_one_tick"], 8)

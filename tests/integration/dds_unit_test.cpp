@@ -2,6 +2,9 @@
 // generated Cyclone configuration.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <vector>
+
 #include "common/dds/cyclone_config.hpp"
 #include "common/dds/robot_block.hpp"
 #include "tests/integration/test_domain.hpp"
@@ -88,6 +91,60 @@ TEST(CycloneConfig, WorldTakesIndexZeroAndAgentsPeerOnlyWithIt) {
   const std::string remote = cyclone_config_xml(agent);
   EXPECT_EQ(remote.find("127.0.0.1"), std::string::npos);
   EXPECT_NE(remote.find("10.0.0.5:8110"), std::string::npos);
+}
+
+// Faces (docs/wire.md "Faces"): blocks of 64 ids, face f at ParticipantIndex f on the run's domain (its own
+// local domain id in the world's process), agent K peering with face K/64 only.
+TEST(CycloneConfig, FacesSplitTheRobotsInBlocksOf64AndAgentsPeerWithTheirOwn) {
+  using swarmform::dds::face_count;
+  using swarmform::dds::face_of;
+  using swarmform::dds::kMaxFaces;
+  using swarmform::dds::local_domain_id;
+  EXPECT_EQ(face_of(0), 0u);
+  EXPECT_EQ(face_of(63), 0u);
+  EXPECT_EQ(face_of(64), 1u);
+  EXPECT_EQ(face_of(1023), 15u);
+  EXPECT_EQ(face_of(100000), kMaxFaces - 1);  // past the last face: the last one
+  EXPECT_EQ(face_count(1), 1u);
+  EXPECT_EQ(face_count(64), 1u);
+  EXPECT_EQ(face_count(65), 2u);
+  EXPECT_EQ(face_count(1024), 16u);
+  EXPECT_EQ(face_count(2048), 32u);
+  // Every face's ports stay inside its domain's 100.
+  EXPECT_LT(swarmform::dds::face_discovery_port(7, kMaxFaces - 1) + 1, 7400 + 100 * 8);
+
+  DdsSettings world;
+  world.domain = 7;
+  world.role = Role::World;
+  world.face = 3;
+  const std::string w = cyclone_config_xml(world);
+  EXPECT_NE(w.find("<ParticipantIndex>3</ParticipantIndex>"), std::string::npos) << w;
+  EXPECT_NE(w.find("<ExternalDomainId>7</ExternalDomainId>"), std::string::npos) << w;
+  std::vector<std::uint32_t> ids;
+  for (std::uint32_t f = 0; f < kMaxFaces; ++f) {
+    world.face = f;
+    ids.push_back(local_domain_id(world));
+    EXPECT_LE(ids.back(), 230u);  // DDS Security's range
+  }
+  EXPECT_EQ(ids.front(), 7u);
+  std::sort(ids.begin(), ids.end());
+  EXPECT_EQ(std::adjacent_find(ids.begin(), ids.end()), ids.end()) << "two faces share a local domain id";
+  world.face = kMaxFaces;
+  EXPECT_THROW(cyclone_config_xml(world), std::invalid_argument);
+
+  DdsSettings agent;
+  agent.domain = 7;
+  agent.face = face_of(130);
+  EXPECT_NE(cyclone_config_xml(agent).find(
+                "<Peer address=\"127.0.0.1:" + std::to_string(7400 + 100 * 7 + 10 + 4) + "\"/>"),
+            std::string::npos);
+}
+
+TEST(CycloneConfig, TheWorldsReceiveBufferIsSizedWithinWhatTheHostAllows) {
+  using swarmform::dds::world_receive_buffer;
+  EXPECT_EQ(world_receive_buffer(212992), 0u);  // Debian's default rmem_max: Cyclone's own default
+  EXPECT_EQ(world_receive_buffer(2u << 20), 2u << 20);
+  EXPECT_EQ(world_receive_buffer(64u << 20), swarmform::dds::kWorldReceiveBufferBytes);
 }
 
 TEST(RobotBlock, IdsMustFitIn32Bits) {

@@ -8,9 +8,10 @@
 //   40..43 issue 18's abuse tests (40 paper liar, 41 lockstep flood, 42 full disk + end reasons, 43 realtime
 //   flood).
 //   44..46 faults_process_test, 47 tests/scripts/test_faults_e2e.py.
-//   48..63 reserved for issues 19-21 (48..51 plug-ins, 52..55 external agents, 56..59 hosts, 60..61 secure,
-//   62..63 viewer: 62 tests/viewer/test_viewer_live.py, 63 tests/viewer/test_viewer_runs.py); each area's
-//   README or test header says which it took (60..61: tests/scripts/test_secure_e2e.py).
+//   48..63 reserved for issues 19-21 (48..51 plug-ins, 52..55 external agents, 56..58 hosts, 59 faces_test
+//   (issue 22), 60..61 secure, 62..63 viewer: 62 tests/viewer/test_viewer_live.py, 63
+//   tests/viewer/test_viewer_runs.py); each area's README or test header says which it took (60..61:
+//   tests/scripts/test_secure_e2e.py).
 #pragma once
 
 #include <cstdlib>

@@ -12,6 +12,7 @@ import time
 import unittest
 
 import helpers
+from swarmform import launcher
 
 
 def agent_pids(run_dir):
@@ -146,6 +147,46 @@ class LauncherTest(unittest.TestCase):
         self.assertIn("world_server failed (exit 3)", r.stderr)
         self.assertNotIn("Traceback", r.stderr)
         self.assert_all_gone(agent_pids(out).values())
+
+    def test_a_missing_agent_ends_the_run_at_the_connect_timeout_naming_its_id(self):
+        # Issue 22: the world waits --connect-timeout (the launcher passes it), then names the missing id and
+        # exits 3; the launcher says what became of that id's agent.
+        out = os.path.join(self.dir, "run")
+        began = time.monotonic()
+        r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "3", "--max-ticks", "40", "--out", out,
+                          "--domain", "78", "--no-pictures", "--connect-timeout", "1",
+                          env={"FAKE_WORLD_UNCLAIMED": "1", "FAKE_AGENT_GONE": "1"})
+        self.assertEqual(r.returncode, 3, r.stderr)
+        self.assertLess(time.monotonic() - began, 30)
+        with open(os.path.join(out, "world_args.json")) as f:
+            world_args = json.load(f)
+        self.assertEqual(world_args[world_args.index("--connect-timeout") + 1], "1")
+        self.assertIn("1 of 3 agents missing after 1 s: 1", r.stderr)
+        self.assertIn("swarm: 1 of 3 agents did not connect within 1 s (--connect-timeout): 1 (agent exited with "
+                      "code 3: robot_agent 1: no world on DDS domain 0", r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
+        self.assert_all_gone(agent_pids(out).values())
+
+    def test_a_world_that_never_ends_the_wait_is_stopped_by_the_launchers_own_deadline(self):
+        # A hung world (it never times out itself): the launcher stops it at --connect-timeout plus its grace
+        # (2 s here), names the id it never saw claimed and exits 3, leaving nothing behind.
+        out = os.path.join(self.dir, "run")
+        began = time.monotonic()
+        r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "3", "--max-ticks", "40", "--out", out,
+                          "--domain", "79", "--no-pictures", "--connect-timeout", "1",
+                          env={"FAKE_WORLD_UNCLAIMED": "2", "FAKE_WORLD_HANG": "1"})
+        self.assertEqual(r.returncode, 3, r.stderr)
+        self.assertLess(time.monotonic() - began, 30)
+        self.assertIn("1 of 3 agents did not connect within 1 s (--connect-timeout) and the world did not end the "
+                      "wait; stopped it. Missing ids: 2 (agent pid ", r.stderr)
+        self.assertIn("still running; logs/agent-2.log)", r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
+        self.assert_all_gone(agent_pids(out).values())
+
+    def test_the_connect_timeout_grows_with_the_robots_when_not_given(self):
+        self.assertAlmostEqual(launcher.connect_timeout(16), 30.4)
+        self.assertAlmostEqual(launcher.connect_timeout(1024), 55.6)
+        self.assertEqual(launcher.connect_timeout(1024, 5.0), 5.0)
 
     def test_an_agent_that_exits_with_an_error_is_a_loud_warning(self):
         # Issue 18: a refused claim is a loud warning with the agent's own words, not a silent death.

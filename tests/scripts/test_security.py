@@ -71,3 +71,20 @@ class SecurityDirTest(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class FaceDomainsTest(unittest.TestCase):
+    def test_the_worlds_faces_local_domain_ids_are_granted_as_cyclone_checks_them(self):
+        # docs/wire.md "Faces": face f's local id is (D + f) mod 231 (common/dds/cyclone_config.cpp).
+        self.assertEqual(security.face_domain_ids(42, 64), [42])
+        self.assertEqual(security.face_domain_ids(229, 130), [229, 230, 0])
+        self.assertEqual(len(security.face_domain_ids(0, 1024)), 16)
+        self.assertEqual(len(security.face_domain_ids(0, 100000)), 45)
+        self.assertIn("<domains><id>229</id><id>230</id><id>0</id></domains>",
+                      security.governance_xml(security.face_domain_ids(229, 130)))
+        faces = security.face_domain_ids(229, 130)
+        self.assertEqual(security._granted_domains("world", faces), [229, 230, 0])
+        self.assertEqual(security._granted_domains("robot-63", faces), [229])
+        self.assertEqual(security._granted_domains("robot-64", faces), [229, 230])
+        self.assertEqual(security._granted_domains("robot-129", faces), [229, 0])
+        self.assertEqual(security._granted_domains("observer", faces), [229])

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <optional>
+#include <vector>
 
 #include "robot_agent/controller/motion_math.hpp"
 #include "robot_agent/controller/obstacle_forces.hpp"
@@ -63,6 +64,66 @@ TEST(BoundaryFollower, TurnsBackAfterMaxTicksOneWay) {
   ASSERT_TRUE(f.update(Vec2{1.0, 0.0}, {0.6, 0.0}, {1.0, 0.0}, 100, p, v));
   EXPECT_EQ(f.side(), -1);
   EXPECT_GT(v.y, 0.0);
+}
+
+TEST(BoundaryFollower, EachTurnBackSearchesTwiceAsLongAsTheOneBefore) {
+  // A fixed period turned a leader back before it could round a long wall; doubling searches a boundary of
+  // any length both ways in the end.
+  BoundaryFollower f;
+  const BoundaryFollowParams p{0.4, 0.1, 1.0, 20, 100};
+  f.start(1, 0);
+  Vec2 v;
+  std::vector<Tick> turns;
+  int side = f.side();
+  for (Tick t = 1; t <= 1600; ++t) {
+    ASSERT_TRUE(f.update(Vec2{1.0, 0.0}, {0.6, 0.0}, {1.0, 0.0}, t, p, v));
+    if (f.side() != side) turns.push_back(t);
+    side = f.side();
+  }
+  EXPECT_EQ(turns, (std::vector<Tick>{100, 300, 700, 1500}));
+  EXPECT_EQ(f.turns(), 4);
+  // Pinned again by the same obstacle, the memory carries the count on.
+  f.start(side, 1600, Tick{1500}, f.turns());
+  ASSERT_TRUE(f.update(Vec2{1.0, 0.0}, {0.6, 0.0}, {1.0, 0.0}, 3099, p, v));
+  EXPECT_EQ(f.side(), side);
+  ASSERT_TRUE(f.update(Vec2{1.0, 0.0}, {0.6, 0.0}, {1.0, 0.0}, 3100, p, v));
+  EXPECT_EQ(f.side(), -side);
+}
+
+TEST(BoundaryFollower, AllTheWayRoundItLeavesAsSoonAsTheWayIsClear) {
+  // A post whose far side is blocked: Bug2 never gets nearer, and round the post it comes back to where it
+  // began. From then on the caller's veto no longer holds it.
+  BoundaryFollower f;
+  const BoundaryFollowParams p{0.4, 0.1, 1.0, 20, 6000};
+  const Vec2 post{0.0, 0.0};
+  f.start(1, 0);
+  Vec2 v;
+  ASSERT_TRUE(f.update(post, {0.6, 0.0}, {-1.0, 0.0}, 1, p, v, false));     // into the post: follows
+  ASSERT_TRUE(f.update(post, {-0.6, 0.0}, {-1.0, 0.0}, 100, p, v, false));  // the far side
+  EXPECT_FALSE(f.looped());
+  // Round again to where it began, the way clear (desired away from the post): vetoed until now, it leaves.
+  EXPECT_FALSE(f.update(post, {0.6, 0.1}, {1.0, 0.0}, 200, p, v, false));
+  EXPECT_TRUE(f.looped());
+  // A turn-back passes back over the start: that is no loop.
+  BoundaryFollower g;
+  const BoundaryFollowParams q{0.4, 0.1, 1.0, 20, 100};
+  g.start(1, 0);
+  ASSERT_TRUE(g.update(post, {0.6, 0.0}, {-1.0, 0.0}, 1, q, v, false));
+  ASSERT_TRUE(g.update(post, {0.0, 1.5}, {-1.0, 0.0}, 100, q, v, false));  // turns back here
+  ASSERT_TRUE(g.update(post, {0.6, 0.1}, {-1.0, 0.3}, 150, q, v, false));
+  EXPECT_FALSE(g.looped());
+}
+
+TEST(BoundaryFollower, StaysOnTheBoundaryWhileTheCallerForbidsLeaving) {
+  // Bug2: round a U's corner the pull points away from the arm it now follows, but the robot is no nearer
+  // its goal than where it began; leaving there took it back into the U.
+  BoundaryFollower f;
+  const BoundaryFollowParams p{0.4, 0.1, 1.0, 20, 600};
+  f.start(1, 0);
+  Vec2 v;
+  EXPECT_TRUE(f.update(Vec2{1.0, 0.0}, {1.2, -0.4}, {1.0, 0.0}, 40, p, v, /*may_leave=*/false));
+  EXPECT_TRUE(f.active());
+  EXPECT_FALSE(f.update(Vec2{1.0, 0.0}, {1.2, -0.4}, {1.0, 0.0}, 41, p, v, /*may_leave=*/true));
 }
 
 TEST(EchoMemory, NearestIsTheClosestRecentEchoWithinReach) {

@@ -106,5 +106,15 @@ TEST(MotionRobustness, AShapeCompletedByASpareIsJudgedFormed) {
   expect_arrives({"scenarios/spares.yaml", 61, {{13, 1089}}});
 }
 
+// A U open towards the swarm, the goal behind its base (scenarios/u_trap.yaml): the leader ran between the
+// U's corners for good, leaving the boundary wherever the goal's pull pointed away from the arm it followed,
+// and robots cut off inside made 1 m random detours that never left the U. Bug2's leave rule (no nearer the
+// goal than where it began: stay on the boundary), each turn-back searching twice as far, and boundary
+// following for a cut-off robot far from its place take every robot round an arm (8 of 8 seeds;
+// robot_agent/README.md).
+TEST(MotionRobustness, TheSwarmGetsOutOfAConcaveObstacle) {
+  expect_arrives({"scenarios/u_trap.yaml", 5, {}});
+}
+
 }  // namespace
 }  // namespace swarmform::sim_motion
