@@ -6,10 +6,8 @@
 
 namespace swarmform::harness {
 
-void apply_param_flags(const std::vector<std::string>& texts, Mission& mission,
-                       behaviour::Registry& behaviours) {
-  if (texts.empty()) return;
-  std::string names;
+std::vector<world::ParamOverride> parse_param_flags(const std::vector<std::string>& texts) {
+  std::vector<world::ParamOverride> out;
   for (const std::string& text : texts) {
     const auto eq = text.find('=');
     const std::string name = eq == std::string::npos ? std::string() : text.substr(0, eq);
@@ -26,9 +24,16 @@ void apply_param_flags(const std::vector<std::string>& texts, Mission& mission,
           "command line", 0,
           "--param '" + text + "': expected NAME=VALUE, VALUE a finite number (e.g. k_move=0.5)");
     }
-    mission.params[name] = value;
-    names += (names.empty() ? "" : " ") + text;
+    out.push_back({text, name, value});
   }
+  return out;
+}
+
+void check_param_flags(const std::vector<std::string>& texts, const Mission& mission,
+                       behaviour::Registry& behaviours) {
+  if (texts.empty()) return;
+  std::string names;
+  for (const std::string& text : texts) names += (names.empty() ? "" : " ") + text;
   try {
     (void)behaviours.make(mission, 0);  // the behaviour's own check of every parameter
   } catch (const InputError& e) {

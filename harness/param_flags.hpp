@@ -1,6 +1,7 @@
 // `swarm_inprocess --param NAME=VALUE`: a behaviour parameter set on the command line over the scenario's
-// `controller:` value (what `swarm sweep --param` varies). Checked by the behaviour itself (the registry's
-// make: its parameter table's names and bounds), so the flag knows no behaviour's names.
+// `controller:` value (what `swarm sweep --param` varies). The loader sets them before its own checks (the
+// shape's fit reads shape_heading) and checks each against the behaviour's table; the behaviour's make then
+// checks them as a whole, so the flag knows no behaviour's names.
 #pragma once
 
 #include <string>
@@ -8,13 +9,16 @@
 
 #include "behaviour/registry.hpp"
 #include "common/mission.hpp"
+#include "world_server/world/scenario.hpp"
 
 namespace swarmform::harness {
 
-// Sets each NAME=VALUE in mission.params, then has the mission's behaviour check them. Throws InputError
-// ("command line: --param ...") naming the flag for bad syntax, and the parameter for an unknown name or a
-// value out of its bounds.
-void apply_param_flags(const std::vector<std::string>& texts, Mission& mission,
+// NAME=VALUE texts as the loader's overrides. Throws InputError ("command line: --param ...") for bad syntax.
+std::vector<world::ParamOverride> parse_param_flags(const std::vector<std::string>& texts);
+
+// After loading: the mission's behaviour made once with its parameters (its own check of them together).
+// Throws InputError ("command line: --param ...") naming the flags.
+void check_param_flags(const std::vector<std::string>& texts, const Mission& mission,
                        behaviour::Registry& behaviours);
 
 }  // namespace swarmform::harness

@@ -200,6 +200,7 @@ int main(int argc, char** argv) {
     for (const auto& k : kill_texts) overrides.kills.push_back(parse_kill(k));
     overrides.faults = fault_texts;
     if (!behaviour.empty()) overrides.behaviour = behaviour;
+    overrides.params = harness::parse_param_flags(param_texts);
     // Plug-ins load from the scenario's folder, --plugin-dir and SWARMFORM_PLUGIN_PATH only.
     behaviour::Registry behaviours;
     controller::add_builtins(behaviours);
@@ -210,7 +211,7 @@ int main(int argc, char** argv) {
     }
     behaviours.add_folders_from_environment();
     world::Scenario scenario = world::load_scenario(scenario_path, overrides, behaviours);
-    harness::apply_param_flags(param_texts, scenario.mission, behaviours);
+    harness::check_param_flags(param_texts, scenario.mission, behaviours);
 
     const bool default_out = out.empty();
     const std::string run_dir = no_record ? std::string() : (default_out ? default_run_dir() : out);

@@ -297,26 +297,31 @@ json Foxglove::telemetry(const dds::ObserveFrameData& f) const {
   json list = json::array();
   for (const auto& r : f.robots) {
     const auto n = names.find(r.state);
-    list.push_back({{"id", r.id},
-                    {"alive", r.alive},
-                    {"state", r.state},
-                    {"state_name", n != names.end() ? n->second : "state " + std::to_string(r.state)},
-                    {"label", r.label},
-                    {"parent", r.parent},
-                    {"leader", r.leader},
-                    {"net_force", r.net_force},
-                    {"left_speed", r.left_speed},
-                    {"right_speed", r.right_speed},
-                    {"heard", r.heard}});
+    json robot = {{"id", r.id},
+                  {"alive", r.alive},
+                  {"state", r.state},
+                  {"state_name", n != names.end() ? n->second : "state " + std::to_string(r.state)},
+                  {"label", r.label},
+                  {"parent", r.parent},
+                  {"leader", r.leader},
+                  {"net_force", r.net_force}};
+    if (!recorded_) {
+      robot["left_speed"] = r.left_speed;
+      robot["right_speed"] = r.right_speed;
+      robot["heard"] = r.heard;
+    }
+    list.push_back(std::move(robot));
   }
   return {{"timestamp", time_of(seconds(f.tick))}, {"tick", f.tick}, {"robots", list}};
 }
 
-std::vector<std::pair<std::uint64_t, std::string>> Foxglove::messages(const dds::ObserveFrameData& f) {
+std::vector<std::pair<std::uint64_t, std::string>> Foxglove::messages(const dds::ObserveFrameData& f,
+                                                                      std::uint64_t only) {
   std::vector<std::pair<std::uint64_t, std::string>> out;
   std::string cached[4];
   const auto stamp = static_cast<std::uint64_t>(seconds(f.tick) * 1e9);
   for (auto& [client, subs] : subscriptions_) {
+    if (only != 0 && client != only) continue;
     for (auto& [id, sub] : subs) {
       std::string payload;
       if (sub.channel == kScene) {

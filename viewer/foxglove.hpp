@@ -25,6 +25,9 @@ class Foxglove {
   // `world`: world.json of the run (arena, obstacles, goal, tick_rate); may be null until it is read.
   void set_world(const nlohmann::json& world) { world_ = world; }
   bool has_world() const { return world_.is_object(); }
+  // A replay's frames come from robots.csv, which holds no readings, neighbours heard or commands: the
+  // telemetry leaves those fields out instead of sending zeros.
+  void set_recorded(bool recorded) { recorded_ = recorded; }
 
   // The server's first messages to a new client: serverInfo, advertise.
   std::vector<std::string> hello() const;
@@ -32,8 +35,10 @@ class Foxglove {
   std::string on_text(std::uint64_t client, const std::string& text);
   void forget(std::uint64_t client) { subscriptions_.erase(client); }
 
-  // The binary Message Data messages of `frame` for every subscription: (client, bytes).
-  std::vector<std::pair<std::uint64_t, std::string>> messages(const dds::ObserveFrameData& frame);
+  // The binary Message Data messages of `frame` for every subscription (of `only` when it is not 0): (client,
+  // bytes).
+  std::vector<std::pair<std::uint64_t, std::string>> messages(const dds::ObserveFrameData& frame,
+                                                              std::uint64_t only = 0);
 
   static constexpr std::uint32_t kScene = 1;
   static constexpr std::uint32_t kPoses = 2;
@@ -46,6 +51,7 @@ class Foxglove {
   double seconds(std::uint64_t tick) const;
 
   nlohmann::json world_;
+  bool recorded_ = false;
   struct Subscription {
     std::uint32_t channel = 0;
     bool arena_sent = false;  // /scene: the static entities go once per subscription

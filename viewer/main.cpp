@@ -1,6 +1,7 @@
 // swarm_viewer: the browser view of a swarmform run (issue 21; viewer/README.md). Live: a DDS participant
 // that reads the world's sf_observe frames and sends its viewer's sf_control samples, and serves the page
-// (and Foxglove) on one port. Replay (--replay): the same page over a run directory's recording.
+// (and Foxglove) on one port. Replay (--replay, replay.cpp): the same page and Foxglove over a run
+// directory's recording.
 //
 // Exit codes: 0 the run ended (or SIGINT/SIGTERM); 1 a failure (DDS, the port); 2 bad flags.
 #include <CLI/CLI.hpp>
@@ -13,8 +14,8 @@
 #include "common/dds/observe_wire.hpp"
 #include "viewer/foxglove.hpp"
 #include "viewer/frame_json.hpp"
+#include "viewer/replay.hpp"
 #include "viewer/web_server.hpp"
-#include "world_server/behaviour_view.hpp"
 
 namespace {
 
@@ -78,45 +79,6 @@ class EventTail {
 json read_json(const std::string& path) {
   std::ifstream f(path);
   return f ? json::parse(f, nullptr, false) : json();
-}
-
-// The recording's own description of its behaviour (world.json's behaviour_descriptor: the descriptor's
-// states and telemetry columns, docs/recording-format.md), in the form the live frames give it.
-json behaviour_json(const json& world) {
-  const json d = world.value("behaviour_descriptor", json::object());
-  const swarmform::server::BehaviourView fixed = swarmform::server::describe_behaviour("", nullptr);
-  json fields = fixed.telemetry_fields;
-  for (const auto& t : d.value("telemetry", json::array())) {
-    if (t.is_object() && t.contains("name") && t["name"].is_string()) fields.push_back(t["name"]);
-  }
-  json states = d.value("states", json::array());
-  if (!states.is_array()) states = json::array();
-  return {{"behaviour", world.value("behaviour", std::string("?"))},
-          {"states", states},
-          {"telemetry_fields", fields}};
-}
-
-int replay(const Options& o) {
-  std::ifstream f(o.replay + "/world.json");
-  const json world = json::parse(f, nullptr, false);
-  if (!world.is_object()) {
-    std::cerr << "swarm_viewer: " << o.replay
-              << "/world.json: missing or not JSON (is this a run directory?)\n";
-    return 2;
-  }
-  json hello = {{"type", "hello"}, {"mode", "replay"}};
-  hello.update(behaviour_json(world));
-  swarmform::viewer::WebServer* server_ptr = nullptr;
-  swarmform::viewer::WebServer::Handlers h;
-  h.opened = [&](ClientId c, ClientKind k) {
-    if (k == ClientKind::Page) server_ptr->send_text(c, hello.dump());
-  };
-  h.every = [] { return true; };
-  swarmform::viewer::WebServer server({o.host, o.port, o.web_root, o.replay}, h, 100);
-  server_ptr = &server;
-  std::cout << "viewer http://" << o.host << ":" << server.port() << "/ replay of " << o.replay << std::endl;
-  server.run();
-  return 0;
 }
 
 int live(const Options& o) {
@@ -293,7 +255,7 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : 2;
   }
   try {
-    if (!o.replay.empty()) return replay(o);
+    if (!o.replay.empty()) return swarmform::viewer::replay({o.replay, o.host, o.port, o.web_root});
     if (o.run_dir.empty() || o.run_nonce.empty() || o.token.empty()) {
       std::cerr
           << "swarm_viewer: a live view needs --run-dir, --run-nonce and --token (or --replay RUN_DIR)\n";

@@ -21,8 +21,9 @@ using Hdl = websocketpp::connection_hdl;
 constexpr const char* kFoxgloveSubprotocol = "foxglove.websocket.v1";
 constexpr std::size_t kMaxBuffered = std::size_t{8} << 20;  // bytes queued to one client
 
-// What GET may fetch: the page's files from web_root and the recording from run_dir. Nothing else: no path
-// from the request reaches the file system.
+// What GET may fetch: the page's files from web_root and the small files of the recording from run_dir (not
+// robots.csv: a file is sent whole, and the replay reads robots.csv a tick at a time itself). Nothing else:
+// no path from the request reaches the file system.
 struct Served {
   const char* path;
   const char* file;
@@ -35,7 +36,6 @@ constexpr Served kServed[] = {
     {"/viewer.js", "viewer.js", "text/javascript; charset=utf-8", false},
     {"/viewer.css", "viewer.css", "text/css; charset=utf-8", false},
     {"/run/world.json", "world.json", "application/json", true},
-    {"/run/robots.csv", "robots.csv", "text/csv", true},
     {"/run/events.jsonl", "events.jsonl", "application/x-ndjson", true},
     {"/run/summary.json", "summary.json", "application/json", true},
 };

@@ -19,7 +19,7 @@ struct WebServerOptions {
   std::string host = "127.0.0.1";
   std::uint16_t port = 8765;
   std::string web_root;  // the page's files (viewer/web)
-  std::string run_dir;   // served under /run/ (world.json, robots.csv, events.jsonl, summary.json)
+  std::string run_dir;   // served under /run/ (world.json, events.jsonl, summary.json)
 };
 
 class WebServer {

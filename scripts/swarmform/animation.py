@@ -10,7 +10,9 @@ import math
 import os
 import subprocess
 import tempfile
+from typing import IO, Any, Callable, Optional
 
+from .recording import Recording
 from .scene import Scene
 
 MP4_SIZE = (960, 540)  # even sizes: H.264 with yuv420p needs them
@@ -25,7 +27,8 @@ class AnimationError(Exception):
     pass
 
 
-def frame_plan(tick_count, max_frames=MAX_FRAMES, max_gif_frames=MAX_GIF_FRAMES):
+def frame_plan(tick_count: int, max_frames: int = MAX_FRAMES,
+               max_gif_frames: int = MAX_GIF_FRAMES) -> tuple[list[int], int, int]:
     """(indices of the recorded ticks that become MP4 frames, every how many MP4 frames a GIF frame, mp4 fps).
 
     The last tick is always a frame, so the video ends on the final state."""
@@ -41,11 +44,11 @@ def frame_plan(tick_count, max_frames=MAX_FRAMES, max_gif_frames=MAX_GIF_FRAMES)
     return frames, gif_every, fps
 
 
-def gif_frame_count(frame_count, gif_every):
+def gif_frame_count(frame_count: int, gif_every: int) -> int:
     return len(range(0, frame_count, gif_every))
 
 
-def _ffmpeg(args, stderr):
+def _ffmpeg(args: list[str], stderr: IO[Any]) -> "subprocess.Popen[bytes]":
     try:
         return subprocess.Popen(["ffmpeg", "-hide_banner", "-loglevel", "error", "-y"] + args,
                                 stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=stderr)
@@ -53,16 +56,17 @@ def _ffmpeg(args, stderr):
         raise AnimationError("ffmpeg not found: install it (scripts/setup does, as root)") from None
 
 
-def _raw_input(size, fps):
+def _raw_input(size: tuple[int, int], fps: int) -> list[str]:
     return ["-f", "rawvideo", "-pix_fmt", "rgba", "-s", f"{size[0]}x{size[1]}", "-r", str(fps), "-i", "-"]
 
 
-def _gif_filter(width, colours):
+def _gif_filter(width: int, colours: int) -> str:
     return (f"scale={width}:-2:flags=lanczos,split[a][b];[a]palettegen=max_colors={colours}:stats_mode=full[p];"
             f"[b][p]paletteuse=dither=bayer:bayer_scale=4:diff_mode=rectangle")
 
 
-def render(rec, out_dir, log=print, max_frames=MAX_FRAMES, progress=None):
+def render(rec: Recording, out_dir: str, log: Callable[[str], None] = print, max_frames: int = MAX_FRAMES,
+           progress: Optional[Callable[[str], None]] = None) -> list[str]:
     """Writes animation.mp4 and animation.gif into out_dir; returns their paths. `progress(text)`, when given, is
     told how far the frames are (the slow part of the pictures)."""
     mp4 = os.path.join(out_dir, "animation.mp4")
@@ -76,6 +80,7 @@ def render(rec, out_dir, log=print, max_frames=MAX_FRAMES, progress=None):
                                                      "-pix_fmt", "yuv420p", "-movflags", "+faststart", mp4],
                         err_mp4)
         p_gif = _ffmpeg(_raw_input(MP4_SIZE, gif_fps) + ["-vf", _gif_filter(GIF_WIDTH, 128), gif], err_gif)
+        assert p_mp4.stdin is not None and p_gif.stdin is not None  # stdin=PIPE (_ffmpeg)
         try:
             # Background: everything but the dynamic artists, drawn once.
             for a in scene.dynamic:
@@ -101,7 +106,8 @@ def render(rec, out_dir, log=print, max_frames=MAX_FRAMES, progress=None):
             scene.close()
             for p in (p_mp4, p_gif):
                 try:
-                    p.stdin.close()
+                    if p.stdin is not None:
+                        p.stdin.close()
                 except BrokenPipeError:
                     pass
             codes = [p.wait(timeout=300) for p in (p_mp4, p_gif)]
@@ -114,7 +120,7 @@ def render(rec, out_dir, log=print, max_frames=MAX_FRAMES, progress=None):
     return [mp4, gif]
 
 
-def _shrink_gif(mp4, gif, gif_every, gif_fps, log):
+def _shrink_gif(mp4: str, gif: str, gif_every: int, gif_fps: int, log: Callable[[str], None]) -> None:
     """A GIF over the limit is made again from the MP4, smaller and with fewer colours (same frame count)."""
     size = os.path.getsize(gif)
     vf = f"select='not(mod(n\\,{gif_every}))',setpts=N/({gif_fps}*TB)," + _gif_filter(360, 32)

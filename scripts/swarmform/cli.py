@@ -7,6 +7,7 @@ import argparse
 import os
 import sys
 import time
+from typing import IO, Any, Callable, NoReturn, Optional, Sequence
 
 from . import expect, faults, hosts, launcher, security
 
@@ -52,13 +53,13 @@ SWARM_RUNS_DIR (default runs/) is where default run directories go.
 
 
 class Parser(argparse.ArgumentParser):
-    def error(self, message):
+    def error(self, message: str) -> NoReturn:
         self.print_usage(sys.stderr)
         self.exit(2, f"{self.prog}: error: {message}\n(`{self.prog} --help` for help)\n")
 
 
-def _int_at_least(lo):
-    def parse(text):
+def _int_at_least(lo: int) -> Callable[[str], int]:
+    def parse(text: str) -> int:
         try:
             v = int(text)
         except ValueError:
@@ -69,21 +70,21 @@ def _int_at_least(lo):
     return parse
 
 
-def _domain(text):
+def _domain(text: str) -> int:
     v = _int_at_least(0)(text)
     if v > 232:
         raise argparse.ArgumentTypeError(f"DDS domain ids go up to 232, got {v}")
     return v
 
 
-def _hosts_count(text):
+def _hosts_count(text: str) -> int:
     v = _int_at_least(1)(text)
     if v > hosts.MAX_HOSTS:
         raise argparse.ArgumentTypeError(f"at most {hosts.MAX_HOSTS} agent hosts, got {v}")
     return v
 
 
-def _link_spec(text):
+def _link_spec(text: str) -> hosts.Link:
     try:
         return hosts.parse_link(text)
     except hosts.HostsError as e:
@@ -93,36 +94,36 @@ def _link_spec(text):
 DEFAULT_VIEW_PORT = 8765
 
 
-def _port(text):
+def _port(text: str) -> int:
     v = _int_at_least(0)(text)
     if v > 65535:
         raise argparse.ArgumentTypeError(f"a TCP port is 0..65535, got {v}")
     return v
 
 
-def _kill_spec(text):
+def _kill_spec(text: str) -> str:
     rid, sep, tick = text.partition("@")
     if not sep or not rid.isdigit() or not tick.isdigit():
         raise argparse.ArgumentTypeError(f"expected ID@TICK (e.g. 3@500), got '{text}'")
     return f"{int(rid)}@{int(tick)}"
 
 
-def _expectation(text):
+def _expectation(text: str) -> expect.Expectation:
     try:
         return expect.parse(text)
     except expect.ExpectationError as e:
         raise argparse.ArgumentTypeError(str(e)) from None
 
 
-def _existing_file():
-    def parse(text):
+def _existing_file() -> Callable[[str], str]:
+    def parse(text: str) -> str:
         if not os.path.isfile(text):
             raise argparse.ArgumentTypeError(f"no such file '{text}'")
         return text
     return parse
 
 
-def _add_run_flags(p, demo=False):
+def _add_run_flags(p: argparse.ArgumentParser, demo: bool = False) -> None:
     if not demo:
         p.add_argument("--scenario", type=_existing_file(), default=None, metavar="FILE",
                        help=f"scenario file (YAML; scenarios/README.md). Default: {DEFAULT_SCENARIO}")
@@ -193,7 +194,7 @@ def _add_run_flags(p, demo=False):
                         "deterministic, fast); same run directory")
 
 
-def make_parser():
+def make_parser() -> Parser:
     top = Parser(prog="swarm", description=MAIN_HELP, formatter_class=argparse.RawDescriptionHelpFormatter,
                  usage="swarm {run,demo,kill,replay,view,report,sweep} [options]   (swarm <command> --help)")
     sub = top.add_subparsers(dest="command", metavar="command", parser_class=Parser, prog="swarm")
@@ -258,8 +259,8 @@ def make_parser():
     return top
 
 
-def _float_at_least(lo):
-    def parse(text):
+def _float_at_least(lo: float) -> Callable[[str], float]:
+    def parse(text: str) -> float:
         try:
             v = float(text)
         except ValueError:
@@ -270,8 +271,8 @@ def _float_at_least(lo):
     return parse
 
 
-def _checked(fn):
-    def parse(text):
+def _checked(fn: Callable[[str], Any]) -> Callable[[str], Any]:
+    def parse(text: str) -> Any:
         try:
             return fn(text)
         except ValueError as e:
@@ -279,7 +280,7 @@ def _checked(fn):
     return parse
 
 
-def _add_sweep_parser(sub):
+def _add_sweep_parser(sub: Any) -> None:
     from . import sweep  # no matplotlib
     p = sub.add_parser("sweep", help="a grid of in-process runs, judged; sweep.csv and sweep.json",
                        formatter_class=argparse.RawDescriptionHelpFormatter, description=sweep.HELP,
@@ -304,6 +305,9 @@ def _add_sweep_parser(sub):
                         "param_NAME column, sweep.json the grid's values, each run's and by_params rates")
     g.add_argument("--max-ticks", type=_int_at_least(1), metavar="T",
                    help="cut every run at tick T (default: each scenario's max_ticks)")
+    g.add_argument("--plugin-dir", action="append", default=[], metavar="DIR",
+                   help="a folder behaviour plug-ins may be loaded from, besides each scenario's own "
+                        "(docs/behaviour-api.md); passed to every run; repeatable")
     g.add_argument("--kill-window", type=_int_at_least(1), default=sweep.DEFAULT_KILL_WINDOW, metavar="T",
                    help="random:K kills fall at ticks 1..min(T, max_ticks) (default %(default)s)")
     j = p.add_argument_group("judging")
@@ -331,11 +335,11 @@ def _add_sweep_parser(sub):
 class _DrawingProgress:
     """What is being drawn, on one line rewritten in place on a terminal; a plain line every 5 s otherwise."""
 
-    def __init__(self, stream=sys.stderr):
+    def __init__(self, stream: IO[str] = sys.stderr) -> None:
         self.stream, self.tty, self.last, self.dirty = stream, stream.isatty(), 0.0, False
         self.start = time.monotonic()
 
-    def __call__(self, text):
+    def __call__(self, text: str) -> None:
         line = f"pictures: {text} ({time.monotonic() - self.start:.0f} s)"
         if self.tty:
             self.stream.write("\r\033[K" + line)
@@ -345,14 +349,15 @@ class _DrawingProgress:
             self.last = time.monotonic()
         self.stream.flush()
 
-    def end(self):
+    def end(self) -> None:
         if self.dirty:
             self.stream.write("\r\033[K")
             self.stream.flush()
             self.dirty = False
 
 
-def render_pictures(run_dir, ticks=(), out_dir=None, animate=True, labels=False):
+def render_pictures(run_dir: str, ticks: Sequence[int] = (), out_dir: Optional[str] = None, animate: bool = True,
+                    labels: bool = False) -> int:
     """Loads the recording and draws every picture; 0, or 1 with a file:line message."""
     from . import animation, pictures, recording  # matplotlib: only when drawing
     progress = _DrawingProgress()
@@ -379,7 +384,7 @@ def render_pictures(run_dir, ticks=(), out_dir=None, animate=True, labels=False)
     return 0
 
 
-def main(argv=None):
+def main(argv: Optional[Sequence[str]] = None) -> int:
     parser = make_parser()
     args = parser.parse_args(argv)
     if args.command is None:

@@ -15,6 +15,7 @@ import fcntl
 import os
 import secrets
 import socket
+from typing import Callable, Mapping, Optional
 
 PORT_BASE = 7400
 DOMAIN_GAIN = 100
@@ -26,13 +27,13 @@ class DomainError(Exception):
     pass
 
 
-def world_ports(domain):
+def world_ports(domain: int) -> tuple[int, int]:
     """The world's fixed UDP ports on `domain`: discovery unicast and user-data unicast (participant index 0)."""
     base = PORT_BASE + DOMAIN_GAIN * domain
     return base + 10, base + 11
 
 
-def ports_free(domain):
+def ports_free(domain: int) -> bool:
     """True if no socket on this host holds the world's ports of `domain` (bind probe, released at once)."""
     for port in world_ports(domain):
         s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
@@ -45,7 +46,7 @@ def ports_free(domain):
     return True
 
 
-def domain_range(env=None):
+def domain_range(env: Optional[Mapping[str, str]] = None) -> tuple[int, int]:
     """(lo, hi) from SWARM_DOMAINS, or the default; DomainError naming the variable when it is malformed."""
     text = (env if env is not None else os.environ).get("SWARM_DOMAINS")
     if not text:
@@ -59,7 +60,7 @@ def domain_range(env=None):
     return lo, hi
 
 
-def lock_dir():
+def lock_dir() -> str:
     runtime = os.environ.get("XDG_RUNTIME_DIR")
     if runtime and os.path.isdir(runtime) and os.access(runtime, os.W_OK):
         return os.path.join(runtime, "swarmform")
@@ -69,16 +70,17 @@ def lock_dir():
 class DomainLease:
     """A domain held for one run: the lock file stays locked until release() (or the process ends)."""
 
-    def __init__(self, domain, fd):
+    def __init__(self, domain: int, fd: Optional[int]) -> None:
         self.domain, self._fd = domain, fd
 
-    def release(self):
+    def release(self) -> None:
         if self._fd is not None:
             os.close(self._fd)  # closing drops the flock
             self._fd = None
 
 
-def pick_free_domain(env=None, probe=None, directory=None):
+def pick_free_domain(env: Optional[Mapping[str, str]] = None, probe: Optional[Callable[[int], bool]] = None,
+                     directory: Optional[str] = None) -> DomainLease:
     """The lowest free domain of the range, locked; DomainError when none is. `probe(domain)` (default
     ports_free) and `directory` (default lock_dir()) are for tests."""
     lo, hi = domain_range(env)
@@ -99,7 +101,7 @@ def pick_free_domain(env=None, probe=None, directory=None):
                       "on it); pass --domain D or widen SWARM_DOMAINS=LO-HI")
 
 
-def run_nonce():
+def run_nonce() -> str:
     """This run's nonce: 16 hex digits, never zero (docs/wire.md "Run nonce")."""
     while True:
         n = secrets.token_hex(8)

@@ -13,6 +13,7 @@ import json
 import math
 import os
 import re
+from typing import Any, Callable, Sequence
 
 EXIT_EXPECTATION_FAILED = 4
 _SYNTAX = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*(==|!=|<=|>=|<|>)\s*(\S(?:.*\S)?)\s*$")
@@ -24,14 +25,14 @@ class ExpectationError(Exception):
 
 
 class Expectation:
-    def __init__(self, text, key, op, value):
+    def __init__(self, text: str, key: str, op: str, value: Any) -> None:
         self.text, self.key, self.op, self.value = text, key, op, value
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"Expectation({self.text!r})"
 
 
-def _value(text):
+def _value(text: str) -> Any:
     t = text.strip()
     if len(t) >= 2 and t[0] == t[-1] and t[0] in "'\"":
         return t[1:-1]
@@ -49,7 +50,7 @@ def _value(text):
     return int(v) if v.is_integer() and re.fullmatch(r"[+-]?\d+", t) else v
 
 
-def parse(text):
+def parse(text: str) -> Expectation:
     """'KEY OP VALUE' -> Expectation; ExpectationError naming the text and what is wrong."""
     m = _SYNTAX.match(text)
     if not m:
@@ -63,15 +64,15 @@ def parse(text):
     return Expectation(text.strip(), key, op, value)
 
 
-def _is_number(v):
+def _is_number(v: Any) -> bool:
     return isinstance(v, (int, float)) and not isinstance(v, bool)
 
 
-def _shown(v):
+def _shown(v: Any) -> str:
     return json.dumps(v) if not isinstance(v, str) else v
 
 
-def check(exp, summary):
+def check(exp: Expectation, summary: dict[str, Any]) -> tuple[bool, str]:
     """(met, the actual value as the message shows it). ExpectationError for a key summary.json lacks."""
     if exp.key not in summary:
         known = ", ".join(sorted(k for k in summary if k not in ("format", "version")))
@@ -95,7 +96,7 @@ def check(exp, summary):
     return met, shown
 
 
-def evaluate(expectations, run_dir, say):
+def evaluate(expectations: Sequence[Expectation], run_dir: str, say: Callable[[str], None]) -> int:
     """Checks every expectation against RUN_DIR/summary.json, saying each; returns the exit code: 0 all met,
     EXIT_EXPECTATION_FAILED when one failed, 2 for an unknown key or no summary.json."""
     path = os.path.join(run_dir, "summary.json")

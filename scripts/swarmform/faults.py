@@ -10,6 +10,10 @@ claims id K and rejoins.
 import os
 import re
 import subprocess
+from typing import TYPE_CHECKING, Callable
+
+if TYPE_CHECKING:  # the launcher imports this module
+    from .launcher import Processes, Status
 
 RESTART = re.compile(r"^restart id=(\d+) tick=(\d+)$")
 RETIRED_WAIT_S = 5.0
@@ -23,12 +27,13 @@ FAULT_HELP = ("a scheduled fault KIND:TARGET@TICK[+TICKS][=VALUE] (repeatable): 
 class Restarter:
     """Starts a new agent for each `restart id=K tick=T` line of the world."""
 
-    def __init__(self, procs, agent_exe, domain, run_nonce, logs, write_agents, robots):
+    def __init__(self, procs: "Processes", agent_exe: str, domain: int, run_nonce: str, logs: str,
+                 write_agents: Callable[[], None], robots: int) -> None:
         """`write_agents()` rewrites agents.json from procs (the launcher's own writer, replaced whole)."""
         self.procs, self.agent_exe, self.domain, self.run_nonce = procs, agent_exe, domain, run_nonce
         self.logs, self.write_agents, self.robots = logs, write_agents, robots
 
-    def handle(self, line, status):
+    def handle(self, line: str, status: "Status") -> bool:
         """True when `line` was a restart request (acted on and reported)."""
         m = RESTART.match(line)
         if not m:

@@ -8,29 +8,33 @@ have reported.
 """
 
 import math
+from typing import Any, Optional, Sequence
 
 import numpy as np
 
-from .recording import MOTION, READY
+from .recording import MOTION, READY, Recording, Track
 
 
-def shape_error(places, labels, xs, ys, spacing):
+def shape_error(places: dict[int, tuple[float, float]], labels: Sequence[Any], xs: Sequence[float],
+                ys: Sequence[float], spacing: float) -> Optional[float]:
     """RMS fit error in grid units for robots with these labels at (xs, ys); None for fewer than 2 robots.
 
     places: label -> (x, y) of the label's grid cell. The 2-D Kabsch fit has a closed form: the rotation angle
     is atan2(sum of cross products, sum of dot products) of the centred point sets.
     """
-    seen, p, q = set(), [], []
-    for label, x, y in zip(labels, xs, ys):
-        label = int(label)
+    seen: set[int] = set()
+    p: list[tuple[float, float]] = []
+    q: list[tuple[float, float]] = []
+    for raw_label, x, y in zip(labels, xs, ys):
+        label = int(raw_label)
         if label in places and label not in seen:  # a label held twice (a transient conflict) counts once
             seen.add(label)
             p.append(places[label])
             q.append((x, y))
     if len(p) < 2:
         return None
-    p, q = np.asarray(p, dtype=float), np.asarray(q, dtype=float)
-    pc, qc = p - p.mean(axis=0), q - q.mean(axis=0)
+    pa, qa = np.asarray(p, dtype=float), np.asarray(q, dtype=float)
+    pc, qc = pa - pa.mean(axis=0), qa - qa.mean(axis=0)
     dot = float((pc * qc).sum())
     cross = float((pc[:, 0] * qc[:, 1] - pc[:, 1] * qc[:, 0]).sum())
     a = math.atan2(cross, dot)
@@ -39,7 +43,7 @@ def shape_error(places, labels, xs, ys, spacing):
     return float(np.sqrt((residual ** 2).sum(axis=1).mean())) / spacing
 
 
-def shape_members(track):
+def shape_members(track: Track) -> np.ndarray:
     """[T, N] bool: live robots that hold a label (the formation); all live robots if nobody ever has one."""
     members = track.alive & (track.label >= 0)
     if not members.any():
@@ -47,7 +51,7 @@ def shape_members(track):
     return members
 
 
-def formation_centre(track):
+def formation_centre(track: Track) -> np.ndarray:
     """[T, 2] centre of the formation's members at every tick (NaN where there are none)."""
     m = shape_members(track)
     count = m.sum(axis=1)
@@ -57,12 +61,12 @@ def formation_centre(track):
     return np.stack([cx, cy], axis=1)
 
 
-def _summary_tick(summary, key):
+def _summary_tick(summary: Optional[dict[str, Any]], key: str) -> Optional[int]:
     v = (summary or {}).get(key)
     return int(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else None
 
 
-def phases(rec):
+def phases(rec: Recording) -> dict[str, Optional[int]]:
     """Ticks of the run's phases: formation (all shape robots ready), motion start, goal; None when not reached.
 
     summary.json's values win (the world computed them from the truth); otherwise derived from the states.
@@ -85,13 +89,14 @@ def phases(rec):
     return out
 
 
-def distortion_series(rec):
+def distortion_series(rec: Recording) -> tuple[np.ndarray, np.ndarray]:
     """(ticks, shape error) arrays: summary.json's `distortion` if present, else computed from the recording
     for every tick from formation on (from the first tick with two labelled robots when formation never came).
     """
     series = (rec.summary or {}).get("distortion")
     if isinstance(series, list) and series:
-        ticks, errors = [], []
+        ticks: list[float] = []
+        errors: list[float] = []
         for item in series:
             if isinstance(item, dict):
                 t, e = item.get("tick"), item.get("shape_error", item.get("error", item.get("value")))
@@ -123,7 +128,7 @@ def distortion_series(rec):
     return np.asarray(ticks, dtype=float), np.asarray(errors, dtype=float)
 
 
-def view_bounds(rec, pad=1.0):
+def view_bounds(rec: Recording, pad: float = 1.0) -> tuple[float, float, float, float]:
     """(xmin, xmax, ymin, ymax) of what the pictures show: every robot's path, the goal and the obstacles,
     padded and kept inside the arena -- the swarm is small in a large arena, and the paper's figures zoom."""
     w, t = rec.world, rec.track

@@ -26,6 +26,9 @@ import re
 import shutil
 import signal
 import subprocess
+from typing import Any, Optional, Union
+
+Link = dict[str, Union[float, str]]  # --link: loss (percent), rate, delay (tc's spelling)
 
 STATE_DIR = "/run/swarmform-hosts"  # P.pid: the launcher's pid and start time, written before any namespace
 NAME = re.compile(r"^sfh(\d+)-")
@@ -44,12 +47,12 @@ class HostsError(Exception):
     pass
 
 
-def parse_link(text):
+def parse_link(text: str) -> Link:
     """--link text -> {"loss": percent (float), "rate": str, "delay": str}; HostsError naming the bad part."""
     words = text.split()
     if not words or len(words) % 2:
         raise HostsError(f"--link {text!r}: want KEY VALUE pairs: loss P%, rate R, delay D")
-    out = {}
+    out: Link = {}
     for key, value in zip(words[::2], words[1::2]):
         if key in out:
             raise HostsError(f"--link {text!r}: {key} given twice")
@@ -71,7 +74,7 @@ def parse_link(text):
     return out
 
 
-def check_can_make_hosts():
+def check_can_make_hosts() -> None:
     """HostsError unless this process is root in the root network namespace."""
     if os.geteuid() != 0:
         raise HostsError("--hosts needs root (it creates network namespaces, veths and a bridge); run as root, "
@@ -81,7 +84,7 @@ def check_can_make_hosts():
         raise HostsError(f"this process runs in the network namespace {inside}: {NETNS_ROOT_HINT}")
 
 
-def in_named_namespace():
+def in_named_namespace() -> Optional[str]:
     """The `ip netns` namespace this process runs in, or None (the root one, or one without a name). Compares
     inodes with /run/netns/*: /proc/1/ns/net may be unreadable even to root in a container."""
     try:
@@ -99,7 +102,7 @@ def in_named_namespace():
     return None
 
 
-def _run(cmd, what):
+def _run(cmd: list[str], what: str) -> str:
     try:
         p = subprocess.run(cmd, capture_output=True, text=True, timeout=CMD_TIMEOUT_S)
     except (OSError, subprocess.TimeoutExpired) as e:
@@ -109,7 +112,7 @@ def _run(cmd, what):
     return p.stdout
 
 
-def _namespaces():
+def _namespaces() -> list[str]:
     try:
         out = subprocess.run(["ip", "netns", "list"], capture_output=True, text=True, timeout=CMD_TIMEOUT_S).stdout
     except (OSError, subprocess.TimeoutExpired):
@@ -117,7 +120,7 @@ def _namespaces():
     return [line.split()[0] for line in out.splitlines() if line.strip()]
 
 
-def _start_time(pid):
+def _start_time(pid: int) -> Optional[int]:
     """The process's start time (clock ticks since boot), or None if there is no such process."""
     try:
         with open(f"/proc/{pid}/stat") as f:
@@ -126,7 +129,7 @@ def _start_time(pid):
         return None
 
 
-def _kill_namespace_processes(ns):
+def _kill_namespace_processes(ns: str) -> None:
     try:
         out = subprocess.run(["ip", "netns", "pids", ns], capture_output=True, text=True,
                              timeout=CMD_TIMEOUT_S).stdout
@@ -140,7 +143,7 @@ def _kill_namespace_processes(ns):
                 pass
 
 
-def _delete_namespace(ns):
+def _delete_namespace(ns: str) -> None:
     _kill_namespace_processes(ns)
     try:
         subprocess.run(["ip", "netns", "del", ns], capture_output=True, timeout=CMD_TIMEOUT_S)
@@ -148,7 +151,7 @@ def _delete_namespace(ns):
         pass  # left for the next run's remove_leftovers
 
 
-def _owner_alive(prefix):
+def _owner_alive(prefix: str) -> bool:
     """True if the pid file of `prefix` names a launcher that still runs (same pid and start time)."""
     try:
         with open(os.path.join(STATE_DIR, f"{prefix}.pid")) as f:
@@ -158,10 +161,10 @@ def _owner_alive(prefix):
     return _start_time(pid) == start
 
 
-def remove_leftovers():
+def remove_leftovers() -> list[str]:
     """Removes the namespaces (and their processes) of --hosts runs whose launcher is gone (a SIGKILL, a
     crash); returns the prefixes removed."""
-    removed = set()
+    removed: set[str] = set()
     for ns in _namespaces():
         m = NAME.match(ns)
         if not m:
@@ -187,7 +190,7 @@ def remove_leftovers():
 class Hosts:
     """One run's namespaces. `create()` builds them (HostsError on failure, having removed what it made)."""
 
-    def __init__(self, count, link=None, prefix=None):
+    def __init__(self, count: int, link: Optional[Link] = None, prefix: Optional[str] = None) -> None:
         if not 1 <= count <= MAX_HOSTS:
             raise HostsError(f"--hosts {count}: want 1..{MAX_HOSTS} agent hosts")
         self.count, self.link = count, link or {}
@@ -202,22 +205,22 @@ class Hosts:
         self._pid_file = os.path.join(STATE_DIR, f"{self.prefix}.pid")
         self._made = False
 
-    def namespaces(self):
+    def namespaces(self) -> list[str]:
         return [self.switch, self.world["namespace"]] + [h["namespace"] for h in self.agent_hosts]
 
-    def host_of(self, rid):
+    def host_of(self, rid: int) -> dict[str, str]:
         return self.agent_hosts[rid % self.count]
 
-    def world_wrap(self):
+    def world_wrap(self) -> tuple[list[str], list[str]]:
         """The command prefix and the world_server flags for the world's host."""
         return ["ip", "netns", "exec", self.world["namespace"]], ["--interface", WORLD_ADDRESS]
 
-    def agent_wrap(self, rid):
+    def agent_wrap(self, rid: int) -> tuple[list[str], list[str]]:
         """The command prefix and the robot_agent flags for agent `rid`."""
         h = self.host_of(rid)
         return ["ip", "netns", "exec", h["namespace"]], ["--world-host", WORLD_ADDRESS, "--interface", h["address"]]
 
-    def create(self):
+    def create(self) -> None:
         os.makedirs(STATE_DIR, exist_ok=True)
         with open(self._pid_file, "w") as f:  # first: a namespace of ours is never taken for a leftover
             f.write(f"{os.getpid()} {_start_time(os.getpid())}\n")
@@ -234,7 +237,7 @@ class Hosts:
             self.remove()
             raise
 
-    def _plug(self, h):
+    def _plug(self, h: dict[str, str]) -> None:
         ns, iface, port = h["namespace"], h["interface"], h["switch_port"]
         what = f"joining {ns} to the switch"
         _run(["ip", "link", "add", "name", iface, "netns", ns, "type", "veth", "peer", "name", port, "netns",
@@ -244,7 +247,7 @@ class Hosts:
         _run(["ip", "-n", self.switch, "link", "set", port, "master", self.bridge, "up"], what)
         self._shape(ns, iface)
 
-    def _shape(self, ns, iface):
+    def _shape(self, ns: str, iface: str) -> None:
         for key, tool, package in (("loss", "nft", "nftables"), ("rate", "tc", "iproute2"),
                                    ("delay", "tc", "iproute2")):
             if key in self.link and shutil.which(tool) is None:
@@ -257,11 +260,11 @@ class Hosts:
             _run(["ip", "netns", "exec", ns, "nft", "add", "chain", "inet", table, "out",
                   "{ type filter hook output priority 0; }"], what)
             _run(["ip", "netns", "exec", ns, "nft", "add", "rule", "inet", table, "out", "oifname", iface,
-                  "numgen", "random", "mod", "10000", "<", str(round(self.link["loss"] * 100)), "drop"], what)
+                  "numgen", "random", "mod", "10000", "<", str(round(float(self.link["loss"]) * 100)), "drop"], what)
         parent = ["root"]
         if "delay" in self.link:
             cmd = ["tc", "-n", ns, "qdisc", "add", "dev", iface, "root", "handle", "1:", "netem", "delay",
-                   self.link["delay"]]
+                   str(self.link["delay"])]
             p = subprocess.run(cmd, capture_output=True, text=True, timeout=CMD_TIMEOUT_S)
             if p.returncode != 0 and "unknown" in (p.stderr or ""):
                 raise HostsError("--link delay needs the kernel's netem queueing discipline (sch_netem), which this "
@@ -271,17 +274,17 @@ class Hosts:
             parent = ["parent", "1:1", "handle", "10:"]
         if "rate" in self.link:
             _run(["tc", "-n", ns, "qdisc", "add", "dev", iface] + parent +
-                 ["tbf", "rate", self.link["rate"], "burst", "64kbit", "latency", "200ms"],
+                 ["tbf", "rate", str(self.link["rate"]), "burst", "64kbit", "latency", "200ms"],
                  f"--link rate on {ns} (tc tbf)")
 
-    def describe(self, robots):
+    def describe(self, robots: int) -> dict[str, Any]:
         """hosts.json's content: each host's namespace, interface, address, switch port (and agents)."""
         return {"prefix": self.prefix, "switch": {"namespace": self.switch, "bridge": self.bridge},
                 "link": self.link, "world": self.world,
                 "agent_hosts": [dict(h, agents=list(range(i, robots, self.count)))
                                 for i, h in enumerate(self.agent_hosts)]}
 
-    def remove(self):
+    def remove(self) -> None:
         """Every process in the namespaces SIGKILLed, the namespaces deleted, the pid file removed."""
         if not self._made:
             return
@@ -296,6 +299,6 @@ class Hosts:
         self._made = False
 
 
-def write_description(hosts, run_dir, robots):
+def write_description(hosts: Hosts, run_dir: str, robots: int) -> None:
     with open(os.path.join(run_dir, "hosts.json"), "w") as f:
         json.dump(hosts.describe(robots), f, indent=1)

@@ -22,9 +22,11 @@ by group, and the launcher exits 130. Every child also has PR_SET_PDEATHSIG = SI
 launcher leaves no process behind (its --hosts namespaces are removed by the next --hosts run).
 """
 
+import argparse
 import ctypes
 import datetime
 import errno
+import functools
 import json
 import os
 import re
@@ -36,6 +38,7 @@ import signal
 import subprocess
 import sys
 import time
+from typing import IO, Any, Callable, Optional
 
 from . import domains
 from . import faults
@@ -76,16 +79,16 @@ REPEATS_SHOWN = 3
 
 
 class LaunchError(Exception):
-    def __init__(self, message, code=1):
+    def __init__(self, message: str, code: int = 1) -> None:
         super().__init__(message)
         self.code = code
 
 
-def build_dir():
+def build_dir() -> str:
     return os.environ.get("BUILD_DIR") or os.path.join(ROOT, "build")
 
 
-def executable(kind):
+def executable(kind: str) -> str:
     rel = {"world": "world_server/world_server", "agent": "robot_agent/robot_agent",
            "inprocess": "harness/swarm_inprocess", "viewer": "viewer/swarm_viewer"}[kind]
     path = os.path.join(build_dir(), rel)
@@ -94,10 +97,10 @@ def executable(kind):
     return path
 
 
-_libc = None
+_libc: Optional[ctypes.CDLL] = None
 
 
-def _die_with_parent():
+def _die_with_parent() -> None:
     """In the child before exec: be SIGKILLed if the launcher dies (Linux prctl PR_SET_PDEATHSIG = 1)."""
     global _libc
     try:
@@ -107,7 +110,7 @@ def _die_with_parent():
         pass
 
 
-def overrides(args):
+def overrides(args: argparse.Namespace) -> list[str]:
     """The flags the world takes from `swarm run`, in its own spelling."""
     out = ["--scenario", args.scenario]
     for flag, value in (("--shape", args.shape), ("--robots", args.robots), ("--seed", args.seed),
@@ -123,7 +126,7 @@ def overrides(args):
     return out
 
 
-def agent_plugin_flags(args):
+def agent_plugin_flags(args: argparse.Namespace) -> list[str]:
     """The folders an agent may load behaviour plug-ins from: the scenario's own and each --plugin-dir (the
     world and swarm_inprocess add the scenario's folder themselves; docs/behaviour-api.md)."""
     out = ["--plugin-dir", os.path.dirname(os.path.abspath(args.scenario))]
@@ -132,7 +135,7 @@ def agent_plugin_flags(args):
     return out
 
 
-def exec_args(args):
+def exec_args(args: argparse.Namespace) -> list[str]:
     """The flags every robot_agent gets for `swarm run --exec CMD` (a behaviour as a child process per robot,
     docs/agent-protocol.md): the command line is passed through as one argument, run by /bin/sh in the agent."""
     cmd = getattr(args, "exec", None)
@@ -143,7 +146,7 @@ def exec_args(args):
     return out + (["--exec-timeout", f"{timeout:g}"] if timeout is not None else [])
 
 
-def check_exec(cmd):
+def check_exec(cmd: Optional[str]) -> None:
     """Refuses an --exec command whose program cannot be found, before any process starts (each robot's agent would
     otherwise die of it, one WARNING each). Only a plain command line is checked: one with shell syntax (pipes,
     variables, redirections) is left to the shell."""
@@ -164,7 +167,7 @@ def check_exec(cmd):
         raise LaunchError(f"--exec {cmd!r}: {program}: {where}", 2)
 
 
-def check_scenario(world_exe, args):
+def check_scenario(world_exe: str, args: argparse.Namespace) -> dict[str, Any]:
     """Runs `world_server --check`; returns its JSON ({robots, labels, mode, max_ticks, seed})."""
     cmd = [world_exe] + overrides(args) + ["--check"]
     try:
@@ -183,7 +186,7 @@ def check_scenario(world_exe, args):
     raise LaunchError(f"world_server --check printed no JSON line with 'robots': {p.stdout.strip()[:200]!r}")
 
 
-def make_run_dir(out):
+def make_run_dir(out: Optional[str]) -> str:
     """--out, or runs/<UTC time>/ with runs/latest pointing at it."""
     if out:
         os.makedirs(out, exist_ok=True)
@@ -210,22 +213,24 @@ def make_run_dir(out):
 class Processes:
     """Every process the launcher started, so that all of them can be stopped by pid and by group."""
 
-    def __init__(self):
-        self.agents = {}  # id -> Popen
-        self.agent_args = []  # given to every agent, restarted ones too (--exec CMD, plug-in folders, --security-dir)
-        self.groups = set()
-        self.world = None
-        self.viewer = None
-        self._files = []
+    def __init__(self) -> None:
+        self.agents: dict[int, subprocess.Popen[bytes]] = {}  # id -> Popen
+        # given to every agent, restarted ones too (--exec CMD, plug-in folders, --security-dir)
+        self.agent_args: list[str] = []
+        self.groups: set[int] = set()
+        self.world: Optional[subprocess.Popen[bytes]] = None
+        self.viewer: Optional[subprocess.Popen[bytes]] = None
+        self._files: list[IO[bytes]] = []
         # rid -> (command prefix, extra flags): where agent rid runs (hosts.Hosts.agent_wrap under --hosts)
-        self.placement = None
+        self.placement: Optional[Callable[[int], tuple[list[str], list[str]]]] = None
 
-    def _log(self, path):
+    def _log(self, path: str) -> IO[bytes]:
         f = open(path, "ab")
         self._files.append(f)
         return f
 
-    def start_agent(self, exe, rid, domain, log_path, run_nonce=None):
+    def start_agent(self, exe: str, rid: int, domain: Optional[int], log_path: str,
+                    run_nonce: Optional[str] = None) -> "subprocess.Popen[bytes]":
         wrap, extra = self.placement(rid) if self.placement else ([], [])
         cmd = wrap + [exe, "--id", str(rid)] + (["--domain", str(domain)] if domain is not None else [])
         cmd += (["--run-nonce", run_nonce] if run_nonce else []) + extra
@@ -242,18 +247,18 @@ class Processes:
         self.agents[rid] = p
         return p
 
-    def start_world(self, cmd):
+    def start_world(self, cmd: list[str]) -> "subprocess.Popen[bytes]":
         self.world = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                                       stderr=subprocess.STDOUT, process_group=0, preexec_fn=_die_with_parent)
         return self.world
 
-    def start_viewer(self, cmd, log_path):
+    def start_viewer(self, cmd: list[str], log_path: str) -> "subprocess.Popen[bytes]":
         """The viewer (--view): its own process group, its output to its log. Its death is said, never fatal."""
         self.viewer = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=self._log(log_path),
                                        stderr=subprocess.STDOUT, process_group=0, preexec_fn=_die_with_parent)
         return self.viewer
 
-    def stop_viewer(self, deadline_s=3.0):
+    def stop_viewer(self, deadline_s: float = 3.0) -> None:
         v = self.viewer
         if v is None or v.poll() is not None:
             return
@@ -264,7 +269,7 @@ class Processes:
             _kill_quietly(v.kill)
             v.wait(timeout=5)
 
-    def stop_world(self, deadline_s):
+    def stop_world(self, deadline_s: float) -> Optional[int]:
         """SIGTERM (the world closes its recording), then SIGKILL after the deadline. Returns its exit code."""
         w = self.world
         if w is None:
@@ -274,11 +279,12 @@ class Processes:
             try:
                 w.wait(timeout=deadline_s)
             except subprocess.TimeoutExpired:
-                _kill_quietly(lambda: os.killpg(w.pid, signal.SIGKILL))
+                pid = w.pid
+                _kill_quietly(lambda: os.killpg(pid, signal.SIGKILL))
                 w.wait(timeout=5)
         return w.returncode
 
-    def wait_agents(self, deadline_s):
+    def wait_agents(self, deadline_s: float) -> int:
         """Gives the agents until the deadline to exit, then SIGKILLs the stragglers. Returns how many were."""
         end = time.monotonic() + deadline_s
         for p in self.agents.values():
@@ -290,9 +296,9 @@ class Processes:
         self.kill_agents()
         return len(stragglers)
 
-    def kill_agents(self):
+    def kill_agents(self) -> None:
         for g in self.groups:
-            _kill_quietly(lambda g=g: os.killpg(g, signal.SIGKILL))
+            _kill_quietly(functools.partial(os.killpg, g, signal.SIGKILL))
         for p in self.agents.values():
             if p.poll() is None:
                 _kill_quietly(p.kill)
@@ -302,12 +308,12 @@ class Processes:
             except subprocess.TimeoutExpired:
                 pass
 
-    def close(self):
+    def close(self) -> None:
         for f in self._files:
             f.close()
 
 
-def _kill_quietly(fn):
+def _kill_quietly(fn: Callable[[], object]) -> None:
     try:
         fn()
     except (ProcessLookupError, PermissionError):
@@ -317,19 +323,19 @@ def _kill_quietly(fn):
 class StopFlag:
     """SIGINT/SIGTERM/SIGHUP set it; the launcher's loop polls it (no exception at an arbitrary point)."""
 
-    def __init__(self):
-        self.signal = None
-        self._old = {}
+    def __init__(self) -> None:
+        self.signal: Optional[int] = None
+        self._old: dict[signal.Signals, Any] = {}
         for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
             self._old[s] = signal.signal(s, self._handle)
 
-    def _handle(self, signum, _frame):
+    def _handle(self, signum: int, _frame: Any) -> None:
         self.signal = self.signal or signum
 
-    def __bool__(self):
+    def __bool__(self) -> bool:
         return self.signal is not None
 
-    def restore(self):
+    def restore(self) -> None:
         for s, h in self._old.items():
             signal.signal(s, h)
 
@@ -337,11 +343,11 @@ class StopFlag:
 class Status:
     """One status line on a terminal (rewritten in place); plain lines, at most every few seconds, otherwise."""
 
-    def __init__(self, stream=sys.stderr):
+    def __init__(self, stream: IO[str] = sys.stderr) -> None:
         self.stream, self.tty = stream, stream.isatty()
         self.last_plain, self.dirty = 0.0, False
 
-    def progress(self, tick, alive, n, tps, max_ticks):
+    def progress(self, tick: int, alive: int, n: int, tps: float, max_ticks: Optional[int]) -> None:
         of = f"/{max_ticks}" if max_ticks else ""
         text = f"tick {tick}{of}   robots alive {alive}/{n}   {tps:.1f} ticks/s"
         if self.tty:
@@ -352,14 +358,14 @@ class Status:
             self.last_plain = time.monotonic()
         self.stream.flush()
 
-    def line(self, text):
+    def line(self, text: str) -> None:
         if self.dirty:
             self.stream.write("\r\033[K")
             self.dirty = False
         self.stream.write(text + "\n")
         self.stream.flush()
 
-    def end(self):
+    def end(self) -> None:
         if self.dirty:
             self.stream.write("\n")
             self.dirty = False
@@ -370,11 +376,12 @@ class AgentWatch:
     id is a loud warning, not a silent death), with the last line of its log. A SIGKILLed agent (--kill, the end)
     is not an error of its own."""
 
-    def __init__(self, procs, logs, status):
+    def __init__(self, procs: Processes, logs: str, status: Status) -> None:
         self.procs, self.logs, self.status = procs, logs, status
-        self.said, self.last = set(), 0.0
+        self.said: set[int] = set()
+        self.last = 0.0
 
-    def check(self, force=False):
+    def check(self, force: bool = False) -> None:
         if not force and time.monotonic() - self.last < AGENT_WATCH_PERIOD_S:
             return
         self.last = time.monotonic()
@@ -388,7 +395,7 @@ class AgentWatch:
             self.status.line(f"swarm: WARNING: agent {rid} exited with code {code}: {_last_line(self.logs, rid)}")
 
 
-def connect_timeout(robots, given=None):
+def connect_timeout(robots: int, given: Optional[float] = None) -> float:
     """--connect-timeout, or the default that grows with the number of agents (30 s + 25 ms an agent)."""
     return given if given is not None else CONNECT_TIMEOUT_BASE_S + CONNECT_TIMEOUT_PER_AGENT_S * robots
 
@@ -400,15 +407,17 @@ class ConnectWatch:
     ids never claimed and what became of their agents. `missing_text` says the same when the world timed out
     itself (its exit 3)."""
 
-    def __init__(self, procs, logs, robots, timeout_s):
+    def __init__(self, procs: Processes, logs: str, robots: int, timeout_s: float) -> None:
         self.procs, self.logs, self.robots, self.timeout_s = procs, logs, robots, timeout_s
-        self.claimed, self.connected, self.since = set(), False, None
+        self.claimed: set[int] = set()
+        self.connected = False
+        self.since: Optional[float] = None
 
-    def start(self):
+    def start(self) -> None:
         if self.since is None:
             self.since = time.monotonic()
 
-    def line(self, line, _status):
+    def line(self, line: str, _status: Status) -> bool:
         """Sees every world line (never takes one: returns False)."""
         m = CLAIMED.match(line)
         if m:
@@ -417,13 +426,13 @@ class ConnectWatch:
             self.connected = True
         return False
 
-    def missing(self):
+    def missing(self) -> list[int]:
         return [rid for rid in range(self.robots) if rid not in self.claimed]
 
-    def missing_text(self):
+    def missing_text(self) -> str:
         """'1 (agent exited with code 3: <its last line>), 7 (agent running; logs/agent-7.log)' for the first few."""
         ids = self.missing()
-        parts = []
+        parts: list[str] = []
         for rid in ids[:MISSING_DETAILS_SHOWN]:
             p = self.procs.agents.get(rid)
             if p is None:
@@ -440,7 +449,7 @@ class ConnectWatch:
         more = f" and {len(ids) - MISSING_DETAILS_SHOWN} more" if len(ids) > MISSING_DETAILS_SHOWN else ""
         return ", ".join(parts) + more
 
-    def check(self):
+    def check(self) -> None:
         if self.connected or self.since is None:
             return
         grace = min(CONNECT_GRACE_S[1], max(CONNECT_GRACE_S[0], 0.2 * self.timeout_s))
@@ -452,7 +461,7 @@ class ConnectWatch:
                           f"{self.missing_text() or 'none claimed missing: the world hangs'}", EXIT_AGENTS_MISSING)
 
 
-def _exit_code_unreaped(p):
+def _exit_code_unreaped(p: "subprocess.Popen[bytes]") -> Optional[int]:
     """An agent's exit code (negative: killed by that signal), or None while it runs. Looked at without reaping it:
     an exited agent stays a zombie until the end of the run, so its pid cannot be reused by another process that
     the world's --kill or `swarm kill` would then hit."""
@@ -467,7 +476,7 @@ def _exit_code_unreaped(p):
     return r.si_status if r.si_code == os.CLD_EXITED else -r.si_status
 
 
-def _last_line(logs, rid):
+def _last_line(logs: str, rid: int) -> str:
     path = os.path.join(logs, f"agent-{rid}.log")
     try:
         with open(path, "rb") as f:
@@ -480,25 +489,30 @@ def _last_line(logs, rid):
     return (said or lines or ["(empty log)"])[-1]
 
 
-def _write_json_atomically(path, data):
+def _write_json_atomically(path: str, data: Any) -> None:
     tmp = f"{path}.tmp-{os.getpid()}"
     with open(tmp, "w") as f:
         json.dump(data, f, indent=1)
     os.replace(tmp, path)
 
 
-def _follow(proc, stop, status, console_log, max_ticks, prefix="world", on_ready=None, on_idle=None,
-            on_line=None):
+def _follow(proc: "subprocess.Popen[bytes]", stop: StopFlag, status: Status, console_log: IO[bytes],
+            max_ticks: Optional[int], prefix: str = "world", on_ready: Optional[Callable[[], None]] = None,
+            on_idle: Optional[Callable[[], object]] = None,
+            on_line: Optional[Callable[[str, Status], bool]] = None) -> Optional[tuple[int, str]]:
     """Reads the world's output until it exits or a stop is asked; returns the `done` line's fields or None.
     `on_ready()` runs at the world's `world ready` line, `on_idle()` every time round the loop, and
     `on_line(line, status)` may take a line first (True: handled)."""
+    assert proc.stdout is not None  # stdout=PIPE
     fd = proc.stdout.fileno()
     os.set_blocking(fd, False)
-    buf, done = b"", None
-    seen = {}  # a line's pattern (digits blanked) -> times shown: "id 7 claimed by pid 123" x 256 shows 3
+    buf = b""
+    done: Optional[tuple[int, str]] = None
+    # a line's pattern (digits blanked) -> times shown: "id 7 claimed by pid 123" x 256 shows 3
+    seen: dict[str, int] = {}
 
 
-    def handle(raw):
+    def handle(raw: bytes) -> None:
         nonlocal done
         console_log.write(raw + b"\n")
         line = raw.decode(errors="replace").rstrip("\r")
@@ -548,13 +562,13 @@ def _follow(proc, stop, status, console_log, max_ticks, prefix="world", on_ready
     return done
 
 
-def run(args, render_pictures):
+def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
     """`swarm run`. Returns the exit code; `render_pictures(run_dir)` draws the figures afterwards."""
     stop = StopFlag()
     procs = Processes()
     status = Status()
-    lease = None
-    hosts = None
+    lease: Optional[domains.DomainLease] = None
+    hosts: Optional[hosts_mod.Hosts] = None
     try:
         if args.in_process:
             return _run_in_process(args, stop, status, render_pictures)
@@ -591,7 +605,7 @@ def run(args, render_pictures):
                 raise LaunchError(str(e)) from None
             domain = lease.domain
             status.line(f"swarm: DDS domain {domain} (free on this host; --domain D chooses one)")
-        secure_args = []
+        secure_args: list[str] = []
         if getattr(args, "secure", False):
             made = time.monotonic()
             try:
@@ -616,7 +630,7 @@ def run(args, render_pictures):
             cmd = wrap + cmd + extra
             procs.placement = hosts.agent_wrap
 
-        def start_agents():  # at the world's `world ready`: its mission is out
+        def start_agents() -> None:  # at the world's `world ready`: its mission is out
             connecting.start()
             view.start()
             for rid in range(n):
@@ -625,25 +639,33 @@ def run(args, render_pictures):
                 procs.start_agent(agent_exe, rid, domain, os.path.join(logs, f"agent-{rid}.log"), nonce)
             write_agents()
 
-        def write_agents():  # the world reads it when a kill or a stall is due: replaced whole
+        def write_agents() -> None:  # the world reads it when a kill or a stall is due: replaced whole
             _write_json_atomically(agents_json, {str(k): p.pid for k, p in procs.agents.items()})
 
         watch = AgentWatch(procs, logs, status)
         connecting = ConnectWatch(procs, logs, n, wait_s)
         started = time.monotonic()
         with open(os.path.join(logs, "world_console.log"), "ab") as console_log:
-            procs.start_world(cmd)
+            world = procs.start_world(cmd)
             restarter = faults.Restarter(procs, agent_exe, domain, nonce, logs, write_agents, n)
-            done = _follow(procs.world, stop, status, console_log, max_ticks, on_ready=start_agents,
-                           on_idle=lambda: (watch.check(), view.check(), connecting.check()),
-                           on_line=lambda line, st: connecting.line(line, st) or restarter.handle(line, st))
-            while procs.world.poll() is None and not stop:  # its output closed; it should be exiting
+
+            def idle() -> None:
+                watch.check()
+                view.check()
+                connecting.check()
+
+            def on_line(line: str, st: Status) -> bool:
+                return connecting.line(line, st) or restarter.handle(line, st)
+
+            done = _follow(world, stop, status, console_log, max_ticks, on_ready=start_agents, on_idle=idle,
+                           on_line=on_line)
+            while world.poll() is None and not stop:  # its output closed; it should be exiting
                 time.sleep(0.1)
         status.end()
         procs.stop_viewer()
         if stop:
             return _interrupted(procs, stop, status, run_dir)
-        code = procs.world.returncode
+        code = world.returncode
         # What became of the agents that never connected, before the stragglers are killed below.
         missing = connecting.missing_text() if code == EXIT_AGENTS_MISSING and not connecting.connected else None
         stragglers = procs.wait_agents(AGENT_EXIT_DEADLINE_S)
@@ -683,7 +705,7 @@ def run(args, render_pictures):
         stop.restore()
 
 
-def _make_hosts(args, status, run_dir, robots):
+def _make_hosts(args: argparse.Namespace, status: Status, run_dir: str, robots: int) -> hosts_mod.Hosts:
     """--hosts: the namespaces of this run (after removing a crashed run's), described in hosts.json."""
     try:
         for prefix in hosts_mod.remove_leftovers():
@@ -713,7 +735,8 @@ class _ViewerStart:
     starts with the same token, and its URL is printed. A viewer that fails or dies is said once; the run goes on
     (the world forgets a viewer that went away: viewer_control.hpp)."""
 
-    def __init__(self, args, info, run_dir, domain, nonce, logs, procs, status):
+    def __init__(self, args: argparse.Namespace, info: dict[str, Any], run_dir: str, domain: int, nonce: str,
+                 logs: str, procs: Processes, status: Status) -> None:
         self.port = getattr(args, "view", None)
         self.host = getattr(args, "view_host", "127.0.0.1")
         self.paused = bool(getattr(args, "view_paused", False))
@@ -728,24 +751,24 @@ class _ViewerStart:
                               "where the world cannot be reached; not supported yet (docs/multi-host.md)",
                               EXIT_BAD_INPUT)
         self.exe = executable("viewer") if self.port is not None else None
-        self.extra = []  # --security-dir under --secure: the viewer takes the run's observer identity
+        self.extra: list[str] = []  # --security-dir under --secure: the viewer takes the run's observer identity
 
-    def world_flags(self):
+    def world_flags(self) -> list[str]:
         if self.token is None:
             return []
         return ["--viewer-token", self.token] + (["--start-paused"] if self.paused else [])
 
-    def start(self):
-        if self.token is None or self.procs.viewer is not None:
+    def start(self) -> None:
+        if self.token is None or self.procs.viewer is not None or self.exe is None:
             return
         cmd = [self.exe, "--domain", str(self.domain), "--run-nonce", self.nonce, "--token", self.token,
                "--run-dir", self.run_dir, "--port", str(self.port), "--host", self.host] + self.extra
         log = os.path.join(self.logs, "viewer.log")
-        self.procs.start_viewer(cmd, log)
+        viewer = self.procs.start_viewer(cmd, log)
         port = self.port
         if port == 0:  # any free port: the viewer says which once it listens (`viewer http://HOST:PORT/`)
             deadline = time.monotonic() + VIEWER_START_S
-            while port == 0 and time.monotonic() < deadline and self.procs.viewer.poll() is None:
+            while port == 0 and time.monotonic() < deadline and viewer.poll() is None:
                 m = re.search(r"^viewer http://[^\s/]+:(\d+)/", _read_text(log), re.M)
                 port = int(m[1]) if m else 0
                 time.sleep(0.05)
@@ -754,7 +777,7 @@ class _ViewerStart:
         self.status.line(f"swarm: viewer at {where}" +
                          (" (the run waits at tick 0 until the page says go)" if self.paused else ""))
 
-    def check(self):
+    def check(self) -> None:
         v = self.procs.viewer
         if v is None or self.said or v.poll() is None:
             return
@@ -764,7 +787,7 @@ class _ViewerStart:
                              f"{_last_log_line(os.path.join(self.logs, 'viewer.log'))}; the run goes on")
 
 
-def _read_text(path):
+def _read_text(path: str) -> str:
     try:
         with open(path, "rb") as f:
             return f.read().decode(errors="replace")
@@ -772,7 +795,7 @@ def _read_text(path):
         return ""
 
 
-def _last_log_line(path):
+def _last_log_line(path: str) -> str:
     try:
         with open(path, "rb") as f:
             lines = [x.strip() for x in f.read().decode(errors="replace").splitlines() if x.strip()]
@@ -781,7 +804,7 @@ def _last_log_line(path):
     return lines[-1] if lines else "(empty log)"
 
 
-def view(run_dir, port, host):
+def view(run_dir: str, port: int, host: str) -> int:
     """`swarm view RUN_DIR`: the viewer over a recording, until Ctrl-C."""
     if not os.path.isfile(os.path.join(run_dir, "world.json")):
         print(f"swarm view: {run_dir}/world.json: no such file (is {run_dir} a run directory?)", file=sys.stderr)
@@ -801,24 +824,24 @@ def view(run_dir, port, host):
         return EXIT_INTERRUPTED
 
 
-def _os_error_line(e):
+def _os_error_line(e: OSError) -> str:
     where = f"{e.filename}: " if e.filename else ""
     full = " (the disk is full)" if e.errno in (errno.ENOSPC, errno.EDQUOT) else ""
     return f"{where}{e.strerror or e}{full}; stopped the world and the agents"
 
 
-def _os_error_code(e):
+def _os_error_code(e: OSError) -> int:
     return EXIT_DISK_FULL if e.errno in (errno.ENOSPC, errno.EDQUOT) else EXIT_WORLD_FAILED
 
 
-def _close_quietly(procs):
+def _close_quietly(procs: Processes) -> None:
     try:
         procs.close()
     except OSError:  # a log file whose last buffer cannot be written (a full disk): already reported
         pass
 
 
-def _end_reason(run_dir):
+def _end_reason(run_dir: str) -> Optional[str]:
     try:
         with open(os.path.join(run_dir, "summary.json"), encoding="utf-8") as f:
             return json.load(f).get("end_reason")
@@ -826,7 +849,7 @@ def _end_reason(run_dir):
         return None
 
 
-def _world_failure(code, run_dir):
+def _world_failure(code: int, run_dir: str) -> str:
     """One line for a world that exited non-zero: why (summary.json's end_reason, else the exit code or the
     signal that killed it) and whether a recording is there to draw."""
     reason = _end_reason(run_dir)
@@ -845,8 +868,9 @@ def _world_failure(code, run_dir):
     return what
 
 
-def _interrupted(procs, stop, status, run_dir):
+def _interrupted(procs: Processes, stop: StopFlag, status: Status, run_dir: str) -> int:
     status.end()
+    assert stop.signal is not None  # called when a stop was asked
     name = signal.Signals(stop.signal).name
     status.line(f"swarm: {name}: stopping the world (it closes the recording), then the agents")
     procs.stop_world(WORLD_STOP_DEADLINE_S)
@@ -855,7 +879,8 @@ def _interrupted(procs, stop, status, run_dir):
     return EXIT_INTERRUPTED
 
 
-def _run_in_process(args, stop, status, render_pictures):
+def _run_in_process(args: argparse.Namespace, stop: StopFlag, status: Status,
+                    render_pictures: Callable[[str], int]) -> int:
     """--in-process: the same scenario in one process (no DDS), the same run directory. Its stdout (the
     summary) goes to the log; its stderr carries the progress lines and messages."""
     if getattr(args, "exec", None):
@@ -863,7 +888,8 @@ def _run_in_process(args, stop, status, render_pictures):
                           "run has no agents: leave out --in-process", 2)
     exe = executable("inprocess")
     help_text = subprocess.run([exe, "--help"], capture_output=True, text=True, timeout=30).stdout
-    cmd, flags, dropped = [exe], overrides(args), []
+    cmd, flags = [exe], overrides(args)
+    dropped: list[str] = []
     for i in range(0, len(flags), 2):  # pass only the flags this runner documents
         if flags[i] == "--scenario" or flags[i] in help_text:
             cmd += flags[i:i + 2]
@@ -879,17 +905,20 @@ def _run_in_process(args, stop, status, render_pictures):
     cmd += ["--out", run_dir]
     procs = Processes()
     with open(os.path.join(run_dir, "inprocess_console.log"), "ab") as console_log:
-        procs.world = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=console_log, stderr=subprocess.PIPE,
-                                       process_group=0, preexec_fn=_die_with_parent)
-        procs.world.stdout = procs.world.stderr  # _follow reads .stdout
+        world = procs.world = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=console_log,
+                                               stderr=subprocess.PIPE, process_group=0, preexec_fn=_die_with_parent)
+        assert world.stderr is not None  # stderr=PIPE
+        world.stdout = world.stderr  # _follow reads .stdout
         try:
-            _follow(procs.world, stop, status, console_log, args.max_ticks, prefix="in-process")
-            while procs.world.poll() is None and not stop:
+            _follow(world, stop, status, console_log, args.max_ticks, prefix="in-process")
+            while world.poll() is None and not stop:
                 time.sleep(0.1)
         finally:
             status.end()
-            code = procs.stop_world(WORLD_STOP_DEADLINE_S) if stop else procs.world.wait()
-            procs.world.stderr.close()
+            if stop:
+                procs.stop_world(WORLD_STOP_DEADLINE_S)
+            code = world.wait()
+            world.stderr.close()
     if stop:
         status.line(f"swarm: stopped; what was recorded is in {run_dir}")
         return EXIT_INTERRUPTED
@@ -903,7 +932,7 @@ def _run_in_process(args, stop, status, render_pictures):
     return code
 
 
-def _say_if_not_arrived(status, run_dir):
+def _say_if_not_arrived(status: Status, run_dir: str) -> None:
     """The run's last line says when it used up max_ticks without arriving (issue 17: no silent end), from
     summary.json: the outcome and the stuck robots, as world_server's own line gives them."""
     try:
@@ -919,7 +948,7 @@ def _say_if_not_arrived(status, run_dir):
                 f"stuck robots {stuck}")
 
 
-def kill(rid, run_dir):
+def kill(rid: int, run_dir: str) -> int:
     """`swarm kill ID`: SIGKILL one agent of the running swarm, after checking the pid is that agent."""
     path = os.path.join(run_dir, "agents.json")
     try:

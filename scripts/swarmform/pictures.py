@@ -19,6 +19,7 @@ needs at equal scales; the plots have fixed sizes (PICTURE_SIZES); the videos to
 
 import os
 import re
+from typing import Any, Callable, Iterable, Optional
 
 import matplotlib
 
@@ -28,6 +29,7 @@ import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
 
 from . import animation, geometry, scene  # noqa: E402
+from .recording import Recording  # noqa: E402
 from .scene import Scene, draw_static  # noqa: E402
 
 DPI = 100
@@ -35,7 +37,7 @@ PICTURE_SIZES = {"residual_force": (900, 800), "shape_error": (900, 450), "state
                  "telemetry": (900, 450)}
 
 
-def picture_size(rec, kind):
+def picture_size(rec: Recording, kind: str) -> tuple[int, int]:
     """(width, height) px of a picture: "snapshot", "trajectories", "residual_force" or "shape_error"."""
     if kind == "snapshot":
         return scene.arena_figure_size(geometry.view_bounds(rec), scene.LEGEND_AXES)
@@ -48,7 +50,7 @@ class PictureError(Exception):
     """A request the recording cannot answer (e.g. a tick beyond its end)."""
 
 
-def snapshot_ticks(rec, extra=()):
+def snapshot_ticks(rec: Recording, extra: Iterable[int] = ()) -> list[tuple[int, str]]:
     """[(tick, caption)] in tick order: t=0, formation, motion start, three evenly through the motion, the end
     (the paper's Figs. 4-9); without a formation (e.g. a random walk), five ticks evenly through the run."""
     t = rec.track
@@ -73,7 +75,7 @@ def snapshot_ticks(rec, extra=()):
             raise PictureError(f"--ticks {tick}: the recording holds ticks {first}..{last}")
         chosen.setdefault(int(tick), "")
     # Snap to recorded ticks (a recording may skip ticks) and keep one caption per tick.
-    out = {}
+    out: dict[int, str] = {}
     for tick, caption in sorted(chosen.items()):
         real = int(t.ticks[t.index_of(tick)])
         if real not in out or (caption and not out[real]):
@@ -81,11 +83,13 @@ def snapshot_ticks(rec, extra=()):
     return sorted(out.items())
 
 
-def render_all(rec, out_dir=None, extra_ticks=(), animate=True, log=print, progress=None, labels=False):
+def render_all(rec: Recording, out_dir: Optional[str] = None, extra_ticks: Iterable[int] = (), animate: bool = True,
+               log: Callable[[str], None] = print, progress: Optional[Callable[[str], None]] = None,
+               labels: bool = False) -> list[str]:
     """Writes every picture; returns the list of paths written. `progress(text)`, when given, hears what is being
     drawn (the launcher shows it: the pictures take longer than a lockstep run). labels: robot ids and headings on
     the snapshots."""
-    say = progress or (lambda _text: None)
+    say: Callable[[str], None] = progress or (lambda _text: None)
     out_dir = out_dir or os.path.join(rec.run_dir, "pictures")
     os.makedirs(out_dir, exist_ok=True)
     for name in os.listdir(out_dir):  # snapshots of an earlier drawing (other ticks) would mislead
@@ -112,7 +116,8 @@ def render_all(rec, out_dir=None, extra_ticks=(), animate=True, log=print, progr
         path = os.path.join(out_dir, f"{name}.png")
         if name not in kinds and os.path.exists(path):
             os.remove(path)
-    draw = {"residual_force": residual_force, "shape_error": shape_error, "states": states, "telemetry": telemetry}
+    draw: dict[str, Callable[[Recording, str], str]] = {"residual_force": residual_force, "shape_error": shape_error,
+                                                         "states": states, "telemetry": telemetry}
     for name in kinds:
         written.append(draw[name](rec, os.path.join(out_dir, f"{name}.png")))
     if animate:
@@ -120,17 +125,17 @@ def render_all(rec, out_dir=None, extra_ticks=(), animate=True, log=print, progr
     return written
 
 
-def _figure(size):
+def _figure(size: tuple[int, int]) -> Any:
     return plt.figure(figsize=(size[0] / DPI, size[1] / DPI), dpi=DPI)
 
 
-def _save(fig, path):
+def _save(fig: Any, path: str) -> str:
     fig.savefig(path, dpi=DPI)
     plt.close(fig)
     return path
 
 
-def trajectories(rec, path):
+def trajectories(rec: Recording, path: str) -> str:
     """Fig. 10: each robot's path from start (circle) to end (square; a cross where it died)."""
     t = rec.track
     size = picture_size(rec, "trajectories")
@@ -152,7 +157,7 @@ def trajectories(rec, path):
     return _save(fig, path)
 
 
-def residual_force(rec, path):
+def residual_force(rec: Recording, path: str) -> str:
     """Fig. 3: the net force |F_net| summed over the robots, on the path of the formation's centre (top, as
     colour) and against the distance that centre travelled (bottom). The paper reads obstacles off its peaks."""
     t = rec.track
@@ -193,7 +198,7 @@ def residual_force(rec, path):
     return _save(fig, path)
 
 
-def shape_error(rec, path):
+def shape_error(rec: Recording, path: str) -> str:
     """Shape error (SPEC section 6) over time, with the formation, motion-start and goal ticks marked."""
     ticks, errors = geometry.distortion_series(rec)
     fig = _figure(PICTURE_SIZES["shape_error"])
@@ -226,7 +231,7 @@ def shape_error(rec, path):
     return _save(fig, path)
 
 
-def states(rec, path):
+def states(rec: Recording, path: str) -> str:
     """Live robots in each of the behaviour's states over time, stacked, in its own colours."""
     t = rec.track
     fig = _figure(PICTURE_SIZES["states"])
@@ -247,7 +252,7 @@ def states(rec, path):
     return _save(fig, path)
 
 
-def telemetry(rec, path):
+def telemetry(rec: Recording, path: str) -> str:
     """The mean over the live robots of each telemetry column the behaviour records, over time."""
     t = rec.track
     fig = _figure(PICTURE_SIZES["telemetry"])

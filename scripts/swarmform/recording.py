@@ -11,7 +11,7 @@ import json
 import math
 import os
 from dataclasses import dataclass, field
-from typing import Optional
+from typing import Any, Optional, Sequence
 
 import numpy as np
 
@@ -28,11 +28,11 @@ READY, MOTION = 4, 5
 class RecordingError(Exception):
     """A file of the run directory is missing or wrong. str() is `file:line: what` (or `file: what`)."""
 
-    def __init__(self, path, line, what):
+    def __init__(self, path: str, line: Optional[int], what: str) -> None:
         super().__init__(what)
         self.path, self.line, self.what = path, line, what
 
-    def __str__(self):
+    def __str__(self) -> str:
         where = self.path if self.line is None else f"{self.path}:{self.line}"
         return f"{where}: {self.what}"
 
@@ -53,12 +53,12 @@ class Shape:
     cols: int
     cells: list  # row-major, -1 empty
 
-    def label_count(self):
+    def label_count(self) -> int:
         return sum(1 for c in self.cells if c >= 0)
 
-    def places(self, spacing):
+    def places(self, spacing: float) -> dict[int, tuple[float, float]]:
         """label -> (x, y) of its grid cell: column along +x, row along -y (common/shape.hpp)."""
-        out = {}
+        out: dict[int, tuple[float, float]] = {}
         for i, label in enumerate(self.cells):
             if label >= 0:
                 out[label] = ((i % self.cols) * spacing, -(i // self.cols) * spacing)
@@ -110,10 +110,10 @@ class Track:
     extra: dict = field(default_factory=dict)
 
     @property
-    def robots(self):
+    def robots(self) -> int:
         return self.x.shape[1]
 
-    def index_of(self, tick):
+    def index_of(self, tick: int) -> int:
         """Index of the last recorded tick <= `tick` (the first one if `tick` is before it)."""
         i = int(np.searchsorted(self.ticks, tick, side="right")) - 1
         return max(i, 0)
@@ -129,17 +129,17 @@ class Recording:
     warnings: list
 
 
-def load(run_dir):
+def load(run_dir: str) -> Recording:
     """Reads a whole run directory; raises RecordingError on anything wrong."""
     if not os.path.isdir(run_dir):
         raise RecordingError(run_dir, None, "not a directory (expected a run directory with world.json, robots.csv)")
-    warnings = []
+    warnings: list[str] = []
     world = read_world(os.path.join(run_dir, "world.json"))
     track = read_robots(os.path.join(run_dir, "robots.csv"), world.robots, warnings)
     if world.robots == 0:
         world.robots = track.robots
     events_path = os.path.join(run_dir, "events.jsonl")
-    events = read_events(events_path, warnings) if os.path.exists(events_path) else []
+    events: list[dict[str, Any]] = read_events(events_path, warnings) if os.path.exists(events_path) else []
     summary_path = os.path.join(run_dir, "summary.json")
     summary = None
     if os.path.exists(summary_path):
@@ -154,7 +154,7 @@ def load(run_dir):
 # --- world.json -------------------------------------------------------------------------------------------
 
 
-def _read_text(path):
+def _read_text(path: str) -> str:
     """The whole file as text; a missing or unreadable file is a RecordingError naming it."""
     try:
         with open(path, encoding="utf-8") as f:
@@ -165,7 +165,7 @@ def _read_text(path):
         raise RecordingError(path, None, f"cannot read: {e}") from None
 
 
-def read_json(path):
+def read_json(path: str) -> Any:
     text = _read_text(path)
     try:
         return json.loads(text)
@@ -173,7 +173,7 @@ def read_json(path):
         raise RecordingError(path, e.lineno, f"not valid JSON: {e.msg} (column {e.colno})") from None
 
 
-def _vec2(value, path, what):
+def _vec2(value: Any, path: str, what: str) -> tuple[float, float]:
     if isinstance(value, dict) and "x" in value and "y" in value:
         value = (value["x"], value["y"])
     if isinstance(value, (list, tuple)) and len(value) == 2 and all(_is_number(v) for v in value):
@@ -181,11 +181,11 @@ def _vec2(value, path, what):
     raise RecordingError(path, None, f"{what}: expected [x, y] or {{x, y}}, got {value!r}")
 
 
-def _is_number(v):
+def _is_number(v: Any) -> bool:
     return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
 
 
-def _number(obj, key, path, what, default=None):
+def _number(obj: dict[str, Any], key: str, path: str, what: str, default: Optional[float] = None) -> float:
     if key not in obj:
         if default is None:
             raise RecordingError(path, None, f"{what}: missing '{key}'")
@@ -196,7 +196,7 @@ def _number(obj, key, path, what, default=None):
     return float(v)
 
 
-def read_world(path):
+def read_world(path: str) -> World:
     doc = read_json(path)
     if not isinstance(doc, dict):
         raise RecordingError(path, 1, "expected a JSON object")
@@ -237,7 +237,7 @@ def read_world(path):
     return w
 
 
-def _read_behaviour(desc, path, w):
+def _read_behaviour(desc: dict[str, Any], path: str, w: World) -> None:
     """world.json's behaviour_descriptor into `w`: states and colours, telemetry columns, needs_shape/goal. A
     behaviour without a shape has no shape to draw, one without a goal no goal."""
     states = {}
@@ -255,7 +255,7 @@ def _read_behaviour(desc, path, w):
         w.goal = None
 
 
-def _read_obstacle(ob, path, what):
+def _read_obstacle(ob: Any, path: str, what: str) -> Obstacle:
     if not isinstance(ob, dict):
         raise RecordingError(path, None, f"{what}: expected an object")
     kind = str(ob.get("kind", "")).lower()
@@ -269,7 +269,7 @@ def _read_obstacle(ob, path, what):
     raise RecordingError(path, None, f"{what}.kind: expected 'box' or 'cylinder', got {ob.get('kind')!r}")
 
 
-def _read_shape(sh, path):
+def _read_shape(sh: Any, path: str) -> Shape:
     if not isinstance(sh, dict):
         raise RecordingError(path, None, "shape: expected {rows, cols, cells}")
     rows, cols, cells = sh.get("rows"), sh.get("cols"), sh.get("cells")
@@ -285,7 +285,7 @@ def _read_shape(sh, path):
 # --- robots.csv -------------------------------------------------------------------------------------------
 
 
-def _read_lines(path):
+def _read_lines(path: str) -> tuple[list[tuple[int, str]], bool]:
     """The file's non-blank lines as (line number, text), and whether its last line lacks a newline."""
     text = _read_text(path)
     lines = text.split("\n")
@@ -294,7 +294,7 @@ def _read_lines(path):
     return numbered, truncated
 
 
-def read_robots(path, expected_robots, warnings):
+def read_robots(path: str, expected_robots: int, warnings: list[str]) -> Track:
     numbered, truncated = _read_lines(path)
     if not numbered:
         raise RecordingError(path, 1, "empty: expected the header " + ",".join(ROBOT_COLUMNS))
@@ -337,7 +337,7 @@ def read_robots(path, expected_robots, warnings):
     return _to_track(path, data, line_numbers, expected_robots, warnings, extra_names)
 
 
-def _extra_columns(rows, indices):
+def _extra_columns(rows: list[tuple[int, str]], indices: list[int]) -> np.ndarray:
     """The behaviour's telemetry columns as floats; an empty or unreadable field is nan."""
     out = np.full((len(rows), len(indices)), np.nan)
     for i, (_, text) in enumerate(rows):
@@ -351,7 +351,7 @@ def _extra_columns(rows, indices):
     return out
 
 
-def _parse_fast(rows, names, col):
+def _parse_fast(rows: list[tuple[int, str]], names: list[str], col: dict[str, int]) -> Optional[np.ndarray]:
     """numpy's C parser for a well-formed file (10x faster than row by row); None if anything is off. Only the
     fixed columns (the behaviour's own are read by _extra_columns)."""
     if any(t.count(",") != len(names) - 1 for _, t in rows[:1] + rows[-1:]):
@@ -369,7 +369,7 @@ def _parse_fast(rows, names, col):
     return data
 
 
-def _cell(text, name):
+def _cell(text: str, name: str) -> float:
     text = text.strip()
     if name in ("alive", "leader"):
         low = text.lower()
@@ -378,7 +378,7 @@ def _cell(text, name):
     return float(text) if name not in INT_COLUMNS else float(int(text))  # nan/inf: see read_robots
 
 
-def _parse_row(text, width, col):
+def _parse_row(text: str, width: int, col: dict[str, int]) -> Optional[list[float]]:
     parts = text.split(",")
     if len(parts) != width:
         return None
@@ -388,7 +388,7 @@ def _parse_row(text, width, col):
         return None
 
 
-def _describe_bad_row(text, names, col):
+def _describe_bad_row(text: str, names: list[str], col: dict[str, int]) -> str:
     parts = text.split(",")
     if len(parts) != len(names):
         return f"expected {len(names)} comma-separated fields, got {len(parts)}: '{text[:80]}'"
@@ -401,7 +401,8 @@ def _describe_bad_row(text, names, col):
     return f"cannot read '{text[:80]}'"
 
 
-def _to_track(path, data, line_numbers, expected_robots, warnings, extra_names=()):
+def _to_track(path: str, data: np.ndarray, line_numbers: np.ndarray, expected_robots: int, warnings: list[str],
+              extra_names: Sequence[str] = ()) -> Track:
     ticks_col = data[:, 0].astype(np.int64)
     ids = data[:, 1].astype(np.int64)
     back = np.nonzero(np.diff(ticks_col) < 0)[0]
@@ -437,7 +438,7 @@ def _to_track(path, data, line_numbers, expected_robots, warnings, extra_names=(
                                  f"tick {ticks[t]} has rows for {have} of {n} robots")
     shape = (len(ticks), n)
 
-    def grid(column, dtype):
+    def grid(column: str, dtype: Any) -> np.ndarray:
         out = np.zeros(shape, dtype=dtype)
         out[tick_index, ids] = data[:, ROBOT_COLUMNS.index(column)].astype(dtype)
         return out
@@ -456,9 +457,9 @@ def _to_track(path, data, line_numbers, expected_robots, warnings, extra_names=(
 # --- events.jsonl -----------------------------------------------------------------------------------------
 
 
-def read_events(path, warnings):
+def read_events(path: str, warnings: list[str]) -> list[dict[str, Any]]:
     numbered, truncated = _read_lines(path)
-    events = []
+    events: list[dict[str, Any]] = []
     for k, (no, text) in enumerate(numbered):
         last = k == len(numbered) - 1
         try:

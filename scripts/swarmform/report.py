@@ -6,6 +6,7 @@ Keys the table does not know (added to summary.json later) are listed at the end
 import csv
 import json
 import os
+from typing import IO, Any, Callable, Optional, Sequence
 
 from .recording import RecordingError, read_json, read_world
 
@@ -47,7 +48,7 @@ HIDDEN = {"format", "version", "distortion",  # plumbing, or series drawn in the
           "stuck_robot_count"}  # shown with the stuck robots' list
 
 
-def _fmt(value, kind, summary, tick_rate):
+def _fmt(value: Any, kind: str, summary: dict[str, Any], tick_rate: Optional[float]) -> str:
     if value is None:
         return "not reached" if kind in ("tick", "grid") else "-"
     if kind == "tick" and isinstance(value, (int, float)):
@@ -75,7 +76,8 @@ def _fmt(value, kind, summary, tick_rate):
     return str(value)
 
 
-def table(summary, tick_rate=None, title=None, paper_metrics=True):
+def table(summary: dict[str, Any], tick_rate: Optional[float] = None, title: Optional[str] = None,
+          paper_metrics: bool = True) -> list[str]:
     """The report as text lines. paper_metrics False: the paper's formation and motion metrics are left out
     (a behaviour without a shape or a goal)."""
     lines = [title] if title else []
@@ -99,7 +101,7 @@ def table(summary, tick_rate=None, title=None, paper_metrics=True):
     return lines
 
 
-def load_summary(run_dir):
+def load_summary(run_dir: str) -> dict[str, Any]:
     """RUN_DIR/summary.json as a dict; RecordingError when it is missing or not valid."""
     path = os.path.join(run_dir, "summary.json")
     if not os.path.isdir(run_dir):
@@ -113,14 +115,14 @@ def load_summary(run_dir):
     return summary
 
 
-def csv_cell(value):
+def csv_cell(value: Any) -> Optional[str]:
     """A summary value as one CSV cell (the sweep.csv convention); None for what has no cell (a series, an
     object)."""
     from .sweep import _cell  # one convention for both files
     return _cell(value)
 
 
-def machine_readable(run_dirs, fmt, stream):
+def machine_readable(run_dirs: Sequence[str], fmt: str, stream: IO[str]) -> None:
     """--json: the summary (a list of them for several RUN_DIRs), each with run_dir; --csv: a header and one row
     per RUN_DIR, the union of the scalar keys in first-seen order. RecordingError on the first bad RUN_DIR, before
     anything is written."""
@@ -130,7 +132,7 @@ def machine_readable(run_dirs, fmt, stream):
         json.dump(docs[0] if len(docs) == 1 else docs, stream, indent=1)
         stream.write("\n")
         return
-    keys = []
+    keys: list[str] = []
     for _, s in summaries:
         for k, v in s.items():
             if k not in keys and k != "run_dir" and csv_cell(v) is not None:
@@ -141,7 +143,7 @@ def machine_readable(run_dirs, fmt, stream):
         w.writerow([d] + [csv_cell(s.get(k)) or "" for k in keys])
 
 
-def report(run_dir, out=print):
+def report(run_dir: str, out: Callable[[str], None] = print) -> None:
     """Prints the table; raises RecordingError when summary.json is missing or not valid."""
     summary = load_summary(run_dir)
     tick_rate = None

@@ -7,6 +7,7 @@ same Scene with blitting, so a frame costs only the dynamic artists.
 """
 
 import math
+from typing import Any, Optional, Sequence
 
 import matplotlib
 
@@ -19,6 +20,10 @@ from matplotlib.patches import Circle, Polygon, Rectangle  # noqa: E402
 
 from .geometry import view_bounds  # noqa: E402
 from .recording import STATE_COLOURS  # noqa: E402,F401  (the paper's; a recording carries its behaviour's)
+from .recording import Recording, World  # noqa: E402
+
+Bounds = tuple[float, float, float, float]  # xmin, xmax, ymin, ymax (m)
+States = dict[int, tuple[str, str]]  # a behaviour's states: value -> (name, colour)
 UNKNOWN_COLOUR = "#000000"
 OBSTACLE_COLOUR = "#6d4c41"
 WALL_COLOUR = "#424242"
@@ -32,7 +37,8 @@ LEGEND_AXES = (0.07, 0.74)  # left, width (fractions): room for the legend on th
 PLAIN_AXES = (0.08, 0.88)
 
 
-def arena_figure_size(bounds, axes=LEGEND_AXES, width_px=ARENA_WIDTH_PX, min_h=360, max_h=900):
+def arena_figure_size(bounds: Bounds, axes: tuple[float, float] = LEGEND_AXES, width_px: int = ARENA_WIDTH_PX,
+                      min_h: int = 360, max_h: int = 900) -> tuple[int, int]:
     """(width, height) px of a figure whose axes (left, width fractions) show `bounds` at equal scales."""
     x0, x1, y0, y1 = bounds
     h = width_px * axes[1] * (y1 - y0) / (x1 - x0) + MARGIN_BOTTOM_PX + MARGIN_TOP_PX
@@ -40,17 +46,17 @@ def arena_figure_size(bounds, axes=LEGEND_AXES, width_px=ARENA_WIDTH_PX, min_h=3
     return width_px, h + h % 2
 
 
-def arena_axes_rect(size_px, axes=LEGEND_AXES):
+def arena_axes_rect(size_px: tuple[int, int], axes: tuple[float, float] = LEGEND_AXES) -> list[float]:
     h = size_px[1]
     return [axes[0], MARGIN_BOTTOM_PX / h, axes[1], (h - MARGIN_BOTTOM_PX - MARGIN_TOP_PX) / h]
 
 
-def state_colours(states, world_states):
+def state_colours(states: Sequence[Any], world_states: States) -> list[str]:
     """The colour of each state value, from the behaviour's states {value: (name, colour)}."""
     return [world_states.get(int(s), ("", UNKNOWN_COLOUR))[1] for s in states]
 
 
-def draw_static(ax, world, bounds):
+def draw_static(ax: Any, world: World, bounds: Bounds) -> None:
     """Walls, obstacles and the goal; the axes set to `bounds` with equal scales, in metres."""
     x0, x1, y0, y1 = bounds
     ax.set_xlim(x0, x1)
@@ -81,7 +87,8 @@ def draw_static(ax, world, bounds):
                     color="#2e7d32", fontsize=8)
 
 
-def legend_handles(states_present, world_states, leaders=True, links=True):
+def legend_handles(states_present: set[int], world_states: States, leaders: bool = True,
+                   links: bool = True) -> list[Any]:
     """The legend: the behaviour's states shown in this run, then leader and parent link only when the run's
     telemetry has any (the paper's), and the dead."""
     handles = [Line2D([], [], marker="o", linestyle="", markerfacecolor=world_states[s][1], markeredgecolor="black",
@@ -98,12 +105,13 @@ def legend_handles(states_present, world_states, leaders=True, links=True):
 class Scene:
     """A figure of the arena whose robots can be shown at any recorded tick."""
 
-    def __init__(self, rec, size_px=None, dpi=100, legend=True, labels=False):
+    def __init__(self, rec: Recording, size_px: Optional[tuple[int, int]] = None, dpi: int = 100,
+                 legend: bool = True, labels: bool = False) -> None:
         """size_px None: 900 px wide and as tall as the view needs (arena_figure_size). labels: each live robot's
         id beside it and a line along its heading (snapshots' --labels)."""
         self.rec = rec
         self.labels = labels
-        self.label_texts = []
+        self.label_texts: list[Any] = []
         self.world_states = rec.world.states  # the behaviour's {value: (name, colour)}
         self.bounds = view_bounds(rec)
         axes = LEGEND_AXES if legend else PLAIN_AXES
@@ -135,7 +143,7 @@ class Scene:
                                    fontsize=11)
         self.dynamic = [self.links, self.robots, self.dead, self.leader, self.title]
 
-    def show(self, i, caption=None):
+    def show(self, i: int, caption: Optional[str] = None) -> None:
         """Updates the dynamic artists to recorded tick index `i`."""
         t = self.rec.track
         x, y, alive = t.x[i], t.y[i], t.alive[i]
@@ -160,7 +168,7 @@ class Scene:
         text = f"t = {tick} ({seconds:.1f} s)   alive {len(live)}/{n}"
         self.title.set_text(f"{text}: {caption}" if caption else text)
 
-    def _label(self, live, x, y, theta):
+    def _label(self, live: np.ndarray, x: np.ndarray, y: np.ndarray, theta: np.ndarray) -> None:
         """Ids and headings of the live robots (replacing the previous tick's)."""
         for a in self.label_texts:
             a.remove()
@@ -172,5 +180,5 @@ class Scene:
             self.label_texts += self.ax.plot([x[k], x[k] + r * np.cos(theta[k])], [y[k], y[k] + r * np.sin(theta[k])],
                                              color="#212121", linewidth=0.8, zorder=6)
 
-    def close(self):
+    def close(self) -> None:
         plt.close(self.fig)

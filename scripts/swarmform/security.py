@@ -17,6 +17,9 @@ import concurrent.futures
 import datetime
 import os
 import subprocess
+from typing import Sequence, Union
+
+Domains = Union[int, Sequence[int]]  # one DDS domain id, or several (the world's faces)
 
 # Topics and who may use them (docs/wire.md). Partitions: robot K's packets and commands in robot/K.
 MISSION, SENSOR, COMMAND, WORLD_STATE = "sf_mission", "sf_sensor", "sf_command", "sf_world_state"
@@ -34,16 +37,16 @@ class SecurityError(Exception):
     pass
 
 
-def subject(identity):
+def subject(identity: str) -> str:
     """The certificate subject of an identity, as the permissions name it (Cyclone compares name by name)."""
     return f"CN={identity},O={ORGANISATION}"
 
 
-def robot_identity(rid):
+def robot_identity(rid: int) -> str:
     return f"robot-{rid}"
 
 
-def _openssl(*args, cwd):
+def _openssl(*args: str, cwd: str) -> None:
     try:
         p = subprocess.run(["openssl", *args], cwd=cwd, capture_output=True, text=True, timeout=OPENSSL_TIMEOUT_S)
     except FileNotFoundError:
@@ -55,14 +58,14 @@ def _openssl(*args, cwd):
         raise SecurityError(f"openssl {' '.join(args[:2])} failed (exit {p.returncode}): {p.stderr.strip()[:400]}")
 
 
-def _rule(kind, topics, partitions):
+def _rule(kind: str, topics: Sequence[str], partitions: Sequence[str]) -> str:
     """One <publish> or <subscribe> criterion. partitions: names, '' for the default partition."""
     ts = "".join(f"<topic>{t}</topic>" for t in topics)
     ps = "".join(f"<partition>{p}</partition>" for p in partitions)
     return f"<{kind}><topics>{ts}</topics><partitions>{ps}</partitions></{kind}>"
 
 
-def _grants(identity):
+def _grants(identity: str) -> tuple[list[str], list[str]]:
     """(publish, subscribe) criteria of an identity: the least each needs (docs/security.md has the table)."""
     if identity == "world":
         return ([_rule("publish", [MISSION, WORLD_STATE, OBSERVE], [""]), _rule("publish", [SENSOR], ["robot/*"])],
@@ -75,7 +78,7 @@ def _grants(identity):
             [_rule("subscribe", [SENSOR], [part]), _rule("subscribe", [MISSION], [""])])
 
 
-def _stamp(t):
+def _stamp(t: datetime.datetime) -> str:
     return t.strftime("%Y-%m-%dT%H:%M:%S")
 
 
@@ -86,13 +89,13 @@ def _stamp(t):
 ROBOTS_PER_FACE, MAX_FACES = 64, 45
 
 
-def face_domain_ids(domain, robots):
+def face_domain_ids(domain: int, robots: int) -> list[int]:
     """The local domain ids of the world's faces for `robots` robots on `domain`, face 0 (the domain) first."""
     faces = min((max(robots, 1) - 1) // ROBOTS_PER_FACE, MAX_FACES - 1) + 1
     return [domain] + [(domain + f) % (MAX_SECURE_DOMAIN + 1) for f in range(1, faces)]
 
 
-def _granted_domains(identity, faces):
+def _granted_domains(identity: str, faces: list[int]) -> list[int]:
     """The domain ids an identity's permissions name: the world every face's; robot K the run's domain and its
     face's local id (the world's face checks a remote participant's permissions against its own local id); the
     observer the run's domain (face 0)."""
@@ -104,13 +107,13 @@ def _granted_domains(identity, faces):
     return faces[:1]
 
 
-def _domains(domain):
+def _domains(domain: Domains) -> str:
     """<domains> naming one id, or each of a list of ids."""
     ids = domain if isinstance(domain, (list, tuple)) else [domain]
     return "<domains>" + "".join(f"<id>{d}</id>" for d in ids) + "</domains>"
 
 
-def permissions_xml(identity, now, domain):
+def permissions_xml(identity: str, now: datetime.datetime, domain: Domains) -> str:
     publish, subscribe = _grants(identity)
     domains = _domains(domain)
     return ('<?xml version="1.0" encoding="UTF-8"?>\n'
@@ -124,7 +127,7 @@ def permissions_xml(identity, now, domain):
             '<default>DENY</default>\n</grant>\n</permissions>\n</dds>\n')
 
 
-def governance_xml(domain):
+def governance_xml(domain: Domains) -> str:
     return GOVERNANCE.replace("@DOMAINS@", _domains(domain))
 
 
@@ -156,13 +159,13 @@ GOVERNANCE = """<?xml version="1.0" encoding="UTF-8"?>
 """
 
 
-def _write(path, text, mode=0o644):
+def _write(path: str, text: str, mode: int = 0o644) -> None:
     fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, mode)
     with os.fdopen(fd, "w", encoding="utf-8") as f:
         f.write(text)
 
 
-def _identity(d, identity, serial, now, domain):
+def _identity(d: str, identity: str, serial: int, now: datetime.datetime, domain: Domains) -> None:
     """Key (0600), certificate signed by the CA, permissions signed by the CA."""
     key = f"{identity}.key"
     # The key file is created 0600 before openssl writes into it (never readable by others, not even briefly).
@@ -176,7 +179,7 @@ def _identity(d, identity, serial, now, domain):
              "-signer", "ca.pem", "-inkey", "ca.key", cwd=d)
 
 
-def make_security_dir(run_dir, robots, domain, workers=4):
+def make_security_dir(run_dir: str, robots: int, domain: int, workers: int = 4) -> str:
     """Makes RUN_DIR/security for a run of `robots` robots on DDS domain `domain` (the governance and every
     permission name that domain only, and the world's faces' local ids: face_domain_ids); returns its path.
     Raises SecurityError."""
@@ -208,7 +211,7 @@ def make_security_dir(run_dir, robots, domain, workers=4):
     return d
 
 
-def check_keys(d):
+def check_keys(d: str) -> list[str]:
     """The private keys of a security directory whose mode lets others than the owner read them."""
     return [n for n in sorted(os.listdir(d)) if n.endswith(".key") and os.stat(os.path.join(d, n)).st_mode & 0o077]
 

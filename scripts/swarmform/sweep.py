@@ -4,8 +4,9 @@ every core with `swarm_inprocess --no-record --quiet`, judged, and written as sw
 
 Order of a sweep:
   1. the grid is checked: every flag, every kill schedule's text (`none`, `ID@TICK[,ID@TICK...]`, `random:K`);
-  2. a probe per (scenario, shape, robots): `swarm_inprocess ... --max-ticks 1 --no-record --quiet` validates the
-     files (a bad one: its `file:line: what`, exit 2, before anything long starts) and says N and the shape;
+  2. a probe per (scenario, shape, robots), with the grid's first --param values: `swarm_inprocess ... --max-ticks 1
+     --no-record --quiet` validates the files (a bad one: its `file:line: what`, exit 2, before anything long
+     starts) and says N and the shape;
      and one per scenario and --param value, which the behaviour checks against its own parameter table;
   3. the kill schedules become `--kill ID@TICK` flags per run (a random one from an RNG seeded by the run's seed
      and the schedule's text: the same run gets the same kills every time);
@@ -15,6 +16,7 @@ Ctrl-C / SIGTERM: every run still going gets SIGTERM (the harness prints the sum
 after 10 s (by process group); what finished, and what the interrupted runs reported, is written; exit 130.
 """
 
+import argparse
 import csv
 import ctypes
 import datetime
@@ -32,8 +34,12 @@ import subprocess
 import sys
 import tempfile
 import time
+from typing import IO, Any, Callable, Iterable, Optional, Sequence
 
 from . import launcher
+
+ParamValues = list[tuple[str, float]]  # a --param's values: (as written, as a number)
+Combo = dict[str, tuple[str, float]]  # one run's parameters: NAME -> (text, value)
 
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
 DEFAULT_KILL_WINDOW = 3000
@@ -76,7 +82,9 @@ Kill schedules (--kills, repeatable; each is one value of the grid's kill axis):
 Behaviour parameters (--param NAME=V1,V2,..., repeatable; each NAME one axis of the grid):
   NAME is a parameter of the scenario's behaviour (a `controller:` key: robot_agent/README.md lists the paper's),
   each run gets `--param NAME=V` over the scenario's value. Every value is checked by the behaviour before any
-  run starts: an unknown NAME or a value out of its bounds is refused naming it (exit 2).
+  run starts: an unknown NAME or a value out of its bounds is refused naming it (exit 2). A plug-in behaviour
+  (`behaviour: {plugin: ...}`) loads from its scenario's folder; --plugin-dir DIR (repeatable) adds a folder,
+  passed to every run.
 
 Success: the summary's `outcome` is the one --expect asks for (arrived: outcome arrived; formed: arrived or
 formed_not_arrived; not_formed; none; any: a clean exit with a summary). A summary without `outcome` (older
@@ -115,15 +123,15 @@ class SweepError(Exception):
 class KillSchedule:
     """One value of the kill axis: `none`, explicit kills, or `random:K`."""
 
-    def __init__(self, text, kills=(), random_count=0):
+    def __init__(self, text: str, kills: Iterable[tuple[int, int]] = (), random_count: int = 0) -> None:
         self.text = text            # canonical: "none", "5@10,2@300", "random:2"
         self.kills = list(kills)    # [(id, tick)] for an explicit list
         self.random_count = random_count
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"KillSchedule({self.text!r})"
 
-    def flags(self, seed, robots, window):
+    def flags(self, seed: int, robots: int, window: int) -> list[str]:
         """The `ID@TICK` kills of one run with `robots` robots whose ticks may go up to `window`."""
         if self.random_count:
             if self.random_count >= robots:
@@ -143,7 +151,7 @@ _KILL = re.compile(r"^(\d+)@(\d+)$")
 _RANDOM = re.compile(r"^random:(\d+)$")
 
 
-def parse_kill_schedule(text):
+def parse_kill_schedule(text: str) -> KillSchedule:
     """`none` | `ID@TICK[,ID@TICK...]` | `random:K` -> KillSchedule; ValueError with a message naming the text."""
     t = text.strip()
     usage = "expected none, ID@TICK[,ID@TICK...] (e.g. 5@10,2@300) or random:K (e.g. random:2)"
@@ -159,7 +167,8 @@ def parse_kill_schedule(text):
         return KillSchedule(f"random:{k}", random_count=k)
     if not t:
         raise ValueError(f"'{text}' is empty: {usage}")
-    kills, seen = [], set()
+    kills: list[tuple[int, int]] = []
+    seen: set[int] = set()
     for part in t.split(","):
         m = _KILL.match(part.strip())
         if not m:
@@ -178,7 +187,7 @@ def parse_kill_schedule(text):
 _PARAM_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
 
-def parse_param(text):
+def parse_param(text: str) -> tuple[str, ParamValues]:
     """`NAME=V1,V2,...` -> (NAME, [(text, value)]); ValueError naming the text. The values' own spelling is kept for
     the command line (no precision lost); whether NAME exists and the values are in bounds is the behaviour's to
     say (the probe)."""
@@ -187,7 +196,7 @@ def parse_param(text):
     usage = "expected NAME=V1,V2,... (e.g. k_goal=0.5,1,2)"
     if not sep or not _PARAM_NAME.match(name):
         raise ValueError(f"'{text}': {usage}")
-    out = []
+    out: ParamValues = []
     for part in values.split(","):
         part = part.strip()
         try:
@@ -202,7 +211,7 @@ def parse_param(text):
     return name, out
 
 
-def param_combinations(params):
+def param_combinations(params: Sequence[tuple[str, ParamValues]]) -> list[Combo]:
     """[(NAME, [(text, value)])] -> every combination as a dict NAME -> (text, value), in the flags' order."""
     if not params:
         return [{}]
@@ -210,18 +219,18 @@ def param_combinations(params):
     return [dict(zip(names, combo)) for combo in itertools.product(*(values for _, values in params))]
 
 
-def param_flags(combo):
+def param_flags(combo: Combo) -> list[str]:
     return [a for name, (text, _) in combo.items() for a in ("--param", f"{name}={text}")]
 
 
-def param_label(combo):
+def param_label(combo: Combo) -> str:
     """'k_goal=0.5 m_obstacle=1' (the key of sweep.json's by_params), or 'defaults'."""
     return " ".join(f"{n}={t}" for n, (t, _) in combo.items()) or "defaults"
 
 
-def parse_seeds(text):
+def parse_seeds(text: str) -> list[int]:
     """`7`, `1-20`, `1-5,9,12-13` -> list of seeds; ValueError naming the text."""
-    seeds = []
+    seeds: list[int] = []
     for part in text.split(","):
         part = part.strip()
         m = re.match(r"^(\d+)(?:-(\d+))?$", part)
@@ -237,9 +246,9 @@ def parse_seeds(text):
     return seeds
 
 
-def expand_files(patterns, what):
+def expand_files(patterns: Sequence[str], what: str) -> list[str]:
     """Paths and glob patterns -> existing files, in the order given (a pattern's matches sorted)."""
-    out = []
+    out: list[str] = []
     for p in patterns:
         if any(c in p for c in "*?["):
             matches = sorted(f for f in glob.glob(p) if os.path.isfile(f))
@@ -255,7 +264,7 @@ def expand_files(patterns, what):
     return list(dict.fromkeys(out))
 
 
-def scenario_max_ticks(path):
+def scenario_max_ticks(path: str) -> int:
     """The scenario's top-level `max_ticks:` (the loader's default, 3000, when it has none)."""
     try:
         with open(path) as f:
@@ -271,39 +280,43 @@ def scenario_max_ticks(path):
 # ------------------------------------------------------------------------------------------------- the runs
 
 class Run:
-    def __init__(self, index, scenario, shape, shape_name, robots_asked, robots, seed, schedule, kill_flags,
-                 max_ticks_asked, cmd, params=None):
+    def __init__(self, index: int, scenario: str, shape: Optional[str], shape_name: str,
+                 robots_asked: Optional[int], robots: int, seed: int, schedule: KillSchedule, kill_flags: list[str],
+                 max_ticks_asked: Optional[int], cmd: list[str], params: Optional[Combo] = None) -> None:
         self.index, self.scenario, self.shape, self.shape_name = index, scenario, shape, shape_name
         self.robots_asked, self.robots, self.seed, self.schedule = robots_asked, robots, seed, schedule
         self.kill_flags, self.max_ticks_asked, self.cmd = kill_flags, max_ticks_asked, cmd
-        self.params = params or {}  # NAME -> (text, value)
-        self.exit_code = None
-        self.wall = None
-        self.summary = None
+        self.params: Combo = params or {}  # NAME -> (text, value)
+        self.exit_code: Optional[int] = None
+        self.wall: Optional[float] = None
+        self.summary: Optional[dict[str, Any]] = None
         self.success = False
         self.reason = "not run"
         self.severity = 9  # for the worst-case order: 0 ok .. 4 crash/timeout
 
 
-def command_text(cmd):
+def command_text(cmd: Sequence[str]) -> str:
     return shlex.join(cmd)
 
 
-def record_command(cmd, index):
+def record_command(cmd: Sequence[str], index: int) -> str:
     """The same run, writing a run directory (for `swarm replay` / `swarm report`)."""
     out = [a for a in cmd if a not in ("--no-record", "--quiet")]
     return command_text(out + ["--out", f"runs/sweep-repro-{index}"])
 
 
-def _die_with_parent():
+def _die_with_parent() -> None:
     try:
         ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL, 0, 0, 0)
     except OSError:
         pass
 
 
-def base_command(exe, scenario, shape, robots, seed, max_ticks):
+def base_command(exe: str, scenario: str, shape: Optional[str], robots: Optional[int], seed: Optional[int],
+                 max_ticks: Optional[int], plugin_dirs: Sequence[str] = ()) -> list[str]:
     cmd = [exe, "--scenario", scenario]
+    for d in plugin_dirs:  # a plug-in behaviour loads only from the scenario's folder and these
+        cmd += ["--plugin-dir", d]
     if shape:
         cmd += ["--shape", shape]
     if robots is not None:
@@ -315,7 +328,7 @@ def base_command(exe, scenario, shape, robots, seed, max_ticks):
     return cmd
 
 
-def parse_summary(text):
+def parse_summary(text: str) -> Optional[dict[str, Any]]:
     """summary.json from the harness's stdout (the whole of it, or its last {...} block); None if there is none."""
     text = text.strip()
     if not text:
@@ -335,10 +348,12 @@ def parse_summary(text):
     return None
 
 
-def probe(exe, scenario, shape, robots, params=None):
+def probe(exe: str, scenario: str, shape: Optional[str], robots: Optional[int], params: Optional[Combo] = None,
+          plugin_dirs: Sequence[str] = ()) -> dict[str, Any]:
     """Runs one tick: validates the files (and the --param values) and returns the summary (robots, labels,
     shape_file)."""
-    cmd = base_command(exe, scenario, shape, robots, None, 1) + param_flags(params or {}) + ["--no-record", "--quiet"]
+    cmd = (base_command(exe, scenario, shape, robots, None, 1, plugin_dirs) + param_flags(params or {}) +
+           ["--no-record", "--quiet"])
     try:
         p = subprocess.run(cmd, capture_output=True, text=True, timeout=PROBE_TIMEOUT_S,
                            preexec_fn=_die_with_parent)
@@ -351,13 +366,13 @@ def probe(exe, scenario, shape, robots, params=None):
     return summary
 
 
-def contacts(summary):
+def contacts(summary: dict[str, Any]) -> tuple[int, int]:
     rr = summary.get("collisions_robot_robot")
     ro = summary.get("collisions_robot_obstacle")
     return (rr if isinstance(rr, int) else 0), (ro if isinstance(ro, int) else 0)
 
 
-def outcome_of(summary):
+def outcome_of(summary: dict[str, Any]) -> str:
     """The summary's outcome, or the fallback for summaries without one (from the ticks)."""
     o = summary.get("outcome")
     if isinstance(o, str):
@@ -371,7 +386,7 @@ def outcome_of(summary):
     return "not_formed"
 
 
-def judge(run, opts):
+def judge(run: Run, opts: argparse.Namespace) -> None:
     """Sets run.success, run.reason and run.severity from its exit and summary."""
     s = run.summary
     if s is None:
@@ -381,7 +396,7 @@ def judge(run, opts):
     expect = opts.expect
     wanted = {"arrived": ("arrived",), "formed": ("arrived", "formed_not_arrived"),
               "not_formed": ("not_formed",), "none": ("none",)}.get(expect)
-    reasons = []
+    reasons: list[str] = []
     severity = 0
     if wanted is not None and outcome not in wanted:
         ticks = s.get("ticks")
@@ -410,7 +425,7 @@ def judge(run, opts):
     run.severity = severity
 
 
-def _signal_name(code):
+def _signal_name(code: int) -> str:
     try:
         return signal.Signals(-code).name
     except ValueError:
@@ -420,13 +435,13 @@ def _signal_name(code):
 class Progress:
     """One line on stderr: rewritten in place on a terminal, a plain line every few seconds otherwise."""
 
-    def __init__(self, total, stream=sys.stderr, quiet=False):
+    def __init__(self, total: int, stream: IO[str] = sys.stderr, quiet: bool = False) -> None:
         self.total, self.stream, self.quiet = total, stream, quiet
         self.tty = stream.isatty()
         self.start = time.monotonic()
         self.last = 0.0
 
-    def text(self, done, failed, running):
+    def text(self, done: int, failed: int, running: int) -> str:
         elapsed = time.monotonic() - self.start
         eta = "?"
         if done:
@@ -434,7 +449,7 @@ class Progress:
         return (f"sweep: {done}/{self.total} done, {failed} failed, {running} running, "
                 f"{_duration(elapsed)} elapsed, ETA {eta}")
 
-    def show(self, done, failed, running, force=False):
+    def show(self, done: int, failed: int, running: int, force: bool = False) -> None:
         if self.quiet:
             return
         now = time.monotonic()
@@ -450,20 +465,20 @@ class Progress:
             return
         self.stream.flush()
 
-    def line(self, text):
+    def line(self, text: str) -> None:
         if self.tty and not self.quiet:
             self.stream.write("\r\033[K")
         self.stream.write(text + "\n")
         self.stream.flush()
 
-    def end(self):
+    def end(self) -> None:
         if self.tty and not self.quiet:
             self.stream.write("\n")
             self.stream.flush()
 
 
-def _duration(seconds):
-    seconds = int(round(seconds))
+def _duration(seconds_f: float) -> str:
+    seconds = int(round(seconds_f))
     if seconds < 60:
         return f"{seconds}s"
     if seconds < 3600:
@@ -471,20 +486,21 @@ def _duration(seconds):
     return f"{seconds // 3600}h{seconds // 60 % 60:02d}m"
 
 
-def execute(runs, jobs, timeout, progress, stop, opts, journal=None):
+def execute(runs: Sequence[Run], jobs: int, timeout: float, progress: Progress, stop: launcher.StopFlag,
+            opts: argparse.Namespace, journal: Optional[IO[str]] = None) -> tuple[int, int]:
     """Runs them `jobs` at a time; each one's stdout and stderr go to temporary files (no pipe to fill).
     `journal` (a file) gets one JSON line per finished run as it finishes (a long sweep can be read early)."""
     pending = list(runs)
     pending.reverse()
-    active = {}  # Popen -> (run, start, out file, err file)
+    active: dict[subprocess.Popen[bytes], tuple[Run, float, IO[str], IO[str]]] = {}  # run, start, out file, err file
     done = failed = 0
     tmp = tempfile.mkdtemp(prefix="swarm-sweep-")
     try:
         while (pending or active) and not stop:
             while pending and len(active) < jobs and not stop:
                 run = pending.pop()
-                out = open(os.path.join(tmp, f"{run.index}.out"), "w+")
-                err = open(os.path.join(tmp, f"{run.index}.err"), "w+")
+                out: IO[str] = open(os.path.join(tmp, f"{run.index}.out"), "w+")
+                err: IO[str] = open(os.path.join(tmp, f"{run.index}.err"), "w+")
                 try:
                     p = subprocess.Popen(run.cmd, stdin=subprocess.DEVNULL, stdout=out, stderr=err,
                                          process_group=0, preexec_fn=_die_with_parent)
@@ -542,7 +558,7 @@ def execute(runs, jobs, timeout, progress, stop, opts, journal=None):
     return done, failed
 
 
-def _killpg(p, sig=signal.SIGKILL):
+def _killpg(p: "subprocess.Popen[bytes]", sig: int = signal.SIGKILL) -> None:
     try:
         os.killpg(p.pid, sig)
     except (ProcessLookupError, PermissionError):
@@ -552,7 +568,7 @@ def _killpg(p, sig=signal.SIGKILL):
             pass
 
 
-def _finish(run, out, err, timed_out, opts):
+def _finish(run: Run, out: IO[str], err: IO[str], timed_out: bool, opts: argparse.Namespace) -> None:
     out.seek(0)
     err.seek(0)
     stdout, stderr = out.read(), err.read()
@@ -562,7 +578,7 @@ def _finish(run, out, err, timed_out, opts):
     if timed_out:
         run.success, run.severity = False, 4
         return
-    code = run.exit_code
+    code = run.exit_code if run.exit_code is not None else 0  # set before _finish
     if code == EXIT_INTERRUPTED and run.summary is not None:  # SIGINT/SIGTERM: the summary of what it did
         ticks = run.summary.get("ticks")
         run.reason = f"interrupted (exit 130) at tick {ticks}, before its end"
@@ -587,7 +603,7 @@ FIXED_COLUMNS = ["index", "scenario", "shape", "robots_asked", "seed", "kills", 
                  "success", "reason", "exit_code", "run_wall_seconds", "command"]
 
 
-def _cell(value):
+def _cell(value: Any) -> Optional[str]:
     if value is None:
         return ""
     if isinstance(value, bool):
@@ -595,23 +611,23 @@ def _cell(value):
     if isinstance(value, float):
         return repr(value) if math.isfinite(value) else str(value)
     if isinstance(value, list):
-        items = []
+        items: list[str] = []
         for v in value:
             if isinstance(v, dict) and "id" in v and "tick" in v:
                 items.append(f"{v['id']}@{v['tick']}")
             elif isinstance(v, (dict, list)):
                 return None
             else:
-                items.append(_cell(v))
+                items.append(_cell(v) or "")
         return " ".join(items)
     if isinstance(value, dict):
         return None
     return str(value)
 
 
-def summary_columns(runs):
-    keys = []
-    seen = set()
+def summary_columns(runs: Sequence[Run]) -> list[str]:
+    keys: list[str] = []
+    seen: set[str] = set()
     for r in runs:
         for k, v in (r.summary or {}).items():
             if k in seen or k in SERIES_KEYS or _cell(v) is None:
@@ -621,7 +637,7 @@ def summary_columns(runs):
     return keys
 
 
-def write_csv(path, runs, param_names=()):
+def write_csv(path: str, runs: Sequence[Run], param_names: Sequence[str] = ()) -> None:
     """param_names: the --param axes, a `param_NAME` column each, after the fixed columns."""
     keys = summary_columns(runs)
     fixed = FIXED_COLUMNS + [f"param_{n}" for n in param_names]
@@ -630,26 +646,28 @@ def write_csv(path, runs, param_names=()):
         w = csv.writer(f)
         w.writerow(fixed + names)
         for r in runs:
-            row = [r.index, r.scenario, r.shape or "", "" if r.robots_asked is None else r.robots_asked, r.seed,
-                   r.schedule.text, " ".join(r.kill_flags), "" if r.max_ticks_asked is None else r.max_ticks_asked,
-                   1 if r.success else 0, r.reason, "" if r.exit_code is None else r.exit_code,
-                   "" if r.wall is None else f"{r.wall:.3f}", command_text(r.cmd)]
+            row: list[Any] = [
+                r.index, r.scenario, r.shape or "", "" if r.robots_asked is None else r.robots_asked, r.seed,
+                r.schedule.text, " ".join(r.kill_flags), "" if r.max_ticks_asked is None else r.max_ticks_asked,
+                1 if r.success else 0, r.reason, "" if r.exit_code is None else r.exit_code,
+                "" if r.wall is None else f"{r.wall:.3f}", command_text(r.cmd)]
             row += [r.params[n][0] if n in r.params else "" for n in param_names]
             s = r.summary or {}
             row += [_cell(s.get(k)) or "" for k in keys]
             w.writerow(row)
 
 
-def _num(s, key):
+def _num(s: Optional[dict[str, Any]], key: str) -> Optional[float]:
     v = (s or {}).get(key)
     return v if isinstance(v, (int, float)) and not isinstance(v, bool) else None
 
 
-def group_stats(runs):
+def group_stats(runs: Sequence[Run]) -> dict[str, Any]:
     n = len(runs)
     ok = sum(1 for r in runs if r.success)
-    out = {"runs": n, "succeeded": ok, "failed": n - ok, "success_rate": round(ok / n, 4) if n else None}
-    outcomes = {}
+    out: dict[str, Any] = {"runs": n, "succeeded": ok, "failed": n - ok,
+                           "success_rate": round(ok / n, 4) if n else None}
+    outcomes: dict[str, int] = {}
     for r in runs:
         key = outcome_of(r.summary) if r.summary else "error"
         outcomes[key] = outcomes.get(key, 0) + 1
@@ -672,10 +690,10 @@ def group_stats(runs):
     return out
 
 
-def worst_key(opts):
+def worst_key(opts: argparse.Namespace) -> Callable[[Run], tuple[Any, ...]]:
     err_key = "shape_error_at_goal" if opts.expect == "arrived" else "shape_error_at_formation"
 
-    def key(r):
+    def key(r: Run) -> tuple[Any, ...]:
         err = _num(r.summary, err_key)
         goal = _num(r.summary, "goal_tick")
         return (r.success, -r.severity, -(err if err is not None else math.inf),
@@ -683,9 +701,9 @@ def worst_key(opts):
     return key
 
 
-def run_record(r):
+def run_record(r: Run) -> dict[str, Any]:
     s = r.summary or {}
-    rec = {"index": r.index, "success": r.success, "reason": r.reason, "scenario": r.scenario,
+    rec: dict[str, Any] = {"index": r.index, "success": r.success, "reason": r.reason, "scenario": r.scenario,
            "shape": r.shape_name, "robots": r.robots, "seed": r.seed, "kills": r.schedule.text,
            "kill_flags": r.kill_flags, "params": {n: v for n, (_, v) in r.params.items()},
            "exit_code": r.exit_code,
@@ -700,7 +718,7 @@ def run_record(r):
     return rec
 
 
-def git_commit():
+def git_commit() -> Optional[str]:
     try:
         head = subprocess.run(["git", "-C", launcher.ROOT, "rev-parse", "--short=12", "HEAD"], capture_output=True,
                               text=True, timeout=10).stdout.strip()
@@ -711,17 +729,20 @@ def git_commit():
         return None
 
 
-def results(runs, opts, grid, started, wall, interrupted, worst_n):
+def results(runs: Sequence[Run], opts: argparse.Namespace, grid: dict[str, Any], started: str, wall: float,
+            interrupted: bool, worst_n: int) -> dict[str, Any]:
     finished = [r for r in runs if r.reason != "not run" and r.reason != "interrupted"]
-    by = {}
-    for name, key in (("by_scenario", lambda r: r.scenario), ("by_shape", lambda r: r.shape_name),
-                      ("by_kills", lambda r: r.schedule.text), ("by_robots", lambda r: str(r.robots)),
-                      ("by_params", lambda r: param_label(r.params))):
-        groups = {}
+    by: dict[str, Any] = {}
+    keys: tuple[tuple[str, Callable[[Run], str]], ...] = (
+        ("by_scenario", lambda r: r.scenario), ("by_shape", lambda r: r.shape_name),
+        ("by_kills", lambda r: r.schedule.text), ("by_robots", lambda r: str(r.robots)),
+        ("by_params", lambda r: param_label(r.params)))
+    for name, key in keys:
+        groups: dict[str, list[Run]] = {}
         for r in finished:
             groups.setdefault(key(r), []).append(r)
         by[name] = {k: group_stats(v) for k, v in groups.items()}
-    cells = {}
+    cells: dict[tuple[str, str, int, str, str], list[Run]] = {}
     for r in finished:
         cells.setdefault((r.scenario, r.shape_name, r.robots, r.schedule.text, param_label(r.params)), []).append(r)
     by["by_cell"] = [dict(scenario=k[0], shape=k[1], robots=k[2], kills=k[3], params=k[4], **group_stats(v))
@@ -742,19 +763,20 @@ def results(runs, opts, grid, started, wall, interrupted, worst_n):
     }
 
 
-def _opt(value):
+def _opt(value: Optional[float]) -> str:
     return "-" if value is None else f"{value:g}"
 
 
-def print_table(res, out=print):
+def print_table(res: dict[str, Any], out: Callable[[str], None] = print) -> None:
     cells = res["by_cell"]
-    head = ("scenario", "shape", "N", "kills", "ok", "rate", "formed@", "goal@", "err@form", "err@goal", "contacts")
+    head: tuple[str, ...] = ("scenario", "shape", "N", "kills", "ok", "rate", "formed@", "goal@", "err@form",
+                             "err@goal", "contacts")
     with_params = any(c.get("params", "defaults") != "defaults" for c in cells)
     if with_params:
         head = head[:4] + ("params",) + head[4:]
-    rows = []
+    rows: list[tuple[str, ...]] = []
     for c in cells:
-        def f(v, fmt):
+        def f(v: Optional[float], fmt: str) -> str:
             return "-" if v is None else format(v, fmt)
         rows.append((os.path.basename(c["scenario"]), c["shape"], str(c["robots"]), c["kills"],
                      f"{c['succeeded']}/{c['runs']}", f"{100 * c['success_rate']:.0f}%" if c["runs"] else "-",
@@ -783,7 +805,7 @@ def print_table(res, out=print):
 
 # ------------------------------------------------------------------------------------------------- the sweep
 
-def default_out_dir():
+def default_out_dir() -> str:
     runs = os.environ.get("SWARM_RUNS_DIR") or os.path.join(launcher.ROOT, "runs")
     stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y%m%d-%H%M%S")
     path, n = os.path.join(runs, f"sweep-{stamp}"), 1
@@ -793,10 +815,10 @@ def default_out_dir():
     return path
 
 
-def plan(opts, exe):
+def plan(opts: argparse.Namespace, exe: str) -> tuple[list[Run], dict[str, Any]]:
     """The runs of the grid, after probing every (scenario, shape, robots) once. Raises SweepError."""
     scenarios = expand_files(opts.scenario or [os.path.join("scenarios", "paper.yaml")], "scenario")
-    shapes = expand_files(opts.shape, "shape") if opts.shape else []
+    shapes: list[Optional[str]] = list(expand_files(opts.shape, "shape")) if opts.shape else []
     if opts.shapes_dir:
         if not os.path.isdir(opts.shapes_dir):
             raise SweepError(f"--shapes-dir '{opts.shapes_dir}': no such folder")
@@ -808,32 +830,38 @@ def plan(opts, exe):
     robots_list = opts.robots or [None]
     seeds = list(dict.fromkeys(opts.seeds or list(range(1, 11))))
     schedules = list({s.text: s for s in (opts.kills or [parse_kill_schedule("none")])}.values())
-    params = list(getattr(opts, "param", None) or [])
-    seen = set()
+    params: list[tuple[str, ParamValues]] = list(getattr(opts, "param", None) or [])
+    seen: set[str] = set()
     for name, _ in params:
         if name in seen:
             raise SweepError(f"--param {name} is given twice (one flag per parameter: NAME=V1,V2,...)")
         seen.add(name)
     combos = param_combinations(params)
-    runs = []
+    plugin_dirs = list(getattr(opts, "plugin_dir", None) or [])
+    for d in plugin_dirs:
+        if not os.path.isdir(d):
+            raise SweepError(f"--plugin-dir '{d}': no such folder")
+    runs: list[Run] = []
     for scenario in scenarios:
         # Each value once per scenario (its behaviour decides): an unknown name or a value out of bounds is said
         # before anything long starts. The first shape and robot count stand for the rest.
         for name, values in params:
             for text, value in values:
-                probe(exe, scenario, shapes[0], robots_list[0], {name: (text, value)})
+                probe(exe, scenario, shapes[0], robots_list[0], {name: (text, value)}, plugin_dirs)
         window_cap = opts.max_ticks or scenario_max_ticks(scenario)
         window = min(opts.kill_window, window_cap)
         for shape in shapes:
             for robots in robots_list:
-                info = probe(exe, scenario, shape, robots)
+                # With the grid's first parameters: they may decide whether the scenario loads (shape_heading
+                # turns the shape, and the loader checks that it fits).
+                info = probe(exe, scenario, shape, robots, combos[0], plugin_dirs)
                 n = info["robots"]
                 shape_name = os.path.basename(str(info.get("shape_file") or shape or "?"))
                 for combo in combos:
                     for schedule in schedules:
                         for seed in seeds:
                             flags = schedule.flags(seed, n, window)
-                            cmd = base_command(exe, scenario, shape, robots, seed, opts.max_ticks)
+                            cmd = base_command(exe, scenario, shape, robots, seed, opts.max_ticks, plugin_dirs)
                             for k in flags:
                                 cmd += ["--kill", k]
                             cmd += param_flags(combo) + ["--no-record", "--quiet"]
@@ -842,14 +870,16 @@ def plan(opts, exe):
     grid = {"scenarios": scenarios, "shapes": [s or "(the scenario's)" for s in shapes],
             "robots": [r or "(the scenario's)" for r in robots_list], "seeds": _ranges(seeds),
             "seed_count": len(seeds), "kills": [s.text for s in schedules], "kill_window": opts.kill_window,
-            "max_ticks": opts.max_ticks, "params": {name: [v for _, v in values] for name, values in params},
+            "max_ticks": opts.max_ticks, "plugin_dirs": plugin_dirs,
+            "params": {name: [v for _, v in values] for name, values in params},
             "param_combinations": len(combos)}
     return runs, grid
 
 
-def _ranges(seeds):
+def _ranges(seeds: Sequence[int]) -> str:
     """[1,2,3,7] -> '1-3,7'."""
-    parts, i = [], 0
+    parts: list[str] = []
+    i = 0
     while i < len(seeds):
         j = i
         while j + 1 < len(seeds) and seeds[j + 1] == seeds[j] + 1:
@@ -859,13 +889,13 @@ def _ranges(seeds):
     return ",".join(parts)
 
 
-def _relative_exe():
+def _relative_exe() -> str:
     exe = launcher.executable("inprocess")
     rel = os.path.relpath(exe)
     return rel if not rel.startswith("..") else exe
 
 
-def sweep(opts):
+def sweep(opts: argparse.Namespace) -> int:
     """`swarm sweep`. Returns the exit code."""
     try:
         exe = _relative_exe()

@@ -2,11 +2,13 @@
 2 kill schedules (none, random:1), 300 ticks. Checks the rows of sweep.csv, that the kills drawn reached the runs
 (the summary's deaths are the --kill flags), that the random draw is reproducible and within its window, that
 sweep.json's rates agree with the rows, and that a worst case's command reproduces its run bit for bit (the
-trajectory hash). Also: a bad scenario is refused by the probe, exit 2, before any run."""
+trajectory hash). Also: a bad scenario is refused by the probe, exit 2, before any run; a plug-in behaviour is swept
+with --plugin-dir (and refused without it); a --param shape_heading that turns the shape into a wall is refused."""
 
 import csv
 import json
 import os
+import shlex
 import shutil
 import subprocess
 import tempfile
@@ -15,7 +17,10 @@ import unittest
 import helpers
 
 BUILD_DIR = os.environ.get("BUILD_DIR") or os.path.join(helpers.ROOT, "build")
-EXE = os.path.join(BUILD_DIR, "world_server", "harness", "swarm_inprocess")
+EXE = os.path.join(BUILD_DIR, "harness", "swarm_inprocess")
+# The aggregation example's plug-in, built in the build tree (examples/behaviours): not in its scenario's folder.
+AGGREGATION_DIR = os.environ.get("AGGREGATION_DIR") or os.path.join(BUILD_DIR, "examples", "behaviours", "aggregation")
+AGGREGATION = os.path.join(helpers.ROOT, "examples", "behaviours", "aggregation", "aggregation.yaml")
 PAPER = os.path.join(helpers.ROOT, "scenarios", "paper.yaml")
 
 
@@ -106,6 +111,56 @@ class SweepSmokeTest(unittest.TestCase):
             self.assertEqual(r.returncode, 2, r.stderr)
             self.assertIn(says, r.stderr)
             self.assertFalse(os.path.exists(os.path.join(self.dir, "q", "sweep.csv")))
+
+    @unittest.skipUnless(os.path.exists(os.path.join(AGGREGATION_DIR, "libaggregation.so")),
+                         f"the aggregation example is not built in {AGGREGATION_DIR}")
+    def test_a_plugin_behaviour_is_swept_with_plugin_dir(self):
+        out = os.path.join(self.dir, "agg")
+        common = ("sweep", "--scenario", AGGREGATION, "--seeds", "1-2", "--max-ticks", "60", "--jobs", "2",
+                  "--expect", "none", "--out", out)
+        # The plug-in is not in the scenario's folder: without --plugin-dir the probe is refused naming it.
+        r = helpers.swarm(*common, build_dir=BUILD_DIR, timeout=120)
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn("libaggregation.so", r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(out, "sweep.csv")))
+        r = helpers.swarm(*common, "--plugin-dir", AGGREGATION_DIR, "--param", "stop_distance=0.3,0.6",
+                          build_dir=BUILD_DIR, timeout=240)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        rows = read_csv(os.path.join(out, "sweep.csv"))
+        self.assertEqual(len(rows), 4)
+        for row in rows:
+            self.assertEqual((row["success"], row["behaviour"], row["outcome"]), ("1", "aggregation", "none"))
+            self.assertIn(f"--plugin-dir {AGGREGATION_DIR}", row["command"])
+        with open(os.path.join(out, "sweep.json")) as f:
+            res = json.load(f)
+        self.assertEqual(res["grid"]["plugin_dirs"], [AGGREGATION_DIR])
+        # A run's command reproduces it (the plug-in found the same way): the same trajectory.
+        again = subprocess.run(shlex.split(rows[3]["command"]) + ["--out", os.path.join(self.dir, "agg-again")],
+                               capture_output=True, text=True, timeout=120, cwd=res["cwd"])
+        self.assertEqual(again.returncode, 0, again.stderr)
+        self.assertEqual(json.loads(again.stdout)["trajectory_sha256"], rows[3]["trajectory_sha256"])
+        r = helpers.swarm(*common, "--plugin-dir", os.path.join(self.dir, "nowhere"), build_dir=BUILD_DIR, timeout=60)
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn("--plugin-dir", r.stderr)
+
+    def test_a_shape_heading_that_turns_the_shape_into_a_wall_is_refused(self):
+        # A 1 x 12 bar (11 m) from paper.yaml's robots about the origin, in its 20 x 12 m arena (x in [-6, 14]):
+        # turned along +x (heading pi/2) it fits; along -x (-pi/2) or -y (0, the file's own heading) it does not.
+        # The fit is checked with the --param value, which the file's would not give (the file's refuses it).
+        bar = os.path.join(self.dir, "bar.txt")
+        with open(bar, "w") as f:
+            f.write(" ".join(str(i) for i in range(12)) + "\n")
+        out = os.path.join(self.dir, "h")
+        base = ("sweep", "--scenario", PAPER, "--shape", bar, "--seeds", "1", "--max-ticks", "5", "--expect", "any",
+                "--out", out)
+        r = helpers.swarm(*base, build_dir=BUILD_DIR, timeout=120)
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn("shape_heading 0) cannot fit inside the walls", r.stderr)
+        r = helpers.swarm(*base, "--param", "shape_heading=1.5707963", build_dir=BUILD_DIR, timeout=120)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        r = helpers.swarm(*base, "--param", "shape_heading=1.5707963,-1.5707963", build_dir=BUILD_DIR, timeout=120)
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn("shape_heading -1.5708) cannot fit inside the walls", r.stderr)
 
     def test_a_bad_scenario_is_refused_before_any_run(self):
         bad = os.path.join(self.dir, "bad.yaml")

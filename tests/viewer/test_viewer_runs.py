@@ -1,13 +1,17 @@
 """The viewer against recordings and its own death (issue 21; DDS test domain offset 63, one run at a time): a
 viewer SIGKILLed mid-run changes nothing of a lockstep run (the same trajectory hash as a run without one), and
 `swarm view RUN_DIR` serves the same page over a recording: scrubbed to a tick, a headless Chromium draws the robots
-where robots.csv puts them."""
+where robots.csv puts them; a Foxglove client (foxglove.websocket.v1) during the replay gets the live channels and
+schemas, and the poses of the tick the timeline is at (sought and played) are robots.csv's; a broken run directory
+is refused naming the file."""
 
 import asyncio
 import json
+import math
 import os
 import shutil
 import signal
+import struct
 import subprocess
 import tempfile
 import time
@@ -147,6 +151,129 @@ class RecordedRunsTest(unittest.TestCase):
         marks = sum(e["kind"] in ("death", "rejoin", "leader", "leader_lost") for e in events)
         marks += sum(summary.get(k) is not None for k in ("formation_tick", "goal_tick"))
         self.assertEqual(b.eval("document.getElementById('jump').options.length"), 1 + marks)
+
+    def view(self, run_dir, port):
+        """`swarm view RUN_DIR --port PORT` in the background (its own process group, killed in tearDown)."""
+        env = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=vh.BUILD_DIR)
+        p = subprocess.Popen([vh.SWARM, "view", run_dir, "--port", str(port)], stdin=subprocess.DEVNULL,
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
+                             start_new_session=True)
+        self.procs.append(p)
+        return p
+
+    def test_replay_speaks_foxglove_on_the_timeline(self):
+        port = vh.free_port()
+        self.view(self.plain, port)
+        vh.wait_http(f"http://127.0.0.1:{port}/")
+        got = asyncio.run(self.foxglove_replay(port))
+        rate = 10.0  # scenarios/paper.yaml's tick rate: the messages' timestamps are tick / rate
+        # Each seek's poses are robots.csv's at that tick, to the last bit (the reader parses the same text).
+        for tick, poses in got["seeks"]:
+            rows = vh.rows_at(self.plain, tick)
+            self.assertEqual(len(poses), len(rows))
+            for rid, p in enumerate(poses):
+                r = rows[rid]
+                self.assertAlmostEqual(p["position"]["x"], float(r["x"]), places=9)
+                self.assertAlmostEqual(p["position"]["y"], float(r["y"]), places=9)
+                yaw = 2 * math.atan2(p["orientation"]["z"], p["orientation"]["w"])
+                self.assertAlmostEqual(math.remainder(yaw - float(r["theta"]), 2 * math.pi), 0.0, places=9)
+        self.assertEqual([t for t, _ in got["seeks"]], [0, 137, 300])
+        # Playing: Foxglove hears the ticks in order as the timeline runs, each one robots.csv's.
+        played = [t for t, _ in got["played"]]
+        self.assertGreaterEqual(len(played), 5)
+        self.assertEqual(played, sorted(played))
+        self.assertGreater(played[-1], played[0])
+        for tick, poses in got["played"]:
+            rows = vh.rows_at(self.plain, tick)
+            self.assertAlmostEqual(poses[4]["position"]["x"], float(rows[4]["x"]), places=9)
+        for stamp, tel in got["telemetry"]:
+            self.assertEqual(round(stamp * rate), tel["tick"])
+            self.assertEqual(len(tel["robots"]), 9)
+            rows = vh.rows_at(self.plain, tel["tick"])
+            for r in tel["robots"]:
+                self.assertEqual((r["state"], r["label"], r["alive"]),
+                                 (int(rows[r["id"]]["state"]), int(rows[r["id"]]["label"]),
+                                  rows[r["id"]]["alive"] == "1"))
+                # The recording holds no neighbours heard or commands: left out, not sent as zeros.
+                self.assertNotIn("heard", r)
+                self.assertNotIn("left_speed", r)
+        ids = [e["id"] for e in got["first_scene"]["entities"]]
+        self.assertEqual(ids, ["arena", "robots"])
+        self.assertEqual(len(got["first_scene"]["entities"][1]["cylinders"]), 9)
+        self.assertEqual(len(got["first_scene"]["entities"][0]["cubes"]), 4 + 1, "four walls and paper.yaml's box")
+
+    async def foxglove_replay(self, port):
+        got = {"seeks": [], "played": [], "telemetry": [], "first_scene": None}
+        async with websockets.connect(f"ws://127.0.0.1:{port}/", subprotocols=["foxglove.websocket.v1"]) as fox, \
+                websockets.connect(f"ws://127.0.0.1:{port}/ws") as page:
+            self.assertEqual(fox.subprotocol, "foxglove.websocket.v1")
+            self.assertEqual(json.loads(await asyncio.wait_for(fox.recv(), 10))["op"], "serverInfo")
+            adv = json.loads(await asyncio.wait_for(fox.recv(), 10))
+            self.assertEqual(adv["op"], "advertise")
+            channels = {c["topic"]: c for c in adv["channels"]}
+            self.assertEqual({t: c["schemaName"] for t, c in channels.items()},
+                             {"/scene": "foxglove.SceneUpdate", "/robots/poses": "foxglove.PosesInFrame",
+                              "/robots/telemetry": "swarmform.RobotTelemetry"})
+            for c in channels.values():
+                self.assertEqual((c["encoding"], c["schemaEncoding"]), ("json", "jsonschema"))
+                self.assertEqual(json.loads(c["schema"])["type"], "object")
+            hello = json.loads(await asyncio.wait_for(page.recv(), 10))
+            self.assertEqual((hello["mode"], hello["first_tick"], hello["last_tick"]), ("replay", 0, 300))
+            subs = {20: channels["/scene"]["id"], 21: channels["/robots/poses"]["id"],
+                    22: channels["/robots/telemetry"]["id"]}
+            await fox.send(json.dumps({"op": "subscribe",
+                                       "subscriptions": [{"id": k, "channelId": v} for k, v in subs.items()]}))
+
+            async def poses_of(tick):
+                """Foxglove's messages until the poses of `tick` (the scene and telemetry on the way kept)."""
+                deadline = time.monotonic() + 30
+                while time.monotonic() < deadline:
+                    m = await asyncio.wait_for(fox.recv(), 30)
+                    self.assertIsInstance(m, bytes, f"a status instead of data: {m}")
+                    self.assertEqual(m[0], 1, "Message Data opcode")
+                    sub = struct.unpack_from("<I", m, 1)[0]
+                    stamp = struct.unpack_from("<Q", m, 5)[0] / 1e9
+                    payload = json.loads(m[13:])
+                    if sub == 21 and (tick is None or round(stamp * 10) == tick):
+                        return round(stamp * 10), payload["poses"]
+                    if sub == 22:
+                        got["telemetry"].append((stamp, payload))
+                    elif sub == 20 and got["first_scene"] is None:
+                        got["first_scene"] = payload
+                raise AssertionError(f"no poses of tick {tick} within 30 s")
+
+            for tick in (0, 137, 300):
+                await page.send(json.dumps({"cmd": "seek", "value": tick}))
+                got["seeks"].append(await poses_of(tick))
+            await page.send(json.dumps({"cmd": "seek", "value": 100}))
+            await poses_of(100)
+            await page.send(json.dumps({"cmd": "speed", "value": 5}))
+            await page.send(json.dumps({"cmd": "play"}))
+            while len(got["played"]) < 8:
+                got["played"].append(await poses_of(None))
+            await page.send(json.dumps({"cmd": "pause"}))
+        return got
+
+    def test_replay_of_a_broken_run_directory_says_what(self):
+        bad = os.path.join(self.dir, "bad")
+        os.makedirs(bad)
+        shutil.copy(os.path.join(self.plain, "robots.csv"), bad)
+        cases = [("{\"arena\": ", "world.json: not valid JSON"),
+                 ("{\"robots\": 9}", "world.json: missing 'arena' object"),
+                 ("{\"arena\": {\"centre\": [0, 0], \"width\": -1, \"height\": 5}}", "world.json: arena: width and "
+                                                                                         "height must be positive"),
+                 (None, "robots.csv: cannot open")]
+        for world, message in cases:
+            if world is None:
+                shutil.copy(os.path.join(self.plain, "world.json"), bad)
+                os.remove(os.path.join(bad, "robots.csv"))
+            else:
+                with open(os.path.join(bad, "world.json"), "w") as f:
+                    f.write(world)
+            p = self.view(bad, vh.free_port())
+            out, _ = p.communicate(timeout=60)
+            self.assertEqual(p.returncode, 2, out)
+            self.assertIn(f"{bad}/{message}", out)
 
 
 if __name__ == "__main__":

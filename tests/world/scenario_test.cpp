@@ -9,6 +9,8 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <tuple>
+#include <vector>
 
 #include <unistd.h>
 
@@ -121,6 +123,47 @@ TEST(Scenario, RefusesAShapeThatCannotFitInsideTheWalls) {
       "robots:\n  poses:\n    - [-9.5, 0]\n    - [-9, 0]\n",
       2, "label 0 at (-9, 0), where the robot nearest the origin starts");
   std::filesystem::remove(block);
+}
+
+// Issue 20: `--param shape_heading=...` (swarm_inprocess, swarm sweep) was set after the loader's fit check,
+// so a heading that turns the shape into a wall was accepted. The override is set before every check now.
+TEST(Scenario, AParamOverrideIsSetBeforeTheShapeFitCheck) {
+  // The triangle (apex up) from a robot 1.5 m under the north wall fits; turned upside down (heading -pi/2:
+  // its rows run along +y) its last row is 1 m beyond that wall.
+  const std::string text =
+      "arena: {centre: [0, 0], width: 20, height: 12, walls: true}\nshape: triangle.txt\n"
+      "robots:\n  poses:\n    - [0, 4.5]\n    - [0.5, 4.5]\n";
+  ScenarioOverrides up;
+  up.params.push_back({"shape_heading=1.5707963", "shape_heading", 1.5707963});
+  EXPECT_NO_THROW(parse(text, up));
+  ScenarioOverrides down;
+  down.params.push_back({"shape_heading=-1.5707963", "shape_heading", -1.5707963});
+  try {
+    parse(text, down);
+    ADD_FAILURE() << "an upside-down triangle 1.5 m under the north wall was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("shape_heading -1.5708)"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("cannot fit inside the walls"), std::string::npos) << e.what();
+  }
+  // The value reaches the mission; an unknown name or a value out of bounds is the command line's error.
+  ScenarioOverrides k;
+  k.params.push_back({"k_goal=2", "k_goal", 2.0});
+  EXPECT_EQ(parse(text, k).mission.params.at("k_goal"), 2.0);
+  for (const auto& [text_given, name, value, says] :
+       std::vector<std::tuple<std::string, std::string, double, std::string>>{
+           {"k_wobble=1", "k_wobble", 1.0, "--param k_wobble=1: behaviour 'paper' parameter 'k_wobble'"},
+           {"shape_heading=7", "shape_heading", 7.0,
+            "--param shape_heading=7: behaviour 'paper' parameter"}}) {
+    ScenarioOverrides bad;
+    bad.params.push_back({text_given, name, value});
+    try {
+      parse(text, bad);
+      ADD_FAILURE() << text_given << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), "command line");
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(Scenario, EveryShippedShapeFitsEveryShippedScenario) {

@@ -1,6 +1,7 @@
 // The swarmform viewer page (viewer/README.md "The page"). Live: frames over the WebSocket from swarm_viewer,
-// commands back. Replay: the recording (robots.csv, events.jsonl) fetched once and played here. The behaviour's
-// states (names, colours) come from the server: nothing here knows the paper's algorithm.
+// commands back. Replay: the same frames, read from the recording by the server, which holds the timeline (the
+// page scrubs, plays and jumps by commands); events.jsonl and summary.json are fetched for the jump list. The
+// behaviour's states (names, colours) come from the server: nothing here knows the paper's algorithm.
 "use strict";
 
 const $ = (id) => document.getElementById(id);
@@ -22,7 +23,7 @@ const S = {
   view: null,          // {cx, cy, scale}: world point at the canvas centre, pixels per metre
   tps: 0, lastTick: null, lastTickAt: 0,
   ws: null,
-  replay: null,        // {n, ticks, cols: {...}, playing, speed, tick}
+  replay: null,        // {first, last, ticks, playing, speed, tick, summary}
 };
 window.sfViewer = S;  // for tests and the curious
 
@@ -351,14 +352,20 @@ $("speed-set").onclick = () => send("speed", Math.max(0, parseFloat($("speed").v
 $("kill").onclick = () => { if (S.selected !== null) send("kill", S.selected); };
 
 async function loadWorld() {
+  // Live, the world writes world.json as it starts: it may not be there, or not whole, for a moment.
+  let why = "no world.json from the server";
   for (let i = 0; i < 100 && !S.world; i++) {
     try {
       const r = await fetch("run/world.json", { cache: "no-store" });
-      if (r.ok) { S.world = await r.json(); break; }
-    } catch (e) { /* not yet */ }
+      if (r.ok) {
+        const w = await r.json();
+        if (w && w.arena && w.arena.width > 0 && w.arena.height > 0 && Array.isArray(w.arena.centre)) { S.world = w; break; }
+        why = "the run's world.json has no usable arena {centre, width, height}";
+      }
+    } catch (e) { why = "the run's world.json is not valid JSON (" + e.message + ")"; }
     await new Promise((res) => setTimeout(res, 200));
   }
-  if (!S.world) { $("mode").textContent = "no world.json from the server"; return; }
+  if (!S.world) { $("mode").textContent = why; return; }
   fit();
   resize();
 }
@@ -371,9 +378,10 @@ function connect() {
     if (m.type === "hello") {
       S.mode = m.mode;
       $("mode").textContent = m.mode;
-      if (m.mode === "replay") { setDescription(m); startReplay(); }
+      if (m.mode === "replay") { setDescription(m); startReplay(m); }
     } else if (m.type === "frame") {
       if (m.states) setDescription(m);
+      if (S.mode === "replay") replayFrame(m);
       show(m);
       $("live-controls").style.opacity = m.controllable ? 1 : 0.5;
     } else if (m.type === "events") {
@@ -391,39 +399,29 @@ function connect() {
 }
 
 // ---- replay ----------------------------------------------------------------------------------------------
+// The server holds the timeline (viewer/README.md "Replay"): the page sends seek / play / pause / speed and draws
+// the frames it is sent, as live. Foxglove, connected to the same server, follows the same timeline.
 
-async function startReplay() {
+async function startReplay(hello) {
   $("live-controls").hidden = true;
   $("replay-controls").hidden = false;
-  const [csv, ev, sum] = await Promise.all([
-    fetch("run/robots.csv").then((r) => r.text()),
-    fetch("run/events.jsonl").then((r) => (r.ok ? r.text() : "")),
+  const first = hello.first_tick, last = hello.last_tick;
+  S.replay = { first: first, last: last, ticks: last - first + 1, playing: false, speed: 1, tick: first,
+               summary: null, dragging: false };
+  const tl = $("timeline");
+  tl.min = first; tl.max = last; tl.value = first;
+  tl.oninput = () => { send("seek", parseInt(tl.value, 10)); };
+  tl.onpointerdown = () => { S.replay.dragging = true; };
+  tl.onpointerup = () => { S.replay.dragging = false; };
+  $("play").onclick = () => send(S.replay.playing ? "pause" : "play");
+  $("replay-speed").onchange = () => send("speed", parseFloat($("replay-speed").value));
+  const [ev, sum] = await Promise.all([
+    fetch("run/events.jsonl").then((r) => (r.ok ? r.text() : "")).catch(() => ""),
     fetch("run/summary.json").then((r) => (r.ok ? r.json() : null)).catch(() => null),
   ]);
-  const lines = csv.split("\n");
-  const head = lines[0].split(",");
-  const col = (name) => head.indexOf(name);
-  const n = S.world.robots;
-  const rows = lines.slice(1).filter((l) => l.length > 0 && l.split(",").length === head.length);
-  const ticks = Math.floor(rows.length / n);
-  const cols = {};
-  for (const name of ["x", "y", "theta", "alive", "state", "label", "parent", "leader", "net_force"]) {
-    cols[name] = new Float64Array(ticks * n);
-  }
-  for (let i = 0; i < ticks * n; i++) {
-    const p = rows[i].split(",");
-    for (const name in cols) cols[name][i] = parseFloat(p[col(name)]);
-  }
-  const firstTick = ticks > 0 ? parseInt(rows[0].split(",")[col("tick")], 10) : 0;
+  S.replay.summary = sum;
   S.events = ev.split("\n").filter((l) => l).map((l) => { try { return JSON.parse(l); } catch (e) { return null; } })
     .filter((e) => e);
-  S.replay = { n: n, ticks: ticks, first: firstTick, cols: cols, playing: false, speed: 1, tick: firstTick,
-               summary: sum };
-  const tl = $("timeline");
-  tl.min = firstTick; tl.max = firstTick + ticks - 1; tl.value = firstTick;
-  tl.oninput = () => { replayShow(parseInt(tl.value, 10)); };
-  $("play").onclick = () => { S.replay.playing = !S.replay.playing; $("play").textContent = S.replay.playing ? "pause" : "play"; };
-  $("replay-speed").onchange = () => { S.replay.speed = parseFloat($("replay-speed").value); };
   const jump = $("jump");
   const marks = [];
   if (sum && sum.formation_tick != null) marks.push([sum.formation_tick, "formed"]);
@@ -440,53 +438,18 @@ async function startReplay() {
     o.value = t; o.textContent = "t" + t + " " + what;
     jump.append(o);
   }
-  jump.onchange = () => { if (jump.value !== "") replayShow(parseInt(jump.value, 10)); jump.value = ""; };
-  replayShow(firstTick);
-  let last = performance.now(), carry = 0;
-  const rate = S.world.tick_rate || 10;
-  function loop(now) {
-    const dt = (now - last) / 1000;
-    last = now;
-    if (S.replay.playing) {
-      carry += dt * rate * S.replay.speed;
-      const step = Math.floor(carry);
-      carry -= step;
-      if (step > 0) {
-        const t = Math.min(S.replay.tick + step, S.replay.first + S.replay.ticks - 1);
-        replayShow(t);
-        if (t === S.replay.first + S.replay.ticks - 1) { S.replay.playing = false; $("play").textContent = "play"; }
-      }
-    }
-    requestAnimationFrame(loop);
-  }
-  requestAnimationFrame(loop);
+  jump.onchange = () => { if (jump.value !== "") send("seek", parseInt(jump.value, 10)); jump.value = ""; };
+  panel();
 }
 
-// The frame of recorded tick t (rows of one tick are the robots in id order: docs/recording-format.md).
-function replayShow(t) {
+// A replay frame: the timeline and the play button follow the server's.
+function replayFrame(m) {
   const R = S.replay;
-  t = Math.max(R.first, Math.min(t, R.first + R.ticks - 1));
-  R.tick = t;
-  $("timeline").value = t;
-  const base = (t - R.first) * R.n;
-  const robots = [];
-  let alive = 0;
-  for (let i = 0; i < R.n; i++) {
-    const c = R.cols, k = base + i;
-    const r = { id: i, x: c.x[k], y: c.y[k], theta: c.theta[k], alive: c.alive[k] === 1, state: c.state[k],
-                label: c.label[k], parent: c.parent[k], leader: c.leader[k] === 1, net_force: c.net_force[k] };
-    alive += r.alive ? 1 : 0;
-    robots.push(r);
-  }
-  const sum = R.summary || {};
-  const formed = sum.formation_tick != null && sum.formation_tick <= t;
-  S.tps = R.playing ? (S.world.tick_rate || 10) * R.speed : 0;
-  S.frame = { tick: t, robots: robots, alive: alive, paused: !R.playing, finished: false,
-              formation_tick: formed ? sum.formation_tick : -1,
-              shape_error: formed && sum.shape_error_at_formation != null ? sum.shape_error_at_formation : -1 };
-  draw();
-  status();
-  panel();
+  if (!R) return;
+  R.tick = m.tick;
+  R.playing = !m.paused;
+  if (!R.dragging) $("timeline").value = m.tick;
+  $("play").textContent = R.playing ? "pause" : "play";
 }
 
 loadWorld().then(connect);

@@ -348,20 +348,33 @@ void parse_behaviour(const Source& src, MapReader& top, const ScenarioOverrides&
   }
   s.behaviour = d;
   s.mission.behaviour = std::string(d->name);
-  if (!params_node || params_node->IsNull()) return;
-  if (!params_node->IsMap()) yaml::fail(src, *params_node, params_path, "expected a map of name: value");
-  for (const auto& kv : *params_node) {
-    const std::string name = kv.first.Scalar();
-    const std::string path = params_path + "." + name;
-    // A --behaviour override runs another behaviour than the file's: the file's parameters that it does not
-    // have belong to the file's behaviour and are left out (those it has are checked and kept).
-    if (ov.behaviour && !behaviour::find_param(*d, name)) continue;
-    if (!behaviour::find_param(*d, name))
-      yaml::fail(src, kv.first, path, behaviour::check_param(*d, name, 0.0));
-    const double value = yaml::to_number(src, kv.second, path);
-    const std::string why = behaviour::check_param(*d, name, value);
-    if (!why.empty()) yaml::fail(src, kv.second, path, why);
-    s.mission.params[name] = value;
+  if (params_node && !params_node->IsNull()) {
+    if (!params_node->IsMap()) yaml::fail(src, *params_node, params_path, "expected a map of name: value");
+    for (const auto& kv : *params_node) {
+      const std::string name = kv.first.Scalar();
+      const std::string path = params_path + "." + name;
+      // A --behaviour override runs another behaviour than the file's: the file's parameters that it does not
+      // have belong to the file's behaviour and are left out (those it has are checked and kept).
+      if (ov.behaviour && !behaviour::find_param(*d, name)) continue;
+      if (!behaviour::find_param(*d, name))
+        yaml::fail(src, kv.first, path, behaviour::check_param(*d, name, 0.0));
+      const double value = yaml::to_number(src, kv.second, path);
+      const std::string why = behaviour::check_param(*d, name, value);
+      if (!why.empty()) yaml::fail(src, kv.second, path, why);
+      s.mission.params[name] = value;
+    }
+  }
+  // --param: over the file's values, here, so that every check after this one (the shape's fit reads
+  // shape_heading) sees the values the run will have.
+  for (const ParamOverride& p : ov.params) {
+    try {
+      behaviour::check_params(*d, {{p.name, p.value}});
+    } catch (const InputError& e) {
+      std::string why = e.what();
+      if (const std::string prefix = e.file() + ": "; why.rfind(prefix, 0) == 0) why.erase(0, prefix.size());
+      throw InputError("command line", 0, "--param " + p.text + ": " + why);
+    }
+    s.mission.params[p.name] = p.value;
   }
 }
 

@@ -77,6 +77,14 @@ struct Scenario {
 };
 
 // Command-line overrides, applied before random placement is resolved (so --robots and --seed take effect).
+// `--param NAME=VALUE` (swarm_inprocess, what `swarm sweep --param` varies): a behaviour parameter over the
+// file's.
+struct ParamOverride {
+  std::string text;  // as given, for messages
+  std::string name;
+  double value = 0.0;
+};
+
 struct ScenarioOverrides {
   std::optional<std::string> shape_file;
   std::optional<std::size_t> robots;
@@ -86,6 +94,9 @@ struct ScenarioOverrides {
   std::vector<Kill> kills;               // appended to the file's
   std::vector<std::string> faults;       // --fault texts (faults.hpp), appended to the file's
   std::optional<std::string> behaviour;  // a registered behaviour's name, instead of the file's
+  // Set over the file's parameters before anything that uses them is checked (the shape's fit reads
+  // shape_heading); each checked against the behaviour's table ("command line: --param TEXT: why").
+  std::vector<ParamOverride> params;
 };
 
 // Loads and checks a scenario; throws InputError (file:line: what) on anything wrong. A relative shape path

@@ -1,0 +1,315 @@
+#include "viewer/replay.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+
+#include "viewer/foxglove.hpp"
+#include "viewer/robots_csv.hpp"
+#include "viewer/web_server.hpp"
+#include "world_server/behaviour_view.hpp"
+
+namespace swarmform::viewer {
+
+namespace {
+
+using nlohmann::json;
+
+constexpr int kPeriodMs = 20;
+constexpr std::size_t kMaxRobots = 100000;  // the scenario format's limit (docs/recording-format.md)
+
+// A file of the run directory as JSON: nullopt and `error` set (naming the file and what) when it is missing
+// or not JSON.
+std::optional<json> read_json_file(const std::string& path, std::string& error) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) {
+    error = path + ": missing (is this a run directory?)";
+    return std::nullopt;
+  }
+  std::ostringstream text;
+  text << f.rdbuf();
+  try {
+    return json::parse(text.str());
+  } catch (const json::parse_error& e) {
+    error = path + ": not valid JSON (" + e.what() + ")";
+    return std::nullopt;
+  }
+}
+
+bool is_number(const json& j, const char* key) {
+  return j.is_object() && j.contains(key) && j[key].is_number();
+}
+
+// What the page and Foxglove read of world.json, checked: "" when usable, else what is wrong.
+std::string check_world(const json& w) {
+  if (!w.is_object()) return "expected a JSON object";
+  if (!w.contains("arena") || !w["arena"].is_object())
+    return "missing 'arena' object {centre, width, height}";
+  const json& a = w["arena"];
+  if (!is_number(a, "width") || !is_number(a, "height") || a["width"].get<double>() <= 0 ||
+      a["height"].get<double>() <= 0)
+    return "arena: width and height must be positive numbers";
+  if (!a.contains("centre") || !a["centre"].is_array() || a["centre"].size() != 2 ||
+      !a["centre"][0].is_number() || !a["centre"][1].is_number())
+    return "arena.centre: expected [x, y]";
+  if (w.contains("robots") && !w["robots"].is_number_unsigned() && !w["robots"].is_array())
+    return "robots: expected a count";
+  if (w.contains("tick_rate") && (!w["tick_rate"].is_number() || w["tick_rate"].get<double>() <= 0))
+    return "tick_rate: expected a positive number";
+  return "";
+}
+
+// The recording's own description of its behaviour (world.json's behaviour_descriptor: the descriptor's
+// states and telemetry columns, docs/recording-format.md), in the form the live frames give it.
+server::BehaviourView behaviour_of(const json& world) {
+  server::BehaviourView v = server::describe_behaviour("", nullptr);
+  v.name = world.value("behaviour", std::string("?"));
+  const json d = world.value("behaviour_descriptor", json::object());
+  if (!d.is_object()) return v;
+  for (const auto& t : d.value("telemetry", json::array())) {
+    if (t.is_object() && t.contains("name") && t["name"].is_string())
+      v.telemetry_fields.push_back(t["name"].get<std::string>());
+  }
+  for (const auto& s : d.value("states", json::array())) {
+    if (!s.is_object() || !s.contains("value") || !s["value"].is_number_integer()) continue;
+    dds::StateStyleRow row;
+    row.value = s["value"].get<std::int32_t>();
+    row.name = s.contains("name") && s["name"].is_string() ? s["name"].get<std::string>()
+                                                           : std::to_string(row.value);
+    row.colour = s.contains("colour") && s["colour"].is_string() ? s["colour"].get<std::string>() : "#000000";
+    v.states.push_back(std::move(row));
+  }
+  return v;
+}
+
+double r4(double v) {
+  return std::isfinite(v) ? std::round(v * 1e4) / 1e4 : 0.0;
+}
+
+class Session {
+ public:
+  Session(const ReplayOptions& o, json world, std::optional<json> summary, RobotsCsv& csv)
+      : o_(o), world_(std::move(world)), csv_(csv), view_(behaviour_of(world_)) {
+    tick_rate_ = world_.value("tick_rate", 10.0);
+    if (summary && summary->is_object()) {
+      if (is_number(*summary, "formation_tick"))
+        formation_tick_ = (*summary)["formation_tick"].get<std::int64_t>();
+      if (is_number(*summary, "shape_error_at_formation"))
+        shape_error_ = (*summary)["shape_error_at_formation"].get<double>();
+    }
+    foxglove_.set_world(world_);
+    foxglove_.set_recorded(true);
+    tick_ = csv_.first_tick();
+  }
+
+  int run() {
+    WebServer::Handlers h;
+    h.opened = [this](ClientId c, ClientKind k) { opened(c, k); };
+    h.closed = [this](ClientId c) { foxglove_.forget(c); };
+    h.text = [this](ClientId c, ClientKind k, const std::string& text) { on_text(c, k, text); };
+    h.every = [this] { return every(); };
+    WebServer server({o_.host, o_.port, o_.web_root, o_.run_dir}, h, kPeriodMs);
+    server_ = &server;
+    std::cout << "viewer http://" << o_.host << ":" << server.port() << "/ replay of " << o_.run_dir
+              << " (ticks " << csv_.first_tick() << ".." << csv_.last_tick() << ", robots.csv "
+              << csv_.size_bytes() << " bytes)" << std::endl;
+    show(tick_);
+    server.run();
+    server_ = nullptr;
+    if (csv_.bad_rows() > 0)
+      std::cerr << "swarm_viewer: " << csv_.bad_rows()
+                << " row(s) of robots.csv skipped; the first: " << csv_.first_problem() << "\n";
+    return 0;
+  }
+
+ private:
+  void opened(ClientId c, ClientKind k) {
+    if (k == ClientKind::Foxglove) {
+      for (const std::string& m : foxglove_.hello()) server_->send_text(c, m);
+      return;
+    }
+    json fields = view_.telemetry_fields;
+    json states = json::array();
+    for (const auto& s : view_.states)
+      states.push_back({{"value", s.value}, {"name", s.name}, {"colour", s.colour}});
+    const json hello = {{"type", "hello"},
+                        {"mode", "replay"},
+                        {"behaviour", view_.name},
+                        {"states", states},
+                        {"telemetry_fields", fields},
+                        {"first_tick", csv_.first_tick()},
+                        {"last_tick", csv_.last_tick()},
+                        {"tick_rate", tick_rate_}};
+    server_->send_text(c, hello.dump());
+    if (!last_page_frame_.empty()) server_->send_text(c, last_page_frame_);
+  }
+
+  void on_text(ClientId c, ClientKind k, const std::string& text) {
+    if (k == ClientKind::Foxglove) {
+      const std::string answer = foxglove_.on_text(c, text);
+      if (!answer.empty()) server_->send_text(c, answer);
+      // A new subscriber gets the frame shown now at once (a paused replay would send nothing else).
+      for (auto& [client, bytes] : foxglove_.messages(frame_, c)) server_->send_binary(client, bytes);
+      return;
+    }
+    const json m = json::parse(text, nullptr, false);
+    const std::string cmd = m.is_object() ? m.value("cmd", std::string()) : std::string();
+    const bool has_value = m.is_object() && m.contains("value") && m["value"].is_number();
+    const double value = has_value ? m["value"].get<double>() : 0.0;
+    if (cmd == "seek" && has_value && std::isfinite(value)) {
+      const double t =
+          std::clamp(value, static_cast<double>(csv_.first_tick()), static_cast<double>(csv_.last_tick()));
+      carry_ = 0;
+      show(static_cast<std::uint64_t>(t));
+    } else if (cmd == "play") {
+      if (tick_ >= csv_.last_tick()) show(csv_.first_tick());  // at the end: from the start again
+      playing_ = true;
+      last_ = std::chrono::steady_clock::now();
+      carry_ = 0;
+      show(tick_);
+    } else if (cmd == "pause") {
+      playing_ = false;
+      show(tick_);
+    } else if (cmd == "speed" && has_value && value > 0 && value <= 1000) {
+      speed_ = value;
+    } else if (++bad_messages_ == 1 || bad_messages_ % 1000 == 0) {
+      std::cerr << "swarm_viewer: ignored " << bad_messages_ << " page message(s) it does not know, e.g. "
+                << text.substr(0, 80) << "\n";
+    }
+  }
+
+  bool every() {
+    if (!playing_) return true;
+    const auto now = std::chrono::steady_clock::now();
+    carry_ += std::chrono::duration<double>(now - last_).count() * tick_rate_ * speed_;
+    last_ = now;
+    const auto step = static_cast<std::uint64_t>(carry_);
+    if (step == 0) return true;
+    carry_ -= static_cast<double>(step);
+    std::uint64_t next = tick_ + step;
+    if (next >= csv_.last_tick()) {
+      next = csv_.last_tick();
+      playing_ = false;
+    }
+    show(next);
+    return true;
+  }
+
+  // Tick `t` (the last recorded tick <= t) to every page and every Foxglove subscriber.
+  void show(std::uint64_t t) {
+    const RecordedTick& rec = csv_.read(t);
+    tick_ = std::max(t, rec.tick);
+    frame_ = dds::ObserveFrameData{};
+    frame_.tick = rec.tick;
+    frame_.paused = !playing_;
+    frame_.behaviour = view_.name;
+    frame_.states = view_.states;
+    frame_.telemetry_fields = view_.telemetry_fields;
+    const bool formed = formation_tick_ >= 0 && static_cast<std::uint64_t>(formation_tick_) <= rec.tick;
+    frame_.formation_tick = formed ? formation_tick_ : -1;
+    frame_.shape_error = formed ? shape_error_ : -1.0;
+    json robots = json::array();
+    const std::vector<std::string>& extra = csv_.extra_columns();
+    for (const RecordedRow& r : rec.rows) {
+      dds::ObservedRobotRow o;
+      o.id = r.id;
+      o.pose = {r.x, r.y, r.theta};
+      o.alive = r.alive;
+      o.state = r.state;
+      o.label = r.label;
+      o.parent = r.parent;
+      o.leader = r.leader;
+      o.net_force = r.net_force;
+      frame_.alive += r.alive ? 1 : 0;
+      frame_.robots.push_back(o);
+      // The page's robot: what robots.csv holds (no readings, neighbours heard or command: not recorded).
+      json j = {{"id", r.id},         {"x", r4(r.x)},
+                {"y", r4(r.y)},       {"theta", r4(r.theta)},
+                {"alive", r.alive},   {"state", r.state},
+                {"label", r.label},   {"parent", r.parent},
+                {"leader", r.leader}, {"net_force", r4(r.net_force)}};
+      for (std::size_t k = 0; k < extra.size() && k < r.extra.size(); ++k) {
+        if (std::isfinite(r.extra[k])) j[extra[k]] = r.extra[k];
+      }
+      robots.push_back(std::move(j));
+    }
+    json states = json::array();
+    for (const auto& s : frame_.states)
+      states.push_back({{"value", s.value}, {"name", s.name}, {"colour", s.colour}});
+    const json page = {{"type", "frame"},
+                       {"tick", rec.tick},
+                       {"finished", false},
+                       {"paused", !playing_},
+                       {"controllable", false},
+                       {"speed_cap", 0.0},
+                       {"replay_speed", speed_},
+                       {"alive", frame_.alive},
+                       {"formation_tick", frame_.formation_tick},
+                       {"shape_error", frame_.shape_error},
+                       {"behaviour", frame_.behaviour},
+                       {"states", states},
+                       {"telemetry_fields", frame_.telemetry_fields},
+                       {"robots", robots}};
+    last_page_frame_ = page.dump();
+    if (server_ == nullptr) return;
+    server_->broadcast_text(ClientKind::Page, last_page_frame_);
+    for (auto& [client, bytes] : foxglove_.messages(frame_)) server_->send_binary(client, bytes);
+  }
+
+  const ReplayOptions& o_;
+  json world_;
+  RobotsCsv& csv_;
+  server::BehaviourView view_;
+  Foxglove foxglove_;
+  WebServer* server_ = nullptr;
+  double tick_rate_ = 10.0;
+  std::int64_t formation_tick_ = -1;
+  double shape_error_ = -1.0;
+
+  std::uint64_t tick_ = 0;  // the timeline's position (the tick shown is the last recorded one <= it)
+  bool playing_ = false;
+  double speed_ = 1.0;  // recorded seconds a second
+  double carry_ = 0.0;  // ticks due but not yet shown
+  std::chrono::steady_clock::time_point last_;
+  dds::ObserveFrameData frame_;
+  std::string last_page_frame_;
+  std::uint64_t bad_messages_ = 0;
+};
+
+}  // namespace
+
+int replay(const ReplayOptions& o) {
+  std::string error;
+  const std::optional<json> world = read_json_file(o.run_dir + "/world.json", error);
+  if (!world) {
+    std::cerr << "swarm_viewer: " << error << "\n";
+    return 2;
+  }
+  if (const std::string bad = check_world(*world); !bad.empty()) {
+    std::cerr << "swarm_viewer: " << o.run_dir << "/world.json: " << bad << "\n";
+    return 2;
+  }
+  std::string summary_error;
+  std::optional<json> summary = read_json_file(o.run_dir + "/summary.json", summary_error);
+  if (!summary) summary = std::nullopt;  // a run that did not finish has none: no formation marks
+  const json& n = world->value("robots", json(0));
+  const std::uint64_t robots = n.is_array() ? n.size() : n.get<std::uint64_t>();
+  std::unique_ptr<RobotsCsv> csv;
+  try {
+    csv = std::make_unique<RobotsCsv>(o.run_dir + "/robots.csv",
+                                      robots > 0 && robots <= kMaxRobots ? robots : kMaxRobots);
+  } catch (const std::runtime_error& e) {
+    std::cerr << "swarm_viewer: " << e.what() << "\n";
+    return 2;
+  }
+  Session session(o, *world, std::move(summary), *csv);
+  return session.run();
+}
+
+}  // namespace swarmform::viewer
