@@ -38,7 +38,7 @@ struct Harness::Impl {
       : scenario(s),
         options(std::move(o)),
         world(scenario),
-        session(world, {options.run_dir, "in-process", options.fragment_range}) {
+        session(world, {options.run_dir, "in-process", options.fragment_range, options.record_every}) {
     controllers.reserve(scenario.robots.size());
     for (RobotId id = 0; id < scenario.robots.size(); ++id) {
       controllers.push_back(make(id));

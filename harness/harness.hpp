@@ -35,6 +35,7 @@ std::int64_t robot_being_stepped();
 struct HarnessOptions {
   std::string run_dir;          // empty: no files written
   double fragment_range = 0.0;  // m, see world::RunOptions::fragment_range (0: the comm range)
+  Tick record_every = 1;        // see world::RunOptions::record_every
 };
 
 class Harness {

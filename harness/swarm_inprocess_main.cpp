@@ -150,6 +150,7 @@ int main(int argc, char** argv) {
   double fragment_range = 0.0;
   bool no_record = false;
   bool quiet = false;
+  Tick record_every = 1;
   app.add_option("--scenario", scenario_path, "scenario file (YAML)")->capture_default_str();
   app.add_option("--shape", shape, "shape file, instead of the scenario's");
   app.add_option("--robots", robots, "number of robots (random placement), instead of the scenario's");
@@ -176,6 +177,18 @@ int main(int argc, char** argv) {
                  "m: range of the shape robots' graph for fragment events (default: the comm range)")
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--no-record", no_record, "write nothing (metrics only; for benchmarks)");
+  app.add_option("--record-every", record_every,
+                 "K: robots.csv gets the rows of every K-th tick only (ticks 0, K, 2K...; an integer >= 1, "
+                 "default 1); events, metrics and trajectory_sha256 still cover every tick")
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            const bool digits = !text.empty() && text.size() <= 9 &&
+                                text.find_first_not_of("0123456789") == std::string::npos;
+            if (!digits || std::stoul(text) < 1)
+              return "must be an integer from 1 to 999999999, got '" + text + "'";
+            return {};
+          },
+          "K>=1"));
   app.add_flag("--quiet", quiet, "no progress lines on stderr");
   app.footer(
       "Exit codes: 0 the run ended (completed or max_ticks: summary.json's end_reason says which); 1 an "
@@ -225,7 +238,7 @@ int main(int argc, char** argv) {
     for (const int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL}) std::signal(sig, on_crash);
 
     const auto start = std::chrono::steady_clock::now();
-    harness::Harness harness(scenario, {run_dir, fragment_range});
+    harness::Harness harness(scenario, {run_dir, fragment_range, record_every});
     if (!run_dir.empty() && default_out) point_latest_at(run_dir);
     auto last_print = start;
     Tick last_tick = 0;

@@ -44,6 +44,7 @@ struct Options {
   std::string mode;
   std::optional<Tick> max_ticks;
   std::string out;
+  Tick record_every = 1;
   std::uint32_t domain = 0;
   std::string interface_address = "127.0.0.1";
   std::vector<std::string> kills;
@@ -143,6 +144,7 @@ int run(const Options& o) {
 
   swarmform::server::ServerOptions so;
   so.run_dir = o.out;
+  so.record_every = o.record_every;
   so.dds = dds_settings(o);
   so.connect_timeout_s =
       o.connect_timeout_s.value_or(swarmform::server::default_connect_timeout(scenario.robots.size()));
@@ -195,6 +197,18 @@ int main(int argc, char** argv) {
   app.add_option("--max-ticks", o.max_ticks, "ticks to run at most, overrides the scenario's")
       ->check(CLI::Range(Tick{1}, Tick{1000000000}));
   app.add_option("--out", o.out, "run directory to write (required for a run)");
+  app.add_option("--record-every", o.record_every,
+                 "K: robots.csv gets the rows of every K-th tick only (ticks 0, K, 2K...; an integer >= 1, "
+                 "default 1); events, metrics and trajectory_sha256 still cover every tick")
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            const bool digits = !text.empty() && text.size() <= 9 &&
+                                text.find_first_not_of("0123456789") == std::string::npos;
+            if (!digits || std::stoul(text) < 1)
+              return "must be an integer from 1 to 999999999, got '" + text + "'";
+            return {};
+          },
+          "K>=1"));
   app.add_option("--domain", o.domain, "DDS domain id (0..232)")->check(CLI::Range(0u, 232u));
   app.add_option("--interface", o.interface_address,
                  "local interface address (agents on other hosts: this "

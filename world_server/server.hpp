@@ -47,6 +47,7 @@ inline double default_connect_timeout(std::size_t robots) {
 
 struct ServerOptions {
   std::string run_dir;
+  Tick record_every = 1;                // robots.csv rows every K-th tick (world::RunOptions::record_every)
   dds::DdsSettings dds;                 // role World
   double connect_timeout_s = 60.0;      // every agent must have claimed its id by then
   std::map<RobotId, pid_t> agent_pids;  // for --kill and stalls: the world SIGKILLs / SIGSTOPs these

@@ -33,4 +33,29 @@ struct BarrierView {
 
 BarrierView read_barrier(const Stigmergy& stigmergy, int label_count, Tick now, int label_timeout);
 
+// read_barrier's verdict for one robot, followed as the stigmergy changes (its change log) instead of read
+// over every label and entry each tick: a robot in Reached asks every tick, and a 1024-label shape made that
+// thousands of lookups per robot per tick. passed_with() is exactly
+//   read_barrier(stigmergy, label_count, now, label_timeout).passed() && ...members.contains(self)
+// (tested against it): per label, whether its holder's barrier entry names it (the valid entries) and when
+// it was freed; the abandoned labels are counted at `now` over the freed ones only.
+class BarrierWatch {
+ public:
+  bool passed_with(const Stigmergy& stigmergy, RobotId self, int label_count, Tick now, int label_timeout);
+
+ private:
+  void rescan(const Stigmergy& stigmergy, int label_count);
+  void update_label(const Stigmergy& stigmergy, int label);
+  void update_barrier_entry(const Stigmergy& stigmergy, RobotId id);
+
+  Stigmergy::ChangeCursor cursor_;
+  int label_count_ = -1;
+  std::vector<char> valid_;  // by label: held, and its holder's barrier entry names it
+  int valid_count_ = 0;
+  std::vector<char> freed_;  // by label: its labels entry says freed (at freed_at_)
+  std::vector<Tick> freed_at_;
+  std::vector<int> freed_labels_;   // the labels with freed_ set, in no order
+  std::vector<int> barrier_label_;  // by robot id: the label its barrier entry named when last read
+};
+
 }  // namespace swarmform::controller

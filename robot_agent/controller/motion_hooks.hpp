@@ -49,6 +49,11 @@ struct FormationContext {
   std::map<RobotId, int> members;
   std::vector<int> abandoned_labels;
   Tick ready_tick = 0;  // tick this robot entered Ready
+  // Bumped by the caller whenever `members` or `places` changes; 0 = not tracked (the motion phases then
+  // recompute what they derive from them every tick). With them and Stigmergy::revision() the motion phases
+  // redo the per-label work (leader, live labels, parent tree) only when an input changed.
+  std::uint64_t members_version = 0;
+  std::uint64_t places_version = 0;
 };
 
 struct MotionStep {

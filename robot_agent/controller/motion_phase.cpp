@@ -118,6 +118,7 @@ void PaperMotion::on_ready(const FormationContext& ctx) {
   anchor_tick_ = ctx.tick;
   asked_ = 0.0;
   has_live_centroid_ = false;
+  choice_ = {};
 }
 
 MotionStep PaperMotion::step(const FormationContext& ctx) {
@@ -222,13 +223,14 @@ void PaperMotion::judge_boundary(const FormationContext& ctx) {
 // A live robot marked dead by a mistaken neighbour rewrites its own entry (a newer version wins).
 void PaperMotion::watch_for_the_dead(const FormationContext& ctx) {
   Stigmergy& st = *ctx.stigmergy;
-  for (const auto& [id, label] : ctx.members) {
-    if (id == ctx.self) continue;
+  // The members with a last position (heard since Ready), in id order: the robots heard, not every member
+  // of a shape of a thousand labels.
+  for (const auto& [id, last] : last_position_) {
+    if (id == ctx.self || ctx.members.count(id) == 0) continue;
     const auto heard = ctx.neighbours->last_heard(id);
     if (!heard || *heard < ready_tick_ || ctx.tick < *heard + static_cast<Tick>(p_.neighbour_timeout))
       continue;
-    auto pos = last_position_.find(id);
-    if (pos == last_position_.end()) continue;
+    const auto pos = last_position_.find(id);
     const double last_range = vnorm(vsub(pos->second, {ctx.pose.x, ctx.pose.y}));
     if (last_range > 0.8 * p_.comm_range) continue;  // it may simply have drifted out of range
     auto marked = marked_dead_.find(id);
@@ -242,6 +244,51 @@ void PaperMotion::watch_for_the_dead(const FormationContext& ctx) {
 
 void PaperMotion::choose_leader_and_parent(const FormationContext& ctx, MotionStep& out) {
   Stigmergy& st = *ctx.stigmergy;
+  const bool same_inputs =
+      choice_.valid && ctx.members_version != 0 && ctx.places_version != 0 &&
+      choice_.revision == st.revision() && choice_.members_version == ctx.members_version &&
+      choice_.places_version == ctx.places_version && choice_.heading == ctx.common_heading &&
+      choice_.label == ctx.label && choice_.self == ctx.self;
+  if (!same_inputs) read_leader_and_parent(ctx);
+  const std::optional<RobotId> leader = choice_.leader;
+  if (leader != leader_) {
+    leader_ = leader;
+    if (leader_ == ctx.self) {
+      out.events.push_back("leader_elected " + std::to_string(ctx.self));
+      st.put(leader_key(), ctx.self);
+    }
+  }
+  if (!leader_) return;
+
+  std::optional<RobotId> parent = choice_.parent;
+  if (parent && parent != parent_) {
+    // The shared parents table guards against a cycle while views of the stigmergy still differ.
+    std::map<RobotId, RobotId> table;
+    for (const auto& [index, e] : st.in_namespace(stig::Ns::Parents)) {
+      if (e.value >= 0 && index != ctx.self) table[index] = static_cast<RobotId>(e.value);
+    }
+    if (would_close_cycle(table, ctx.self, *parent)) parent = parent_;
+  }
+  if (parent != parent_) {
+    parent_ = parent;
+    out.events.push_back("parent " + (parent_ ? std::to_string(*parent_) : std::string("none")));
+    if (parent_) parent_reference_ = reference_to(ctx, *parent_);
+  }
+  const std::int64_t entry = parent_ ? static_cast<std::int64_t>(*parent_) : -1;
+  if (st.get(parents_key(ctx.self)) != entry) st.put(parents_key(ctx.self), entry);
+}
+
+// What choose_leader_and_parent derives from every member: the leader elected, the tree's parent for our
+// label, the live centroid. Reads only (the stigmergy, the members, the places).
+void PaperMotion::read_leader_and_parent(const FormationContext& ctx) {
+  const Stigmergy& st = *ctx.stigmergy;
+  choice_.valid = true;
+  choice_.revision = st.revision();
+  choice_.members_version = ctx.members_version;
+  choice_.places_version = ctx.places_version;
+  choice_.heading = ctx.common_heading;
+  choice_.label = ctx.label;
+  choice_.self = ctx.self;
   // Candidates: the barrier's members, with the roles they shared, minus the dead.
   std::vector<LeaderCandidate> candidates;
   std::vector<bool> present(ctx.places.size(), false);
@@ -269,40 +316,17 @@ void PaperMotion::choose_leader_and_parent(const FormationContext& ctx, MotionSt
   has_live_centroid_ = held > 0;
   if (held > 0) live_centroid_ = vscale(sum, 1.0 / held);
   const auto leader = elect_leader(candidates, ctx.places, ctx.common_heading);
-  if (leader != leader_) {
-    leader_ = leader;
-    if (leader_ == ctx.self) {
-      out.events.push_back("leader_elected " + std::to_string(ctx.self));
-      st.put(leader_key(), ctx.self);
-    }
-  }
-  if (!leader_) return;
-
-  std::optional<RobotId> parent;
-  if (*leader_ != ctx.self) {
-    const int root = ctx.members.count(*leader_) ? ctx.members.at(*leader_) : -1;
+  choice_.leader = leader;
+  choice_.parent.reset();
+  if (leader && *leader != ctx.self) {
+    const int root = ctx.members.count(*leader) ? ctx.members.at(*leader) : -1;
     const auto& tree = tree_cache_.get(ctx.places, present, root, p_.spacing, p_.link_range, p_.comm_range,
                                        ctx.common_heading);
     if (ctx.label >= 0 && static_cast<std::size_t>(ctx.label) < tree.parent.size()) {
       const int parent_label = tree.parent[static_cast<std::size_t>(ctx.label)];
-      if (parent_label >= 0 && holder.count(parent_label)) parent = holder.at(parent_label);
+      if (parent_label >= 0 && holder.count(parent_label)) choice_.parent = holder.at(parent_label);
     }
   }
-  if (parent && parent != parent_) {
-    // The shared parents table guards against a cycle while views of the stigmergy still differ.
-    std::map<RobotId, RobotId> table;
-    for (const auto& [index, e] : st.in_namespace(stig::Ns::Parents)) {
-      if (e.value >= 0 && index != ctx.self) table[index] = static_cast<RobotId>(e.value);
-    }
-    if (would_close_cycle(table, ctx.self, *parent)) parent = parent_;
-  }
-  if (parent != parent_) {
-    parent_ = parent;
-    out.events.push_back("parent " + (parent_ ? std::to_string(*parent_) : std::string("none")));
-    if (parent_) parent_reference_ = reference_to(ctx, *parent_);
-  }
-  const std::int64_t entry = parent_ ? static_cast<std::int64_t>(*parent_) : -1;
-  if (st.get(parents_key(ctx.self)) != entry) st.put(parents_key(ctx.self), entry);
 }
 
 // Where the goal puts this robot's place: the goal plus the place's offset from the live shape's centroid.

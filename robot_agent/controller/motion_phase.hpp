@@ -55,6 +55,7 @@ class PaperMotion final : public MotionPhases {
   void judge_boundary(const FormationContext& ctx);
   void watch_for_the_dead(const FormationContext& ctx);
   void choose_leader_and_parent(const FormationContext& ctx, MotionStep& out);
+  void read_leader_and_parent(const FormationContext& ctx);
   void record_references(const FormationContext& ctx);
   Vec2 reference_to(const FormationContext& ctx, RobotId id) const;
   Vec2 motion_velocity(const FormationContext& ctx, MotionStep& out);
@@ -110,6 +111,20 @@ class PaperMotion final : public MotionPhases {
   std::optional<RobotId> arrived_parent_;  // the parent when it arrived
   bool arrived_alone_ = false;             // it arrived at its own target (no parent heard)
   ParentTreeCache tree_cache_;             // the shared tree, rebuilt only when its inputs change
+  // choose_leader_and_parent's reading of the members, the stigmergy and the tree (the elected leader, the
+  // parent the tree gives, the live centroid), and the inputs it was made from: while none of them changes
+  // (the common case once the shape moves) it is reused instead of going over every member again.
+  struct Choice {
+    bool valid = false;
+    std::pair<std::uint64_t, std::uint64_t> revision;  // Stigmergy::revision()
+    std::uint64_t members_version = 0, places_version = 0;
+    double heading = 0.0;
+    int label = -1;
+    RobotId self = 0;
+    std::optional<RobotId> leader;  // elect_leader's answer
+    std::optional<RobotId> parent;  // the tree's parent for our label (before the cycle check)
+  };
+  Choice choice_;
 };
 
 }  // namespace swarmform::controller::motion

@@ -107,6 +107,7 @@ void PaperController::reset() {
   ready_tick_ = 0;
   holder_since_.clear();
   holder_version_.assign(static_cast<std::size_t>(table_.size()), -1);
+  holders_cursor_ = {};
   last_heartbeat_ = 0;
   last_member_heard_ = 0;
   reached_tick_ = 0;
@@ -114,10 +115,12 @@ void PaperController::reset() {
   stigmergy_ = Stigmergy(self_);
   election_.reset();
   barrier_at_ready_ = {};
+  barrier_watch_ = {};
   reserve_ = false;
   last_shape_heard_ = 0;
   members_digest_ = 0;
-  members_.clear();
+  ctx_ = {};
+  has_places_ = false;
   events_.clear();
   last_motion_ = {};
   if (!in_motion_phases(state_) && motion_) motion_ = make_motion_phases(params_);
@@ -283,12 +286,17 @@ Vec2 PaperController::searching_step(const Perception& p) {
   // where labels are still open.
   Vec2 v;
   if (has_origin_) {
-    const auto places = table_.places(origin_, params_.shape_heading);
-    int held = 0;
-    for (int l = 0; l < table_.size(); ++l) {
-      if (label_status(stigmergy_, l).kind == LabelStatus::Kind::Held) ++held;
+    const auto& places = this->places();
+    // Labels held (label_status Held: an entry >= 0) of the shape's, counted by the stigmergy as it changes;
+    // entries beyond the shape's labels (none unless a message lied) are taken off.
+    std::size_t held = stigmergy_.non_negative_in(stig::Ns::Labels);
+    if (table_.size() <= static_cast<int>(stig::kMaxIndex)) {
+      for (const auto& e :
+           stigmergy_.in_namespace_from(stig::Ns::Labels, static_cast<std::uint32_t>(table_.size()))) {
+        if (e.value >= 0) --held;
+      }
     }
-    const bool spare = held == table_.size();
+    const bool spare = held == static_cast<std::size_t>(table_.size());
     const double s = params_.grid_spacing;
     const PlacesAround around = places_around(places, pos);
     const double nearest = around.nearest;
@@ -324,7 +332,7 @@ Vec2 PaperController::searching_step(const Perception& p) {
 Vec2 PaperController::reserve_step(const Perception& p) {
   const Vec2 pos = position(p.pose);
   const double s = params_.grid_spacing;
-  const auto places = table_.places(origin_, params_.shape_heading);
+  const auto& places = this->places();
   // The nearest vacancy, unless a searching robot heard is nearer to it (ties: the lower id).
   int vacancy = -1;
   double vacancy_distance = 1e18;
@@ -428,14 +436,27 @@ void PaperController::keep_label() {
 }
 
 void PaperController::track_holders() {
-  for (int l = 0; l < table_.size(); ++l) {
+  const auto track = [this](int l) {
     const auto* e = stigmergy_.entry(stig::key(stig::Ns::Labels, static_cast<std::uint32_t>(l)));
-    if (!e) continue;
+    if (!e) return;
     std::int64_t& seen = holder_version_[static_cast<std::size_t>(l)];
     if (seen != static_cast<std::int64_t>(e->version)) {
       seen = e->version;
       holder_since_[l] = tick_;
     }
+  };
+  // Only the label entries changed since the last call (the others' versions are the ones seen then): a
+  // 1024-label shape made this a thousand lookups per robot per tick. The whole table when the change log
+  // overflowed.
+  std::span<const std::uint32_t> changed;
+  if (!stigmergy_.changes_since(holders_cursor_, changed)) {
+    for (int l = 0; l < table_.size(); ++l) track(l);
+    return;
+  }
+  const auto labels = static_cast<std::uint32_t>(stig::Ns::Labels);
+  for (const std::uint32_t key : changed) {
+    if (stig::ns_of(key) == labels && stig::index_of(key) < static_cast<std::uint32_t>(table_.size()))
+      track(static_cast<int>(stig::index_of(key)));
   }
 }
 
@@ -584,8 +605,9 @@ std::optional<WheelSpeeds> PaperController::reached_step(const Perception& p) {
     barrier_enter(stigmergy_, self_, label_);
   }
   if (barrier_contains(stigmergy_, self_) && stigmergy_.get(stig::key(stig::Ns::Barrier, self_)) == label_) {
-    const auto view = read_barrier(stigmergy_, table_.size(), tick_, params_.label_timeout);
-    if (view.passed() && view.members.contains(self_)) {
+    // The full view only once it has passed with us in it (the watch says so without reading every label).
+    if (barrier_watch_.passed_with(stigmergy_, self_, table_.size(), tick_, params_.label_timeout)) {
+      const auto view = read_barrier(stigmergy_, table_.size(), tick_, params_.label_timeout);
       barrier_at_ready_ = view;
       members_digest_ = 0;
       enter_ready();
@@ -602,8 +624,18 @@ void PaperController::enter_ready() {
   event("barrier_passed " + std::to_string(barrier_at_ready_.count) + "/" + std::to_string(table_.size()));
 }
 
-FormationContext PaperController::context(const Perception& p) const {
-  FormationContext ctx;
+const std::vector<Vec2>& PaperController::places() {
+  if (!has_places_ || places_origin_.x != origin_.x || places_origin_.y != origin_.y) {
+    places_ = table_.places(origin_, params_.shape_heading);
+    places_origin_ = origin_;
+    has_places_ = true;
+    ++places_version_;
+  }
+  return places_;
+}
+
+const FormationContext& PaperController::context(const Perception& p) {
+  FormationContext& ctx = ctx_;
   ctx.self = self_;
   ctx.tick = tick_;
   ctx.perception = &p;
@@ -612,16 +644,23 @@ FormationContext PaperController::context(const Perception& p) const {
   ctx.table = &table_;
   ctx.label = label_;
   ctx.origin = origin_;
-  ctx.places = table_.places(origin_, params_.shape_heading);
+  places();
+  if (ctx.places_version != places_version_) {
+    ctx.places = places_;
+    ctx.places_version = places_version_;
+  }
   ctx.common_heading = params_.shape_heading;
   ctx.neighbours = &neighbours_;
   ctx.stigmergy = const_cast<Stigmergy*>(&stigmergy_);
   if (members_digest_ != stigmergy_.digest() || members_digest_ == 0) {
-    members_ = motion_members(stigmergy_, barrier_at_ready_.members);
+    auto members = motion_members(stigmergy_, barrier_at_ready_.members);
+    if (ctx.members_version == 0 || members != ctx.members) {
+      ctx.members = std::move(members);
+      ++ctx.members_version;
+    }
     members_digest_ = stigmergy_.digest();
   }
-  ctx.members = members_;
-  ctx.abandoned_labels = barrier_at_ready_.abandoned;
+  if (ctx.abandoned_labels != barrier_at_ready_.abandoned) ctx.abandoned_labels = barrier_at_ready_.abandoned;
   ctx.ready_tick = ready_tick_;
   return ctx;
 }

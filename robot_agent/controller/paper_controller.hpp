@@ -66,7 +66,11 @@ class PaperController final : public Controller {
   void take_label(int label, int parent_label, Vec2 origin, const std::string& why);
   void lose_label(const std::string& why);
   void enter_ready();
-  FormationContext context(const Perception& p) const;
+  // The motion phases' context, updated in place (ctx_): the members and places are L entries each, copied
+  // only when they change, not every tick.
+  const FormationContext& context(const Perception& p);
+  // The shape's places about origin_ (by label), recomputed only when origin_ moves.
+  const std::vector<Vec2>& places();
   // The neighbours heard this tick, as range and azimuth; refilled on each call (valid until the next).
   const std::vector<NeighbourPosition>& fresh_neighbour_positions();
   // The same plus the unexplained ultrasonic echoes nearer than `max_echo` (collision_avoidance.hpp).
@@ -115,14 +119,22 @@ class PaperController final : public Controller {
   Stigmergy stigmergy_;
   SeedElection election_;
   BarrierView barrier_at_ready_;
+  BarrierWatch barrier_watch_;  // Reached: has the barrier passed with us in it
   // A spare that knows the shape is in its motion phases (reserve.hpp), and the last tick it heard one of
   // the shape's robots (its origin_ follows the shape from then on).
   bool reserve_ = false;
   Tick last_shape_heard_ = 0;
   double shape_radius_ = 0.0;  // m: the largest distance of a place from the shape's centroid
-  // The motion phases' members (reserve.hpp's motion_members), recomputed when the stigmergy changes.
-  mutable std::uint64_t members_digest_ = 0;
-  mutable std::map<RobotId, int> members_;
+  // The motion phases' members (reserve.hpp's motion_members, in ctx_.members), recomputed when the
+  // stigmergy changes.
+  std::uint64_t members_digest_ = 0;
+  FormationContext ctx_;
+  // places(): the places about places_origin_ (valid when has_places_).
+  std::vector<Vec2> places_;
+  Vec2 places_origin_;
+  bool has_places_ = false;
+  std::uint64_t places_version_ = 0;        // bumped on each recompute (ctx_.places_version)
+  Stigmergy::ChangeCursor holders_cursor_;  // track_holders: the stigmergy changes read so far
   std::vector<std::string> events_;
   MotionStep last_motion_;
   std::vector<NeighbourPosition> positions_;  // fresh_neighbour_positions

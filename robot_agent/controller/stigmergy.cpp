@@ -21,19 +21,78 @@ auto first_not_below(Table& table, std::uint32_t key) {
 }
 }  // namespace
 
+void Stigmergy::count_value(const StigmergyEntry& e, int sign) {
+  const std::uint32_t ns = stig::ns_of(e.key);
+  if (e.value >= 0 && ns < non_negative_.size()) non_negative_[ns] += static_cast<std::uint32_t>(sign);
+}
+
+std::vector<StigmergyEntry>::iterator Stigmergy::find_slot(std::uint32_t key) {
+  const std::uint32_t ns = stig::ns_of(key), index = stig::index_of(key);
+  if (ns < slot_.size() && index < slot_[ns].size() && slot_[ns][index] != 0)
+    return table_.begin() + (slot_[ns][index] - 1);
+  return first_not_below(table_, key);
+}
+
+std::vector<StigmergyEntry>::const_iterator Stigmergy::find_slot(std::uint32_t key) const {
+  return const_cast<Stigmergy*>(this)->find_slot(key);
+}
+
+void Stigmergy::index_from(std::size_t position) {
+  for (std::size_t i = position; i < table_.size(); ++i) {
+    const std::uint32_t ns = stig::ns_of(table_[i].key), index = stig::index_of(table_[i].key);
+    if (ns >= slot_.size() || index >= kMaxSlotIndex) continue;
+    if (index >= slot_[ns].size()) slot_[ns].resize(index + 1, 0);
+    slot_[ns][index] = static_cast<std::uint32_t>(i + 1);
+  }
+}
+
 void Stigmergy::store(std::vector<StigmergyEntry>::iterator it, const StigmergyEntry& e) {
   if (it != table_.end() && it->key == e.key) {
     digest_ -= stigmergy_entry_hash(*it);
+    count_value(*it, -1);
     *it = e;
   } else {
+    const auto position = static_cast<std::size_t>(it - table_.begin());
     table_.insert(it, e);
+    index_from(position);  // the entries after it moved one place on
   }
   digest_ += stigmergy_entry_hash(e);
+  count_value(e, +1);
+  log_change(e.key);
   mark_changed(e.key);
 }
 
+void Stigmergy::log_change(std::uint32_t key) {
+  ++revision_.changes;
+  // Keep the last table-size-and-more changes: a reader that reads every tick finds all of its own.
+  const std::size_t keep = table_.size() + 64;
+  if (log_.size() >= 2 * keep) {
+    const std::size_t drop = log_.size() - keep;
+    log_.erase(log_.begin(), log_.begin() + static_cast<std::ptrdiff_t>(drop));
+    log_first_ += drop;
+  }
+  log_.push_back(key);
+}
+
+bool Stigmergy::changes_since(ChangeCursor& cursor, std::span<const std::uint32_t>& keys) const {
+  const std::uint64_t end = log_first_ + log_.size();
+  const bool whole = cursor.series == revision_.series && cursor.next >= log_first_ && cursor.next <= end;
+  keys =
+      whole ? std::span<const std::uint32_t>(log_).subspan(static_cast<std::size_t>(cursor.next - log_first_))
+            : std::span<const std::uint32_t>();
+  cursor.series = revision_.series;
+  cursor.next = end;
+  return whole;
+}
+
+std::span<const StigmergyEntry> Stigmergy::in_namespace_from(stig::Ns ns, std::uint32_t from) const {
+  const auto begin = first_not_below(table_, stig::key(ns, from));
+  const auto end = first_not_below(table_, stig::key(static_cast<std::uint32_t>(ns) + 1u, 0));
+  return {begin, end};
+}
+
 void Stigmergy::put(std::uint32_t key, std::int64_t value) {
-  auto it = first_not_below(table_, key);
+  auto it = find_slot(key);
   const bool held = it != table_.end() && it->key == key;
   store(it, StigmergyEntry{key, value, held ? it->version + 1u : 1u, self_});
 }
@@ -45,12 +104,12 @@ std::optional<std::int64_t> Stigmergy::get(std::uint32_t key) const {
 }
 
 const StigmergyEntry* Stigmergy::entry(std::uint32_t key) const {
-  auto it = first_not_below(table_, key);
+  auto it = find_slot(key);
   return it != table_.end() && it->key == key ? &*it : nullptr;
 }
 
 bool Stigmergy::merge(const StigmergyEntry& e) {
-  auto it = first_not_below(table_, e.key);
+  auto it = find_slot(e.key);
   if (it != table_.end() && it->key == e.key && !stigmergy_newer(e, *it)) return false;
   store(it, e);
   return true;
@@ -119,6 +178,12 @@ std::map<std::uint32_t, StigmergyEntry> Stigmergy::in_namespace(std::uint32_t ns
 
 void Stigmergy::clear() {
   table_.clear();
+  for (auto& slots : slot_) slots.clear();
+  non_negative_.fill(0);
+  // Readers rescan (an empty table): the log restarts past everything they have read.
+  log_first_ += log_.size() + 1;
+  log_.clear();
+  ++revision_.changes;
   pending_.clear();
   queue_.clear();
   digest_ = 0;

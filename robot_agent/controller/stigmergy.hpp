@@ -27,6 +27,8 @@
 //   6..15       reserved for the motion phases
 #pragma once
 
+#include <array>
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -96,10 +98,56 @@ class Stigmergy {
   // The table's digest (see above); 0 for an empty table.
   std::uint64_t digest() const { return digest_; }
 
+  // Exact change detection for readers that derive something from the table (a count, a tree) and want to
+  // redo it only when the table changed: two calls return the same value only when this very object's table
+  // did not change in between. Unlike the digest, no collision: every change counts, and a copy of the
+  // table starts a new series (its changes are not this object's).
+  std::pair<std::uint64_t, std::uint64_t> revision() const { return {revision_.series, revision_.changes}; }
+
+  // The change log, for readers that follow the table incrementally (paper_controller.cpp's label holders,
+  // barrier_watch.hpp): each reader keeps a ChangeCursor and asks for the keys changed since it last asked,
+  // in the order they changed (a key may repeat). Returns false when the reader must rescan the whole table
+  // instead: its first call, a cursor from another table (a copy), or more changes since its last call than
+  // the log keeps (it stays bounded: about twice the table's size).
+  struct ChangeCursor {
+    std::uint64_t series = 0;
+    std::uint64_t next = 0;  // the sequence number of the first change not read
+  };
+  bool changes_since(ChangeCursor& cursor, std::span<const std::uint32_t>& keys) const;
+
+  // How many entries of namespace `ns` hold a value >= 0 (e.g. labels held, allotment.hpp), kept up to date
+  // on every change: O(1), not a scan of the namespace.
+  std::size_t non_negative_in(stig::Ns ns) const {
+    const auto i = static_cast<std::size_t>(ns);
+    return i < non_negative_.size() ? non_negative_[i] : 0;
+  }
+  // The entries of namespace `ns` whose index is `from` or more, in key order (a contiguous run of the
+  // table).
+  std::span<const StigmergyEntry> in_namespace_from(stig::Ns ns, std::uint32_t from) const;
+
   void clear();
 
  private:
   void mark_changed(std::uint32_t key);
+  void count_value(const StigmergyEntry& e, int sign);
+  void log_change(std::uint32_t key);
+
+  // revision(): `series` is drawn afresh for every new or copied table, `changes` counts its changes.
+  static std::uint64_t next_series() {
+    static std::atomic<std::uint64_t> series{0};
+    return series.fetch_add(1, std::memory_order_relaxed) + 1;
+  }
+  struct Revision {
+    std::uint64_t series = next_series();
+    std::uint64_t changes = 0;
+    Revision() = default;
+    Revision(const Revision&) {}
+    Revision& operator=(const Revision&) {
+      series = next_series();
+      changes = 0;
+      return *this;
+    }
+  };
   // Writes `e` over the entry at `it` (same key) or inserts it there, keeping the digest; marks it changed.
   void store(std::vector<StigmergyEntry>::iterator it, const StigmergyEntry& e);
 
@@ -109,6 +157,15 @@ class Stigmergy {
   // contiguous array of tens of entries is several times cheaper than walking tree nodes; inserts (a key
   // seen for the first time) are rare.
   std::vector<StigmergyEntry> table_;
+  // Where each key stands in table_ (position + 1; 0: absent), by namespace and index, for the keys of
+  // namespaces below 16 with an index below kMaxSlotIndex (the others are searched): a lookup is two loads,
+  // not a binary search over a table of thousands of entries (a 1024-label shape), and merge() is most of a
+  // robot's tick while a large shape forms. Kept on every insert (the entries after it move on).
+  static constexpr std::uint32_t kMaxSlotIndex = 8192;
+  std::array<std::vector<std::uint32_t>, 16> slot_;
+  std::vector<StigmergyEntry>::iterator find_slot(std::uint32_t key);  // entry's place or lower bound
+  std::vector<StigmergyEntry>::const_iterator find_slot(std::uint32_t key) const;
+  void index_from(std::size_t position);
   // Changed entries still to send: key -> sends left; and the queue they go out in, turn -> key, oldest
   // first (each key is in it exactly once while pending).
   std::map<std::uint32_t, int> pending_;
@@ -116,6 +173,10 @@ class Stigmergy {
   std::uint64_t next_turn_ = 0;
   std::uint64_t digest_ = 0;
   std::uint32_t cursor_ = 0;  // round-robin: the next key to send is the first >= cursor_
+  Revision revision_;
+  std::vector<std::uint32_t> log_;  // changes_since(): the last changes' keys, log_[0] is change log_first_
+  std::uint64_t log_first_ = 0;
+  std::array<std::uint32_t, 16> non_negative_{};  // by namespace (keys of namespaces >= 16 are not counted)
 };
 
 }  // namespace swarmform::controller

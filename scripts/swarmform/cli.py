@@ -141,6 +141,10 @@ def _add_run_flags(p: argparse.ArgumentParser, demo: bool = False) -> None:
                    help="a folder behaviour plug-ins may be loaded from, besides the scenario's own "
                         "(docs/behaviour-api.md); repeatable")
     p.add_argument("--out", metavar="DIR", help="run directory (default runs/<UTC time>/, and runs/latest)")
+    p.add_argument("--record-every", type=_int_at_least(1), metavar="K",
+                   help="robots.csv gets the rows of every K-th tick only (ticks 0, K, 2K...; default 1): a "
+                        "long run of many robots thinned; events, metrics and trajectory_sha256 still cover "
+                        "every tick (docs/recording-format.md)")
     p.add_argument("--kill", type=_kill_spec, action="append", default=[], metavar="ID@TICK",
                    help="SIGKILL agent ID at tick TICK (repeatable)")
     p.add_argument("--fault", action="append", default=[], metavar="FAULT", help=faults.FAULT_HELP)

@@ -117,6 +117,8 @@ def overrides(args: argparse.Namespace) -> list[str]:
                         ("--mode", args.mode), ("--max-ticks", args.max_ticks)):
         if value is not None:
             out += [flag, str(value)]
+    if getattr(args, "record_every", None) is not None:
+        out += ["--record-every", str(args.record_every)]
     for kill in args.kill:
         out += ["--kill", kill]
     for fault in getattr(args, "fault", None) or []:

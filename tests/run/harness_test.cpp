@@ -102,6 +102,50 @@ TEST(Harness, RunWritesEveryFileAndTheKilledRobotsDeath) {
   fs::remove_all(dir);
 }
 
+// Issue 22: record_every K thins robots.csv to ticks 0, K, 2K... (the same rows as the full recording's), and
+// nothing else: every event, the same trajectory_sha256, world.json says K.
+TEST(Harness, RecordEveryFiveWritesAFifthOfTheRowsAndTheSameHash) {
+  const auto full_dir = fresh_dir("every1");
+  const auto thin_dir = fresh_dir("every5");
+  std::string full_summary, thin_summary;
+  {
+    Harness h(scenario(), {full_dir.string()});
+    h.run();
+    full_summary = h.finish(1.0);
+  }
+  {
+    Harness h(scenario(), {thin_dir.string(), 0.0, 5});
+    h.run();
+    thin_summary = h.finish(1.0);
+  }
+  const auto full = world::read_robots_csv((full_dir / "robots.csv").string());
+  const auto thin = world::read_robots_csv((thin_dir / "robots.csv").string());
+  ASSERT_EQ(full.size(), 101u * 8u);
+  ASSERT_EQ(thin.size(), 21u * 8u);  // ticks 0, 5, ..., 100
+  std::size_t k = 0;
+  for (const auto& r : full) {
+    if (r.tick % 5 != 0) continue;
+    ASSERT_LT(k, thin.size());
+    EXPECT_EQ(thin[k].tick, r.tick);
+    EXPECT_EQ(thin[k].id, r.id);
+    EXPECT_EQ(thin[k].pose.x, r.pose.x);
+    EXPECT_EQ(thin[k].alive, r.alive);
+    ++k;
+  }
+  EXPECT_EQ(k, thin.size());
+  const auto full_json = nlohmann::json::parse(full_summary);
+  const auto thin_json = nlohmann::json::parse(thin_summary);
+  EXPECT_EQ(thin_json["trajectory_sha256"], full_json["trajectory_sha256"]);
+  EXPECT_EQ(thin_json["ticks"], 100);
+  EXPECT_EQ(world::read_events_jsonl((thin_dir / "events.jsonl").string()).size(),
+            world::read_events_jsonl((full_dir / "events.jsonl").string()).size());
+  EXPECT_EQ(world::read_json_file((thin_dir / "world.json").string())["record_every"], 5);
+  EXPECT_EQ(world::read_json_file((full_dir / "world.json").string())["record_every"], 1);
+  EXPECT_THROW(Harness(scenario(), {thin_dir.string(), 0.0, 0}), std::invalid_argument);
+  fs::remove_all(full_dir);
+  fs::remove_all(thin_dir);
+}
+
 TEST(Harness, TrajectoryHashIsReproducibleAndSeesOnePose) {
   const auto s = scenario();
   std::string a;

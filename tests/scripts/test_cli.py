@@ -53,6 +53,8 @@ class CliTest(unittest.TestCase):
                  (["run", "--secure", "--domain", "231"], "--secure: DDS domain 231 is above 230"),
                  (["replay"], "the following arguments are required: RUN_DIR"),
                  (["run", "--view", "70000"], "a TCP port is 0..65535, got 70000"),
+                 (["run", "--record-every", "0"], "argument --record-every: must be >= 1, got 0"),
+                 (["run", "--record-every", "2.5"], "argument --record-every: expected an integer, got '2.5'"),
                  (["view"], "the following arguments are required: RUN_DIR"),
                  (["view", "runs/x", "--port", "-1"], "must be >= 0"),
                  (["kill", "x"], "argument ID"),

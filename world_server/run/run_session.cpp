@@ -6,6 +6,7 @@
 #include <bit>
 #include <cstring>
 #include <optional>
+#include <stdexcept>
 
 #include "world_server/run/metrics_tracker.hpp"
 #include "world_server/run/provenance.hpp"
@@ -47,6 +48,7 @@ struct RunSession::Impl {
         tracker(w.scenario().mission, w.scenario().behaviour),
         fragment_range(options.fragment_range > 0.0 ? options.fragment_range : w.scenario().comm_range),
         events(fragment_range) {
+    if (options.record_every < 1) throw std::invalid_argument("RunOptions::record_every must be at least 1");
     if (!options.run_dir.empty()) {
       std::vector<std::string> columns;
       if (const behaviour::Descriptor* d = world.scenario().behaviour) {
@@ -55,6 +57,7 @@ struct RunSession::Impl {
       writer.emplace(options.run_dir, std::move(columns));
       auto description = describe_world(world.scenario(), options.mode);
       description["fragment_range"] = fragment_range;
+      description["record_every"] = options.record_every;
       writer->write_world(description);
       writer->log(world.tick(), "run starts: " + std::to_string(world.robot_count()) + " robots, scenario " +
                                     world.scenario().source + ", mode " + options.mode);
@@ -92,7 +95,7 @@ struct RunSession::Impl {
       }
     }
     sha.update(pose_bytes.data(), pose_bytes.size());
-    if (writer) writer->write_rows(tick, robots);
+    if (writer && tick % options.record_every == 0) writer->write_rows(tick, robots);
     recorded_once = true;
     last_recorded_tick = tick;
   }
