@@ -39,7 +39,7 @@ class BenchScript(unittest.TestCase):
 
     def test_runs_and_prints_the_table(self):
         self.assertEqual(self.proc.returncode, 0, self.proc.stderr)
-        for heading in ("P1 lockstep", "P2 scale", "P3 in-process", "wrote "):
+        for heading in ("P1 lockstep", "P2 scale", "P3 in-process", "P4 big shapes", "wrote "):
             self.assertIn(heading, self.proc.stdout)
 
     def test_machine_and_targets_recorded(self):
@@ -92,6 +92,14 @@ class BenchScript(unittest.TestCase):
             self.assertEqual(r["best"], max(r["samples"]))
             self.assertTrue(all(positive(v) for v in r["split_us_per_robot_tick"].values()))
             self.assertGreater(r["messages_per_robot"], 0)
+
+    def test_p4_figures(self):
+        p4 = self.doc["parts"]["p4"]
+        self.assertEqual([c["labels"] for c in p4["cases"]], [100, 400])
+        for c in p4["cases"]:
+            self.assertEqual(c["robots"], c["labels"])
+            self.assertTrue(positive(c["us_per_robot_tick"]) and positive(c["cpu_us_per_robot_tick"]))
+        self.assertTrue(positive(p4["ratio_largest_to_smallest"]["cpu"]))
 
 
 if __name__ == "__main__":
