@@ -25,6 +25,7 @@
 #include "harness/harness.hpp"
 #include "harness/param_flags.hpp"
 #include "robot_agent/controller/builtins.hpp"
+#include "world_server/run/record_every_flag.hpp"
 #include "world_server/run/run_end.hpp"
 
 namespace {
@@ -177,18 +178,7 @@ int main(int argc, char** argv) {
                  "m: range of the shape robots' graph for fragment events (default: the comm range)")
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--no-record", no_record, "write nothing (metrics only; for benchmarks)");
-  app.add_option("--record-every", record_every,
-                 "K: robots.csv gets the rows of every K-th tick only (ticks 0, K, 2K...; an integer >= 1, "
-                 "default 1); events, metrics and trajectory_sha256 still cover every tick")
-      ->check(CLI::Validator(
-          [](std::string& text) -> std::string {
-            const bool digits = !text.empty() && text.size() <= 9 &&
-                                text.find_first_not_of("0123456789") == std::string::npos;
-            if (!digits || std::stoul(text) < 1)
-              return "must be an integer from 1 to 999999999, got '" + text + "'";
-            return {};
-          },
-          "K>=1"));
+  swarmform::world::add_record_every_flag(app, record_every);
   app.add_flag("--quiet", quiet, "no progress lines on stderr");
   app.footer(
       "Exit codes: 0 the run ended (completed or max_ticks: summary.json's end_reason says which); 1 an "

@@ -20,6 +20,7 @@
 #include "common/dds/signal_watch.hpp"
 #include "common/input_error.hpp"
 #include "robot_agent/controller/builtins.hpp"
+#include "world_server/run/record_every_flag.hpp"
 #include "world_server/server.hpp"
 #include "world_server/world/scenario.hpp"
 
@@ -197,18 +198,7 @@ int main(int argc, char** argv) {
   app.add_option("--max-ticks", o.max_ticks, "ticks to run at most, overrides the scenario's")
       ->check(CLI::Range(Tick{1}, Tick{1000000000}));
   app.add_option("--out", o.out, "run directory to write (required for a run)");
-  app.add_option("--record-every", o.record_every,
-                 "K: robots.csv gets the rows of every K-th tick only (ticks 0, K, 2K...; an integer >= 1, "
-                 "default 1); events, metrics and trajectory_sha256 still cover every tick")
-      ->check(CLI::Validator(
-          [](std::string& text) -> std::string {
-            const bool digits = !text.empty() && text.size() <= 9 &&
-                                text.find_first_not_of("0123456789") == std::string::npos;
-            if (!digits || std::stoul(text) < 1)
-              return "must be an integer from 1 to 999999999, got '" + text + "'";
-            return {};
-          },
-          "K>=1"));
+  swarmform::world::add_record_every_flag(app, o.record_every);
   app.add_option("--domain", o.domain, "DDS domain id (0..232)")->check(CLI::Range(0u, 232u));
   app.add_option("--interface", o.interface_address,
                  "local interface address (agents on other hosts: this "
