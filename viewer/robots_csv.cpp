@@ -99,18 +99,8 @@ RobotsCsv::RobotsCsv(std::string path, std::size_t max_rows) : path_(std::move(p
     }
     data_start_ = nl + 1;
     // The data ends after the last newline: a half-written last line is not part of it.
-    std::uint64_t at = size;
-    data_end_ = data_start_;
-    while (at > data_start_) {
-      const std::uint64_t from = at > data_start_ + kChunk ? at - kChunk : data_start_;
-      const std::string tail = pread_some(from, static_cast<std::size_t>(at - from));
-      const std::size_t last = tail.rfind('\n');
-      if (last != std::string::npos) {
-        data_end_ = from + last + 1;
-        break;
-      }
-      at = from;
-    }
+    const auto end_nl = newline_before(size);
+    data_end_ = end_nl ? *end_nl + 1 : data_start_;
     const Line first = line_from(data_start_);
     if (!first.ok) throw std::runtime_error(path_ + ":2: no complete row that can be read after the header");
     first_tick_ = first.tick;
@@ -214,20 +204,21 @@ RobotsCsv::Line RobotsCsv::line_from(std::uint64_t pos) {
   return Line{data_end_, data_end_, kAfterAll, false};
 }
 
-RobotsCsv::Line RobotsCsv::line_before(std::uint64_t end) {
-  // The newline at end - 1 closes the line; its start is after the newline before that (or the data's start).
-  std::uint64_t start = data_start_;
-  std::uint64_t at = end - 1;
+std::optional<std::uint64_t> RobotsCsv::newline_before(std::uint64_t at) {
+  // Backwards a chunk at a time from `at` (exclusive) down to the data's start.
   while (at > data_start_) {
     const std::uint64_t from = at > data_start_ + kChunk ? at - kChunk : data_start_;
     const std::string chunk = pread_some(from, static_cast<std::size_t>(at - from));
-    const std::size_t nl = chunk.rfind('\n');
-    if (nl != std::string::npos) {
-      start = from + nl + 1;
-      break;
-    }
+    if (const std::size_t nl = chunk.rfind('\n'); nl != std::string::npos) return from + nl;
     at = from;
   }
+  return std::nullopt;
+}
+
+RobotsCsv::Line RobotsCsv::line_before(std::uint64_t end) {
+  // The newline at end - 1 closes the line; its start is after the newline before that (or the data's start).
+  const auto nl = newline_before(end - 1);
+  const std::uint64_t start = nl ? *nl + 1 : data_start_;
   Line l;
   l.start = start;
   l.end = end;

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,7 @@ class RobotsCsv {
   std::uint64_t lower_bound(std::uint64_t tick);  // the first line start whose tick >= tick, or data_end_
   void load(std::uint64_t start);                 // the tick that starts at `start` into current_
   std::string pread_some(std::uint64_t at, std::size_t n);
+  std::optional<std::uint64_t> newline_before(std::uint64_t at);  // the last '\n' in [data_start_, at)
   bool parse(const std::string& line, RecordedRow& row, std::uint64_t& tick) const;
   bool parse_tick(const std::string& line, std::uint64_t& tick) const;
   void problem(std::uint64_t offset, const std::string& what);

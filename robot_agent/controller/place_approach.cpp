@@ -55,7 +55,9 @@ Vec2 PlaceApproach::step(Vec2 position, Vec2 place, Vec2 desired, Tick tick,
       bug_gap_ = distance;
       events.push_back("boundary_follow_start " + std::to_string(bug_.side()));
       side_ = 0;
-      return step(position, place, desired, tick, echoes, wall, params, rng, events);
+      Vec2 v;  // never leaves on its first tick (min_ticks), and `wall` is known: it follows
+      bug_.update(wall, position, desired, tick, params.bug, v, false);
+      return v;
     }
     if (side_ != 0) {
       bug_next_ = true;
