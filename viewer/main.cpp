@@ -14,6 +14,7 @@
 #include "common/dds/observe_wire.hpp"
 #include "viewer/foxglove.hpp"
 #include "viewer/frame_json.hpp"
+#include "viewer/netns.hpp"
 #include "viewer/replay.hpp"
 #include "viewer/web_server.hpp"
 
@@ -38,6 +39,8 @@ struct Options {
   std::string replay;
   std::uint32_t domain = 0;
   std::string world_host = "127.0.0.1";
+  std::string interface_address;  // the local interface's address for DDS (default: as robot_agent's)
+  std::string netns;              // live: the network namespace of the DDS side (swarm run --hosts)
   std::string run_nonce;
   std::string token;
   std::string security_dir;  // --secure runs: the run's security directory (observer identity)
@@ -90,9 +93,11 @@ int live(const Options& o) {
   settings.world_host = o.world_host;
   if (!o.security_dir.empty())
     settings.security = dds::security_files(o.security_dir, dds::observer_identity());
-  dds::Participant participant(settings);
-  dds::ObserveReader frames(participant);
-  dds::ControlWriter control(participant);
+  settings.interface_address = o.interface_address;
+  // Made once the page's socket listens (below): under --netns the participant lives in another namespace.
+  std::optional<dds::Participant> participant;
+  std::optional<dds::ObserveReader> frames;
+  std::optional<dds::ControlWriter> control;
 
   std::uint64_t seq = 0;
   bool got_frame = false;
@@ -111,7 +116,7 @@ int live(const Options& o) {
       return;
     }
     c.seq = ++seq;
-    control.send(c);
+    control->send(c);
   };
 
   swarmform::viewer::WebServer* server_ptr = nullptr;
@@ -194,12 +199,12 @@ int live(const Options& o) {
       }
       server_ptr->broadcast_text(ClientKind::Page, json{{"type", "events"}, {"events", fresh}}.dump());
     }
-    if (frames.take(nonce, frame)) {
+    if (frames->take(nonce, frame)) {
       if (!got_frame) {
         got_frame = true;
         for (dds::ControlSample& c : pending) {
           c.seq = ++seq;
-          control.send(c);
+          control->send(c);
         }
         pending.clear();
       }
@@ -214,6 +219,10 @@ int live(const Options& o) {
   };
   swarmform::viewer::WebServer server({o.host, o.port, o.web_root, o.run_dir}, h, kPeriodMs);
   server_ptr = &server;
+  if (!o.netns.empty()) swarmform::viewer::enter_network_namespace(o.netns);
+  participant.emplace(settings);
+  frames.emplace(*participant);
+  control.emplace(*participant);
   std::cout << "viewer http://" << o.host << ":" << server.port() << "/" << std::endl;
   server.run();
   if (finished_at) std::cout << "viewer: the run ended" << std::endl;
@@ -235,6 +244,12 @@ int main(int argc, char** argv) {
   app.add_option("--replay", o.replay, "RUN_DIR: serve the page over this recording (no DDS)");
   app.add_option("--domain", o.domain, "live: the run's DDS domain id")->check(CLI::Range(0u, 232u));
   app.add_option("--world-host", o.world_host, "live: the world's address (default 127.0.0.1)");
+  app.add_option("--interface", o.interface_address,
+                 "live: local interface address for DDS (default: loopback when the world is on loopback)");
+  app.add_option(
+      "--netns", o.netns,
+      "live: the network namespace (`ip netns list`) of the DDS side; the page still listens where "
+      "the viewer starts (swarm run --hosts --view: the world's host; needs root)");
   app.add_option("--run-nonce", o.run_nonce,
                  "live: the run's nonce, 16 hex digits (the world's `world ready` line)");
   app.add_option(

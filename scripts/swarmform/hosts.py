@@ -215,6 +215,11 @@ class Hosts:
         """The command prefix and the world_server flags for the world's host."""
         return ["ip", "netns", "exec", self.world["namespace"]], ["--interface", WORLD_ADDRESS]
 
+    def viewer_flags(self) -> list[str]:
+        """swarm_viewer's flags under --view: its DDS side in the world's host, its page in the launcher's
+        namespace (the viewer makes its listening socket before it enters the world's: no relay)."""
+        return ["--netns", self.world["namespace"], "--world-host", WORLD_ADDRESS, "--interface", WORLD_ADDRESS]
+
     def agent_wrap(self, rid: int) -> tuple[list[str], list[str]]:
         """The command prefix and the robot_agent flags for agent `rid`."""
         h = self.host_of(rid)

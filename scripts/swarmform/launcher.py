@@ -630,6 +630,7 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
         if hosts is not None:
             wrap, extra = hosts.world_wrap()
             cmd = wrap + cmd + extra
+            view.extra += hosts.viewer_flags()
             procs.placement = hosts.agent_wrap
 
         def start_agents() -> None:  # at the world's `world ready`: its mission is out
@@ -748,12 +749,10 @@ class _ViewerStart:
         if self.paused and info.get("mode") != "lockstep":
             raise LaunchError("--view-paused needs a lockstep run (a realtime run ticks on the clock and cannot "
                               "be held); leave out --view-paused, or use --mode lockstep", EXIT_BAD_INPUT)
-        if self.port is not None and getattr(args, "hosts", None):
-            raise LaunchError("--view with --hosts: the viewer would run outside the hosts' network namespaces, "
-                              "where the world cannot be reached; not supported yet (docs/multi-host.md)",
-                              EXIT_BAD_INPUT)
         self.exe = executable("viewer") if self.port is not None else None
-        self.extra: list[str] = []  # --security-dir under --secure: the viewer takes the run's observer identity
+        # --security-dir under --secure (the viewer takes the run's observer identity); under --hosts, the world's
+        # host for its DDS side (its page stays on this host, where the browser is)
+        self.extra: list[str] = []
 
     def world_flags(self) -> list[str]:
         if self.token is None:

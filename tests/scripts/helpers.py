@@ -1,7 +1,8 @@
-"""Shared bits of the scripts' tests: paths, running `scripts/swarm`, reading a PNG header, ffprobe."""
+"""Shared bits of the scripts' tests: paths, running `scripts/swarm`, reading a PNG header, ffprobe, a free port."""
 
 import json
 import os
+import socket
 import struct
 import subprocess
 import sys
@@ -68,3 +69,10 @@ def video_frame(path, index, width, height):
                           "-f", "rawvideo", "-pix_fmt", "rgb24", "-"], capture_output=True, timeout=120,
                          check=True).stdout
     return np.frombuffer(raw, dtype=np.uint8).reshape(height, width, 3)
+
+
+def free_port():
+    """A TCP port free on 127.0.0.1 now (for a viewer's --view)."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]

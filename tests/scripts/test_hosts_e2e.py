@@ -10,13 +10,16 @@ agents in network namespaces of their own, over real UDP through a bridge.
   are recorded dead, the other host's carry on; restored: they rejoin (the run then ends by Ctrl-C);
 - a launcher killed with SIGKILL leaves its namespaces, and the next --hosts run removes them;
 - the flags' errors (a --link without --hosts, delay without netem here, a bad --link) are clear, exit 2;
-- scripts/bench-hosts runs tiny in every setting and writes figures (none asserted as a speed).
+- scripts/bench-hosts runs tiny in every setting and writes figures (none asserted as a speed);
+- `--view-paused --view` over 2 hosts: the page, served in the root namespace, gets the world's frames across the
+  hosts' bridge, and its resume reaches the world (the paused run completes only then).
 After every run: no namespace, link, pid file or process of the run is left (asserted).
 
 Needs root and the root network namespace (namespaces made from inside another do not work): each test skips with
 the reason otherwise. DDS test domains 56-57 (tests/integration/test_domain.hpp). Every wait has a deadline.
 """
 
+import asyncio
 import json
 import os
 import shutil
@@ -27,6 +30,7 @@ import time
 import unittest
 
 import helpers
+import websockets  # Debian's python3-websockets (scripts/setup)
 
 BUILD_DIR = os.environ.get("BUILD_DIR") or os.path.join(helpers.ROOT, "build")
 PAPER = os.path.join(helpers.ROOT, "scenarios", "paper.yaml")
@@ -246,6 +250,54 @@ class HostsEndToEndTest(unittest.TestCase):
         s = summary(out)
         self.assertEqual(s["alive_at_end"], 6)
         self.assertGreater(s["ticks"], max(rejoins.values()))
+
+    def test_the_live_view_reaches_a_world_on_another_host(self):
+        out = self.out("view")
+        port = helpers.free_port()
+        p = subprocess.Popen(self.swarm_args(out, "--scenario", WALK, "--robots", "4", "--max-ticks", "150",
+                                             "--domain", str(helpers.test_domain(57)), "--hosts", "2",
+                                             "--view-paused", "--view", str(port)),
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=self.env(),
+                             process_group=0)
+        try:
+            first = asyncio.run(self.first_frame_then_resume(port, p))
+            _, err = p.communicate(timeout=120)
+        finally:
+            if p.poll() is None:  # Ctrl-C first: the launcher removes its namespaces
+                os.killpg(p.pid, signal.SIGINT)
+                try:
+                    p.communicate(timeout=60)
+                except subprocess.TimeoutExpired:
+                    os.killpg(p.pid, signal.SIGKILL)
+                    p.communicate(timeout=30)
+        self.assertEqual(p.returncode, 0, err)
+        self.assertEqual(first["tick"], 0, "the paused run's first frame")
+        self.assertEqual(len(first["robots"]), 4)
+        self.assertEqual(summary(out)["ticks"], 150)
+        self.assertIn("viewer bound", err)
+        self.assert_nothing_left(out)
+
+    async def first_frame_then_resume(self, port, proc):
+        """The first frame the page gets (the world, paused at tick 0, publishes frames across the bridge),
+        then the page's resume."""
+        deadline = time.monotonic() + 60
+        while True:  # the viewer listens once the world is ready
+            try:
+                ws = await websockets.connect(f"ws://127.0.0.1:{port}/ws")
+                break
+            except OSError:
+                if time.monotonic() > deadline or proc.poll() is not None:
+                    raise AssertionError(f"no viewer on port {port} (run exit {proc.poll()})") from None
+                await asyncio.sleep(0.2)
+        try:
+            while time.monotonic() < deadline:
+                m = json.loads(await asyncio.wait_for(ws.recv(), 30))
+                if m.get("type") == "frame":
+                    await ws.send(json.dumps({"cmd": "resume"}))
+                    return m
+        finally:
+            await ws.close()
+        raise AssertionError("no frame within 60 s")
 
     def test_the_namespaces_of_a_killed_launcher_are_removed_by_the_next_run(self):
         crashed = self.out("crashed")

@@ -4,7 +4,6 @@ group at the end, waiting for the viewer's page, robots.csv rows of one tick, co
 import csv
 import os
 import signal
-import socket
 import subprocess
 import sys
 import time
@@ -15,7 +14,7 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 SWARM = os.path.join(ROOT, "scripts", "swarm")
 BUILD_DIR = os.environ.get("BUILD_DIR") or os.path.join(ROOT, "build")
 sys.path.insert(0, os.path.join(ROOT, "tests", "scripts"))
-import helpers  # noqa: E402  (test_domain, pid_alive)
+import helpers  # noqa: E402  (test_domain, pid_alive, free_port)
 
 
 def built(*names):
@@ -24,11 +23,7 @@ def built(*names):
     return all(os.access(os.path.join(BUILD_DIR, paths[n]), os.X_OK) for n in names)
 
 
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
+free_port = helpers.free_port
 
 class SwarmRun:
     """`scripts/swarm run ARGS` in the background (its own process group); stop() ends whatever is left."""
