@@ -50,6 +50,45 @@ class LayoutTest(unittest.TestCase):
                 hosts.Hosts(k)
 
 
+class LinkShapingCommandsTest(unittest.TestCase):
+    """What --link asks of tc and nft, with the tools faked: the netem path cannot run on the build machine's
+    kernel (no sch_netem), so this is where it is checked that a kernel with netem gets netem with tbf under it,
+    and that one without gets the refusal."""
+
+    def shape(self, link, tc_stderr=""):
+        calls = []
+
+        def fake_run(cmd, **_):
+            calls.append(cmd)
+            failed = tc_stderr and "netem" in cmd
+            return mock.Mock(returncode=2 if failed else 0, stdout="", stderr=tc_stderr if failed else "")
+
+        with mock.patch.object(hosts.subprocess, "run", side_effect=fake_run), \
+                mock.patch.object(hosts.shutil, "which", return_value="/usr/sbin/tool"):
+            hosts.Hosts(2, link, prefix="sfh42")._shape("sfh42-a0", "sfh42-h0")
+        return calls
+
+    def test_delay_is_netem_with_the_rate_under_it(self):
+        calls = self.shape({"delay": "20ms", "rate": "20mbit"})
+        self.assertEqual(calls, [
+            ["tc", "-n", "sfh42-a0", "qdisc", "add", "dev", "sfh42-h0", "root", "handle", "1:", "netem", "delay",
+             "20ms"],
+            ["tc", "-n", "sfh42-a0", "qdisc", "add", "dev", "sfh42-h0", "parent", "1:1", "handle", "10:", "tbf",
+             "rate", "20mbit", "burst", "64kbit", "latency", "200ms"]])
+
+    def test_loss_is_an_nftables_rule_on_the_hosts_interface(self):
+        calls = self.shape({"loss": 2.5})
+        self.assertEqual(calls[-1], ["ip", "netns", "exec", "sfh42-a0", "nft", "add", "rule", "inet", "sfh42-link",
+                                     "out", "oifname", "sfh42-h0", "numgen", "random", "mod", "10000", "<", "250",
+                                     "drop"])
+
+    def test_delay_without_netem_is_refused_saying_so(self):
+        with self.assertRaises(hosts.HostsError) as c:
+            self.shape({"delay": "20ms"}, tc_stderr="Error: Specified qdisc kind is unknown.")
+        self.assertIn("needs the kernel's netem queueing discipline", str(c.exception))
+        self.assertIn("Specified qdisc kind is unknown", str(c.exception))
+
+
 class RefusalTest(unittest.TestCase):
     def test_not_root(self):
         with mock.patch("os.geteuid", return_value=1000):
