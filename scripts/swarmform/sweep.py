@@ -3,7 +3,7 @@ parameter values), run on
 every core with `swarm_inprocess --no-record --quiet`, judged, and written as sweep.csv and sweep.json.
 
 Order of a sweep:
-  1. the grid is checked: every flag, every kill schedule's text (`none`, `ID@TICK[,ID@TICK...]`, `random:K`);
+  1. the grid is checked: every flag, every kill schedule's text (`none`, `ID@TICK[+D][,...]`, `random:K[+D]`);
   2. a probe per (scenario, shape, robots), with the grid's first --param values: `swarm_inprocess ... --max-ticks 1
      --no-record --quiet` validates the files (a bad one: its `file:line: what`, exit 2, before anything long
      starts) and says N and the shape;
@@ -78,6 +78,9 @@ Kill schedules (--kills, repeatable; each is one value of the grid's kill axis):
                        included) and ticks uniformly in [1, min(--kill-window, max_ticks)]; the draw is seeded
                        by the run's seed and the schedule's text, so it is the same on every sweep and machine
                        (K must leave one robot alive)
+  5@400+10, random:2+150
+                       +D after a kill: the robot is restarted D ticks after its death with a fresh controller
+                       (`--fault restart:ID@TICK`; a stalled agent taken for dead comes back the same way)
 
 Behaviour parameters (--param NAME=V1,V2,..., repeatable; each NAME one axis of the grid):
   NAME is a parameter of the scenario's behaviour (a `controller:` key: robot_agent/README.md lists the paper's),
@@ -121,12 +124,15 @@ class SweepError(Exception):
 # ----------------------------------------------------------------------------------------------- the grid's text
 
 class KillSchedule:
-    """One value of the kill axis: `none`, explicit kills, or `random:K`."""
+    """One value of the kill axis: `none`, explicit kills, or `random:K`; each kill may be followed by a restart."""
 
-    def __init__(self, text: str, kills: Iterable[tuple[int, int]] = (), random_count: int = 0) -> None:
-        self.text = text            # canonical: "none", "5@10,2@300", "random:2"
+    def __init__(self, text: str, kills: Iterable[tuple[int, int]] = (), random_count: int = 0,
+                 restart_after: Optional[dict[int, int]] = None, random_restart_after: int = 0) -> None:
+        self.text = text            # canonical: "none", "5@10,2@300+50", "random:2", "random:2+150"
         self.kills = list(kills)    # [(id, tick)] for an explicit list
         self.random_count = random_count
+        self.restart_after = restart_after or {}  # explicit: id -> ticks from its kill to its restart
+        self.random_restart_after = random_restart_after  # random:K+D: D (0: no restarts)
 
     def __repr__(self) -> str:
         return f"KillSchedule({self.text!r})"
@@ -146,15 +152,27 @@ class KillSchedule:
                 raise SweepError(f"--kills {self.text}: robot {rid} does not exist (ids 0..{robots - 1})")
         return [f"{rid}@{tick}" for rid, tick in self.kills]
 
+    def restart_flags(self, kill_flags: list[str]) -> list[str]:
+        """The `restart:ID@TICK` faults that follow the kills `kill_flags` (this schedule's `flags`)."""
+        out = []
+        for k in kill_flags:
+            rid, tick = (int(v) for v in k.split("@"))
+            after = self.random_restart_after if self.random_count else self.restart_after.get(rid, 0)
+            if after:
+                out.append(f"restart:{rid}@{tick + after}")
+        return out
 
-_KILL = re.compile(r"^(\d+)@(\d+)$")
-_RANDOM = re.compile(r"^random:(\d+)$")
+
+_KILL = re.compile(r"^(\d+)@(\d+)(?:\+(\d+))?$")
+_RANDOM = re.compile(r"^random:(\d+)(?:\+(\d+))?$")
 
 
 def parse_kill_schedule(text: str) -> KillSchedule:
-    """`none` | `ID@TICK[,ID@TICK...]` | `random:K` -> KillSchedule; ValueError with a message naming the text."""
+    """`none` | `ID@TICK[+D][,ID@TICK[+D]...]` | `random:K[+D]` -> KillSchedule (+D: the killed robot restarted D
+    ticks later); ValueError with a message naming the text."""
     t = text.strip()
-    usage = "expected none, ID@TICK[,ID@TICK...] (e.g. 5@10,2@300) or random:K (e.g. random:2)"
+    usage = ("expected none, ID@TICK[+D][,ID@TICK[+D]...] (e.g. 5@10,2@300+50) or random:K[+D] (e.g. random:2, "
+             "random:1+150); +D restarts the killed robot D ticks later")
     if t == "none":
         return KillSchedule("none")
     if t.startswith("random"):
@@ -164,16 +182,19 @@ def parse_kill_schedule(text: str) -> KillSchedule:
         k = int(m[1])
         if k < 1:
             raise ValueError(f"'{text}': random:K needs K >= 1 (no kills is 'none')")
-        return KillSchedule(f"random:{k}", random_count=k)
+        after = _restart_delay(text, m[2])
+        return KillSchedule(f"random:{k}" + (f"+{after}" if after else ""), random_count=k,
+                            random_restart_after=after)
     if not t:
         raise ValueError(f"'{text}' is empty: {usage}")
     kills: list[tuple[int, int]] = []
+    restarts: dict[int, int] = {}
     seen: set[int] = set()
     for part in t.split(","):
         m = _KILL.match(part.strip())
         if not m:
             where = f"'{text}': '{part}'" if part.strip() != t else f"'{text}'"
-            raise ValueError(f"{where} is not ID@TICK; {usage}")
+            raise ValueError(f"{where} is not ID@TICK[+D]; {usage}")
         rid, tick = int(m[1]), int(m[2])
         if rid in seen:
             raise ValueError(f"'{text}': robot {rid} is killed twice")
@@ -181,7 +202,19 @@ def parse_kill_schedule(text: str) -> KillSchedule:
             raise ValueError(f"'{text}': tick {tick} is beyond 1e9")
         seen.add(rid)
         kills.append((rid, tick))
-    return KillSchedule(",".join(f"{r}@{k}" for r, k in kills), kills=kills)
+        if m[3] is not None:
+            restarts[rid] = _restart_delay(text, m[3])
+    canonical = ",".join(f"{r}@{k}" + (f"+{restarts[r]}" if r in restarts else "") for r, k in kills)
+    return KillSchedule(canonical, kills=kills, restart_after=restarts)
+
+
+def _restart_delay(text: str, digits: Optional[str]) -> int:
+    if digits is None:
+        return 0
+    after = int(digits)
+    if not 1 <= after <= 1_000_000_000:
+        raise ValueError(f"'{text}': +D (ticks from the kill to the restart) must be in [1, 1e9], got {digits}")
+    return after
 
 
 _PARAM_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
@@ -864,6 +897,8 @@ def plan(opts: argparse.Namespace, exe: str) -> tuple[list[Run], dict[str, Any]]
                             cmd = base_command(exe, scenario, shape, robots, seed, opts.max_ticks, plugin_dirs)
                             for k in flags:
                                 cmd += ["--kill", k]
+                            for f in schedule.restart_flags(flags):
+                                cmd += ["--fault", f]
                             cmd += param_flags(combo) + ["--no-record", "--quiet"]
                             runs.append(Run(len(runs), scenario, shape, shape_name, robots, n, seed, schedule,
                                             flags, opts.max_ticks, cmd, combo))

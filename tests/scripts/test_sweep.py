@@ -34,6 +34,21 @@ class ScheduleParserTest(unittest.TestCase):
         self.assertEqual(s.flags(7, 9, 3000), ["5@10", "2@300"])
         self.assertEqual(sweep.parse_kill_schedule("random:3").random_count, 3)
 
+    def test_a_kill_followed_by_a_restart(self):
+        s = sweep.parse_kill_schedule("5@400+10, 2@300")
+        self.assertEqual(s.text, "5@400+10,2@300")
+        self.assertEqual(s.flags(1, 9, 3000), ["5@400", "2@300"])
+        self.assertEqual(s.restart_flags(s.flags(1, 9, 3000)), ["restart:5@410"])
+        r = sweep.parse_kill_schedule("random:2+150")
+        self.assertEqual(r.text, "random:2+150")
+        kills = r.flags(3, 9, 3000)
+        self.assertEqual(r.restart_flags(kills),
+                         [f"restart:{k.split('@')[0]}@{int(k.split('@')[1]) + 150}" for k in kills])
+        self.assertEqual(sweep.parse_kill_schedule("random:2").restart_flags(kills), [])
+        for text in ("5@10+0", "random:1+0", "5@10+x"):
+            with self.assertRaises(ValueError, msg=text):
+                sweep.parse_kill_schedule(text)
+
     def test_errors_name_the_text_and_the_forms(self):
         for text, words in (("5@", "'5@' is not ID@TICK"), ("@5", "is not ID@TICK"), ("5@10,x", "'x' is not ID@TICK"),
                             ("-1@5", "is not ID@TICK"), ("random:0", "K >= 1"), ("random:", "random:K"),
