@@ -108,6 +108,7 @@ void PaperController::reset() {
   holder_since_.clear();
   holder_version_.assign(static_cast<std::size_t>(table_.size()), -1);
   holders_cursor_ = {};
+  stale_claims_.clear();
   last_heartbeat_ = 0;
   last_member_heard_ = 0;
   reached_tick_ = 0;
@@ -145,6 +146,7 @@ Command PaperController::step(const Perception& p) {
     }
   }
   track_holders();
+  disown_stale_claims();
 
   // A spare that learns the shape is moving becomes a reserve (reserve.hpp): from then on its label 0's
   // place follows the shape, as estimated from the shape's robots it hears.
@@ -443,6 +445,10 @@ void PaperController::track_holders() {
     if (seen != static_cast<std::int64_t>(e->version)) {
       seen = e->version;
       holder_since_[l] = tick_;
+      if (l != label_) {
+        const auto s = label_status(stigmergy_, l);
+        if (s.kind == LabelStatus::Kind::Held && s.holder == self_) stale_claims_.push_back(l);
+      }
     }
   };
   // Only the label entries changed since the last call (the others' versions are the ones seen then): a
@@ -458,6 +464,23 @@ void PaperController::track_holders() {
     if (stig::ns_of(key) == labels && stig::index_of(key) < static_cast<std::uint32_t>(table_.size()))
       track(static_cast<int>(stig::index_of(key)));
   }
+}
+
+// Only this robot knows which label it holds. An entry naming it as the holder of another label was written
+// by an earlier run of its id (killed and restarted with a fresh controller, or a stalled agent taken for
+// dead and started afresh) and heard back from the swarm: its neighbours hear the id alive, so they would
+// never free that label (free_dead_labels), and the barrier would wait for a holder that is not coming. The
+// robot frees it itself, and withdraws a barrier entry its earlier run left: the label is offered again (this
+// robot may take it).
+void PaperController::disown_stale_claims() {
+  for (const int l : stale_claims_) {
+    const auto s = label_status(stigmergy_, l);
+    if (l == label_ || s.kind != LabelStatus::Kind::Held || s.holder != self_) continue;
+    put_label_freed(stigmergy_, l, tick_);
+    event("label_freed " + std::to_string(l) + " not mine (an earlier run of this id held it)");
+  }
+  stale_claims_.clear();
+  if (label_ < 0) barrier_withdraw(stigmergy_, self_);
 }
 
 void PaperController::free_dead_labels() {

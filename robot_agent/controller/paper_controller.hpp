@@ -61,6 +61,7 @@ class PaperController final : public Controller {
   void free_dead_labels();
   void free_seed_label();
   void track_holders();
+  void disown_stale_claims();
   // Ticks between two re-puts of our labels entry while in Moving/Reached: a third of label_timeout.
   int heartbeat_period() const { return std::max(1, params_.label_timeout / 3); }
   void take_label(int label, int parent_label, Vec2 origin, const std::string& why);
@@ -135,6 +136,9 @@ class PaperController final : public Controller {
   bool has_places_ = false;
   std::uint64_t places_version_ = 0;        // bumped on each recompute (ctx_.places_version)
   Stigmergy::ChangeCursor holders_cursor_;  // track_holders: the stigmergy changes read so far
+  // Labels whose entry, changed this tick, names this robot although it does not hold them: an earlier run of
+  // this robot's id (killed, restarted) held them (disown_stale_claims).
+  std::vector<int> stale_claims_;
   std::vector<std::string> events_;
   MotionStep last_motion_;
   std::vector<NeighbourPosition> positions_;  // fresh_neighbour_positions

@@ -61,7 +61,9 @@ std::vector<int> vacant_labels(const Stigmergy& stigmergy, int label_count,
   });
   std::vector<int> out;
   for (int l = 0; l < label_count; ++l) {
-    if (!entered[static_cast<std::size_t>(l)] || live[static_cast<std::size_t>(l)]) continue;
+    // A label nobody entered was abandoned when the barrier passed (barrier.hpp): vacant as a dead member's
+    // is.
+    if (live[static_cast<std::size_t>(l)]) continue;
     const auto status = label_status(stigmergy, l);
     bool claimed = status.kind == LabelStatus::Kind::Held;
     if (claimed) {
