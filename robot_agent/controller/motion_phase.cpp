@@ -244,11 +244,11 @@ void PaperMotion::watch_for_the_dead(const FormationContext& ctx) {
 
 void PaperMotion::choose_leader_and_parent(const FormationContext& ctx, MotionStep& out) {
   Stigmergy& st = *ctx.stigmergy;
+  const bool stigmergy_changed = choice_inputs_.changed(st);  // read every tick: it follows the change log
   const bool same_inputs =
-      choice_.valid && ctx.members_version != 0 && ctx.places_version != 0 &&
-      choice_.revision == st.revision() && choice_.members_version == ctx.members_version &&
-      choice_.places_version == ctx.places_version && choice_.heading == ctx.common_heading &&
-      choice_.label == ctx.label && choice_.self == ctx.self;
+      choice_.valid && ctx.members_version != 0 && ctx.places_version != 0 && !stigmergy_changed &&
+      choice_.members_version == ctx.members_version && choice_.places_version == ctx.places_version &&
+      choice_.heading == ctx.common_heading && choice_.label == ctx.label && choice_.self == ctx.self;
   if (!same_inputs) read_leader_and_parent(ctx);
   const std::optional<RobotId> leader = choice_.leader;
   if (leader != leader_) {
@@ -283,7 +283,6 @@ void PaperMotion::choose_leader_and_parent(const FormationContext& ctx, MotionSt
 void PaperMotion::read_leader_and_parent(const FormationContext& ctx) {
   const Stigmergy& st = *ctx.stigmergy;
   choice_.valid = true;
-  choice_.revision = st.revision();
   choice_.members_version = ctx.members_version;
   choice_.places_version = ctx.places_version;
   choice_.heading = ctx.common_heading;

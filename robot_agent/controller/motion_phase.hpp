@@ -29,6 +29,7 @@
 #include <optional>
 
 #include "robot_agent/controller/motion_hooks.hpp"
+#include "robot_agent/controller/motion_inputs_watch.hpp"
 #include "robot_agent/controller/motion_params.hpp"
 #include "robot_agent/controller/obstacle_forces.hpp"
 #include "robot_agent/controller/parent_tree.hpp"
@@ -116,7 +117,6 @@ class PaperMotion final : public MotionPhases {
   // (the common case once the shape moves) it is reused instead of going over every member again.
   struct Choice {
     bool valid = false;
-    std::pair<std::uint64_t, std::uint64_t> revision;  // Stigmergy::revision()
     std::uint64_t members_version = 0, places_version = 0;
     double heading = 0.0;
     int label = -1;
@@ -125,6 +125,9 @@ class PaperMotion final : public MotionPhases {
     std::optional<RobotId> parent;  // the tree's parent for our label (before the cycle check)
   };
   Choice choice_;
+  // The stigmergy it reads: the members' boundary roles and dead marks (not the live robots' parent entries,
+  // which change on their own all the time in a large shape).
+  MotionInputsWatch choice_inputs_{stig::Ns::Boundary};
 };
 
 }  // namespace swarmform::controller::motion

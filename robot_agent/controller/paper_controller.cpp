@@ -119,7 +119,7 @@ void PaperController::reset() {
   barrier_watch_ = {};
   reserve_ = false;
   last_shape_heard_ = 0;
-  members_digest_ = 0;
+  members_stale_ = true;
   ctx_ = {};
   has_places_ = false;
   events_.clear();
@@ -184,7 +184,7 @@ Command PaperController::step(const Perception& p) {
       if (reserve_) {
         lose_label("to " + std::to_string(s.holder) + " in motion");
         barrier_at_ready_ = {};
-        members_digest_ = 0;
+        members_stale_ = true;
         motion_ = make_motion_phases(params_);
       } else if (barrier_at_ready_.members.count(s.holder) == 0) {
         put_label_holder(stigmergy_, label_, self_);
@@ -632,7 +632,7 @@ std::optional<WheelSpeeds> PaperController::reached_step(const Perception& p) {
     if (barrier_watch_.passed_with(stigmergy_, self_, table_.size(), tick_, params_.label_timeout)) {
       const auto view = read_barrier(stigmergy_, table_.size(), tick_, params_.label_timeout);
       barrier_at_ready_ = view;
-      members_digest_ = 0;
+      members_stale_ = true;
       enter_ready();
       return WheelSpeeds{};
     }
@@ -675,13 +675,13 @@ const FormationContext& PaperController::context(const Perception& p) {
   ctx.common_heading = params_.shape_heading;
   ctx.neighbours = &neighbours_;
   ctx.stigmergy = const_cast<Stigmergy*>(&stigmergy_);
-  if (members_digest_ != stigmergy_.digest() || members_digest_ == 0) {
+  if (members_inputs_.changed(stigmergy_) || members_stale_) {
     auto members = motion_members(stigmergy_, barrier_at_ready_.members);
     if (ctx.members_version == 0 || members != ctx.members) {
       ctx.members = std::move(members);
       ++ctx.members_version;
     }
-    members_digest_ = stigmergy_.digest();
+    members_stale_ = false;
   }
   if (ctx.abandoned_labels != barrier_at_ready_.abandoned) ctx.abandoned_labels = barrier_at_ready_.abandoned;
   ctx.ready_tick = ready_tick_;

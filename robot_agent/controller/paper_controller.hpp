@@ -22,6 +22,7 @@
 #include "robot_agent/controller/barrier.hpp"
 #include "robot_agent/controller/collision_avoidance.hpp"
 #include "robot_agent/controller/motion_hooks.hpp"
+#include "robot_agent/controller/motion_inputs_watch.hpp"
 #include "robot_agent/controller/neighbours.hpp"
 #include "robot_agent/controller/params.hpp"
 #include "robot_agent/controller/shape_table.hpp"
@@ -126,9 +127,10 @@ class PaperController final : public Controller {
   bool reserve_ = false;
   Tick last_shape_heard_ = 0;
   double shape_radius_ = 0.0;  // m: the largest distance of a place from the shape's centroid
-  // The motion phases' members (reserve.hpp's motion_members, in ctx_.members), recomputed when the
-  // stigmergy changes.
-  std::uint64_t members_digest_ = 0;
+  // The motion phases' members (reserve.hpp's motion_members, in ctx_.members), recomputed when what they are
+  // made of changes: the barrier and labels entries, and who is marked dead.
+  bool members_stale_ = true;
+  MotionInputsWatch members_inputs_{stig::Ns::Barrier, stig::Ns::Labels};
   FormationContext ctx_;
   // places(): the places about places_origin_ (valid when has_places_).
   std::vector<Vec2> places_;

@@ -1,6 +1,6 @@
 // What the paper controller follows incrementally (issue 22 point 4) gives exactly what a full read gives:
 // the stigmergy's change log, revision, counts and slot index, and BarrierWatch against read_barrier, under
-// random puts, merges (with keys beyond the shape and lying values), copies and clears.
+// random puts, merges (with keys beyond the shape and lying values), copies and clears; MotionInputsWatch.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -9,6 +9,8 @@
 
 #include "robot_agent/controller/allotment.hpp"
 #include "robot_agent/controller/barrier.hpp"
+#include "robot_agent/controller/motion_inputs_watch.hpp"
+#include "robot_agent/controller/motion_phase.hpp"
 #include "robot_agent/controller/stigmergy.hpp"
 
 namespace swarmform::controller {
@@ -113,6 +115,52 @@ TEST(Incremental, ChangeLogRevisionCountsAndLookupsFollowEveryChange) {
   EXPECT_NE(copy.revision(), s.revision());  // a copy is another series
   EXPECT_FALSE(copy.changes_since(cursor, keys));
 }
+
+// MotionInputsWatch (motion_inputs_watch.hpp): "changed" for a change of a watched namespace or a dead mark
+// coming or going, and for nothing else: a live robot's parent entry changing is not an input of the members
+// or of the leader/parent choice.
+namespace watch {
+
+std::uint32_t parents(RobotId id) {
+  return stig::key(stig::Ns::Parents, id);
+}
+
+TEST(MotionInputsWatch, ChangesOnlyForWatchedNamespacesAndDeadMarks) {
+  Stigmergy s;
+  MotionInputsWatch w{stig::Ns::Boundary};
+  EXPECT_TRUE(w.changed(s)) << "the first reading";
+  EXPECT_FALSE(w.changed(s)) << "nothing since";
+  s.put(parents(3), 7);  // robot 3 names parent 7: not watched
+  s.put(stig::key(stig::Ns::Labels, 2), 5);
+  EXPECT_FALSE(w.changed(s));
+  s.put(stig::key(stig::Ns::Boundary, 4), 1);
+  EXPECT_TRUE(w.changed(s));
+  s.put(parents(3), motion::kDeadMark);  // robot 3 marked dead
+  EXPECT_TRUE(w.changed(s));
+  s.put(parents(3), motion::kDeadMark);  // again: no change of who is dead
+  s.put(parents(5), 1);
+  EXPECT_FALSE(w.changed(s));
+  s.put(parents(3), 2);  // robot 3 back, naming a parent
+  EXPECT_TRUE(w.changed(s));
+  Stigmergy copy = s;  // another table (a copy): read afresh
+  EXPECT_TRUE(w.changed(copy));
+  EXPECT_FALSE(w.changed(copy));
+}
+
+TEST(MotionInputsWatch, NoticesADeathAmongManyOtherChangesAndAfterTheLogOverflowed) {
+  Stigmergy s;
+  MotionInputsWatch w{stig::Ns::Barrier, stig::Ns::Labels};
+  ASSERT_TRUE(w.changed(s));
+  for (int i = 0; i < 5000; ++i) s.put(parents(static_cast<RobotId>(i % 50)), i % 7);  // live parents only
+  s.put(parents(9), motion::kDeadMark);
+  EXPECT_TRUE(w.changed(s)) << "the log overflowed: a rescan says changed";
+  for (int i = 0; i < 20; ++i) s.put(parents(static_cast<RobotId>(i % 5)), i % 3);
+  EXPECT_FALSE(w.changed(s)) << "robot 9's mark was read in the rescan";
+  s.put(parents(9), 4);
+  EXPECT_TRUE(w.changed(s));
+}
+
+}  // namespace watch
 
 }  // namespace
 }  // namespace swarmform::controller
