@@ -158,7 +158,7 @@ std::optional<double> EchoMemory::across(Vec2 position, Vec2 surface, Tick tick,
   const double a = vnorm(away);
   if (a < 1e-9) return std::nullopt;
   const Vec2 u = vscale(away, 1.0 / a);
-  const double cos_cone = std::cos(std::numbers::pi / 6);  // straight across: 30 degrees
+  const double cos_cone = std::cos(std::numbers::pi / 3);
   std::optional<double> best;
   for (const auto& e : echoes_) {
     const Vec2 rel = vsub(e.point, position);

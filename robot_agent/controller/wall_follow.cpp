@@ -123,10 +123,7 @@ bool BoundaryFollower::update(const std::optional<Vec2>& echo, Vec2 position, Ve
     stall_tick_ = tick;
   }
   const double keep = passage ? (dist + *across) / 2.0 : params.keep;
-  // The other side: the direction from the surface turned by more than 120 degrees (a concave corner turns
-  // it by 90: not a change of side, or the robot turned back at every corner).
-  constexpr double kOtherSide = -0.5;
-  if (passage && last_u_ && vdot(u, *last_u_) < kOtherSide) side_ = -side_;
+  if (passage && last_u_ && vdot(u, *last_u_) < 0.0) side_ = -side_;
   last_u_ = u;
   const Vec2 tangent = vrotate(u, side_ * std::numbers::pi / 2.0);
   velocity = vclamp(vsub(vscale(tangent, params.speed), vscale(u, params.radial_gain * (dist - keep))),
