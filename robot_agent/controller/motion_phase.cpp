@@ -571,7 +571,16 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
   // robot's body standing beside a place (0.25-0.5 m off it) held its robot off for good, circling it, and a
   // robot on its own among posts slid to and fro before every gap.
   const BoundaryFollowParams bf{p_.wall_distance + kRobotRadius, p_.max_speed, 1.0, 20, 1200};
-  if (place_still && (alone || vnorm(vsub(place, position)) < p_.fusion_range)) {
+  // A follower going round an obstacle's boundary towards a place that stands still (its parent at rest)
+  // and that stops hearing its parent keeps going round it while its own target is that same place (the same
+  // episode, side and Bug2 leave rule) until the episode ends: following a wall between it and its place took
+  // it out of its parent's radio range, where the cut-off robot's way made straight for the place again,
+  // back into range, and it was pinned again at the same spot, on the border of the radio range, for good
+  // (unseen/pocket.yaml --seed 104: a robot outside the room's wall, its place inside). An episode about a
+  // place that moved with the shape is no such search: the cut-off robot's way takes over as before.
+  const bool near_place = vnorm(vsub(place, position)) < p_.fusion_range;
+  const bool same_search = alone && boundary_.active() && vnorm(vsub(place, hit_place_)) < bf.keep;
+  if (place_still && (near_place || (alone && !same_search))) {
     if (boundary_.active()) out.events.push_back("boundary_follow_end");
     if (was_following) out.events.push_back("wall_follow_end");
     boundary_.reset();
@@ -590,9 +599,11 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
         echoes.push_back({r + kRobotRadius, std::atan2(rel.y, rel.x), RightOfWay::Mutual, true});
     }
     const auto wall = trace_.surface(position, ctx.tick, p_.obstacle_range + kRobotRadius + 0.3, kTraceTicks);
+    const auto across =
+        wall ? trace_.across(position, *wall, ctx.tick, 2.0 * bf.keep, kTraceTicks) : std::nullopt;
     return approach_.step(position, place, desired, ctx.tick, echoes, wall,
                           {p_.k_collision, p_.r_o, p_.max_speed, p_.arrival_tolerance, p_.fusion_range, bf},
-                          rng_, out.events);
+                          rng_, out.events, across);
   }
   approach_.reset();
   const auto echo = trace_.surface(position, ctx.tick, p_.obstacle_range + kRobotRadius + 0.3, kTraceTicks);
@@ -634,7 +645,9 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
     // not a fixed point to measure progress against: then it leaves as soon as the way is clear.
     const bool same_place = place_still && vnorm(vsub(place, hit_place_)) < bf.keep;
     const bool may_leave = !same_place || vnorm(vsub(place, position)) < hit_gap_ - p_.arrival_tolerance;
-    const bool following = boundary_.update(echo, position, desired, ctx.tick, bf, v, may_leave);
+    const auto across =
+        echo ? trace_.across(position, *echo, ctx.tick, 2.0 * bf.keep, kTraceTicks) : std::nullopt;
+    const bool following = boundary_.update(echo, position, desired, ctx.tick, bf, v, may_leave, across);
     bug_side_ = boundary_.side();
     bug_since_ = boundary_.since();
     bug_turns_ = boundary_.turns();

@@ -151,6 +151,24 @@ std::optional<Vec2> EchoMemory::surface(Vec2 position, Tick tick, double within,
   return vadd(position, vscale(sum, d / n));
 }
 
+std::optional<double> EchoMemory::across(Vec2 position, Vec2 surface, Tick tick, double within,
+                                         Tick max_age) {
+  std::erase_if(echoes_, [&](const Echo& e) { return e.tick + max_age < tick; });
+  const Vec2 away = vsub(position, surface);
+  const double a = vnorm(away);
+  if (a < 1e-9) return std::nullopt;
+  const Vec2 u = vscale(away, 1.0 / a);
+  const double cos_cone = std::cos(std::numbers::pi / 3);
+  std::optional<double> best;
+  for (const auto& e : echoes_) {
+    const Vec2 rel = vsub(e.point, position);
+    const double r = vnorm(rel);
+    if (r >= within || r < 1e-9 || vdot(rel, u) < cos_cone * r) continue;
+    if (!best || r < *best) best = r;
+  }
+  return best;
+}
+
 bool EchoMemory::gap_ahead(Vec2 position, Vec2 d, double obstacle_range, double clearance, Tick tick,
                            Tick max_age) {
   std::erase_if(echoes_, [&](const Echo& e) { return e.tick + max_age < tick; });

@@ -101,6 +101,11 @@ class EchoMemory {
   // range, and the nearest such point may lie beside the robot, along the wall (a leader then followed the
   // wall into the wall and stood there for good). Their mean direction is the wall's normal.
   std::optional<Vec2> surface(Vec2 position, Tick tick, double within, Tick max_age);
+  // The far side of a passage: the distance from `position` to the nearest echo point of the last `max_age`
+  // ticks within `within` that lies across the robot from `surface` (within 60 degrees of the direction from
+  // `surface` through `position`); none when there is none. Boundary following keeps to the middle of a
+  // passage narrower than its two keeps (wall_follow.hpp).
+  std::optional<double> across(Vec2 position, Vec2 surface, Tick tick, double within, Tick max_age);
   // A gap ahead: echoes of the last `max_age` ticks within `obstacle_range` (of the robot's surface) on
   // both sides of the unit direction `d` (ahead of the robot's side-line), and none within `clearance` of
   // the way `obstacle_range` + a body radius along `d` (a robot centre driving straight there would come

@@ -27,7 +27,7 @@ void PlaceApproach::reset() {
 Vec2 PlaceApproach::step(Vec2 position, Vec2 place, Vec2 desired, Tick tick,
                          const std::vector<NeighbourPosition>& echoes, const std::optional<Vec2>& wall,
                          const PlaceApproachParams& params, std::mt19937_64& rng,
-                         std::vector<std::string>& events) {
+                         std::vector<std::string>& events, std::optional<double> across) {
   const double distance = vnorm(vsub(place, position));
   if (!started_) {
     started_ = true;
@@ -36,7 +36,7 @@ Vec2 PlaceApproach::step(Vec2 position, Vec2 place, Vec2 desired, Tick tick,
   }
   if (bug_.active()) {
     Vec2 v;
-    if (bug_.update(wall, position, desired, tick, params.bug, v, distance < bug_gap_ - params.there))
+    if (bug_.update(wall, position, desired, tick, params.bug, v, distance < bug_gap_ - params.there, across))
       return v;
     events.push_back("boundary_follow_end");
     bug_next_ = !bug_.looped();  // all the way round: the next time it is stuck, a random detour
@@ -56,7 +56,7 @@ Vec2 PlaceApproach::step(Vec2 position, Vec2 place, Vec2 desired, Tick tick,
       events.push_back("boundary_follow_start " + std::to_string(bug_.side()));
       side_ = 0;
       Vec2 v;  // never leaves on its first tick (min_ticks), and `wall` is known: it follows
-      bug_.update(wall, position, desired, tick, params.bug, v, false);
+      bug_.update(wall, position, desired, tick, params.bug, v, false, across);
       return v;
     }
     if (side_ != 0) {

@@ -38,10 +38,11 @@ class PlaceApproach {
   void reset();
   // `desired`: the velocity towards `place` without obstacles; `echoes`: the unexplained echoes nearer than
   // the place, each as a robot standing there; `wall`: the nearest remembered echo point, for boundary
-  // following. Appends "detour" to `events` when it backs off, "boundary_follow_start SIDE" / "_end".
+  // following, and `across` the far side of a passage there (BoundaryFollower::update). Appends "detour" to
+  // `events` when it backs off, "boundary_follow_start SIDE" / "_end".
   Vec2 step(Vec2 position, Vec2 place, Vec2 desired, Tick tick, const std::vector<NeighbourPosition>& echoes,
             const std::optional<Vec2>& wall, const PlaceApproachParams& params, std::mt19937_64& rng,
-            std::vector<std::string>& events);
+            std::vector<std::string>& events, std::optional<double> across = std::nullopt);
   bool detouring() const { return detour_.has_value() || bug_.active(); }
 
  private:

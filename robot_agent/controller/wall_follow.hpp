@@ -74,7 +74,11 @@ namespace swarmform::controller::motion {
 // gone all the way round (Bug2's sign that the goal cannot be reached this way round: a post among posts, the
 // way past it blocked by the next one): `looped()`, and from then on it leaves as soon as the way is clear,
 // whatever the caller allows. The side on entry: the tangent nearer the desired motion; a tie (head-on) goes
-// to `tie_break`.
+// to `tie_break`. In a passage narrower than 2 x `keep` (an echo across the robot from the surface) it keeps
+// to the middle, and when the nearest surface changes sides there it follows the other side with the other
+// hand (the way along the passage holds). An episode that took a passage and then makes less than `keep` of
+// way in 100 ticks (going round on the spot, a cell of posts and bodies): the passages are closed for the
+// episode; the second time, `looped()`.
 struct BoundaryFollowParams {
   double keep = 0.4;         // m, robot centre to the nearest echo point
   double speed = 0.1;        // m/s
@@ -97,12 +101,21 @@ class BoundaryFollower {
     since_ = side_since.value_or(tick);
     turns_ = turns;
     hit_.reset();
+    last_u_.reset();
+    stall_from_.reset();
+    passages_closed_ = false;
+    took_passage_ = false;
     away_ = false;
     looped_ = false;
   }
   // `echo`: the nearest remembered echo point (arena frame), none if nothing is remembered near.
+  // `across`: the distance to the nearest echo across the robot from `echo` (EchoMemory::across), if any.
+  // In a passage narrower than 2 x `keep` (a dead robot's body in an opening, two posts close together) it
+  // keeps to the passage's middle instead of `keep` from one side: a boundary follower that kept `keep`
+  // took both sides for one obstacle and went round them, never through a passage it fits through.
   bool update(const std::optional<Vec2>& echo, Vec2 position, Vec2 desired, Tick tick,
-              const BoundaryFollowParams& params, Vec2& velocity, bool may_leave = true);
+              const BoundaryFollowParams& params, Vec2& velocity, bool may_leave = true,
+              std::optional<double> across = std::nullopt);
   bool active() const { return active_; }
   int side() const { return side_; }
   Tick since() const { return since_; }  // when it took this side
@@ -113,12 +126,17 @@ class BoundaryFollower {
  private:
   bool active_ = false;
   int side_ = 1;
-  Tick since_ = 0;           // on this side since
-  Tick started_ = 0;         // this episode since
-  int turns_ = 0;            // turn-backs so far
-  std::optional<Vec2> hit_;  // where this episode began
-  bool away_ = false;        // it has been more than 2 x keep from there
-  bool looped_ = false;      // and came back: all the way round
+  Tick since_ = 0;                  // on this side since
+  Tick started_ = 0;                // this episode since
+  int turns_ = 0;                   // turn-backs so far
+  std::optional<Vec2> hit_;         // where this episode began
+  bool away_ = false;               // it has been more than 2 x keep from there
+  bool looped_ = false;             // and came back: all the way round
+  std::optional<Vec2> last_u_;      // last tick's direction from the surface to the robot
+  std::optional<Vec2> stall_from_;  // where the last stall window began, and when
+  Tick stall_tick_ = 0;
+  bool passages_closed_ = false;  // it circled on the spot in passages: keep from the nearest surface again
+  bool took_passage_ = false;     // this episode kept to a passage's middle at least once
 };
 
 }  // namespace swarmform::controller::motion

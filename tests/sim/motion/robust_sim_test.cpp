@@ -116,5 +116,33 @@ TEST(MotionRobustness, TheSwarmGetsOutOfAConcaveObstacle) {
   expect_arrives({"scenarios/u_trap.yaml", 5, {}});
 }
 
+// A dead robot's body in the middle of narrow_gap.yaml's 2 m opening leaves two passages 0.93 m wide,
+// narrower than boundary following's 2 x 0.47 m: the follower took body and wall for one obstacle and went
+// round both, and the two robots left behind the wall toured the arena for good. In a passage narrower than
+// two keeps it now keeps to the middle, following the other side with the other hand when the nearest surface
+// changes sides (wall_follow.hpp).
+TEST(MotionRobustness, BoundaryFollowingPassesBesideABodyInAnOpening) {
+  expect_arrives({"scenarios/narrow_gap.yaml", 63, {{5, 167}, {4, 1242}}});
+}
+
+// Two robots killed at the inside corner of unseen/bend.yaml leave their bodies beside the block's corner: at
+// ee640d6 a robot stood for good in the cell between the two bodies and the corner; with the passage rule
+// alone the robots behind took the passages beside the bodies and went round on the spot there (both
+// formed_not_arrived at 25,000). Going round on the spot after taking a passage now closes the passages, then
+// counts as a loop (wall_follow.hpp).
+TEST(MotionRobustness, ARobotDoesNotCircleForGoodInACellOfPassages) {
+  expect_arrives({"scenarios/unseen/bend.yaml", 103, {{0, 2287}, {4, 2393}}});
+}
+
+// Its parent at rest inside a walled room (scenarios/unseen/pocket.yaml), a follower outside the wall went
+// round it, out of its parent's radio range; cut off, it made straight for its place again, back into range,
+// was pinned at the same spot and started round again: on the border of the radio range for good. A
+// follower cut off while going round towards a place that stands still keeps going round (same episode, side
+// and leave rule) while its own target is that place.
+TEST(MotionRobustness, ABoundarySearchOutlivesTheBorderOfItsParentsRadioRange) {
+  expect_arrives({"scenarios/unseen/pocket.yaml", 101, {{0, 1951}, {5, 2929}}});
+  expect_arrives({"scenarios/unseen/pocket.yaml", 106, {{1, 1354}, {5, 2362}}});
+}
+
 }  // namespace
 }  // namespace swarmform::sim_motion
