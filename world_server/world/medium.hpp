@@ -117,7 +117,6 @@ class Medium {
               std::vector<RabReading>& spare, bool with_bytes, const MediumFaults* faults) const;
 
  private:
-
   MediumParams params_;
   std::vector<StaticShape> statics_;
   Rng rng_;

@@ -108,8 +108,8 @@ class Pool {
     } catch (...) {
       std::lock_guard lock(m_);
       if (!error_) error_ = std::current_exception();
-      next_.store(n_);    // the others stop taking chunks
-      ends_.store(0u);    // (two ends: they meet)
+      next_.store(n_);  // the others stop taking chunks
+      ends_.store(0u);  // (two ends: they meet)
     }
     t_in_body = false;
   }
