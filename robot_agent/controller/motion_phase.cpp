@@ -63,7 +63,7 @@ int side_away_from_neighbours(const NeighbourTable& table, Vec2 o, double reach)
   double left = 0.0, right = 0.0;
   const Vec2 t_left = vrotate(o, std::numbers::pi / 2);
   for (const auto& [id, n] : table.all()) {
-    if (!table.fresh(id) || n.range > reach) continue;
+    if (!table.fresh(n) || n.range > reach) continue;
     const double side = vdot(vpolar(1.0, n.azimuth), t_left) / std::max(n.range, 0.3);
     (side > 0 ? left : right) += std::abs(side);
   }
@@ -127,7 +127,7 @@ MotionStep PaperMotion::step(const FormationContext& ctx) {
   if (!started_ || ctx.ready_tick != ready_tick_) on_ready(ctx);
   MotionStep out;
   for (const auto& [id, n] : ctx.neighbours->all()) {
-    if (ctx.neighbours->fresh(id)) {
+    if (ctx.neighbours->fresh(n)) {
       last_position_[id] = vadd({ctx.pose.x, ctx.pose.y}, vpolar(n.range, n.azimuth));
       if (state_ == RobotState::Ready && ctx.members.count(id) != 0) {
         // eq. (2)'s r0: the mean of the readings while the neighbour stands (Reached or Ready); one that has
@@ -143,7 +143,7 @@ MotionStep PaperMotion::step(const FormationContext& ctx) {
   }
   children_strain_ = 0.0;
   for (const auto& [id, n] : ctx.neighbours->all()) {
-    if (!ctx.neighbours->fresh(id)) continue;
+    if (!ctx.neighbours->fresh(n)) continue;
     const auto section = section_of(n);
     if (section && section->parent == static_cast<std::int32_t>(ctx.self)) {
       children_strain_ = std::max(children_strain_, section->strain);
@@ -174,7 +174,7 @@ MotionStep PaperMotion::step(const FormationContext& ctx) {
   // Collision avoidance, eq. (1), in every phase (also when the formation forces are zero).
   std::vector<NeighbourPosition> near;
   for (const auto& [id, n] : ctx.neighbours->all()) {
-    if (ctx.neighbours->fresh(id)) near.push_back({n.range, n.azimuth});
+    if (ctx.neighbours->fresh(n)) near.push_back({n.range, n.azimuth});
   }
   velocity = avoid_collisions(velocity, near, p_.k_collision, p_.r_o, p_.max_speed);
 
@@ -518,7 +518,7 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
   // Obstacles: Algorithm 2's mask from the neighbours heard now, eq. (6)-(7), size discrimination.
   std::vector<NeighbourBearing> bearings;
   for (const auto& [id, n] : ctx.neighbours->all()) {
-    if (ctx.neighbours->fresh(id)) bearings.push_back({n.range, n.bearing});
+    if (ctx.neighbours->fresh(n)) bearings.push_back({n.range, n.bearing});
   }
   UltrasonicArray readings = ctx.perception->ultrasonic;
   const auto mask = mask_neighbour_directions(readings, bearings, p_.mask_angle, p_.mask_slack);

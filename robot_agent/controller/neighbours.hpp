@@ -58,6 +58,8 @@ class NeighbourTable {
   const Neighbour* find(RobotId id) const;
   // True when `id` was heard this very tick (its range and bearing are current).
   bool fresh(RobotId id) const;
+  // The same for an entry of all() (no search: loops over all() call this for every neighbour).
+  bool fresh(const Neighbour& n) const { return n.last_heard == now_; }
   // The tick `id` was last heard, also after it expired; nullopt if never heard.
   std::optional<Tick> last_heard(RobotId id) const;
   Tick now() const { return now_; }

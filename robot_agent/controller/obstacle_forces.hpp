@@ -49,8 +49,10 @@ struct NeighbourBearing {
 // side is no further than the reading, so the echo is that neighbour.
 inline bool neighbour_explains_echo(double off, double reading, double range, double mask_angle,
                                     double slack) {
+  // The range test first: it rejects most neighbours without the arctangent (same verdict, both are pure).
+  if (!(reading >= range - 2.0 * kRobotRadius - slack)) return false;
   const double half_size = std::atan2(kRobotRadius, std::max(range, kRobotRadius));
-  return std::abs(off) < mask_angle + half_size && reading >= range - 2.0 * kRobotRadius - slack;
+  return std::abs(off) < mask_angle + half_size;
 }
 
 // Algorithm 2's mask. `slack`: m of tolerance on the range consistency.

@@ -92,7 +92,7 @@ std::optional<Vec2> moving_origin(const NeighbourTable& neighbours, const Pose2D
   Vec2 sum;
   int count = 0;
   for (const auto& [id, n] : neighbours.all()) {
-    if (!neighbours.fresh(id) || !in_motion_phases(n.message.state) || n.message.label < 0 ||
+    if (!neighbours.fresh(n) || !in_motion_phases(n.message.state) || n.message.label < 0 ||
         n.message.label >= table.size())
       continue;
     const Vec2 at{self.x + n.range * std::cos(n.azimuth), self.y + n.range * std::sin(n.azimuth)};

@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "test_scenarios.hpp"
+#include "world_server/world/faults.hpp"
 #include "world_server/world/placement.hpp"
 
 namespace swarmform::world {
@@ -188,6 +189,81 @@ TEST(World, ContactsCountedThroughTheWorld) {
   }
   EXPECT_EQ(rr, 1u);
   EXPECT_EQ(ro, 0u);
+}
+
+// defer_messages(true) (the in-process harness) gathers each inbox when it is read instead of at the step:
+// the perceptions, read by perception() or copied by copy_perception(), must be those of the default world
+// bit for bit, also with occlusion, loss and range faults, a robot killed or revived between the step and
+// the read, and on a scenario whose medium draws random numbers (where deferring is switched off).
+TEST(World, DeferredMessagesGiveTheSamePerceptions) {
+  for (const bool noisy : {false, true}) {
+    Scenario s;
+    s.arena_centre = Vec2{0, 0};
+    s.arena_width = 5.0;
+    s.arena_height = 5.0;
+    s.obstacles.push_back(testing::box(0.6, -0.4, 0.5, 0.3));
+    s.occlusion = true;
+    s.comm_range = 2.0;
+    s.seed = 5;
+    s.mission.max_speed = 0.3;
+    if (noisy) {
+      s.packet_loss = 0.1;
+      s.bearing_noise_sd = 0.02;
+    }
+    for (const char* text : {"loss:3@20+30", "range:all@60+20=1.0", "range:7@10=0.5"}) {
+      s.faults.push_back(parse_fault(text));
+    }
+    s.robots = *place_randomly(40, PlacementRegion{Vec2{0, 0}, 4.5, 4.5}, s, s.seed);
+    World eager(s), deferred(s);
+    deferred.defer_messages(true);
+    World::PerceptionCopy copy;
+    std::uint64_t lcg = 99;
+    auto next = [&] {
+      lcg = lcg * 6364136223846793005ULL + 1442695040888963407ULL;
+      return static_cast<double>(lcg >> 11) * 0x1.0p-53;
+    };
+    std::size_t heard = 0;
+    for (int t = 0; t < 120; ++t) {
+      for (RobotId i = 0; i < 40; ++i) {
+        std::vector<std::uint8_t> msg;
+        if (next() < 0.8) msg.assign(1 + (i + t) % 40, static_cast<std::uint8_t>(i * 7 + t));
+        const Command c = drive(0.6 * next() - 0.3, 0.6 * next() - 0.3, msg);
+        eager.apply_command(i, c);
+        deferred.apply_command(i, c);
+      }
+      eager.step();
+      deferred.step();
+      if (t == 30 || t == 50) {  // between the step and the reads: the messages of the step stand
+        eager.kill(9);
+        deferred.kill(9);
+        eager.kill(12);
+        deferred.kill(12);
+      }
+      if (t == 50) {
+        eager.revive(9);
+        deferred.revive(9);
+      }
+      for (RobotId i = 0; i < 40; ++i) {
+        const Perception& e = eager.perception(i);
+        // Odd ticks: the copy first, then perception(); even ticks: perception() only.
+        const Perception* views[2] = {t % 2 ? &deferred.copy_perception(i, copy) : nullptr,
+                                      &deferred.perception(i)};
+        for (const Perception* d : views) {
+          if (d == nullptr) continue;
+          ASSERT_EQ(e.messages.size(), d->messages.size()) << "tick " << t << " robot " << i;
+          for (std::size_t k = 0; k < e.messages.size(); ++k) {
+            EXPECT_EQ(e.messages[k].sender, d->messages[k].sender);
+            EXPECT_EQ(std::memcmp(&e.messages[k].range, &d->messages[k].range, sizeof(double)), 0);
+            EXPECT_EQ(std::memcmp(&e.messages[k].bearing, &d->messages[k].bearing, sizeof(double)), 0);
+            EXPECT_EQ(e.messages[k].data, d->messages[k].data);
+          }
+          EXPECT_EQ(e.ultrasonic, d->ultrasonic);
+        }
+        heard += e.messages.size();
+      }
+    }
+    EXPECT_GT(heard, 40u * 120u);  // the robots did hear each other
+  }
 }
 
 // Robots crowded in a walled arena with pseudo-random commands (they collide), and messages with noise and

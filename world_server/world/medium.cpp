@@ -37,12 +37,10 @@ void Medium::deliver(const std::vector<Pose2D>& poses, const std::vector<char>& 
       n,
       [&](std::size_t begin, std::size_t end, std::size_t) {
         for (std::size_t r = begin; r < end; ++r)
-          gather(r, poses, alive, outboxes, grid, perceptions[r].messages, with_bytes, faults);
+          gather(r, poses, alive, outboxes, grid, perceptions[r].messages, spare_[r], with_bytes, faults);
       },
       parallel::kMinRobotsPerWorker);
-  const bool random =
-      params_.packet_loss > 0.0 || params_.range_noise_sd > 0.0 || params_.bearing_noise_sd > 0.0;
-  if (!random) return;
+  if (!random()) return;
   for (std::size_t r = 0; r < n; ++r) {
     std::vector<RabReading>& inbox = perceptions[r].messages;
     std::size_t kept = 0;
@@ -60,8 +58,9 @@ void Medium::deliver(const std::vector<Pose2D>& poses, const std::vector<char>& 
 
 void Medium::gather(std::size_t r, const std::vector<Pose2D>& poses, const std::vector<char>& alive,
                     const std::vector<Outbox>& outboxes, const SpatialGrid& grid,
-                    std::vector<RabReading>& inbox, bool with_bytes, const MediumFaults* faults) {
-  std::vector<RabReading>& spare = spare_[r];
+                    std::vector<RabReading>& inbox, std::vector<RabReading>& spare, bool with_bytes,
+                    const MediumFaults* faults) const {
+  if (faults != nullptr && !faults->any) faults = nullptr;
   std::size_t used = 0;
   if (alive[r] && (faults == nullptr || !faults->silent[r])) {
     const Pose2D& me = poses[r];

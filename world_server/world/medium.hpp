@@ -103,12 +103,20 @@ class Medium {
 
   const MediumParams& params() const { return params_; }
 
- private:
-  // One receiver's noiseless inbox (pass 1 of deliver; touches only inbox and spare_[r]).
+  // True when deliver() draws random numbers (loss or noise): then inboxes must be filled by deliver(), in
+  // receiver order. Otherwise one receiver's inbox can be filled alone by gather(), at any time before the
+  // poses, grid or outboxes change, with the same readings deliver() gives it.
+  bool random() const {
+    return params_.packet_loss > 0.0 || params_.range_noise_sd > 0.0 || params_.bearing_noise_sd > 0.0;
+  }
+
+  // Receiver r's noiseless inbox (pass 1 of deliver), readings reused from `inbox` and `spare`; touches
+  // nothing else, so several threads may gather different inboxes at once.
   void gather(std::size_t r, const std::vector<Pose2D>& poses, const std::vector<char>& alive,
               const std::vector<Outbox>& outboxes, const SpatialGrid& grid, std::vector<RabReading>& inbox,
-              bool with_bytes, const MediumFaults* faults);
+              std::vector<RabReading>& spare, bool with_bytes, const MediumFaults* faults) const;
 
+ private:
   MediumParams params_;
   std::vector<StaticShape> statics_;
   Rng rng_;

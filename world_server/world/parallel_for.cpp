@@ -55,6 +55,8 @@ class Pool {
       // ~8 chunks per worker: balance when another process takes a core for a while.
       chunk_ = std::max<std::size_t>(1, n / (workers_ * 8));
       next_.store(0);
+      two_ends_ = workers_ == 2 && n <= 0xffffffffu;
+      if (two_ends_) ends_.store(static_cast<std::uint64_t>(n) << 32);  // front 0, back n
       open_ = true;
       joined_ = 0;
       error_ = nullptr;
@@ -93,17 +95,44 @@ class Pool {
   void drain(std::size_t w) {
     t_in_body = true;
     try {
-      for (;;) {
-        const std::size_t begin = next_.fetch_add(chunk_);
-        if (begin >= n_) break;
-        (*body_)(begin, std::min(n_, begin + chunk_), w);
+      if (two_ends_) {
+        std::size_t begin = 0, end = 0;
+        while (take_from_end(w == 0, begin, end)) (*body_)(begin, end, w);
+      } else {
+        for (;;) {
+          const std::size_t begin = next_.fetch_add(chunk_);
+          if (begin >= n_) break;
+          (*body_)(begin, std::min(n_, begin + chunk_), w);
+        }
       }
     } catch (...) {
       std::lock_guard lock(m_);
       if (!error_) error_ = std::current_exception();
       next_.store(n_);  // the others stop taking chunks
+      ends_.store(0u);  // (two ends: they meet)
     }
     t_in_body = false;
+  }
+
+  // Two workers: the caller takes chunks from the front of [0, n), the other worker from the back, until
+  // they meet. Index i is then handled by the same core from loop to loop and from tick to tick (the
+  // meeting point moves a little), so a robot's controller, inbox and scratch stay in that core's cache;
+  // handing chunks out in one order sent them to either core at random, and the CPU time at N = 100 was
+  // 1.4x that of one worker (caches warmed twice, lines bouncing). ends_ packs front (low 32 bits) and
+  // back (high 32 bits).
+  bool take_from_end(bool front, std::size_t& begin, std::size_t& end) {
+    std::uint64_t ends = ends_.load(std::memory_order_relaxed);
+    for (;;) {
+      const std::uint64_t lo = ends & 0xffffffffu, hi = ends >> 32;
+      if (lo >= hi) return false;
+      const std::uint64_t take = std::min<std::uint64_t>(chunk_, hi - lo);
+      const std::uint64_t next = front ? ((hi << 32) | (lo + take)) : (((hi - take) << 32) | lo);
+      if (ends_.compare_exchange_weak(ends, next, std::memory_order_acq_rel, std::memory_order_relaxed)) {
+        begin = static_cast<std::size_t>(front ? lo : hi - take);
+        end = static_cast<std::size_t>(front ? lo + take : hi);
+        return true;
+      }
+    }
   }
 
   const std::size_t workers_;
@@ -116,6 +145,8 @@ class Pool {
   const RangeBody* body_ = nullptr;
   std::size_t n_ = 0, chunk_ = 1;
   std::atomic<std::size_t> next_{0};
+  bool two_ends_ = false;
+  std::atomic<std::uint64_t> ends_{0};  // two workers: front and back of what is left (take_from_end)
   std::exception_ptr error_;
   std::vector<std::jthread> threads_;  // last: joined before the members above go
 };

@@ -50,11 +50,24 @@ class SpatialGrid {
       const std::size_t row = static_cast<std::size_t>(cy) * static_cast<std::size_t>(nx_);
       const std::uint32_t k0 = start_[row + static_cast<std::size_t>(cell_x(x - half))];
       const std::uint32_t k1 = start_[row + static_cast<std::size_t>(cell_x(x + half)) + 1];
-      for (std::uint32_t k = k0; k < k1; ++k) {
-        const double dx = xs_[k] - x;
-        const double dy = ys_[k] - y;
-        const double d2 = dx * dx + dy * dy;
-        if (d2 <= r2) fn(items_[k], dx, dy, d2);
+      // The distance test without a branch (about a third of the positions in the span fail it, at
+      // random): the positions within `radius` are listed first, then handed over in the same order.
+      for (std::uint32_t base = k0; base < k1; base += kBatch) {
+        const std::uint32_t stop = std::min<std::uint32_t>(k1, base + kBatch);
+        std::uint32_t within[kBatch];
+        std::uint32_t count = 0;
+        for (std::uint32_t k = base; k < stop; ++k) {
+          const double dx = xs_[k] - x;
+          const double dy = ys_[k] - y;
+          within[count] = k;
+          count += dx * dx + dy * dy <= r2 ? 1u : 0u;
+        }
+        for (std::uint32_t q = 0; q < count; ++q) {
+          const std::uint32_t k = within[q];
+          const double dx = xs_[k] - x;
+          const double dy = ys_[k] - y;
+          fn(items_[k], dx, dy, dx * dx + dy * dy);
+        }
       }
     }
   }
@@ -62,6 +75,8 @@ class SpatialGrid {
   double cell_size() const { return cell_; }
 
  private:
+  static constexpr std::uint32_t kBatch = 32;  // positions of a row's span tested before the calls
+
   int cell_x(double x) const {
     return std::clamp(static_cast<int>(std::floor((x - x0_) / cell_)), 0, nx_ - 1);
   }

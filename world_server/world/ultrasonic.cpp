@@ -52,20 +52,18 @@ UltrasonicReading Ultrasonic::read_with(std::size_t self, const std::vector<Pose
   // second has no branch to mispredict: every robot within reach with its cone bound (computed once), then
   // each sensor's list filled without branches (a slot written for every robot, kept when the test holds).
   scratch.reach.clear();
-  grid.for_each_near_offset(
-      me.x, me.y, kReach + kRobotRadius, [&](std::uint32_t j, double dx, double dy, double d2) {
-        if (j == self) return;
-        const double c = d2 - kRobotRadius * kRobotRadius;
-        double bound = -kNoHit;  // bodies overlap: every sensor reads the minimum
-        if (c > 0.0) {
-          const double d = std::sqrt(d2);
-          const double sin_a = kRobotRadius / d;
-          const double cos_limit =
-              kCosCone * std::sqrt(1.0 - sin_a * sin_a) - kSinCone * sin_a;  // cos(cone + a)
-          bound = d * cos_limit - 1e-12;
-        }
-        scratch.reach.push_back(Reach{Candidate{dx, dy, c}, bound});
-      });
+  grid.for_each_near_offset(me.x, me.y, kReach + kRobotRadius,
+                            [&](std::uint32_t j, double dx, double dy, double d2) {
+                              if (j == self) return;
+                              const double c = d2 - kRobotRadius * kRobotRadius;
+                              double bound = -kNoHit;  // bodies overlap: every sensor reads the minimum
+                              // d cos(cone + a) with sin a = R / d: cos(cone) sqrt(d^2 - R^2) - sin(cone) R,
+                              // one square root. The slack (1e-9 m, a million times the rounding of either
+                              // form) keeps the set a superset of what the exact bound admits; the rays below
+                              // decide exactly, so extra candidates change nothing.
+                              if (c > 0.0) bound = kCosCone * std::sqrt(c) - kSinCone * kRobotRadius - 1e-9;
+                              scratch.reach.push_back(Reach{Candidate{dx, dy, c}, bound});
+                            });
   const std::size_t in_reach = scratch.reach.size();
   for (std::size_t s = 0; s < kUltrasonicCount; ++s) {
     std::vector<Candidate>& list = scratch.cands[s];
@@ -78,8 +76,12 @@ UltrasonicReading Ultrasonic::read_with(std::size_t self, const std::vector<Pose
     scratch.count[s] = kept;
   }
   // Static bodies within reach (by their true distance: a wall's bounding circle would hold everyone).
+  // A static whose bounding circle is out of reach by the squared distance is skipped before the exact
+  // clearance (a square root, or a box's frame): most robots are far from every obstacle.
   scratch.near_statics.clear();
   for (const StaticShape& st : statics_) {
+    const double ox = me.x - st.cx, oy = me.y - st.cy, far = kReach + st.bound + 1e-6;
+    if (ox * ox + oy * oy > far * far) continue;
     if (point_clearance(me.x, me.y, st) <= kReach) scratch.near_statics.push_back(&st);
   }
 

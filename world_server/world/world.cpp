@@ -72,6 +72,11 @@ struct World::Impl {
   std::vector<Outbox> outboxes;     // this tick's messages, written by apply_command
   std::vector<Outbox> sent;         // last tick's, delivered by step(): the bytes perceptions refer to
   std::vector<char> bytes_pending;  // 1: perceptions[i].messages have their readings but not their bytes yet
+  bool defer = false;               // defer_messages(): gather inboxes when read, where the medium allows it
+  bool deferred = false;            // this tick's inboxes are gathered when read (inbox_pending)
+  std::vector<char> inbox_pending;  // 1 (deferred ticks): perceptions[i].messages not gathered yet
+  std::vector<char> alive_at_step;  // deferred ticks: who was alive when the messages were delivered
+  std::vector<std::vector<RabReading>> read_spare;  // per robot: readings perception() parked for reuse
   std::vector<Perception> perceptions;
   std::vector<UltrasonicReading> sonar;
   std::vector<RobotTruth> truth;
@@ -89,6 +94,8 @@ struct World::Impl {
     outboxes.resize(n);
     sent.resize(n);
     bytes_pending.assign(n, 0);
+    inbox_pending.assign(n, 0);
+    read_spare.resize(n);
     perceptions.resize(n);
     truth.resize(n);
     for (std::size_t i = 0; i < n; ++i) truth[i].id = static_cast<RobotId>(i);
@@ -141,9 +148,18 @@ struct World::Impl {
       std::swap(outboxes, sent);
       for (Outbox& o : outboxes) o.has_message = false;
       medium_faults_at(tick);
-      medium.deliver(poses, alive, sent, grid, perceptions, /*with_bytes=*/false, &medium_faults);
-      for (std::size_t i = 0; i < perceptions.size(); ++i)
-        bytes_pending[i] = !perceptions[i].messages.empty();
+      deferred = defer && !medium.random();
+      if (deferred) {
+        // The inputs gather() reads stay as they are until the next step; kill() and revive() between
+        // now and a read do not change who was alive when the messages went out.
+        alive_at_step = alive;
+        std::fill(inbox_pending.begin(), inbox_pending.end(), 1);  // a dead receiver's gathers to empty
+        std::fill(bytes_pending.begin(), bytes_pending.end(), 0);
+      } else {
+        medium.deliver(poses, alive, sent, grid, perceptions, /*with_bytes=*/false, &medium_faults);
+        for (std::size_t i = 0; i < perceptions.size(); ++i)
+          bytes_pending[i] = !perceptions[i].messages.empty();
+      }
     }
     ultrasonic.sense_all(poses, alive, grid, sonar);
     for (std::size_t i = 0; i < poses.size(); ++i) {
@@ -174,6 +190,11 @@ std::size_t World::robot_count() const {
 const Perception& World::perception(RobotId id) const {
   Impl& m = *impl_;
   Perception& p = m.perceptions.at(id);
+  if (m.inbox_pending[id]) {
+    m.medium.gather(id, m.poses, m.alive_at_step, m.sent, m.grid, p.messages, m.read_spare[id],
+                    /*with_bytes=*/true, &m.medium_faults);
+    m.inbox_pending[id] = 0;
+  }
   if (m.bytes_pending[id]) {
     Medium::fill_bytes(p.messages, m.sent);
     m.bytes_pending[id] = 0;
@@ -188,6 +209,11 @@ const Perception& World::copy_perception(RobotId id, PerceptionCopy& copy) const
   dst.tick = src.tick;
   dst.pose = src.pose;
   dst.ultrasonic = src.ultrasonic;
+  if (m.inbox_pending[id]) {
+    m.medium.gather(id, m.poses, m.alive_at_step, m.sent, m.grid, dst.messages, copy.spare,
+                    /*with_bytes=*/true, &m.medium_faults);
+    return dst;
+  }
   const std::size_t n = src.messages.size();
   Medium::resize_reusing(dst.messages, n, copy.spare);
   const bool pending = m.bytes_pending[id] != 0;
@@ -207,6 +233,9 @@ const std::vector<RobotTruth>& World::robots() const {
 }
 ContactCounts World::last_contacts() const {
   return impl_->contacts;
+}
+void World::defer_messages(bool on) {
+  impl_->defer = on;
 }
 bool World::alive(RobotId id) const {
   return id < impl_->alive.size() && impl_->alive[id] != 0;
@@ -265,6 +294,7 @@ void World::kill(RobotId id) {
   m.outboxes[id].has_message = false;
   m.perceptions[id].messages.clear();
   m.bytes_pending[id] = 0;
+  m.inbox_pending[id] = 0;
   m.truth[id].alive = false;
 }
 
@@ -280,6 +310,7 @@ void World::revive(RobotId id) {
   Perception& p = m.perceptions[id];
   p.messages.clear();
   m.bytes_pending[id] = 0;
+  m.inbox_pending[id] = 0;
   p.ultrasonic = m.ultrasonic.read(id, m.poses, m.grid);
   m.sonar_faults(id, m.tick, p.ultrasonic);
 }
