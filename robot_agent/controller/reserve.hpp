@@ -8,8 +8,9 @@
 // - A vacancy: a label L whose barrier entries (barrier.hpp: id -> label) are all marked dead by the motion
 //   phases (motion_phase.hpp's parents table), and whose labels entry names one of them, or a claimant
 //   whose entry has not changed for label_timeout ticks (a claimant heartbeats it while Moving or Reached,
-//   so a silent one died on its way). A label that no barrier entry names was abandoned when the barrier passed
-//   (its robot died before taking it, or came back too late: paper_controller's disown rule) and is vacant too.
+//   so a silent one died on its way). A label that no barrier entry names was abandoned when the barrier
+//   passed (its robot died before taking it, or came back too late: paper_controller's disown rule) and is
+//   vacant too.
 // - A reserve takes the vacancy whose place is nearest, unless a searching robot heard is nearer to it, as
 //   a Moving robot (allotment.hpp's labels entry; the conflict rule settles two claims). Its place moves with
 //   the shape: label 0's place is estimated every tick from the shape's robots heard (moving_origin). At its

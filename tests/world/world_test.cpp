@@ -15,6 +15,15 @@
 namespace swarmform::world {
 namespace {
 
+// Reproducible uniform draws in [0, 1) for the tests' commands (a 64-bit LCG: the same on every platform).
+struct Uniform01 {
+  std::uint64_t state;
+  double operator()() {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) * 0x1.0p-53;
+  }
+};
+
 using testing::open_scenario;
 
 Command drive(double l, double r, std::vector<std::uint8_t> msg = {}) {
@@ -217,11 +226,7 @@ TEST(World, DeferredMessagesGiveTheSamePerceptions) {
     World eager(s), deferred(s);
     deferred.defer_messages(true);
     World::PerceptionCopy copy;
-    std::uint64_t lcg = 99;
-    auto next = [&] {
-      lcg = lcg * 6364136223846793005ULL + 1442695040888963407ULL;
-      return static_cast<double>(lcg >> 11) * 0x1.0p-53;
-    };
+    Uniform01 next{99};
     std::size_t heard = 0;
     for (int t = 0; t < 120; ++t) {
       for (RobotId i = 0; i < 40; ++i) {
@@ -282,11 +287,7 @@ TEST(World, SameScenarioAndCommandsGiveBitIdenticalRuns) {
   s.mission.max_speed = 0.3;
   s.robots = *place_randomly(30, PlacementRegion{Vec2{0, 0}, 3.5, 3.5}, s, s.seed);
   World a(s), b(s);
-  std::uint64_t lcg = 12345;
-  auto next = [&] {
-    lcg = lcg * 6364136223846793005ULL + 1442695040888963407ULL;
-    return static_cast<double>(lcg >> 11) * 0x1.0p-53;
-  };
+  Uniform01 next{12345};
   std::uint32_t contacts = 0;
   for (int t = 0; t < 300; ++t) {
     for (RobotId i = 0; i < 30; ++i) {
