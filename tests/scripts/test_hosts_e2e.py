@@ -251,6 +251,8 @@ class HostsEndToEndTest(unittest.TestCase):
         self.assertEqual(s["alive_at_end"], 6)
         self.assertGreater(s["ticks"], max(rejoins.values()))
 
+    @unittest.skipUnless(os.access(os.path.join(BUILD_DIR, "viewer", "swarm_viewer"), os.X_OK),
+                         f"swarm_viewer is not built in {BUILD_DIR} (the sanitizer stage builds no viewer)")
     def test_the_live_view_reaches_a_world_on_another_host(self):
         out = self.out("view")
         port = helpers.free_port()
