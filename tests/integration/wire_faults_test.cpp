@@ -154,7 +154,7 @@ TEST_F(WireFaults, AgentGivesUpOnASilentWorldOnlyAfterItsWorldTimeout) {
   EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
   EXPECT_EQ(patient.wait_for(15.0), 0) << patient.err();
   const Json s = summary("silent-world");
-  EXPECT_EQ(s["alive_at_end"], 1);
+  EXPECT_EQ(s["alive_at_end"], 1) << w.err();
   ASSERT_EQ(s["deaths"].size(), 1u) << s.dump();
   EXPECT_EQ(s["deaths"][0]["id"], 0);
 }
