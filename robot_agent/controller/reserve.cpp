@@ -49,13 +49,11 @@ std::map<RobotId, int> motion_members(const Stigmergy& stigmergy, const std::map
 
 std::vector<int> vacant_labels(const Stigmergy& stigmergy, int label_count,
                                const std::map<int, Tick>& holder_since, Tick now, int label_timeout) {
-  // Per label: whether it has a barrier entry, and whether one of them is alive.
-  std::vector<char> entered(static_cast<std::size_t>(label_count), 0);
+  // Per label: whether one of its barrier entries is alive.
   std::vector<char> live(static_cast<std::size_t>(label_count), 0);
   std::map<RobotId, int> entry_of;
   for_each_barrier_entry(stigmergy, [&](RobotId id, std::int64_t label) {
     if (label < 0 || label >= label_count) return;
-    entered[static_cast<std::size_t>(label)] = 1;
     entry_of[id] = static_cast<int>(label);
     if (!marked_dead_in_motion(stigmergy, id)) live[static_cast<std::size_t>(label)] = 1;
   });
