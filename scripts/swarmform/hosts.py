@@ -20,13 +20,14 @@ go with them). A SIGKILLed launcher cannot clean up: its children die with it (P
 hosts.json in the run directory says which namespace, interface and switch port each host has.
 """
 
-import json
 import os
 import re
 import shutil
 import signal
 import subprocess
 from typing import Any, Optional, Union
+
+from . import jsonfile
 
 Link = dict[str, Union[float, str]]  # --link: loss (percent), rate, delay (tc's spelling)
 
@@ -305,5 +306,5 @@ class Hosts:
 
 
 def write_description(hosts: Hosts, run_dir: str, robots: int) -> None:
-    with open(os.path.join(run_dir, "hosts.json"), "w") as f:
-        json.dump(hosts.describe(robots), f, indent=1)
+    # Read while the run goes on (tests wait for it to appear): never a half-written file.
+    jsonfile.write_atomically(os.path.join(run_dir, "hosts.json"), hosts.describe(robots))

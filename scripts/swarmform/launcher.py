@@ -43,6 +43,7 @@ from typing import IO, Any, Callable, Optional
 from . import domains
 from . import faults
 from . import hosts as hosts_mod
+from . import jsonfile
 from . import security
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -491,13 +492,6 @@ def _last_line(logs: str, rid: int) -> str:
     return (said or lines or ["(empty log)"])[-1]
 
 
-def _write_json_atomically(path: str, data: Any) -> None:
-    tmp = f"{path}.tmp-{os.getpid()}"
-    with open(tmp, "w") as f:
-        json.dump(data, f, indent=1)
-    os.replace(tmp, path)
-
-
 def _follow(proc: "subprocess.Popen[bytes]", stop: StopFlag, status: Status, console_log: IO[bytes],
             max_ticks: Optional[int], prefix: str = "world", on_ready: Optional[Callable[[], None]] = None,
             on_idle: Optional[Callable[[], object]] = None,
@@ -643,7 +637,7 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
             write_agents()
 
         def write_agents() -> None:  # the world reads it when a kill or a stall is due: replaced whole
-            _write_json_atomically(agents_json, {str(k): p.pid for k, p in procs.agents.items()})
+            jsonfile.write_atomically(agents_json, {str(k): p.pid for k, p in procs.agents.items()})
 
         watch = AgentWatch(procs, logs, status)
         connecting = ConnectWatch(procs, logs, n, wait_s)
