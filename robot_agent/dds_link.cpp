@@ -6,6 +6,8 @@
 #include <iostream>
 #include <random>
 
+#include "common/dds/qos.hpp"
+
 namespace swarmform::agent {
 
 namespace {
@@ -154,8 +156,12 @@ WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out)
     }
     // Wake at least once a second to re-check the world's liveliness against the idle deadline, and to keep
     // our own alive while the world sends nothing (before the run, or a slow lockstep round).
-    dds_time_t wake =
-        std::min({now + DDS_SECS(1), reclaiming ? reclaim : DDS_NEVER, commands_->keep_alive(now)});
+    // No packet for a lease: the world may have taken us for dead meanwhile (its own stall, a cut link,
+    // ours), and only a sample brings a lost writer back (CommandWriter::keep_alive), so the keep-alive is
+    // one. An assertion otherwise: nothing is lost, and it costs the world no sample to take.
+    const bool by_sample = packets_ > 0 && now - last_packet_at_ >= dds::kLivelinessLease;
+    dds_time_t wake = std::min(
+        {now + DDS_SECS(1), reclaiming ? reclaim : DDS_NEVER, commands_->keep_alive(now, by_sample)});
     if (!inbox_->world_seen()) wake = std::min(wake, idle_deadline);
     waiter_.wait_until(wake);
   }

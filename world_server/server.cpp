@@ -276,6 +276,8 @@ void Server::pump(bool running) {
   const std::size_t n = link_.commands.take(samples_);
   for (std::size_t i = 0; i < n; ++i) {
     const dds::CommandSample& s = samples_[i];
+    // An ALIVE sample has done its work on arrival (its writer's liveliness, in Cyclone): nothing to keep.
+    if (s.kind == dds::CommandKind::Alive) continue;
     if (!admit(s, running)) continue;
     if (s.kind == dds::CommandKind::Claim) {
       on_claim(s, running);

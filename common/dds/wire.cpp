@@ -785,9 +785,20 @@ void CommandWriter::claim(RobotId id, std::uint64_t nonce, std::uint32_t pid) {
   impl_->alive_at = dds_time();
 }
 
-dds_time_t CommandWriter::keep_alive(dds_time_t now) {
+dds_time_t CommandWriter::keep_alive(dds_time_t now, bool by_sample) {
   if (now - impl_->alive_at >= kLivelinessAssertPeriod) {
-    check(dds_assert_liveliness(impl_->writer.get()), "dds_assert_liveliness(command writer)");
+    if (by_sample && impl_->registered) {
+      sfdds_Command s{};
+      s.robot_id = *impl_->registered;
+      s.wire_version = impl_->wire_version;
+      s.run_nonce = impl_->run_nonce;
+      s.kind = sfdds_COMMAND_ALIVE;
+      s.label = -1;
+      s.parent = -1;
+      check(dds_write(impl_->writer.get(), &s), "dds_write(alive)");
+    } else {
+      check(dds_assert_liveliness(impl_->writer.get()), "dds_assert_liveliness(command writer)");
+    }
     impl_->alive_at = now;
   }
   return impl_->alive_at + kLivelinessAssertPeriod;
@@ -971,7 +982,9 @@ std::size_t CommandReader::take(std::vector<CommandSample>& buf, std::size_t max
       c.wire_version = s.wire_version;
       c.run_nonce = s.run_nonce;
       c.robot_id = s.robot_id;
-      c.kind = s.kind == sfdds_COMMAND_CLAIM ? CommandKind::Claim : CommandKind::Step;
+      c.kind = s.kind == sfdds_COMMAND_CLAIM   ? CommandKind::Claim
+               : s.kind == sfdds_COMMAND_ALIVE ? CommandKind::Alive
+                                               : CommandKind::Step;
       c.tick = s.tick;
       c.nonce = s.nonce;
       c.pid = s.pid;

@@ -31,7 +31,7 @@ using PublicationHandle = std::uint64_t;  // dds_instance_handle_t of a remote w
 
 // The wire-protocol version every sample carries (idl/swarmform.idl WIRE_VERSION; docs/wire.md says when to
 // bump it). wire.cpp checks the two are equal at compile time.
-inline constexpr std::uint16_t kWireVersion = 4;
+inline constexpr std::uint16_t kWireVersion = 5;
 
 // A participant's GUID (its key in DDS discovery), as 16 bytes.
 using ParticipantKey = std::array<std::uint8_t, 16>;
@@ -219,6 +219,7 @@ class AgentInbox {
 enum class CommandKind : std::uint8_t {
   Step = 0,   // the command of `tick`
   Claim = 1,  // this writer claims robot_id; `nonce` identifies the attempt
+  Alive = 2,  // nothing but the writer's liveliness (CommandWriter::keep_alive)
 };
 
 struct CommandSample {
@@ -253,8 +254,10 @@ class CommandWriter {
   dds_entity_t get() const;
   // Asserts the writer's liveliness if nothing was written or asserted for kLivelinessAssertPeriod (its
   // liveliness is MANUAL_BY_TOPIC: a writer idle for its lease is taken for dead). Returns when it is next
-  // due: an idle agent wakes by then.
-  dds_time_t keep_alive(dds_time_t now);
+  // due: an idle agent wakes by then. `by_sample`: write an ALIVE sample of the claimed id instead, for a
+  // writer the world may have taken for dead already (a world's own stall, a cut link): an assertion renews
+  // a lease that has not run out, but Cyclone 0.10.2 brings a lost writer back only on a sample.
+  dds_time_t keep_alive(dds_time_t now, bool by_sample = false);
   // True while Cyclone's key map holds robot `id`'s command instance (kept from the first claim, as
   // RobotChannels::holds_instance). For tests.
   bool holds_instance(RobotId id) const;

@@ -8,6 +8,7 @@
 #include <dirent.h>
 #include <unistd.h>
 
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <regex>
@@ -181,6 +182,54 @@ TEST_F(WireFaults, AgentStalledThreeSecondsInLockstepRejoinsWithAFreshController
   EXPECT_EQ(s["alive_at_end"], kRobots);
 }
 
+// The dead lock behind a world's own stall that killed a patient agent now and then: an agent whose writer
+// lost its liveliness at the world (here: stalled 1.5 s, past its 500 ms lease) while it has already answered
+// the round, and whose world stays alive (its writers' 2 s lease holds, so it has no reason to re-claim).
+// Cyclone 0.10.2 brings a lost writer back only on a sample, never on a liveliness assertion, and the world
+// sends a dead robot none: without the ALIVE keep-alive the agent waited for a packet until the run ended.
+// Robot 2 is a live agent that never answers, so that the world waits out the lockstep deadline (10 s here)
+// in round 0 and nobody's packet could end the wait by chance.
+TEST_F(WireFaults, AgentTakenForDeadWhileItsWorldWaitsRejoinsWithoutAPacket) {
+  const int domain = swarmform::testing::test_domain(36);
+  const std::string scenario = path("long-deadline.yaml");
+  {
+    // The copy names its shape by its path in the repository (found from the original's folder).
+    const std::string shape = (std::filesystem::path(kScenario).parent_path() / "../../shapes/square.txt")
+                                  .lexically_normal()
+                                  .string();
+    std::string text = std::regex_replace(read_file(kScenario), std::regex("lockstep_deadline: [0-9.]+"),
+                                          "lockstep_deadline: 10.0");
+    std::ofstream(scenario) << std::regex_replace(text, std::regex("shape: square.txt"), "shape: " + shape);
+  }
+  Process& w =
+      start({kWorld, "--scenario", scenario, "--out", path("waiting"), "--domain", std::to_string(domain),
+             "--connect-timeout", "30", "--robots", "3", "--max-ticks", "30"},
+            "waiting-world");
+  Process& a0 = agent(domain, 0, "waiting");
+  Process& a1 = agent(domain, 1, "waiting");
+  Process& silent =
+      start({kRogue, "--domain", std::to_string(domain), "--timeout", "60", "silent", "--id", "2"},
+            "waiting-silent");
+  // The run starts once all three claimed; the world's stdout and stderr are written at once (events.jsonl
+  // is buffered).
+  ASSERT_TRUE(eventually(kRunDeadline, [&] {
+    return w.err().find("id 2 claimed") != std::string::npos || !w.running();
+  })) << w.err();
+  std::this_thread::sleep_for(std::chrono::milliseconds(1000));  // agents 0 and 1 have answered round 0
+  ASSERT_EQ(w.out().find("death"), std::string::npos) << "the round must still wait for robot 2: " << w.out();
+  stall(a0.pid(), std::chrono::milliseconds(1500));
+  ASSERT_NE(w.out().find("death id=0 tick=0"), std::string::npos)
+      << "the stall must outlast the agent's lease: " << w.out();
+  // Well within the round's 10 s: only the agent's own ALIVE sample can bring it back this soon.
+  EXPECT_TRUE(eventually(5.0, [&] { return w.out().find("rejoin id=0 tick=0") != std::string::npos; }))
+      << w.out();
+  EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_EQ(a0.wait_for(15.0), 0) << a0.err();
+  EXPECT_EQ(a1.wait_for(15.0), 0) << a1.err();
+  EXPECT_TRUE(silent.wait_for(15.0).has_value());
+  EXPECT_EQ(summary("waiting")["alive_at_end"], 3);
+}
+
 // Realtime: agent 4 stalls, is taken for dead, and a restarted agent claims id 4. The old one, resumed, is
 // told by the world's packets (another owner) and exits 5 with a clear message; it used to run to the end.
 TEST_F(WireFaults, RealtimeAgentReplacedByARestartedOneIsToldAndExitsNonZero) {
@@ -260,7 +309,7 @@ TEST_F(WireFaults, SamplesOfAnotherRunOrWireVersionAreRefusedWithTheReason) {
   EXPECT_GE(sent, 10);
   const std::regex said(
       "world_server: refused ([0-9]+) claim sample\\(s\\) from writer [0-9a-f]+ \\(pid 0\\): "
-      "wire version 1, this world speaks 4");
+      "wire version 1, this world speaks 5");
   const std::string err = w.err();
   int lines = 0;
   for (auto it = std::sregex_iterator(err.begin(), err.end(), said); it != std::sregex_iterator(); ++it)
