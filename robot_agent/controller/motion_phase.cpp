@@ -288,10 +288,14 @@ void PaperMotion::read_leader_and_parent(const FormationContext& ctx) {
   choice_.heading = ctx.common_heading;
   choice_.label = ctx.label;
   choice_.self = ctx.self;
-  // Candidates: the barrier's members, with the roles they shared, minus the dead.
-  std::vector<LeaderCandidate> candidates;
-  std::vector<bool> present(ctx.places.size(), false);
-  std::map<int, RobotId> holder;  // label -> live id
+  // Candidates: the barrier's members, with the roles they shared, minus the dead. Members of this object,
+  // reused: a 1024-label shape re-reads them often while its members learn of each other.
+  std::vector<LeaderCandidate>& candidates = candidates_;
+  std::vector<bool>& present = present_;
+  std::vector<std::optional<RobotId>>& holder = holder_;  // label -> the first live id named (in id order)
+  candidates.clear();
+  present.assign(ctx.places.size(), false);
+  holder.assign(ctx.places.size(), std::nullopt);
   for (const auto& [id, label] : ctx.members) {
     LeaderCandidate c;
     c.id = id;
@@ -301,7 +305,7 @@ void PaperMotion::read_leader_and_parent(const FormationContext& ctx) {
     candidates.push_back(c);
     if (c.alive && label >= 0 && static_cast<std::size_t>(label) < present.size()) {
       present[static_cast<std::size_t>(label)] = true;
-      if (holder.count(label) == 0) holder[label] = id;
+      if (!holder[static_cast<std::size_t>(label)]) holder[static_cast<std::size_t>(label)] = id;
     }
   }
   // The centroid of the places live members hold: where the goal puts the shape that is left.
@@ -319,12 +323,11 @@ void PaperMotion::read_leader_and_parent(const FormationContext& ctx) {
   choice_.parent.reset();
   if (leader && *leader != ctx.self) {
     const int root = ctx.members.count(*leader) ? ctx.members.at(*leader) : -1;
-    const auto& tree = tree_cache_.get(ctx.places, present, root, p_.spacing, p_.link_range, p_.comm_range,
-                                       ctx.common_heading);
-    if (ctx.label >= 0 && static_cast<std::size_t>(ctx.label) < tree.parent.size()) {
-      const int parent_label = tree.parent[static_cast<std::size_t>(ctx.label)];
-      if (parent_label >= 0 && holder.count(parent_label)) choice_.parent = holder.at(parent_label);
-    }
+    // Only our own label's parent in the tree (ParentTreeCache::parent).
+    const int parent_label = tree_cache_.parent(ctx.places, present, root, p_.spacing, p_.link_range,
+                                                p_.comm_range, ctx.common_heading, ctx.label);
+    if (parent_label >= 0 && static_cast<std::size_t>(parent_label) < holder.size())
+      choice_.parent = holder[static_cast<std::size_t>(parent_label)];
   }
 }
 

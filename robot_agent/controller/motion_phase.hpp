@@ -27,7 +27,9 @@
 
 #include <map>
 #include <optional>
+#include <vector>
 
+#include "robot_agent/controller/leader_election.hpp"
 #include "robot_agent/controller/motion_hooks.hpp"
 #include "robot_agent/controller/motion_inputs_watch.hpp"
 #include "robot_agent/controller/motion_params.hpp"
@@ -111,7 +113,7 @@ class PaperMotion final : public MotionPhases {
   std::uint64_t seed_ = 1;
   std::optional<RobotId> arrived_parent_;  // the parent when it arrived
   bool arrived_alone_ = false;             // it arrived at its own target (no parent heard)
-  ParentTreeCache tree_cache_;             // the shared tree, rebuilt only when its inputs change
+  ParentTreeCache tree_cache_;  // our label's parent in the shared tree, kept while its inputs stay
   // choose_leader_and_parent's reading of the members, the stigmergy and the tree (the elected leader, the
   // parent the tree gives, the live centroid), and the inputs it was made from: while none of them changes
   // (the common case once the shape moves) it is reused instead of going over every member again.
@@ -128,6 +130,10 @@ class PaperMotion final : public MotionPhases {
   // The stigmergy it reads: the members' boundary roles and dead marks (not the live robots' parent entries,
   // which change on their own all the time in a large shape).
   MotionInputsWatch choice_inputs_{stig::Ns::Boundary};
+  // read_leader_and_parent's working space, kept so that a re-reading allocates nothing.
+  std::vector<LeaderCandidate> candidates_;
+  std::vector<bool> present_;
+  std::vector<std::optional<RobotId>> holder_;
 };
 
 }  // namespace swarmform::controller::motion

@@ -676,10 +676,17 @@ const FormationContext& PaperController::context(const Perception& p) {
   ctx.neighbours = &neighbours_;
   ctx.stigmergy = const_cast<Stigmergy*>(&stigmergy_);
   if (members_inputs_.changed(stigmergy_) || members_stale_) {
-    auto members = motion_members(stigmergy_, barrier_at_ready_.members);
-    if (ctx.members_version == 0 || members != ctx.members) {
-      ctx.members = std::move(members);
-      ++ctx.members_version;
+    // The members are the barrier at Ready (changed only with members_stale_) plus a few extras: rebuilt only
+    // when one of the two changed (a 1024-label shape's labels entries change every tick somewhere).
+    auto extras = motion_member_extras(stigmergy_, barrier_at_ready_.members);
+    if (members_stale_ || ctx.members_version == 0 || extras != member_extras_) {
+      auto members = barrier_at_ready_.members;
+      for (const auto& [id, label] : extras) members[id] = label;
+      if (ctx.members_version == 0 || members != ctx.members) {
+        ctx.members = std::move(members);
+        ++ctx.members_version;
+      }
+      member_extras_ = std::move(extras);
     }
     members_stale_ = false;
   }

@@ -130,6 +130,7 @@ class PaperController final : public Controller {
   // The motion phases' members (reserve.hpp's motion_members, in ctx_.members), recomputed when what they are
   // made of changes: the barrier and labels entries, and who is marked dead.
   bool members_stale_ = true;
+  std::vector<std::pair<RobotId, int>> member_extras_;  // motion_member_extras when ctx_.members was made
   MotionInputsWatch members_inputs_{stig::Ns::Barrier, stig::Ns::Labels};
   FormationContext ctx_;
   // places(): the places about places_origin_ (valid when has_places_).

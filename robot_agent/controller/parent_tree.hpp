@@ -63,6 +63,14 @@ ParentTree build_parent_tree(const std::vector<Vec2>& places, const std::vector<
 ParentTree build_parent_tree(const LabelLinks& links, const std::vector<Vec2>& places,
                              const std::vector<bool>& present, int root, double heading);
 
+// `label`'s parent in build_parent_tree's tree (-1 for the root, an absent or an unreachable label), without
+// the rest of the tree: Dijkstra from the root stops as soon as `label` is settled (every label on one of its
+// shortest paths costs less, so is settled by then), and only `label`'s parent is chosen, as
+// build_parent_tree chooses it. `cost`: working space (resized here). A robot needs only its own label's
+// parent.
+int parent_in_tree(const LabelLinks& links, const std::vector<Vec2>& places, const std::vector<bool>& present,
+                   int root, double heading, int label, std::vector<int>& cost);
+
 // build_parent_tree, rebuilt only when one of its inputs differs from the last call's (compared in full, so
 // the tree is exactly the one build_parent_tree would give). Each robot asks for the tree every tick of Ready
 // and Motion; the links (label_links) change only with the shape and ranges, so they are found once; the tree
@@ -72,6 +80,11 @@ class ParentTreeCache {
  public:
   const ParentTree& get(const std::vector<Vec2>& places, const std::vector<bool>& present, int root,
                         double spacing, double link_range, double far_range, double heading);
+  // get(...).parent[label] (-1 when `label` is out of range), found by parent_in_tree and kept while the
+  // inputs and `label` stay the same: in a large shape whose members still learn of each other, `present`
+  // changes nearly every tick, and the whole tree cost O(L k log L) a robot each time.
+  int parent(const std::vector<Vec2>& places, const std::vector<bool>& present, int root, double spacing,
+             double link_range, double far_range, double heading, int label);
   // How many times get() has built the tree, and found the links (for tests).
   std::size_t builds() const { return builds_; }
   std::size_t link_builds() const { return link_builds_; }
@@ -86,6 +99,12 @@ class ParentTreeCache {
   double heading_ = 0.0;
   ParentTree tree_;
   std::size_t builds_ = 0, link_builds_ = 0;
+  // parent()'s answer and the label it was for (the other inputs are the members above).
+  bool has_parent_ = false;
+  int label_ = -1, parent_ = -1;
+  std::vector<int> cost_;
+  bool same_links(const std::vector<Vec2>& places, double spacing, double link_range, double far_range) const;
+  void find_links(const std::vector<Vec2>& places, double spacing, double link_range, double far_range);
 };
 
 // True when `self` taking `candidate` as its parent would close a cycle in `parents` (id -> parent id; ids

@@ -1,6 +1,8 @@
 #include "robot_agent/controller/reserve.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "robot_agent/controller/allotment.hpp"
 #include "robot_agent/controller/drive.hpp"
@@ -33,8 +35,9 @@ bool shape_in_motion(const Stigmergy& stigmergy) {
   return stigmergy.get(stig::key(stig::Ns::Leader, 0)).has_value();
 }
 
-std::map<RobotId, int> motion_members(const Stigmergy& stigmergy, const std::map<RobotId, int>& at_ready) {
-  std::map<RobotId, int> members = at_ready;
+std::vector<std::pair<RobotId, int>> motion_member_extras(const Stigmergy& stigmergy,
+                                                          const std::map<RobotId, int>& at_ready) {
+  std::vector<std::pair<RobotId, int>> extras;
   for_each_barrier_entry(stigmergy, [&](RobotId id, std::int64_t label) {
     if (label < 0 || at_ready.count(id) != 0 || marked_dead_in_motion(stigmergy, id)) return;
     const auto holder = label_status(stigmergy, static_cast<int>(label));
@@ -42,8 +45,15 @@ std::map<RobotId, int> motion_members(const Stigmergy& stigmergy, const std::map
     for (const auto& [member, member_label] : at_ready) {
       if (member_label == label && !marked_dead_in_motion(stigmergy, member)) return;
     }
-    members[id] = static_cast<int>(label);
+    extras.emplace_back(id, static_cast<int>(label));
   });
+  std::sort(extras.begin(), extras.end());
+  return extras;
+}
+
+std::map<RobotId, int> motion_members(const Stigmergy& stigmergy, const std::map<RobotId, int>& at_ready) {
+  std::map<RobotId, int> members = at_ready;
+  for (const auto& [id, label] : motion_member_extras(stigmergy, at_ready)) members[id] = label;
   return members;
 }
 

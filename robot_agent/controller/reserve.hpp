@@ -45,6 +45,10 @@ bool shape_in_motion(const Stigmergy& stigmergy);
 // The motion phases' members: `at_ready` (the barrier as it passed, dead members included) plus each reserve
 // that took a dead member's place (see above).
 std::map<RobotId, int> motion_members(const Stigmergy& stigmergy, const std::map<RobotId, int>& at_ready);
+// What motion_members adds to `at_ready`, in id order: usually nothing. Cheap to recompute whenever the
+// stigmergy changes (no copy of `at_ready`, which holds every label of a 1024-label shape).
+std::vector<std::pair<RobotId, int>> motion_member_extras(const Stigmergy& stigmergy,
+                                                          const std::map<RobotId, int>& at_ready);
 
 // The labels a reserve may take now (see above). `holder_since`: label -> tick its labels entry last changed.
 std::vector<int> vacant_labels(const Stigmergy& stigmergy, int label_count,

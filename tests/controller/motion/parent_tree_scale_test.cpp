@@ -119,6 +119,65 @@ TEST(ParentTreeScale, BucketedTreeEqualsTheDenseScanOnEveryShapeWithRobotsMissin
   }
 }
 
+// One label's parent, found by a Dijkstra that stops once that label is settled, is the whole tree's, for
+// every label of every shape and block, with robots missing, several leaders and headings.
+TEST(ParentTreeScale, OneLabelsParentIsTheWholeTreesForEveryLabel) {
+  std::mt19937 rng(11);
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::directory_iterator(SWARMFORM_SHAPES_DIR)) {
+    if (e.path().extension() == ".txt") files.push_back(e.path());
+  }
+  for (const char* block : {"block_10x10.txt", "block_20x20.txt"}) {
+    files.push_back(std::filesystem::path(SWARMFORM_SCALE_SHAPES_DIR) / block);
+  }
+  ASSERT_GE(files.size(), 8u);
+  std::vector<int> cost;
+  for (const auto& file : files) {
+    const ShapeMatrix shape = load_shape_file(file.string());
+    for (const double heading : {std::numbers::pi / 2, 0.7}) {
+      const auto places = label_places(shape, 1.0, heading);
+      const auto links = label_links(places, 1.0, 2.7, 3.0);
+      const std::size_t n = places.size();
+      for (const double missing : {0.0, 0.2}) {
+        std::vector<bool> present(n, true);
+        std::bernoulli_distribution drop(missing);
+        for (std::size_t l = 0; l < n; ++l) present[l] = !drop(rng);
+        const int root = static_cast<int>(std::uniform_int_distribution<std::size_t>(0, n - 1)(rng));
+        present[static_cast<std::size_t>(root)] = true;
+        SCOPED_TRACE(testing::Message() << file.filename() << " heading " << heading << " missing " << missing
+                                        << " root " << root);
+        const auto tree = build_parent_tree(links, places, present, root, heading);
+        ParentTreeCache cache;
+        for (std::size_t l = 0; l < n; ++l) {
+          const int label = static_cast<int>(l);
+          ASSERT_EQ(parent_in_tree(links, places, present, root, heading, label, cost), tree.parent[l]) << l;
+          ASSERT_EQ(cache.parent(places, present, root, 1.0, 2.7, 3.0, heading, label), tree.parent[l]) << l;
+        }
+        EXPECT_EQ(parent_in_tree(links, places, present, root, heading, static_cast<int>(n), cost), -1);
+        EXPECT_EQ(parent_in_tree(links, places, present, root, heading, -1, cost), -1);
+      }
+    }
+  }
+}
+
+TEST(ParentTreeScale, CacheKeepsOneLabelsParentWhileItsInputsStay) {
+  const auto places = label_places(load_shape_file(SWARMFORM_SCALE_SHAPES_DIR "/block_10x10.txt"), 1.0);
+  std::vector<bool> present(places.size(), true);
+  ParentTreeCache cache;
+  const int first = cache.parent(places, present, 0, 1.0, 2.7, 3.0, 0.0, 42);
+  for (int tick = 0; tick < 50; ++tick)
+    EXPECT_EQ(cache.parent(places, present, 0, 1.0, 2.7, 3.0, 0.0, 42), first);
+  EXPECT_EQ(cache.builds(), 1u);
+  present[first] = false;  // the parent died: another one
+  const int second = cache.parent(places, present, 0, 1.0, 2.7, 3.0, 0.0, 42);
+  EXPECT_EQ(cache.builds(), 2u);
+  EXPECT_NE(second, first);
+  EXPECT_EQ(second, build_parent_tree(places, present, 0, 1.0, 2.7, 3.0, 0.0).parent[42]);
+  cache.parent(places, present, 0, 1.0, 2.7, 3.0, 0.0, 43);  // another label
+  EXPECT_EQ(cache.builds(), 3u);
+  EXPECT_EQ(cache.link_builds(), 1u);
+}
+
 TEST(ParentTreeScale, CacheRebuildsOnlyWhenAnInputChanges) {
   const auto places = label_places(load_shape_file(SWARMFORM_SCALE_SHAPES_DIR "/block_10x10.txt"), 1.0);
   std::vector<bool> present(places.size(), true);
