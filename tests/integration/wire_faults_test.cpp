@@ -213,7 +213,11 @@ TEST_F(WireFaults, AgentTakenForDeadWhileItsWorldWaitsRejoinsWithoutAPacket) {
   // The run starts once all three claimed; the world's stdout and stderr are written at once (events.jsonl
   // is buffered).
   ASSERT_TRUE(eventually(kRunDeadline, [&] {
-    return w.err().find("id 2 claimed") != std::string::npos || !w.running();
+    const std::string err = w.err();
+    const bool all = err.find("id 0 claimed") != std::string::npos &&
+                     err.find("id 1 claimed") != std::string::npos &&
+                     err.find("id 2 claimed") != std::string::npos;
+    return all || !w.running();
   })) << w.err();
   std::this_thread::sleep_for(std::chrono::milliseconds(1000));  // agents 0 and 1 have answered round 0
   ASSERT_EQ(w.out().find("death"), std::string::npos) << "the round must still wait for robot 2: " << w.out();
