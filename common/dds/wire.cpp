@@ -759,6 +759,20 @@ sfdds_Command command_key(RobotId id) {
   key.robot_id = id;
   return key;
 }
+
+// A command of `kind` for `id` stamped with the writer's run and version; its telemetry says nothing (no
+// label, no parent) until a step fills it.
+sfdds_Command stamped_command(RobotId id, std::uint8_t kind, std::uint64_t run_nonce,
+                              std::uint16_t wire_version) {
+  sfdds_Command s{};
+  s.robot_id = id;
+  s.wire_version = wire_version;
+  s.run_nonce = run_nonce;
+  s.kind = kind;
+  s.label = -1;
+  s.parent = -1;
+  return s;
+}
 }  // namespace
 
 void CommandWriter::set_stamp(std::uint64_t run_nonce, std::uint16_t wire_version) {
@@ -772,15 +786,9 @@ void CommandWriter::claim(RobotId id, std::uint64_t nonce, std::uint32_t pid) {
     keep_instance(impl_->writer.get(), &key);
     impl_->registered = id;
   }
-  sfdds_Command s{};
-  s.robot_id = id;
-  s.wire_version = impl_->wire_version;
-  s.run_nonce = impl_->run_nonce;
-  s.kind = sfdds_COMMAND_CLAIM;
+  sfdds_Command s = stamped_command(id, sfdds_COMMAND_CLAIM, impl_->run_nonce, impl_->wire_version);
   s.nonce = nonce;
   s.pid = pid;
-  s.label = -1;
-  s.parent = -1;
   check(dds_write(impl_->writer.get(), &s), "dds_write(claim)");
   impl_->alive_at = dds_time();
 }
@@ -788,13 +796,8 @@ void CommandWriter::claim(RobotId id, std::uint64_t nonce, std::uint32_t pid) {
 dds_time_t CommandWriter::keep_alive(dds_time_t now, bool by_sample) {
   if (now - impl_->alive_at >= kLivelinessAssertPeriod) {
     if (by_sample && impl_->registered) {
-      sfdds_Command s{};
-      s.robot_id = *impl_->registered;
-      s.wire_version = impl_->wire_version;
-      s.run_nonce = impl_->run_nonce;
-      s.kind = sfdds_COMMAND_ALIVE;
-      s.label = -1;
-      s.parent = -1;
+      const sfdds_Command s =
+          stamped_command(*impl_->registered, sfdds_COMMAND_ALIVE, impl_->run_nonce, impl_->wire_version);
       check(dds_write(impl_->writer.get(), &s), "dds_write(alive)");
     } else {
       check(dds_assert_liveliness(impl_->writer.get()), "dds_assert_liveliness(command writer)");
@@ -810,11 +813,7 @@ bool CommandWriter::holds_instance(RobotId id) const {
 }
 
 void CommandWriter::step(RobotId id, Tick tick, const Command& c) {
-  sfdds_Command s{};
-  s.robot_id = id;
-  s.wire_version = impl_->wire_version;
-  s.run_nonce = impl_->run_nonce;
-  s.kind = sfdds_COMMAND_STEP;
+  sfdds_Command s = stamped_command(id, sfdds_COMMAND_STEP, impl_->run_nonce, impl_->wire_version);
   s.tick = tick;
   s.left_speed = c.left_speed;
   s.right_speed = c.right_speed;

@@ -680,8 +680,7 @@ const FormationContext& PaperController::context(const Perception& p) {
     // when one of the two changed (a 1024-label shape's labels entries change every tick somewhere).
     auto extras = motion_member_extras(stigmergy_, barrier_at_ready_.members);
     if (members_stale_ || ctx.members_version == 0 || extras != member_extras_) {
-      auto members = barrier_at_ready_.members;
-      for (const auto& [id, label] : extras) members[id] = label;
+      auto members = motion_members(barrier_at_ready_.members, extras);
       if (ctx.members_version == 0 || members != ctx.members) {
         ctx.members = std::move(members);
         ++ctx.members_version;

@@ -51,10 +51,15 @@ std::vector<std::pair<RobotId, int>> motion_member_extras(const Stigmergy& stigm
   return extras;
 }
 
-std::map<RobotId, int> motion_members(const Stigmergy& stigmergy, const std::map<RobotId, int>& at_ready) {
+std::map<RobotId, int> motion_members(const std::map<RobotId, int>& at_ready,
+                                      const std::vector<std::pair<RobotId, int>>& extras) {
   std::map<RobotId, int> members = at_ready;
-  for (const auto& [id, label] : motion_member_extras(stigmergy, at_ready)) members[id] = label;
+  for (const auto& [id, label] : extras) members[id] = label;
   return members;
+}
+
+std::map<RobotId, int> motion_members(const Stigmergy& stigmergy, const std::map<RobotId, int>& at_ready) {
+  return motion_members(at_ready, motion_member_extras(stigmergy, at_ready));
 }
 
 std::vector<int> vacant_labels(const Stigmergy& stigmergy, int label_count,

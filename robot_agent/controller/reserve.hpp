@@ -49,6 +49,9 @@ std::map<RobotId, int> motion_members(const Stigmergy& stigmergy, const std::map
 // stigmergy changes (no copy of `at_ready`, which holds every label of a 1024-label shape).
 std::vector<std::pair<RobotId, int>> motion_member_extras(const Stigmergy& stigmergy,
                                                           const std::map<RobotId, int>& at_ready);
+// The members from `at_ready` and the extras motion_member_extras found.
+std::map<RobotId, int> motion_members(const std::map<RobotId, int>& at_ready,
+                                      const std::vector<std::pair<RobotId, int>>& extras);
 
 // The labels a reserve may take now (see above). `holder_since`: label -> tick its labels entry last changed.
 std::vector<int> vacant_labels(const Stigmergy& stigmergy, int label_count,
