@@ -3,8 +3,8 @@
 // Cyclone finds every agent's 500 ms lease expired as soon as it resumes, although the agents kept asserting
 // it all along: their datagrams wait in the socket. So a writer lost within kSuspectWindow of awake time
 // after the world's own stall is only suspected; it becomes a death if it stays lost for kGrace of awake
-// time, and was never dead if its liveliness comes back before (the agent's next assertion, within 1/3
-// lease). Otherwise a loss is a death at once, as before (a SIGKILL is seen in ~0.5 s).
+// time, and was never dead if its liveliness comes back before or a sample of its comes in (the agent's
+// next command or ALIVE sample). Otherwise a loss is a death at once (a SIGKILL is seen in ~0.5 s).
 #pragma once
 
 #include <cstdint>
@@ -39,6 +39,7 @@ class StallGuard {
   bool suspect(dds::PublicationHandle writer);
   // Its liveliness came back: true if it was a suspect (then it never died).
   bool clear(dds::PublicationHandle writer);
+  bool suspected(dds::PublicationHandle writer) const { return suspects_.count(writer) != 0; }
   // Suspects lost for kGrace of awake time: they are deaths now (removed from the suspects).
   void expired(std::vector<dds::PublicationHandle>& out);
 
