@@ -14,6 +14,7 @@ MotionParams motion_params(const FormationParams& p) {
   m.max_speed = p.max_speed;
   m.comm_range = p.comm_range;
   m.goal = p.goal;
+  m.goal_radius = p.goal_radius;
   m.ready_timeout = p.ready_timeout;
   m.boundary_delay = ticks("boundary_delay");
   m.neighbour_timeout = p.neighbour_timeout;

@@ -10,10 +10,11 @@ namespace swarmform::controller::motion {
 
 struct MotionParams {
   // From the mission.
-  double spacing = 1.0;     // m, grid spacing
-  double max_speed = 0.1;   // m/s
-  double comm_range = 3.0;  // m
-  Vec2 goal{10.0, 0.0};     // m: every robot holds it, only the leader uses it
+  double spacing = 1.0;      // m, grid spacing
+  double max_speed = 0.1;    // m/s
+  double comm_range = 3.0;   // m
+  Vec2 goal{10.0, 0.0};      // m: every robot holds it, only the leader uses it
+  double goal_radius = 0.5;  // m: the world judges arrival by the shape's centroid within it
   // Ready.
   int ready_timeout = 40;                     // ticks in Ready before Motion
   int boundary_delay = 10;                    // ticks in Ready before judging the boundary role

@@ -338,11 +338,31 @@ Vec2 PaperMotion::own_target(const FormationContext& ctx) const {
   return vadd(p_.goal, vsub(ctx.places[static_cast<std::size_t>(ctx.label)], live_centroid_));
 }
 
+// The leader stops once its place is this close to its target, i.e. once the live shape's centroid (as the
+// leader's own place puts it) is this close to the goal. The world judges arrival by the assigned robots'
+// centroid within the goal's radius, not at its centre (docs/recording-format.md): carrying the shape on to
+// the centre cost the paper's run 20 ticks. So: inside the radius by the leader's own arrival_tolerance and
+// by the world's shape tolerance (0.1 grid spacing), by which the assigned centroid may differ from the
+// leader's estimate. A goal too small for those margins: within arrival_tolerance of its centre, and never
+// further than half its radius.
+double PaperMotion::leader_stop_distance() const {
+  constexpr double kShapeTolerance = 0.1;  // x spacing: the world's formation test
+  const double inside = p_.goal_radius - p_.arrival_tolerance - kShapeTolerance * p_.spacing;
+  return std::max(inside, std::min(p_.arrival_tolerance, 0.5 * p_.goal_radius));
+}
+
 // An arrived robot moves again when its target moved (the leader, or a robot that arrived alone: the live
-// shape's centroid moved, a death), its parent changed, or its parent is no longer arrived.
+// shape's centroid moved, a death), its parent changed, or its parent is no longer arrived. A robot that
+// arrived alone (its piece cut off) follows again once it hears a parent: its own target is where the goal
+// puts its place, but the leader's piece stops anywhere inside the goal's radius, up to
+// leader_stop_distance() short of that, and the shape is whole only around the leader's place.
 bool PaperMotion::should_resume(const FormationContext& ctx) const {
   const Vec2 position{ctx.pose.x, ctx.pose.y};
-  if (leader_ == ctx.self || !parent_ || arrived_alone_) {
+  if (leader_ == ctx.self) {
+    return vnorm(vsub(own_target(ctx), position)) > leader_stop_distance() + p_.arrival_tolerance;
+  }
+  if (arrived_alone_ && parent_ && !parent_lost(ctx)) return true;
+  if (!parent_ || arrived_alone_) {
     return vnorm(vsub(own_target(ctx), position)) > kResumeFactor * p_.arrival_tolerance;
   }
   if (parent_ != arrived_parent_) return true;
@@ -418,7 +438,7 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
     // The leader takes the centroid of the live shape to the goal: its own target is the goal plus its
     // place's offset from that centroid.
     const Vec2 target = own_target(ctx);
-    if (vnorm(vsub(target, position)) < p_.arrival_tolerance) {
+    if (vnorm(vsub(target, position)) < leader_stop_distance()) {
       state_ = RobotState::Arrived;
       arrived_alone_ = false;
       arrived_parent_.reset();

@@ -10,7 +10,8 @@
 //            Pinned (moved under a quarter of the way asked for over 20 ticks, an obstacle remembered near)
 //            -> boundary following (wall_follow.hpp). A follower whose parent is unheard, or that the tree
 //            cannot reach, takes its own place to the goal as the leader does (its piece re-joins there).
-//   Arrived  leader: its place in the shape lies where the goal puts it; followers: their parent has arrived
+//   Arrived  leader: the shape's centroid, as its place puts it, lies inside the goal's radius by its margins
+//            (leader_stop_distance); followers: their parent has arrived
 //            and |F_net| is small. Formation and obstacle forces are zero (collision avoidance stays on). A
 //            changed target or parent puts an arrived robot back into Motion.
 //            The leader waits for the shape: its cruise is multiplied by
@@ -63,6 +64,7 @@ class PaperMotion final : public MotionPhases {
   Vec2 reference_to(const FormationContext& ctx, RobotId id) const;
   Vec2 motion_velocity(const FormationContext& ctx, MotionStep& out);
   Vec2 own_target(const FormationContext& ctx) const;
+  double leader_stop_distance() const;
   bool parent_lost(const FormationContext& ctx) const;
   bool should_resume(const FormationContext& ctx) const;
 

@@ -90,14 +90,53 @@ TEST(MotionArrival, PaperRunArrivesAtPace) {
   print("paper", out);
   ASSERT_TRUE(out.arrived.has_value());
   ASSERT_TRUE(out.motion_start.has_value());
-  // Issue 17 asks for 1.25 x the straight-line minimum (~1,120 ticks) with peak distortion <= 0.5; at 0.6 of
-  // the limit and with the strain rule holding the leader at 0.02 m/s past the box it took 2.54 x. Now 1.27 x
-  // (robot_agent/README.md, "Measured"); this guards 1.35 x.
+  // Issue 17 asks for 1.25 x the straight-line minimum (~1,120 ticks: the centroid's distance to the goal's
+  // radius at the limit) with peak distortion <= 0.5. With the leader carrying the shape on to the goal's
+  // centre it took 1.27 x; it stops inside the radius now (robot_agent/README.md, "Arrival").
   const double ratio = static_cast<double>(*out.arrived - *out.motion_start) / out.minimum;
   std::printf("paper: %.0f ticks minimum, %.3f x, peak distortion %.3f\n", out.minimum, ratio, out.peak);
-  EXPECT_LE(ratio, 1.35);
+  EXPECT_LE(ratio, 1.25);
   EXPECT_LE(out.peak, 0.5);
 }
+
+// Three robots cut off inside the U (u_trap.yaml, seed 10) reach the goal first and arrive alone at their own
+// targets; the leader's piece stops inside the goal's radius, short of where the goal puts the centroid. They
+// hear their parent again there and must follow it: standing at their own targets left them ~0.2 m off the
+// shape, which was never judged arrived (25,000 ticks).
+TEST(MotionArrival, APieceThatArrivedAloneFollowsAgainWhenItHearsItsParent) {
+  world::ScenarioOverrides o;
+  o.seed = 10;
+  o.max_ticks = 12000;
+  const auto scenario =
+      world::load_scenario(repo("scenarios/u_trap.yaml"), o, swarmform::controller::builtin_registry());
+  const auto out = run_to_arrival(scenario);
+  print("u_trap seed 10", out);
+  ASSERT_TRUE(out.arrived.has_value()) << "not arrived by tick 12000: error " << out.error << ", centroid "
+                                       << out.to_goal << " m from the goal";
+}
+
+// The leader stops once the shape's centroid is inside the goal's radius by its margins, whatever the radius:
+// a small goal (under the margins: it makes for the centre) and a large one (it stops well short of the
+// centre), both judged arrived by the world's rule with the centroid inside the radius.
+class MotionGoalRadius : public testing::TestWithParam<double> {};
+
+TEST_P(MotionGoalRadius, ShapeStopsInsideTheGoalRadius) {
+  auto s =
+      world::load_scenario(repo("scenarios/open_field.yaml"), {}, swarmform::controller::builtin_registry());
+  s.mission.goal_radius = GetParam();
+  s.max_ticks = 3000;
+  const auto out = run_to_arrival(s);
+  print(("goal radius " + std::to_string(GetParam())).c_str(), out);
+  ASSERT_TRUE(out.arrived.has_value()) << "not arrived by tick 3000: error " << out.error << ", centroid "
+                                       << out.to_goal << " m from the goal";
+  EXPECT_LT(out.to_goal, GetParam());
+  // Not carried on to the centre when the radius leaves room: the trip ends at the radius's margins.
+  if (GetParam() >= 1.0) {
+    EXPECT_GT(out.to_goal, 0.5 * GetParam());
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Radius, MotionGoalRadius, testing::Values(0.12, 0.5, 2.0));
 
 // A 2 x 8 block (8 wide across the path) whose leader's line (its place's path to where the goal puts it)
 // runs into the paper's box: the leader was held at the box for good (an obstacle on the leader's line is a
