@@ -10,6 +10,13 @@
 
 namespace swarmform::controller {
 
+void LabelTicks::set(int label, Tick tick) {
+  if (label < 0) return;
+  const auto i = static_cast<std::size_t>(label);
+  if (i >= ticks_.size()) ticks_.resize(i + 1, kNone);
+  ticks_[i] = tick;
+}
+
 LabelStatus label_status(const Stigmergy& stigmergy, int label) {
   LabelStatus s;
   if (label < 0) return s;
@@ -73,21 +80,29 @@ bool SeedElection::settled(Tick now, int settle_ticks) const {
 
 namespace {
 
-// Labels the neighbours report holding right now.
-std::set<int> labels_heard(const NeighbourTable& neighbours) {
-  std::set<int> out;
-  for (const auto& [id, n] : neighbours.all()) {
-    if (n.message.label >= 0) out.insert(n.message.label);
+// Labels the neighbours report holding right now, sorted (a few dozen: a sorted vector, not a tree of nodes
+// allocated one by one every tick).
+class LabelsHeard {
+ public:
+  explicit LabelsHeard(const NeighbourTable& neighbours) {
+    labels_.reserve(neighbours.all().size());
+    for (const auto& [id, n] : neighbours.all()) {
+      if (n.message.label >= 0) labels_.push_back(n.message.label);
+    }
+    std::sort(labels_.begin(), labels_.end());
   }
-  return out;
-}
+  bool contains(int label) const { return std::binary_search(labels_.begin(), labels_.end(), label); }
+
+ private:
+  std::vector<int> labels_;
+};
 
 }  // namespace
 
 std::vector<int> free_grid_labels(const ShapeTable& table, int label, const Stigmergy& stigmergy,
                                   const NeighbourTable& neighbours) {
   std::vector<int> out;
-  const auto heard = labels_heard(neighbours);
+  const LabelsHeard heard(neighbours);
   for (const auto& nb : table.neighbours(label)) {
     if (label_status(stigmergy, nb.label).kind == LabelStatus::Kind::Held) continue;
     if (heard.contains(nb.label)) continue;
@@ -99,7 +114,7 @@ std::vector<int> free_grid_labels(const ShapeTable& table, int label, const Stig
 std::vector<LabelOffer> collect_offers(const ShapeTable& table, double shape_heading,
                                        const NeighbourTable& neighbours, const Stigmergy& stigmergy) {
   std::map<int, LabelOffer> by_label;
-  const auto heard = labels_heard(neighbours);
+  const LabelsHeard heard(neighbours);
   for (const auto& [id, n] : neighbours.all()) {
     const auto& m = n.message;
     if (m.label < 0 || !m.has_origin) continue;
@@ -145,15 +160,15 @@ std::optional<LabelOffer> choose_offer(const std::vector<LabelOffer>& offers,
 }
 
 std::vector<int> labels_to_free(const ShapeTable& table, int own_label, const Stigmergy& stigmergy,
-                                const NeighbourTable& neighbours, const std::map<int, Tick>& entry_changed,
+                                const NeighbourTable& neighbours, const LabelTicks& entry_changed,
                                 RobotId self, Tick now, int label_timeout) {
   std::vector<int> out;
   for (const auto& nb : table.neighbours(own_label)) {
     const auto status = label_status(stigmergy, nb.label);
     if (status.kind != LabelStatus::Kind::Held || status.holder == self) continue;
-    auto changed = entry_changed.find(nb.label);
-    if (changed == entry_changed.end()) continue;  // not tracked yet
-    Tick quiet_since = changed->second;
+    const auto changed = entry_changed.find(nb.label);
+    if (!changed) continue;  // not tracked yet
+    Tick quiet_since = *changed;
     if (const auto heard = neighbours.last_heard(status.holder)) quiet_since = std::max(quiet_since, *heard);
     if (now >= quiet_since + static_cast<Tick>(label_timeout)) out.push_back(nb.label);
   }

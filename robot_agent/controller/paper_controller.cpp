@@ -444,7 +444,7 @@ void PaperController::track_holders() {
     std::int64_t& seen = holder_version_[static_cast<std::size_t>(l)];
     if (seen != static_cast<std::int64_t>(e->version)) {
       seen = e->version;
-      holder_since_[l] = tick_;
+      holder_since_.set(l, tick_);
       if (l != label_) {
         const auto s = label_status(stigmergy_, l);
         if (s.kind == LabelStatus::Kind::Held && s.holder == self_) stale_claims_.push_back(l);
@@ -513,8 +513,7 @@ void PaperController::free_seed_label() {
   if (status.kind != LabelStatus::Kind::Held || !has_origin_) return;
   const auto timeout = static_cast<Tick>(params_.label_timeout);
   if (tick_ < last_member_heard_ + timeout) return;
-  const auto changed = holder_since_.find(0);
-  Tick quiet_since = changed == holder_since_.end() ? 0 : changed->second;
+  Tick quiet_since = holder_since_.find(0).value_or(0);
   if (const auto heard = neighbours_.last_heard(status.holder)) quiet_since = std::max(quiet_since, *heard);
   if (tick_ < quiet_since + timeout) return;
   put_label_freed(stigmergy_, 0, tick_);

@@ -109,8 +109,8 @@ class PaperController final : public Controller {
   std::optional<Vec2> detour_;   // Moving, stuck with a side committed: a random point to go to first
   Tick detour_until_ = 0;
   Tick ready_tick_ = 0;
-  Tick reached_tick_ = 0;             // the tick it last entered Reached
-  std::map<int, Tick> holder_since_;  // label -> tick its labels entry last changed here (claim, heartbeat)
+  Tick reached_tick_ = 0;    // the tick it last entered Reached
+  LabelTicks holder_since_;  // label -> tick its labels entry last changed here (claim, heartbeat)
   // label -> that entry's version, -1 before it is first seen. Indexed, not a map: track_holders() looks up
   // every label every tick, and a tree's nodes were cold misses each (BENCHMARKS.md, P3).
   std::vector<std::int64_t> holder_version_;
