@@ -80,21 +80,19 @@ bool SeedElection::settled(Tick now, int settle_ticks) const {
 
 namespace {
 
-// Labels the neighbours report holding right now, sorted (a few dozen: a sorted vector, not a tree of nodes
-// allocated one by one every tick).
+// Whether a neighbour reports holding `label` right now. Asked only for the few grid labels the stigmergy
+// does not give to a holder: a scan of the neighbours for each, not a set of their labels built (and sorted,
+// or allocated node by node) for every message.
 class LabelsHeard {
  public:
-  explicit LabelsHeard(const NeighbourTable& neighbours) {
-    labels_.reserve(neighbours.all().size());
-    for (const auto& [id, n] : neighbours.all()) {
-      if (n.message.label >= 0) labels_.push_back(n.message.label);
-    }
-    std::sort(labels_.begin(), labels_.end());
+  explicit LabelsHeard(const NeighbourTable& neighbours) : neighbours_(neighbours) {}
+  bool contains(int label) const {
+    return std::any_of(neighbours_.all().begin(), neighbours_.all().end(),
+                       [label](const auto& entry) { return entry.second.message.label == label; });
   }
-  bool contains(int label) const { return std::binary_search(labels_.begin(), labels_.end(), label); }
 
  private:
-  std::vector<int> labels_;
+  const NeighbourTable& neighbours_;
 };
 
 }  // namespace
@@ -120,9 +118,9 @@ std::vector<LabelOffer> collect_offers(const ShapeTable& table, double shape_hea
     if (m.label < 0 || !m.has_origin) continue;
     for (int label : m.free_labels) {
       if (label < 0 || label >= table.size()) continue;
+      if (by_label.contains(label)) continue;  // std::map iterates ids in order: the lowest advertiser wins
       if (label_status(stigmergy, label).kind == LabelStatus::Kind::Held) continue;
       if (heard.contains(label)) continue;
-      if (by_label.contains(label)) continue;  // std::map iterates ids in order: the lowest advertiser wins
       by_label[label] = {label, id, m.label, m.origin, table.place(label, m.origin, shape_heading)};
     }
   }
