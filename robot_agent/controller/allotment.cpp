@@ -10,6 +10,13 @@
 
 namespace swarmform::controller {
 
+void LabelTicks::set(int label, Tick tick) {
+  if (label < 0) return;
+  const auto i = static_cast<std::size_t>(label);
+  if (i >= ticks_.size()) ticks_.resize(i + 1, kNone);
+  ticks_[i] = tick;
+}
+
 LabelStatus label_status(const Stigmergy& stigmergy, int label) {
   LabelStatus s;
   if (label < 0) return s;
@@ -73,21 +80,27 @@ bool SeedElection::settled(Tick now, int settle_ticks) const {
 
 namespace {
 
-// Labels the neighbours report holding right now.
-std::set<int> labels_heard(const NeighbourTable& neighbours) {
-  std::set<int> out;
-  for (const auto& [id, n] : neighbours.all()) {
-    if (n.message.label >= 0) out.insert(n.message.label);
+// Whether a neighbour reports holding `label` right now. Asked only for the few grid labels the stigmergy
+// does not give to a holder: a scan of the neighbours for each, not a set of their labels built (and sorted,
+// or allocated node by node) for every message.
+class LabelsHeard {
+ public:
+  explicit LabelsHeard(const NeighbourTable& neighbours) : neighbours_(neighbours) {}
+  bool contains(int label) const {
+    return std::any_of(neighbours_.all().begin(), neighbours_.all().end(),
+                       [label](const auto& entry) { return entry.second.message.label == label; });
   }
-  return out;
-}
+
+ private:
+  const NeighbourTable& neighbours_;
+};
 
 }  // namespace
 
 std::vector<int> free_grid_labels(const ShapeTable& table, int label, const Stigmergy& stigmergy,
                                   const NeighbourTable& neighbours) {
   std::vector<int> out;
-  const auto heard = labels_heard(neighbours);
+  const LabelsHeard heard(neighbours);
   for (const auto& nb : table.neighbours(label)) {
     if (label_status(stigmergy, nb.label).kind == LabelStatus::Kind::Held) continue;
     if (heard.contains(nb.label)) continue;
@@ -99,15 +112,15 @@ std::vector<int> free_grid_labels(const ShapeTable& table, int label, const Stig
 std::vector<LabelOffer> collect_offers(const ShapeTable& table, double shape_heading,
                                        const NeighbourTable& neighbours, const Stigmergy& stigmergy) {
   std::map<int, LabelOffer> by_label;
-  const auto heard = labels_heard(neighbours);
+  const LabelsHeard heard(neighbours);
   for (const auto& [id, n] : neighbours.all()) {
     const auto& m = n.message;
     if (m.label < 0 || !m.has_origin) continue;
     for (int label : m.free_labels) {
       if (label < 0 || label >= table.size()) continue;
+      if (by_label.contains(label)) continue;  // std::map iterates ids in order: the lowest advertiser wins
       if (label_status(stigmergy, label).kind == LabelStatus::Kind::Held) continue;
       if (heard.contains(label)) continue;
-      if (by_label.contains(label)) continue;  // std::map iterates ids in order: the lowest advertiser wins
       by_label[label] = {label, id, m.label, m.origin, table.place(label, m.origin, shape_heading)};
     }
   }
@@ -145,15 +158,15 @@ std::optional<LabelOffer> choose_offer(const std::vector<LabelOffer>& offers,
 }
 
 std::vector<int> labels_to_free(const ShapeTable& table, int own_label, const Stigmergy& stigmergy,
-                                const NeighbourTable& neighbours, const std::map<int, Tick>& entry_changed,
+                                const NeighbourTable& neighbours, const LabelTicks& entry_changed,
                                 RobotId self, Tick now, int label_timeout) {
   std::vector<int> out;
   for (const auto& nb : table.neighbours(own_label)) {
     const auto status = label_status(stigmergy, nb.label);
     if (status.kind != LabelStatus::Kind::Held || status.holder == self) continue;
-    auto changed = entry_changed.find(nb.label);
-    if (changed == entry_changed.end()) continue;  // not tracked yet
-    Tick quiet_since = changed->second;
+    const auto changed = entry_changed.find(nb.label);
+    if (!changed) continue;  // not tracked yet
+    Tick quiet_since = *changed;
     if (const auto heard = neighbours.last_heard(status.holder)) quiet_since = std::max(quiet_since, *heard);
     if (now >= quiet_since + static_cast<Tick>(label_timeout)) out.push_back(nb.label);
   }

@@ -29,8 +29,11 @@
 #pragma once
 
 #include <cstdint>
+#include <initializer_list>
+#include <limits>
 #include <map>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "common/types.hpp"
@@ -57,6 +60,28 @@ void put_label_freed(Stigmergy& stigmergy, int label, Tick now);
 constexpr bool keeps_label(RobotId self, RobotId other) {
   return self > other;
 }
+
+// label -> a tick (PaperController: the tick it last saw the label's entry change), or none. Indexed by
+// label, not a tree: the label-freeing rule looks up its grid's labels every tick in every robot of the
+// shape, and with a 1024-label shape each std::map lookup was ten cold nodes (bench/inprocess/README.md).
+class LabelTicks {
+ public:
+  LabelTicks() = default;
+  LabelTicks(std::initializer_list<std::pair<int, Tick>> ticks) {
+    for (const auto& [label, tick] : ticks) set(label, tick);
+  }
+  std::optional<Tick> find(int label) const {
+    if (label < 0 || static_cast<std::size_t>(label) >= ticks_.size()) return std::nullopt;
+    const Tick t = ticks_[static_cast<std::size_t>(label)];
+    return t == kNone ? std::nullopt : std::optional<Tick>(t);
+  }
+  void set(int label, Tick tick);
+  void clear() { ticks_.clear(); }
+
+ private:
+  static constexpr Tick kNone = std::numeric_limits<Tick>::max();
+  std::vector<Tick> ticks_;
+};
 
 // The seed election with ageing. A report carries its age: 0 from the candidate itself, one more at each
 // relay (the smallest age heard for that candidate, + 1). A report older than `max_age` hops is dropped.
@@ -114,7 +139,7 @@ std::optional<LabelOffer> choose_offer(const std::vector<LabelOffer>& offers,
 // silent for `label_timeout` ticks, counted from the later of the last time it was heard directly and
 // `entry_changed[label]`, the tick this robot last saw that label's entry change (a claim or a heartbeat).
 std::vector<int> labels_to_free(const ShapeTable& table, int own_label, const Stigmergy& stigmergy,
-                                const NeighbourTable& neighbours, const std::map<int, Tick>& entry_changed,
+                                const NeighbourTable& neighbours, const LabelTicks& entry_changed,
                                 RobotId self, Tick now, int label_timeout);
 
 // The rule that gives up on a label nobody takes (no robot left to take it: one died before taking a label,

@@ -19,6 +19,30 @@ void prefetch_for_write(const void* p, std::size_t bytes) {
 }
 }  // namespace
 
+void IdTicks::set(RobotId id, Tick tick) {
+  if (2 * (size_ + 1) > slots_.size()) {
+    // Grow to twice the size (16 slots at first) and put every id back.
+    std::vector<Slot> old = std::move(slots_);
+    slots_.assign(old.empty() ? 16 : 2 * old.size(), Slot{});
+    size_ = 0;
+    for (const Slot& s : old) {
+      if (s.used) set(s.id, s.tick);
+    }
+  }
+  for (std::size_t i = home(id);; i = (i + 1) & (slots_.size() - 1)) {
+    Slot& s = slots_[i];
+    if (!s.used) {
+      s = {id, 1, tick};
+      ++size_;
+      return;
+    }
+    if (s.id == id) {
+      s.tick = tick;
+      return;
+    }
+  }
+}
+
 void NeighbourTable::update(const Perception& perception, RobotId self, std::uint64_t own_digest) {
   now_ = perception.tick;
   const auto& readings = perception.messages;
@@ -69,7 +93,7 @@ void NeighbourTable::update(const Perception& perception, RobotId self, std::uin
         n.message.sender != reading.sender) {
       heard_entries_.resize(entries_begin);
       ++dropped_;
-      if (status_[where_[k]] == kKnown) expired_[reading.sender] = n.last_heard;
+      if (status_[where_[k]] == kKnown) expired_.set(reading.sender, n.last_heard);
       status_[where_[k]] = kDropped;
       continue;
     }
@@ -91,7 +115,7 @@ void NeighbourTable::remove_dropped_and_expired() {
     auto& entry = live_[i];
     if (status_[i] == kDropped) continue;
     if (now_ - entry.second.last_heard >= static_cast<Tick>(timeout_)) {
-      expired_[entry.first] = entry.second.last_heard;
+      expired_.set(entry.first, entry.second.last_heard);
       continue;
     }
     if (kept != i) {
@@ -126,9 +150,7 @@ bool NeighbourTable::fresh(RobotId id) const {
 
 std::optional<Tick> NeighbourTable::last_heard(RobotId id) const {
   if (const Neighbour* n = find(id)) return n->last_heard;
-  auto it = expired_.find(id);
-  if (it == expired_.end()) return std::nullopt;
-  return it->second;
+  return expired_.find(id);
 }
 
 void NeighbourTable::clear() {

@@ -7,7 +7,6 @@
 #include <cstdint>
 #include <optional>
 #include <span>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -26,6 +25,41 @@ struct Neighbour {
   // Its stigmergy entries of this tick, in the table's entries_heard() (kept apart: see there).
   std::uint32_t entries_begin = 0;
   std::uint32_t entries_count = 0;
+};
+
+// id -> tick, an open-addressing hash table (linear probing, at most half full): one probe is one cache line,
+// where a std::unordered_map lookup was a division and a chain of nodes, cold misses each. NeighbourTable
+// keeps the tick each expired neighbour was last heard in one, and the label-freeing rule asks it for every
+// grid label's holder that is not in radio range, every tick (a 1024-label shape: hundreds of expired ids).
+class IdTicks {
+ public:
+  std::optional<Tick> find(RobotId id) const {
+    if (slots_.empty()) return std::nullopt;
+    for (std::size_t i = home(id);; i = (i + 1) & (slots_.size() - 1)) {
+      const Slot& s = slots_[i];
+      if (!s.used) return std::nullopt;
+      if (s.id == id) return s.tick;
+    }
+  }
+  void set(RobotId id, Tick tick);
+  std::size_t size() const { return size_; }
+  void clear() {
+    slots_.clear();
+    size_ = 0;
+  }
+
+ private:
+  struct Slot {
+    RobotId id = 0;
+    std::uint32_t used = 0;
+    Tick tick = 0;
+  };
+  std::size_t home(RobotId id) const {
+    return static_cast<std::size_t>((static_cast<std::uint64_t>(id) * 0x9E3779B97F4A7C15ull) >> 32) &
+           (slots_.size() - 1);
+  }
+  std::vector<Slot> slots_;  // a power of two long, or empty
+  std::size_t size_ = 0;
 };
 
 // Sorted by id (iterates like a std::map<RobotId, Neighbour>). A flat array, not a tree: every message heard
@@ -93,7 +127,7 @@ class NeighbourTable {
   std::vector<StigmergyEntry> heard_entries_;  // this tick's entries of all neighbours (entries_heard)
   // The tick each expired neighbour was last heard (a live one's is in live_): written only on expiry,
   // not for each message heard.
-  std::unordered_map<RobotId, Tick> expired_;
+  IdTicks expired_;
   std::uint64_t dropped_ = 0;
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "common/splitmix64.hpp"
@@ -108,6 +109,9 @@ void PaperController::reset() {
   holder_since_.clear();
   holder_version_.assign(static_cast<std::size_t>(table_.size()), -1);
   holders_cursor_ = {};
+  free_stale_ = true;
+  free_label_ = -1;
+  free_from_ = 0;
   stale_claims_.clear();
   last_heartbeat_ = 0;
   last_member_heard_ = 0;
@@ -444,7 +448,7 @@ void PaperController::track_holders() {
     std::int64_t& seen = holder_version_[static_cast<std::size_t>(l)];
     if (seen != static_cast<std::int64_t>(e->version)) {
       seen = e->version;
-      holder_since_[l] = tick_;
+      holder_since_.set(l, tick_);
       if (l != label_) {
         const auto s = label_status(stigmergy_, l);
         if (s.kind == LabelStatus::Kind::Held && s.holder == self_) stale_claims_.push_back(l);
@@ -457,12 +461,18 @@ void PaperController::track_holders() {
   std::span<const std::uint32_t> changed;
   if (!stigmergy_.changes_since(holders_cursor_, changed)) {
     for (int l = 0; l < table_.size(); ++l) track(l);
+    free_stale_ = true;
     return;
   }
   const auto labels = static_cast<std::uint32_t>(stig::Ns::Labels);
   for (const std::uint32_t key : changed) {
-    if (stig::ns_of(key) == labels && stig::index_of(key) < static_cast<std::uint32_t>(table_.size()))
-      track(static_cast<int>(stig::index_of(key)));
+    if (stig::ns_of(key) == labels && stig::index_of(key) < static_cast<std::uint32_t>(table_.size())) {
+      const int l = static_cast<int>(stig::index_of(key));
+      track(l);
+      // Any change to an entry of our grid (a holder, a freed mark, a conflict settled at the same
+      // version) may change what free_dead_labels can free.
+      if (!free_stale_ && table_.are_neighbours(free_label_, l)) free_stale_ = true;
+    }
   }
 }
 
@@ -484,8 +494,25 @@ void PaperController::disown_stale_claims() {
 }
 
 void PaperController::free_dead_labels() {
-  for (int l : labels_to_free(table_, label_, stigmergy_, neighbours_, holder_since_, self_, tick_,
-                              params_.label_timeout)) {
+  // labels_to_free frees a label held by another robot once it has been silent for label_timeout ticks,
+  // counted from no earlier than the tick its entry last changed here: before the earliest such tick of
+  // the grid's labels it frees nothing, and its lookups (each a cache miss in a 1024-label shape) are
+  // skipped. Recomputed when an entry of the grid changed (track_holders) or the label did.
+  if (free_stale_ || free_label_ != label_) {
+    free_stale_ = false;
+    free_label_ = label_;
+    free_from_ = std::numeric_limits<Tick>::max();
+    for (const auto& nb : table_.neighbours(label_)) {
+      const auto status = label_status(stigmergy_, nb.label);
+      if (status.kind != LabelStatus::Kind::Held || status.holder == self_) continue;
+      if (const auto since = holder_since_.find(nb.label))
+        free_from_ = std::min(free_from_, *since + static_cast<Tick>(params_.label_timeout));
+    }
+  }
+  const bool may_free = tick_ >= free_from_;
+  for (int l : may_free ? labels_to_free(table_, label_, stigmergy_, neighbours_, holder_since_, self_, tick_,
+                                         params_.label_timeout)
+                        : std::vector<int>{}) {
     const auto holder = label_status(stigmergy_, l).holder;
     put_label_freed(stigmergy_, l, tick_);
     barrier_withdraw(stigmergy_, holder);
@@ -513,8 +540,7 @@ void PaperController::free_seed_label() {
   if (status.kind != LabelStatus::Kind::Held || !has_origin_) return;
   const auto timeout = static_cast<Tick>(params_.label_timeout);
   if (tick_ < last_member_heard_ + timeout) return;
-  const auto changed = holder_since_.find(0);
-  Tick quiet_since = changed == holder_since_.end() ? 0 : changed->second;
+  Tick quiet_since = holder_since_.find(0).value_or(0);
   if (const auto heard = neighbours_.last_heard(status.holder)) quiet_since = std::max(quiet_since, *heard);
   if (tick_ < quiet_since + timeout) return;
   put_label_freed(stigmergy_, 0, tick_);

@@ -109,8 +109,8 @@ class PaperController final : public Controller {
   std::optional<Vec2> detour_;   // Moving, stuck with a side committed: a random point to go to first
   Tick detour_until_ = 0;
   Tick ready_tick_ = 0;
-  Tick reached_tick_ = 0;             // the tick it last entered Reached
-  std::map<int, Tick> holder_since_;  // label -> tick its labels entry last changed here (claim, heartbeat)
+  Tick reached_tick_ = 0;    // the tick it last entered Reached
+  LabelTicks holder_since_;  // label -> tick its labels entry last changed here (claim, heartbeat)
   // label -> that entry's version, -1 before it is first seen. Indexed, not a map: track_holders() looks up
   // every label every tick, and a tree's nodes were cold misses each (BENCHMARKS.md, P3).
   std::vector<std::int64_t> holder_version_;
@@ -139,6 +139,13 @@ class PaperController final : public Controller {
   bool has_places_ = false;
   std::uint64_t places_version_ = 0;        // bumped on each recompute (ctx_.places_version)
   Stigmergy::ChangeCursor holders_cursor_;  // track_holders: the stigmergy changes read so far
+  // free_dead_labels: no label of our grid can be freed before free_from_ (the earliest, over the grid's
+  // labels held by another robot, of the tick its entry last changed + label_timeout: the rule counts the
+  // silence from no earlier than that). Valid while no entry of the grid of free_label_ changed
+  // (free_stale_ is set when one did) and we still hold free_label_; the rule runs only from free_from_ on.
+  bool free_stale_ = true;
+  int free_label_ = -1;
+  Tick free_from_ = 0;
   // Labels whose entry, changed this tick, names this robot although it does not hold them: an earlier run of
   // this robot's id (killed, restarted) held them (disown_stale_claims).
   std::vector<int> stale_claims_;

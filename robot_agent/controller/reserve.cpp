@@ -62,8 +62,8 @@ std::map<RobotId, int> motion_members(const Stigmergy& stigmergy, const std::map
   return motion_members(at_ready, motion_member_extras(stigmergy, at_ready));
 }
 
-std::vector<int> vacant_labels(const Stigmergy& stigmergy, int label_count,
-                               const std::map<int, Tick>& holder_since, Tick now, int label_timeout) {
+std::vector<int> vacant_labels(const Stigmergy& stigmergy, int label_count, const LabelTicks& holder_since,
+                               Tick now, int label_timeout) {
   // Per label: whether one of its barrier entries is alive.
   std::vector<char> live(static_cast<std::size_t>(label_count), 0);
   std::map<RobotId, int> entry_of;
@@ -83,8 +83,7 @@ std::vector<int> vacant_labels(const Stigmergy& stigmergy, int label_count,
       const auto entry = entry_of.find(status.holder);
       const bool a_dead_member = entry != entry_of.end() && entry->second == l;
       const auto since = holder_since.find(l);
-      const bool silent =
-          since == holder_since.end() || now >= since->second + static_cast<Tick>(label_timeout);
+      const bool silent = !since || now >= *since + static_cast<Tick>(label_timeout);
       claimed = !a_dead_member && !silent;
     }
     if (!claimed) out.push_back(l);

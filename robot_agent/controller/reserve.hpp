@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "common/types.hpp"
+#include "robot_agent/controller/allotment.hpp"
 #include "robot_agent/controller/neighbours.hpp"
 #include "robot_agent/controller/shape_table.hpp"
 #include "robot_agent/controller/stigmergy.hpp"
@@ -54,8 +55,8 @@ std::map<RobotId, int> motion_members(const std::map<RobotId, int>& at_ready,
                                       const std::vector<std::pair<RobotId, int>>& extras);
 
 // The labels a reserve may take now (see above). `holder_since`: label -> tick its labels entry last changed.
-std::vector<int> vacant_labels(const Stigmergy& stigmergy, int label_count,
-                               const std::map<int, Tick>& holder_since, Tick now, int label_timeout);
+std::vector<int> vacant_labels(const Stigmergy& stigmergy, int label_count, const LabelTicks& holder_since,
+                               Tick now, int label_timeout);
 
 // The robot, other than `self`, whose barrier entry gives it `label` and that is not marked dead (the lowest
 // id): the member was marked dead by mistake and has rewritten its entry, or another reserve reached the

@@ -1,21 +1,27 @@
 #include "robot_agent/controller/shape_table.hpp"
 
 #include <cmath>
+#include <mutex>
 #include <numbers>
 
 namespace swarmform::controller {
 
-ShapeTable::ShapeTable(const ShapeMatrix& shape, double spacing) : shape_(shape), spacing_(spacing) {
+std::shared_ptr<const ShapeTable::Data> ShapeTable::build(const ShapeMatrix& shape, double spacing) {
+  auto data = std::make_shared<Data>();
+  data->shape = shape;
+  data->spacing = spacing;
   const int n = shape.label_count();
-  rows_.assign(static_cast<std::size_t>(n), {});
-  offsets_.assign(static_cast<std::size_t>(n), {});
+  auto& rows = data->rows;
+  auto& offsets = data->offsets;
+  rows.assign(static_cast<std::size_t>(n), {});
+  offsets.assign(static_cast<std::size_t>(n), {});
   const auto [r0, c0] = shape.cell_of(0);
   for (int r = 0; r < shape.rows; ++r) {
     for (int c = 0; c < shape.cols; ++c) {
       const int label = shape.at(r, c);
       if (label < 0 || label >= n) continue;
-      offsets_[static_cast<std::size_t>(label)] = {spacing * (c - c0), -spacing * (r - r0)};
-      auto& row = rows_[static_cast<std::size_t>(label)];
+      offsets[static_cast<std::size_t>(label)] = {spacing * (c - c0), -spacing * (r - r0)};
+      auto& row = rows[static_cast<std::size_t>(label)];
       for (int dr = -1; dr <= 1; ++dr) {
         for (int dc = -1; dc <= 1; ++dc) {
           const int rr = r + dr, cc = c + dc;
@@ -28,12 +34,41 @@ ShapeTable::ShapeTable(const ShapeMatrix& shape, double spacing) : shape_(shape)
       }
     }
   }
+  return data;
+}
+
+ShapeTable::ShapeTable(const ShapeMatrix& shape, double spacing) : spacing_(spacing) {
+  // The tables built in this process, while any robot still holds one.
+  static std::mutex mutex;
+  static std::vector<std::weak_ptr<const Data>> built;
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    std::erase_if(built, [](const auto& w) { return w.expired(); });
+    for (const auto& w : built) {
+      auto data = w.lock();
+      if (data && data->spacing == spacing && data->shape.rows == shape.rows &&
+          data->shape.cols == shape.cols && data->shape.cells == shape.cells) {
+        data_ = std::move(data);
+        break;
+      }
+    }
+    if (!data_) {
+      data_ = build(shape, spacing);
+      built.push_back(data_);
+    }
+  }
+  size_ = static_cast<int>(data_->rows.size());
+}
+
+const ShapeMatrix& ShapeTable::shape() const {
+  static const ShapeMatrix kEmpty;
+  return data_ ? data_->shape : kEmpty;
 }
 
 const std::vector<ShapeNeighbour>& ShapeTable::neighbours(int label) const {
   static const std::vector<ShapeNeighbour> kNone;
   if (label < 0 || label >= size()) return kNone;
-  return rows_[static_cast<std::size_t>(label)];
+  return data_->rows[static_cast<std::size_t>(label)];
 }
 
 bool ShapeTable::are_neighbours(int a, int b) const {
@@ -45,7 +80,7 @@ bool ShapeTable::are_neighbours(int a, int b) const {
 
 Vec2 ShapeTable::offset(int label) const {
   if (label < 0 || label >= size()) return {};
-  return offsets_[static_cast<std::size_t>(label)];
+  return data_->offsets[static_cast<std::size_t>(label)];
 }
 
 Vec2 ShapeTable::place(int label, Vec2 origin, double shape_heading) const {

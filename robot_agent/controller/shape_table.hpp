@@ -6,8 +6,13 @@
 // listed in the order the 3x3 grid is scanned (row by row, left to right), as Table II lists 1, 2, 3.
 // In the arena the shape frame is turned so that its +y ("up", towards row 0) points along shape_heading:
 // arena = R(shape_heading - pi/2) * shape frame.
+//
+// The table is immutable once built, and every robot of a swarm builds the same one: tables built from equal
+// shapes and spacings in one process share one copy (an in-process run of 1024 robots on a 1024-label shape
+// held 1024 copies of ~300 KB, and each robot's lookups in its own copy were cache misses).
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "common/shape.hpp"
@@ -28,9 +33,9 @@ class ShapeTable {
   ShapeTable() = default;
   ShapeTable(const ShapeMatrix& shape, double spacing);
 
-  int size() const { return static_cast<int>(rows_.size()); }  // n labels
+  int size() const { return size_; }  // n labels
   double spacing() const { return spacing_; }
-  const ShapeMatrix& shape() const { return shape_; }
+  const ShapeMatrix& shape() const;
   // Table II's row of `label` (empty for a label out of range).
   const std::vector<ShapeNeighbour>& neighbours(int label) const;
   bool are_neighbours(int a, int b) const;
@@ -42,10 +47,16 @@ class ShapeTable {
   std::vector<Vec2> places(Vec2 origin, double shape_heading) const;
 
  private:
-  ShapeMatrix shape_;
+  struct Data {
+    ShapeMatrix shape;
+    double spacing = 1.0;
+    std::vector<std::vector<ShapeNeighbour>> rows;  // by label
+    std::vector<Vec2> offsets;                      // by label
+  };
+  static std::shared_ptr<const Data> build(const ShapeMatrix& shape, double spacing);
+  std::shared_ptr<const Data> data_;  // shared by the equal tables of the process
+  int size_ = 0;
   double spacing_ = 1.0;
-  std::vector<std::vector<ShapeNeighbour>> rows_;  // by label
-  std::vector<Vec2> offsets_;                      // by label
 };
 
 }  // namespace swarmform::controller

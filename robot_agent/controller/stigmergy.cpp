@@ -47,19 +47,20 @@ void Stigmergy::index_from(std::size_t position) {
 }
 
 void Stigmergy::store(std::vector<StigmergyEntry>::iterator it, const StigmergyEntry& e) {
+  const auto position = static_cast<std::size_t>(it - table_.begin());
   if (it != table_.end() && it->key == e.key) {
     digest_ -= stigmergy_entry_hash(*it);
     count_value(*it, -1);
     *it = e;
   } else {
-    const auto position = static_cast<std::size_t>(it - table_.begin());
     table_.insert(it, e);
+    sends_left_.insert(sends_left_.begin() + static_cast<std::ptrdiff_t>(position), 0);
     index_from(position);  // the entries after it moved one place on
   }
   digest_ += stigmergy_entry_hash(e);
   count_value(e, +1);
   log_change(e.key);
-  mark_changed(e.key);
+  mark_changed(position);
 }
 
 void Stigmergy::log_change(std::uint32_t key) {
@@ -119,13 +120,10 @@ void Stigmergy::merge_all(std::span<const StigmergyEntry> entries) {
   for (const auto& e : entries) merge(e);
 }
 
-void Stigmergy::mark_changed(std::uint32_t key) {
-  auto [it, inserted] = pending_.try_emplace(key, kResendCount);
-  if (inserted) {
-    queue_.emplace(next_turn_++, key);
-  } else {
-    it->second = kResendCount;  // changed again while waiting: it keeps its place in the queue
-  }
+void Stigmergy::mark_changed(std::size_t position) {
+  // Changed again while waiting: it keeps its place in the queue, with its sends counted afresh.
+  if (sends_left_[position] == 0) queue_.push_back(table_[position].key);
+  sends_left_[position] = static_cast<std::uint8_t>(kResendCount);
 }
 
 std::vector<StigmergyEntry> Stigmergy::outgoing(std::size_t max_entries) {
@@ -136,16 +134,11 @@ std::vector<StigmergyEntry> Stigmergy::outgoing(std::size_t max_entries) {
   // still goes out in turn: in key order, the low keys took every message and the high ones starved.
   const std::size_t waiting = queue_.size();
   for (std::size_t i = 0; i < waiting && out.size() < max_entries; ++i) {
-    const auto front = queue_.begin();
-    const std::uint32_t key = front->second;
-    queue_.erase(front);
-    out.push_back(*entry(key));
-    auto it = pending_.find(key);
-    if (--it->second <= 0) {
-      pending_.erase(it);
-    } else {
-      queue_.emplace(next_turn_++, key);
-    }
+    const std::uint32_t key = queue_.front();
+    queue_.pop_front();
+    const auto position = static_cast<std::size_t>(find_slot(key) - table_.begin());
+    out.push_back(table_[position]);
+    if (--sends_left_[position] > 0) queue_.push_back(key);
   }
   const std::size_t n_changed = out.size();
   const auto chosen = [&](std::uint32_t key) {
@@ -184,7 +177,7 @@ void Stigmergy::clear() {
   log_first_ += log_.size() + 1;
   log_.clear();
   ++revision_.changes;
-  pending_.clear();
+  sends_left_.clear();
   queue_.clear();
   digest_ = 0;
   cursor_ = 0;

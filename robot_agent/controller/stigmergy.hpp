@@ -30,6 +30,7 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <map>
 #include <optional>
@@ -128,7 +129,7 @@ class Stigmergy {
   void clear();
 
  private:
-  void mark_changed(std::uint32_t key);
+  void mark_changed(std::size_t position);
   void count_value(const StigmergyEntry& e, int sign);
   void log_change(std::uint32_t key);
 
@@ -166,11 +167,12 @@ class Stigmergy {
   std::vector<StigmergyEntry>::iterator find_slot(std::uint32_t key);  // entry's place or lower bound
   std::vector<StigmergyEntry>::const_iterator find_slot(std::uint32_t key) const;
   void index_from(std::size_t position);
-  // Changed entries still to send: key -> sends left; and the queue they go out in, turn -> key, oldest
-  // first (each key is in it exactly once while pending).
-  std::map<std::uint32_t, int> pending_;
-  std::map<std::uint64_t, std::uint32_t> queue_;
-  std::uint64_t next_turn_ = 0;
+  // Changed entries still to send: the sends left of each entry, beside table_ (0: not pending), and the
+  // queue they go out in, oldest first (each pending key is in it exactly once). Not trees: while a large
+  // shape's heartbeats flood, every merge that takes an entry marks it, and a std::map insert and erase per
+  // entry was a fifth of a robot's tick (bench/inprocess/README.md).
+  std::vector<std::uint8_t> sends_left_;
+  std::deque<std::uint32_t> queue_;
   std::uint64_t digest_ = 0;
   std::uint32_t cursor_ = 0;  // round-robin: the next key to send is the first >= cursor_
   Revision revision_;

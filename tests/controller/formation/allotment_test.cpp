@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
+#include <random>
 #include <string>
 
 #include "common/shape.hpp"
@@ -89,13 +91,39 @@ TEST(Allotment, FreeGridLabelsLeaveOutHeldAndHeardLabels) {
   EXPECT_EQ(free_grid_labels(table, 0, s, nb), (std::vector<int>{1, 2}));
 }
 
+// LabelTicks (label -> tick, indexed) finds what a std::map of the same sets finds, under random sets of
+// labels in and beyond its current size, negative labels and clears.
+TEST(Allotment, LabelTicksFindsWhatAMapFinds) {
+  std::mt19937 rng(7);
+  LabelTicks fast;
+  std::map<int, Tick> plain;
+  std::uniform_int_distribution<int> label(-3, 1200), action(0, 999);
+  std::uniform_int_distribution<Tick> tick(0, 100000);
+  for (int step = 0; step < 20000; ++step) {
+    const int a = action(rng);
+    if (a == 0) {
+      fast.clear();
+      plain.clear();
+    } else if (a < 500) {
+      const int l = label(rng);
+      const Tick t = tick(rng);
+      fast.set(l, t);
+      if (l >= 0) plain[l] = t;
+    }
+    const int l = label(rng);
+    const auto it = plain.find(l);
+    const std::optional<Tick> expected = it == plain.end() ? std::nullopt : std::optional<Tick>(it->second);
+    ASSERT_EQ(fast.find(l), expected) << "step " << step << " label " << l;
+  }
+}
+
 TEST(Allotment, LabelsOfSilentHoldersAreFreedAfterTheTimeout) {
   const ShapeTable table(triangle_shape(), 1.0);
   Stigmergy s(0);
   put_label_holder(s, 2, 7);
   put_label_holder(s, 4, 8);  // not in label 0's grid: not ours to free
   NeighbourTable nb(20);
-  std::map<int, Tick> changed{{2, 0}, {4, 0}};
+  LabelTicks changed{{2, 0}, {4, 0}};
   // Entry seen at tick 0, holder never heard: freed after the timeout from then.
   EXPECT_TRUE(labels_to_free(table, 0, s, nb, changed, 0, 39, 40).empty());
   EXPECT_EQ(labels_to_free(table, 0, s, nb, changed, 0, 40, 40), (std::vector<int>{2}));
@@ -104,7 +132,7 @@ TEST(Allotment, LabelsOfSilentHoldersAreFreedAfterTheTimeout) {
   EXPECT_TRUE(labels_to_free(table, 0, s, nb, changed, 0, 139, 40).empty());
   EXPECT_EQ(labels_to_free(table, 0, s, nb, changed, 0, 140, 40), (std::vector<int>{2}));
   // A heartbeat (the entry changed at 130) counts like being heard.
-  changed[2] = 130;
+  changed.set(2, 130);
   EXPECT_TRUE(labels_to_free(table, 0, s, nb, changed, 0, 169, 40).empty());
   EXPECT_EQ(labels_to_free(table, 0, s, nb, changed, 0, 170, 40), (std::vector<int>{2}));
   // Our own label and untracked labels are never freed.

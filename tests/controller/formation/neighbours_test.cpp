@@ -2,6 +2,9 @@
 // senders, and the entries it leaves out when the sender's stigmergy digest is the receiver's own.
 #include <gtest/gtest.h>
 
+#include <map>
+#include <optional>
+#include <random>
 #include <vector>
 
 #include "robot_agent/controller/message.hpp"
@@ -156,6 +159,47 @@ TEST(NeighbourTable, KeepsEachNeighboursEntriesOfThisTickApartAndDropsThoseOfABa
   EXPECT_EQ(entries_of(t, 5), message_from(5).entries);
   EXPECT_EQ(entries_of(t, 3), message_from(3).entries);
   EXPECT_EQ(t.find(9), nullptr);
+}
+
+// IdTicks (the expired neighbours' ticks, an open-addressing table) finds what a std::map of the same sets
+// finds: random ids, clustered and spread (0, the largest id, ids that collide in a small table), re-sets of
+// an id, growth through many sizes, and clears.
+TEST(IdTicks, FindsWhatAMapFinds) {
+  std::mt19937 rng(11);
+  IdTicks fast;
+  std::map<RobotId, Tick> plain;
+  std::uniform_int_distribution<int> action(0, 999), kind(0, 3);
+  std::uniform_int_distribution<RobotId> small(0, 300), any(0, 0xFFFFFFFFu);
+  std::uniform_int_distribution<Tick> tick(0, 1000000);
+  const auto some_id = [&] {
+    switch (kind(rng)) {
+      case 0:
+        return any(rng);
+      case 1:
+        return small(rng) * 16u;  // the same low bits
+      case 2:
+        return static_cast<RobotId>(kind(rng) == 0 ? 0u : 0xFFFFFFFFu);
+      default:
+        return small(rng);
+    }
+  };
+  for (int step = 0; step < 60000; ++step) {
+    const int a = action(rng);
+    if (a == 0 && step % 7 == 0) {
+      fast.clear();
+      plain.clear();
+    } else if (a < 400) {
+      const RobotId id = some_id();
+      const Tick t = tick(rng);
+      fast.set(id, t);
+      plain[id] = t;
+    }
+    const RobotId id = some_id();
+    const auto it = plain.find(id);
+    ASSERT_EQ(fast.find(id), it == plain.end() ? std::nullopt : std::optional<Tick>(it->second))
+        << "step " << step << " id " << id;
+    ASSERT_EQ(fast.size(), plain.size()) << "step " << step;
+  }
 }
 
 }  // namespace

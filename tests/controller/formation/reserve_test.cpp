@@ -44,7 +44,7 @@ TEST(Reserve, AClaimHoldsTheVacancyWhileItsHolderHeartbeats) {
   Stigmergy s = moving_shape();
   mark_dead(s, 11);
   put_label_holder(s, 1, 20);  // reserve 20 claims label 1 at tick 100
-  const std::map<int, Tick> since = {{1, 100}};
+  const LabelTicks since = {{1, 100}};
   EXPECT_TRUE(vacant_labels(s, kLabels, since, 100 + kTimeout - 1, kTimeout).empty());
   // Silent for label_timeout ticks: it died on its way, the label is vacant again.
   EXPECT_EQ(vacant_labels(s, kLabels, since, 100 + kTimeout, kTimeout), std::vector<int>{1});

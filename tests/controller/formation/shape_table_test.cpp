@@ -40,6 +40,33 @@ TEST(ShapeTable, DistancesScaleWithTheMissionSpacing) {
   EXPECT_NEAR(table.neighbours(0)[1].distance, 0.5, 1e-12);
 }
 
+// Tables of equal shapes and spacings share one copy in the process (shape_table.hpp); a table of another
+// shape of the same size, or of another spacing, is its own.
+TEST(ShapeTable, TablesShareOnlyWhatIsEqual) {
+  ShapeMatrix line{1, 3, {0, 1, 2}};
+  ShapeMatrix turned{1, 3, {1, 0, 2}};  // same size, other cells
+  const ShapeTable a(line, 1.0), b(line, 1.0), c(turned, 1.0), d(line, 2.0);
+  EXPECT_EQ(&a.neighbours(0), &b.neighbours(0));
+  EXPECT_EQ(a.shape().cells, line.cells);
+  // Label 0 in the middle of `turned`: two neighbours; at the end of `line`: one.
+  ASSERT_EQ(a.neighbours(0).size(), 1u);
+  ASSERT_EQ(c.neighbours(0).size(), 2u);
+  EXPECT_EQ(c.shape().cells, turned.cells);
+  EXPECT_NEAR(a.offset(2).x, 2.0, 1e-12);
+  EXPECT_NEAR(c.offset(2).x, 1.0, 1e-12);
+  EXPECT_NEAR(d.offset(2).x, 4.0, 1e-12);
+  EXPECT_NEAR(d.neighbours(0)[0].distance, 2.0, 1e-12);
+  EXPECT_EQ(d.spacing(), 2.0);
+  // A copy and an empty table.
+  const ShapeTable copy = c;
+  EXPECT_EQ(copy.size(), 3);
+  EXPECT_EQ(&copy.neighbours(1), &c.neighbours(1));
+  const ShapeTable empty;
+  EXPECT_EQ(empty.size(), 0);
+  EXPECT_TRUE(empty.neighbours(0).empty());
+  EXPECT_EQ(empty.shape().rows, 0);
+}
+
 TEST(ShapeTable, RowsAreSymmetric) {
   const auto table = triangle(1.0);
   for (int a = 0; a < table.size(); ++a) {

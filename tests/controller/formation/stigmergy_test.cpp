@@ -1,7 +1,9 @@
 // Virtual stigmergy: Buzz semantics, multi-hop flooding under loss, one conflict rule everywhere.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <map>
+#include <optional>
 #include <random>
 #include <set>
 #include <vector>
@@ -181,6 +183,141 @@ TEST(Stigmergy, AConflictResolvesTheSameWayOnEveryRobot) {
     EXPECT_FALSE(stigmergy_newer(b, e));
     if (e.version == 1) {
       EXPECT_EQ(e.writer, 9u);  // equal versions: the higher writer
+    }
+  }
+}
+
+// The send queue kept beside the table (a sends-left count per entry and a FIFO of keys) against the rule
+// written the plain way, as it was before: a std::map of key -> sends left and one of turn -> key, the
+// longest-waiting first, then round-robin over the whole table. Random puts, merges (most of them stale),
+// messages of random sizes, copies and clears, with keys inside and outside the direct slot index (namespaces
+// 16 and up, indices of 8192 and up): every message and every table must be the same.
+class ReferenceStigmergy {
+ public:
+  explicit ReferenceStigmergy(RobotId self) : self_(self) {}
+  void put(std::uint32_t key, std::int64_t value) {
+    const auto it = table_.find(key);
+    store({key, value, it == table_.end() ? 1u : it->second.version + 1u, self_});
+  }
+  void merge(const StigmergyEntry& e) {
+    const auto it = table_.find(e.key);
+    if (it == table_.end() || stigmergy_newer(e, it->second)) store(e);
+  }
+  std::vector<StigmergyEntry> outgoing(std::size_t max_entries) {
+    std::vector<StigmergyEntry> out;
+    const std::size_t waiting = queue_.size();
+    for (std::size_t i = 0; i < waiting && out.size() < max_entries; ++i) {
+      const auto front = queue_.begin();
+      const std::uint32_t key = front->second;
+      queue_.erase(front);
+      out.push_back(table_.at(key));
+      auto it = pending_.find(key);
+      if (--it->second <= 0) {
+        pending_.erase(it);
+      } else {
+        queue_.emplace(next_turn_++, key);
+      }
+    }
+    const std::size_t n_changed = out.size();
+    const auto chosen = [&](std::uint32_t key) {
+      for (std::size_t i = 0; i < n_changed; ++i) {
+        if (out[i].key == key) return true;
+      }
+      return false;
+    };
+    if (!table_.empty() && out.size() < max_entries) {
+      auto it = table_.lower_bound(cursor_);
+      for (std::size_t visited = 0; visited < table_.size() && out.size() < max_entries; ++visited) {
+        if (it == table_.end()) it = table_.begin();
+        if (!chosen(it->first)) out.push_back(it->second);
+        ++it;
+      }
+      cursor_ = it == table_.end() ? 0u : it->first;
+    }
+    return out;
+  }
+  void clear() { *this = ReferenceStigmergy(self_); }
+  std::optional<std::int64_t> get(std::uint32_t key) const {
+    const auto it = table_.find(key);
+    return it == table_.end() ? std::nullopt : std::optional<std::int64_t>(it->second.value);
+  }
+  std::vector<StigmergyEntry> entries() const {
+    std::vector<StigmergyEntry> out;
+    for (const auto& [key, e] : table_) out.push_back(e);
+    return out;
+  }
+
+ private:
+  void store(const StigmergyEntry& e) {
+    table_[e.key] = e;
+    auto [it, inserted] = pending_.try_emplace(e.key, Stigmergy::kResendCount);
+    if (inserted) {
+      queue_.emplace(next_turn_++, e.key);
+    } else {
+      it->second = Stigmergy::kResendCount;
+    }
+  }
+  RobotId self_;
+  std::map<std::uint32_t, StigmergyEntry> table_;
+  std::map<std::uint32_t, int> pending_;
+  std::map<std::uint64_t, std::uint32_t> queue_;
+  std::uint64_t next_turn_ = 0;
+  std::uint32_t cursor_ = 0;
+};
+
+TEST(Stigmergy, TheSendQueueSendsWhatThePlainRuleSends) {
+  for (std::uint32_t seed = 1; seed <= 20; ++seed) {
+    std::mt19937 rng(seed);
+    Stigmergy fast(3);
+    ReferenceStigmergy plain(3);
+    // Keys: labels and barrier entries of a large shape, a few beyond the slot index.
+    std::vector<std::uint32_t> keys;
+    for (std::uint32_t i = 0; i < 300; ++i) keys.push_back(stig::key(stig::Ns::Labels, i * 7));
+    for (std::uint32_t i = 0; i < 100; ++i) keys.push_back(stig::key(stig::Ns::Barrier, i));
+    for (std::uint32_t i = 0; i < 20; ++i) keys.push_back(stig::key(stig::Ns::Labels, 8192 + i * 100));
+    for (std::uint32_t i = 0; i < 20; ++i) keys.push_back(stig::key(17u + i % 3, i));
+    std::uniform_int_distribution<std::size_t> pick(0, keys.size() - 1);
+    std::uniform_int_distribution<int> action(0, 99), small(0, 5), quota(0, 30);
+    std::vector<StigmergyEntry> fast_sent, plain_sent;
+    for (int step = 0; step < 4000; ++step) {
+      const int a = action(rng);
+      if (a < 20) {
+        const std::uint32_t key = keys[pick(rng)];
+        const std::int64_t value = small(rng) - 1;
+        fast.put(key, value);
+        plain.put(key, value);
+      } else if (a < 75) {
+        // Entries heard from a neighbour: versions near the ones held, so some win and most lose.
+        const int n = small(rng) * 4;
+        std::vector<StigmergyEntry> heard;
+        for (int i = 0; i < n; ++i) {
+          const std::uint32_t key = keys[pick(rng)];
+          const auto* held = fast.entry(key);
+          const std::uint32_t version =
+              (held ? held->version : 0u) + static_cast<std::uint32_t>(small(rng)) / 2u;
+          // Now and then the lowest entry there is (version 0, writer 0, the lowest value): only a forged
+          // message carries it, and it must still be taken where the key is absent.
+          if (small(rng) == 0 && small(rng) == 0) {
+            heard.push_back({key, std::numeric_limits<std::int64_t>::min(), 0u, 0u});
+            continue;
+          }
+          heard.push_back({key, small(rng) - 1, std::max(version, 1u), static_cast<RobotId>(small(rng))});
+        }
+        fast.merge_all(heard);
+        for (const auto& e : heard) plain.merge(e);
+      } else if (a < 98) {
+        const auto q = static_cast<std::size_t>(quota(rng));
+        ASSERT_EQ(fast.outgoing(q), plain.outgoing(q)) << "seed " << seed << " step " << step;
+      } else if (a == 98) {
+        Stigmergy copy = fast;  // a copy sends what the original would
+        fast = copy;
+      } else {
+        fast.clear();
+        plain.clear();
+      }
+      ASSERT_EQ(fast.entries(), plain.entries()) << "seed " << seed << " step " << step;
+      const std::uint32_t key = keys[pick(rng)];
+      ASSERT_EQ(fast.get(key), plain.get(key)) << "seed " << seed << " step " << step;
     }
   }
 }
