@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 #include <tuple>
@@ -83,27 +84,34 @@ namespace {
 // Whether a neighbour reports holding `label` right now. Asked only for the few grid labels the stigmergy
 // does not give to a holder: a scan of the neighbours for each, not a set of their labels built (and sorted,
 // or allocated node by node) for every message.
-class LabelsHeard {
- public:
-  explicit LabelsHeard(const NeighbourTable& neighbours) : neighbours_(neighbours) {}
-  bool contains(int label) const {
-    return std::any_of(neighbours_.all().begin(), neighbours_.all().end(),
-                       [label](const auto& entry) { return entry.second.message.label == label; });
-  }
+bool heard_holding(const NeighbourTable& neighbours, int label) {
+  return std::any_of(neighbours.all().begin(), neighbours.all().end(),
+                     [label](const auto& entry) { return entry.second.message.label == label; });
+}
 
- private:
-  const NeighbourTable& neighbours_;
+// A label held by a robot other than `self` whose entry this robot has seen change: that tick, and the
+// holder.
+struct OtherHolder {
+  RobotId holder = 0;
+  Tick since = 0;
 };
+std::optional<OtherHolder> held_by_other(const Stigmergy& stigmergy, int label,
+                                         const LabelTicks& entry_changed, RobotId self) {
+  const auto status = label_status(stigmergy, label);
+  if (status.kind != LabelStatus::Kind::Held || status.holder == self) return std::nullopt;
+  const auto changed = entry_changed.find(label);
+  if (!changed) return std::nullopt;  // not tracked yet
+  return OtherHolder{status.holder, *changed};
+}
 
 }  // namespace
 
 std::vector<int> free_grid_labels(const ShapeTable& table, int label, const Stigmergy& stigmergy,
                                   const NeighbourTable& neighbours) {
   std::vector<int> out;
-  const LabelsHeard heard(neighbours);
   for (const auto& nb : table.neighbours(label)) {
     if (label_status(stigmergy, nb.label).kind == LabelStatus::Kind::Held) continue;
-    if (heard.contains(nb.label)) continue;
+    if (heard_holding(neighbours, nb.label)) continue;
     out.push_back(nb.label);
   }
   return out;
@@ -112,7 +120,6 @@ std::vector<int> free_grid_labels(const ShapeTable& table, int label, const Stig
 std::vector<LabelOffer> collect_offers(const ShapeTable& table, double shape_heading,
                                        const NeighbourTable& neighbours, const Stigmergy& stigmergy) {
   std::map<int, LabelOffer> by_label;
-  const LabelsHeard heard(neighbours);
   for (const auto& [id, n] : neighbours.all()) {
     const auto& m = n.message;
     if (m.label < 0 || !m.has_origin) continue;
@@ -120,7 +127,7 @@ std::vector<LabelOffer> collect_offers(const ShapeTable& table, double shape_hea
       if (label < 0 || label >= table.size()) continue;
       if (by_label.contains(label)) continue;  // std::map iterates ids in order: the lowest advertiser wins
       if (label_status(stigmergy, label).kind == LabelStatus::Kind::Held) continue;
-      if (heard.contains(label)) continue;
+      if (heard_holding(neighbours, label)) continue;
       by_label[label] = {label, id, m.label, m.origin, table.place(label, m.origin, shape_heading)};
     }
   }
@@ -162,15 +169,23 @@ std::vector<int> labels_to_free(const ShapeTable& table, int own_label, const St
                                 RobotId self, Tick now, int label_timeout) {
   std::vector<int> out;
   for (const auto& nb : table.neighbours(own_label)) {
-    const auto status = label_status(stigmergy, nb.label);
-    if (status.kind != LabelStatus::Kind::Held || status.holder == self) continue;
-    const auto changed = entry_changed.find(nb.label);
-    if (!changed) continue;  // not tracked yet
-    Tick quiet_since = *changed;
-    if (const auto heard = neighbours.last_heard(status.holder)) quiet_since = std::max(quiet_since, *heard);
+    const auto other = held_by_other(stigmergy, nb.label, entry_changed, self);
+    if (!other) continue;
+    Tick quiet_since = other->since;
+    if (const auto heard = neighbours.last_heard(other->holder)) quiet_since = std::max(quiet_since, *heard);
     if (now >= quiet_since + static_cast<Tick>(label_timeout)) out.push_back(nb.label);
   }
   return out;
+}
+
+Tick earliest_label_free(const ShapeTable& table, int own_label, const Stigmergy& stigmergy,
+                         const LabelTicks& entry_changed, RobotId self, int label_timeout) {
+  Tick earliest = std::numeric_limits<Tick>::max();
+  for (const auto& nb : table.neighbours(own_label)) {
+    if (const auto other = held_by_other(stigmergy, nb.label, entry_changed, self))
+      earliest = std::min(earliest, other->since + static_cast<Tick>(label_timeout));
+  }
+  return earliest;
 }
 
 std::vector<int> labels_left_untaken(const ShapeTable& table, int own_label, const Stigmergy& stigmergy,

@@ -141,6 +141,11 @@ std::optional<LabelOffer> choose_offer(const std::vector<LabelOffer>& offers,
 std::vector<int> labels_to_free(const ShapeTable& table, int own_label, const Stigmergy& stigmergy,
                                 const NeighbourTable& neighbours, const LabelTicks& entry_changed,
                                 RobotId self, Tick now, int label_timeout);
+// The first tick at which labels_to_free could free anything while these entries stand (the silence is
+// counted from no earlier than an entry's last change): the earliest entry change + label_timeout over the
+// grid's labels held by another robot; the largest Tick if there is none. Before it the rule can be skipped.
+Tick earliest_label_free(const ShapeTable& table, int own_label, const Stigmergy& stigmergy,
+                         const LabelTicks& entry_changed, RobotId self, int label_timeout);
 
 // The rule that gives up on a label nobody takes (no robot left to take it: one died before taking a label,
 // or never spoke): the labels of `own_label`'s 3x3 grid that are still unclaimed (nobody in the labels

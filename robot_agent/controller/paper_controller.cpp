@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <numbers>
 
 #include "common/splitmix64.hpp"
@@ -494,25 +493,19 @@ void PaperController::disown_stale_claims() {
 }
 
 void PaperController::free_dead_labels() {
-  // labels_to_free frees a label held by another robot once it has been silent for label_timeout ticks,
-  // counted from no earlier than the tick its entry last changed here: before the earliest such tick of
-  // the grid's labels it frees nothing, and its lookups (each a cache miss in a 1024-label shape) are
-  // skipped. Recomputed when an entry of the grid changed (track_holders) or the label did.
+  // Before the earliest tick the rule could free anything its lookups (each a cache miss in a 1024-label
+  // shape) are skipped; that tick is recomputed when an entry of the grid changed (track_holders) or the
+  // label did.
   if (free_stale_ || free_label_ != label_) {
     free_stale_ = false;
     free_label_ = label_;
-    free_from_ = std::numeric_limits<Tick>::max();
-    for (const auto& nb : table_.neighbours(label_)) {
-      const auto status = label_status(stigmergy_, nb.label);
-      if (status.kind != LabelStatus::Kind::Held || status.holder == self_) continue;
-      if (const auto since = holder_since_.find(nb.label))
-        free_from_ = std::min(free_from_, *since + static_cast<Tick>(params_.label_timeout));
-    }
+    free_from_ = earliest_label_free(table_, label_, stigmergy_, holder_since_, self_, params_.label_timeout);
   }
-  const bool may_free = tick_ >= free_from_;
-  for (int l : may_free ? labels_to_free(table_, label_, stigmergy_, neighbours_, holder_since_, self_, tick_,
-                                         params_.label_timeout)
-                        : std::vector<int>{}) {
+  const std::vector<int> dead = tick_ >= free_from_
+                                    ? labels_to_free(table_, label_, stigmergy_, neighbours_, holder_since_,
+                                                     self_, tick_, params_.label_timeout)
+                                    : std::vector<int>{};
+  for (int l : dead) {
     const auto holder = label_status(stigmergy_, l).holder;
     put_label_freed(stigmergy_, l, tick_);
     barrier_withdraw(stigmergy_, holder);

@@ -37,7 +37,7 @@ std::shared_ptr<const ShapeTable::Data> ShapeTable::build(const ShapeMatrix& sha
   return data;
 }
 
-ShapeTable::ShapeTable(const ShapeMatrix& shape, double spacing) : spacing_(spacing) {
+ShapeTable::ShapeTable(const ShapeMatrix& shape, double spacing) {
   // The tables built in this process, while any robot still holds one.
   static std::mutex mutex;
   static std::vector<std::weak_ptr<const Data>> built;
@@ -57,7 +57,6 @@ ShapeTable::ShapeTable(const ShapeMatrix& shape, double spacing) : spacing_(spac
       built.push_back(data_);
     }
   }
-  size_ = static_cast<int>(data_->rows.size());
 }
 
 const ShapeMatrix& ShapeTable::shape() const {

@@ -33,8 +33,8 @@ class ShapeTable {
   ShapeTable() = default;
   ShapeTable(const ShapeMatrix& shape, double spacing);
 
-  int size() const { return size_; }  // n labels
-  double spacing() const { return spacing_; }
+  int size() const { return data_ ? static_cast<int>(data_->rows.size()) : 0; }  // n labels
+  double spacing() const { return data_ ? data_->spacing : 1.0; }
   const ShapeMatrix& shape() const;
   // Table II's row of `label` (empty for a label out of range).
   const std::vector<ShapeNeighbour>& neighbours(int label) const;
@@ -55,8 +55,6 @@ class ShapeTable {
   };
   static std::shared_ptr<const Data> build(const ShapeMatrix& shape, double spacing);
   std::shared_ptr<const Data> data_;  // shared by the equal tables of the process
-  int size_ = 0;
-  double spacing_ = 1.0;
 };
 
 }  // namespace swarmform::controller
