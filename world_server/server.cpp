@@ -327,6 +327,7 @@ bool Server::admit(const dds::CommandSample& s, bool running) {
 
 void Server::report(const dds::CommandSample& s, Abuse what, const std::string& kind,
                     const std::string& detail, bool to_stderr) {
+  stalls_.flooded();
   const auto n = guard_.report(s.writer, what, dds_time());
   if (!n) return;
   std::string text = detail + " (pid " + std::to_string(s.pid) + ")";

@@ -3,7 +3,9 @@
 namespace swarmform::server {
 
 bool StallGuard::suspect(dds::PublicationHandle writer) {
-  if (clock_.stalls() == 0 || clock_.awake() - clock_.last_stall_end() >= kSuspectWindow) return false;
+  const bool after_stall = clock_.stalls() > 0 && clock_.awake() - clock_.last_stall_end() < kSuspectWindow;
+  const bool in_flood = flooded_ && clock_.awake() - last_flood_ < kSuspectWindow;
+  if (!after_stall && !in_flood) return false;
   suspects_.emplace(writer, clock_.awake());
   return true;
 }

@@ -2,9 +2,10 @@
 // "Liveliness, stalls and deaths"). When the world itself was not running (SIGSTOP, swap, a loaded host),
 // Cyclone finds every agent's 500 ms lease expired as soon as it resumes, although the agents kept asserting
 // it all along: their datagrams wait in the socket. So a writer lost within kSuspectWindow of awake time
-// after the world's own stall is only suspected; it becomes a death if it stays lost for kGrace of awake
-// time, and was never dead if its liveliness comes back before or a sample of its comes in (the agent's
-// next command or ALIVE sample). Otherwise a loss is a death at once (a SIGKILL is seen in ~0.5 s).
+// after the world's own stall, or of a sample refused as abuse (a flood), is only suspected; it becomes a
+// death if it stays lost for kGrace of awake time, and was never dead if its liveliness comes back before or
+// a sample of its comes in (the agent's next command or ALIVE sample). Otherwise a loss is a death at once (a
+// SIGKILL is seen in ~0.5 s).
 #pragma once
 
 #include <cstdint>
@@ -34,8 +35,16 @@ class StallGuard {
   // When the loop must wake next at the latest, from `now`, to keep observing.
   dds_time_t probe(dds_time_t now) const { return now + kProbe; }
 
-  // A writer lost its liveliness: true if this is only a suspicion (the world stalled lately), false if it
-  // is a death now.
+  // A sample was refused as abuse (a flood): honest agents' datagrams, their liveliness among them, may wait
+  // behind the flood's in the world's socket as they do through its own stall (a realtime flood on 2 cores
+  // let 5 agents' leases lapse at once, ~2 runs in 15), so a loss within kSuspectWindow of it is only
+  // suspected too.
+  void flooded() {
+    flooded_ = true;
+    last_flood_ = clock_.awake();
+  }
+  // A writer lost its liveliness: true if this is only a suspicion (the world stalled, or was flooded,
+  // lately), false if it is a death now.
   bool suspect(dds::PublicationHandle writer);
   // Its liveliness came back: true if it was a suspect (then it never died).
   bool clear(dds::PublicationHandle writer);
@@ -51,6 +60,8 @@ class StallGuard {
   OwnClock clock_;
   std::unordered_map<dds::PublicationHandle, dds_time_t> suspects_;  // writer -> awake time of the loss
   std::uint64_t cleared_ = 0;
+  bool flooded_ = false;
+  dds_time_t last_flood_ = 0;  // awake time of the last refused sample
 };
 
 }  // namespace swarmform::server
