@@ -208,6 +208,7 @@ int main(int argc, char** argv) {
   // Robots are scheduled as robot_agent schedules itself (common/dds/robot_process.hpp), so P1's ratio
   // compares like with like.
   if (robot->parsed()) (void)dds::yield_to_world_on_wakeup();
+  (void)dds::keep_freed_heap();  // both sides, world and robots, as world_server and robot_agent
   if (robot->parsed() && count > 1) {
     try {
       return dds::run_robot_block(

@@ -247,6 +247,7 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
 // One agent, in this process.
 int run_agent(const Options& o) {
   (void)swarmform::dds::yield_to_world_on_wakeup();  // before any thread exists: they all inherit it
+  (void)swarmform::dds::keep_freed_heap();
   try {
     swarmform::dds::SignalWatch signals;  // first: every DDS thread inherits the blocked signal mask
     return run(o, signals);
@@ -337,6 +338,7 @@ int main(int argc, char** argv) {
   }
   if (o.count == 1) return run_agent(o);
   (void)swarmform::dds::yield_to_world_on_wakeup();  // inherited by every child
+  (void)swarmform::dds::keep_freed_heap();
   try {
     return swarmform::dds::run_robot_block(
         "robot_agent", o.id, o.count,

@@ -17,6 +17,7 @@
 #include "common/dds/security_config.hpp"
 
 #include "behaviour/registry.hpp"
+#include "common/dds/robot_process.hpp"
 #include "common/dds/signal_watch.hpp"
 #include "common/input_error.hpp"
 #include "robot_agent/controller/builtins.hpp"
@@ -177,7 +178,8 @@ int run(const Options& o) {
     if (pid == 0 || pid > 4194304) throw std::invalid_argument("--agent-pid " + p + ": not a process id");
     so.agent_pids[static_cast<RobotId>(id)] = static_cast<pid_t>(pid);
   }
-  swarmform::dds::SignalWatch signals;  // before any DDS thread: they inherit the blocked signal mask
+  (void)swarmform::dds::keep_freed_heap();  // common/dds/robot_process.hpp
+  swarmform::dds::SignalWatch signals;      // before any DDS thread: they inherit the blocked signal mask
   swarmform::server::Server server(scenario, std::move(so), signals);
   return server.run();
 }
