@@ -41,10 +41,11 @@ void write_all(std::FILE* f, const std::string& text, const std::string& run_dir
 
 }  // namespace
 
-std::FILE* RecordingWriter::open(const std::string& path, const char* mode) {
+std::FILE* RecordingWriter::open(const std::string& path, const char* mode, std::unique_ptr<char[]>& buffer) {
   std::FILE* f = std::fopen(path.c_str(), mode);
   if (f == nullptr) throw std::runtime_error(path + ": cannot open for writing: " + std::strerror(errno));
-  std::setvbuf(f, nullptr, _IOFBF, kStreamBuffer);
+  buffer = std::make_unique_for_overwrite<char[]>(kStreamBuffer);
+  std::setvbuf(f, buffer.get(), _IOFBF, kStreamBuffer);
   return f;
 }
 
@@ -53,9 +54,9 @@ RecordingWriter::RecordingWriter(const std::string& run_dir, std::vector<std::st
   std::error_code ec;
   std::filesystem::create_directories(run_dir_, ec);
   if (ec) throw std::runtime_error(run_dir_ + ": cannot create the run directory: " + ec.message());
-  robots_ = open(run_dir_ + "/robots.csv", "w");
-  events_ = open(run_dir_ + "/events.jsonl", "w");
-  log_ = open(run_dir_ + "/world.log", "w");
+  robots_ = open(run_dir_ + "/robots.csv", "w", robots_buffer_);
+  events_ = open(run_dir_ + "/events.jsonl", "w", events_buffer_);
+  log_ = open(run_dir_ + "/world.log", "w", log_buffer_);
   std::string header = kRobotsCsvHeader;
   for (const std::string& c : extra_columns) header += "," + c;
   write_all(robots_, header + "\n", run_dir_, "robots.csv");

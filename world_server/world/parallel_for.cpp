@@ -16,13 +16,18 @@ namespace {
 
 thread_local bool t_in_body = false;  // nested calls run serially (no deadlock on the pool)
 
+// Read once: hardware_concurrency() opens and reads /sys/devices/system/cpu/online, and the world asked
+// for the worker count every tick (three system calls a round on the lockstep critical path).
 std::size_t default_workers() {
-  if (const char* env = std::getenv("SWARMFORM_WORKERS")) {
-    const long v = std::strtol(env, nullptr, 10);
-    if (v >= 1) return static_cast<std::size_t>(std::min(v, 64L));
-  }
-  const unsigned hw = std::thread::hardware_concurrency();
-  return std::clamp<std::size_t>(hw, 1, 2);
+  static const std::size_t workers = [] {
+    if (const char* env = std::getenv("SWARMFORM_WORKERS")) {
+      const long v = std::strtol(env, nullptr, 10);
+      if (v >= 1) return static_cast<std::size_t>(std::min(v, 64L));
+    }
+    const unsigned hw = std::thread::hardware_concurrency();
+    return std::clamp<std::size_t>(hw, 1, 2);
+  }();
+  return workers;
 }
 
 // workers - 1 threads sleep on a condition variable between runs; the caller is worker 0 and takes chunks
