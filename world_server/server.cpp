@@ -91,6 +91,10 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
   waiting_.assign(n, 0);
   unresponsive_.assign(n, 0);
   for (const world::Kill& k : scenario.kills) kills_.emplace(k.tick, k.id);
+  // Each robot's messages are gathered in begin_round, just before its packet is written, instead of for
+  // every robot in the step: robot i computes while the world gathers for robot i + 1, and the step (which
+  // every agent waits for) is shorter. The readings are the same (World::defer_messages).
+  world_.defer_messages(true);
   if (options_.viewer_token != 0) {
     viewer_ = std::make_unique<ViewerControl>(
         link_.participant, options_.run_nonce, options_.viewer_token, scenario.mode == world::Mode::Lockstep,
@@ -179,6 +183,16 @@ int Server::run_inner() {
         static_cast<double>(profile_.publish_preempted) / static_cast<double>(profile_.rounds),
         static_cast<double>(profile_.collect) / r, static_cast<double>(profile_.step) / r,
         static_cast<double>(profile_.record) / r, static_cast<unsigned long long>(profile_.rounds));
+    // The bare round's --readings/--message-bytes/--reply-bytes for the same bytes (scripts/bench-lockstep).
+    const auto mean = [](std::uint64_t sum, std::uint64_t count) {
+      return count == 0 ? 0.0 : static_cast<double>(sum) / static_cast<double>(count);
+    };
+    std::fprintf(stderr,
+                 "world_server: wire per round: %.1f packets, %.2f messages a packet, %.1f bytes a message, "
+                 "%.1f bytes a command's message\n",
+                 mean(profile_.packets, profile_.rounds), mean(profile_.packet_messages, profile_.packets),
+                 mean(profile_.packet_message_bytes, profile_.packet_messages),
+                 mean(profile_.command_message_bytes, profile_.commands));
   }
   if (stalls_.own_stalls() > 0) {
     std::fprintf(
@@ -474,6 +488,8 @@ void Server::on_command(const dds::CommandSample& s) {
   if (s.tick == now && waiting_[id]) {
     waiting_[id] = 0;
     --waiting_count_;
+    ++profile_.commands;
+    profile_.command_message_bytes += s.command.message.size();
   }
 }
 
@@ -588,7 +604,11 @@ void Server::begin_round() {
     waiting_[i] = awaited ? 1 : 0;
     waiting_count_ += awaited ? 1 : 0;
     if (live) {
-      link_.robots.write_packet(id, dds::PacketStatus::Run, world_.perception(id));
+      const Perception& packet = world_.perception(id);
+      ++profile_.packets;
+      profile_.packet_messages += packet.messages.size();
+      for (const RabReading& m : packet.messages) profile_.packet_message_bytes += m.data.size();
+      link_.robots.write_packet(id, dds::PacketStatus::Run, packet);
       if (realtime) written_at_[i] = dds_time();  // for late_commands; lockstep has no deadline to miss
     }
   }

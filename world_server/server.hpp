@@ -182,6 +182,12 @@ class Server {
     dds_duration_t step = 0;     // apply + World::step
     dds_duration_t record = 0;   // RunSession::record_tick + world state + progress
     std::uint64_t rounds = 0;
+    // What the rounds carried, so that the bare DDS round (bench/bare_round) can carry the same bytes.
+    std::uint64_t packets = 0;
+    std::uint64_t packet_messages = 0;       // neighbours' messages in those packets
+    std::uint64_t packet_message_bytes = 0;  // their payload bytes
+    std::uint64_t commands = 0;              // this round's commands taken
+    std::uint64_t command_message_bytes = 0;
   } profile_;
 };
 
