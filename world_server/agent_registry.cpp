@@ -4,13 +4,22 @@ namespace swarmform::server {
 
 AgentRegistry::AgentRegistry(std::size_t robots) : owners_(robots) {}
 
-ClaimResult AgentRegistry::claim(RobotId id, dds::PublicationHandle writer, std::uint32_t pid) {
+ClaimResult AgentRegistry::claim(RobotId id, dds::PublicationHandle writer, std::uint32_t pid,
+                                 std::uint64_t claim_nonce) {
   if (id >= owners_.size()) {
     return {ClaimOutcome::OutOfRange, "no robot " + std::to_string(id) + " in this run (ids 0.." +
                                           std::to_string(owners_.size() - 1) + ")"};
   }
   Owner& o = owners_[id];
   if (o.alive && o.writer == writer) return {ClaimOutcome::Repeated, ""};
+  if (o.alive && claim_nonce != 0 && o.claim_nonce == claim_nonce && o.pid == pid) {
+    // At 1024 agents on 2 cores the world refused such claims and the agents exited: the run never started.
+    by_writer_.erase(o.writer);  // the old handle's loss, when DDS reports it, is nobody's
+    lost_writer_.erase(o.writer);
+    o.writer = writer;
+    by_writer_[writer] = id;
+    return {ClaimOutcome::Rebound, ""};
+  }
   if (o.alive) {
     return {ClaimOutcome::Refused, "id " + std::to_string(id) + " is already owned by a live agent (pid " +
                                        std::to_string(o.pid) + ")"};
@@ -20,7 +29,7 @@ ClaimResult AgentRegistry::claim(RobotId id, dds::PublicationHandle writer, std:
     by_writer_.erase(o.writer);
     lost_writer_.erase(o.writer);
   }
-  o = Owner{writer, pid, true, true};
+  o = Owner{writer, pid, claim_nonce, true, true};
   by_writer_[writer] = id;
   return {taken_over ? ClaimOutcome::TakenOver : ClaimOutcome::Accepted, ""};
 }
@@ -75,6 +84,8 @@ std::string_view to_string(ClaimOutcome outcome) {
       return "accepted";
     case ClaimOutcome::Repeated:
       return "repeated";
+    case ClaimOutcome::Rebound:
+      return "rebound";
     case ClaimOutcome::TakenOver:
       return "taken_over";
     case ClaimOutcome::Refused:

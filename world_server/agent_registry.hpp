@@ -1,7 +1,10 @@
 // Who speaks for which robot. The first agent that claims an id owns it: the id is bound to the DDS writer
 // (its publication handle) that sent the claim. A second claimant while the owner lives is refused; a
-// claimant after the owner died takes the id over (a restarted agent rejoins). Commands are the owner's only
-// if they come from the owner's writer. Pure bookkeeping: no DDS, no World (the server acts on the answers).
+// claimant after the owner died takes the id over (a restarted agent rejoins). The owner itself seen through
+// a new writer handle (the same process and claim attempt: DDS forgot its participant, whose lease ran out
+// while the machine was starved, and discovered it again) keeps the id on the new handle. Commands are the
+// owner's only if they come from the owner's writer. Pure bookkeeping: no DDS, no World (the server acts on
+// the answers).
 #pragma once
 
 #include <cstdint>
@@ -18,6 +21,7 @@ namespace swarmform::server {
 enum class ClaimOutcome {
   Accepted,    // a free id, now bound to this writer
   Repeated,    // this writer already owns it (a re-sent claim): answer again
+  Rebound,     // the owner's re-sent claim through a new writer handle: the id moves to it, answer again
   TakenOver,   // the previous owner had died: bound to this writer (a rejoin once the run is going)
   Refused,     // a live writer owns it
   OutOfRange,  // no such robot in this run
@@ -32,7 +36,9 @@ class AgentRegistry {
  public:
   explicit AgentRegistry(std::size_t robots);
 
-  ClaimResult claim(RobotId id, dds::PublicationHandle writer, std::uint32_t pid);
+  // `claim_nonce`: the claimant's nonce for this claim attempt (re-sent claims carry the same); 0: none.
+  ClaimResult claim(RobotId id, dds::PublicationHandle writer, std::uint32_t pid,
+                    std::uint64_t claim_nonce = 0);
   // The live owner of `id` is `writer`.
   bool owns(RobotId id, dds::PublicationHandle writer) const;
   // The robot `writer` owns now, if any.
@@ -52,6 +58,7 @@ class AgentRegistry {
   struct Owner {
     dds::PublicationHandle writer = 0;
     std::uint32_t pid = 0;
+    std::uint64_t claim_nonce = 0;
     bool alive = false;  // an owner whose writer is alive
     bool ever = false;   // someone owned it once
   };

@@ -417,9 +417,9 @@ void Server::on_claim(const dds::CommandSample& s, bool running) {
       return;
     }
   }
-  const ClaimResult r = registry_.claim(s.robot_id, s.writer, s.pid);
+  const ClaimResult r = registry_.claim(s.robot_id, s.writer, s.pid, s.nonce);
   const bool accepted = r.outcome == ClaimOutcome::Accepted || r.outcome == ClaimOutcome::Repeated ||
-                        r.outcome == ClaimOutcome::TakenOver;
+                        r.outcome == ClaimOutcome::Rebound || r.outcome == ClaimOutcome::TakenOver;
   link_.robots.reply_claim(dds::ClaimAnswer{s.robot_id, s.nonce, accepted, r.reason});
   if (!accepted) {
     report(s, Abuse::RefusedClaim, "claim_refused",
@@ -427,6 +427,12 @@ void Server::on_claim(const dds::CommandSample& s, bool running) {
     return;
   }
   if (r.outcome == ClaimOutcome::Repeated) return;
+  if (r.outcome == ClaimOutcome::Rebound) {
+    session_.record_event(
+        s.robot_id, "agent_rebound",
+        "pid " + std::to_string(s.pid) + ": its re-sent claim came through a new writer handle");
+    return;
+  }
   session_.record_event(s.robot_id, "agent_connected", "pid " + std::to_string(s.pid));
   std::cerr << "world_server: id " << s.robot_id << " claimed by pid " << s.pid << "\n";
   // The new owner's claim nonce goes on its perceptions: a previous owner that comes back learns from it

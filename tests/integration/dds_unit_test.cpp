@@ -32,6 +32,22 @@ TEST(AgentRegistry, FirstClaimantOwnsTheIdAndASecondIsRefused) {
   EXPECT_EQ(r.missing(), (std::vector<swarmform::RobotId>{0, 1, 3}));
 }
 
+TEST(AgentRegistry, TheOwnerSeenThroughANewWriterHandleKeepsItsIdThere) {
+  // DDS forgot the owner's participant (its lease ran out on a starved machine) and discovered it again: the
+  // same process and claim attempt, a new publication handle.
+  AgentRegistry r(4);
+  ASSERT_EQ(r.claim(2, 100, 11, 77).outcome, ClaimOutcome::Accepted);
+  EXPECT_EQ(r.claim(2, 200, 11, 77).outcome, ClaimOutcome::Rebound);
+  EXPECT_TRUE(r.owns(2, 200));
+  EXPECT_FALSE(r.owns(2, 100));
+  EXPECT_FALSE(r.lose(100).has_value());  // the old handle's loss, reported late, is nobody's
+  EXPECT_TRUE(r.connected(2));
+  EXPECT_EQ(r.claim(2, 300, 11, 78).outcome, ClaimOutcome::Refused);  // another attempt: another agent
+  EXPECT_EQ(r.claim(2, 300, 22, 77).outcome, ClaimOutcome::Refused);  // another process
+  EXPECT_EQ(r.claim(2, 300, 11, 0).outcome, ClaimOutcome::Refused);   // no nonce: nothing to match
+  EXPECT_EQ(r.lose(200), std::optional<swarmform::RobotId>(2));
+}
+
 TEST(AgentRegistry, ALostOwnerFreesTheIdForATakeOver) {
   AgentRegistry r(3);
   ASSERT_EQ(r.claim(1, 100, 11).outcome, ClaimOutcome::Accepted);
