@@ -54,8 +54,11 @@ class AgentLink {
   // world answers a claim it already holds as a repeat, and takes a lost owner's claim back. WorldGone only
   // after the world's writers have stayed not alive for world_timeout_s of this agent's own awake time
   // (OwnClock): an agent stalled past their 2 s lease finds it expired when it resumes, until the world's
-  // next liveliness message arrives, and a world stalled for seconds is not a dead one.
+  // next liveliness message arrives, and a world stalled for seconds is not a dead one. Before the first
+  // packet the world may stay silent for max(world_timeout_s, idle_timeout_s) (world_silence_limit_s).
   WaitResult next_packet(double idle_timeout_s, dds::SensorSample& out);
+  // How long the world may stay silent now before next_packet says WorldGone (s of this agent's time).
+  double world_silence_limit_s(double idle_timeout_s) const;
   void send(Tick tick, const Command& command);
   // Renews this agent's liveliness if it is due (cheap otherwise): for a caller that is busy for longer than
   // the lease without sending, e.g. waiting on an --exec behaviour that is slow but not dead.

@@ -193,8 +193,8 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
       case WaitResult::Stopped:
         return stopped(128 + signals.signal());
       case WaitResult::WorldGone:
-        std::cerr << me << ": the world went away before announcing the end (silent for " << o.world_timeout_s
-                  << " s of this agent's own time)\n";
+        std::cerr << me << ": the world went away before announcing the end (silent for "
+                  << link.world_silence_limit_s(o.timeout_s) << " s of this agent's own time)\n";
         return stopped(3);
       case WaitResult::Timeout:
         std::cerr << me << ": no packet and no world for " << o.timeout_s << " s\n";
@@ -274,7 +274,7 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--world-timeout", o.world_timeout_s,
                  "seconds of this agent's own time the world may stay silent mid-run before it is taken for "
-                 "gone (default 10; a stalled world is not a dead one)")
+                 "gone (default 10; a stalled world is not a dead one; before the run, --timeout if longer)")
       ->check(CLI::Range(0.5, 86400.0));
   app.add_option("--run-nonce", o.run_nonce,
                  "take only the mission of this run (16 hex digits, as given to world_server --run-nonce); "

@@ -160,6 +160,30 @@ TEST_F(WireFaults, AgentGivesUpOnASilentWorldOnlyAfterItsWorldTimeout) {
   EXPECT_EQ(s["deaths"][0]["id"], 0);
 }
 
+// Before the run starts the world may be slow to admit the others (1024 agents on 2 cores: its writers missed
+// their lease for many seconds): an agent waiting for its first packet takes the world for gone only after
+// its
+// --timeout, not after --world-timeout. Here agent 0 (--world-timeout 1) is admitted, the world stalls 4 s,
+// then agent 1 comes and the run is played out whole.
+TEST_F(WireFaults, AnAgentWaitingForTheRunOutlivesASilentWorldUntilItsTimeout) {
+  const int domain = swarmform::testing::test_domain(36);
+  Process& w = world(domain, "slow-start", {"--robots", "2", "--max-ticks", "50"});
+  Process& early = agent(domain, 0, "slow-start", {"--world-timeout", "1"});
+  ASSERT_TRUE(eventually(30.0, [&] {
+    return w.err().find("id 0 claimed by pid") != std::string::npos || !w.running() || !early.running();
+  })) << w.err();
+  ASSERT_TRUE(w.running()) << w.err();
+  ASSERT_TRUE(early.running()) << early.err();
+  stall(w.pid(), std::chrono::milliseconds(4000));
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  EXPECT_TRUE(early.running()) << early.err();
+  Process& late = agent(domain, 1, "slow-start");
+  EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_EQ(early.wait_for(15.0), 0) << early.err();
+  EXPECT_EQ(late.wait_for(15.0), 0) << late.err();
+  EXPECT_EQ(summary("slow-start")["alive_at_end"], 2);
+}
+
 // An agent stalled 3 s in lockstep is taken for dead (its lease ran out while the world was awake); when it
 // resumes, its robot rejoins and its controller starts afresh (init again), recorded as a rejoin.
 TEST_F(WireFaults, AgentStalledThreeSecondsInLockstepRejoinsWithAFreshController) {
