@@ -16,7 +16,7 @@ bool yield_to_world_on_wakeup();
 // (glibc's trim threshold, fixed at 32 MiB instead of its sliding default). A robot's receive thread freed
 // and re-took ~100 KB of its arena every few rounds: each time glibc returned the pages (madvise) and the
 // next round faulted them back in, ~0.4 page faults a robot a round, and a fault costs tens of µs on a
-// virtual machine. At N = 64 in lockstep this took the emulator from ~370 to ~275 ticks/s (P1,
+// virtual machine: at N = 64 in lockstep the emulator ran ~275 ticks/s with them, ~370 without (P1,
 // BENCHMARKS.md). A process keeps at most its peak heap, which for a robot is a few hundred KB. Call it
 // before any thread exists; it holds across fork(). world_server, whose receive threads take N commands a
 // round, calls it too. Best effort: false where the C library refuses it.
