@@ -160,10 +160,10 @@ TEST_F(WireFaults, AgentGivesUpOnASilentWorldOnlyAfterItsWorldTimeout) {
   EXPECT_EQ(s["deaths"][0]["id"], 0);
 }
 
-// Before the run starts the world may be slow to admit the others (1024 agents on 2 cores: its writers missed
-// their lease for many seconds): an agent waiting for its first packet takes the world for gone only after its
-// own timeout, not after its world timeout. Here agent 0 (world timeout 1 s) is admitted, the world stalls
-// 4 s, then agent 1 comes and the run is played out whole.
+// Before the run starts the world may be slow to admit the others (1024 agents on 2 cores: its writers
+// missed their lease for many seconds): an agent waiting for its first packet takes the world for gone only
+// after its own timeout, not after its world timeout. Here agent 0 (world timeout 1 s) is admitted, the
+// world stalls 4 s, then agent 1 comes and the run is played out whole.
 TEST_F(WireFaults, AnAgentWaitingForTheRunOutlivesASilentWorldUntilItsTimeout) {
   const int domain = swarmform::testing::test_domain(36);
   Process& w = world(domain, "slow-start", {"--robots", "2", "--max-ticks", "50"});
