@@ -46,7 +46,8 @@ class BenchScript(unittest.TestCase):
         self.assertIsNotNone(self.doc)
         m = self.doc["machine"]
         self.assertTrue(positive(m["nproc"]) and positive(m["ram_gib"]) and m["cpu_model"])
-        self.assertEqual(self.doc["targets"]["p1_ratio_at_64"], 0.7)
+        self.assertEqual(self.doc["targets"]["p1_ratio_at_64"], 0.9)
+        self.assertEqual(self.doc["targets"]["p1_ratio_at_256"], 0.8)
         self.assertTrue(self.doc["quick"])
 
     def test_p1_ratio_is_emulator_over_bare(self):
@@ -59,6 +60,16 @@ class BenchScript(unittest.TestCase):
             self.assertIn(r["ratio"], r["pair_ratios"])
             self.assertAlmostEqual(r["ratio"], r["emulator_ticks_per_second"] / r["bare_rounds_per_second"],
                                    delta=0.01 * r["ratio"] + 0.002)
+            # The bare round carried the emulator's bytes (issue 22): the random walkers' 51-byte broadcasts
+            # in its replies, and as many neighbours' messages a packet, of the same total size.
+            wire, payload = r["emulator_wire"], r["bare_payload"]
+            self.assertEqual(payload["reply_bytes"], round(wire["bytes_per_command_message"]))
+            self.assertGreater(payload["reply_bytes"], 0)
+            self.assertEqual(payload["readings"], round(wire["messages_per_packet"]))
+            self.assertGreater(payload["readings"], 0)
+            self.assertAlmostEqual(payload["readings"] * payload["message_bytes"],
+                                   wire["messages_per_packet"] * wire["bytes_per_message"],
+                                   delta=payload["readings"] / 2 + 1)
 
     def test_p2_figures(self):
         p2 = self.doc["parts"]["p2"]
