@@ -246,8 +246,6 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
 
 // One agent, in this process.
 int run_agent(const Options& o) {
-  (void)swarmform::dds::yield_to_world_on_wakeup();  // before any thread exists: they all inherit it
-  (void)swarmform::dds::keep_freed_heap();
   try {
     swarmform::dds::SignalWatch signals;  // first: every DDS thread inherits the blocked signal mask
     return run(o, signals);
@@ -336,9 +334,10 @@ int main(int argc, char** argv) {
     std::cerr << "robot_agent: " << e.what() << "\n";
     return 2;
   }
-  if (o.count == 1) return run_agent(o);
-  (void)swarmform::dds::yield_to_world_on_wakeup();  // inherited by every child
+  // Before any thread exists, and before a block forks: every thread and every forked robot inherits both.
+  (void)swarmform::dds::yield_to_world_on_wakeup();
   (void)swarmform::dds::keep_freed_heap();
+  if (o.count == 1) return run_agent(o);
   try {
     return swarmform::dds::run_robot_block(
         "robot_agent", o.id, o.count,
