@@ -12,7 +12,11 @@ namespace swarmform::agent {
 
 namespace {
 
-constexpr dds_duration_t kReclaimPeriod = DDS_SECS(1);  // see next_packet in the header
+// See next_packet and claim in the header.
+constexpr dds_duration_t kReclaimPeriod = DDS_SECS(1);
+constexpr dds_duration_t kPreRunReclaimPeriod = DDS_SECS(5);
+constexpr dds_duration_t kQuietAfter = DDS_SECS(2);
+constexpr dds_duration_t kClaimResendMax = DDS_SECS(2);
 
 dds_time_t after(double seconds) {
   return dds_time() + static_cast<dds_duration_t>(seconds * 1e9);
@@ -80,6 +84,7 @@ WaitResult AgentLink::claim(double timeout_s, dds::ClaimAnswer& out) {
       if (answer->nonce == nonce) {
         out = std::move(*answer);
         claim_nonce_ = nonce;
+        claimed_at_ = dds_time();
         return WaitResult::Ok;
       }
     }
@@ -88,12 +93,13 @@ WaitResult AgentLink::claim(double timeout_s, dds::ClaimAnswer& out) {
     const dds_time_t now = dds_time();
     if (now >= deadline) return WaitResult::Timeout;
     if (now >= resend) {
-      // Re-sent every 0.5 s: a claim written before the world matched our writer is lost, and so is an answer
-      // written before the world matched our reader (both volatile).
+      // Re-sent: a claim written before the world matched our writer is lost, and so is an answer written
+      // before the world matched our reader (both volatile). The first answers come quickly, the endpoints
+      // were just made; then the world may be busy (see the header).
       commands_->claim(self_, nonce, static_cast<std::uint32_t>(getpid()));
-      // The first answers come quickly: the endpoints were just made, and an answer written before the world
-      // matched them is lost (best effort or volatile); then every 0.5 s.
-      resend = now + (++attempts < 5 ? DDS_MSECS(100) : DDS_MSECS(500));
+      resend =
+          now + (++attempts < 5 ? DDS_MSECS(100)
+                                : std::min(kClaimResendMax, DDS_MSECS(250) << std::min(attempts - 4, 3)));
     }
     waiter_.wait_until(std::min({deadline, resend, commands_->keep_alive(now)}));
   }
@@ -105,7 +111,13 @@ std::uint64_t AgentLink::refused_samples() const {
 
 WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out) {
   dds_time_t idle_deadline = after(idle_timeout_s);
-  dds_time_t reclaim = dds_time() + kReclaimPeriod;
+  // Quiet: waiting for the run (see the header). Not in the first seconds after the claim: an agent that
+  // joins a running world (a rejoin) gets its first packet within a round and is judged meanwhile.
+  const auto quiet = [this](dds_time_t now) { return packets_ == 0 && now - claimed_at_ >= kQuietAfter; };
+  const auto reclaim_period = [&](dds_time_t now) {
+    return quiet(now) ? kPreRunReclaimPeriod : kReclaimPeriod;
+  };
+  dds_time_t reclaim = dds_time() + reclaim_period(dds_time());
   bool reclaim_refused = false;
   // Realtime: a packet every tick; none for 3 ticks (at least a reclaim period) means the world took us for
   // dead.
@@ -152,16 +164,16 @@ WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out)
         !reclaim_refused && (packets_ == 0 || (alive == 0 && inbox_->world_seen()) || starved);
     if (reclaiming && now >= reclaim) {
       commands_->claim(self_, claim_nonce_, static_cast<std::uint32_t>(getpid()));
-      reclaim = now + kReclaimPeriod;
+      reclaim = now + reclaim_period(now);
     }
     // Wake at least once a second to re-check the world's liveliness against the idle deadline, and to keep
-    // our own alive while the world sends nothing (before the run, or a slow lockstep round).
+    // our own alive while the world sends nothing (a slow lockstep round; not while quiet).
     // No packet for a lease: the world may have taken us for dead meanwhile (its own stall, a cut link,
     // ours), and only a sample brings a lost writer back (CommandWriter::keep_alive), so the keep-alive is
     // one. An assertion otherwise: nothing is lost, and it costs the world no sample to take.
     const bool by_sample = packets_ > 0 && now - last_packet_at_ >= dds::kLivelinessLease;
-    dds_time_t wake = std::min(
-        {now + DDS_SECS(1), reclaiming ? reclaim : DDS_NEVER, commands_->keep_alive(now, by_sample)});
+    const dds_time_t assert_at = quiet(now) ? DDS_NEVER : commands_->keep_alive(now, by_sample);
+    dds_time_t wake = std::min({now + DDS_SECS(1), reclaiming ? reclaim : DDS_NEVER, assert_at});
     if (!inbox_->world_seen()) wake = std::min(wake, idle_deadline);
     waiter_.wait_until(wake);
   }

@@ -39,23 +39,29 @@ class AgentLink {
   // Also creates the endpoints of the per-tick topics: their QoS follows the mission's pace (realtime: best
   // effort), so they cannot exist before it. claim(), next_packet() and send() need a mission first.
   WaitResult wait_mission(double timeout_s, dds::MissionAnnouncement& out);
-  // Sends a claim (again every 0.5 s) until the world answers this attempt or `timeout_s` passes.
+  // Sends a claim until the world answers this attempt or `timeout_s` passes: again after 0.1 s four times
+  // (the first are lost while the world matches our writer), then at doubling intervals up to 2 s (a world
+  // busy admitting 1024 agents answers late, and a claim a second more only adds to its queue).
   WaitResult claim(double timeout_s, dds::ClaimAnswer& out);
   // The next packet of this robot. While the world is alive this waits as long as it takes (the world may be
   // waiting for other agents); `idle_timeout_s` bounds the wait only while no world writer is alive.
-  // Until the first packet it re-sends the accepted claim every second (kReclaimPeriod): an agent stalled
-  // past its writer's lease after its claim (starved of CPU while 256 agents discover the world) is lost to
-  // the world, and Cyclone reports its liveliness back only when the writer sends again; an agent that sends
-  // nothing before the run would then never be counted. It re-sends it as well while the world's writers
-  // are not alive, and in realtime when no packet came for a reclaim period (a network path lost and back,
-  // issue 19; a cut shorter than the world's 2 s writer lease leaves those writers alive here): the world
-  // took this agent for dead and sends it nothing, and in realtime (best effort) Cyclone 0.10.2 drops the
-  // writer's liveliness heartbeats ("no-reliable-readers") before they revive it, so only a sample does. The
-  // world answers a claim it already holds as a repeat, and takes a lost owner's claim back. WorldGone only
-  // after the world's writers have stayed not alive for world_timeout_s of this agent's own awake time
-  // (OwnClock): an agent stalled past their 2 s lease finds it expired when it resumes, until the world's
-  // next liveliness message arrives, and a world stalled for seconds is not a dead one. Before the first
-  // packet the world may stay silent for max(world_timeout_s, idle_timeout_s) (world_silence_limit_s).
+  // From 2 s after its claim until the first packet it is quiet: the world does not judge its liveliness
+  // before the run (a lapse then is not a loss, world_server/server.cpp), so it asserts nothing, and it
+  // re-sends the accepted claim only every kPreRunReclaimPeriod (5 s), for a world that forgot its
+  // participant (DDS dropped it after its lease): 1024 agents waiting for the run each woke ~10 times a
+  // second for assertions, claims and their answers, ~2 cores in all, and the run never started
+  // (bench/scale/README.md). In its first 2 s it asserts and re-claims as after the first packet: an agent
+  // joining a running world is judged at once, and its first packet comes within a round. After the first
+  // packet it re-sends the claim every second (kReclaimPeriod) while the world's writers are not alive, and
+  // in realtime when no packet came for a reclaim period (a network path lost and back, issue 19; a cut
+  // shorter than the world's 2 s writer lease leaves those writers alive here): the world took this agent for
+  // dead and sends it nothing, and in realtime (best effort) Cyclone 0.10.2 drops the writer's liveliness
+  // heartbeats ("no-reliable-readers") before they revive it, so only a sample does. The world answers a
+  // claim it already holds as a repeat, and takes a lost owner's claim back. WorldGone only after the world's
+  // writers have stayed not alive for world_timeout_s of this agent's own awake time (OwnClock): an agent
+  // stalled past their 2 s lease finds it expired when it resumes, until the world's next liveliness message
+  // arrives, and a world stalled for seconds is not a dead one. Before the first packet the world may stay
+  // silent for max(world_timeout_s, idle_timeout_s) (world_silence_limit_s).
   WaitResult next_packet(double idle_timeout_s, dds::SensorSample& out);
   // How long the world may stay silent now before next_packet says WorldGone (s of this agent's time).
   double world_silence_limit_s(double idle_timeout_s) const;
@@ -87,6 +93,7 @@ class AgentLink {
   std::uint64_t packets_ = 0;
   std::uint64_t foreign_ = 0;
   std::uint64_t claim_nonce_ = 0;  // of the accepted claim, re-sent before the first packet
+  dds_time_t claimed_at_ = 0;      // when the world accepted it
 };
 
 }  // namespace swarmform::agent

@@ -185,7 +185,10 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
   if (failed_start) return behaviour_failed(*failed_start);
 
   swarmform::dds::SensorSample packet;
-  std::uint32_t generation = 0;  // of the controller: the world's generation of the robot when it was made
+  std::uint32_t generation = 0;     // of the controller: the world's generation of the robot when it was made
+  std::uint64_t own_packets = 0;    // perceptions stamped with our claim nonce
+  std::uint32_t stale_packets = 0;  // perceptions of the previous owner skipped before the first own one
+  constexpr std::uint32_t kStalePackets = 2;  // a round in flight, one more for a realtime world's timing
   for (;;) {
     switch (link.next_packet(o.timeout_s, packet)) {
       case WaitResult::Ok:
@@ -200,6 +203,11 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
         std::cerr << me << ": no packet and no world for " << o.timeout_s << " s\n";
         return stopped(3);
     }
+    if (packet.owner_nonce != link.claim_nonce() && own_packets == 0 && ++stale_packets <= kStalePackets) {
+      // Before our first own packet, one written before the world took our claim (a take-over of an owner
+      // that died just as the run began: the round in flight was still its) is stale, not news.
+      continue;
+    }
     if (packet.owner_nonce != link.claim_nonce()) {
       // The world names another owner: this agent was taken for dead (stalled past its lease) and a
       // restarted agent claimed the id meanwhile (docs/wire.md "Identity and the claim protocol").
@@ -209,6 +217,7 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
              "claimed the id; exiting\n";
       return stopped(kExitLostId);
     }
+    ++own_packets;
     if (packet.status == swarmform::dds::PacketStatus::End) return stopped(0);
     if (generation == 0) {
       generation = packet.generation;

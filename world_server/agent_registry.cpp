@@ -11,16 +11,20 @@ ClaimResult AgentRegistry::claim(RobotId id, dds::PublicationHandle writer, std:
                                           std::to_string(owners_.size() - 1) + ")"};
   }
   Owner& o = owners_[id];
-  if (o.alive && o.writer == writer) return {ClaimOutcome::Repeated, ""};
+  if (o.alive && o.writer == writer) {
+    o.lapsed = false;  // its sample is proof of life
+    return {ClaimOutcome::Repeated, ""};
+  }
   if (o.alive && claim_nonce != 0 && o.claim_nonce == claim_nonce && o.pid == pid) {
     // At 1024 agents on 2 cores the world refused such claims and the agents exited: the run never started.
     by_writer_.erase(o.writer);  // the old handle's loss, when DDS reports it, is nobody's
     lost_writer_.erase(o.writer);
     o.writer = writer;
+    o.lapsed = false;
     by_writer_[writer] = id;
     return {ClaimOutcome::Rebound, ""};
   }
-  if (o.alive) {
+  if (o.alive && !o.lapsed) {
     return {ClaimOutcome::Refused, "id " + std::to_string(id) + " is already owned by a live agent (pid " +
                                        std::to_string(o.pid) + ")"};
   }
@@ -29,7 +33,8 @@ ClaimResult AgentRegistry::claim(RobotId id, dds::PublicationHandle writer, std:
     by_writer_.erase(o.writer);
     lost_writer_.erase(o.writer);
   }
-  o = Owner{writer, pid, claim_nonce, true, true};
+  o = Owner{
+      .writer = writer, .pid = pid, .claim_nonce = claim_nonce, .alive = true, .lapsed = false, .ever = true};
   by_writer_[writer] = id;
   return {taken_over ? ClaimOutcome::TakenOver : ClaimOutcome::Accepted, ""};
 }
@@ -51,10 +56,22 @@ std::optional<RobotId> AgentRegistry::lose(dds::PublicationHandle writer) {
   by_writer_.erase(it);
   lost_writer_[writer] = id;
   owners_[id].alive = false;
+  owners_[id].lapsed = false;
   return id;
 }
 
+std::optional<RobotId> AgentRegistry::lapse(dds::PublicationHandle writer) {
+  const auto it = by_writer_.find(writer);
+  if (it == by_writer_.end()) return std::nullopt;
+  owners_[it->second].lapsed = true;
+  return it->second;
+}
+
 std::optional<RobotId> AgentRegistry::regain(dds::PublicationHandle writer) {
+  if (const auto live = by_writer_.find(writer); live != by_writer_.end()) {
+    owners_[live->second].lapsed = false;
+    return std::nullopt;
+  }
   const auto it = lost_writer_.find(writer);
   if (it == lost_writer_.end()) return std::nullopt;
   const RobotId id = it->second;

@@ -45,11 +45,21 @@ class AgentRegistry {
   std::optional<RobotId> owner_of(dds::PublicationHandle writer) const;
   // `writer` lost liveliness or went away: the robot it owned, if it owned one (then no longer owned).
   std::optional<RobotId> lose(dds::PublicationHandle writer);
+  // `writer`'s liveliness lapsed before the run: it keeps its robot and counts as connected, but another
+  // claimant may take the id over (an agent restarted after a crash need not wait for the old participant's
+  // lease) until its liveliness or a sample of it comes back. The robot, if `writer` owned one.
+  std::optional<RobotId> lapse(dds::PublicationHandle writer);
   // `writer`'s liveliness came back (a stalled agent, not a dead one): the robot, if `writer` was its owner
-  // when it was lost and nobody has taken the id over since (then owned by it again).
+  // when it was lost and nobody has taken the id over since (then owned by it again). A lapsed owner is
+  // only no longer lapsed (nullopt: nothing changed).
   std::optional<RobotId> regain(dds::PublicationHandle writer);
 
   bool connected(RobotId id) const { return id < owners_.size() && owners_[id].alive; }
+  // The owner's writer if its liveliness lapsed (lapse) and has not come back.
+  std::optional<dds::PublicationHandle> lapsed_writer(RobotId id) const {
+    if (id >= owners_.size() || !owners_[id].alive || !owners_[id].lapsed) return std::nullopt;
+    return owners_[id].writer;
+  }
   std::size_t connected_count() const;
   std::vector<RobotId> missing() const;
   std::uint32_t pid(RobotId id) const { return id < owners_.size() ? owners_[id].pid : 0; }
@@ -59,8 +69,9 @@ class AgentRegistry {
     dds::PublicationHandle writer = 0;
     std::uint32_t pid = 0;
     std::uint64_t claim_nonce = 0;
-    bool alive = false;  // an owner whose writer is alive
-    bool ever = false;   // someone owned it once
+    bool alive = false;   // an owner whose writer is alive
+    bool lapsed = false;  // alive, but its liveliness lapsed before the run (lapse)
+    bool ever = false;    // someone owned it once
   };
   std::vector<Owner> owners_;
   std::unordered_map<dds::PublicationHandle, RobotId> by_writer_;    // live owners

@@ -90,6 +90,7 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
   fresh_.assign(n, 0);
   waiting_.assign(n, 0);
   unresponsive_.assign(n, 0);
+  judged_.assign(n, 0);
   for (const world::Kill& k : scenario.kills) kills_.emplace(k.tick, k.id);
   // Each robot's messages are gathered in begin_round, just before its packet is written, instead of for
   // every robot in the step: robot i computes while the world gathers for robot i + 1, and the step (which
@@ -202,6 +203,13 @@ int Server::run_inner() {
         static_cast<unsigned long long>(stalls_.own_stalls()), stalls_.own_stalled_seconds(),
         static_cast<unsigned long long>(stalls_.suspicions_cleared()));
   }
+  if (unjudged_lapses_ > 0) {
+    std::fprintf(
+        stderr,
+        "world_server: agents' liveliness lapsed %llu time(s) before their first packet (not losses: "
+        "an agent went away only if its writer did)\n",
+        static_cast<unsigned long long>(unjudged_lapses_));
+  }
   if (refusals_.total() > 0) {
     std::cerr << "world_server: refused " << refusals_.total()
               << " command sample(s) of another wire version or run in all\n";
@@ -295,6 +303,7 @@ void Server::pump(bool running) {
     // runs in 13; not traced: the listener's status carries one writer's handle for what may be several
     // changes).
     if (stalls_.suspected(s.writer)) on_regained(s.writer, running);
+    if (!first_answer_due_.empty()) first_answer_due_.erase(s.writer);
     // An ALIVE sample has done its work on arrival (its writer's liveliness, in Cyclone): nothing to keep.
     if (s.kind == dds::CommandKind::Alive) continue;
     if (!admit(s, running)) continue;
@@ -307,14 +316,34 @@ void Server::pump(bool running) {
   for (const auto& change : liveliness_) {
     if (change.alive) {
       on_regained(change.writer, running);
+    } else if (!change.gone && !judged(change.writer)) {
+      // Before its first packet a lapse is not a loss: nothing is at stake yet, an agent waiting for the run
+      // is quiet (docs/wire.md), and while 1024 agents start on 2 cores their leases lapsed thousands of
+      // times anyway, so a world that dropped each lapsed owner never had all of them at once and never
+      // started (bench/scale). An agent that died meanwhile goes away with its participant's lease; one
+      // restarted meanwhile takes the id over (AgentRegistry::lapse).
+      if (registry_.lapse(change.writer)) ++unjudged_lapses_;
     } else {
       on_lost(change.writer, running);
     }
   }
   expired_.clear();
   stalls_.expired(expired_);
+  for (auto it = first_answer_due_.begin(); it != first_answer_due_.end();) {
+    if (stalls_.awake() < it->second) {
+      ++it;
+      continue;
+    }
+    expired_.push_back(it->first);  // silent since before its first packet: dead
+    it = first_answer_due_.erase(it);
+  }
   for (const dds::PublicationHandle w : expired_) on_dead(w, running);
   if (viewer_) viewer_->poll(dds_time());
+}
+
+bool Server::judged(dds::PublicationHandle writer) const {
+  const auto id = registry_.owner_of(writer);
+  return !id || judged_[*id];  // not an owner: on_lost finds nothing to lose
 }
 
 bool Server::admit(const dds::CommandSample& s, bool running) {
@@ -438,6 +467,7 @@ void Server::on_claim(const dds::CommandSample& s, bool running) {
   // The new owner's claim nonce goes on its perceptions: a previous owner that comes back learns from it
   // that it lost the id (docs/wire.md "Identity and the claim protocol").
   owner_nonce_[s.robot_id] = s.nonce;
+  judged_[s.robot_id] = 0;  // a new owner: quiet until its first packet
   link_.robots.set_owner(s.robot_id, s.nonce, generation_[s.robot_id]);
   if (r.outcome == ClaimOutcome::TakenOver && running && !world_.alive(s.robot_id)) revive(s.robot_id);
 }
@@ -531,6 +561,7 @@ void Server::on_dead(dds::PublicationHandle writer, bool running) {
 }
 
 void Server::on_regained(dds::PublicationHandle writer, bool running) {
+  first_answer_due_.erase(writer);
   // An owner declared dead whose writer turns out alive was stalled (starved of CPU past the lease), not
   // dead: its robot comes back as on a rejoin, rather than leaving a live agent without packets until the
   // end.
@@ -610,6 +641,11 @@ void Server::begin_round() {
     waiting_[i] = awaited ? 1 : 0;
     waiting_count_ += awaited ? 1 : 0;
     if (live) {
+      if (!judged_[i]) {
+        judged_[i] = 1;
+        if (const auto w = registry_.lapsed_writer(id))
+          first_answer_due_[*w] = stalls_.awake() + kFirstAnswerGrace;
+      }
       const Perception& packet = world_.perception(id);
       ++profile_.packets;
       profile_.packet_messages += packet.messages.size();

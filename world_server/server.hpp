@@ -16,6 +16,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "common/dds/refusal_log.hpp"
@@ -93,6 +94,7 @@ class Server {
   void on_claim(const dds::CommandSample& s, bool running);
   void on_command(const dds::CommandSample& s);
   void on_lost(dds::PublicationHandle writer, bool running);
+  bool judged(dds::PublicationHandle writer) const;  // judged_ of the robot `writer` owns
   void on_regained(dds::PublicationHandle writer, bool running);
   // A lost owner that is a death now (after StallGuard's judgement).
   void on_dead(dds::PublicationHandle writer, bool running);
@@ -144,6 +146,14 @@ class Server {
   // Lockstep: missed a deadline and has not answered since, so rounds do not wait for it (it still gets
   // its packets). Without this one silent agent would cost every round the whole deadline.
   std::vector<std::uint8_t> unresponsive_;
+  // A packet went to the robot's current owner since its claim: only then is the owner's liveliness judged
+  // (pump). Before, a lapse is not a loss: the agent is quiet until its first packet (docs/wire.md).
+  std::vector<std::uint8_t> judged_;
+  // Owners whose first packet went out while their liveliness was lapsed (all quiet agents at the start):
+  // writer -> the awake time by which a sample or their liveliness must come back, or they are dead (an
+  // agent killed before the run is otherwise seen only when its participant's lease runs out).
+  std::unordered_map<dds::PublicationHandle, dds_time_t> first_answer_due_;
+  static constexpr dds_duration_t kFirstAnswerGrace = DDS_SECS(2);
   std::vector<dds::PublicationHandle> latest_writer_;  // the writer of latest_ (its owner's)
   InputGuard guard_;
   world::TelemetryLimits telemetry_limits_;
@@ -152,6 +162,8 @@ class Server {
   std::size_t waiting_count_ = 0;
   std::vector<dds::CommandSample> samples_;
   std::vector<dds::CommandReader::LivelinessChange> liveliness_;
+  std::uint64_t unjudged_lapses_ =
+      0;  // liveliness lapses before an owner's first packet: counted, not losses
   std::vector<dds::RobotPoseRow> rows_;
   std::multimap<Tick, RobotId> kills_;
   std::map<RobotId, dds_time_t> kill_sent_;  // wall time of a SIGKILL, to report the detection delay

@@ -105,15 +105,23 @@ std::string discovery_section(const DdsSettings& s) {
       xml += "<Peer address=\"" + peer + "\"/>";
     }
     xml += "</Peers>";
-    // Re-announce every second so an agent started before the world is matched soon after it comes up.
-    xml += "<SPDPInterval>1s</SPDPInterval>";
+    // Re-announced every 2 s: an agent started before the world is matched within 2 s of its coming up
+    // (`swarm run` starts the world first, so its agents' first announcement finds it). Every second, as it
+    // was, the world parsed 1024 announcements a second and each agent sent one: a third of an idle agent's
+    // CPU and two thirds of the world's while 1024 wait for the run (bench/scale/README.md). 5 s was
+    // cheaper still, but an outsider started before a short secure run never saw its world
+    // (scripts.secure_e2e).
+    xml += "<SPDPInterval>2s</SPDPInterval>";
   }
-  // Participant leases: 5 s on every process. Death is told by the writers' liveliness (qos.hpp: an agent's
+  // Participant leases: 30 s on every process. Death is told by the writers' liveliness (qos.hpp: an agent's
   // command writer, 500 ms; the world's writers, 2 s), not by the participant lease. A participant without
   // AUTOMATIC writers still sends a reliable liveliness message (with heartbeat and acknowledgement) to every
   // peer each 0.8 x its lease: an agent's 1 s lease cost the world ~840 submessages a second from 256 agents
-  // (tcpdump, BENCHMARKS.md).
-  return xml + "<LeaseDuration>5s</LeaseDuration></Discovery>";
+  // (tcpdump, BENCHMARKS.md). Long, because a participant whose lease ran out while its process was starved
+  // (1024 agents starting on 2 cores; 5 s was too short) is forgotten, and Cyclone 0.10.2 then ignores its
+  // announcements for a while ("recently deleted"): agents stayed undiscovered for minutes. What it costs: a
+  // crashed process's endpoints stay matched 30 s (its death is still seen by its writer's lease).
+  return xml + "<LeaseDuration>30s</LeaseDuration></Discovery>";
 }
 
 std::uint64_t host_rmem_max() {

@@ -860,12 +860,16 @@ struct CommandReader::Impl {
   static void on_liveliness(dds_entity_t, const dds_liveliness_changed_status_t status, void* arg) {
     auto* self = static_cast<Impl*>(arg);
     // alive_count falls when a writer loses liveliness (not_alive rises) or goes away (deleted, unmatched),
-    // and rises when a writer appears or its liveliness comes back.
-    if (status.alive_count_change == 0) return;
+    // and rises when a writer appears or its liveliness comes back; not_alive alone falls when a writer
+    // that had lost its liveliness goes away.
+    const bool alive = status.alive_count_change > 0;
+    const bool lapsed = status.alive_count_change < 0 && status.not_alive_count_change > 0;
+    const bool gone =
+        !alive && !lapsed && (status.alive_count_change < 0 || status.not_alive_count_change < 0);
+    if (!alive && !lapsed && !gone) return;
     {
       std::lock_guard lock(self->mutex);
-      self->changes.push_back(
-          LivelinessChange{status.last_publication_handle, status.alive_count_change > 0});
+      self->changes.push_back(LivelinessChange{status.last_publication_handle, alive, gone});
     }
     try {
       self->waiter->wake();

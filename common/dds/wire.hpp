@@ -292,10 +292,12 @@ class CommandReader {
   std::size_t take(std::vector<CommandSample>& buf, std::size_t max_samples = kMaxCommandTake,
                    std::size_t first = 0);
   // Liveliness changes of command writers since the last call, in the order they happened (appended to
-  // `out`): alive = false when a writer lost liveliness or went away, true when one appeared or came back.
+  // `out`): alive = false when a writer lost liveliness or went away, true when one appeared or came back;
+  // gone = the writer went away (deleted, or its participant's lease ran out), not only its liveliness.
   struct LivelinessChange {
     PublicationHandle writer = 0;
     bool alive = false;
+    bool gone = false;
   };
   void take_liveliness_changes(std::vector<LivelinessChange>& out);
   // Samples dropped by the `accept_ids` filter so far (thread-safe).

@@ -48,6 +48,29 @@ TEST(AgentRegistry, TheOwnerSeenThroughANewWriterHandleKeepsItsIdThere) {
   EXPECT_EQ(r.lose(200), std::optional<swarmform::RobotId>(2));
 }
 
+TEST(AgentRegistry, AnOwnerWhoseLivelinessLapsedBeforeTheRunStaysConnectedButCanBeTakenOver) {
+  AgentRegistry r(3);
+  ASSERT_EQ(r.claim(1, 100, 11, 5).outcome, ClaimOutcome::Accepted);
+  EXPECT_FALSE(r.lapse(999).has_value());  // a writer that owns nothing
+  EXPECT_EQ(r.lapse(100), std::optional<swarmform::RobotId>(1));
+  EXPECT_TRUE(r.connected(1));  // still counted: the world waits for no one who is there
+  EXPECT_EQ(r.connected_count(), 1u);
+  EXPECT_TRUE(r.owns(1, 100));
+  EXPECT_FALSE(r.regain(100).has_value());                           // back: nothing changed hands
+  EXPECT_EQ(r.claim(1, 200, 22, 6).outcome, ClaimOutcome::Refused);  // alive again: a second agent is refused
+  ASSERT_EQ(r.lapse(100), std::optional<swarmform::RobotId>(1));
+  EXPECT_EQ(r.claim(1, 100, 11, 5).outcome, ClaimOutcome::Repeated);  // its own re-sent claim: proof of life
+  EXPECT_EQ(r.claim(1, 200, 22, 6).outcome, ClaimOutcome::Refused);
+  ASSERT_EQ(r.lapse(100), std::optional<swarmform::RobotId>(1));
+  EXPECT_EQ(r.claim(1, 200, 22, 6).outcome, ClaimOutcome::TakenOver);  // a restarted agent need not wait
+  EXPECT_TRUE(r.owns(1, 200));
+  EXPECT_FALSE(r.owner_of(100).has_value());
+  EXPECT_FALSE(r.lose(100).has_value());  // the old writer going away later is nobody's
+  ASSERT_EQ(r.lapse(200), std::optional<swarmform::RobotId>(1));
+  EXPECT_EQ(r.lose(200), std::optional<swarmform::RobotId>(1));  // then gone for good: no longer connected
+  EXPECT_FALSE(r.connected(1));
+}
+
 TEST(AgentRegistry, ALostOwnerFreesTheIdForATakeOver) {
   AgentRegistry r(3);
   ASSERT_EQ(r.claim(1, 100, 11).outcome, ClaimOutcome::Accepted);
@@ -90,16 +113,17 @@ TEST(CycloneConfig, WorldTakesIndexZeroAndAgentsPeerOnlyWithIt) {
   EXPECT_NE(w.find("<ParticipantIndex>0</ParticipantIndex>"), std::string::npos);
   EXPECT_EQ(w.find("<Peer "), std::string::npos);
   EXPECT_NE(w.find("<NetworkInterface address=\"127.0.0.1\"/>"), std::string::npos);
-  // The world's participant lease is long (it is re-announced to every agent each 0.8 x lease); an agent's
-  // is short, so a dead agent is forgotten soon.
-  EXPECT_NE(w.find("<LeaseDuration>5s</LeaseDuration>"), std::string::npos);
+  // Participant leases are long on every process (a starved participant forgotten by DDS stays undiscovered
+  // for a while); deaths are told by the writers' liveliness.
+  EXPECT_NE(w.find("<LeaseDuration>30s</LeaseDuration>"), std::string::npos);
   EXPECT_NE(w.find("<SharedMemory><Enable>false</Enable></SharedMemory>"), std::string::npos);
 
   DdsSettings agent;
   agent.domain = 7;
   const std::string a = cyclone_config_xml(agent);
   EXPECT_NE(a.find("<ParticipantIndex>none</ParticipantIndex>"), std::string::npos);
-  EXPECT_NE(a.find("<LeaseDuration>5s</LeaseDuration>"), std::string::npos);  // no death is told by it
+  EXPECT_NE(a.find("<LeaseDuration>30s</LeaseDuration>"), std::string::npos);  // no death is told by it
+  EXPECT_NE(a.find("<SPDPInterval>2s</SPDPInterval>"), std::string::npos);     // an idle agent's largest cost
   EXPECT_NE(a.find("<Peer address=\"127.0.0.1:" + std::to_string(7400 + 100 * 7 + 10) + "\"/>"),
             std::string::npos);
 

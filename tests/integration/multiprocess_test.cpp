@@ -74,10 +74,10 @@ class MultiProcess : public swarmform::testing::ProcessFixture {
   }
 
   // An agent stalled after its claim, before the run, for longer than its command writer's liveliness lease
-  // (500 ms): SIGSTOP here, CPU starvation while 256 agents discover the world in bench/scale. The world
-  // takes it for lost; Cyclone reports the writer alive again only when it writes, so the agent re-sends its
-  // claim until its first packet and asserts its liveliness while it waits (robot_agent/dds_link.hpp), and
-  // the world takes it back. Run `run` on `domain`, stalling agent 0 for `stall`.
+  // (500 ms): SIGSTOP here, CPU starvation while 1024 agents start in bench/scale. Before the run a lapse is
+  // not a loss (world_server/server.cpp pump): the agent keeps its id, the world counts the lapse, and the
+  // run starts with it. Run `run` on `domain`, stalling agent 0 for `stall` (shorter than its participant's
+  // 5 s lease: past that, DDS forgets the participant, and the agent comes back as a rebound claim).
   void stalled_before_the_run(int domain, const std::string& run, std::chrono::milliseconds stall) {
     Process& w =
         start({kWorld, "--scenario", kScenario, "--out", path(run), "--domain", std::to_string(domain),
@@ -94,7 +94,9 @@ class MultiProcess : public swarmform::testing::ProcessFixture {
     EXPECT_NE(w.out().find("done ticks=30"), std::string::npos) << w.out();
     EXPECT_EQ(first.wait_for(10.0), 0) << first.err();
     EXPECT_EQ(second.wait_for(10.0), 0) << second.err();
-    EXPECT_TRUE(has_event(run, "agent_lost", 0));  // the stall did cost it its lease
+    EXPECT_NE(w.err().find("liveliness lapsed"), std::string::npos) << w.err();  // the stall did lapse
+    EXPECT_FALSE(has_event(run, "agent_lost", 0));                               // but lost nothing
+    EXPECT_EQ(events_of(run, "agent_connected").size(), 2u);  // each connected once, never re-counted
   }
 
   // A whole clean run: world + 8 agents; returns the trajectory hash. Checks every agent saw only its own
@@ -192,7 +194,8 @@ TEST_F(MultiProcess, KilledAgentIsDetectedWithinOneSecondAndARestartedOneRejoins
   EXPECT_EQ(agents[3]->wait_for(1.0), 128 + 9);  // it was SIGKILLed
   Process& again = agent(domain, 3, "kill-again");
   EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
-  EXPECT_EQ(again.wait_for(10.0), 0) << again.err();
+  EXPECT_EQ(again.wait_for(10.0), 0) << again.err() << w.err()
+                                     << read_file(path("restarted") + "/events.jsonl");
 
   const Json s = summary("kill");
   ASSERT_EQ(s["deaths"].size(), 1u);
@@ -298,9 +301,61 @@ TEST_F(MultiProcess, AgentStalledForThreeSecondsBeforeTheRunIsCountedAgain) {
                          std::chrono::milliseconds(3000));
 }
 
-// An agent's command writer has manual liveliness (common/dds/qos.hpp): an agent with nothing to write while
-// it waits for the run asserts it, and is not taken for lost, however long the others take to come.
-TEST_F(MultiProcess, AgentWaitingForTheRunKeepsItsLiveliness) {
+// Before the run a lapse keeps the id (above), but an agent killed then and restarted need not wait for the
+// dead one's participant lease (5 s): the lapsed id is taken over, and the run starts with the new agent.
+// (integration_tests run serially: this reuses the stalled tests' domain.)
+TEST_F(MultiProcess, AgentKilledBeforeTheRunIsReplacedByARestartedOne) {
+  const int domain = swarmform::testing::test_domain(8);
+  Process& w =
+      start({kWorld, "--scenario", kScenario, "--out", path("restarted"), "--domain", std::to_string(domain),
+             "--connect-timeout", "20", "--robots", "2", "--max-ticks", "30"},
+            "restarted-world");
+  Process& first = agent(domain, 0, "restarted");
+  ASSERT_TRUE(eventually(20.0, [&] { return w.err().find("id 0 claimed by pid") != std::string::npos; }))
+      << w.err();
+  ASSERT_EQ(::kill(first.pid(), SIGKILL), 0);
+  EXPECT_EQ(first.wait_for(5.0), 128 + SIGKILL);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // three writer leases: the lapse is seen
+  Process& again = start({kAgent, "--id", "0", "--domain", std::to_string(domain), "--timeout", "30"},
+                         "restarted-agent0-again");
+  Process& second = agent(domain, 1, "restarted");
+  ASSERT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_NE(w.out().find("done ticks=30"), std::string::npos) << w.out();
+  EXPECT_EQ(again.wait_for(10.0), 0) << again.err() << w.err()
+                                     << read_file(path("restarted") + "/events.jsonl");
+  EXPECT_EQ(second.wait_for(10.0), 0) << second.err();
+  EXPECT_EQ(events_of("restarted", "agent_connected").size(), 3u) << w.err();  // 0 twice: taken over
+  EXPECT_EQ(w.err().find("refused a claim"), std::string::npos) << w.err();
+}
+
+// An agent killed before the run, not replaced: its lapse is no loss, so the run starts with it counted; it
+// does not answer its first packet, and the world takes it for dead 2 s (awake) later, not when its
+// participant's lease (30 s) runs out. (integration_tests run serially: the stalled tests' domain.)
+TEST_F(MultiProcess, AgentKilledBeforeTheRunIsDeadOnceItMissesItsFirstPacket) {
+  const int domain = swarmform::testing::test_domain(8);
+  Process& w =
+      start({kWorld, "--scenario", kScenario, "--out", path("killed"), "--domain", std::to_string(domain),
+             "--connect-timeout", "20", "--robots", "2", "--max-ticks", "30"},
+            "killed-world");
+  Process& first = agent(domain, 0, "killed");
+  ASSERT_TRUE(eventually(20.0, [&] { return w.err().find("id 0 claimed by pid") != std::string::npos; }))
+      << w.err();
+  ASSERT_EQ(::kill(first.pid(), SIGKILL), 0);
+  EXPECT_EQ(first.wait_for(5.0), 128 + SIGKILL);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1000));  // its writer's lease lapses
+  Process& second = agent(domain, 1, "killed");
+  ASSERT_EQ(w.wait_for(25.0), 0) << w.err();  // well before the dead participant's 30 s lease
+  EXPECT_NE(w.out().find("done ticks=30"), std::string::npos) << w.out();
+  EXPECT_EQ(second.wait_for(10.0), 0) << second.err();
+  EXPECT_TRUE(has_event("killed", "death_detected", 0)) << w.err();
+  EXPECT_FALSE(has_event("killed", "death_detected", 1));
+  EXPECT_EQ(summary("killed")["alive_at_end"], 1) << w.err();
+}
+
+// An agent waiting for the run is quiet from 2 s after its claim (no liveliness assertions, a re-claim every
+// 5 s: robot_agent/dds_link.hpp), so its writer's lease lapses; the world does not judge it before its first
+// packet, so it keeps its id however long the others take to come.
+TEST_F(MultiProcess, AgentWaitingForTheRunIsQuietAndKeepsItsId) {
   const int domain = swarmform::testing::test_domain(9);
   Process& w =
       start({kWorld, "--scenario", kScenario, "--out", path("waiting"), "--domain", std::to_string(domain),
@@ -309,12 +364,13 @@ TEST_F(MultiProcess, AgentWaitingForTheRunKeepsItsLiveliness) {
   Process& first = agent(domain, 0, "waiting");
   ASSERT_TRUE(eventually(20.0, [&] { return w.err().find("id 0 claimed by pid") != std::string::npos; }))
       << w.err();
-  std::this_thread::sleep_for(std::chrono::seconds(3));  // six writer leases with nothing to write
+  std::this_thread::sleep_for(std::chrono::seconds(4));  // quiet after 2 s: four writer leases
   Process& second = agent(domain, 1, "waiting");
   ASSERT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
   EXPECT_EQ(first.wait_for(10.0), 0) << first.err();
   EXPECT_EQ(second.wait_for(10.0), 0) << second.err();
-  EXPECT_FALSE(has_event("waiting", "agent_lost", 0));
+  EXPECT_NE(w.err().find("liveliness lapsed"), std::string::npos) << w.err();  // it was quiet
+  EXPECT_FALSE(has_event("waiting", "agent_lost", 0));                         // and lost nothing
   EXPECT_EQ(events_of("waiting", "agent_connected").size(), 2u);  // each connected once, never re-counted
 }
 
