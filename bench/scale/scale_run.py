@@ -323,6 +323,16 @@ def main():
             drops0 = udp_receive_buffer_errors()
             load0 = load_average()
             t0 = time.monotonic()
+            # The world first, as `scripts/swarm run` starts it: agents announce themselves every 2 s, so an
+            # agent started before the world would wait for its next announcement.
+            world_err = open(os.path.join(tmp, "world.err"), "w+")
+            world = spawn([world_exe, "--scenario", a.scenario, "--robots", str(a.robots), "--mode", "realtime",
+                           "--max-ticks", str(a.ticks), "--out", run_dir, "--domain", str(a.domain),
+                           "--connect-timeout", str(a.connect_timeout)],
+                          stdout=subprocess.PIPE, stderr=world_err, text=True)
+            lines, first, connected = [], [], []
+            reader = threading.Thread(target=read_world, args=(world, lines, first, connected), daemon=True)
+            reader.start()
             # No preexec_fn for the agents: it forces Python to fork itself 256 times (11 s on a loaded 2-core
             # machine, against 1.5 s with vfork), which would be measured as the swarm's start-up. An agent
             # left behind by a SIGKILLed benchmark gives up by itself after --timeout without its world.
@@ -348,14 +358,6 @@ def main():
                                        f"(exit {block.poll()})")
                 forked.append((block, agent_pids))
             spawned = time.monotonic() - t0
-            world_err = open(os.path.join(tmp, "world.err"), "w+")
-            world = spawn([world_exe, "--scenario", a.scenario, "--robots", str(a.robots), "--mode", "realtime",
-                           "--max-ticks", str(a.ticks), "--out", run_dir, "--domain", str(a.domain),
-                           "--connect-timeout", str(a.connect_timeout)],
-                          stdout=subprocess.PIPE, stderr=world_err, text=True)
-            lines, first, connected = [], [], []
-            reader = threading.Thread(target=read_world, args=(world, lines, first, connected), daemon=True)
-            reader.start()
             with open(a.scenario) as f:
                 rate = 10.0
                 for line in f:
