@@ -349,7 +349,7 @@ def main():
                     block = spawn([agent_exe, "--id", "0", "--count", str(a.robots), "--domain", str(a.domain),
                                    "--timeout", str(timeout)], nice=a.agents_nice, stdout=out, stderr=err_file)
                 agent_pids = None
-                deadline = time.monotonic() + 60
+                deadline = time.monotonic() + max(60.0, a.connect_timeout)  # forking 2048 took > 60 s
                 while agent_pids is None and block.poll() is None and time.monotonic() < deadline:
                     time.sleep(0.01)
                     agent_pids = read_block_pids(block_out, a.robots)
