@@ -51,7 +51,7 @@ class ViewerControl {
 
   static constexpr dds_duration_t kBindWait = DDS_SECS(30);
   // The viewer says HELLO every 250 ms; silent this long, it is gone (a SIGKILLed viewer's writer stays
-  // matched until its participant's lease of 5 s lapses). A false alarm (the world's own stall) only drops
+  // matched until its participant's lease of 30 s lapses). A false alarm (the world's own stall) only drops
   // the pause and the cap; the next HELLO binds the viewer again.
   static constexpr dds_duration_t kSilence = DDS_SECS(2);
 

@@ -94,7 +94,7 @@ class MultiProcess : public swarmform::testing::ProcessFixture {
   // (500 ms): SIGSTOP here, CPU starvation while 1024 agents start in bench/scale. Before the run a lapse is
   // not a loss (world_server/server.cpp pump): the agent keeps its id, the world counts the lapse, and the
   // run starts with it. Run `run` on `domain`, stalling agent 0 for `stall` (shorter than its participant's
-  // 5 s lease: past that, DDS forgets the participant, and the agent comes back as a rebound claim).
+  // 30 s lease: past that, DDS forgets the participant, and the agent comes back as a rebound claim).
   void stalled_before_the_run(int domain, const std::string& run, std::chrono::milliseconds stall) {
     Process& w =
         start({kWorld, "--scenario", kScenario, "--out", path(run), "--domain", std::to_string(domain),
@@ -312,7 +312,7 @@ TEST_F(MultiProcess, AgentStalledPastItsWriterLeaseBeforeTheRunIsCountedAgain) {
 }
 
 // 3 s: past what was the agent's participant lease (1 s), after which the world forgot the participant and
-// never heard the agent again; within the 5 s it is now (common/dds/cyclone_config.cpp).
+// never heard the agent again; within the 30 s it is now (common/dds/cyclone_config.cpp).
 TEST_F(MultiProcess, AgentStalledForThreeSecondsBeforeTheRunIsCountedAgain) {
   stalled_before_the_run(swarmform::testing::test_domain(10), "stalled-long",
                          std::chrono::milliseconds(3000));
