@@ -16,7 +16,6 @@ namespace {
 constexpr dds_duration_t kReclaimPeriod = DDS_SECS(1);
 constexpr dds_duration_t kPreRunReclaimPeriod = DDS_SECS(5);
 constexpr dds_duration_t kQuietAfter = DDS_SECS(2);
-constexpr dds_duration_t kClaimResendMax = DDS_SECS(2);
 
 dds_time_t after(double seconds) {
   return dds_time() + static_cast<dds_duration_t>(seconds * 1e9);
@@ -97,9 +96,8 @@ WaitResult AgentLink::claim(double timeout_s, dds::ClaimAnswer& out) {
       // before the world matched our reader (both volatile). The first answers come quickly, the endpoints
       // were just made; then the world may be busy (see the header).
       commands_->claim(self_, nonce, static_cast<std::uint32_t>(getpid()));
-      resend =
-          now + (++attempts < 5 ? DDS_MSECS(100)
-                                : std::min(kClaimResendMax, DDS_MSECS(250) << std::min(attempts - 4, 3)));
+      // 0.1 s four times, then 0.5, 1, 2, 2, ... s.
+      resend = now + (++attempts < 5 ? DDS_MSECS(100) : DDS_MSECS(250) << std::min(attempts - 4, 3));
     }
     waiter_.wait_until(std::min({deadline, resend, commands_->keep_alive(now)}));
   }

@@ -862,10 +862,11 @@ struct CommandReader::Impl {
     // alive_count falls when a writer loses liveliness (not_alive rises) or goes away (deleted, unmatched),
     // and rises when a writer appears or its liveliness comes back; not_alive alone falls when a writer
     // that had lost its liveliness goes away.
-    const bool alive = status.alive_count_change > 0;
-    const bool lapsed = status.alive_count_change < 0 && status.not_alive_count_change > 0;
-    const bool gone =
-        !alive && !lapsed && (status.alive_count_change < 0 || status.not_alive_count_change < 0);
+    const int a = status.alive_count_change;
+    const int na = status.not_alive_count_change;
+    const bool alive = a > 0;
+    const bool lapsed = a < 0 && na > 0;
+    const bool gone = (a < 0 && na <= 0) || (a == 0 && na < 0);
     if (!alive && !lapsed && !gone) return;
     {
       std::lock_guard lock(self->mutex);

@@ -50,17 +50,28 @@ class MultiProcess : public swarmform::testing::ProcessFixture {
                  tag + "-agent" + std::to_string(id));
   }
 
-  // A world for 2 robots on `domain` whose agent 0 claimed its id and was SIGKILLed before the run, its
-  // writer's lease lapsed since (a lapse before the first packet is not a loss: the id stays counted).
-  // (integration_tests run serially: its tests reuse the stalled tests' domain.)
-  Process& world_whose_agent0_died_before_the_run(int domain, const std::string& run) {
+  // A world for 2 robots on `domain` and agent 0, started (for the tests of what happens before the run).
+  struct WorldAndAgent0 {
+    Process& world;
+    Process& agent0;
+  };
+  WorldAndAgent0 world_and_agent0(int domain, const std::string& run) {
     Process& w =
         start({kWorld, "--scenario", kScenario, "--out", path(run), "--domain", std::to_string(domain),
                "--connect-timeout", "20", "--robots", "2", "--max-ticks", "30"},
               run + "-world");
-    Process& first = agent(domain, 0, run);
-    EXPECT_TRUE(eventually(20.0, [&] { return w.err().find("id 0 claimed by pid") != std::string::npos; }))
-        << w.err();
+    return {w, agent(domain, 0, run)};
+  }
+  static bool agent0_claimed(const Process& w) {
+    return eventually(20.0, [&] { return w.err().find("id 0 claimed by pid") != std::string::npos; });
+  }
+
+  // A world for 2 robots on `domain` whose agent 0 claimed its id and was SIGKILLed before the run, its
+  // writer's lease lapsed since (a lapse before the first packet is not a loss: the id stays counted).
+  // (integration_tests run serially: its tests reuse the stalled tests' domain.)
+  Process& world_whose_agent0_died_before_the_run(int domain, const std::string& run) {
+    auto [w, first] = world_and_agent0(domain, run);
+    EXPECT_TRUE(agent0_claimed(w)) << w.err();
     EXPECT_EQ(::kill(first.pid(), SIGKILL), 0);
     EXPECT_EQ(first.wait_for(5.0), 128 + SIGKILL);
     std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // three writer leases: the lapse is seen
@@ -96,13 +107,8 @@ class MultiProcess : public swarmform::testing::ProcessFixture {
   // run starts with it. Run `run` on `domain`, stalling agent 0 for `stall` (shorter than its participant's
   // 30 s lease: past that, DDS forgets the participant, and the agent comes back as a rebound claim).
   void stalled_before_the_run(int domain, const std::string& run, std::chrono::milliseconds stall) {
-    Process& w =
-        start({kWorld, "--scenario", kScenario, "--out", path(run), "--domain", std::to_string(domain),
-               "--connect-timeout", "20", "--robots", "2", "--max-ticks", "30"},
-              run + "-world");
-    Process& first = agent(domain, 0, run);
-    ASSERT_TRUE(eventually(20.0, [&] { return w.err().find("id 0 claimed by pid") != std::string::npos; }))
-        << w.err();
+    auto [w, first] = world_and_agent0(domain, run);
+    ASSERT_TRUE(agent0_claimed(w)) << w.err();
     ASSERT_EQ(::kill(first.pid(), SIGSTOP), 0);
     std::this_thread::sleep_for(stall);
     ASSERT_EQ(::kill(first.pid(), SIGCONT), 0);
@@ -353,13 +359,8 @@ TEST_F(MultiProcess, AgentKilledBeforeTheRunIsDeadOnceItMissesItsFirstPacket) {
 // packet, so it keeps its id however long the others take to come.
 TEST_F(MultiProcess, AgentWaitingForTheRunIsQuietAndKeepsItsId) {
   const int domain = swarmform::testing::test_domain(9);
-  Process& w =
-      start({kWorld, "--scenario", kScenario, "--out", path("waiting"), "--domain", std::to_string(domain),
-             "--connect-timeout", "20", "--robots", "2", "--max-ticks", "30"},
-            "waiting-world");
-  Process& first = agent(domain, 0, "waiting");
-  ASSERT_TRUE(eventually(20.0, [&] { return w.err().find("id 0 claimed by pid") != std::string::npos; }))
-      << w.err();
+  auto [w, first] = world_and_agent0(domain, "waiting");
+  ASSERT_TRUE(agent0_claimed(w)) << w.err();
   std::this_thread::sleep_for(std::chrono::seconds(4));  // quiet after 2 s: four writer leases
   Process& second = agent(domain, 1, "waiting");
   ASSERT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
