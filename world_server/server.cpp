@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
+#include "common/id_ranges.hpp"
 #include "world_server/run/run_end.hpp"
 #include "world_server/wire_check.hpp"
 
@@ -47,16 +48,6 @@ ThreadClock thread_clock() {
   rusage ru{};
   if (getrusage(RUSAGE_THREAD, &ru) == 0) c.preempted = static_cast<std::uint64_t>(ru.ru_nivcsw);
   return c;
-}
-
-// "3 7 12": robot ids for a message.
-std::string ids_text(const std::vector<RobotId>& ids) {
-  std::string out;
-  for (RobotId id : ids) {
-    if (!out.empty()) out += ' ';
-    out += std::to_string(id);
-  }
-  return out;
 }
 
 // Observers get the world state at most this often (it is for viewers; agents never read it).
@@ -253,11 +244,11 @@ bool Server::connect_agents() {
       if (claimed) {
         std::cerr << "world_server: every agent claimed its id, but these robots' packet writers matched no "
                      "reader within "
-                  << options_.connect_timeout_s << " s: " << ids_text(unmatched_robots()) << "\n";
+                  << options_.connect_timeout_s << " s: " << id_ranges_text(unmatched_robots()) << "\n";
       } else {
         std::cerr << "world_server: " << n - registry_.connected_count() << " of " << n
                   << " agents missing after " << options_.connect_timeout_s
-                  << " s: " << ids_text(registry_.missing())
+                  << " s: " << id_ranges_text(registry_.missing())
                   << (link_.participant.secure()
                           ? " (DDS Security: only agents started with this run's --security-dir can connect)"
                           : "")
