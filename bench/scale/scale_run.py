@@ -45,6 +45,11 @@ What it measures, in one run:
                     time in it and its preemptions, per round;
   udp_receive_buffer_errors  datagrams the kernel dropped on full UDP receive buffers during the run
                     (/proc/net/snmp RcvbufErrors: the network namespace's; machine-wide without one);
+  threads           where the CPU of the middle of the run went, by thread name (the main thread carries the
+                    program's name; Cyclone's: recvUC user data, recv discovery, tev timed events, gc leases):
+                    agents_per_agent_tick {name: {us, switches}} (CPU µs and context switches, i.e. wake-ups,
+                    per agent per tick), world_per_tick the same per tick; window_ticks, the ticks they are
+                    divided by (from the world's progress lines, within a second's worth);
   udp_socket_drops  the same per socket at 95% of the run (/proc/net/udp `drops`, while every socket is open; since
                     each socket opened), summed over the world's
                     sockets (its fixed ports) and over the agents' (the rest), to say whose buffer overflowed;
@@ -256,15 +261,60 @@ def late_commands(err):
             "transit_ms": {"median": v[6], "max": v[7]}}
 
 
-def read_world(world, lines, first_progress, connected):
-    """Reads the world's stdout as it comes; notes when the connected line and the first progress line arrived."""
+def thread_split(pids):
+    """CPU (clock ticks) and context switches (voluntary + involuntary: each wake-up is one) of every thread of
+    `pids`, summed by thread name: the main thread carries the program's name, Cyclone's own are recvUC (user
+    data), recv (discovery), tev (timed events), gc (leases, deletions), dq.builtins, dq.user."""
+    out = {}
+    for pid in pids:
+        try:
+            tids = os.listdir(f"/proc/{pid}/task")
+        except OSError:
+            continue
+        for tid in tids:
+            base = f"/proc/{pid}/task/{tid}"
+            try:
+                with open(base + "/comm") as f:
+                    name = f.read().strip()
+                with open(base + "/stat") as f:
+                    fields = f.read().rsplit(")", 1)[1].split()
+                switches = 0
+                with open(base + "/status") as f:
+                    for line in f:
+                        if "ctxt_switches" in line:
+                            switches += int(line.split()[1])
+            except (OSError, IndexError, ValueError):
+                continue  # the thread ended meanwhile
+            cpu, n = out.get(name, (0, 0))
+            out[name] = (cpu + int(fields[11]) + int(fields[12]), n + switches)
+    return out
+
+
+def split_per_tick(before, after, per):
+    """{thread name: {"us": CPU µs, "switches": context switches}} per `per` (agent-ticks, or ticks), the threads
+    present at both ends only, the dearest first."""
+    rows = []
+    for name, (cpu1, sw1) in after.items():
+        if name in before and per > 0:
+            cpu0, sw0 = before[name]
+            rows.append((name, (cpu1 - cpu0) / CLK_TCK * 1e6 / per, (sw1 - sw0) / per))
+    rows.sort(key=lambda r: -r[1])
+    return {name: {"us": round(us, 1), "switches": round(sw, 2)} for name, us, sw in rows}
+
+
+def read_world(world, lines, first_progress, connected, last_tick):
+    """Reads the world's stdout as it comes; notes when the connected line and the first progress line arrived,
+    and the tick of the last progress line (last_tick[0])."""
     for line in world.stdout:
         now = time.monotonic()
         lines.append(line.rstrip("\n"))
         if not connected and line.startswith("connected agents="):
             connected.append(now)
-        if not first_progress and line.startswith("progress tick="):
-            first_progress.append((now, int(line.split()[1].split("=")[1])))
+        if line.startswith("progress tick="):
+            tick = int(line.split()[1].split("=")[1])
+            last_tick[0] = tick
+            if not first_progress:
+                first_progress.append((now, tick))
 
 
 def main():
@@ -330,8 +380,9 @@ def main():
                            "--max-ticks", str(a.ticks), "--out", run_dir, "--domain", str(a.domain),
                            "--connect-timeout", str(a.connect_timeout)],
                           stdout=subprocess.PIPE, stderr=world_err, text=True)
-            lines, first, connected = [], [], []
-            reader = threading.Thread(target=read_world, args=(world, lines, first, connected), daemon=True)
+            lines, first, connected, last_tick = [], [], [], [0]
+            reader = threading.Thread(target=read_world, args=(world, lines, first, connected, last_tick),
+                                      daemon=True)
             reader.start()
             # No preexec_fn for the agents: it forces Python to fork itself 256 times (11 s on a loaded 2-core
             # machine, against 1.5 s with vfork), which would be measured as the swarm's start-up. An agent
@@ -392,10 +443,15 @@ def main():
             c0 = [cpu_seconds(p) for p in pids]
             w0 = cpu_seconds(world.pid)
             m0 = time.monotonic()
+            split0 = (thread_split(pids), thread_split([world.pid]), last_tick[0])
             time.sleep(max(0.0, started + 0.8 * run_seconds - time.monotonic()))
             c1 = [cpu_seconds(p) for p in pids]
             w1 = cpu_seconds(world.pid)
             window = time.monotonic() - m0
+            split1 = (thread_split(pids), thread_split([world.pid]), last_tick[0])
+            # The world's progress lines come once a second, so both ends lag alike: the ticks between are
+            # those of the window within a second's worth.
+            window_ticks = split1[2] - split0[2]
             rss = [r for r in (rss_mib(p) for p in pids) if r is not None]
             world_rss = rss_mib(world.pid)
             live = [(b - a_) for a_, b in zip(c0, c1) if a_ is not None and b is not None]
@@ -476,6 +532,10 @@ def main():
                     "world": round(100.0 * (w1 - w0) / window, 1) if w0 is not None and w1 is not None
                     else None,
                     "window_seconds": round(window, 1)},
+                # Where each agent-tick's CPU goes, by thread, and how often each thread woke.
+                "threads": {"window_ticks": window_ticks,
+                            "agents_per_agent_tick": split_per_tick(split0[0], split1[0], window_ticks * len(pids)),
+                            "world_per_tick": split_per_tick(split0[1], split1[1], window_ticks)},
             }
     except KeyboardInterrupt:
         return 130
