@@ -48,8 +48,9 @@ What it measures, in one run:
   threads           where the CPU of the middle of the run went, by thread name (the main thread carries the
                     program's name; Cyclone's: recvUC user data, recv discovery, tev timed events, gc leases):
                     agents_per_agent_tick {name: {us, switches}} (CPU µs and context switches, i.e. wake-ups,
-                    per agent per tick), world_per_tick the same per tick; window_ticks, the ticks they are
-                    divided by (from the world's progress lines, within a second's worth);
+                    per agent per tick, over the agents_counted agents alive at both ends of the window),
+                    world_per_tick the same per tick; window_ticks, the ticks they are divided by (from the
+                    world's progress lines, within a second's worth);
   udp_socket_drops  the same per socket at 95% of the run (/proc/net/udp `drops`, while every socket is open; since
                     each socket opened), summed over the world's
                     sockets (its fixed ports) and over the agents' (the rest), to say whose buffer overflowed;
@@ -262,9 +263,9 @@ def late_commands(err):
 
 
 def thread_split(pids):
-    """CPU (clock ticks) and context switches (voluntary + involuntary: each wake-up is one) of every thread of
-    `pids`, summed by thread name: the main thread carries the program's name, Cyclone's own are recvUC (user
-    data), recv (discovery), tev (timed events), gc (leases, deletions), dq.builtins, dq.user."""
+    """{(pid, tid): (thread name, CPU clock ticks, context switches)} of every thread of `pids`. The switches are
+    voluntary + involuntary (each wake-up is one); the main thread carries the program's name, Cyclone's own are
+    recvUC (user data), recv (discovery), tev (timed events), gc (leases, deletions), dq.builtins, dq.user."""
     out = {}
     for pid in pids:
         try:
@@ -285,21 +286,27 @@ def thread_split(pids):
                             switches += int(line.split()[1])
             except (OSError, IndexError, ValueError):
                 continue  # the thread ended meanwhile
-            cpu, n = out.get(name, (0, 0))
-            out[name] = (cpu + int(fields[11]) + int(fields[12]), n + switches)
+            out[(pid, tid)] = (name, int(fields[11]) + int(fields[12]), switches)
     return out
 
 
-def split_per_tick(before, after, per):
-    """{thread name: {"us": CPU µs, "switches": context switches}} per `per` (agent-ticks, or ticks), the threads
-    present at both ends only, the dearest first."""
-    rows = []
-    for name, (cpu1, sw1) in after.items():
-        if name in before and per > 0:
-            cpu0, sw0 = before[name]
-            rows.append((name, (cpu1 - cpu0) / CLK_TCK * 1e6 / per, (sw1 - sw0) / per))
-    rows.sort(key=lambda r: -r[1])
-    return {name: {"us": round(us, 1), "switches": round(sw, 2)} for name, us, sw in rows}
+def split_per_tick(before, after, ticks):
+    """{thread name: {"us": CPU µs, "switches": context switches}} per process-tick over `ticks` ticks, summed
+    over the threads present at both ends, divided by the processes present at both ends (an agent that died
+    or left meanwhile counts in neither), the dearest first; and that process count."""
+    cpu, switches, processes = {}, {}, set()
+    for key, (name, cpu1, sw1) in after.items():
+        if key in before:
+            _, cpu0, sw0 = before[key]
+            cpu[name] = cpu.get(name, 0) + cpu1 - cpu0
+            switches[name] = switches.get(name, 0) + sw1 - sw0
+            processes.add(key[0])
+    per = ticks * len(processes)
+    if per <= 0:
+        return {}, 0
+    rows = sorted(cpu, key=lambda name: -cpu[name])
+    return ({name: {"us": round(cpu[name] / CLK_TCK * 1e6 / per, 1), "switches": round(switches[name] / per, 2)}
+             for name in rows}, len(processes))
 
 
 def read_world(world, lines, first_progress, connected, last_tick):
@@ -452,6 +459,8 @@ def main():
             # The world's progress lines come once a second, so both ends lag alike: the ticks between are
             # those of the window within a second's worth.
             window_ticks = split1[2] - split0[2]
+            agents_split, agents_counted = split_per_tick(split0[0], split1[0], window_ticks)
+            world_split, _ = split_per_tick(split0[1], split1[1], window_ticks)
             rss = [r for r in (rss_mib(p) for p in pids) if r is not None]
             world_rss = rss_mib(world.pid)
             live = [(b - a_) for a_, b in zip(c0, c1) if a_ is not None and b is not None]
@@ -533,9 +542,8 @@ def main():
                     else None,
                     "window_seconds": round(window, 1)},
                 # Where each agent-tick's CPU goes, by thread, and how often each thread woke.
-                "threads": {"window_ticks": window_ticks,
-                            "agents_per_agent_tick": split_per_tick(split0[0], split1[0], window_ticks * len(pids)),
-                            "world_per_tick": split_per_tick(split0[1], split1[1], window_ticks)},
+                "threads": {"window_ticks": window_ticks, "agents_counted": agents_counted,
+                            "agents_per_agent_tick": agents_split, "world_per_tick": world_split},
             }
     except KeyboardInterrupt:
         return 130
