@@ -131,14 +131,20 @@ def kill_all():
     children.clear()
 
 
-def cpu_seconds(pid):
-    """utime + stime of a live process, in seconds (None when it is gone)."""
+def cpu_ticks(stat_path):
+    """utime + stime in clock ticks from a /proc .../stat file (a process's or a thread's); None when it is gone."""
     try:
-        with open(f"/proc/{pid}/stat") as f:
+        with open(stat_path) as f:
             fields = f.read().rsplit(")", 1)[1].split()
-        return (int(fields[11]) + int(fields[12])) / CLK_TCK
+        return int(fields[11]) + int(fields[12])
     except (OSError, IndexError, ValueError):
         return None
+
+
+def cpu_seconds(pid):
+    """utime + stime of a live process, in seconds (None when it is gone)."""
+    ticks = cpu_ticks(f"/proc/{pid}/stat")
+    return None if ticks is None else ticks / CLK_TCK
 
 
 def rss_mib(pid):
@@ -277,16 +283,16 @@ def thread_split(pids):
             try:
                 with open(base + "/comm") as f:
                     name = f.read().strip()
-                with open(base + "/stat") as f:
-                    fields = f.read().rsplit(")", 1)[1].split()
                 switches = 0
                 with open(base + "/status") as f:
                     for line in f:
                         if "ctxt_switches" in line:
                             switches += int(line.split()[1])
-            except (OSError, IndexError, ValueError):
+            except (OSError, ValueError):
                 continue  # the thread ended meanwhile
-            out[(pid, tid)] = (name, int(fields[11]) + int(fields[12]), switches)
+            cpu = cpu_ticks(base + "/stat")
+            if cpu is not None:
+                out[(pid, tid)] = (name, cpu, switches)
     return out
 
 

@@ -22,6 +22,7 @@
 namespace {
 
 using swarmform::testing::eventually;
+using swarmform::testing::kOpenEndedTicks;
 using swarmform::testing::Process;
 using swarmform::testing::read_file;
 using Json = nlohmann::json;
@@ -206,14 +207,13 @@ TEST_F(MultiProcess, EightAgentsInLockstepGetOnlyTheirOwnPacketsAndRepeatBitForB
   EXPECT_EQ(first, second);
 }
 
-// The run has no tick limit it could reach before the restarted agent rejoins (lockstep runs the random walk
-// at up to ~4,000 ticks/s: 3,000 ticks took under a second once the death was seen); it is ended by SIGTERM.
+// The run is open-ended (kOpenEndedTicks): ended by SIGTERM once the restarted agent has rejoined.
 TEST_F(MultiProcess, KilledAgentIsDetectedWithinOneSecondAndARestartedOneRejoins) {
   const int domain = swarmform::testing::test_domain(2);
   std::vector<Process*> agents;
   for (int i = 0; i < kRobots; ++i) agents.push_back(&agent(domain, i, "kill"));
   Process& w = world(domain, "kill",
-                     {"--max-ticks", "1000000000", "--kill", "3@100", "--agent-pid",
+                     {"--max-ticks", kOpenEndedTicks, "--kill", "3@100", "--agent-pid",
                       "3=" + std::to_string(agents[3]->pid())});
   ASSERT_TRUE(eventually(kRunDeadline, [&] { return has_event("kill", "death", 3) || !w.running(); }));
   EXPECT_EQ(agents[3]->wait_for(1.0), 128 + 9);  // it was SIGKILLed
@@ -672,7 +672,7 @@ TEST_F(MultiProcess, SummaryTellsWhyTheRunEnded) {
                      "nobody-world");
   EXPECT_EQ(w.wait_for(20.0), 3);
   EXPECT_EQ(summary("nobody")["end_reason"], "no_agents");
-  Process& t = world(domain, "term", {"--max-ticks", "1000000"});
+  Process& t = world(domain, "term", {"--max-ticks", kOpenEndedTicks});
   for (int i = 0; i < kRobots; ++i) agent(domain, i, "term");
   ASSERT_TRUE(eventually(30.0, [&] { return t.out().find("progress tick=") != std::string::npos; }))
       << t.err();

@@ -15,6 +15,11 @@
 
 namespace swarmform::testing {
 
+// --max-ticks for a run that a test ends itself (SIGTERM, end_reason interrupted) once the fault it set up
+// has played out: lockstep runs the random walk at up to ~4,000 ticks/s, so a fixed length that outlasts a
+// stall or a restart on one host ended before it on another (a rejoin never came: CI, 2026-12-04).
+inline constexpr const char* kOpenEndedTicks = "1000000000";
+
 class ProcessFixture : public ::testing::Test {
  protected:
   explicit ProcessFixture(std::string prefix) : prefix_(std::move(prefix)) {}

@@ -22,6 +22,7 @@
 namespace {
 
 using swarmform::testing::eventually;
+using swarmform::testing::kOpenEndedTicks;
 using swarmform::testing::Process;
 using swarmform::testing::read_file;
 using Json = nlohmann::json;
@@ -29,7 +30,7 @@ using Json = nlohmann::json;
 constexpr int kRobots = 8;
 constexpr double kRunDeadline = 120.0;  // s, for one whole run (the longest here take ~10 s)
 // Long enough for the world to print its first progress line (after 1 s) well before the end: lockstep runs
-// the random walk at 1,800-4,000 ticks/s. A fault the world runs on through needs an open-ended run instead.
+// the random walk at 1,800-4,000 ticks/s. A fault the world runs on through needs kOpenEndedTicks instead.
 constexpr int kLongRun = 15000;
 
 // The UDP ports process `pid` holds (its sockets' inodes in /proc/net/udp): what a forger on the host finds.
@@ -185,11 +186,11 @@ TEST_F(WireFaults, AnAgentWaitingForTheRunOutlivesASilentWorldUntilItsTimeout) {
 
 // An agent stalled 3 s in lockstep is taken for dead (its lease ran out while the world was awake); when it
 // resumes, its robot rejoins and its controller starts afresh (init again), recorded as a rejoin. The world
-// runs on without robot 2 while it is stalled (~4,000 ticks/s on a fast host), so the run has no tick limit
-// it could reach first: it is ended by SIGTERM once the rejoin is recorded.
+// runs on without robot 2 while it is stalled, so the run is open-ended (kOpenEndedTicks): ended by SIGTERM
+// once the rejoin is recorded.
 TEST_F(WireFaults, AgentStalledThreeSecondsInLockstepRejoinsWithAFreshController) {
   const int domain = swarmform::testing::test_domain(36);
-  Process& w = world(domain, "agent-stall", {"--max-ticks", "1000000000"});
+  Process& w = world(domain, "agent-stall", {"--max-ticks", kOpenEndedTicks});
   std::vector<Process*> as = agents(domain, "agent-stall");
   ASSERT_TRUE(eventually(kRunDeadline, [&] { return ticking(w) || !w.running(); })) << w.out();
   ASSERT_TRUE(w.running()) << w.err();
