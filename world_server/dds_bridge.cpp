@@ -58,6 +58,10 @@ std::optional<RobotId> FaceCommands::authenticated_robot(std::uint32_t face, dds
   return readers_[face]->authenticated_robot(writer);
 }
 
+bool FaceCommands::matched(std::uint32_t face, dds::PublicationHandle writer) const {
+  return face < readers_.size() && readers_[face]->matched(writer);
+}
+
 WorldLink::WorldLink(const dds::DdsSettings& settings, std::size_t robot_count, bool realtime,
                      std::uint64_t run_nonce)
     : faces(settings, robot_count),

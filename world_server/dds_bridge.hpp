@@ -43,6 +43,8 @@ class FaceCommands {
   std::uint64_t filtered() const;
   // The authenticated robot of `writer`, asked of the reader of `face` (the one that took its sample).
   std::optional<RobotId> authenticated_robot(std::uint32_t face, dds::PublicationHandle writer);
+  // Whether `writer` is still matched by the reader of `face` (dds::CommandReader::matched).
+  bool matched(std::uint32_t face, dds::PublicationHandle writer) const;
 
  private:
   std::vector<std::unique_ptr<dds::CommandReader>> readers_;

@@ -201,6 +201,11 @@ int Server::run_inner() {
         "an agent went away only if its writer did)\n",
         static_cast<unsigned long long>(unjudged_lapses_));
   }
+  if (stale_samples_ > 0) {
+    std::fprintf(
+        stderr, "world_server: ignored %llu claim(s) and command(s) taken after their writer had gone away\n",
+        static_cast<unsigned long long>(stale_samples_));
+  }
   if (refusals_.total() > 0) {
     std::cerr << "world_server: refused " << refusals_.total()
               << " command sample(s) of another wire version or run in all\n";
@@ -292,7 +297,7 @@ void Server::pump(bool running) {
     // A sample from a suspect is proof of life, whatever the liveliness events said: when the agents' writers
     // all came back together after the world's own stall, one's regained event sometimes never arrived (2
     // runs in 13; not traced: the listener's status carries one writer's handle for what may be several
-    // changes).
+    // changes). Not from a writer that went away: its samples may be taken after its going (stall_guard.hpp).
     if (stalls_.suspected(s.writer)) on_regained(s.writer, running);
     if (!first_answer_due_.empty()) first_answer_due_.erase(s.writer);
     // An ALIVE sample has done its work on arrival (its writer's liveliness, in Cyclone): nothing to keep.
@@ -315,7 +320,7 @@ void Server::pump(bool running) {
       // restarted meanwhile takes the id over (AgentRegistry::lapse).
       if (registry_.lapse(change.writer)) ++unjudged_lapses_;
     } else {
-      on_lost(change.writer, running);
+      on_lost(change.writer, running, change.gone);
     }
   }
   expired_.clear();
@@ -437,6 +442,12 @@ void Server::on_claim(const dds::CommandSample& s, bool running) {
       return;
     }
   }
+  if (!link_.commands.matched(s.face, s.writer)) {
+    // Written before its agent went away, taken after (stall_guard.hpp): binding the id to a writer that
+    // is gone would keep its robot alive, without an agent, to the end of the run.
+    ++stale_samples_;
+    return;
+  }
   const ClaimResult r = registry_.claim(s.robot_id, s.writer, s.pid, s.nonce);
   const bool accepted = r.outcome == ClaimOutcome::Accepted || r.outcome == ClaimOutcome::Repeated ||
                         r.outcome == ClaimOutcome::Rebound || r.outcome == ClaimOutcome::TakenOver;
@@ -479,6 +490,10 @@ void Server::on_command(const dds::CommandSample& s) {
     return;
   }
   if (!registry_.owns(s.robot_id, s.writer)) {
+    if (!link_.commands.matched(s.face, s.writer)) {
+      ++stale_samples_;  // a dead owner's last words, taken after its going: not a spoof
+      return;
+    }
     report(s, Abuse::SpoofedCommand, "spoofed_command",
            "dropped a command for id " + std::to_string(s.robot_id) + " from a writer that does not own it",
            false);
@@ -520,10 +535,10 @@ void Server::on_command(const dds::CommandSample& s) {
   }
 }
 
-void Server::on_lost(dds::PublicationHandle writer, bool running) {
+void Server::on_lost(dds::PublicationHandle writer, bool running, bool gone) {
   // Right after the world's own stall a loss is only suspected (stall_guard.hpp): the agent keeps its robot
-  // and its packets until the grace is over or its liveliness is back.
-  if (running && registry_.owner_of(writer) && stalls_.suspect(writer)) return;
+  // and its packets until the grace is over or its liveliness is back (never, if its writer went away).
+  if (running && registry_.owner_of(writer) && stalls_.suspect(writer, gone)) return;
   on_dead(writer, running);
 }
 

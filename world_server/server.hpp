@@ -93,7 +93,7 @@ class Server {
   void pump(bool running);
   void on_claim(const dds::CommandSample& s, bool running);
   void on_command(const dds::CommandSample& s);
-  void on_lost(dds::PublicationHandle writer, bool running);
+  void on_lost(dds::PublicationHandle writer, bool running, bool gone);
   bool judged(dds::PublicationHandle writer) const;  // judged_ of the robot `writer` owns
   void on_regained(dds::PublicationHandle writer, bool running);
   // A lost owner that is a death now (after StallGuard's judgement).
@@ -164,6 +164,7 @@ class Server {
   std::vector<dds::CommandReader::LivelinessChange> liveliness_;
   std::uint64_t unjudged_lapses_ =
       0;  // liveliness lapses before an owner's first packet: counted, not losses
+  std::uint64_t stale_samples_ = 0;  // claims and commands taken after their writer went away: ignored
   std::vector<dds::RobotPoseRow> rows_;
   std::multimap<Tick, RobotId> kills_;
   std::map<RobotId, dds_time_t> kill_sent_;  // wall time of a SIGKILL, to report the detection delay

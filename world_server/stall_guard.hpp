@@ -5,7 +5,11 @@
 // after the world's own stall, or of a sample refused as abuse (a flood), is only suspected; it becomes a
 // death if it stays lost for kGrace of awake time, and was never dead if its liveliness comes back before or
 // a sample of its comes in (the agent's next command or ALIVE sample). Otherwise a loss is a death at once (a
-// SIGKILL is seen in ~0.5 s).
+// SIGKILL is seen in ~0.5 s). A writer that went away (deleted with its participant, or forgotten when its
+// participant's lease ran out) is suspected the same way (a forgotten one comes back under a new handle), but
+// nothing clears it any more: samples it wrote before it went may still be taken after its going was seen
+// (they reach the world by another socket and thread than discovery), and once they cleared the suspicion of
+// 566 agents that had exited while the world stalled among 1024: the world kept them alive to the end.
 #pragma once
 
 #include <cstdint>
@@ -43,10 +47,11 @@ class StallGuard {
     flooded_ = true;
     last_flood_ = clock_.awake();
   }
-  // A writer lost its liveliness: true if this is only a suspicion (the world stalled, or was flooded,
-  // lately), false if it is a death now.
-  bool suspect(dds::PublicationHandle writer);
-  // Its liveliness came back: true if it was a suspect (then it never died).
+  // A writer lost its liveliness (`gone`: went away): true if this is only a suspicion (the world stalled,
+  // or was flooded, lately), false if it is a death now.
+  bool suspect(dds::PublicationHandle writer, bool gone = false);
+  // Its liveliness came back, or a sample of it came in: true if it was a suspect that had not gone away
+  // (then it never died).
   bool clear(dds::PublicationHandle writer);
   bool suspected(dds::PublicationHandle writer) const { return suspects_.count(writer) != 0; }
   // Suspects lost for kGrace of awake time: they are deaths now (removed from the suspects).
@@ -58,7 +63,11 @@ class StallGuard {
 
  private:
   OwnClock clock_;
-  std::unordered_map<dds::PublicationHandle, dds_time_t> suspects_;  // writer -> awake time of the loss
+  struct Suspect {
+    dds_time_t since = 0;  // awake time of the loss
+    bool gone = false;
+  };
+  std::unordered_map<dds::PublicationHandle, Suspect> suspects_;
   std::uint64_t cleared_ = 0;
   bool flooded_ = false;
   dds_time_t last_flood_ = 0;  // awake time of the last refused sample

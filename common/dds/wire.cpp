@@ -959,6 +959,13 @@ std::optional<RobotId> CommandReader::authenticated_robot(PublicationHandle writ
   return robot;
 }
 
+bool CommandReader::matched(PublicationHandle writer) const {
+  dds_builtintopic_endpoint_t* e = dds_get_matched_publication_data(impl_->reader.get(), writer);
+  if (e == nullptr) return false;
+  dds_builtintopic_free_endpoint(e);
+  return true;
+}
+
 dds_entity_t CommandReader::condition() const {
   return impl_->condition.get();
 }

@@ -307,6 +307,9 @@ class CommandReader {
   // its participant's certificate and permissions are robot K's, so this is the writer's authenticated robot
   // id. Looked up once per writer. nullopt: not secure, unknown writer, or any other partition set.
   std::optional<RobotId> authenticated_robot(PublicationHandle writer);
+  // Whether `writer` is still matched: false once it went away (its participant deleted or forgotten). Its
+  // samples taken after that are stale: a writer's data and its going reach the reader by different threads.
+  bool matched(PublicationHandle writer) const;
 
  private:
   struct Impl;

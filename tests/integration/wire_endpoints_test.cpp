@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <memory>
 #include <thread>
 
 #include "common/dds/wire.hpp"
@@ -99,6 +100,40 @@ TEST(WireEndpoints, CommandReaderDropsIdsAtOrAboveItsLimitBeforeStoringThem) {
   }
   EXPECT_EQ(ids, (std::vector<RobotId>{1, 3, 2}));
   EXPECT_EQ(reader.filtered(), 2u);
+}
+
+// 1024 agents on 2 cores: an agent's last claim, taken by the world after its writer had gone away, bound
+// the id to that writer again and kept the robot alive without an agent to the end. A sample may wait in
+// the reader after its writer went away; matched() tells the world it is stale.
+TEST(WireEndpoints, ASampleOutlivesItsWriterAndTheReaderSaysTheWriterIsGone) {
+  const dds::Participant participant(world_on_loopback());
+  dds::Waiter waiter(participant);
+  dds::CommandReader reader(participant, waiter, /*realtime=*/false);
+  auto writer = std::make_unique<dds::CommandWriter>(participant, /*realtime=*/false);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (!dds::writer_matched(writer->get()) && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  writer->claim(5, 42, 1234);
+  std::vector<dds::CommandSample> got;
+  std::size_t n = 0;
+  while (n == 0 && std::chrono::steady_clock::now() < deadline) {
+    n = reader.take(got);
+    if (n == 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ASSERT_EQ(n, 1u);
+  const dds::PublicationHandle handle = got[0].writer;
+  EXPECT_TRUE(reader.matched(handle));
+  writer->claim(5, 42, 1234);  // its last claim, still to be taken when the writer goes
+  writer.reset();
+  while (reader.matched(handle) && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  EXPECT_FALSE(reader.matched(handle));
+  ASSERT_EQ(reader.take(got), 1u);
+  EXPECT_EQ(got[0].writer, handle);
+  EXPECT_EQ(got[0].kind, dds::CommandKind::Claim);
+  EXPECT_FALSE(reader.matched(got[0].writer));
 }
 
 }  // namespace
