@@ -36,6 +36,9 @@ What it measures, in one run:
                     run, as % of one core. The agents are idle but for one control step and one DDS round
                     trip per 100 ms, so the agents' figure is reported as the idle CPU;
   achieved_ticks_per_second  ticks / wall time from the run's summary.json;
+  agents_running_at_95_percent, alive_at_end, deaths, rejoins  agent processes still running at 95% of the
+                    run (an agent that gave up on the world exited 3) against the world's count of live robots
+                    at the end and its deaths and rejoins (summary.json): the two counts should agree;
   ticks_with_a_miss, most_misses_in_one_tick  how the misses fell: a few ticks with many agents each (a late
                     publish phase) or one here and there;
   late_commands     for the commands that came in after their tick (null if none): how many, how many were
@@ -475,6 +478,9 @@ def main():
             # Per-socket drops while every socket is still open (the world closes its own at the end).
             time.sleep(max(0.0, started + 0.95 * run_seconds - time.monotonic()))
             socket_drops = udp_socket_drops(a.domain)
+            # Agents still running near the end, against the robots the world still counts alive: an agent
+            # that gave up (exit 3) is gone from both, unless the world missed its going.
+            agents_running = sum(1 for p in pids if cpu_seconds(p) is not None)
             try:
                 world.wait(timeout=run_seconds + 60)
             except subprocess.TimeoutExpired:
@@ -530,6 +536,9 @@ def main():
                 else None,
                 "udp_socket_drops": socket_drops,
                 "achieved_ticks_per_second": summary["ticks_per_second"],
+                "agents_running_at_95_percent": agents_running,
+                "alive_at_end": summary["alive_at_end"],
+                "deaths": len(summary.get("deaths", [])), "rejoins": len(summary.get("rejoins", [])),
                 "rss_mib": {"agents_max": round(max(rss), 2) if rss else None,
                             "agents_median": round(statistics.median(rss), 2) if rss else None,
                             "agents_mean": round(statistics.mean(rss), 2) if rss else None,
