@@ -162,9 +162,10 @@ class Server {
   std::size_t waiting_count_ = 0;
   std::vector<dds::CommandSample> samples_;
   std::vector<dds::CommandReader::LivelinessChange> liveliness_;
-  std::uint64_t unjudged_lapses_ =
-      0;  // liveliness lapses before an owner's first packet: counted, not losses
-  std::uint64_t stale_samples_ = 0;  // claims and commands taken after their writer went away: ignored
+  // Liveliness lapses before an owner's first packet: counted, not losses.
+  std::uint64_t unjudged_lapses_ = 0;
+  // Claims and commands taken after their writer went away: ignored, counted.
+  std::uint64_t stale_samples_ = 0;
   std::vector<dds::RobotPoseRow> rows_;
   std::multimap<Tick, RobotId> kills_;
   std::map<RobotId, dds_time_t> kill_sent_;  // wall time of a SIGKILL, to report the detection delay
