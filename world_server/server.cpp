@@ -296,8 +296,8 @@ void Server::pump(bool running) {
     const dds::CommandSample& s = samples_[i];
     // A sample from a suspect is proof of life, whatever the liveliness events said: when the agents' writers
     // all came back together after the world's own stall, one's regained event sometimes never arrived (2
-    // runs in 13; not traced: the listener's status carries one writer's handle for what may be several
-    // changes). Not from a writer that went away: its samples may be taken after its going (stall_guard.hpp).
+    // runs in 13; not traced: Cyclone 0.10 calls the listener once per change, so it is not a merged status).
+    // Not from a writer that went away: its samples may be taken after its going (stall_guard.hpp).
     if (stalls_.suspected(s.writer)) on_regained(s.writer, running);
     if (!first_answer_due_.empty()) first_answer_due_.erase(s.writer);
     // An ALIVE sample has done its work on arrival (its writer's liveliness, in Cyclone): nothing to keep.
