@@ -26,19 +26,34 @@ void FaceMissions::publish(const dds::MissionAnnouncement& announcement) {
 }
 
 FaceCommands::FaceCommands(const WorldFaces& faces, dds::Waiter& waiter, bool realtime,
-                           std::uint32_t accept_ids) {
+                           std::uint32_t accept_ids)
+    : waiter_(waiter) {
+  // Counted, not attached: the world wakes once as many samples are in as it awaits commands, not at each one
+  // (dds::Waiter, "Counted arrivals").
   for (std::uint32_t f = 0; f < faces.faces.size(); ++f) {
-    readers_.push_back(
-        std::make_unique<dds::CommandReader>(*faces.faces[f], waiter, realtime, accept_ids, f));
-    waiter.attach(readers_.back()->condition());
+    readers_.push_back(std::make_unique<dds::CommandReader>(*faces.faces[f], waiter, realtime, accept_ids, f,
+                                                            /*count_arrivals=*/true));
   }
 }
 
 std::size_t FaceCommands::take(std::vector<dds::CommandSample>& buf, std::size_t max_samples) {
+  const std::uint64_t before = waiter_.arrivals();
   std::size_t n = 0;
+  bool drained = true;
   for (auto& r : readers_) {
-    if (n >= max_samples) break;  // the rest stays triggered: taken at the next call
-    n += r->take(buf, max_samples - n, n);
+    if (n >= max_samples) {
+      drained = false;
+      break;
+    }
+    const std::size_t room = max_samples - n;
+    const std::size_t got = r->take(buf, room, n);
+    n += got;
+    if (got == room) drained = false;  // maybe more left in this reader
+  }
+  if (drained) {
+    waiter_.drained(before);
+  } else {
+    waiter_.wake();  // the rest is taken at the next call, as a read condition would stay triggered
   }
   return n;
 }

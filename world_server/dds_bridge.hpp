@@ -37,7 +37,9 @@ class FaceMissions {
 class FaceCommands {
  public:
   FaceCommands(const WorldFaces& faces, dds::Waiter& waiter, bool realtime, std::uint32_t accept_ids);
-  // As dds::CommandReader::take, over every face (each sample's `face` says whose reader took it).
+  // As dds::CommandReader::take, over every face (each sample's `face` says whose reader took it). A call
+  // that empties every reader tells the waiter (Waiter::drained); one that stops at `max_samples` wakes it,
+  // so that the next wait does not sleep on what is left.
   std::size_t take(std::vector<dds::CommandSample>& buf, std::size_t max_samples = dds::kMaxCommandTake);
   void take_liveliness_changes(std::vector<dds::CommandReader::LivelinessChange>& out);
   std::uint64_t filtered() const;
@@ -47,6 +49,7 @@ class FaceCommands {
   bool matched(std::uint32_t face, dds::PublicationHandle writer) const;
 
  private:
+  dds::Waiter& waiter_;  // counts the readers' samples (dds::Waiter, "Counted arrivals")
   std::vector<std::unique_ptr<dds::CommandReader>> readers_;
 };
 

@@ -309,8 +309,12 @@ void Waiter::attach(dds_entity_t entity) {
 }
 
 bool Waiter::wait_until(dds_time_t deadline) {
+  // Counted samples are level-triggered, as a read condition is: while enough are pending, no sleep (and the
+  // wake their listener may have sent is taken below, or it would cut the next sleep short).
   const dds_return_t n =
-      check(dds_waitset_wait_until(waitset_.get(), nullptr, 0, deadline), "dds_waitset_wait");
+      enough_pending()
+          ? 1
+          : check(dds_waitset_wait_until(waitset_.get(), nullptr, 0, deadline), "dds_waitset_wait");
   // Reset the guard before the caller looks at what woke it: a wake() after this reset is never lost.
   bool triggered = false;
   check(dds_take_guardcondition(guard_.get(), &triggered), "dds_take_guardcondition");
@@ -319,6 +323,26 @@ bool Waiter::wait_until(dds_time_t deadline) {
 
 void Waiter::wake() {
   check(dds_set_guardcondition(guard_.get(), true), "dds_set_guardcondition");
+}
+
+bool Waiter::enough_pending() const {
+  // drained_at_ is a past value of arrivals_, so the difference never wraps.
+  return arrivals_.load() - drained_at_.load() >= need_.load();
+}
+
+void Waiter::arrived() {
+  arrivals_.fetch_add(1);
+  // Checked after the count: either this sees the taker's latest need(), or the taker's own check before it
+  // sleeps (wait_until) sees this sample. Sequentially consistent atomics, so one of the two does.
+  if (enough_pending()) wake();
+}
+
+void Waiter::drained(std::uint64_t arrivals_before) {
+  drained_at_.store(arrivals_before);
+}
+
+void Waiter::need(std::uint64_t samples) {
+  need_.store(std::max<std::uint64_t>(samples, 1));
 }
 
 // ---- Mission ----------------------------------------------------------------------------------------------
@@ -594,6 +618,14 @@ struct AgentInbox::Impl {
     return {};
   }
 
+  static void on_data_available(dds_entity_t, void* arg) {
+    try {
+      static_cast<Impl*>(arg)->waiter->arrived();
+    } catch (const DdsError&) {
+      // Only possible while tearing down; nobody is waiting then.
+    }
+  }
+
   static void on_liveliness(dds_entity_t, const dds_liveliness_changed_status_t status, void* arg) {
     auto* self = static_cast<Impl*>(arg);
     self->alive.store(status.alive_count);
@@ -857,6 +889,14 @@ struct CommandReader::Impl {
     return false;
   }
 
+  static void on_data_available(dds_entity_t, void* arg) {
+    try {
+      static_cast<Impl*>(arg)->waiter->arrived();
+    } catch (const DdsError&) {
+      // Only possible while tearing down; nobody is waiting then.
+    }
+  }
+
   static void on_liveliness(dds_entity_t, const dds_liveliness_changed_status_t status, void* arg) {
     auto* self = static_cast<Impl*>(arg);
     // alive_count falls when a writer loses liveliness (not_alive rises) or goes away (deleted, unmatched),
@@ -881,7 +921,7 @@ struct CommandReader::Impl {
 };
 
 CommandReader::CommandReader(const Participant& participant, Waiter& waiter, bool realtime,
-                             std::uint32_t accept_ids, std::uint32_t face)
+                             std::uint32_t accept_ids, std::uint32_t face, bool count_arrivals)
     : impl_(std::make_unique<Impl>()) {
   impl_->waiter = &waiter;
   impl_->face = face;
@@ -905,6 +945,9 @@ CommandReader::CommandReader(const Participant& participant, Waiter& waiter, boo
   }
   dds_listener_t* listener = dds_create_listener(impl_.get());
   dds_lset_liveliness_changed(listener, &Impl::on_liveliness);
+  // Set with the reader, so that no sample is ever stored uncounted (Cyclone calls it once per stored
+  // sample).
+  if (count_arrivals) dds_lset_data_available(listener, &Impl::on_data_available);
   try {
     impl_->reader =
         make_reader(parent, participant.topics().command(), Channel::Command, listener, pace_of(realtime));

@@ -6,7 +6,10 @@
 //   middle of its publish phase;
 // - a packet writer says when it has matched its robot's reader (the world starts the run only then);
 // - issue 18: the world keeps at most kMaxExtraChannels channels for claims of ids outside the run, and its
-//   command reader drops samples for ids at or above its accept_ids before storing them.
+//   command reader drops samples for ids at or above its accept_ids before storing them;
+// - a waiter counting a reader's arrivals sleeps until as many samples are in as it said it needs (the
+// world's
+//   lockstep round: once, not at each of 64 commands).
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -134,6 +137,56 @@ TEST(WireEndpoints, ASampleOutlivesItsWriterAndTheReaderSaysTheWriterIsGone) {
   EXPECT_EQ(got[0].writer, handle);
   EXPECT_EQ(got[0].kind, dds::CommandKind::Claim);
   EXPECT_FALSE(reader.matched(got[0].writer));
+}
+
+// The lockstep world waits for k commands: with a counting reader (no read condition attached) its waiter
+// sleeps through the first k - 1 samples and wakes at the k-th; needing one, it wakes at every sample, and
+// while a counted sample waits untaken it does not sleep at all (level-triggered, as a read condition).
+TEST(WireEndpoints, ACountingWaiterSleepsUntilAsManySamplesAsItNeedsAreIn) {
+  using Clock = std::chrono::steady_clock;
+  const dds::Participant participant(world_on_loopback());
+  dds::Waiter waiter(participant);
+  dds::CommandReader reader(participant, waiter, /*realtime=*/false, /*accept_ids=*/0, /*face=*/0,
+                            /*count_arrivals=*/true);
+  dds::CommandWriter writer(participant, /*realtime=*/false);
+  const auto deadline = Clock::now() + std::chrono::seconds(5);
+  while (!dds::writer_matched(writer.get()) && Clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  const auto arrived = [&](std::uint64_t n) {
+    while (waiter.arrivals() < n && Clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    return waiter.arrivals() >= n;
+  };
+  const auto in_ms = [](int ms) { return dds_time() + DDS_MSECS(ms); };
+  Command c;
+  waiter.need(3);
+  writer.step(1, 0, c);
+  writer.step(2, 0, c);
+  ASSERT_TRUE(arrived(2));
+  // The writer's first samples made it alive, and the liveliness listener woke the waiter: let that settle
+  // and take the wake, so that only the counts can wake it below.
+  std::vector<dds::CommandReader::LivelinessChange> changes;
+  while (changes.empty() && Clock::now() < deadline) {
+    reader.take_liveliness_changes(changes);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  waiter.wait_until(dds_time());
+  const auto slept_from = Clock::now();
+  EXPECT_FALSE(waiter.wait_until(in_ms(300))) << "woke with 2 of the 3 samples it needs";
+  EXPECT_GE(Clock::now() - slept_from, std::chrono::milliseconds(250));
+  writer.step(3, 0, c);
+  EXPECT_TRUE(waiter.wait_until(in_ms(5000))) << "the third sample did not wake it";
+  EXPECT_TRUE(waiter.wait_until(in_ms(5000))) << "slept with 3 counted samples untaken";
+
+  std::vector<dds::CommandSample> got;
+  const std::uint64_t before = waiter.arrivals();
+  ASSERT_EQ(reader.take(got), 3u);
+  waiter.drained(before);
+  waiter.need(1);
+  EXPECT_FALSE(waiter.wait_until(in_ms(200))) << "woke with nothing pending after a drain";
+  writer.step(4, 0, c);
+  EXPECT_TRUE(waiter.wait_until(in_ms(5000))) << "needing one, a sample did not wake it";
 }
 
 }  // namespace
