@@ -618,14 +618,6 @@ struct AgentInbox::Impl {
     return {};
   }
 
-  static void on_data_available(dds_entity_t, void* arg) {
-    try {
-      static_cast<Impl*>(arg)->waiter->arrived();
-    } catch (const DdsError&) {
-      // Only possible while tearing down; nobody is waiting then.
-    }
-  }
-
   static void on_liveliness(dds_entity_t, const dds_liveliness_changed_status_t status, void* arg) {
     auto* self = static_cast<Impl*>(arg);
     self->alive.store(status.alive_count);

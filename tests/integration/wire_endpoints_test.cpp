@@ -7,9 +7,8 @@
 // - a packet writer says when it has matched its robot's reader (the world starts the run only then);
 // - issue 18: the world keeps at most kMaxExtraChannels channels for claims of ids outside the run, and its
 //   command reader drops samples for ids at or above its accept_ids before storing them;
-// - a waiter counting a reader's arrivals sleeps until as many samples are in as it said it needs (the
-// world's
-//   lockstep round: once, not at each of 64 commands).
+// - a waiter counting a reader's arrivals sleeps until as many samples are in as it said it needs (so the
+//   world wakes once in a lockstep round, not at each of its 64 commands).
 #include <gtest/gtest.h>
 
 #include <chrono>
