@@ -78,8 +78,8 @@ class Participant {
 // wakes, as a read condition would). A lockstep world waiting for k commands so sleeps until k samples are
 // there, not once per sample (BENCHMARKS.md, P1). The count can only err early: a sample that is not an
 // awaited command (an ALIVE, a forged copy, one the reader replaced) wakes it before its k are in, and it
-// takes, finds fewer, and says what it still needs; a sample taken in the same drain as its count is
-// counted again after it, once.
+// takes, finds fewer, and says what it still needs; a sample counted during a take that then took it stays
+// in the count until the next drain (one early wake at most).
 class Waiter {
  public:
   explicit Waiter(const Participant& participant);
