@@ -40,8 +40,8 @@ struct Harness::Impl {
         world(scenario),
         session(world, {options.run_dir, "in-process", options.fragment_range, options.record_every}) {
     // Every perception is read by copy_perception on the worker pool (step below): each inbox is gathered
-    // there, into the reading core's copy, instead of at the world's step.
-    world.defer_messages(true);
+    // and each robot's ultrasonics read there, into the reading core's copy, instead of at the world's step.
+    world.defer_perceptions(true);
     controllers.reserve(scenario.robots.size());
     for (RobotId id = 0; id < scenario.robots.size(); ++id) {
       controllers.push_back(make(id));

@@ -83,10 +83,11 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
   unresponsive_.assign(n, 0);
   judged_.assign(n, 0);
   for (const world::Kill& k : scenario.kills) kills_.emplace(k.tick, k.id);
-  // Each robot's messages are gathered in begin_round, just before its packet is written, instead of for
-  // every robot in the step: robot i computes while the world gathers for robot i + 1, and the step (which
-  // every agent waits for) is shorter. The readings are the same (World::defer_messages).
-  world_.defer_messages(true);
+  // Each robot's messages are gathered and its ultrasonics read in begin_round, just before its packet is
+  // written, instead of for every robot in the step: robot i computes while the world senses for robot
+  // i + 1, and the step (which every agent waits for) is shorter. The readings are the same
+  // (World::defer_perceptions).
+  world_.defer_perceptions(true);
   if (options_.viewer_token != 0) {
     viewer_ = std::make_unique<ViewerControl>(
         link_.participant, options_.run_nonce, options_.viewer_token, scenario.mode == world::Mode::Lockstep,

@@ -46,7 +46,7 @@ struct Split {
 // The harness's tick, by hand, timed in three parts (no kills: the benchmark schedules none).
 Split timed_split(const world::Scenario& scenario, int warmup, int ticks, double& messages_per_robot) {
   world::World w(scenario);
-  w.defer_messages(true);  // as the harness does: the medium's gathering is timed with the controllers
+  w.defer_perceptions(true);  // as the harness does: the medium and the sonars are timed with the controllers
   world::RunSession session(w, world::RunOptions{"", "in-process"});
   std::vector<std::unique_ptr<controller::Controller>> controllers;
   controllers.reserve(scenario.robots.size());

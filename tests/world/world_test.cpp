@@ -200,11 +200,12 @@ TEST(World, ContactsCountedThroughTheWorld) {
   EXPECT_EQ(ro, 0u);
 }
 
-// defer_messages(true) (the in-process harness) gathers each inbox when it is read instead of at the step:
-// the perceptions, read by perception() or copied by copy_perception(), must be those of the default world
-// bit for bit, also with occlusion, loss and range faults, a robot killed or revived between the step and
-// the read, and on a scenario whose medium draws random numbers (where deferring is switched off).
-TEST(World, DeferredMessagesGiveTheSamePerceptions) {
+// defer_perceptions(true) (the in-process harness, world_server) gathers each inbox and reads each robot's
+// ultrasonics when its perception is read instead of at the step: the perceptions, read by perception() or
+// copied by copy_perception(), must be those of the default world bit for bit, also with occlusion, loss,
+// range and ultrasonic faults, a robot killed or revived between the step and the read, and on a scenario
+// whose medium and sonars draw random numbers (where deferring is switched off).
+TEST(World, DeferredPerceptionsAreTheSamePerceptions) {
   for (const bool noisy : {false, true}) {
     Scenario s;
     s.arena_centre = Vec2{0, 0};
@@ -218,16 +219,18 @@ TEST(World, DeferredMessagesGiveTheSamePerceptions) {
     if (noisy) {
       s.packet_loss = 0.1;
       s.bearing_noise_sd = 0.02;
+      s.ultrasonic_noise_sd = 0.01;
     }
-    for (const char* text : {"loss:3@20+30", "range:all@60+20=1.0", "range:7@10=0.5"}) {
+    for (const char* text : {"loss:3@20+30", "range:all@60+20=1.0", "range:7@10=0.5", "ultrasonic:4@15+40",
+                             "ultrasonic:9/2@25+40"}) {
       s.faults.push_back(parse_fault(text));
     }
     s.robots = *place_randomly(40, PlacementRegion{Vec2{0, 0}, 4.5, 4.5}, s, s.seed);
     World eager(s), deferred(s);
-    deferred.defer_messages(true);
+    deferred.defer_perceptions(true);
     World::PerceptionCopy copy;
     Uniform01 next{99};
-    std::size_t heard = 0;
+    std::size_t heard = 0, echoes = 0;
     for (int t = 0; t < 120; ++t) {
       for (RobotId i = 0; i < 40; ++i) {
         std::vector<std::uint8_t> msg;
@@ -262,12 +265,14 @@ TEST(World, DeferredMessagesGiveTheSamePerceptions) {
             EXPECT_EQ(std::memcmp(&e.messages[k].bearing, &d->messages[k].bearing, sizeof(double)), 0);
             EXPECT_EQ(e.messages[k].data, d->messages[k].data);
           }
-          EXPECT_EQ(e.ultrasonic, d->ultrasonic);
+          EXPECT_EQ(e.ultrasonic, d->ultrasonic) << "tick " << t << " robot " << i;
         }
         heard += e.messages.size();
+        for (const double r : e.ultrasonic) echoes += r < kUltrasonicMaxRange ? 1 : 0;
       }
     }
-    EXPECT_GT(heard, 40u * 120u);  // the robots did hear each other
+    EXPECT_GT(heard, 40u * 120u);   // the robots did hear each other
+    EXPECT_GT(echoes, 40u * 120u);  // and their sonars saw each other
   }
 }
 

@@ -32,7 +32,10 @@ Ultrasonic::Ultrasonic(const std::vector<Obstacle>& statics, double noise_sd, st
 
 UltrasonicReading Ultrasonic::read(std::size_t self, const std::vector<Pose2D>& poses,
                                    const SpatialGrid& grid) const {
-  return read_with(self, poses, grid, scratch_[0]);
+  // One scratch per thread: a world that defers its readings (World::defer_perceptions) reads them from the
+  // harness's workers at once, each for its own robot.
+  thread_local Scratch scratch;
+  return read_with(self, poses, grid, scratch);
 }
 
 UltrasonicReading Ultrasonic::read_with(std::size_t self, const std::vector<Pose2D>& poses,

@@ -29,8 +29,11 @@ class Ultrasonic {
   Ultrasonic(const std::vector<Obstacle>& statics, double noise_sd, std::uint64_t seed);
 
   // The noiseless reading of robot `self` standing at poses[self]; `grid` holds `poses` (all robots, alive
-  // or dead: every body is seen).
+  // or dead: every body is seen). Several threads may read at once (each has its own scratch).
   UltrasonicReading read(std::size_t self, const std::vector<Pose2D>& poses, const SpatialGrid& grid) const;
+
+  // Whether sense_all adds noise (then its readings depend on the order of the draws, not only on the poses).
+  bool noisy() const { return noise_sd_ > 0.0; }
 
   // Readings for every robot with alive[i] != 0; others' entries are left as they were. The noiseless
   // readings are computed on the worker pool (parallel_for.hpp), each robot's into its own slot; the noise is
@@ -62,7 +65,7 @@ class Ultrasonic {
   };
   UltrasonicReading read_with(std::size_t self, const std::vector<Pose2D>& poses, const SpatialGrid& grid,
                               Scratch& scratch) const;
-  mutable std::vector<Scratch> scratch_{1};  // [0] also serves read()
+  mutable std::vector<Scratch> scratch_{1};  // sense_all's, one per pool worker (read() has its own)
 };
 
 }  // namespace swarmform::world

@@ -8,7 +8,8 @@
 //     4. medium   messages of tick t -> perceptions of tick t+1 (at the new positions); the bytes of each
 //                 perception's messages are copied in when it is first read (perception()), or straight
 //                 into the caller's buffer (copy_perception()), from `sent` (the outboxes of tick t)
-//     5. sense    pose and ultrasonics of every live robot (a failed sensor reads its maximum)
+//     5. sense    pose and ultrasonics of every live robot (a failed sensor reads its maximum); with
+//                 defer_perceptions(), a robot's ultrasonics are read when its perception is first read
 //     6. tick t+1
 // Scheduled world faults (faults.hpp) act on the tick they are active at: a wheel on the command of tick t
 // (step 1 of the step from t), loss and range on the perceptions of tick t (step 4 of the step to t), a
@@ -72,9 +73,10 @@ struct World::Impl {
   std::vector<Outbox> outboxes;     // this tick's messages, written by apply_command
   std::vector<Outbox> sent;         // last tick's, delivered by step(): the bytes perceptions refer to
   std::vector<char> bytes_pending;  // 1: perceptions[i].messages have their readings but not their bytes yet
-  bool defer = false;               // defer_messages(): gather inboxes when read, where the medium allows it
+  bool defer = false;               // defer_perceptions(): gather inboxes and read sonars when read
   bool deferred = false;            // this tick's inboxes are gathered when read (inbox_pending)
   std::vector<char> inbox_pending;  // 1 (deferred ticks): perceptions[i].messages not gathered yet
+  std::vector<char> sonar_pending;  // 1: perceptions[i].ultrasonic not read yet (robot i alive at the step)
   std::vector<char> alive_at_step;  // deferred ticks: who was alive when the messages were delivered
   std::vector<std::vector<RabReading>> read_spare;  // per robot: readings perception() parked for reuse
   std::vector<Perception> perceptions;
@@ -95,6 +97,7 @@ struct World::Impl {
     sent.resize(n);
     bytes_pending.assign(n, 0);
     inbox_pending.assign(n, 0);
+    sonar_pending.assign(n, 0);
     read_spare.resize(n);
     perceptions.resize(n);
     truth.resize(n);
@@ -135,6 +138,13 @@ struct World::Impl {
     }
   }
 
+  // A deferred reading (sonar_pending): what the step's sense_all and sonar_faults would have written. The
+  // poses and the grid it reads stay as the step left them until the next step.
+  void sense_now(RobotId id, UltrasonicReading& out) const {
+    out = ultrasonic.read(id, poses, grid);
+    sonar_faults(id, tick, out);
+  }
+
   // Steps 3-5 of the tick: truth, grid, (medium), sensors.
   void refresh(bool with_medium) {
     physics.read_poses(poses);
@@ -160,6 +170,15 @@ struct World::Impl {
         for (std::size_t i = 0; i < perceptions.size(); ++i)
           bytes_pending[i] = !perceptions[i].messages.empty();
       }
+    }
+    // Deferred only without noise: the noise is drawn in id order over every live robot, in sense_all.
+    if (defer && !ultrasonic.noisy()) {
+      sonar_pending = alive;
+      for (std::size_t i = 0; i < poses.size(); ++i) {
+        perceptions[i].tick = tick;
+        perceptions[i].pose = poses[i];
+      }
+      return;
     }
     ultrasonic.sense_all(poses, alive, grid, sonar);
     for (std::size_t i = 0; i < poses.size(); ++i) {
@@ -190,6 +209,10 @@ std::size_t World::robot_count() const {
 const Perception& World::perception(RobotId id) const {
   Impl& m = *impl_;
   Perception& p = m.perceptions.at(id);
+  if (m.sonar_pending[id]) {
+    m.sense_now(id, p.ultrasonic);
+    m.sonar_pending[id] = 0;
+  }
   if (m.inbox_pending[id]) {
     m.medium.gather(id, m.poses, m.alive_at_step, m.sent, m.grid, p.messages, m.read_spare[id],
                     /*with_bytes=*/true, &m.medium_faults);
@@ -208,7 +231,11 @@ const Perception& World::copy_perception(RobotId id, PerceptionCopy& copy) const
   Perception& dst = copy.perception;
   dst.tick = src.tick;
   dst.pose = src.pose;
-  dst.ultrasonic = src.ultrasonic;
+  if (m.sonar_pending[id]) {
+    m.sense_now(id, dst.ultrasonic);
+  } else {
+    dst.ultrasonic = src.ultrasonic;
+  }
   if (m.inbox_pending[id]) {
     m.medium.gather(id, m.poses, m.alive_at_step, m.sent, m.grid, dst.messages, copy.spare,
                     /*with_bytes=*/true, &m.medium_faults);
@@ -234,7 +261,7 @@ const std::vector<RobotTruth>& World::robots() const {
 ContactCounts World::last_contacts() const {
   return impl_->contacts;
 }
-void World::defer_messages(bool on) {
+void World::defer_perceptions(bool on) {
   impl_->defer = on;
 }
 bool World::alive(RobotId id) const {
@@ -311,8 +338,8 @@ void World::revive(RobotId id) {
   p.messages.clear();
   m.bytes_pending[id] = 0;
   m.inbox_pending[id] = 0;
-  p.ultrasonic = m.ultrasonic.read(id, m.poses, m.grid);
-  m.sonar_faults(id, m.tick, p.ultrasonic);
+  m.sense_now(id, p.ultrasonic);
+  m.sonar_pending[id] = 0;
 }
 
 }  // namespace swarmform::world

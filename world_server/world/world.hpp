@@ -81,14 +81,16 @@ class World {
   // into every robot's perception, ~40 MB a tick, and read back from memory by the controllers.
   const Perception& copy_perception(RobotId id, PerceptionCopy& copy) const;
 
-  // On: each robot's messages are gathered by the medium when its perception is first read (perception() or
-  // copy_perception(), on the reader's thread) instead of in step(), with the same readings in the same
-  // order; off (the default) in step(), on the worker pool. For a caller that reads every perception from
-  // the pool anyway (the in-process harness), the inbox is then written straight into the reading core's
-  // copy: no inbox of every robot written at the step and read back cold. A caller that reads perceptions
-  // on one thread (world_server's publish loop) keeps it off. Ignored on ticks where the medium draws random
-  // numbers (loss, noise): those are drawn in receiver order in step(). Takes effect from the next step().
-  void defer_messages(bool on);
+  // On: each robot's messages are gathered by the medium, and its ultrasonics read, when its perception is
+  // first read (perception() or copy_perception(), on the reader's thread) instead of in step(), with the
+  // same readings in the same order; off (the default) in step(), on the worker pool. The in-process
+  // harness reads every perception from the pool: the inbox and the readings are written straight into the
+  // reading core's copy, nothing of every robot written at the step and read back cold. world_server reads
+  // them in its packet loop: robot i's are computed just before its packet goes, while the robots already
+  // written compute, not in the step every agent waits for. Messages are not deferred on ticks where the
+  // medium draws random numbers (loss, noise), nor ultrasonics with ultrasonic noise: those draws are made
+  // in robot order in step(). Takes effect from the next step().
+  void defer_perceptions(bool on);
 
   // The command of robot `id` for the current tick; checked and clamped here (SPEC section 7).
   // A robot with no command this tick keeps its last wheel speeds and says nothing.
