@@ -159,17 +159,51 @@ TEST(Assignment, CertificateWithoutFullSolveKeepsTheGuessWhenItCannotProve) {
   EXPECT_LE(b.error, a.error + 1e-12);
 }
 
+// The total cost of the columns `got` picks for each row; every column at most once.
+double assignment_cost(const std::vector<double>& cost, std::size_t cols, const std::vector<int>& got) {
+  std::vector<char> taken(cols, 0);
+  double sum = 0.0;
+  for (std::size_t r = 0; r < got.size(); ++r) {
+    const auto c = static_cast<std::size_t>(got[r]);
+    EXPECT_LT(c, cols);
+    EXPECT_FALSE(taken[c]) << "column " << c << " taken twice";
+    taken[c] = 1;
+    sum += cost[r * cols + c];
+  }
+  return sum;
+}
+
+// Three kinds of matrices, so that the warm start (each row's cheapest column, when free) meets both
+// distinct and shared cheapest columns: uniform costs; small integers (ties everywhere); and robots scattered
+// about a few places (squared distances, several rows wanting one column).
 TEST(Hungarian, MatchesBruteForceOnRectangularMatrices) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(0.0, 10.0);
-  for (int trial = 0; trial < 40; ++trial) {
-    const std::size_t rows = 1 + static_cast<std::size_t>(trial % 5);
+  std::uniform_int_distribution<int> small(0, 3);
+  for (int trial = 0; trial < 120; ++trial) {
+    const std::size_t rows = 1 + static_cast<std::size_t>(trial % 6);
     const std::size_t cols = rows + static_cast<std::size_t>(trial % 3);
     std::vector<double> cost(rows * cols);
-    for (double& c : cost) c = u(rng);
+    if (trial % 3 == 0) {
+      for (double& c : cost) c = u(rng);
+    } else if (trial % 3 == 1) {
+      for (double& c : cost) c = small(rng);
+    } else {
+      std::vector<Vec2> places(cols), robots(rows);
+      for (Vec2& q : places) q = Vec2{u(rng), u(rng)};
+      for (Vec2& r : robots) {
+        const Vec2& near = places[static_cast<std::size_t>(small(rng)) % cols];
+        r = Vec2{near.x + 0.1 * u(rng), near.y};
+      }
+      for (std::size_t r = 0; r < rows; ++r) {
+        for (std::size_t c = 0; c < cols; ++c) {
+          const double dx = robots[r].x - places[c].x, dy = robots[r].y - places[c].y;
+          cost[r * cols + c] = dx * dx + dy * dy;
+        }
+      }
+    }
     const auto got = hungarian(cost, rows, cols);
-    double got_sum = 0.0;
-    for (std::size_t r = 0; r < rows; ++r) got_sum += cost[r * cols + static_cast<std::size_t>(got[r])];
+    const double got_sum = assignment_cost(cost, cols, got);
     std::vector<int> cols_perm(cols);
     std::iota(cols_perm.begin(), cols_perm.end(), 0);
     double best = std::numeric_limits<double>::infinity();
@@ -178,7 +212,38 @@ TEST(Hungarian, MatchesBruteForceOnRectangularMatrices) {
       for (std::size_t r = 0; r < rows; ++r) s += cost[r * cols + static_cast<std::size_t>(cols_perm[r])];
       best = std::min(best, s);
     } while (std::next_permutation(cols_perm.begin(), cols_perm.end()));
-    EXPECT_NEAR(got_sum, best, 1e-9) << rows << "x" << cols;
+    EXPECT_NEAR(got_sum, best, 1e-9) << rows << "x" << cols << ", trial " << trial;
+  }
+}
+
+// Too large for brute force: an optimum's total does not depend on the order of the rows, so the same robots
+// listed in another order must cost the same (a solve that stopped at a local optimum would not).
+TEST(Hungarian, TheOptimumDoesNotDependOnTheRowOrder) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> off(0.0, 0.6);
+  for (const std::size_t side : {6u, 12u}) {
+    const std::size_t cols = side * side, rows = cols - side / 2;
+    std::vector<Vec2> robots(rows);
+    for (std::size_t r = 0; r < rows; ++r) {
+      robots[r] = Vec2{static_cast<double>(r % side) + off(rng), static_cast<double>(r / side) + off(rng)};
+    }
+    std::vector<std::size_t> order(rows);
+    std::iota(order.begin(), order.end(), 0);
+    double first = -1.0;
+    for (int shuffle = 0; shuffle < 4; ++shuffle) {
+      std::shuffle(order.begin(), order.end(), rng);
+      std::vector<double> cost(rows * cols);
+      for (std::size_t r = 0; r < rows; ++r) {
+        for (std::size_t c = 0; c < cols; ++c) {
+          const double dx = robots[order[r]].x - static_cast<double>(c % side);
+          const double dy = robots[order[r]].y - static_cast<double>(c / side);
+          cost[r * cols + c] = dx * dx + dy * dy;
+        }
+      }
+      const double sum = assignment_cost(cost, cols, hungarian(cost, rows, cols));
+      if (first < 0.0) first = sum;
+      EXPECT_NEAR(sum, first, 1e-9) << side << " x " << side << ", shuffle " << shuffle;
+    }
   }
 }
 
