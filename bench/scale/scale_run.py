@@ -14,16 +14,16 @@ next to the run (its `shape` made absolute).
 
 How the agents start (--launch): `block` (default) is one `robot_agent --id 0 --count N`, whose N robots are N
 processes forked from it (common/dds/robot_block.hpp: the way to start many agents on one machine, without
-each paying ~20 ms of CPU to load the DDS libraries); `each` is N `robot_agent --id K` executables. Then the
-world, as `scripts/swarm run` does.
+each paying ~20 ms of CPU to load the DDS libraries); `each` is N `robot_agent --id K` executables. The
+world is started before them, as `scripts/swarm run` does.
 
 What it measures, in one run:
   cpu_seconds_until_connected  CPU (utime + stime) the agents together and the world had used when every agent
                     was connected: against 2 cores x connect_seconds, it says whether start-up is CPU-bound;
-  connect_seconds   from the start of the first agent until the world had every agent connected: the arrival of
+  connect_seconds   from the start of the world until it had every agent connected: the arrival of
                     its `connected agents=N` line (read from its stdout as it comes). clock_start_seconds: when
                     its realtime clock started, from its first `progress tick=T` line, which comes T periods
-                    later (error ~ a few ms); the two agree within that error;
+                    later (error ~ a few ms); the two agree within that error unless the world's first rounds stall;
   missed_ticks      the world's own count: its `missed_tick` events in events.jsonl (a live agent's command
                     for tick t not in before tick t+1; world_server/server.cpp), checked against the
                     "K missed ticks" line it prints on stderr;
