@@ -76,6 +76,14 @@ void ProcessFaults::at_round(Tick t, world::RunSession& session, const world::Wo
   world::record_world_fault_events(session, scenario_.faults, t);
 }
 
+bool ProcessFaults::quiet_at(Tick t) const {
+  if (!pending_restarts_.empty()) return false;
+  for (const world::Fault& f : scenario_.faults) {
+    if (f.tick == t || f.end_tick() == t) return false;
+  }
+  return true;
+}
+
 void ProcessFaults::resume_all(world::RunSession* session) {
   if (session != nullptr) {
     for (const world::Fault* f : pending_restarts_) {

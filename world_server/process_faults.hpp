@@ -43,6 +43,9 @@ class ProcessFaults {
   void at_round(Tick t, world::RunSession& session, const world::World& world);
   // True while robot `id` is stalled by the world itself (no packet goes to its agent).
   bool withheld(RobotId id) const { return id < withheld_.size() && withheld_[id] != 0; }
+  // True when at_round(t) will do nothing and record nothing: no fault of the scenario starts or ends at t
+  // and no restart waits for a death.
+  bool quiet_at(Tick t) const;
   // SIGCONT every agent still stopped (the run ends); events when `session` is given.
   void resume_all(world::RunSession* session);
 

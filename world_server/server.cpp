@@ -670,6 +670,12 @@ void Server::begin_round() {
 }
 
 bool Server::end_round() {
+  const bool complete = step_round();
+  record_round();
+  return complete;
+}
+
+bool Server::step_round() {
   const dds_time_t t0 = dds_time();
   const std::size_t n = scenario_.robots.size();
   for (std::size_t i = 0; i < n; ++i) {
@@ -688,7 +694,18 @@ bool Server::end_round() {
     }
   }
   world_.step();
-  const dds_time_t t1 = dds_time();
+  const dds_time_t now = dds_time();
+  if (world_.tick() == options_.warmup_ticks) steady_start_ = now;
+  profile_.step += now - t0;
+  ++profile_.rounds;
+  // Decided before the new tick is recorded: the record can set goal_tick, which ends the run only
+  // kTicksAfterGoal ticks later, so the answer is the same as after it.
+  static_assert(world::kTicksAfterGoal > 0);
+  return world::run_complete(session_.metrics(), world_.tick(), scenario_.max_ticks);
+}
+
+void Server::record_round() {
+  const dds_time_t t0 = dds_time();
   session_.record_tick();
   const dds_time_t now = dds_time();
   if (now - last_state_ >= kStatePeriod) {
@@ -698,19 +715,28 @@ bool Server::end_round() {
     link_.state.publish(world_.tick(), false, alive, rows_);
     last_state_ = now;
   }
-  if (world_.tick() == options_.warmup_ticks) steady_start_ = now;
   progress(false);
-  profile_.step += t1 - t0;
-  profile_.record += dds_time() - t1;
-  ++profile_.rounds;
-  return world::run_complete(session_.metrics(), world_.tick(), scenario_.max_ticks);
+  profile_.record += dds_time() - t0;
+}
+
+bool Server::record_can_follow_packets() const {
+  const Tick t = world_.tick();
+  return !viewer_ && kills_.count(t) == 0 && faults_.quiet_at(t);
 }
 
 void Server::run_lockstep() {
   const dds_duration_t deadline_span = seconds(scenario_.lockstep_deadline_s);
+  // Every agent waits for the step and the packets after it, the second core idle: the new tick's record
+  // (events, metrics, the recording's rows) waits until the packets are out when the round's start does
+  // not depend on it (record_can_follow_packets), and runs while the agents compute.
+  bool record_pending = false;
   for (;;) {
     if (viewer_ && !wait_for_viewer()) return;
     begin_round();
+    if (record_pending) {
+      record_round();
+      record_pending = false;
+    }
     const dds_time_t collect_start = dds_time();
     // In the world's awake time (stall_guard.hpp): the world's own pause makes no agent late.
     stalls_.observe(collect_start);
@@ -737,7 +763,10 @@ void Server::run_lockstep() {
     link_.waiter.need(1);  // elsewhere every sample wakes the world, as before
     profile_.collect += dds_time() - collect_start;
     if (stopping()) return;  // the round in flight is not stepped: every recorded tick is a whole one
-    if (end_round()) return;
+    const bool complete = step_round();
+    record_pending = !complete && record_can_follow_packets();
+    if (!record_pending) record_round();
+    if (complete) return;
     if (viewer_) viewer_->ticked();
   }
 }

@@ -4,7 +4,8 @@
 //
 //   round t:  scheduled kills -> publish SensorPacket(t) to every live robot -> collect Command(t)
 //             (lockstep: every live owner's, until the deadline; realtime: whatever came within the period)
-//             -> apply in id order -> World::step -> RunSession::record_tick
+//             -> apply in id order -> World::step -> RunSession::record_tick (lockstep: after the next
+//             round's packets when that round's start changes nothing it records, record_can_follow_packets)
 //
 // Claims, deaths (liveliness lost) and spoofed commands are handled whenever the server wakes, in any phase.
 #pragma once
@@ -88,6 +89,13 @@ class Server {
   void begin_round();
   // Applies the commands of this round (id order), steps the world, records; true when the run is complete.
   bool end_round();
+  // end_round's two halves: the commands applied and the world stepped (true when the run is then
+  // complete), and the session's record of the new tick with the WorldState and progress lines.
+  bool step_round();
+  void record_round();
+  // Whether the next round's start changes nothing the record reads and records nothing itself (no kill,
+  // fault edge or pending restart due, no viewer): its record may then wait until its packets are out.
+  bool record_can_follow_packets() const;
   // Takes what DDS has: claims, commands, lost writers. `running`: the world is ticking (deaths and rejoins
   // act on the world).
   void pump(bool running);
