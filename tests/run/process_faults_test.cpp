@@ -6,28 +6,15 @@
 
 #include <gtest/gtest.h>
 
-#include "robot_agent/controller/builtins.hpp"
+#include "tests/world/test_scenarios.hpp"
 #include "world_server/world/faults.hpp"
 
 namespace {
 
 using namespace swarmform;
 
-constexpr const char* kScenario = R"(
-shape: SHAPES/triangle.txt
-arena: {centre: [0.0, 0.0], width: 10.0, height: 10.0, walls: true}
-robots: {count: 4, region: {centre: [0.0, 0.0], width: 4.0, height: 4.0}}
-behaviour: random_walk
-goal: {x: 3.0, y: 0.0, radius: 0.5}
-seed: 3
-max_ticks: 100
-)";
-
 world::Scenario scenario() {
-  std::string text = kScenario;
-  text.replace(text.find("SHAPES"), 6, std::string(SWARMFORM_REPO_DIR) + "/shapes");
-  world::Scenario s = world::parse_scenario_text(text, "<process_faults_test>", {},
-                                                 swarmform::controller::builtin_registry());
+  world::Scenario s = world::testing::open_scenario({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}});
   s.faults.push_back(world::parse_fault("stall:1@5+3"));      // starts at 5, ends at 8
   s.faults.push_back(world::parse_fault("restart:2@9"));      // robot 2 is alive at 9: waits for its death
   s.faults.push_back(world::parse_fault("ultrasonic:3@20"));  // a world fault: its event is the round's too

@@ -32,8 +32,8 @@ Ultrasonic::Ultrasonic(const std::vector<Obstacle>& statics, double noise_sd, st
 
 UltrasonicReading Ultrasonic::read(std::size_t self, const std::vector<Pose2D>& poses,
                                    const SpatialGrid& grid) const {
-  // One scratch per thread: a world that defers its readings (World::defer_perceptions) reads them from the
-  // harness's workers at once, each for its own robot.
+  // One scratch per thread (the pool's workers in sense_all, the harness's when a world defers its readings,
+  // World::defer_perceptions): reads run at once, each for its own robot, and allocate nothing once warm.
   thread_local Scratch scratch;
   return read_with(self, poses, grid, scratch);
 }
@@ -118,12 +118,11 @@ UltrasonicReading Ultrasonic::read_with(std::size_t self, const std::vector<Pose
 void Ultrasonic::sense_all(const std::vector<Pose2D>& poses, const std::vector<char>& alive,
                            const SpatialGrid& grid, std::vector<UltrasonicReading>& out) {
   out.resize(poses.size());
-  scratch_.resize(std::max<std::size_t>(1, parallel::worker_count()));
   parallel::for_range(
       poses.size(),
-      [&](std::size_t begin, std::size_t end, std::size_t worker) {
+      [&](std::size_t begin, std::size_t end, std::size_t) {
         for (std::size_t i = begin; i < end; ++i) {
-          if (alive[i]) out[i] = read_with(i, poses, grid, scratch_[worker]);
+          if (alive[i]) out[i] = read(i, poses, grid);
         }
       },
       parallel::kMinRobotsPerWorker);

@@ -49,7 +49,7 @@ class Ultrasonic {
   std::array<double, kUltrasonicCount * kRaysPerSensor> ray_cos_{}, ray_sin_{};
   std::array<double, kUltrasonicCount> axis_cos_{}, axis_sin_{};  // robot-frame sensor axes
   // Scratch for a read, reused across calls (no allocation once warm): per sensor, the robots its cone may
-  // touch, as offsets from the reading robot and |offset|^2 - R^2. One per pool worker.
+  // touch, as offsets from the reading robot and |offset|^2 - R^2. One per thread (read()).
   struct Candidate {
     double x, y, c;
   };
@@ -57,15 +57,14 @@ class Ultrasonic {
     Candidate cand;
     double bound;  // the cone test: a sensor whose axis . offset >= bound may see it (-inf: overlapping)
   };
-  struct alignas(64) Scratch {  // own cache lines: workers push to their vectors at once
-    std::vector<Reach> reach;   // every robot within reach
+  struct Scratch {
+    std::vector<Reach> reach;                                    // every robot within reach
     std::array<std::vector<Candidate>, kUltrasonicCount> cands;  // per sensor: buffers, count[s] used
     std::array<std::size_t, kUltrasonicCount> count{};
     std::vector<const StaticShape*> near_statics;
   };
   UltrasonicReading read_with(std::size_t self, const std::vector<Pose2D>& poses, const SpatialGrid& grid,
                               Scratch& scratch) const;
-  mutable std::vector<Scratch> scratch_{1};  // sense_all's, one per pool worker (read() has its own)
 };
 
 }  // namespace swarmform::world

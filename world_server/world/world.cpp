@@ -172,21 +172,19 @@ struct World::Impl {
       }
     }
     // Deferred only without noise: the noise is drawn in id order over every live robot, in sense_all.
-    if (defer && !ultrasonic.noisy()) {
+    const bool sonar_deferred = defer && !ultrasonic.noisy();
+    if (sonar_deferred) {
       sonar_pending = alive;
-      for (std::size_t i = 0; i < poses.size(); ++i) {
-        perceptions[i].tick = tick;
-        perceptions[i].pose = poses[i];
-      }
-      return;
+    } else {
+      ultrasonic.sense_all(poses, alive, grid, sonar);
     }
-    ultrasonic.sense_all(poses, alive, grid, sonar);
     for (std::size_t i = 0; i < poses.size(); ++i) {
       Perception& p = perceptions[i];
       p.tick = tick;
       p.pose = poses[i];
-      if (alive[i]) p.ultrasonic = sonar[i];
+      if (alive[i] && !sonar_deferred) p.ultrasonic = sonar[i];
     }
+    if (sonar_deferred) return;  // sense_now applies the sensor faults at the read
     for (const Fault& f : faults) {
       if (f.kind == FaultKind::Ultrasonic && f.active_at(tick) && alive[*f.robot])
         sonar_faults(*f.robot, tick, perceptions[*f.robot].ultrasonic);
