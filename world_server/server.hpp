@@ -4,8 +4,8 @@
 //
 //   round t:  scheduled kills -> publish SensorPacket(t) to every live robot -> collect Command(t)
 //             (lockstep: every live owner's, until the deadline; realtime: whatever came within the period)
-//             -> apply in id order -> World::step -> RunSession::record_tick (lockstep: after the next
-//             round's packets when that round's start changes nothing it records, record_can_follow_packets)
+//             -> apply in id order -> World::step -> RunSession::record_tick (after the next round's
+//             packets when that round's start changes nothing it records, record_can_follow_packets)
 //
 // Claims, deaths (liveliness lost) and spoofed commands are handled whenever the server wakes, in any phase.
 #pragma once
@@ -87,10 +87,8 @@ class Server {
 
   // One round's start: kills due now, packets out, the set of robots whose command is awaited.
   void begin_round();
-  // Applies the commands of this round (id order), steps the world, records; true when the run is complete.
-  bool end_round();
-  // end_round's two halves: the commands applied and the world stepped (true when the run is then
-  // complete), and the session's record of the new tick with the WorldState and progress lines.
+  // A round's end in two halves: the commands applied (id order) and the world stepped (true when the run is
+  // then complete), and the session's record of the new tick with the WorldState and progress lines.
   bool step_round();
   void record_round();
   // Whether the next round's start changes nothing the record reads and records nothing itself (no kill,
