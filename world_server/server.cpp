@@ -799,7 +799,7 @@ void Server::run_realtime() {
                             "no command for tick " + std::to_string(world_.tick()) + " before the next tick");
     }
     // As in lockstep, the new tick's record follows the next round's packets when it may: the agents get
-    // their packets the record's time sooner (at 1024 robots ~0.5 ms, more on a tick with an assignment
+    // their packets the record's time sooner (at 1024 robots ~0.9 ms, more on a tick with an assignment
     // solve), and the record runs while they compute.
     const bool complete = step_round();
     const bool record_pending = !complete && record_can_follow_packets();
