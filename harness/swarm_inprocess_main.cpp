@@ -289,9 +289,10 @@ int main(int argc, char** argv) {
       std::fprintf(
           stderr,
           "swarm_inprocess: the world's assignment of robots to places: %llu evaluations, %llu Hungarian "
-          "solves, %.3f s of %.3f s\n",
+          "solves, %llu ticks ruled out by the radial bound, %.3f s of %.3f s\n",
           static_cast<unsigned long long>(cost.evaluations),
-          static_cast<unsigned long long>(cost.full_solves), cost.seconds, wall);
+          static_cast<unsigned long long>(cost.full_solves), static_cast<unsigned long long>(cost.ruled_out),
+          cost.seconds, wall);
     }
     // Last, even with --quiet: a run that used up max_ticks without arriving says so.
     const std::string why =

@@ -143,6 +143,56 @@ TEST(Assignment, NearFormedNoisyShapesReachTheJointOptimum) {
   }
 }
 
+// The radial bound (error_lower_bound) is a bound: never above the joint optimum, whatever the robots'
+// layout: near formed, scattered, mirrored, at a spacing other than 1.
+TEST(Assignment, TheRadialBoundIsNeverAboveTheBestError) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> angle(-3.0, 3.0);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (const ShapeMatrix& shape : {ShapeMatrix{2, 3, {0, 1, 2, -1, 3, 4}}, ell()}) {
+    const double spacing = 0.7;
+    const ShapeAssigner assigner(shape, spacing, kHeading);
+    const int n = static_cast<int>(assigner.places());
+    for (int trial = 0; trial < 60; ++trial) {
+      const double a = angle(rng);
+      const double sd = spacing * (trial % 3 == 0 ? 0.02 : trial % 3 == 1 ? 0.2 : 0.6);
+      std::normal_distribution<double> noise(0.0, sd);
+      std::vector<Vec2> robots;
+      for (int l = 0; l < n; ++l) {
+        Vec2 p = at(shape, spacing, l, a, {3.0, -2.0});
+        if (trial % 4 == 3) p.x = 6.0 - p.x;  // mirrored
+        robots.push_back({p.x + noise(rng), p.y + noise(rng)});
+      }
+      if (trial % 5 == 4) {
+        for (Vec2& p : robots) p = {4.0 * unit(rng), 4.0 * unit(rng)};  // scattered
+      }
+      const double bound = assigner.error_lower_bound(robots);
+      EXPECT_LE(bound, brute_force_error(assigner, robots) + 1e-9) << "trial " << trial;
+    }
+  }
+}
+
+// It is 0 unless there are as many robots as places, tight for robots standing in the shape, and well above
+// the formation error (0.1 grid units) for 100 robots scattered over the 10 x 10 block's own square.
+TEST(Assignment, TheRadialBoundTellsScatteredRobotsFromAShape) {
+  ShapeMatrix block{10, 10, std::vector<int>(100)};
+  std::iota(block.cells.begin(), block.cells.end(), 0);
+  const ShapeAssigner assigner(block, 0.5, kHeading);
+  std::mt19937 rng(3);
+  std::vector<Vec2> robots;
+  for (int l = 0; l < 100; ++l) robots.push_back(at(block, 0.5, l, 0.4, {7.0, 1.0}));
+  std::shuffle(robots.begin(), robots.end(), rng);
+  EXPECT_LT(assigner.error_lower_bound(robots), 1e-9);
+  robots.pop_back();
+  EXPECT_EQ(assigner.error_lower_bound(robots), 0.0);  // 99 robots: which 99 places is unknown
+  std::uniform_real_distribution<double> across(-0.25, 4.75);
+  for (int trial = 0; trial < 10; ++trial) {
+    std::vector<Vec2> scattered(100);
+    for (Vec2& p : scattered) p = {across(rng), -across(rng)};
+    EXPECT_GT(assigner.error_lower_bound(scattered), 0.1) << "trial " << trial;
+  }
+}
+
 TEST(Assignment, CertificateWithoutFullSolveKeepsTheGuessWhenItCannotProve) {
   const ShapeMatrix shape = block3();
   const ShapeAssigner assigner(shape, 1.0, kHeading);

@@ -1,6 +1,9 @@
 // The metrics and the derived events on hand-made truth, tick by tick (no physics needed).
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
+
 #include "common/robot_state.hpp"
 #include "robot_agent/controller/builtins.hpp"
 #include "world_server/run/comm_graph.hpp"
@@ -145,6 +148,37 @@ TEST(MetricsTracker, FewerRobotsThanPlacesCanForm) {
   ASSERT_TRUE(tracker.metrics().formation_tick);
   const auto& labels = tracker.assigned_labels();
   EXPECT_TRUE(labels == (std::vector<int>{0, -1, 2, -1}) || labels == (std::vector<int>{2, -1, 0, -1}));
+}
+
+// As many robots as places, at rest far from any layout of the shape: the radial bound rules every tick out,
+// no Hungarian solve runs; once they stand in the shape (and have rested there) it is formed as before.
+TEST(MetricsTracker, RobotsAtRestThatCannotStandInTheShapeCostNoSolve) {
+  Mission m = line_mission();
+  m.shape = ShapeMatrix{3, 3, {0, 1, 2, 3, 4, 5, 6, 7, 8}};
+  MetricsTracker tracker(m, &swarmform::controller::paper_descriptor());
+  std::vector<RobotTruth> robots(9);
+  for (RobotId i = 0; i < 9; ++i) {
+    const double a = 2.0 * std::numbers::pi * i / 9.0;
+    robots[i].id = i;
+    robots[i].telemetry.state = kSearching;
+    robots[i].telemetry.label = static_cast<std::int32_t>(i);
+    robots[i].pose = {5.0 * std::cos(a), 5.0 * std::sin(a), 0.0};  // a ring of radius 5, the block 2 x 2
+    robots[i].last_broadcast_tick = kSpeaking;
+  }
+  Tick t = 0;
+  for (; t < 3 * kRestTicks; ++t) tracker.observe(t, robots, {});
+  EXPECT_FALSE(tracker.metrics().formation_tick);
+  EXPECT_EQ(tracker.metrics().outcome, "not_formed");
+  EXPECT_EQ(tracker.assignment_stats().ruled_out, 2 * kRestTicks);  // every tick with all 9 at rest
+  EXPECT_EQ(tracker.assignment_stats().evaluations, 0u);
+  EXPECT_EQ(tracker.assignment_stats().full_solves, 0u);
+
+  for (RobotId i = 0; i < 9; ++i) robots[i].pose = {10.0 + i % 3, -1.0 * (i / 3), 0.0};
+  const Tick in_shape = t;
+  for (; t <= in_shape + kRestTicks; ++t) tracker.observe(t, robots, {});
+  ASSERT_TRUE(tracker.metrics().formation_tick);
+  EXPECT_EQ(*tracker.metrics().formation_tick, in_shape + kRestTicks);
+  EXPECT_LT(*tracker.metrics().shape_error_at_formation, 1e-9);
 }
 
 TEST(MetricsTracker, OutcomeNoneForRandomWalk) {

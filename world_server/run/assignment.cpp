@@ -20,6 +20,22 @@ double squared(Vec2 a, Vec2 b) {
   return dx * dx + dy * dy;
 }
 
+// Each point's distance from the points' centroid, ascending.
+std::vector<double> radii_from_centroid(const std::vector<Vec2>& points) {
+  Vec2 m;
+  for (const Vec2& p : points) {
+    m.x += p.x;
+    m.y += p.y;
+  }
+  const double n = static_cast<double>(std::max<std::size_t>(points.size(), 1));
+  m = {m.x / n, m.y / n};
+  std::vector<double> out;
+  out.reserve(points.size());
+  for (const Vec2& p : points) out.push_back(std::sqrt(squared(p, m)));
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 }  // namespace
 
 Vec2 RigidFit::apply(Vec2 p) const {
@@ -47,6 +63,20 @@ ShapeAssigner::ShapeAssigner(const ShapeMatrix& shape, double grid_spacing, doub
       }
     }
   }
+  place_radii_ = radii_from_centroid(places_);
+}
+
+double ShapeAssigner::error_lower_bound(const std::vector<Vec2>& robots) const {
+  // With every robot at a place, the best fit puts the places' centroid on the robots' (Kabsch), so with a
+  // robot's and its place's offsets a and b from their centroids the cost is the sum of |a - R b|^2 >=
+  // (|a| - |b|)^2 (the triangle inequality), whatever the rotation R; and of every pairing of the two sets
+  // of radii the sorted one has the least sum of squared differences (the rearrangement inequality).
+  const std::size_t n = robots.size();
+  if (n == 0 || n != places_.size() || spacing_ <= 0.0) return 0.0;
+  const std::vector<double> radii = radii_from_centroid(robots);
+  double sum = 0.0;
+  for (std::size_t i = 0; i < n; ++i) sum += (radii[i] - place_radii_[i]) * (radii[i] - place_radii_[i]);
+  return std::sqrt(sum / static_cast<double>(n)) / spacing_;
 }
 
 std::vector<int> ShapeAssigner::clean_guess(const std::vector<int>& guess) const {

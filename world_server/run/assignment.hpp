@@ -69,9 +69,16 @@ class ShapeAssigner {
   // The fit and error of a given assignment (no search).
   ShapeAssignment evaluate(const std::vector<Vec2>& robots, const std::vector<int>& labels) const;
 
+  // A lower bound on the error (grid units) of every assignment of `robots` to the places under every proper
+  // rigid fit, when there are exactly as many robots as places (else 0). O(n log n) and no solve: robots at
+  // rest far from the shape are known not to stand in it without the Hungarian solves that would find their
+  // best assignment (~0.5 s at 1024 robots, world_server/run/README.md).
+  double error_lower_bound(const std::vector<Vec2>& robots) const;
+
  private:
   // Shape-frame place of a label: column along +x, row along -y, one grid spacing apart (common/shape.hpp).
   std::vector<Vec2> places_;
+  std::vector<double> place_radii_;  // m: each place's distance from the places' centroid, ascending
   ShapeMatrix shape_;
   double spacing_;
   double heading_;

@@ -130,6 +130,19 @@ void MetricsTracker::observe(Tick tick, const std::vector<RobotTruth>& robots, C
     previous_centroid_.reset();
     return;
   }
+  // Before formation and motion the assignment only decides whether the shape stands formed: robots that
+  // provably cannot (error_lower_bound) need no search. 1024 robots scattered at rest cost ~0.5 s of
+  // Hungarian solves every 640 ticks, on the world's tick.
+  if (!metrics_.formation_tick && !metrics_.motion_start_tick) {
+    const auto start = std::chrono::steady_clock::now();
+    const bool cannot_stand_formed = assigner_.error_lower_bound(live_positions_) > kFormationError;
+    stats_.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (cannot_stand_formed) {
+      ++stats_.ruled_out;
+      previous_centroid_.reset();
+      return;
+    }
+  }
   const ShapeAssignment a = assign(tick, motion_starts);
 
   bool all_at_rest = true;

@@ -59,6 +59,7 @@ Tick full_solve_interval(std::size_t places, bool near_formed);
 struct AssignmentStats {
   std::uint64_t evaluations = 0;  // ticks the assignment was computed
   std::uint64_t full_solves = 0;  // Hungarian solves among them
+  std::uint64_t ruled_out = 0;    // ticks not computed: the robots' radial bound above the formation error
   double seconds = 0.0;           // wall time spent in the assignment
 };
 
