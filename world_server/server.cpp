@@ -667,9 +667,14 @@ void Server::begin_round() {
   const ThreadClock c1 = thread_clock();
   profile_.publish_cpu += c1.cpu - c0.cpu;
   profile_.publish_preempted += c1.preempted - c0.preempted;
+  // The previous tick's record, when end_round left it until these packets were out.
+  if (record_pending_) {
+    record_pending_ = false;
+    record_round();
+  }
 }
 
-bool Server::step_round() {
+bool Server::end_round() {
   const dds_time_t t0 = dds_time();
   const std::size_t n = scenario_.robots.size();
   for (std::size_t i = 0; i < n; ++i) {
@@ -695,7 +700,13 @@ bool Server::step_round() {
   // Decided before the new tick is recorded: the record can set goal_tick, which ends the run only
   // kTicksAfterGoal ticks later, so the answer is the same as after it.
   static_assert(world::kTicksAfterGoal > 0);
-  return world::run_complete(session_.metrics(), world_.tick(), scenario_.max_ticks);
+  const bool complete = world::run_complete(session_.metrics(), world_.tick(), scenario_.max_ticks);
+  // Every agent waits for the step and the packets after it: the new tick's record (events, metrics, the
+  // recording's rows) waits until the next begin_round has written them when that round's start does not
+  // depend on it, and runs while the agents compute. The last tick is recorded at once.
+  record_pending_ = !complete && record_can_follow_packets();
+  if (!record_pending_) record_round();
+  return complete;
 }
 
 void Server::record_round() {
@@ -720,17 +731,9 @@ bool Server::record_can_follow_packets() const {
 
 void Server::run_lockstep() {
   const dds_duration_t deadline_span = seconds(scenario_.lockstep_deadline_s);
-  // Every agent waits for the step and the packets after it, the second core idle: the new tick's record
-  // (events, metrics, the recording's rows) waits until the packets are out when the round's start does
-  // not depend on it (record_can_follow_packets), and runs while the agents compute.
-  bool record_pending = false;
   for (;;) {
     if (viewer_ && !wait_for_viewer()) return;
     begin_round();
-    if (record_pending) {
-      record_round();
-      record_pending = false;
-    }
     const dds_time_t collect_start = dds_time();
     // In the world's awake time (stall_guard.hpp): the world's own pause makes no agent late.
     stalls_.observe(collect_start);
@@ -757,10 +760,7 @@ void Server::run_lockstep() {
     link_.waiter.need(1);  // elsewhere every sample wakes the world, as before
     profile_.collect += dds_time() - collect_start;
     if (stopping()) return;  // the round in flight is not stepped: every recorded tick is a whole one
-    const bool complete = step_round();
-    record_pending = !complete && record_can_follow_packets();
-    if (!record_pending) record_round();
-    if (complete) return;
+    if (end_round()) return;
     if (viewer_) viewer_->ticked();
   }
 }
@@ -798,17 +798,10 @@ void Server::run_realtime() {
       session_.record_event(static_cast<RobotId>(i), "missed_tick",
                             "no command for tick " + std::to_string(world_.tick()) + " before the next tick");
     }
-    // As in lockstep, the new tick's record follows the next round's packets when it may: the agents get
-    // their packets the record's time sooner (at 1024 robots ~0.9 ms, more on a tick with an assignment
-    // solve), and the record runs while they compute.
-    const bool complete = step_round();
-    const bool record_pending = !complete && record_can_follow_packets();
-    if (!record_pending) record_round();
-    if (complete) return;
+    if (end_round()) return;
     next += period;
     if (next < now) next = now + period;  // fell behind by more than a period: do not try to catch up
     begin_round();
-    if (record_pending) record_round();
   }
 }
 

@@ -85,11 +85,14 @@ class Server {
   void run_lockstep();
   void run_realtime();
 
-  // One round's start: kills due now, packets out, the set of robots whose command is awaited.
+  // One round's start: kills due now, packets out, the set of robots whose command is awaited; then the
+  // previous tick's record if end_round left it pending.
   void begin_round();
-  // A round's end in two halves: the commands applied (id order) and the world stepped (true when the run is
-  // then complete), and the session's record of the new tick with the WorldState and progress lines.
-  bool step_round();
+  // Applies the commands of this round (id order), steps the world and records the new tick, at once or,
+  // when the next round's start changes nothing it records, after that round's packets (record_pending_);
+  // true when the run is complete (then always recorded at once).
+  bool end_round();
+  // The session's record of the new tick with the WorldState and progress lines.
   void record_round();
   // Whether the next round's start changes nothing the record reads and records nothing itself (no kill,
   // fault edge or pending restart due, no viewer): its record may then wait until its packets are out.
@@ -181,6 +184,7 @@ class Server {
   dds_time_t last_progress_ = 0;
   Tick last_progress_tick_ = 0;
   dds_time_t last_state_ = 0;
+  bool record_pending_ = false;  // end_round left the new tick's record to the next begin_round
   std::uint64_t missed_ticks_ = 0;
   // Realtime: when this round started and each robot's packet went out, and where a missed command's time
   // went.

@@ -20,15 +20,20 @@ double squared(Vec2 a, Vec2 b) {
   return dx * dx + dy * dy;
 }
 
-// Each point's distance from the points' centroid, ascending.
-std::vector<double> radii_from_centroid(const std::vector<Vec2>& points) {
+// The points' centroid ((0, 0) for none).
+Vec2 centroid(const std::vector<Vec2>& points) {
   Vec2 m;
   for (const Vec2& p : points) {
     m.x += p.x;
     m.y += p.y;
   }
   const double n = static_cast<double>(std::max<std::size_t>(points.size(), 1));
-  m = {m.x / n, m.y / n};
+  return {m.x / n, m.y / n};
+}
+
+// Each point's distance from the points' centroid, ascending.
+std::vector<double> radii_from_centroid(const std::vector<Vec2>& points) {
+  const Vec2 m = centroid(points);
   std::vector<double> out;
   out.reserve(points.size());
   for (const Vec2& p : points) out.push_back(std::sqrt(squared(p, m)));
@@ -111,18 +116,8 @@ RigidFit ShapeAssigner::fit_pairs(const std::vector<Vec2>& robots, const std::ve
   if (n < 2) {
     fit.angle = heading_ - std::numbers::pi / 2.0;
     if (n == 0) {  // centre on centre
-      for (const Vec2& p : places_) {
-        pm.x += p.x;
-        pm.y += p.y;
-      }
-      for (const Vec2& q : robots) {
-        qm.x += q.x;
-        qm.y += q.y;
-      }
-      const double np = static_cast<double>(std::max<std::size_t>(places_.size(), 1));
-      const double nq = static_cast<double>(std::max<std::size_t>(robots.size(), 1));
-      pm = {pm.x / np, pm.y / np};
-      qm = {qm.x / nq, qm.y / nq};
+      pm = centroid(places_);
+      qm = centroid(robots);
     }
     const Vec2 rp = RigidFit{fit.angle, {}}.apply(pm);
     fit.translation = {qm.x - rp.x, qm.y - rp.y};
@@ -317,20 +312,9 @@ ShapeAssignment ShapeAssigner::solve(const std::vector<Vec2>& robots, const std:
   // The guess led nowhere good: start again from the shape laid on the robots' centre at each of a few
   // angles (the grid's own orientation, read from the robots, and its quarter turns; the heading).
   std::size_t solves = best.full_solves;
-  const std::vector<int> none(robots.size(), -1);
   // Translation: the robots' centre onto the places' centre.
-  Vec2 pm;
-  for (const Vec2& p : places_) {
-    pm.x += p.x;
-    pm.y += p.y;
-  }
-  pm = {pm.x / static_cast<double>(places_.size()), pm.y / static_cast<double>(places_.size())};
-  Vec2 qm;
-  for (const Vec2& q : robots) {
-    qm.x += q.x;
-    qm.y += q.y;
-  }
-  qm = {qm.x / static_cast<double>(robots.size()), qm.y / static_cast<double>(robots.size())};
+  const Vec2 pm = centroid(places_);
+  const Vec2 qm = centroid(robots);
   // Each start is first improved cheaply (every robot to its nearest place, the nearest robot winning a
   // place wanted twice, then a refit; no Hungarian solve); only the best is refined in full.
   ShapeAssignment start_best;
