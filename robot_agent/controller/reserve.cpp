@@ -12,13 +12,12 @@ namespace swarmform::controller {
 
 namespace {
 
-// Calls f(id, label) for every barrier entry, in id order.
+// Calls f(id, label) for every barrier entry, in id order: the namespace's own run of the key-sorted table,
+// not a pass over every entry (a reserve asks every tick, vacant_labels).
 template <class F>
 void for_each_barrier_entry(const Stigmergy& stigmergy, F&& f) {
-  const auto barrier = static_cast<std::uint32_t>(stig::Ns::Barrier);
-  for (const auto& e : stigmergy.entries()) {
-    if (stig::ns_of(e.key) == barrier) f(static_cast<RobotId>(stig::index_of(e.key)), e.value);
-  }
+  for (const auto& e : stigmergy.in_namespace_from(stig::Ns::Barrier, 0))
+    f(static_cast<RobotId>(stig::index_of(e.key)), e.value);
 }
 
 bool in_motion_phases(RobotState s) {
@@ -66,10 +65,8 @@ std::vector<int> vacant_labels(const Stigmergy& stigmergy, int label_count, cons
                                Tick now, int label_timeout) {
   // Per label: whether one of its barrier entries is alive.
   std::vector<char> live(static_cast<std::size_t>(label_count), 0);
-  std::map<RobotId, int> entry_of;
   for_each_barrier_entry(stigmergy, [&](RobotId id, std::int64_t label) {
     if (label < 0 || label >= label_count) return;
-    entry_of[id] = static_cast<int>(label);
     if (!marked_dead_in_motion(stigmergy, id)) live[static_cast<std::size_t>(label)] = 1;
   });
   std::vector<int> out;
@@ -80,8 +77,8 @@ std::vector<int> vacant_labels(const Stigmergy& stigmergy, int label_count, cons
     const auto status = label_status(stigmergy, l);
     bool claimed = status.kind == LabelStatus::Kind::Held;
     if (claimed) {
-      const auto entry = entry_of.find(status.holder);
-      const bool a_dead_member = entry != entry_of.end() && entry->second == l;
+      // Its holder's barrier entry names it: a member marked dead (a live one would have made it live).
+      const bool a_dead_member = stigmergy.get(stig::key(stig::Ns::Barrier, status.holder)) == l;
       const auto since = holder_since.find(l);
       const bool silent = !since || now >= *since + static_cast<Tick>(label_timeout);
       claimed = !a_dead_member && !silent;

@@ -40,6 +40,15 @@ TEST(Reserve, ALabelIsVacantOnlyOnceItsMemberIsMarkedDead) {
   EXPECT_EQ(vacant_labels(s, kLabels, {}, 100, kTimeout), std::vector<int>{1});
 }
 
+TEST(Reserve, ADeadMembersLabelIsVacantWhileItsLastEntryIsStillFresh) {
+  // Member 11 is marked dead with its holder entry younger than the label timeout: the label is vacant at
+  // once (its holder is the member whose barrier entry names it), not label_timeout ticks later.
+  Stigmergy s = moving_shape();
+  mark_dead(s, 11);
+  const LabelTicks since = {{0, 100}, {1, 100}, {2, 100}};
+  EXPECT_EQ(vacant_labels(s, kLabels, since, 101, kTimeout), std::vector<int>{1});
+}
+
 TEST(Reserve, AClaimHoldsTheVacancyWhileItsHolderHeartbeats) {
   Stigmergy s = moving_shape();
   mark_dead(s, 11);
