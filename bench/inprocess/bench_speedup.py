@@ -1,18 +1,22 @@
 #!/usr/bin/env python3
-"""Issue 22 point 3: CPU time per robot-tick of two builds of bench_inprocess, alternated, and their ratio.
+"""Issue 22 point 3: CPU and wall time per robot-tick of two builds of bench_inprocess, alternated, and their ratios.
 
 For each behaviour (random_walk, paper) and each N (100, 1000) on bench/inprocess/field.yaml, runs
 `bench_inprocess --robots N --behaviour B --ticks T --warmup 10 --samples 1 --no-split` with --baseline and
-with --binary in turn (base, new, base, new... over --rounds rounds) and takes the process's CPU time (user +
-system, getrusage of the child): on this shared 2-core machine wall time mostly measures the queue for a core,
-CPU time what the run itself costs. The figure is CPU microseconds per robot-tick of the whole process, so it
-includes start-up (scenario, placement, world: ~0.01 s at N = 100, ~0.1 s at N = 1000, a few per cent of the
-defaults' runs); both builds pay it. T defaults to 2000 at N <= 100 and 400 above (--ticks overrides both).
+with --binary in turn (base, new, base, new... over --rounds rounds) and takes two figures of each run:
+- CPU: the process's CPU time (user + system, getrusage of the child) in microseconds per robot-tick of the
+  whole process, start-up included (scenario, placement, world: ~0.01 s at N = 100, ~0.1 s at N = 1000, a few
+  per cent of the defaults' runs; both builds pay it). What the run itself costs, whatever else the machine
+  runs: the headline ratio.
+- wall: 10^6 / the robot-ticks per second bench_inprocess prints for its timed ticks. How long a user waits
+  (both cores used where the build splits the work); on a shared machine it also measures the queue for a core.
+T defaults to 2000 at N <= 100 and 400 above (--ticks overrides both).
 
 Prints per round on stderr and one JSON line on stdout:
   {"rounds":R, "load_average":[before, after], "cases":[{"behaviour":B, "robots":N, "ticks":T,
-   "base_cpu_us":[...], "new_cpu_us":[...], "base_median":..., "new_median":..., "ratio":base/new}]}
-The ratio is the median of the baseline's figures over the median of the new build's: > 1 means faster.
+   "base_cpu_us":[...], "new_cpu_us":[...], "base_median":..., "new_median":..., "ratio":base/new,
+   "base_wall_us":[...], "new_wall_us":[...], "wall_ratio":base/new}]}
+A ratio is the median of the baseline's figures over the median of the new build's: > 1 means faster.
 """
 import argparse
 import json
@@ -30,8 +34,9 @@ def die(message):
     sys.exit(2)
 
 
-def cpu_us_per_robot_tick(binary, scenario, behaviour, robots, ticks, warmup):
-    """One bench_inprocess run: the child's user + system CPU microseconds per robot-tick (warmup included)."""
+def us_per_robot_tick(binary, scenario, behaviour, robots, ticks, warmup):
+    """One bench_inprocess run: (the child's user + system CPU microseconds per robot-tick, warmup included;
+    the wall microseconds per robot-tick of its timed ticks, from its own robot-ticks/s)."""
     cmd = [binary, "--scenario", scenario, "--robots", str(robots), "--behaviour", behaviour, "--ticks",
            str(ticks), "--warmup", str(warmup), "--samples", "1", "--no-split"]
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -40,7 +45,11 @@ def cpu_us_per_robot_tick(binary, scenario, behaviour, robots, ticks, warmup):
     if proc.returncode != 0:
         die(f"{' '.join(cmd)} exited {proc.returncode}: {proc.stderr.strip()[-500:]}")
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return cpu * 1e6 / (robots * (ticks + warmup))
+    try:
+        rate = json.loads(proc.stdout.strip().splitlines()[-1])["median"]
+    except (IndexError, KeyError, ValueError):
+        die(f"{' '.join(cmd)} printed no JSON line with a median: {proc.stdout.strip()[-300:]!r}")
+    return cpu * 1e6 / (robots * (ticks + warmup)), 1e6 / rate
 
 
 def main():
@@ -79,22 +88,28 @@ def main():
     for behaviour in behaviours:
         for robots in counts:
             ticks = args.ticks if args.ticks is not None else (2000 if robots <= 100 else 400)
-            base, new = [], []
+            base, new, base_wall, new_wall = [], [], [], []
             for r in range(args.rounds):
-                base.append(cpu_us_per_robot_tick(args.baseline, args.scenario, behaviour, robots, ticks, args.warmup))
-                new.append(cpu_us_per_robot_tick(args.binary, args.scenario, behaviour, robots, ticks, args.warmup))
+                for binary, cpu, wall in ((args.baseline, base, base_wall), (args.binary, new, new_wall)):
+                    c, w = us_per_robot_tick(binary, args.scenario, behaviour, robots, ticks, args.warmup)
+                    cpu.append(c)
+                    wall.append(w)
                 print(f"bench_speedup: {behaviour} N={robots} round {r + 1}: base {base[-1]:.3f} new {new[-1]:.3f} "
-                      f"us cpu per robot-tick (ratio {base[-1] / new[-1]:.2f}, load {os.getloadavg()[0]:.1f})",
-                      file=sys.stderr, flush=True)
+                      f"us cpu per robot-tick (ratio {base[-1] / new[-1]:.2f}), wall {base_wall[-1]:.3f} / "
+                      f"{new_wall[-1]:.3f} (ratio {base_wall[-1] / new_wall[-1]:.2f}), load "
+                      f"{os.getloadavg()[0]:.1f}", file=sys.stderr, flush=True)
             case = {"behaviour": behaviour, "robots": robots, "ticks": ticks, "base_cpu_us": base, "new_cpu_us": new,
-                    "base_median": statistics.median(base), "new_median": statistics.median(new)}
+                    "base_median": statistics.median(base), "new_median": statistics.median(new),
+                    "base_wall_us": base_wall, "new_wall_us": new_wall}
             case["ratio"] = case["base_median"] / case["new_median"]
+            case["wall_ratio"] = statistics.median(base_wall) / statistics.median(new_wall)
             cases.append(case)
     print(json.dumps({"rounds": args.rounds, "warmup": args.warmup, "binary": args.binary, "baseline": args.baseline,
                       "load_average": [load_before, list(os.getloadavg())], "cases": cases}))
     for c in cases:
         print(f"bench_speedup: {c['behaviour']:>11} N={c['robots']:<5} base {c['base_median']:.3f} new "
-              f"{c['new_median']:.3f} us cpu per robot-tick: base / new = {c['ratio']:.2f}", file=sys.stderr)
+              f"{c['new_median']:.3f} us cpu per robot-tick: base / new = {c['ratio']:.2f}; wall base / new = "
+              f"{c['wall_ratio']:.2f}", file=sys.stderr)
     return 0
 
 
