@@ -104,6 +104,10 @@ void PaperMotion::on_ready(const FormationContext& ctx) {
   last_velocity_.clear();
   large_until_ = 0;
   marked_dead_.clear();
+  // Only at the shape's own barrier: a robot that joins a shape already on its way (a reserve, a robot back
+  // from a restart) enters Ready where the members are not standing at their places, and no leader entry
+  // exists before the shape's first one is written.
+  unheard_members_checked_ = ctx.stigmergy->get(leader_key()).has_value();
   wall_.reset();
   echoes_.clear();
   slide_side_ = 0;
@@ -238,8 +242,32 @@ void PaperMotion::watch_for_the_dead(const FormationContext& ctx) {
     marked_dead_[id] = *heard;
     if (!marked_dead(st, id)) st.put(parents_key(id), kDeadMark);
   }
+  mark_members_unheard_since_ready(ctx);
   if (marked_dead(st, ctx.self))
     st.put(parents_key(ctx.self), parent_ ? static_cast<std::int64_t>(*parent_) : -1);
+}
+
+// The members never heard since Ready whose places lie well inside radio range of ours, judged once,
+// neighbour_timeout ticks after the shape's own Ready (on_ready: not a late joiner's). The barrier passed
+// with every member at its place, so a live one that near would have been heard by now: it is dead. It died
+// at its place shortly before the barrier passed (its label not yet freed: the barrier counted its entry) and
+// the rule above never applies to it (it was not heard since Ready); unmarked, its label would stay held for
+// the whole run and no reserve would take it. The distance is the shape's own geometry (places), not where
+// anyone stands now. A member heard since Ready is the rule above's; a live robot marked by mistake (all its
+// messages lost) rewrites its own entry.
+void PaperMotion::mark_members_unheard_since_ready(const FormationContext& ctx) {
+  if (unheard_members_checked_ || ctx.tick < ready_tick_ + static_cast<Tick>(p_.neighbour_timeout)) return;
+  unheard_members_checked_ = true;
+  if (ctx.label < 0 || static_cast<std::size_t>(ctx.label) >= ctx.places.size()) return;
+  Stigmergy& st = *ctx.stigmergy;
+  const Vec2 mine = ctx.places[static_cast<std::size_t>(ctx.label)];
+  for (const auto& [id, label] : ctx.members) {
+    if (id == ctx.self || label < 0 || static_cast<std::size_t>(label) >= ctx.places.size()) continue;
+    const auto heard = ctx.neighbours->last_heard(id);
+    if (heard && *heard >= ready_tick_) continue;
+    if (vnorm(vsub(ctx.places[static_cast<std::size_t>(label)], mine)) > 0.8 * p_.comm_range) continue;
+    if (!marked_dead(st, id)) st.put(parents_key(id), kDeadMark);
+  }
 }
 
 void PaperMotion::choose_leader_and_parent(const FormationContext& ctx, MotionStep& out) {

@@ -21,9 +21,13 @@
 //            (robot_agent/README.md, "Pace").
 //   Failures a member silent for `neighbour_timeout` ticks (last heard well inside radio range) is marked
 //            dead in the parents table (value kDeadMark) by whoever noticed; a live robot that finds itself
-//            marked rewrites its own entry. Leader and tree are recomputed from the shared table every
-//            tick, so a dead parent's children re-parent and a dead leader's successor is elected by the
-//            same rule, and takes the goal (every robot holds the mission's goal).
+//            marked rewrites its own entry. So is a member never heard since the shape's Ready whose place
+//            lies well inside radio range of ours, neighbour_timeout ticks after it: every member stood at
+//            its place when the barrier passed, so a live one would have been heard (it died at its place
+//            too shortly before the barrier passed for its label to be freed, and the barrier counted it).
+//            Leader and tree are recomputed from the shared table every tick, so a dead parent's children
+//            re-parent and a dead leader's successor is elected by the same rule, and takes the goal (every
+//            robot holds the mission's goal).
 #pragma once
 
 #include <map>
@@ -58,6 +62,7 @@ class PaperMotion final : public MotionPhases {
   struct Shared;  // this tick's reading of the stigmergy
   void judge_boundary(const FormationContext& ctx);
   void watch_for_the_dead(const FormationContext& ctx);
+  void mark_members_unheard_since_ready(const FormationContext& ctx);
   void choose_leader_and_parent(const FormationContext& ctx, MotionStep& out);
   void read_leader_and_parent(const FormationContext& ctx);
   void record_references(const FormationContext& ctx);
@@ -89,6 +94,7 @@ class PaperMotion final : public MotionPhases {
   Tick large_until_ = 0;                   // a large obstacle was seen lately: no wall-following
   double children_strain_ = 0.0;           // max strain the children reported (motion_section.hpp)
   std::map<RobotId, Tick> marked_dead_;    // id -> last_heard when we marked it (mark once per silence)
+  bool unheard_members_checked_ = false;   // the members never heard since Ready judged, or not to be
   WallFollower wall_;
   EchoMemory echoes_;
   Vec2 to_parent_;      // this tick's vector to the parent, arena frame
