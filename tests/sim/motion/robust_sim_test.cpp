@@ -36,15 +36,15 @@ void expect_arrives(const Case& c) {
   harness::Harness h(scenario);
   h.run([](const harness::Harness& run) { return run.metrics().goal_tick.has_value(); });
   const auto& m = h.metrics();
-  std::string kills;
-  for (const auto& k : c.kills) kills += " --kill " + std::to_string(k.id) + "@" + std::to_string(k.tick);
-  for (const auto& f : c.faults) kills += " --fault " + f;
+  std::string flags;  // the run's command-line flags, to reproduce it
+  for (const auto& k : c.kills) flags += " --kill " + std::to_string(k.id) + "@" + std::to_string(k.tick);
+  for (const auto& f : c.faults) flags += " --fault " + f;
   std::printf("%s --seed %lu%s: goal_tick %ld, shape error at goal %.3f, outcome %s\n", c.scenario,
-              static_cast<unsigned long>(c.seed), kills.c_str(),
+              static_cast<unsigned long>(c.seed), flags.c_str(),
               m.goal_tick ? static_cast<long>(*m.goal_tick) : -1L, m.shape_error_at_goal.value_or(-1.0),
               m.outcome.c_str());
   ASSERT_TRUE(m.goal_tick.has_value())
-      << c.scenario << " seed " << c.seed << kills << ": not arrived by tick " << scenario.max_ticks;
+      << c.scenario << " seed " << c.seed << flags << ": not arrived by tick " << scenario.max_ticks;
   EXPECT_LE(*m.shape_error_at_goal, 0.1);
   EXPECT_EQ(m.collisions_robot_robot + m.collisions_robot_obstacle, 0u);
 }
