@@ -84,8 +84,7 @@ std::vector<NeighbourPosition> unexplained_echoes(const std::array<double, kUltr
     const double azimuth = wrap_angle(theta + kUltrasonicAngles[s]);
     bool explained = false;
     for (const auto& n : heard) {
-      if (!motion::echo_reaches(r, n.range, kSlack)) continue;
-      if (motion::neighbour_explains_echo(wrap_angle(n.azimuth - azimuth), r, n.range, kMaskAngle, kSlack)) {
+      if (motion::neighbour_explains_echo(n.azimuth, azimuth, r, n.range, kMaskAngle, kSlack)) {
         explained = true;
         break;
       }

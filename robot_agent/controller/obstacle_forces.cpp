@@ -14,9 +14,7 @@ SensorMask mask_neighbour_directions(const UltrasonicArray& readings,
   SensorMask mask{};
   for (std::size_t s = 0; s < kUltrasonicCount; ++s) {
     for (const auto& n : neighbours) {
-      if (!echo_reaches(readings[s], n.range, slack)) continue;
-      if (neighbour_explains_echo(wrap_angle(n.bearing - kUltrasonicAngles[s]), readings[s], n.range,
-                                  mask_angle, slack)) {
+      if (neighbour_explains_echo(n.bearing, kUltrasonicAngles[s], readings[s], n.range, mask_angle, slack)) {
         mask[s] = true;
         break;
       }

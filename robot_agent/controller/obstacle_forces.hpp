@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "common/types.hpp"
+#include "robot_agent/controller/motion_math.hpp"
 
 namespace swarmform::controller::motion {
 
@@ -44,20 +45,16 @@ struct NeighbourBearing {
   double bearing = 0.0;  // rad, body frame
 };
 
-// The range half of the test below: the neighbour's near side is no further than the reading (false for a NaN
-// reading). Callers that must wrap an angle to get `off` ask it first: it rejects most neighbours of a crowd,
-// and the wrap is then computed only for the few it admits (same verdict).
-inline bool echo_reaches(double reading, double range, double slack) {
-  return reading >= range - 2.0 * kRobotRadius - slack;
-}
-
 // Algorithm 2's test for one sensor and one neighbour: the neighbour stands within the sensor's direction
-// (`off`: the angle between them; the mask angle plus the neighbour's own angular half-size) and its near
-// side is no further than the reading, so the echo is that neighbour.
-inline bool neighbour_explains_echo(double off, double reading, double range, double mask_angle,
-                                    double slack) {
-  // The range test first: it rejects most neighbours without the arctangent (same verdict, both are pure).
-  if (!echo_reaches(reading, range, slack)) return false;
+// (the angle between `neighbour_angle` and `sensor_angle`, both in one frame, is below the mask angle plus
+// the neighbour's own angular half-size) and its near side is no further than the reading, so the echo is
+// that neighbour.
+inline bool neighbour_explains_echo(double neighbour_angle, double sensor_angle, double reading, double range,
+                                    double mask_angle, double slack) {
+  // The range test first: it rejects most neighbours of a crowd before the angle is wrapped and the
+  // arctangent taken (same verdict: both halves are pure).
+  if (!(reading >= range - 2.0 * kRobotRadius - slack)) return false;
+  const double off = wrap_angle(neighbour_angle - sensor_angle);
   const double half_size = std::atan2(kRobotRadius, std::max(range, kRobotRadius));
   return std::abs(off) < mask_angle + half_size;
 }
