@@ -32,6 +32,8 @@ constexpr double kResumeFactor = 2.0;  // x arrival_tolerance off its target: an
 constexpr double kSlowest = 0.3;  // x the cruise: the leader never stops, so the gaps a held robot needs open
 constexpr double kParentSide =
     0.2;  // the parent stands on one side when its direction is this far off the normal
+// x the radio range: a member this near that is not heard is dead, not out of range (both death rules).
+constexpr double kWellInsideRange = 0.8;
 
 std::uint32_t boundary_key(RobotId id) {
   return stig::key(stig::Ns::Boundary, id);
@@ -236,7 +238,7 @@ void PaperMotion::watch_for_the_dead(const FormationContext& ctx) {
       continue;
     const auto pos = last_position_.find(id);
     const double last_range = vnorm(vsub(pos->second, {ctx.pose.x, ctx.pose.y}));
-    if (last_range > 0.8 * p_.comm_range) continue;  // it may simply have drifted out of range
+    if (last_range > kWellInsideRange * p_.comm_range) continue;  // it may simply have drifted out of range
     auto marked = marked_dead_.find(id);
     if (marked != marked_dead_.end() && marked->second == *heard) continue;  // once per silence
     marked_dead_[id] = *heard;
@@ -265,7 +267,8 @@ void PaperMotion::mark_members_unheard_since_ready(const FormationContext& ctx) 
     if (id == ctx.self || label < 0 || static_cast<std::size_t>(label) >= ctx.places.size()) continue;
     const auto heard = ctx.neighbours->last_heard(id);
     if (heard && *heard >= ready_tick_) continue;
-    if (vnorm(vsub(ctx.places[static_cast<std::size_t>(label)], mine)) > 0.8 * p_.comm_range) continue;
+    if (vnorm(vsub(ctx.places[static_cast<std::size_t>(label)], mine)) > kWellInsideRange * p_.comm_range)
+      continue;
     if (!marked_dead(st, id)) st.put(parents_key(id), kDeadMark);
   }
 }
