@@ -4,7 +4,7 @@
 //   outsider listen --domain D --robots N --seconds S [--security-dir DIR --identity NAME]
 //       joins domain D as an agent would (the world on 127.0.0.1 as its discovery peer) with no certificate,
 //       or with NAME's of DIR (a directory of another run's authority: a stranger with a certificate). For S
-//       seconds it reads the mission, the world state and the sensor packets of robots 0..N-1 (a subscriber
+//       seconds, or until SIGTERM/SIGINT (a test lets it listen through a whole run, then stops it), it reads the mission, the world state and the sensor packets of robots 0..N-1 (a subscriber
 //       in each robot/K), and claims every id K from a writer in robot/K every 0.2 s. It prints one line
 //         outsider samples=X readers_matched=R writers_matched=W participants_seen=P
 //       X: samples taken on all its readers; R, W: the most writers its readers matched and readers its
@@ -13,7 +13,8 @@
 //       writers it made; C: those its own permissions refused (with a certificate). Exit 0.
 //   outsider impostor --domain D --security-dir DIR --identity robot-J --robots N --seconds S
 //       robot J of this run, authenticated, reads the mission (for the run's nonce), then claims the other
-//       ids K (0..N-1, K != J) in turn, one every 0.3 s, from its own writer in robot/J for S seconds; prints
+//       ids K (0..N-1, K != J) in turn, one every 0.3 s, from its own writer in robot/J for S seconds counted
+//       from the mission's arrival (a world slow to start under load still meets S seconds of claims); prints
 //       "impostor sent=X writers_matched=W" (W >= 1: the claims reached the world, which must refuse each:
 //       "the claimant is authenticated as robot J, not robot K").
 //   outsider peek --domain D --security-dir DIR --identity NAME --partition-of K
@@ -156,10 +157,13 @@ int impostor(dds::Participant& participant, RobotId self, std::uint32_t robots, 
   std::uint32_t most_writers = 0;
   bool stamped = false;
   RobotId next = 0;
-  const dds_time_t end = dds_time() + static_cast<dds_duration_t>(seconds * 1e9);
+  // Until the mission comes, only a signal ends the wait: the S seconds of claims start with the nonce.
+  const dds_duration_t claiming = static_cast<dds_duration_t>(seconds * 1e9);
+  dds_time_t end = DDS_NEVER;
   while (dds_time() < end && !signals.stop_requested()) {
     if (auto m = mission.take(std::nullopt, refusals)) {
       claims.set_stamp(m->run_nonce);
+      if (!stamped) end = dds_time() + claiming;
       stamped = true;
     }
     if (stamped) {

@@ -16,6 +16,7 @@ import json
 import os
 import re
 import shutil
+import signal
 import stat
 import subprocess
 import tempfile
@@ -30,6 +31,7 @@ OUTSIDER = os.path.join(BUILD_DIR, "tests", "integration", "outsider")
 AGENT = os.path.join(BUILD_DIR, "robot_agent", "robot_agent")
 PAPER = os.path.join(helpers.ROOT, "scenarios", "paper.yaml")
 ROBOTS = 9  # the paper scenario's
+LISTEN_LIMIT_S = 600  # the outsider's own upper bound; they are stopped when the run ends
 
 
 def start(argv, out_path):
@@ -79,7 +81,9 @@ class SecureRunTest(unittest.TestCase):
         out = os.path.join(self.dir, "run")
         # A stranger with a certificate: another run's authority (made here the same way).
         foreign = security.make_security_dir(os.path.join(self.dir), ROBOTS, domain)
-        listen = ["listen", "--robots", str(ROBOTS), "--seconds", "25"]
+        # The outsiders listen through the whole run (the launcher's certificates and the world's start take
+        # their time on a loaded machine) and are stopped once it has ended: a window of the run's own length.
+        listen = ["listen", "--robots", str(ROBOTS), "--seconds", str(LISTEN_LIMIT_S)]
         bare = self.spawn([OUTSIDER, "--domain", str(domain)] + listen, "bare.txt")
         stranger = self.spawn([OUTSIDER, "--domain", str(domain), "--security-dir", foreign, "--identity", "robot-3"]
                               + listen, "stranger.txt")
@@ -96,13 +100,17 @@ class SecureRunTest(unittest.TestCase):
             self.assertIsNone(run.poll(), "the launcher ended before making its security directory")
             time.sleep(0.05)
         time.sleep(0.5)  # the last file is written (created first, then filled)
+        # It claims for 4 s from the mission's arrival, so the world (up by then) meets its claims.
         impostor = self.spawn([OUTSIDER, "--domain", str(domain), "--security-dir", sec, "--identity", "robot-3",
                                "impostor", "--robots", str(ROBOTS), "--seconds", "4"], "impostor.txt")
         # The control: the same listener with this run's observer identity hears the mission and the world state.
         observer = self.spawn([OUTSIDER, "--domain", str(domain), "--security-dir", sec, "--identity", "observer"]
-                              + ["listen", "--robots", str(ROBOTS), "--seconds", "6"], "observer.txt")
+                              + listen, "observer.txt")
         text, _ = run.communicate(timeout=240)
         self.assertEqual(run.returncode, 0, text)
+        for p in (bare, stranger, observer, impostor):
+            if p.poll() is None:
+                p.send_signal(signal.SIGTERM)  # each prints its counts and exits 0 on SIGTERM
 
         with open(os.path.join(out, "summary.json")) as f:
             summary = json.load(f)
