@@ -1,7 +1,7 @@
 // The DDS domain of a test that talks over the network: SWARMFORM_TEST_DOMAIN_BASE (default 100) plus the
 // test's own offset, below kTestDomainWindow. Two builds (say Release and the sanitizer build) run their
 // tests side by side when their bases lie a window apart. Offsets in use (tests/README.md keeps the table):
-//   1..15 multiprocess_test (11: wire_endpoints_test), 16..20 paper_multiprocess_test, 21..22
+//   0 tests/golden/test_golden.py (the multi-process golden runs), 1..15 multiprocess_test (11: wire_endpoints_test), 16..20 paper_multiprocess_test, 21..22
 //   bench_lockstep_smoke, 23..26 tests/scripts/test_launcher_e2e.py, 27..35 tests/bench/test_bench_script.py,
 //   36..37 wire_faults_test, 38..39 test_launcher_e2e.py's two concurrent runs (the launcher's free-domain
 //   picker, given SWARM_DOMAINS=base+38-base+39).

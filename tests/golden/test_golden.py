@@ -1,0 +1,125 @@
+"""The fixed runs of golden.json against their committed trajectory_sha256 (README.md of this folder).
+
+  python3 test_golden.py [-v]                 the tests (BUILD_DIR: the build, default build/; GOLDEN_MODE:
+                                              inprocess, multiprocess or both, default both)
+  python3 test_golden.py --write BUILD_DIR    rerun every in-process run and rewrite golden.json's hashes,
+                                              printing old -> new (a deliberate change of behaviour only)
+Each run has a deadline; a run that overruns is killed with its process group (the launcher's world and
+agents). Temporary folders are removed. The multi-process runs use DDS test domain offset 0.
+"""
+
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(ROOT, "tests", "scripts"))
+import helpers  # noqa: E402  (after the path above)
+
+GOLDEN = os.path.join(HERE, "golden.json")
+RUN_DEADLINE_S = 600  # a loaded 2-core machine runs the paper's 2,000 ticks in well under a minute
+
+
+def load():
+    with open(GOLDEN) as f:
+        return json.load(f)
+
+
+def plugin_dir(build_dir, name):
+    return os.path.join(build_dir, "examples", "behaviours", name)
+
+
+def run_command(build_dir, mode, entry, out, domain=None):
+    """The command line of one golden run (in-process or through the launcher), and its environment."""
+    args = list(entry["args"])
+    if "plugin" in entry:
+        args += ["--plugin-dir", plugin_dir(build_dir, entry["plugin"])]
+    if mode == "inprocess":
+        return [os.path.join(build_dir, "harness", "swarm_inprocess"), *args, "--out", out, "--quiet"], None
+    env = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=build_dir)
+    return [helpers.SWARM, "run", *args, "--mode", "lockstep", "--no-pictures", "--domain", str(domain),
+            "--out", out], env
+
+
+def trajectory_sha256(build_dir, mode, entry, domain=None):
+    """Runs one golden run in a temporary folder; returns (sha256 or None, the run's output for a failure)."""
+    tmp = tempfile.mkdtemp(prefix="swarm-golden-")
+    try:
+        out = os.path.join(tmp, "run")
+        argv, env = run_command(build_dir, mode, entry, out, domain)
+        # Its own process group: on a timeout the launcher's world and agents go with it.
+        p = subprocess.Popen(argv, cwd=ROOT, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                             stdin=subprocess.DEVNULL, start_new_session=True)
+        try:
+            text, _ = p.communicate(timeout=RUN_DEADLINE_S)
+        except subprocess.TimeoutExpired:
+            os.killpg(p.pid, signal.SIGKILL)
+            text, _ = p.communicate(timeout=30)
+            return None, f"{' '.join(argv)}: over {RUN_DEADLINE_S} s\n{text}"
+        if p.returncode != 0:
+            return None, f"{' '.join(argv)}: exit {p.returncode}\n{text}"
+        with open(os.path.join(out, "summary.json")) as f:
+            return json.load(f)["trajectory_sha256"], " ".join(argv)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+BUILD_DIR = os.environ.get("BUILD_DIR") or os.path.join(ROOT, "build")
+MODES = {"both": ("inprocess", "multiprocess"), "inprocess": ("inprocess",),
+         "multiprocess": ("multiprocess",)}[os.environ.get("GOLDEN_MODE", "both")]
+
+
+class GoldenTrajectories(unittest.TestCase):
+    def check(self, mode, name):
+        entry = load()[name]
+        if mode == "multiprocess" and not entry.get("multiprocess"):
+            self.skipTest(f"{name} is an in-process golden run only")
+        if "plugin" in entry and not os.path.isdir(plugin_dir(BUILD_DIR, entry["plugin"])):
+            self.skipTest(f"the {entry['plugin']} example is not built in {BUILD_DIR}")
+        self.assertRegex(entry["sha256"], "^[0-9a-f]{64}$", f"{name}: golden.json holds no hash")
+        sha, said = trajectory_sha256(BUILD_DIR, mode, entry, helpers.test_domain(0))
+        self.assertIsNotNone(sha, said)
+        self.assertEqual(sha, entry["sha256"],
+                         f"{name} ({mode}) left its golden trajectory: {said}\nIf the change of behaviour is "
+                         "meant, rewrite golden.json with test_golden.py --write and say why in the commit.")
+
+
+def add_tests():
+    for name in load():
+        for mode in ("inprocess", "multiprocess"):
+            if mode in MODES:
+                setattr(GoldenTrajectories, f"test_{name}_{mode}",
+                        lambda self, m=mode, n=name: self.check(m, n))
+
+
+add_tests()
+
+
+def write(build_dir):
+    golden = load()
+    for name, entry in golden.items():
+        sha, said = trajectory_sha256(build_dir, "inprocess", entry)
+        if sha is None:
+            sys.exit(f"test_golden.py --write: {name}: {said}")
+        print(f"{name}: {entry['sha256'] or '(none)'} -> {sha}")
+        entry["sha256"] = sha
+    with open(GOLDEN, "w") as f:
+        json.dump(golden, f, indent=2)
+        f.write("\n")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) >= 2 and sys.argv[1] in ("-h", "--help"):
+        print(__doc__)
+    elif len(sys.argv) == 3 and sys.argv[1] == "--write":
+        write(os.path.abspath(sys.argv[2]))
+    elif len(sys.argv) >= 2 and sys.argv[1] == "--write":
+        sys.exit("test_golden.py --write: give the build folder, e.g. --write build")
+    else:
+        unittest.main()
