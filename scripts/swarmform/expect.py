@@ -101,7 +101,7 @@ def evaluate(expectations: Sequence[Expectation], run_dir: str, say: Callable[[s
     EXIT_EXPECTATION_FAILED when one failed, 2 for an unknown key or no summary.json."""
     path = os.path.join(run_dir, "summary.json")
     try:
-        with open(path, encoding="utf-8") as f:
+        with open(path, encoding="utf-8", errors="backslashreplace") as f:
             summary = json.load(f)
     except (OSError, ValueError) as e:
         say(f"swarm: --expect: cannot read {path} ({e}); no expectation can be checked")

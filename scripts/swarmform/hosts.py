@@ -105,7 +105,7 @@ def in_named_namespace() -> Optional[str]:
 
 def _run(cmd: list[str], what: str) -> str:
     try:
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=CMD_TIMEOUT_S)
+        p = subprocess.run(cmd, capture_output=True, encoding="utf-8", errors="backslashreplace", timeout=CMD_TIMEOUT_S)
     except (OSError, subprocess.TimeoutExpired) as e:
         raise HostsError(f"{what}: {' '.join(cmd)}: {e}") from None
     if p.returncode != 0:
@@ -115,7 +115,8 @@ def _run(cmd: list[str], what: str) -> str:
 
 def _namespaces() -> list[str]:
     try:
-        out = subprocess.run(["ip", "netns", "list"], capture_output=True, text=True, timeout=CMD_TIMEOUT_S).stdout
+        out = subprocess.run(["ip", "netns", "list"], capture_output=True, encoding="utf-8", errors="backslashreplace",
+                             timeout=CMD_TIMEOUT_S).stdout
     except (OSError, subprocess.TimeoutExpired):
         return []
     return [line.split()[0] for line in out.splitlines() if line.strip()]
@@ -132,7 +133,8 @@ def _start_time(pid: int) -> Optional[int]:
 
 def _kill_namespace_processes(ns: str) -> None:
     try:
-        out = subprocess.run(["ip", "netns", "pids", ns], capture_output=True, text=True,
+        out = subprocess.run(["ip", "netns", "pids", ns], capture_output=True,
+                             encoding="utf-8", errors="backslashreplace",
                              timeout=CMD_TIMEOUT_S).stdout
     except (OSError, subprocess.TimeoutExpired):
         return
@@ -271,7 +273,8 @@ class Hosts:
         if "delay" in self.link:
             cmd = ["tc", "-n", ns, "qdisc", "add", "dev", iface, "root", "handle", "1:", "netem", "delay",
                    str(self.link["delay"])]
-            p = subprocess.run(cmd, capture_output=True, text=True, timeout=CMD_TIMEOUT_S)
+            p = subprocess.run(cmd, capture_output=True, encoding="utf-8", errors="backslashreplace",
+                               timeout=CMD_TIMEOUT_S)
             if p.returncode != 0 and "unknown" in (p.stderr or ""):
                 raise HostsError("--link delay needs the kernel's netem queueing discipline (sch_netem), which this "
                                  f"kernel lacks (tc: {p.stderr.strip()}); loss and rate work without it")

@@ -174,7 +174,8 @@ def check_scenario(world_exe: str, args: argparse.Namespace) -> dict[str, Any]:
     """Runs `world_server --check`; returns its JSON ({robots, labels, mode, max_ticks, seed})."""
     cmd = [world_exe] + overrides(args) + ["--check"]
     try:
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=CHECK_TIMEOUT_S)
+        p = subprocess.run(cmd, capture_output=True, timeout=CHECK_TIMEOUT_S, encoding="utf-8",
+                           errors="backslashreplace")
     except subprocess.TimeoutExpired:
         raise LaunchError(f"{' '.join(cmd)} did not answer within {CHECK_TIMEOUT_S} s") from None
     if p.returncode != 0:
@@ -882,7 +883,8 @@ def _run_in_process(args: argparse.Namespace, stop: StopFlag, status: Status,
         raise LaunchError("--exec runs each robot's behaviour as a child process of its robot_agent; an in-process "
                           "run has no agents: leave out --in-process", 2)
     exe = executable("inprocess")
-    help_text = subprocess.run([exe, "--help"], capture_output=True, text=True, timeout=30).stdout
+    help_text = subprocess.run([exe, "--help"], capture_output=True, timeout=30, encoding="utf-8",
+                               errors="backslashreplace").stdout
     cmd, flags = [exe], overrides(args)
     dropped: list[str] = []
     for i in range(0, len(flags), 2):  # pass only the flags this runner documents
@@ -947,7 +949,7 @@ def kill(rid: int, run_dir: str) -> int:
     """`swarm kill ID`: SIGKILL one agent of the running swarm, after checking the pid is that agent."""
     path = os.path.join(run_dir, "agents.json")
     try:
-        with open(path) as f:
+        with open(path, encoding="utf-8", errors="backslashreplace") as f:
             agents = json.load(f)
     except FileNotFoundError:
         raise LaunchError(f"{path}: missing (no swarm was started with this run directory)") from None

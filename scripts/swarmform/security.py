@@ -48,7 +48,8 @@ def robot_identity(rid: int) -> str:
 
 def _openssl(*args: str, cwd: str) -> None:
     try:
-        p = subprocess.run(["openssl", *args], cwd=cwd, capture_output=True, text=True, timeout=OPENSSL_TIMEOUT_S)
+        p = subprocess.run(["openssl", *args], cwd=cwd, capture_output=True, timeout=OPENSSL_TIMEOUT_S,
+                           encoding="utf-8", errors="backslashreplace")
     except FileNotFoundError:
         raise SecurityError("the `openssl` command is missing (Debian package openssl; scripts/setup installs "
                             "it)") from None

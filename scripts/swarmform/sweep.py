@@ -300,7 +300,7 @@ def expand_files(patterns: Sequence[str], what: str) -> list[str]:
 def scenario_max_ticks(path: str) -> int:
     """The scenario's top-level `max_ticks:` (the loader's default, 3000, when it has none)."""
     try:
-        with open(path) as f:
+        with open(path, encoding="utf-8", errors="backslashreplace") as f:
             for line in f:
                 m = re.match(r"^max_ticks:\s*(\d+)", line)
                 if m:
@@ -388,7 +388,8 @@ def probe(exe: str, scenario: str, shape: Optional[str], robots: Optional[int], 
     cmd = (base_command(exe, scenario, shape, robots, None, 1, plugin_dirs) + param_flags(params or {}) +
            ["--no-record", "--quiet"])
     try:
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=PROBE_TIMEOUT_S,
+        p = subprocess.run(cmd, capture_output=True, timeout=PROBE_TIMEOUT_S, encoding="utf-8",
+                           errors="backslashreplace",
                            preexec_fn=_die_with_parent)
     except subprocess.TimeoutExpired:
         raise SweepError(f"{command_text(cmd)}: no answer within {PROBE_TIMEOUT_S:.0f} s") from None
@@ -532,8 +533,11 @@ def execute(runs: Sequence[Run], jobs: int, timeout: float, progress: Progress, 
         while (pending or active) and not stop:
             while pending and len(active) < jobs and not stop:
                 run = pending.pop()
-                out: IO[str] = open(os.path.join(tmp, f"{run.index}.out"), "w+")
-                err: IO[str] = open(os.path.join(tmp, f"{run.index}.err"), "w+")
+                # Read back as text whatever bytes the run printed (a bad file's byte quoted in an error).
+                out: IO[str] = open(os.path.join(tmp, f"{run.index}.out"), "w+", encoding="utf-8",
+                                    errors="backslashreplace")
+                err: IO[str] = open(os.path.join(tmp, f"{run.index}.err"), "w+", encoding="utf-8",
+                                    errors="backslashreplace")
                 try:
                     p = subprocess.Popen(run.cmd, stdin=subprocess.DEVNULL, stdout=out, stderr=err,
                                          process_group=0, preexec_fn=_die_with_parent)

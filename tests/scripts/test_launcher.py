@@ -138,6 +138,22 @@ class LauncherTest(unittest.TestCase):
         self.assertIn(f"{self.scenario}:1: not a scenario", r.stderr)
         self.assertFalse(os.path.exists(os.path.join(self.dir, "run")))
 
+    def test_a_non_utf8_byte_in_the_scenario_is_quoted_not_a_traceback(self):
+        with open(self.scenario, "wb") as f:
+            f.write(b"bad seed: \xff\n")
+        r = helpers.swarm("run", "--scenario", self.scenario, "--out", os.path.join(self.dir, "run"))
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn(f"{self.scenario}:1: not a scenario: 'bad seed: \\xff'", r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
+
+    def test_swarm_kill_with_a_non_utf8_agents_json_says_which_file(self):
+        with open(os.path.join(self.dir, "agents.json"), "wb") as f:
+            f.write(b'{"0": \xff}')
+        r = helpers.swarm("kill", "0", "--run", self.dir)
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn(f"{os.path.join(self.dir, 'agents.json')}: cannot read", r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
+
     def test_world_failure_is_passed_on(self):
         out = os.path.join(self.dir, "run")
         r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "2", "--max-ticks", "40", "--out", out,
