@@ -17,12 +17,19 @@
 #include <iostream>
 #include <vector>
 
+#include "common/dds/agent_inbox.hpp"
+#include "common/dds/command_reader.hpp"
+#include "common/dds/command_writer.hpp"
+#include "common/dds/identity.hpp"
+#include "common/dds/mission_endpoints.hpp"
+#include "common/dds/participant.hpp"
 #include "common/dds/refusal_log.hpp"
 #include "common/dds/robot_block.hpp"
+#include "common/dds/robot_channels.hpp"
 #include "common/dds/robot_process.hpp"
 #include "common/dds/security_config.hpp"
 #include "common/dds/signal_watch.hpp"
-#include "common/dds/wire.hpp"
+#include "common/dds/waiter.hpp"
 
 namespace {
 

@@ -1,6 +1,7 @@
-// The checks an agent makes on the mission it takes off the wire (common/dds/wire.cpp MissionReader): the
-// world is a process like any other, and a malformed mission must be refused with a clear error, never reach
-// the controller. Kept free of DDS so that the fuzzer (tests/fuzz/mission_fuzz.cpp) runs it on its own.
+// The checks an agent makes on the mission it takes off the wire (common/dds/mission_endpoints.cpp
+// MissionReader): the world is a process like any other, and a malformed mission must be refused with a clear
+// error, never reach the controller. Kept free of DDS so that the fuzzer (tests/fuzz/mission_fuzz.cpp) runs
+// it on its own.
 #pragma once
 
 #include <string>

@@ -7,9 +7,13 @@
 #include <optional>
 #include <string>
 
+#include "common/dds/agent_inbox.hpp"
+#include "common/dds/command_writer.hpp"
+#include "common/dds/mission_endpoints.hpp"
+#include "common/dds/participant.hpp"
 #include "common/dds/refusal_log.hpp"
 #include "common/dds/signal_watch.hpp"
-#include "common/dds/wire.hpp"
+#include "common/dds/waiter.hpp"
 #include "common/own_clock.hpp"
 
 namespace swarmform::agent {

@@ -13,7 +13,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "common/dds/wire.hpp"
+#include "common/dds/identity.hpp"
 #include "common/types.hpp"
 
 namespace swarmform::server {

@@ -1,5 +1,5 @@
 // The world's side of the DDS wire: its endpoints in one bundle, and the conversions from the world's own
-// types (Scenario, World) to what goes on the wire. The IDL itself stays behind common/dds/wire.hpp.
+// types (Scenario, World) to what goes on the wire. The IDL itself stays inside common/dds/.
 #pragma once
 
 #include <cstdint>
@@ -7,8 +7,14 @@
 #include <optional>
 #include <vector>
 
+#include "common/dds/command_reader.hpp"
+#include "common/dds/identity.hpp"
+#include "common/dds/mission_endpoints.hpp"
+#include "common/dds/participant.hpp"
+#include "common/dds/robot_channels.hpp"
 #include "common/dds/signal_watch.hpp"
-#include "common/dds/wire.hpp"
+#include "common/dds/waiter.hpp"
+#include "common/dds/world_state_endpoints.hpp"
 #include "world_server/world/scenario.hpp"
 #include "world_server/world/world.hpp"
 

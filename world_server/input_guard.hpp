@@ -17,7 +17,7 @@
 #include <string_view>
 #include <unordered_map>
 
-#include "common/dds/wire.hpp"
+#include "common/dds/identity.hpp"
 
 namespace swarmform::server {
 

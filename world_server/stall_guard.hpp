@@ -16,8 +16,8 @@
 #include <unordered_map>
 #include <vector>
 
+#include "common/dds/identity.hpp"
 #include "common/dds/qos.hpp"
-#include "common/dds/wire.hpp"
 #include "common/own_clock.hpp"
 
 namespace swarmform::server {

@@ -2,6 +2,8 @@
 
 #include <cstdio>
 
+#include "common/dds/wire_version.hpp"
+
 namespace swarmform::server {
 
 std::string wire_refusal(const dds::CommandSample& s, std::uint64_t run_nonce) {

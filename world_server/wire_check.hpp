@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <string>
 
-#include "common/dds/wire.hpp"
+#include "common/dds/command_sample.hpp"
 
 namespace swarmform::server {
 

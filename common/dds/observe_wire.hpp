@@ -1,14 +1,18 @@
-// The observers' part of the DDS wire (issue 21, docs/wire.md "Observers"), in plain types: the frames the
-// world publishes for its viewer on sf_observe and the control samples the viewer sends on sf_control.
-// Implemented in wire.cpp, the one includer of the IDL's generated header.
+// The observers' part of the DDS wire (docs/wire.md "Observers"), in plain types: the frames the world
+// publishes for its viewer on sf_observe and the control samples the viewer sends on sf_control.
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
-#include "common/dds/wire.hpp"
+#include "common/dds/entity.hpp"
+#include "common/dds/identity.hpp"
+#include "common/dds/participant.hpp"
+#include "common/dds/wire_version.hpp"
+#include "common/types.hpp"
 
 namespace swarmform::dds {
 

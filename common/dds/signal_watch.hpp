@@ -6,7 +6,7 @@
 #include <atomic>
 #include <thread>
 
-#include "common/dds/wire.hpp"
+#include "common/dds/waiter.hpp"
 
 namespace swarmform::dds {
 

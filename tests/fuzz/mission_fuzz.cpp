@@ -1,7 +1,8 @@
 // libFuzzer target: the checks an agent makes on a mission off the wire (common/mission_check.cpp), on a
-// mission built from any bytes the way wire.cpp copies a DDS sample's fields: rows, cols, the cells, the
-// numbers, and named parameters. A rejection must be an InputError; an accepted mission must keep the
-// promises its controller relies on (no shape or a valid one, finite positive lengths and rates).
+// mission built from any bytes the way common/dds/mission_endpoints.cpp copies a DDS sample's fields: rows,
+// cols, the cells, the numbers, and named parameters. A rejection must be an InputError; an accepted mission
+// must keep the promises its controller relies on (no shape or a valid one, finite positive lengths and
+// rates).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "common/dds/cyclone_config.hpp"
-#include "common/dds/wire.hpp"
+#include "common/dds/participant.hpp"
 #include "tests/integration/test_domain.hpp"
 
 namespace {

@@ -29,11 +29,17 @@
 #include <set>
 #include <vector>
 
+#include "common/dds/agent_inbox.hpp"
+#include "common/dds/command_writer.hpp"
 #include "common/dds/dds_error.hpp"
+#include "common/dds/identity.hpp"
+#include "common/dds/mission_endpoints.hpp"
+#include "common/dds/participant.hpp"
 #include "common/dds/refusal_log.hpp"
 #include "common/dds/security_config.hpp"
 #include "common/dds/signal_watch.hpp"
-#include "common/dds/wire.hpp"
+#include "common/dds/waiter.hpp"
+#include "common/dds/world_state_endpoints.hpp"
 
 namespace {
 

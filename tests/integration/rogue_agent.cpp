@@ -56,10 +56,18 @@
 #include <optional>
 #include <thread>
 
+#include "common/dds/agent_inbox.hpp"
+#include "common/dds/command_writer.hpp"
 #include "common/dds/dds_error.hpp"
+#include "common/dds/matching.hpp"
+#include "common/dds/mission_endpoints.hpp"
+#include "common/dds/participant.hpp"
 #include "common/dds/refusal_log.hpp"
+#include "common/dds/robot_channels.hpp"
 #include "common/dds/signal_watch.hpp"
-#include "common/dds/wire.hpp"
+#include "common/dds/waiter.hpp"
+#include "common/dds/wire_version.hpp"
+#include "common/dds/world_state_endpoints.hpp"
 #include "robot_agent/controller/builtins.hpp"
 
 namespace {

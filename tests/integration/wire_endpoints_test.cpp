@@ -1,9 +1,9 @@
-// The typed endpoints of common/dds/wire.hpp on one participant on loopback in its own domain
+// The typed endpoints of common/dds/ on one participant on loopback in its own domain
 // (test_domain(11)), no other process:
 // - the world's packet writers and an agent's command writer keep their instance in Cyclone's key map
-//   between writes (wire.cpp keep_instance). Without that, each write of a best-effort sample created the
-//   instance and freed it again through the domain's gc thread, whose wake-ups preempted the world in the
-//   middle of its publish phase;
+//   between writes (keep_instance, common/dds/internal/endpoint_kit.hpp). Without that, each write of a
+//   best-effort sample created the instance and freed it again through the domain's gc thread, whose wake-ups
+//   preempted the world in the middle of its publish phase;
 // - a packet writer says when it has matched its robot's reader (the world starts the run only then);
 // - issue 18: the world keeps at most kMaxExtraChannels channels for claims of ids outside the run, and its
 //   command reader drops samples for ids at or above its accept_ids before storing them;
@@ -15,7 +15,14 @@
 #include <memory>
 #include <thread>
 
-#include "common/dds/wire.hpp"
+#include "common/dds/agent_inbox.hpp"
+#include "common/dds/command_reader.hpp"
+#include "common/dds/command_writer.hpp"
+#include "common/dds/identity.hpp"
+#include "common/dds/matching.hpp"
+#include "common/dds/participant.hpp"
+#include "common/dds/robot_channels.hpp"
+#include "common/dds/waiter.hpp"
 #include "tests/integration/test_domain.hpp"
 
 namespace {

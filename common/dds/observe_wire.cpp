@@ -1,0 +1,195 @@
+#include "common/dds/observe_wire.hpp"
+
+#include <cstddef>
+
+#include "common/dds/internal/endpoint_kit.hpp"
+#include "common/dds/internal/idl.hpp"
+#include "common/dds/internal/topics.hpp"
+#include "common/dds/matching.hpp"
+#include "common/dds/qos.hpp"
+
+namespace swarmform::dds {
+
+using internal::Loan;
+using internal::make_condition;
+using internal::make_reader;
+using internal::make_writer;
+using internal::str;
+
+struct ObserveWriter::Impl {
+  Entity writer;
+  std::uint64_t run_nonce = 0;
+  std::vector<sfdds_ObservedRobot> robots;
+  std::vector<sfdds_StateStyle> states;
+  std::vector<char*> fields;
+};
+
+ObserveWriter::ObserveWriter(const Participant& participant, std::uint64_t run_nonce)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->run_nonce = run_nonce;
+  impl_->writer = make_writer(participant.get(), participant.topics().observe(), Channel::Observe);
+}
+ObserveWriter::~ObserveWriter() = default;
+
+void ObserveWriter::publish(const ObserveFrameData& f) {
+  auto& robots = impl_->robots;
+  robots.resize(f.robots.size());
+  for (std::size_t i = 0; i < f.robots.size(); ++i) {
+    const ObservedRobotRow& r = f.robots[i];
+    sfdds_ObservedRobot& o = robots[i];
+    o = sfdds_ObservedRobot{};
+    o.id = r.id;
+    o.x = r.pose.x;
+    o.y = r.pose.y;
+    o.theta = r.pose.theta;
+    o.alive = r.alive;
+    o.state = r.state;
+    o.label = r.label;
+    o.parent = r.parent;
+    o.leader = r.leader;
+    o.net_force = r.net_force;
+    for (std::size_t k = 0; k < kUltrasonicCount; ++k) o.ultrasonic[k] = r.ultrasonic[k];
+    o.heard._buffer = const_cast<std::uint32_t*>(r.heard.data());
+    o.heard._length = o.heard._maximum = static_cast<std::uint32_t>(r.heard.size());
+    o.heard._release = false;
+    o.left_speed = r.left_speed;
+    o.right_speed = r.right_speed;
+    o.message_bytes = r.message_bytes;
+  }
+  auto& states = impl_->states;
+  states.resize(f.states.size());
+  for (std::size_t i = 0; i < f.states.size(); ++i) {
+    states[i] = sfdds_StateStyle{f.states[i].value, const_cast<char*>(f.states[i].name.c_str()),
+                                 const_cast<char*>(f.states[i].colour.c_str())};
+  }
+  auto& fields = impl_->fields;
+  fields.resize(f.telemetry_fields.size());
+  for (std::size_t i = 0; i < f.telemetry_fields.size(); ++i)
+    fields[i] = const_cast<char*>(f.telemetry_fields[i].c_str());
+  sfdds_ObserveFrame s{};
+  s.wire_version = kWireVersion;
+  s.run_nonce = impl_->run_nonce;
+  s.tick = f.tick;
+  s.finished = f.finished;
+  s.paused = f.paused;
+  s.controllable = f.controllable;
+  s.speed_cap = f.speed_cap;
+  s.alive = f.alive;
+  s.formation_tick = f.formation_tick;
+  s.shape_error = f.shape_error;
+  s.behaviour = const_cast<char*>(f.behaviour.c_str());
+  s.states._buffer = states.data();
+  s.states._length = s.states._maximum = static_cast<std::uint32_t>(states.size());
+  s.telemetry_fields._buffer = fields.data();
+  s.telemetry_fields._length = s.telemetry_fields._maximum = static_cast<std::uint32_t>(fields.size());
+  s.robots._buffer = robots.data();
+  s.robots._length = s.robots._maximum = static_cast<std::uint32_t>(robots.size());
+  check(dds_write(impl_->writer.get(), &s), "dds_write(observe)");
+}
+
+ObserveReader::ObserveReader(const Participant& participant)
+    : reader_(make_reader(participant.get(), participant.topics().observe(), Channel::Observe)),
+      condition_(make_condition(reader_.get())) {}
+
+bool ObserveReader::take(std::uint64_t run_nonce, ObserveFrameData& out) {
+  void* ptrs[4] = {};
+  dds_sample_info_t infos[4];
+  const int n = check(dds_take(reader_.get(), ptrs, infos, 4, 4), "dds_take(observe)");
+  Loan loan(reader_.get(), ptrs, n);
+  const sfdds_ObserveFrame* newest = nullptr;
+  for (int i = 0; i < n; ++i) {
+    if (!infos[i].valid_data) continue;
+    const auto& s = *static_cast<const sfdds_ObserveFrame*>(ptrs[i]);
+    if (s.wire_version != kWireVersion || s.run_nonce != run_nonce) {
+      ++refused_;
+      continue;
+    }
+    newest = &s;
+  }
+  if (newest == nullptr) return false;
+  const sfdds_ObserveFrame& s = *newest;
+  out.run_nonce = s.run_nonce;
+  out.tick = s.tick;
+  out.finished = s.finished;
+  out.paused = s.paused;
+  out.controllable = s.controllable;
+  out.speed_cap = s.speed_cap;
+  out.alive = s.alive;
+  out.formation_tick = s.formation_tick;
+  out.shape_error = s.shape_error;
+  out.behaviour = str(s.behaviour);
+  out.states.resize(s.states._length);
+  for (std::uint32_t i = 0; i < s.states._length; ++i) {
+    const sfdds_StateStyle& st = s.states._buffer[i];
+    out.states[i] = StateStyleRow{st.value, str(st.name), str(st.colour)};
+  }
+  out.telemetry_fields.resize(s.telemetry_fields._length);
+  for (std::uint32_t i = 0; i < s.telemetry_fields._length; ++i) {
+    out.telemetry_fields[i] = str(s.telemetry_fields._buffer[i]);
+  }
+  out.robots.resize(s.robots._length);
+  for (std::uint32_t i = 0; i < s.robots._length; ++i) {
+    const sfdds_ObservedRobot& o = s.robots._buffer[i];
+    ObservedRobotRow& r = out.robots[i];
+    r.id = o.id;
+    r.pose = Pose2D{o.x, o.y, o.theta};
+    r.alive = o.alive;
+    r.state = o.state;
+    r.label = o.label;
+    r.parent = o.parent;
+    r.leader = o.leader;
+    r.net_force = o.net_force;
+    for (std::size_t k = 0; k < kUltrasonicCount; ++k) r.ultrasonic[k] = o.ultrasonic[k];
+    r.heard.assign(o.heard._buffer, o.heard._buffer + o.heard._length);
+    r.left_speed = o.left_speed;
+    r.right_speed = o.right_speed;
+    r.message_bytes = o.message_bytes;
+  }
+  return true;
+}
+
+ControlWriter::ControlWriter(const Participant& participant)
+    : writer_(make_writer(participant.get(), participant.topics().control(), Channel::Control)) {}
+
+void ControlWriter::send(const ControlSample& c) {
+  sfdds_Control s{};
+  s.wire_version = c.wire_version;
+  s.run_nonce = c.run_nonce;
+  s.token = c.token;
+  s.seq = c.seq;
+  s.kind = c.kind;
+  s.count = c.count;
+  s.value = c.value;
+  check(dds_write(writer_.get(), &s), "dds_write(control)");
+}
+
+bool ControlWriter::matched() const {
+  return writer_matched(writer_.get());
+}
+
+ControlReader::ControlReader(const Participant& participant)
+    : reader_(make_reader(participant.get(), participant.topics().control(), Channel::Control)),
+      condition_(make_condition(reader_.get())) {}
+
+void ControlReader::take(std::vector<ControlSample>& out) {
+  constexpr int kBatch = 64;
+  void* ptrs[kBatch] = {};
+  dds_sample_info_t infos[kBatch];
+  const int n = check(dds_take(reader_.get(), ptrs, infos, kBatch, kBatch), "dds_take(control)");
+  Loan loan(reader_.get(), ptrs, n);
+  for (int i = 0; i < n; ++i) {
+    if (!infos[i].valid_data) continue;
+    const auto& s = *static_cast<const sfdds_Control*>(ptrs[i]);
+    out.push_back(ControlSample{s.wire_version, s.run_nonce, s.token, s.seq, s.kind, s.count, s.value,
+                                infos[i].publication_handle});
+  }
+}
+
+bool ControlReader::writer_alive(PublicationHandle writer) const {
+  dds_builtintopic_endpoint_t* e = dds_get_matched_publication_data(reader_.get(), writer);
+  if (e == nullptr) return false;
+  dds_builtintopic_free_endpoint(e);
+  return true;
+}
+
+}  // namespace swarmform::dds
