@@ -69,7 +69,8 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
       refusals_("world_server", std::cerr),
       guard_(scenario.mode == world::Mode::Realtime ? realtime_limits(scenario.tick_rate) : GuardLimits{}),
       late_(scenario.robots.size()),
-      faults_(scenario, [this](RobotId id) { return agent_pid(id); }) {
+      schedule_(scenario),
+      faults_(scenario, world_, session_, [this](RobotId id) { return agent_pid(id); }) {
   const std::size_t n = scenario.robots.size();
   generation_.assign(n, 1);
   owner_nonce_.assign(n, 0);
@@ -82,7 +83,6 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
   waiting_.assign(n, 0);
   unresponsive_.assign(n, 0);
   judged_.assign(n, 0);
-  for (const world::Kill& k : scenario.kills) kills_.emplace(k.tick, k.id);
   // Each robot's messages are gathered and its ultrasonics read in begin_round, just before its packet is
   // written, instead of for every robot in the step: robot i computes while the world senses for robot
   // i + 1, and the step (which every agent waits for) is shorter. The readings are the same
@@ -157,6 +157,7 @@ int Server::run_inner() {
   }
   const dds_time_t end = dds_time();
   const double wall = to_s(end - start_);
+  schedule_.finish(session_);
   faults_.resume_all(&session_);  // a stalled agent must hear the end
   announce_end();
   progress(true);
@@ -559,9 +560,8 @@ void Server::on_dead(dds::PublicationHandle writer, bool running) {
   world_.kill(*id);
   session_.record_death(*id);
   std::string detail = "liveliness lost at tick " + std::to_string(world_.tick());
-  if (const auto k = kill_sent_.find(*id); k != kill_sent_.end()) {
-    detail += "; detected " + std::to_string((dds_time() - k->second) / 1000000) + " ms after SIGKILL";
-    kill_sent_.erase(k);
+  if (const auto ms = faults_.take_kill_delay_ms(*id)) {
+    detail += "; detected " + std::to_string(*ms) + " ms after SIGKILL";
   }
   session_.record_event(*id, "death_detected", detail);
   std::cout << "death id=" << *id << " tick=" << world_.tick() << std::endl;
@@ -618,32 +618,16 @@ void Server::begin_round() {
   const bool realtime = scenario_.mode == world::Mode::Realtime;
   if (viewer_) {
     for (const RobotId id : viewer_->take_kills()) {
-      if (id < scenario_.robots.size()) kills_.emplace(t, id);  // the path of --kill, this tick
+      if (id < scenario_.robots.size()) schedule_.add_kill(t, id);  // the path of --kill, this tick
     }
   }
-  for (auto [it, end] = kills_.equal_range(t); it != end; ++it) {
-    const RobotId id = it->second;
-    if (const auto pid = agent_pid(id)) {
-      // The agent dies as any crash would; DDS liveliness tells the world (on_lost), nothing else.
-      if (::kill(*pid, SIGKILL) == 0) {
-        kill_sent_[id] = dds_time();
-        session_.record_event(id, "kill_sent", "SIGKILL pid " + std::to_string(*pid));
-      } else {
-        session_.record_event(id, "kill_failed", "SIGKILL pid " + std::to_string(*pid) + " failed");
-      }
-    } else if (world_.alive(id)) {
-      // No process to kill: the robot dies in the world; its agent gets no more packets.
-      world_.kill(id);
-      session_.record_death(id);
-      session_.record_event(id, "killed", "no --agent-pid for it: the robot was killed in the world");
-    }
-  }
-  faults_.at_round(t, session_, world_);
+  // Kills and faults: the stage the in-process harness runs too (run/fault_schedule.hpp).
+  schedule_.at_round(t, session_, faults_);
   waiting_count_ = 0;
   const std::size_t n = scenario_.robots.size();
   for (std::size_t i = 0; i < n; ++i) {
     const auto id = static_cast<RobotId>(i);
-    const bool live = world_.alive(id) && registry_.connected(id) && !faults_.withheld(id);
+    const bool live = world_.alive(id) && registry_.connected(id) && !schedule_.held(id);
     const bool awaited = live && !unresponsive_[i];
     waiting_[i] = awaited ? 1 : 0;
     waiting_count_ += awaited ? 1 : 0;
@@ -725,8 +709,7 @@ void Server::record_round() {
 }
 
 bool Server::record_can_follow_packets() const {
-  const Tick t = world_.tick();
-  return !viewer_ && kills_.count(t) == 0 && faults_.quiet_at(t);
+  return !viewer_ && schedule_.quiet_at(world_.tick());
 }
 
 void Server::run_lockstep() {

@@ -2,7 +2,7 @@
 // or a signal comes, then announce the end. The tick order is World's (world.hpp); this file decides only
 // when a tick happens and which commands go into it:
 //
-//   round t:  scheduled kills -> publish SensorPacket(t) to every live robot -> collect Command(t)
+//   round t:  scheduled kills and faults -> publish SensorPacket(t) to every live robot -> collect Command(t)
 //             (lockstep: every live owner's, until the deadline; realtime: whatever came within the period)
 //             -> apply in id order -> World::step -> RunSession::record_tick (after the next round's
 //             packets when that round's start changes nothing it records, record_can_follow_packets)
@@ -28,6 +28,7 @@
 #include "world_server/late_commands.hpp"
 #include "world_server/process_faults.hpp"
 #include "world_server/run/end_reason.hpp"
+#include "world_server/run/fault_schedule.hpp"
 #include "world_server/run/run_session.hpp"
 #include "world_server/run/telemetry_check.hpp"
 #include "world_server/stall_guard.hpp"
@@ -176,8 +177,6 @@ class Server {
   // Claims and commands taken after their writer went away: ignored, counted.
   std::uint64_t stale_samples_ = 0;
   std::vector<dds::RobotPoseRow> rows_;
-  std::multimap<Tick, RobotId> kills_;
-  std::map<RobotId, dds_time_t> kill_sent_;  // wall time of a SIGKILL, to report the detection delay
 
   dds_time_t start_ = 0;
   dds_time_t steady_start_ = 0;  // the end of tick options_.warmup_ticks; 0 until then
@@ -191,7 +190,8 @@ class Server {
   dds_time_t round_start_ = 0;
   std::vector<dds_time_t> written_at_;
   LateCommands late_;
-  ProcessFaults faults_;  // scheduled stalls and restarts (process_faults.hpp), and world faults' events
+  world::FaultSchedule schedule_;          // scheduled kills and faults (run/fault_schedule.hpp)
+  ProcessFaults faults_;                   // what they do to the agents' processes (process_faults.hpp)
   std::unique_ptr<ViewerControl> viewer_;  // null without --viewer-token
 
   // Where a round's wall time goes (printed on stderr at the end; issue 6 P1's first question).
