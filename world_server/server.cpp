@@ -597,8 +597,7 @@ std::optional<pid_t> Server::agent_pid(RobotId id) {
   return std::nullopt;
 }
 
-// ---- the round
-// ---------------------------------------------------------------------------------------------
+// ---- the round --------------------------------------------------------------------------------------------
 
 // The run's rounds until it is complete or a stop is asked: each line is one stage, in the order they run.
 // Two overlaps are stages of their own (README.md "A round"): each robot's perception is made in
@@ -606,19 +605,19 @@ std::optional<pid_t> Server::agent_pid(RobotId id) {
 // packets are out, while the agents compute.
 void Server::run_rounds() {
   const bool lockstep = scenario_.mode == world::Mode::Lockstep;
-  round_due_ = dds_time() + seconds(1.0 / scenario_.tick_rate);  // realtime's first period
+  if (!lockstep) round_due_ = dds_time() + seconds(1.0 / scenario_.tick_rate);  // the first period's end
   for (;;) {
     if (lockstep && viewer_ && !hold_for_viewer()) return;
-    begin_publish();
+    begin_publish();  // the profile's publish time: from here to end_publish
     kills_and_faults();
     publish_packets();
     offer_viewer_frame();
     end_publish();
     record_deferred_tick();
-    if (!collect()) return;
+    if (!collect()) return;  // a stop was asked: the round in flight is not stepped
     apply_commands();
     step_world();
-    if (record_or_defer()) return;
+    if (record_or_defer()) return;  // the run is complete
     if (lockstep && viewer_) viewer_->ticked();
   }
 }
