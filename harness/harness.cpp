@@ -1,11 +1,9 @@
-// The in-process harness: the tick order of the DDS world_server without DDS. One tick:
-//   scheduled kills due now -> scheduled faults due now (events; restarts) -> every live robot's controller
-//   that is not stalled steps on its perception -> the commands go to the world (verdicts other than Ok are
-//   recorded) -> world.step() -> the session records the new tick.
-// Process faults in-process (world/faults.hpp): a stall is the robot's controller not stepped for its ticks
-// (the world keeps the robot's last wheel speeds and it says nothing, as with a SIGSTOPped agent); a
-// restart is a fresh controller (init with the mission) for the killed robot, which comes back to life where
-// its body stands. The world faults act inside World, as in the DDS world_server.
+// The in-process harness: the round of the DDS world_server without DDS; Impl::step lists its stages.
+// The kills and faults are the same stage as the world_server's (run/fault_schedule.hpp); what they do to a
+// robot's agent here (FaultActions): a kill drops its controller; a stall holds the robot in the schedule, so
+// its controller is not stepped for its ticks (the world keeps the robot's last wheel speeds and it says
+// nothing, as with a SIGSTOPped agent); a restart is a fresh controller (init with the mission) for the
+// robot, which comes back to life where its body stands. The world faults act inside World.
 // The controllers step on the worker pool (world_server/world/parallel_for.hpp): each reads only its own
 // perception (copied into its worker's buffer) and writes only its own command slot; the commands then go to
 // the world one after the other in id order, exactly as a serial loop would, so a run is deterministic for a
@@ -19,7 +17,7 @@
 #include <string>
 
 #include "behaviour/registry.hpp"
-#include "world_server/run/fault_events.hpp"
+#include "world_server/run/fault_schedule.hpp"
 #include "world_server/run/run_end.hpp"
 #include "world_server/world/parallel_for.hpp"
 
@@ -33,12 +31,13 @@ std::int64_t robot_being_stepped() {
   return t_stepping;
 }
 
-struct Harness::Impl {
+struct Harness::Impl : world::FaultActions {
   Impl(const world::Scenario& s, HarnessOptions o)
       : scenario(s),
         options(std::move(o)),
         world(scenario),
-        session(world, {options.run_dir, "in-process", options.fragment_range, options.record_every}) {
+        session(world, {options.run_dir, "in-process", options.fragment_range, options.record_every}),
+        schedule(scenario) {
     // Every perception is read by copy_perception on the worker pool (step below): each inbox is gathered
     // and each robot's ultrasonics read there, into the reading core's copy, instead of at the world's step.
     world.defer_perceptions(true);
@@ -46,9 +45,6 @@ struct Harness::Impl {
     for (RobotId id = 0; id < scenario.robots.size(); ++id) {
       controllers.push_back(make(id));
     }
-    kills = scenario.kills;
-    std::stable_sort(kills.begin(), kills.end(),
-                     [](const world::Kill& a, const world::Kill& b) { return a.tick < b.tick; });
   }
 
   // A controller of the scenario's behaviour (resolved through the registry when the scenario was loaded).
@@ -72,7 +68,7 @@ struct Harness::Impl {
     }
   }
 
-  void kill(RobotId id) {
+  void kill(RobotId id) override {
     check_id(id);
     if (!world.alive(id)) return;
     world.kill(id);
@@ -87,35 +83,30 @@ struct Harness::Impl {
     session.record_rejoin(id);
   }
 
-  // Process faults due at tick t (stalls start or end, restarts) and the world faults' events.
-  void faults_at(Tick t) {
-    stalled.assign(controllers.size(), 0);
-    for (const world::Fault& f : scenario.faults) {
-      if (f.kind == world::FaultKind::Stall) {
-        const RobotId id = *f.robot;
-        if (f.active_at(t)) stalled[id] = 1;
-        if (f.tick == t) {
-          world::record_process_fault_event(
-              session, f, true,
-              world.alive(id) ? "its controller is not stepped for " + std::to_string(*f.duration) + " ticks"
-                              : "the robot is dead: nothing to stall");
-        } else if (f.end_tick() == t) {
-          world::record_process_fault_event(session, f, false, "its controller is stepped again");
-        }
-      } else if (f.kind == world::FaultKind::Restart && f.tick == t) {
-        revive(*f.robot);
-        world::record_process_fault_event(session, f, true, "a fresh controller for the robot");
-      }
-    }
-    world::record_world_fault_events(session, scenario.faults, t);
+  // FaultActions: a stall holds the robot in the schedule; a restart is done at once.
+  Stall start_stall(const world::Fault& f) override {
+    return {false, world.alive(*f.robot)
+                       ? "its controller is not stepped for " + std::to_string(*f.duration) + " ticks"
+                       : "the robot is dead: nothing to stall"};
+  }
+  std::string end_stall(const world::Fault&, bool) override { return "its controller is stepped again"; }
+  std::optional<std::string> restart(const world::Fault& f, Tick) override {
+    revive(*f.robot);
+    return "a fresh controller for the robot";
   }
 
+  // One round, stage by stage (the DDS world_server's Server::run_rounds, without the wire).
   void step() {
-    while (next_kill < kills.size() && kills[next_kill].tick <= world.tick()) {
-      kill(kills[next_kill].id);
-      ++next_kill;
-    }
-    faults_at(world.tick());
+    schedule.at_round(world.tick(), session, *this);  // kills and faults
+    step_controllers();                               // "publish" and "collect": each controller's command
+    check_commands();
+    apply_commands();
+    world.step();
+    session.record_tick();
+  }
+
+  // Every live robot's controller that is not held steps on its perception, on the worker pool.
+  void step_controllers() {
     const std::size_t n = controllers.size();
     commands.resize(n);
     stepped.assign(n, 0);
@@ -125,7 +116,7 @@ struct Harness::Impl {
       world::World::PerceptionCopy& copy = copies[worker].copy;
       for (std::size_t i = begin; i < end; ++i) {
         const auto id = static_cast<RobotId>(i);
-        if (!controllers[i] || !world.alive(id) || stalled[i]) continue;
+        if (!controllers[i] || !world.alive(id) || schedule.held(id)) continue;
         // An exception must not leave a worker thread: it is kept and raised below, on this thread.
         try {
           t_stepping = static_cast<std::int64_t>(i);
@@ -141,7 +132,12 @@ struct Harness::Impl {
         }
       }
     });
-    for (RobotId id = 0; id < n; ++id) {
+  }
+
+  // A controller that threw or returned a non-finite wheel speed ends the run (the lowest id's), before the
+  // world steps.
+  void check_commands() const {
+    for (RobotId id = 0; id < controllers.size(); ++id) {
       if (!errors[id].empty()) throw failure(id, errors[id]);
       if (!stepped[id]) continue;
       const Command& c = commands[id];
@@ -152,24 +148,25 @@ struct Harness::Impl {
         throw failure(id, what.str());
       }
     }
-    for (RobotId id = 0; id < n; ++id) {
+  }
+
+  // In id order, exactly as a serial loop would; verdicts other than Ok are recorded.
+  void apply_commands() {
+    for (RobotId id = 0; id < controllers.size(); ++id) {
       if (!stepped[id]) continue;
       const auto verdict = world.apply_command(id, commands[id]);
       if (verdict != world::CommandVerdict::Ok) session.record_command_verdict(id, verdict);
     }
-    world.step();
-    session.record_tick();
   }
 
   const world::Scenario scenario;  // a copy: the world and the controllers refer to it for the whole run
   HarnessOptions options;
   world::World world;
   world::RunSession session;
+  world::FaultSchedule schedule;
   std::vector<std::unique_ptr<controller::Controller>> controllers;  // null: dead
-  std::vector<world::Kill> kills;                                    // by tick
   std::vector<Command> commands;  // this tick's, one slot per robot (kept: their message buffers are reused)
   std::vector<char> stepped;      // 1: commands[id] is this tick's
-  std::vector<char> stalled;      // 1: a stall fault holds this robot's controller this tick
   std::vector<std::string> errors;  // this tick's: what robot id's controller threw (empty: nothing)
   // One perception copy per worker: a controller steps on its robot's perception copied into its worker's
   // buffers, which stay in that core's cache from robot to robot (World::copy_perception says why).
@@ -177,7 +174,6 @@ struct Harness::Impl {
     world::World::PerceptionCopy copy;
   };
   std::vector<WorkerCopy> copies;
-  std::size_t next_kill = 0;
 };
 
 Harness::Harness(const world::Scenario& scenario, HarnessOptions options)

@@ -1,6 +1,7 @@
 // The in-process harness: the same World with N controllers in one process, no DDS. Deterministic and fast;
-// used by the simulation tests and the large-N benchmark. Each tick: every live robot's controller steps on
-// its perception, the commands go to the world, the world steps, the session records; scheduled kills apply.
+// used by the simulation tests and the large-N benchmark. Each tick, the DDS world_server's round without the
+// wire: kills and faults (the same stage, run/fault_schedule.hpp), every live robot's controller steps on its
+// perception, the commands go to the world, the world steps, the session records.
 #pragma once
 
 #include <cstdint>

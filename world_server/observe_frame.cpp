@@ -2,7 +2,7 @@
 
 namespace swarmform::server {
 
-void build_frame(const world::World& world, const std::vector<Command>& latest, const world::Metrics& metrics,
+void build_frame(const world::World& world, const LatestCommand& latest, const world::Metrics& metrics,
                  const BehaviourView& behaviour, dds::ObserveFrameData& frame) {
   const auto& truth = world.robots();
   frame.tick = world.tick();
@@ -34,11 +34,10 @@ void build_frame(const world::World& world, const std::vector<Command>& latest, 
       for (const RabReading& m : p.messages) r.heard.push_back(m.sender);
     }
     frame.alive += t.alive ? 1 : 0;
-    if (i < latest.size()) {
-      r.left_speed = latest[i].left_speed;
-      r.right_speed = latest[i].right_speed;
-      r.message_bytes = static_cast<std::uint32_t>(latest[i].message.size());
-    }
+    const Command& last = latest(static_cast<RobotId>(i));
+    r.left_speed = last.left_speed;
+    r.right_speed = last.right_speed;
+    r.message_bytes = static_cast<std::uint32_t>(last.message.size());
   }
 }
 

@@ -4,7 +4,7 @@
 // lockstep.
 #pragma once
 
-#include <vector>
+#include <functional>
 
 #include "common/dds/observe_wire.hpp"
 #include "world_server/behaviour_view.hpp"
@@ -13,8 +13,11 @@
 
 namespace swarmform::server {
 
-// `latest`: each robot's last command taken (indexed by id). `frame`'s rows are reused.
-void build_frame(const world::World& world, const std::vector<Command>& latest, const world::Metrics& metrics,
+// Each robot's last command taken, by id.
+using LatestCommand = std::function<const Command&(RobotId)>;
+
+// `frame`'s rows are reused.
+void build_frame(const world::World& world, const LatestCommand& latest, const world::Metrics& metrics,
                  const BehaviourView& behaviour, dds::ObserveFrameData& frame);
 
 }  // namespace swarmform::server

@@ -7,8 +7,9 @@
 
 namespace swarmform::server {
 
-ProcessFaults::ProcessFaults(const world::Scenario& scenario, PidLookup agent_pid)
-    : scenario_(scenario), agent_pid_(std::move(agent_pid)), withheld_(scenario.robots.size(), 0) {}
+ProcessFaults::ProcessFaults(const world::Scenario& scenario, world::World& world, world::RunSession& session,
+                             PidLookup agent_pid)
+    : scenario_(scenario), world_(world), session_(session), agent_pid_(std::move(agent_pid)) {}
 
 ProcessFaults::~ProcessFaults() {
   resume_all(nullptr);
@@ -21,78 +22,68 @@ pid_t ProcessFaults::signalable(RobotId id, Tick t) const {
   return agent_pid_ ? agent_pid_(id).value_or(0) : 0;
 }
 
-void ProcessFaults::at_round(Tick t, world::RunSession& session, const world::World& world) {
-  for (const world::Fault& f : scenario_.faults) {
-    if (f.kind == world::FaultKind::Stall) {
-      const RobotId id = *f.robot;
-      if (f.tick == t) {
-        const pid_t pid = signalable(id, t);
-        if (pid != 0 && ::kill(pid, SIGSTOP) == 0) {
-          stopped_[&f] = pid;
-          world::record_process_fault_event(session, f, true, "SIGSTOP pid " + std::to_string(pid));
-        } else {
-          withheld_[id] = 1;
-          const std::string why =
-              pid != 0 ? "SIGSTOP pid " + std::to_string(pid) + " failed" : "no process of its own to stop";
-          world::record_process_fault_event(
-              session, f, true,
-              why + (world.alive(id)
-                         ? "; its packets are withheld for " + std::to_string(*f.duration) + " ticks"
-                         : "; the robot is dead"));
-        }
-      } else if (f.end_tick() == t) {
-        if (const auto it = stopped_.find(&f); it != stopped_.end()) {
-          const bool ok = ::kill(it->second, SIGCONT) == 0;
-          world::record_process_fault_event(session, f, false,
-                                            std::string("SIGCONT pid ") + std::to_string(it->second) +
-                                                (ok ? "" : " failed (the process is gone)"));
-          stopped_.erase(it);
-        } else {
-          withheld_[id] = 0;
-          world::record_process_fault_event(session, f, false, "its packets are sent again");
-        }
-      }
-    } else if (f.kind == world::FaultKind::Restart && f.tick == t) {
-      pending_restarts_.push_back(&f);
+void ProcessFaults::kill(RobotId id) {
+  if (const auto pid = agent_pid_ ? agent_pid_(id) : std::nullopt) {
+    // The agent dies as any crash would; DDS liveliness tells the world (Server::on_lost), nothing else.
+    if (::kill(*pid, SIGKILL) == 0) {
+      kill_sent_[id] = std::chrono::steady_clock::now();
+      session_.record_event(id, "kill_sent", "SIGKILL pid " + std::to_string(*pid));
+    } else {
+      session_.record_event(id, "kill_failed", "SIGKILL pid " + std::to_string(*pid) + " failed");
     }
+  } else if (world_.alive(id)) {
+    // No process to kill: the robot dies in the world; its agent gets no more packets.
+    world_.kill(id);
+    session_.record_death(id);
+    session_.record_event(id, "killed", "no --agent-pid for it: the robot was killed in the world");
   }
-  // A restart waits for the death of the killed agent to be seen (its lease, ~0.5 s after the SIGKILL): until
-  // then the old owner holds the id and would refuse the new agent's claim.
-  for (auto it = pending_restarts_.begin(); it != pending_restarts_.end();) {
-    const world::Fault& f = **it;
-    if (world.alive(*f.robot)) {
-      ++it;
-      continue;
-    }
-    // The launcher owns the agent processes: it starts the new one on this line.
-    std::cout << "restart id=" << *f.robot << " tick=" << t << std::endl;
-    world::record_process_fault_event(
-        session, f, true,
-        "asked for a new agent process (stdout: restart id=" + std::to_string(*f.robot) +
-            "; scripts/swarm run starts it)" +
-            (t == f.tick ? std::string() : "; after its death was seen at tick " + std::to_string(t)));
-    it = pending_restarts_.erase(it);
-  }
-  world::record_world_fault_events(session, scenario_.faults, t);
 }
 
-bool ProcessFaults::quiet_at(Tick t) const {
-  if (!pending_restarts_.empty()) return false;
-  for (const world::Fault& f : scenario_.faults) {
-    if (f.tick == t || f.end_tick() == t) return false;
+std::optional<long long> ProcessFaults::take_kill_delay_ms(RobotId id) {
+  const auto k = kill_sent_.find(id);
+  if (k == kill_sent_.end()) return std::nullopt;
+  const auto ms =
+      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - k->second);
+  kill_sent_.erase(k);
+  return static_cast<long long>(ms.count());
+}
+
+world::FaultActions::Stall ProcessFaults::start_stall(const world::Fault& f) {
+  const RobotId id = *f.robot;
+  const pid_t pid = signalable(id, f.tick);
+  if (pid != 0 && ::kill(pid, SIGSTOP) == 0) {
+    stopped_[&f] = pid;
+    return {true, "SIGSTOP pid " + std::to_string(pid)};
   }
-  return true;
+  const std::string why =
+      pid != 0 ? "SIGSTOP pid " + std::to_string(pid) + " failed" : "no process of its own to stop";
+  return {false,
+          why + (world_.alive(id) ? "; its packets are withheld for " + std::to_string(*f.duration) + " ticks"
+                                  : "; the robot is dead")};
+}
+
+std::string ProcessFaults::end_stall(const world::Fault& f, bool stopped) {
+  const auto it = stopped_.find(&f);
+  if (!stopped || it == stopped_.end()) return "its packets are sent again";
+  const bool ok = ::kill(it->second, SIGCONT) == 0;
+  std::string what =
+      "SIGCONT pid " + std::to_string(it->second) + (ok ? "" : " failed (the process is gone)");
+  stopped_.erase(it);
+  return what;
+}
+
+std::optional<std::string> ProcessFaults::restart(const world::Fault& f, Tick t) {
+  // A restart waits for the death of the killed agent to be seen (its lease, ~0.5 s after the SIGKILL):
+  // until then the old owner holds the id and would refuse the new agent's claim.
+  if (world_.alive(*f.robot)) return std::nullopt;
+  // The launcher owns the agent processes: it starts the new one on this line.
+  std::cout << "restart id=" << *f.robot << " tick=" << t << std::endl;
+  return "asked for a new agent process (stdout: restart id=" + std::to_string(*f.robot) +
+         "; scripts/swarm run starts it)" +
+         (t == f.tick ? std::string() : "; after its death was seen at tick " + std::to_string(t));
 }
 
 void ProcessFaults::resume_all(world::RunSession* session) {
-  if (session != nullptr) {
-    for (const world::Fault* f : pending_restarts_) {
-      world::record_process_fault_event(
-          *session, *f, true,
-          "not done: robot " + std::to_string(*f->robot) + "'s death was not seen before the end of the run");
-    }
-  }
-  pending_restarts_.clear();
   for (const auto& [fault, pid] : stopped_) {
     const bool ok = ::kill(pid, SIGCONT) == 0;
     if (session != nullptr) {

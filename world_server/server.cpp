@@ -67,23 +67,13 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
       registry_(scenario.robots.size()),
       link_(options_.dds, scenario.robots.size(), scenario.mode == world::Mode::Realtime, options_.run_nonce),
       refusals_("world_server", std::cerr),
+      robots_(scenario.robots.size()),
       guard_(scenario.mode == world::Mode::Realtime ? realtime_limits(scenario.tick_rate) : GuardLimits{}),
+      telemetry_limits_(world::telemetry_limits(scenario)),
       late_(scenario.robots.size()),
-      faults_(scenario, [this](RobotId id) { return agent_pid(id); }) {
-  const std::size_t n = scenario.robots.size();
-  generation_.assign(n, 1);
-  owner_nonce_.assign(n, 0);
-  latest_writer_.assign(n, 0);
-  telemetry_limits_ = world::telemetry_limits(scenario);
-  written_at_.assign(n, 0);
-  latest_.resize(n);
-  latest_tick_.assign(n, 0);
-  fresh_.assign(n, 0);
-  waiting_.assign(n, 0);
-  unresponsive_.assign(n, 0);
-  judged_.assign(n, 0);
-  for (const world::Kill& k : scenario.kills) kills_.emplace(k.tick, k.id);
-  // Each robot's messages are gathered and its ultrasonics read in begin_round, just before its packet is
+      schedule_(scenario),
+      faults_(scenario, world_, session_, [this](RobotId id) { return agent_pid(id); }) {
+  // Each robot's messages are gathered and its ultrasonics read in publish_packets, just before its packet is
   // written, instead of for every robot in the step: robot i computes while the world senses for robot
   // i + 1, and the step (which every agent waits for) is shorter. The readings are the same
   // (World::defer_perceptions).
@@ -150,13 +140,10 @@ int Server::run_inner() {
   }
   start_ = last_progress_ = dds_time();
   if (options_.warmup_ticks == 0) steady_start_ = start_;
-  if (scenario_.mode == world::Mode::Lockstep) {
-    run_lockstep();
-  } else {
-    run_realtime();
-  }
+  run_rounds();
   const dds_time_t end = dds_time();
   const double wall = to_s(end - start_);
+  schedule_.finish(session_);
   faults_.resume_all(&session_);  // a stalled agent must hear the end
   announce_end();
   progress(true);
@@ -340,7 +327,7 @@ void Server::pump(bool running) {
 
 bool Server::judged(dds::PublicationHandle writer) const {
   const auto id = registry_.owner_of(writer);
-  return !id || judged_[*id];  // not an owner: on_lost finds nothing to lose
+  return !id || robots_[*id].judged;  // not an owner: on_lost finds nothing to lose
 }
 
 bool Server::admit(const dds::CommandSample& s, bool running) {
@@ -378,11 +365,11 @@ void Server::report(const dds::CommandSample& s, Abuse what, const std::string& 
 
 void Server::check_telemetry_of(RobotId id) {
   const world::TelemetryDrops d =
-      world::check_telemetry(latest_[id].telemetry, world_.robots()[id].telemetry, telemetry_limits_);
+      world::check_telemetry(robots_[id].latest.telemetry, world_.robots()[id].telemetry, telemetry_limits_);
   if (!d.any()) return;
   telemetry_fields_dropped_ += d.fields;
   telemetry_events_dropped_ += d.events;
-  const auto n = guard_.report(latest_writer_[id], Abuse::BadTelemetry, dds_time());
+  const auto n = guard_.report(robots_[id].latest_writer, Abuse::BadTelemetry, dds_time());
   if (!n) return;
   std::string text = "telemetry of robot " + std::to_string(id) + " out of range, dropped: " + d.first;
   if (*n > 1) text += "; x" + std::to_string(*n) + " commands (logged once a second a writer)";
@@ -469,19 +456,21 @@ void Server::on_claim(const dds::CommandSample& s, bool running) {
   std::cerr << "world_server: id " << s.robot_id << " claimed by pid " << s.pid << "\n";
   // The new owner's claim nonce goes on its perceptions: a previous owner that comes back learns from it
   // that it lost the id (docs/wire.md "Identity and the claim protocol").
-  owner_nonce_[s.robot_id] = s.nonce;
-  judged_[s.robot_id] = 0;  // a new owner: quiet until its first packet
-  link_.robots.set_owner(s.robot_id, s.nonce, generation_[s.robot_id]);
+  RobotSlot& slot = robots_[s.robot_id];
+  slot.owner_nonce = s.nonce;
+  slot.judged = false;  // a new owner: quiet until its first packet
+  link_.robots.set_owner(s.robot_id, s.nonce, slot.generation);
   if (r.outcome == ClaimOutcome::TakenOver && running && !world_.alive(s.robot_id)) revive(s.robot_id);
 }
 
 void Server::revive(RobotId id) {
+  RobotSlot& r = robots_[id];
   world_.revive(id);
-  ++generation_[id];
-  link_.robots.set_owner(id, owner_nonce_[id], generation_[id]);
+  ++r.generation;
+  link_.robots.set_owner(id, r.owner_nonce, r.generation);
   session_.record_rejoin(id);
-  fresh_[id] = 0;
-  unresponsive_[id] = 0;
+  r.fresh = false;
+  r.unresponsive = false;
   std::cout << "rejoin id=" << id << " tick=" << world_.tick() << std::endl;
 }
 
@@ -501,10 +490,11 @@ void Server::on_command(const dds::CommandSample& s) {
     return;
   }
   const RobotId id = s.robot_id;
+  RobotSlot& r = robots_[id];
   const Tick now = world_.tick();
-  if (unresponsive_[id]) {
+  if (r.unresponsive) {
     // Any command from the owner, whatever its tick, shows it is back: the next round waits for it again.
-    unresponsive_[id] = 0;
+    r.unresponsive = false;
     session_.record_event(id, "command_resumed",
                           "a command for tick " + std::to_string(s.tick) + " after missed deadlines");
   }
@@ -523,13 +513,13 @@ void Server::on_command(const dds::CommandSample& s) {
   // Lockstep takes only this round's command; realtime takes the newest, however old (a slow agent acts on
   // stale data, as a real robot would).
   const bool usable = scenario_.mode == world::Mode::Lockstep ? s.tick == now : s.tick <= now;
-  if (!usable || (fresh_[id] && s.tick < latest_tick_[id])) return;
-  latest_[id] = s.command;  // copy-assign: reuses the message buffer's capacity
-  latest_writer_[id] = s.writer;
-  latest_tick_[id] = s.tick;
-  fresh_[id] = 1;
-  if (s.tick == now && waiting_[id]) {
-    waiting_[id] = 0;
+  if (!usable || (r.fresh && s.tick < r.latest_tick)) return;
+  r.latest = s.command;  // copy-assign: reuses the message buffer's capacity
+  r.latest_writer = s.writer;
+  r.latest_tick = s.tick;
+  r.fresh = true;
+  if (s.tick == now && r.waiting) {
+    r.waiting = false;
     --waiting_count_;
     ++profile_.commands;
     profile_.command_message_bytes += s.command.message.size();
@@ -551,17 +541,16 @@ void Server::on_dead(dds::PublicationHandle writer, bool running) {
     session_.record_event(*id, "agent_lost", "before the run started");
     return;
   }
-  if (waiting_[*id]) {
-    waiting_[*id] = 0;
+  if (robots_[*id].waiting) {
+    robots_[*id].waiting = false;
     --waiting_count_;
   }
   if (!world_.alive(*id)) return;
   world_.kill(*id);
   session_.record_death(*id);
   std::string detail = "liveliness lost at tick " + std::to_string(world_.tick());
-  if (const auto k = kill_sent_.find(*id); k != kill_sent_.end()) {
-    detail += "; detected " + std::to_string((dds_time() - k->second) / 1000000) + " ms after SIGKILL";
-    kill_sent_.erase(k);
+  if (const auto ms = faults_.take_kill_delay_ms(*id)) {
+    detail += "; detected " + std::to_string(*ms) + " ms after SIGKILL";
   }
   session_.record_event(*id, "death_detected", detail);
   std::cout << "death id=" << *id << " tick=" << world_.tick() << std::endl;
@@ -608,110 +597,209 @@ std::optional<pid_t> Server::agent_pid(RobotId id) {
   return std::nullopt;
 }
 
-// ---- rounds -----------------------------------------------------------------------------------------------
+// ---- the round --------------------------------------------------------------------------------------------
 
-void Server::begin_round() {
-  const ThreadClock c0 = thread_clock();
-  const dds_time_t t0 = dds_time();
-  round_start_ = t0;
-  const Tick t = world_.tick();
-  const bool realtime = scenario_.mode == world::Mode::Realtime;
-  if (viewer_) {
-    for (const RobotId id : viewer_->take_kills()) {
-      if (id < scenario_.robots.size()) kills_.emplace(t, id);  // the path of --kill, this tick
-    }
-  }
-  for (auto [it, end] = kills_.equal_range(t); it != end; ++it) {
-    const RobotId id = it->second;
-    if (const auto pid = agent_pid(id)) {
-      // The agent dies as any crash would; DDS liveliness tells the world (on_lost), nothing else.
-      if (::kill(*pid, SIGKILL) == 0) {
-        kill_sent_[id] = dds_time();
-        session_.record_event(id, "kill_sent", "SIGKILL pid " + std::to_string(*pid));
-      } else {
-        session_.record_event(id, "kill_failed", "SIGKILL pid " + std::to_string(*pid) + " failed");
-      }
-    } else if (world_.alive(id)) {
-      // No process to kill: the robot dies in the world; its agent gets no more packets.
-      world_.kill(id);
-      session_.record_death(id);
-      session_.record_event(id, "killed", "no --agent-pid for it: the robot was killed in the world");
-    }
-  }
-  faults_.at_round(t, session_, world_);
-  waiting_count_ = 0;
-  const std::size_t n = scenario_.robots.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto id = static_cast<RobotId>(i);
-    const bool live = world_.alive(id) && registry_.connected(id) && !faults_.withheld(id);
-    const bool awaited = live && !unresponsive_[i];
-    waiting_[i] = awaited ? 1 : 0;
-    waiting_count_ += awaited ? 1 : 0;
-    if (live) {
-      if (!judged_[i]) {
-        judged_[i] = 1;
-        if (const auto w = registry_.lapsed_writer(id))
-          first_answer_due_[*w] = stalls_.awake() + kFirstAnswerGrace;
-      }
-      const Perception& packet = world_.perception(id);
-      ++profile_.packets;
-      profile_.packet_messages += packet.messages.size();
-      for (const RabReading& m : packet.messages) profile_.packet_message_bytes += m.data.size();
-      link_.robots.write_packet(id, dds::PacketStatus::Run, packet);
-      if (realtime) written_at_[i] = dds_time();  // for late_commands; lockstep has no deadline to miss
-    }
-  }
-  // While the agents compute this round: the frame is off the round's critical path in lockstep.
-  if (viewer_) viewer_->offer_frame(world_, latest_, session_.metrics(), dds_time());
-  profile_.publish += dds_time() - t0;
-  const ThreadClock c1 = thread_clock();
-  profile_.publish_cpu += c1.cpu - c0.cpu;
-  profile_.publish_preempted += c1.preempted - c0.preempted;
-  // The previous tick's record, when end_round left it until these packets were out.
-  if (record_pending_) {
-    record_pending_ = false;
-    record_round();
+// The run's rounds until it is complete or a stop is asked: each line is one stage, in the order they run.
+// Two overlaps are stages of their own (README.md "A round"): each robot's perception is made in
+// publish_packets just before its packet goes out, and the previous tick's record runs after this round's
+// packets are out, while the agents compute.
+void Server::run_rounds() {
+  const bool lockstep = scenario_.mode == world::Mode::Lockstep;
+  if (!lockstep) round_due_ = dds_time() + seconds(1.0 / scenario_.tick_rate);  // the first period's end
+  for (;;) {
+    if (lockstep && viewer_ && !hold_for_viewer()) return;
+    begin_publish();  // the profile's publish time: from here to end_publish
+    kills_and_faults();
+    publish_packets();
+    offer_viewer_frame();
+    end_publish();
+    record_deferred_tick();
+    if (!collect()) return;  // a stop was asked: the round in flight is not stepped
+    apply_commands();
+    step_world();
+    if (record_or_defer()) return;  // the run is complete
+    if (lockstep && viewer_) viewer_->ticked();
   }
 }
 
-bool Server::end_round() {
-  const dds_time_t t0 = dds_time();
-  const std::size_t n = scenario_.robots.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!fresh_[i]) continue;
-    fresh_[i] = 0;
+bool Server::hold_for_viewer() {
+  const dds_time_t earliest = viewer_->next_round_at(round_start_);
+  for (;;) {
+    const dds_time_t now = dds_time();
+    if (!viewer_->holding(now) && now >= earliest) return true;
+    // The page sees the pause at once, and keeps seeing frames (a pause changes nothing it draws).
+    offer_frame(now, false);
+    wait_a_while(viewer_->holding(now) ? now + DDS_MSECS(100) : earliest);
+    pump(true);
+    if (stopping()) return false;
+  }
+}
+
+void Server::begin_publish() {
+  const ThreadClock c = thread_clock();
+  profile_.cpu_at_start = c.cpu;
+  profile_.preempted_at_start = c.preempted;
+  profile_.stage_start = round_start_ = dds_time();
+}
+
+void Server::kills_and_faults() {
+  const Tick t = world_.tick();
+  if (viewer_) {
+    for (const RobotId id : viewer_->take_kills()) {
+      if (id < robots_.size()) schedule_.add_kill(t, id);  // the path of --kill, this tick
+    }
+  }
+  schedule_.at_round(t, session_, faults_);
+}
+
+void Server::publish_packets() {
+  const bool realtime = scenario_.mode == world::Mode::Realtime;
+  waiting_count_ = 0;
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    const auto id = static_cast<RobotId>(i);
+    RobotSlot& r = robots_[i];
+    const bool live = world_.alive(id) && registry_.connected(id) && !schedule_.held(id);
+    r.waiting = live && !r.unresponsive;
+    waiting_count_ += r.waiting ? 1 : 0;
+    if (!live) continue;
+    if (!r.judged) {
+      r.judged = true;
+      if (const auto w = registry_.lapsed_writer(id))
+        first_answer_due_[*w] = stalls_.awake() + kFirstAnswerGrace;
+    }
+    const Perception& packet = world_.perception(id);
+    ++profile_.packets;
+    profile_.packet_messages += packet.messages.size();
+    for (const RabReading& m : packet.messages) profile_.packet_message_bytes += m.data.size();
+    link_.robots.write_packet(id, dds::PacketStatus::Run, packet);
+    if (realtime) r.written_at = dds_time();  // for late_commands; lockstep has no deadline to miss
+  }
+}
+
+void Server::offer_viewer_frame() {
+  // While the agents compute this round: the frame is off the round's critical path in lockstep.
+  if (viewer_) offer_frame(dds_time(), false);
+}
+
+void Server::end_publish() {
+  profile_.publish += dds_time() - profile_.stage_start;
+  const ThreadClock c = thread_clock();
+  profile_.publish_cpu += c.cpu - profile_.cpu_at_start;
+  profile_.publish_preempted += c.preempted - profile_.preempted_at_start;
+}
+
+void Server::record_deferred_tick() {
+  if (!record_pending_) return;
+  record_pending_ = false;
+  record_tick();
+  publish_observers();
+}
+
+bool Server::collect() {
+  return scenario_.mode == world::Mode::Lockstep ? collect_lockstep() : collect_realtime();
+}
+
+bool Server::collect_lockstep() {
+  const dds_time_t collect_start = dds_time();
+  // In the world's awake time (stall_guard.hpp): the world's own pause makes no agent late.
+  stalls_.observe(collect_start);
+  const dds_time_t deadline = stalls_.awake() + seconds(scenario_.lockstep_deadline_s);
+  for (;;) {
+    pump(true);
+    if (waiting_count_ == 0 || stopping()) break;
+    if (stalls_.awake() >= deadline) {
+      for (std::size_t i = 0; i < robots_.size(); ++i) {
+        if (!robots_[i].waiting) continue;
+        robots_[i].unresponsive = true;
+        session_.record_event(static_cast<RobotId>(i), "command_late",
+                              "no command for tick " + std::to_string(world_.tick()) + " within the " +
+                                  "lockstep deadline; not waited for until it answers again");
+      }
+      break;
+    }
+    // Sleep until as many samples are in as commands are awaited (each awaited agent sends one), not at each
+    // arrival: a round at N = 64 took the commands 8.9 times (dds::Waiter, "Counted arrivals").
+    link_.waiter.need(waiting_count_);
+    wait_a_while(dds_time() + (deadline - stalls_.awake()));
+  }
+  link_.waiter.need(1);  // elsewhere every sample wakes the world
+  profile_.collect += dds_time() - collect_start;
+  return !stopping();
+}
+
+bool Server::collect_realtime() {
+  const dds_duration_t period = seconds(1.0 / scenario_.tick_rate);
+  dds_time_t now = 0;
+  for (;;) {
+    pump(true);
+    if (stopping()) return false;
+    now = dds_time();
+    if (now >= round_due_) break;
+    wait_a_while(round_due_);
+  }
+  // A missed tick: a live agent's command for tick t not in before tick t+1.
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    if (!robots_[i].waiting) continue;
+    ++missed_ticks_;
+    late_.missed(static_cast<RobotId>(i), world_.tick(), round_start_, robots_[i].written_at, round_due_);
+    session_.record_event(static_cast<RobotId>(i), "missed_tick",
+                          "no command for tick " + std::to_string(world_.tick()) + " before the next tick");
+  }
+  round_due_ += period;
+  if (round_due_ < now) round_due_ = now + period;  // fell behind by more than a period: no catching up
+  return true;
+}
+
+void Server::apply_commands() {
+  profile_.stage_start = dds_time();
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    RobotSlot& r = robots_[i];
+    if (!r.fresh) continue;
+    r.fresh = false;
     const auto id = static_cast<RobotId>(i);
     if (!world_.alive(id)) continue;
     check_telemetry_of(id);
-    const world::CommandVerdict v = world_.apply_command(id, latest_[i]);
+    const world::CommandVerdict v = world_.apply_command(id, r.latest);
     if (v != world::CommandVerdict::Ok) {
       // Counted every time; written as an event once a second per robot and verdict (an owner sending NaN
       // every tick wrote a line a tick: ~800 a second in lockstep).
       const auto logged =
-          guard_.report(latest_writer_[i], Abuse::BadCommand, dds_time(), static_cast<std::size_t>(v));
+          guard_.report(r.latest_writer, Abuse::BadCommand, dds_time(), static_cast<std::size_t>(v));
       session_.record_command_verdict(id, v, logged.value_or(0));
     }
   }
+}
+
+void Server::step_world() {
   world_.step();
   const dds_time_t now = dds_time();
   if (world_.tick() == options_.warmup_ticks) steady_start_ = now;
-  profile_.step += now - t0;
+  profile_.step += now - profile_.stage_start;  // apply + step
   ++profile_.rounds;
+}
+
+bool Server::record_or_defer() {
   // Decided before the new tick is recorded: the record can set goal_tick, which ends the run only
   // kTicksAfterGoal ticks later, so the answer is the same as after it.
   static_assert(world::kTicksAfterGoal > 0);
   const bool complete = world::run_complete(session_.metrics(), world_.tick(), scenario_.max_ticks);
   // Every agent waits for the step and the packets after it: the new tick's record (events, metrics, the
-  // recording's rows) waits until the next begin_round has written them when that round's start does not
-  // depend on it, and runs while the agents compute. The last tick is recorded at once.
+  // recording's rows) waits until the next round's packets are out when that round's start does not depend
+  // on it, and runs while the agents compute. The last tick is recorded at once.
   record_pending_ = !complete && record_can_follow_packets();
-  if (!record_pending_) record_round();
+  if (!record_pending_) {
+    record_tick();
+    publish_observers();
+  }
   return complete;
 }
 
-void Server::record_round() {
-  const dds_time_t t0 = dds_time();
+void Server::record_tick() {
+  profile_.stage_start = dds_time();
   session_.record_tick();
+}
+
+void Server::publish_observers() {
   const dds_time_t now = dds_time();
   if (now - last_state_ >= kStatePeriod) {
     pose_rows(world_, rows_);
@@ -721,88 +809,17 @@ void Server::record_round() {
     last_state_ = now;
   }
   progress(false);
-  profile_.record += dds_time() - t0;
+  profile_.record += dds_time() - profile_.stage_start;  // record_tick + observers
 }
 
 bool Server::record_can_follow_packets() const {
-  const Tick t = world_.tick();
-  return !viewer_ && kills_.count(t) == 0 && faults_.quiet_at(t);
+  return !viewer_ && schedule_.quiet_at(world_.tick());
 }
 
-void Server::run_lockstep() {
-  const dds_duration_t deadline_span = seconds(scenario_.lockstep_deadline_s);
-  for (;;) {
-    if (viewer_ && !wait_for_viewer()) return;
-    begin_round();
-    const dds_time_t collect_start = dds_time();
-    // In the world's awake time (stall_guard.hpp): the world's own pause makes no agent late.
-    stalls_.observe(collect_start);
-    const dds_time_t deadline = stalls_.awake() + deadline_span;
-    for (;;) {
-      pump(true);
-      if (waiting_count_ == 0 || stopping()) break;
-      if (stalls_.awake() >= deadline) {
-        for (std::size_t i = 0; i < waiting_.size(); ++i) {
-          if (waiting_[i]) {
-            unresponsive_[i] = 1;
-            session_.record_event(static_cast<RobotId>(i), "command_late",
-                                  "no command for tick " + std::to_string(world_.tick()) + " within the " +
-                                      "lockstep deadline; not waited for until it answers again");
-          }
-        }
-        break;
-      }
-      // Sleep until as many samples are in as commands are awaited (each awaited agent sends one), not at
-      // each arrival: a round at N = 64 took the commands 8.9 times (dds::Waiter, "Counted arrivals").
-      link_.waiter.need(waiting_count_);
-      wait_a_while(dds_time() + (deadline - stalls_.awake()));
-    }
-    link_.waiter.need(1);  // elsewhere every sample wakes the world, as before
-    profile_.collect += dds_time() - collect_start;
-    if (stopping()) return;  // the round in flight is not stepped: every recorded tick is a whole one
-    if (end_round()) return;
-    if (viewer_) viewer_->ticked();
-  }
-}
-
-bool Server::wait_for_viewer() {
-  const dds_time_t earliest = viewer_->next_round_at(round_start_);
-  for (;;) {
-    const dds_time_t now = dds_time();
-    if (!viewer_->holding(now) && now >= earliest) return true;
-    // The page sees the pause at once, and keeps seeing frames (a pause changes nothing it draws).
-    viewer_->offer_frame(world_, latest_, session_.metrics(), now);
-    wait_a_while(viewer_->holding(now) ? now + DDS_MSECS(100) : earliest);
-    pump(true);
-    if (stopping()) return false;
-  }
-}
-
-void Server::run_realtime() {
-  const dds_duration_t period = seconds(1.0 / scenario_.tick_rate);
-  dds_time_t next = dds_time() + period;
-  begin_round();
-  for (;;) {
-    pump(true);
-    if (stopping()) return;
-    const dds_time_t now = dds_time();
-    if (now < next) {
-      wait_a_while(next);
-      continue;
-    }
-    // A missed tick: a live agent's command for tick t not in before tick t+1.
-    for (std::size_t i = 0; i < waiting_.size(); ++i) {
-      if (!waiting_[i]) continue;
-      ++missed_ticks_;
-      late_.missed(static_cast<RobotId>(i), world_.tick(), round_start_, written_at_[i], next);
-      session_.record_event(static_cast<RobotId>(i), "missed_tick",
-                            "no command for tick " + std::to_string(world_.tick()) + " before the next tick");
-    }
-    if (end_round()) return;
-    next += period;
-    if (next < now) next = now + period;  // fell behind by more than a period: do not try to catch up
-    begin_round();
-  }
+void Server::offer_frame(dds_time_t now, bool finished) {
+  viewer_->offer_frame(
+      world_, [this](RobotId id) -> const Command& { return robots_[id].latest; }, session_.metrics(), now,
+      finished);
 }
 
 void Server::announce_end() {
@@ -817,7 +834,7 @@ void Server::announce_end() {
   std::uint32_t alive = 0;
   for (const auto& r : rows_) alive += r.alive ? 1 : 0;
   link_.state.publish(world_.tick(), true, alive, rows_);
-  if (viewer_) viewer_->offer_frame(world_, latest_, session_.metrics(), dds_time(), true);
+  if (viewer_) offer_frame(dds_time(), true);
   link_.robots.wait_for_acks(DDS_SECS(2));
 }
 

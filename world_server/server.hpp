@@ -1,13 +1,8 @@
-// The DDS world server's run: connect the agents, then tick in lockstep or realtime until the run is complete
-// or a signal comes, then announce the end. The tick order is World's (world.hpp); this file decides only
-// when a tick happens and which commands go into it:
+// The DDS world server's run: connect the agents, then round after round until the run is complete or a
+// signal comes, then announce the end. Server::run_rounds lists a round's stages in order (README.md "A
+// round"); World::step is the step stage's own table of contents (world.hpp).
 //
-//   round t:  scheduled kills -> publish SensorPacket(t) to every live robot -> collect Command(t)
-//             (lockstep: every live owner's, until the deadline; realtime: whatever came within the period)
-//             -> apply in id order -> World::step -> RunSession::record_tick (after the next round's
-//             packets when that round's start changes nothing it records, record_can_follow_packets)
-//
-// Claims, deaths (liveliness lost) and spoofed commands are handled whenever the server wakes, in any phase.
+// Claims, deaths (liveliness lost) and spoofed commands are handled whenever the server wakes, in any stage.
 #pragma once
 
 #include <sys/types.h>
@@ -27,7 +22,9 @@
 #include "world_server/input_guard.hpp"
 #include "world_server/late_commands.hpp"
 #include "world_server/process_faults.hpp"
+#include "world_server/robot_slot.hpp"
 #include "world_server/run/end_reason.hpp"
+#include "world_server/run/fault_schedule.hpp"
 #include "world_server/run/run_session.hpp"
 #include "world_server/run/telemetry_check.hpp"
 #include "world_server/stall_guard.hpp"
@@ -82,21 +79,40 @@ class Server {
  private:
   bool connect_agents();
   std::vector<RobotId> unmatched_robots() const;  // robots whose packet writer has matched no reader yet
-  void run_lockstep();
-  void run_realtime();
 
-  // One round's start: kills due now, packets out, the set of robots whose command is awaited; then the
-  // previous tick's record if end_round left it pending.
-  void begin_round();
-  // Applies the commands of this round (id order), steps the world and records the new tick, at once or,
-  // when the next round's start changes nothing it records, after that round's packets (record_pending_);
-  // true when the run is complete (then always recorded at once).
-  bool end_round();
-  // The session's record of the new tick with the WorldState and progress lines.
-  void record_round();
+  // ---- the round: run_rounds lists the stages in order; each is one function below ----
+  void run_rounds();
+  // Lockstep with a viewer: holds the next round while the viewer paused the run or its speed cap says wait
+  // (pumping DDS meanwhile: deaths and claims are still handled). False when a stop was asked.
+  bool hold_for_viewer();
+  void begin_publish();     // the round's clock: round_start_ and the publish stage's profile
+  void kills_and_faults();  // the scheduled kills and faults due now (run/fault_schedule.hpp)
+  // SensorPacket(t) to every live, connected, not held robot, each robot's perception made just before its
+  // packet (World::defer_perceptions); who this round awaits.
+  void publish_packets();
+  void offer_viewer_frame();  // the viewer's frame, while the agents compute
+  void end_publish();
+  // The previous tick's record, when record_or_defer left it until this round's packets were out.
+  void record_deferred_tick();
+  // Command(t): lockstep waits for every awaited command until the deadline, realtime takes whatever comes
+  // until the period is over. False when a stop was asked (the round in flight is then not stepped).
+  bool collect();
+  bool collect_lockstep();
+  bool collect_realtime();
+  void apply_commands();  // this round's commands, in id order
+  void step_world();      // World::step
+  // The new tick's record now, or, when the next round's start changes nothing it records, after that
+  // round's packets (record_pending_). True when the run is complete (then always recorded at once).
+  bool record_or_defer();
+  // The session's record of the new tick, then the observers': WorldState (<= 20 Hz) and progress (1 Hz).
+  void record_tick();
+  void publish_observers();
   // Whether the next round's start changes nothing the record reads and records nothing itself (no kill,
   // fault edge or pending restart due, no viewer): its record may then wait until its packets are out.
   bool record_can_follow_packets() const;
+  // The viewer's frame with each robot's last command (viewer_control.hpp).
+  void offer_frame(dds_time_t now, bool finished);
+
   // Takes what DDS has: claims, commands, lost writers. `running`: the world is ticking (deaths and rejoins
   // act on the world).
   void pump(bool running);
@@ -115,9 +131,6 @@ class Server {
   std::optional<pid_t> agent_pid(RobotId id);
   void announce_end();
   void progress(bool force);
-  // Lockstep: holds the next round while the viewer paused the run or its speed cap says wait (pumping DDS
-  // meanwhile: deaths and claims are still handled). False when a stop was asked.
-  bool wait_for_viewer();
   bool stopping() const;
   // run() without its failure handling: a RecordingError or another exception out of it ends in fail().
   int run_inner();
@@ -143,27 +156,13 @@ class Server {
   WorldLink link_;
   StallGuard stalls_;
   dds::RefusalLog refusals_;
-  std::vector<std::uint32_t> generation_;   // per robot: raised at each revival
-  std::vector<std::uint64_t> owner_nonce_;  // per robot: the claim nonce of its owner
   std::vector<dds::PublicationHandle> expired_;
-
-  // Per robot, reused every tick.
-  std::vector<Command> latest_;        // the newest command taken
-  std::vector<Tick> latest_tick_;      // its tick
-  std::vector<std::uint8_t> fresh_;    // taken since the last apply
-  std::vector<std::uint8_t> waiting_;  // lockstep: command for this round still awaited
-  // Lockstep: missed a deadline and has not answered since, so rounds do not wait for it (it still gets
-  // its packets). Without this one silent agent would cost every round the whole deadline.
-  std::vector<std::uint8_t> unresponsive_;
-  // A packet went to the robot's current owner since its claim: only then is the owner's liveliness judged
-  // (pump). Before, a lapse is not a loss: the agent is quiet until its first packet (docs/wire.md).
-  std::vector<std::uint8_t> judged_;
+  std::vector<RobotSlot> robots_;  // by id
   // Owners whose first packet went out while their liveliness was lapsed (all quiet agents at the start):
   // writer -> the awake time by which a sample or their liveliness must come back, or they are dead (an
   // agent killed before the run is otherwise seen only when its participant's lease runs out).
   std::unordered_map<dds::PublicationHandle, dds_time_t> first_answer_due_;
   static constexpr dds_duration_t kFirstAnswerGrace = DDS_SECS(2);
-  std::vector<dds::PublicationHandle> latest_writer_;  // the writer of latest_ (its owner's)
   InputGuard guard_;
   world::TelemetryLimits telemetry_limits_;
   std::uint64_t telemetry_fields_dropped_ = 0;
@@ -176,27 +175,28 @@ class Server {
   // Claims and commands taken after their writer went away: ignored, counted.
   std::uint64_t stale_samples_ = 0;
   std::vector<dds::RobotPoseRow> rows_;
-  std::multimap<Tick, RobotId> kills_;
-  std::map<RobotId, dds_time_t> kill_sent_;  // wall time of a SIGKILL, to report the detection delay
 
   dds_time_t start_ = 0;
   dds_time_t steady_start_ = 0;  // the end of tick options_.warmup_ticks; 0 until then
   dds_time_t last_progress_ = 0;
   Tick last_progress_tick_ = 0;
   dds_time_t last_state_ = 0;
-  bool record_pending_ = false;  // end_round left the new tick's record to the next begin_round
+  bool record_pending_ = false;  // record_or_defer left the new tick's record to the next round
   std::uint64_t missed_ticks_ = 0;
-  // Realtime: when this round started and each robot's packet went out, and where a missed command's time
-  // went.
-  dds_time_t round_start_ = 0;
-  std::vector<dds_time_t> written_at_;
-  LateCommands late_;
-  ProcessFaults faults_;  // scheduled stalls and restarts (process_faults.hpp), and world faults' events
+  dds_time_t round_start_ = 0;             // when this round began
+  dds_time_t round_due_ = 0;               // realtime: when this round's period is over
+  LateCommands late_;                      // realtime: where a missed command's time went
+  world::FaultSchedule schedule_;          // scheduled kills and faults (run/fault_schedule.hpp)
+  ProcessFaults faults_;                   // what they do to the agents' processes (process_faults.hpp)
   std::unique_ptr<ViewerControl> viewer_;  // null without --viewer-token
 
   // Where a round's wall time goes (printed on stderr at the end; issue 6 P1's first question).
   struct Profile {
-    dds_duration_t publish = 0;  // kills + SensorPackets out
+    // Where the stage being timed began: the wall clock, and the publish stage's thread clock.
+    dds_time_t stage_start = 0;
+    dds_duration_t cpu_at_start = 0;
+    std::uint64_t preempted_at_start = 0;
+    dds_duration_t publish = 0;  // kills and faults + SensorPackets out + the viewer's frame
     // Of the publish phase: the main thread's CPU time and how often it was preempted. At N = 256 in
     // realtime the phase took ~30 ms of wall time a round with ~5 ms on the CPU: the rest is waiting for a
     // CPU among the agents it wakes (BENCHMARKS.md, P2).

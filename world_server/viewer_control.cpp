@@ -141,7 +141,7 @@ std::vector<RobotId> ViewerControl::take_kills() {
   return out;
 }
 
-void ViewerControl::offer_frame(const world::World& world, const std::vector<Command>& latest,
+void ViewerControl::offer_frame(const world::World& world, const LatestCommand& latest,
                                 const world::Metrics& metrics, dds_time_t now, bool finished) {
   if (!bound_ || (!finished && !changed_ && now - last_frame_ < frame_period_)) return;
   build_frame(world, latest, metrics, behaviour_, frame_);

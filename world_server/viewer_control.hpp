@@ -17,6 +17,7 @@
 #include "common/dds/observe_wire.hpp"
 #include "common/dds/refusal_log.hpp"
 #include "world_server/behaviour_view.hpp"
+#include "world_server/observe_frame.hpp"
 #include "world_server/run/metrics.hpp"
 #include "world_server/world/world.hpp"
 
@@ -46,8 +47,8 @@ class ViewerControl {
   bool bound() const { return bound_.has_value(); }
   // Publishes a frame (observe_frame.hpp) when one is due: a viewer is bound and its rate says so, or the
   // pause state changed (the page must see it at once), or `finished` (the run's last frame).
-  void offer_frame(const world::World& world, const std::vector<Command>& latest,
-                   const world::Metrics& metrics, dds_time_t now, bool finished = false);
+  void offer_frame(const world::World& world, const LatestCommand& latest, const world::Metrics& metrics,
+                   dds_time_t now, bool finished = false);
 
   static constexpr dds_duration_t kBindWait = DDS_SECS(30);
   // The viewer says HELLO every 250 ms; silent this long, it is gone (a SIGKILLed viewer's writer stays
