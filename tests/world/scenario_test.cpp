@@ -316,6 +316,36 @@ TEST(Scenario, RejectsOutOfRangeValues) {
   expect_rejected("shape: triangle.txt\ngoal: {x: 40, y: 0}\n", 2, "goal: (40, 0) lies outside");
 }
 
+// packet_loss: a number (independent) or {rate, mean_burst} (bursty, burst_loss.hpp); each part checked.
+TEST(Scenario, PacketLossIsANumberOrARateAndAMeanBurst) {
+  const Scenario plain = parse("shape: triangle.txt\npacket_loss: 0.2\n");
+  EXPECT_DOUBLE_EQ(plain.packet_loss, 0.2);
+  EXPECT_EQ(plain.packet_loss_mean_burst, 0.0);
+  const Scenario bursty = parse("shape: triangle.txt\npacket_loss: {rate: 0.2, mean_burst: 5}\n");
+  EXPECT_DOUBLE_EQ(bursty.packet_loss, 0.2);
+  EXPECT_DOUBLE_EQ(bursty.packet_loss_mean_burst, 5.0);
+  const Scenario edge = parse("shape: triangle.txt\npacket_loss:\n  rate: 0.2\n  mean_burst: 1.25\n");
+  EXPECT_DOUBLE_EQ(edge.packet_loss_mean_burst, 1.25);
+
+  expect_rejected("shape: triangle.txt\npacket_loss: {rate: 1.0, mean_burst: 5}\n", 2,
+                  "packet_loss.rate: must be in [0, 1)");
+  expect_rejected("shape: triangle.txt\npacket_loss: {rate: -0.1, mean_burst: 5}\n", 2,
+                  "packet_loss.rate: must be in [0, 1)");
+  expect_rejected("shape: triangle.txt\npacket_loss:\n  rate: 0.2\n  mean_burst: 1\n", 4,
+                  "packet_loss.mean_burst: must be in [1.25, 1e+06] ticks, got 1");
+  expect_rejected("shape: triangle.txt\npacket_loss: {rate: 0.2, mean_burst: .nan}\n", 2,
+                  "packet_loss.mean_burst");
+  expect_rejected("shape: triangle.txt\npacket_loss: {rate: 0.2, mean_burst: 1e9}\n", 2,
+                  "packet_loss.mean_burst: must be in [1.25, 1e+06]");
+  expect_rejected("shape: triangle.txt\npacket_loss: {rate: 0.2, mean_burst: five}\n", 2,
+                  "packet_loss.mean_burst: expected a finite number, got 'five'");
+  expect_rejected("shape: triangle.txt\npacket_loss: {rate: 0.2}\n", 2,
+                  "packet_loss: needs rate and mean_burst");
+  expect_rejected("shape: triangle.txt\npacket_loss: {rate: 0.2, burst: 5}\n", 2,
+                  "packet_loss.burst: unknown key (known here: rate, mean_burst)");
+  expect_rejected("shape: triangle.txt\npacket_loss: [0.2, 5]\n", 2, "packet_loss: expected a number");
+}
+
 // Found by checking what the scenario fuzzer (tests/fuzz) accepts: centres and listed poses took any finite
 // number, so robots at 1e308 reached the physics.
 TEST(Scenario, RejectsCoordinatesBeyondTheLengthLimit) {
