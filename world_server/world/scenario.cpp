@@ -730,10 +730,20 @@ Scenario parse_scenario_text(const std::string& yaml_text, const std::string& or
   } catch (const YAML::ParserException& e) {
     throw InputError(origin, e.mark.is_null() ? 0 : e.mark.line + 1, "YAML syntax: " + e.msg);
   }
+  apply_field_overrides(root, overrides.fields);
   try {
     return parse(root, origin, overrides, behaviours);
   } catch (const YAML::Exception& e) {  // anything yaml-cpp throws that our checks did not foresee
     throw InputError(origin, e.mark.is_null() ? 0 : e.mark.line + 1, e.msg);
+  } catch (const InputError& e) {
+    // An error in a field the command line set is the flag's, not the file line's.
+    if (e.file() != origin || overrides.fields.empty()) throw;
+    std::string what = e.what();
+    const std::string prefix = e.line() > 0 ? origin + ":" + std::to_string(e.line()) + ": " : origin + ": ";
+    if (what.compare(0, prefix.size(), prefix) == 0) what = what.substr(prefix.size());
+    const FieldOverride* f = override_of_error(overrides.fields, what);
+    if (f == nullptr) throw;
+    throw InputError("command line", 0, "--set '" + f->text + "': " + what);
   }
 }
 

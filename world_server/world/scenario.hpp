@@ -13,6 +13,7 @@
 #include "common/mission.hpp"
 #include "common/types.hpp"
 #include "world_server/world/faults.hpp"
+#include "world_server/world/field_overrides.hpp"
 
 namespace swarmform::world {
 
@@ -99,6 +100,8 @@ struct ScenarioOverrides {
   // Set over the file's parameters before anything that uses them is checked (the shape's fit reads
   // shape_heading); each checked against the behaviour's table ("command line: --param TEXT: why").
   std::vector<ParamOverride> params;
+  // --set KEY=VALUE (field_overrides.hpp): any field over the file's, checked as the file's are.
+  std::vector<FieldOverride> fields;
 };
 
 // Loads and checks a scenario; throws InputError (file:line: what) on anything wrong. A relative shape path
