@@ -148,6 +148,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> kill_texts;
   std::vector<std::string> fault_texts;
   std::vector<std::string> param_texts;
+  std::vector<std::string> set_texts;
   double fragment_range = 0.0;
   bool no_record = false;
   bool quiet = false;
@@ -168,6 +169,11 @@ int main(int argc, char** argv) {
       "NAME=VALUE: set the behaviour's parameter NAME (a scenario `controller:` key) over the "
       "scenario's value; repeatable; checked against the behaviour's parameter table (unknown name or "
       "out of bounds: exit 2 naming it)");
+  app.add_option(
+      "--set", set_texts,
+      "KEY=VALUE: set the scenario field KEY (dotted for a nested one: noise.range) to VALUE "
+      "(YAML: packet_loss={rate: 0.2, mean_burst: 5}) over the file's; repeatable; checked like the "
+      "file's fields (scenarios/README.md; a bad one: exit 2 naming the flag)");
   app.add_option("--out", out, "run directory (default runs/<UTC time>, and runs/latest points at it)");
   app.add_option("--kill", kill_texts, "kill robot ID at tick TICK (ID@TICK); repeatable");
   app.add_option(
@@ -204,6 +210,7 @@ int main(int argc, char** argv) {
     overrides.faults = fault_texts;
     if (!behaviour.empty()) overrides.behaviour = behaviour;
     overrides.params = harness::parse_param_flags(param_texts);
+    for (const std::string& t : set_texts) overrides.fields.push_back(world::parse_field_override(t));
     // Plug-ins load from the scenario's folder, --plugin-dir and SWARMFORM_PLUGIN_PATH only.
     behaviour::Registry behaviours;
     controller::add_builtins(behaviours);

@@ -24,7 +24,8 @@ commands:
   replay   draw the pictures again from a run directory's recording
   view     the browser view of a recording (timeline, play, jump to events); `run --view` shows a live run
   report   print a run's summary.json as a readable table (or --json, --csv)
-  sweep    a grid of in-process runs (scenarios x shapes x seeds x kill schedules x --param values) on every core:
+  sweep    a grid of in-process runs (scenarios x shapes x seeds x kill schedules x --param values x loss, bursts,
+           noise and --set scenario fields) on every core:
            sweep.csv, sweep.json (success rates, worst cases with the command that reproduces each)
 
 A run directory (default runs/<UTC time>/, runs/latest points to the newest) holds the recording (world.json,
@@ -285,7 +286,7 @@ def _checked(fn: Callable[[str], Any]) -> Callable[[str], Any]:
 
 
 def _add_sweep_parser(sub: Any) -> None:
-    from . import sweep  # no matplotlib
+    from . import sweep, sweep_fields  # no matplotlib
     p = sub.add_parser("sweep", help="a grid of in-process runs, judged; sweep.csv and sweep.json",
                        formatter_class=argparse.RawDescriptionHelpFormatter, description=sweep.HELP,
                        epilog=sweep.EXAMPLES)
@@ -309,6 +310,20 @@ def _add_sweep_parser(sub: Any) -> None:
                         "param_NAME column, sweep.json the grid's values, each run's and by_params rates")
     g.add_argument("--max-ticks", type=_int_at_least(1), metavar="T",
                    help="cut every run at tick T (default: each scenario's max_ticks)")
+    f = p.add_argument_group("scenario fields (each flag one axis of the grid; each value given to every run as "
+                             "swarm_inprocess --set KEY=VALUE, checked by the loader before any run)")
+    f.add_argument("--loss", action="append", type=_checked(sweep_fields.parse_loss), metavar="R1,R2,...",
+                   help="packet_loss rates in [0, 1), e.g. 0,0.1,0.2,0.3 (sweep.csv column loss)")
+    f.add_argument("--burst", action="append", type=_checked(sweep_fields.parse_burst), metavar="B1,B2,...",
+                   help="mean loss bursts in ticks, with --loss: 1 is independent loss, B > 1 a Gilbert-Elliott "
+                        "chain per directed link (packet_loss: {rate, mean_burst: B}; B >= 1/(1 - rate)), e.g. 1,5 "
+                        "(column burst)")
+    f.add_argument("--noise", action="append", type=_checked(sweep_fields.parse_noise), metavar="off,on",
+                   help="off: no noise; on: range 0.05 m, bearing 0.05 rad, ultrasonic 0.02 m (Gaussian sds) "
+                        "(column noise)")
+    f.add_argument("--set", action="append", type=_checked(sweep_fields.parse_set), metavar="KEY=V1,V2,...",
+                   help="any scenario field (dotted for a nested one: noise.range) and its values as YAML (a value "
+                        "with commas in brackets or braces); repeatable, one flag per KEY (column set_KEY)")
     g.add_argument("--plugin-dir", action="append", default=[], metavar="DIR",
                    help="a folder behaviour plug-ins may be loaded from, besides each scenario's own "
                         "(docs/behaviour-api.md); passed to every run; repeatable")

@@ -1,5 +1,5 @@
 """`swarm sweep`: a grid of in-process runs (scenarios x shapes x robot counts x seeds x kill schedules x behaviour
-parameter values), run on
+parameter values x scenario-field values: loss, bursts, noise, --set), run on
 every core with `swarm_inprocess --no-record --quiet`, judged, and written as sweep.csv and sweep.json.
 
 Order of a sweep:
@@ -7,7 +7,9 @@ Order of a sweep:
   2. a probe per (scenario, shape, robots), with the grid's first --param values: `swarm_inprocess ... --max-ticks 1
      --no-record --quiet` validates the files (a bad one: its `file:line: what`, exit 2, before anything long
      starts) and says N and the shape;
-     and one per scenario and --param value, which the behaviour checks against its own parameter table;
+     and one per scenario and --param value, which the behaviour checks against its own parameter table, and one
+     per scenario and scenario-field value (--loss, --burst, --noise, --set: sweep_fields.py), which the loader
+     checks like the file's own fields;
   3. the kill schedules become `--kill ID@TICK` flags per run (a random one from an RNG seeded by the run's seed
      and the schedule's text: the same run gets the same kills every time);
   4. the runs, `--jobs` at a time, each with a wall-time cap; a progress line on stderr;
@@ -36,7 +38,7 @@ import tempfile
 import time
 from typing import IO, Any, Callable, Iterable, Optional, Sequence
 
-from . import launcher
+from . import launcher, sweep_fields
 
 ParamValues = list[tuple[str, float]]  # a --param's values: (as written, as a number)
 Combo = dict[str, tuple[str, float]]  # one run's parameters: NAME -> (text, value)
@@ -53,15 +55,18 @@ WORST_SHOWN = 5
 HELP = """\
 Runs a grid of in-process runs (build/harness/swarm_inprocess --no-record --quiet):
 every --scenario x every --shape x every --robots x every seed of --seeds x every --kills schedule x every
-combination of the --param values, --jobs at a time, and writes into --out:
+combination of the --param values x every combination of the scenario-field values (--loss, --burst, --noise,
+--set), --jobs at a time, and writes into --out:
 
   sweep.csv   one row per run: the grid coordinates (scenario, shape, robots, seed, kills and the --kill
-              flags they gave, and a param_NAME column per --param), the exact command, its exit code, wall seconds, success and the reason of a
+              flags they gave, a param_NAME column per --param, and a loss, burst, noise or set_KEY column per
+              scenario-field axis), the exact command, its exit code, wall seconds, success and the reason of a
               failure, then every scalar key of the run's summary.json (lists of ids or {id, tick} are
               written as "3 7" / "3@120 7@900"; the per-tick distortion series is left out). A summary key
               named like one of the sweep's own columns is written as summary_<key>.
   sweep.json  the grid, the commit, the success rates (overall, per scenario, per shape, per kill schedule,
-              per parameter combination, per scenario x shape x schedule x parameters, with median formation/goal ticks and the largest shape
+              per parameter combination, per field combination (by_fields), per scenario x shape x schedule x
+              parameters x fields, with median formation/goal ticks and the largest shape
               errors), and the worst runs: failed ones first, then the largest shape error, then the latest
               goal, each with the command that reproduces it (and the same command writing a run directory).
               Commands are relative to the folder the sweep ran in (sweep.json's cwd).
@@ -89,6 +94,7 @@ Behaviour parameters (--param NAME=V1,V2,..., repeatable; each NAME one axis of 
   (`behaviour: {plugin: ...}`) loads from its scenario's folder; --plugin-dir DIR (repeatable) adds a folder,
   passed to every run.
 
+""" + sweep_fields.HELP + """
 Success: the summary's `outcome` is the one --expect asks for (arrived: outcome arrived; formed: arrived or
 formed_not_arrived; not_formed; none; any: a clean exit with a summary). A summary without `outcome` (older
 builds) is judged from its ticks: arrived iff goal_tick is set, formed iff formation_tick is set. Then the
@@ -114,6 +120,8 @@ examples:
   scripts/swarm sweep --kills random:1 random:2 random:3 --seeds 1-30
   scripts/swarm sweep --kills none 5@10 2@10,7@1500 --seeds 1-5 --max-ticks 8000 --jobs 2
   scripts/swarm sweep --param k_goal=0.5,1,2 --param m_obstacle=0.5,1 --seeds 1-10   # 3 x 2 x 10 runs
+  scripts/swarm sweep --loss 0,0.1,0.2,0.3 --burst 1,5 --noise off,on --kills none random:2 --seeds 1-10
+  scripts/swarm sweep --set comm_range=2,3 --set occlusion=false,true --seeds 1-5
 """
 
 
@@ -315,11 +323,13 @@ def scenario_max_ticks(path: str) -> int:
 class Run:
     def __init__(self, index: int, scenario: str, shape: Optional[str], shape_name: str,
                  robots_asked: Optional[int], robots: int, seed: int, schedule: KillSchedule, kill_flags: list[str],
-                 max_ticks_asked: Optional[int], cmd: list[str], params: Optional[Combo] = None) -> None:
+                 max_ticks_asked: Optional[int], cmd: list[str], params: Optional[Combo] = None,
+                 fields: Optional[dict[str, str]] = None) -> None:
         self.index, self.scenario, self.shape, self.shape_name = index, scenario, shape, shape_name
         self.robots_asked, self.robots, self.seed, self.schedule = robots_asked, robots, seed, schedule
         self.kill_flags, self.max_ticks_asked, self.cmd = kill_flags, max_ticks_asked, cmd
         self.params: Combo = params or {}  # NAME -> (text, value)
+        self.fields: dict[str, str] = fields or {}  # scenario-field axis column -> value as written
         self.exit_code: Optional[int] = None
         self.wall: Optional[float] = None
         self.summary: Optional[dict[str, Any]] = None
@@ -382,11 +392,11 @@ def parse_summary(text: str) -> Optional[dict[str, Any]]:
 
 
 def probe(exe: str, scenario: str, shape: Optional[str], robots: Optional[int], params: Optional[Combo] = None,
-          plugin_dirs: Sequence[str] = ()) -> dict[str, Any]:
-    """Runs one tick: validates the files (and the --param values) and returns the summary (robots, labels,
-    shape_file)."""
+          plugin_dirs: Sequence[str] = (), field_flags: Sequence[str] = ()) -> dict[str, Any]:
+    """Runs one tick: validates the files (and the --param values, and the scenario fields' --set flags) and returns
+    the summary (robots, labels, shape_file)."""
     cmd = (base_command(exe, scenario, shape, robots, None, 1, plugin_dirs) + param_flags(params or {}) +
-           ["--no-record", "--quiet"])
+           list(field_flags) + ["--no-record", "--quiet"])
     try:
         p = subprocess.run(cmd, capture_output=True, timeout=PROBE_TIMEOUT_S, encoding="utf-8",
                            errors="backslashreplace",
@@ -674,10 +684,12 @@ def summary_columns(runs: Sequence[Run]) -> list[str]:
     return keys
 
 
-def write_csv(path: str, runs: Sequence[Run], param_names: Sequence[str] = ()) -> None:
-    """param_names: the --param axes, a `param_NAME` column each, after the fixed columns."""
+def write_csv(path: str, runs: Sequence[Run], param_names: Sequence[str] = (),
+              field_columns: Sequence[str] = ()) -> None:
+    """param_names: the --param axes, a `param_NAME` column each, after the fixed columns; field_columns: the
+    scenario-field axes' columns (loss, burst, noise, set_KEY) after those."""
     keys = summary_columns(runs)
-    fixed = FIXED_COLUMNS + [f"param_{n}" for n in param_names]
+    fixed = FIXED_COLUMNS + [f"param_{n}" for n in param_names] + list(field_columns)
     names = [f"summary_{k}" if k in fixed else k for k in keys]
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
@@ -689,6 +701,7 @@ def write_csv(path: str, runs: Sequence[Run], param_names: Sequence[str] = ()) -
                 1 if r.success else 0, r.reason, "" if r.exit_code is None else r.exit_code,
                 "" if r.wall is None else f"{r.wall:.3f}", command_text(r.cmd)]
             row += [r.params[n][0] if n in r.params else "" for n in param_names]
+            row += [r.fields.get(c, "") for c in field_columns]
             s = r.summary or {}
             row += [_cell(s.get(k)) or "" for k in keys]
             w.writerow(row)
@@ -743,6 +756,7 @@ def run_record(r: Run) -> dict[str, Any]:
     rec: dict[str, Any] = {"index": r.index, "success": r.success, "reason": r.reason, "scenario": r.scenario,
            "shape": r.shape_name, "robots": r.robots, "seed": r.seed, "kills": r.schedule.text,
            "kill_flags": r.kill_flags, "params": {n: v for n, (_, v) in r.params.items()},
+           "fields": dict(r.fields),
            "exit_code": r.exit_code,
            "wall_seconds": None if r.wall is None else round(r.wall, 3)}
     for k in ("outcome", "ticks", "formation_tick", "motion_start_tick", "goal_tick", "shape_error_at_formation",
@@ -773,16 +787,18 @@ def results(runs: Sequence[Run], opts: argparse.Namespace, grid: dict[str, Any],
     keys: tuple[tuple[str, Callable[[Run], str]], ...] = (
         ("by_scenario", lambda r: r.scenario), ("by_shape", lambda r: r.shape_name),
         ("by_kills", lambda r: r.schedule.text), ("by_robots", lambda r: str(r.robots)),
-        ("by_params", lambda r: param_label(r.params)))
+        ("by_params", lambda r: param_label(r.params)), ("by_fields", lambda r: sweep_fields.label(r.fields)))
     for name, key in keys:
         groups: dict[str, list[Run]] = {}
         for r in finished:
             groups.setdefault(key(r), []).append(r)
         by[name] = {k: group_stats(v) for k, v in groups.items()}
-    cells: dict[tuple[str, str, int, str, str], list[Run]] = {}
+    cells: dict[tuple[str, str, int, str, str, str], list[Run]] = {}
     for r in finished:
-        cells.setdefault((r.scenario, r.shape_name, r.robots, r.schedule.text, param_label(r.params)), []).append(r)
-    by["by_cell"] = [dict(scenario=k[0], shape=k[1], robots=k[2], kills=k[3], params=k[4], **group_stats(v))
+        cells.setdefault((r.scenario, r.shape_name, r.robots, r.schedule.text, param_label(r.params),
+                          sweep_fields.label(r.fields)), []).append(r)
+    by["by_cell"] = [dict(scenario=k[0], shape=k[1], robots=k[2], kills=k[3], params=k[4], fields=k[5],
+                          **group_stats(v))
                      for k, v in cells.items()]
     ordered = sorted(finished, key=worst_key(opts))
     overall = group_stats(finished)
@@ -809,6 +825,9 @@ def print_table(res: dict[str, Any], out: Callable[[str], None] = print) -> None
     head: tuple[str, ...] = ("scenario", "shape", "N", "kills", "ok", "rate", "formed@", "goal@", "err@form",
                              "err@goal", "contacts")
     with_params = any(c.get("params", "defaults") != "defaults" for c in cells)
+    with_fields = any(c.get("fields", "scenario") != "scenario" for c in cells)
+    if with_fields:
+        head = head[:4] + ("fields",) + head[4:]
     if with_params:
         head = head[:4] + ("params",) + head[4:]
     rows: list[tuple[str, ...]] = []
@@ -820,6 +839,8 @@ def print_table(res: dict[str, Any], out: Callable[[str], None] = print) -> None
                      f(c["median_formation_tick"], ".0f"), f(c["median_goal_tick"], ".0f"),
                      f(c["max_shape_error_at_formation"], ".3f"), f(c["max_shape_error_at_goal"], ".3f"),
                      f"{c['contacts_robot_robot']}+{c['contacts_robot_obstacle']}"))
+        if with_fields:
+            rows[-1] = rows[-1][:4] + (c["fields"],) + rows[-1][4:]
         if with_params:
             rows[-1] = rows[-1][:4] + (c["params"],) + rows[-1][4:]
     widths = [max(len(h), *(len(r[i]) for r in rows)) if rows else len(h) for i, h in enumerate(head)]
@@ -874,6 +895,15 @@ def plan(opts: argparse.Namespace, exe: str) -> tuple[list[Run], dict[str, Any]]
             raise SweepError(f"--param {name} is given twice (one flag per parameter: NAME=V1,V2,...)")
         seen.add(name)
     combos = param_combinations(params)
+    try:
+        fields = sweep_fields.FieldGrid(sweep_fields.once(getattr(opts, "loss", None), "--loss"),
+                                        sweep_fields.once(getattr(opts, "burst", None), "--burst"),
+                                        sweep_fields.once(getattr(opts, "noise", None), "--noise"),
+                                        getattr(opts, "set", None) or [])
+        fields.check()
+    except ValueError as e:
+        raise SweepError(str(e)) from None
+    field_combos = fields.combinations()
     plugin_dirs = list(getattr(opts, "plugin_dir", None) or [])
     for d in plugin_dirs:
         if not os.path.isdir(d):
@@ -885,16 +915,20 @@ def plan(opts: argparse.Namespace, exe: str) -> tuple[list[Run], dict[str, Any]]
         for name, values in params:
             for text, value in values:
                 probe(exe, scenario, shapes[0], robots_list[0], {name: (text, value)}, plugin_dirs)
+        # Each scenario-field value once per scenario (the loader checks it as it checks the file's fields).
+        singles = {(f[i], f[i + 1]) for _, f in field_combos for i in range(0, len(f), 2)}
+        for flag in sorted(singles):
+            probe(exe, scenario, shapes[0], robots_list[0], combos[0], plugin_dirs, flag)
         window_cap = opts.max_ticks or scenario_max_ticks(scenario)
         window = min(opts.kill_window, window_cap)
         for shape in shapes:
             for robots in robots_list:
                 # With the grid's first parameters: they may decide whether the scenario loads (shape_heading
                 # turns the shape, and the loader checks that it fits).
-                info = probe(exe, scenario, shape, robots, combos[0], plugin_dirs)
+                info = probe(exe, scenario, shape, robots, combos[0], plugin_dirs, field_combos[0][1])
                 n = info["robots"]
                 shape_name = os.path.basename(str(info.get("shape_file") or shape or "?"))
-                for combo in combos:
+                for combo, (field_labels, field_flags) in itertools.product(combos, field_combos):
                     for schedule in schedules:
                         for seed in seeds:
                             flags = schedule.flags(seed, n, window)
@@ -903,15 +937,16 @@ def plan(opts: argparse.Namespace, exe: str) -> tuple[list[Run], dict[str, Any]]
                                 cmd += ["--kill", k]
                             for f in schedule.restart_flags(flags):
                                 cmd += ["--fault", f]
-                            cmd += param_flags(combo) + ["--no-record", "--quiet"]
+                            cmd += param_flags(combo) + field_flags + ["--no-record", "--quiet"]
                             runs.append(Run(len(runs), scenario, shape, shape_name, robots, n, seed, schedule,
-                                            flags, opts.max_ticks, cmd, combo))
+                                            flags, opts.max_ticks, cmd, combo, field_labels))
     grid = {"scenarios": scenarios, "shapes": [s or "(the scenario's)" for s in shapes],
             "robots": [r or "(the scenario's)" for r in robots_list], "seeds": _ranges(seeds),
             "seed_count": len(seeds), "kills": [s.text for s in schedules], "kill_window": opts.kill_window,
             "max_ticks": opts.max_ticks, "plugin_dirs": plugin_dirs,
             "params": {name: [v for _, v in values] for name, values in params},
-            "param_combinations": len(combos)}
+            "param_combinations": len(combos), "fields": fields.grid(), "field_combinations": len(field_combos),
+            "field_columns": fields.columns()}
     return runs, grid
 
 
@@ -954,6 +989,7 @@ def sweep(opts: argparse.Namespace) -> int:
                   f" x {len(grid['robots'])} robot count(s) x {grid['seed_count']} seed(s) x "
                   f"{len(grid['kills'])} kill schedule(s)"
                   + (f" x {grid['param_combinations']} parameter combination(s)" if grid["params"] else "")
+                  + (f" x {grid['field_combinations']} field combination(s)" if grid["fields"] else "")
                   + f"), {jobs} at a time; results in {out_dir}")
     stop = launcher.StopFlag()
     started = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
@@ -967,7 +1003,7 @@ def sweep(opts: argparse.Namespace) -> int:
     interrupted = bool(stop)
     res = results(runs, opts, grid, started, time.monotonic() - t0, interrupted, opts.worst)
     write_csv(os.path.join(out_dir, "sweep.csv"), [r for r in runs if r.reason not in ("not run", "interrupted")],
-              list(grid["params"]))
+              list(grid["params"]), grid["field_columns"])
     with open(os.path.join(out_dir, "sweep.json"), "w") as f:
         json.dump(res, f, indent=1)
         f.write("\n")

@@ -61,6 +61,10 @@ TEST(Harness, RunWritesEveryFileAndTheKilledRobotsDeath) {
   const auto world_json = world::read_json_file((dir / "world.json").string());
   EXPECT_EQ(world_json["robots"], 8);
   EXPECT_EQ(world_json["mode"], "in-process");
+  // The radio as the scenario set it (independent loss: no mean burst).
+  EXPECT_EQ(world_json["medium"]["packet_loss"]["rate"], 0.0);
+  EXPECT_TRUE(world_json["medium"]["packet_loss"]["mean_burst"].is_null());
+  EXPECT_EQ(world_json["medium"]["occlusion"], false);
 
   const auto rows = world::read_robots_csv((dir / "robots.csv").string());
   ASSERT_EQ(rows.size(), 101u * 8u);  // ticks 0..100

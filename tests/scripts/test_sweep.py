@@ -1,11 +1,13 @@
 """`swarm sweep` without the C++ programs: the kill-schedule and seed parsers and their errors, the random
 schedule's reproducibility and bounds, and a sweep over a stand-in swarm_inprocess (fake_sweep_build/) whose
 ending is chosen by the seed: the judging, the reasons (crash, timeout, no summary), sweep.csv, sweep.json's rates
-and worst-case order, and the exit codes."""
+and worst-case order, and the exit codes. The scenario-field axes (--loss, --burst, --noise, --set): their parsers,
+the --set flags each combination gives a run, and their columns."""
 
 import csv
 import json
 import os
+import shlex
 import shutil
 import signal
 import subprocess
@@ -14,7 +16,7 @@ import time
 import unittest
 
 import helpers
-from swarmform import sweep
+from swarmform import sweep, sweep_fields
 
 FAKE = os.path.join(helpers.HERE, "fake_sweep_build")
 SCENARIO = os.path.join(helpers.HERE, "data", "walk4.yaml")
@@ -94,6 +96,61 @@ class ScheduleParserTest(unittest.TestCase):
             self.assertIn(words, str(e.exception))
 
 
+class FieldAxesTest(unittest.TestCase):
+    def test_set_values_split_on_top_level_commas_only(self):
+        self.assertEqual(sweep_fields.split_values("0.1,{rate: 0.2, mean_burst: 5},[1, 2],'a,b'"),
+                         ["0.1", "{rate: 0.2, mean_burst: 5}", "[1, 2]", "'a,b'"])
+        for bad, says in (("{a: 1", "unclosed bracket"), ("a]", "closes nothing"), ("'a,b", "unclosed quote")):
+            with self.assertRaises(ValueError) as e:
+                sweep_fields.split_values(bad)
+            self.assertIn(says, str(e.exception))
+
+    def test_bad_values_are_refused_naming_the_text(self):
+        for parse, text, says in (
+                (sweep_fields.parse_loss, "0.1,lots", "'0.1,lots': 'lots' is not a number"),
+                (sweep_fields.parse_loss, "0.1,0.1", "the value 0.1 is given twice"),
+                (sweep_fields.parse_loss, "-0.1", "the loss rate -0.1 is outside [0, 1)"),
+                (sweep_fields.parse_burst, "0.5", "'0.5': the mean burst 0.5 is outside [1, 1e+06]"),
+                (sweep_fields.parse_burst, "inf", "the mean burst inf is outside"),
+                (sweep_fields.parse_noise, "off,loud", "'loud' is not a noise level (expected off or on"),
+                (sweep_fields.parse_noise, "on,on", "on is given twice"),
+                (sweep_fields.parse_set, "comm_range", "'comm_range': expected KEY=V1,V2,..."),
+                (sweep_fields.parse_set, "noise..range=1", "expected KEY=V1,V2,..."),
+                (sweep_fields.parse_set, "noise={range: 0.1", "an unclosed bracket or brace"),
+                (sweep_fields.parse_set, "comm_range=2,2", "the value 2 is given twice"),
+                (sweep_fields.parse_set, "comm_range=2,", "an empty value")):
+            with self.assertRaises(ValueError, msg=text) as e:
+                parse(text)
+            self.assertIn(says, str(e.exception))
+        for grid, says in (
+                ((None, sweep_fields.parse_burst("1,5"), None, []), "--burst needs --loss"),
+                ((None, None, None, [("comm_range", ["2"]), ("comm_range", ["3"])]), "--set comm_range is given twice"),
+                ((sweep_fields.parse_loss("0.1"), None, None, [("packet_loss", ["0.2"])]),
+                 "--set packet_loss and --loss both set packet_loss"),
+                ((None, None, None, [("arena", ["{width: 5}"]), ("arena.width", ["6"])]),
+                 "--set arena.width and --set arena both set arena")):
+            with self.assertRaises(ValueError) as e:
+                sweep_fields.FieldGrid(*grid).check()
+            self.assertIn(says, str(e.exception))
+
+    def test_each_combination_gives_its_set_flags(self):
+        grid = sweep_fields.FieldGrid(sweep_fields.parse_loss("0.2"), sweep_fields.parse_burst("1,5"),
+                                      sweep_fields.parse_noise("on"), [sweep_fields.parse_set("occlusion=true")])
+        grid.check()
+        self.assertEqual(grid.combinations(), [
+            ({"loss": "0.2", "burst": "1", "noise": "on", "set_occlusion": "true"},
+             ["--set", "packet_loss=0.2", "--set", "noise={range: 0.05, bearing: 0.05, ultrasonic: 0.02}",
+              "--set", "occlusion=true"]),
+            ({"loss": "0.2", "burst": "5", "noise": "on", "set_occlusion": "true"},
+             ["--set", "packet_loss={rate: 0.2, mean_burst: 5}", "--set",
+              "noise={range: 0.05, bearing: 0.05, ultrasonic: 0.02}", "--set", "occlusion=true"])])
+        self.assertEqual(sweep_fields.FieldGrid(None, None, None, []).combinations(), [({}, [])])
+        # The bound is the loader's: 1 / (1 - 0.2) = 1.25 is accepted, below it refused.
+        sweep_fields.FieldGrid(sweep_fields.parse_loss("0.2"), sweep_fields.parse_burst("1.25"), None, []).check()
+        with self.assertRaises(ValueError):
+            sweep_fields.FieldGrid(sweep_fields.parse_loss("0.2"), sweep_fields.parse_burst("1.2"), None, []).check()
+
+
 class SweepCliTest(unittest.TestCase):
     def setUp(self):
         self.dir = tempfile.mkdtemp(prefix="swarm-sweep-")
@@ -112,7 +169,8 @@ class SweepCliTest(unittest.TestCase):
         for word in ("--scenario", "--shape", "--shapes-dir", "--robots", "--seeds", "--kills", "--max-ticks",
                      "--kill-window", "--expect", "--max-shape-error", "--max-contacts", "--max-robot-contacts",
                      "--jobs", "--timeout", "--out", "random:K", "sweep.csv", "sweep.json", "Exit codes", "--param",
-                     "param_NAME",
+                     "param_NAME", "--loss", "--burst", "--noise", "--set", "set_KEY", "by_fields",
+                     "ultrasonic 0.02",
                      "130 interrupted"):
             self.assertIn(word, r.stdout)
         top = helpers.swarm("--help", build_dir=os.path.join(self.dir, "no"))
@@ -138,7 +196,13 @@ class SweepCliTest(unittest.TestCase):
                  (["--param", "k_goal=nan"], "not a finite number"),
                  (["--param", "k_goal=1", "--param", "k_goal=2"], "--param k_goal is given twice"),
                  (["--param", "k_wobble=1,2"], "--param k_wobble=1: unknown controller parameter 'k_wobble'"),
-                 (["--param", "k_goal=1,200"], "--param k_goal=200: controller parameter 'k_goal' = 200 is outside")]
+                 (["--param", "k_goal=1,200"], "--param k_goal=200: controller parameter 'k_goal' = 200 is outside"),
+                 (["--loss", "0,1"], "argument --loss: '0,1': the loss rate 1 is outside [0, 1)"),
+                 (["--loss", "0.1", "--loss", "0.2"], "--loss is given 2 times"),
+                 (["--loss", "0.3,0.6", "--burst", "1,2"],
+                  "--burst 2 with --loss 0.6: a mean burst must be at least 1 / (1 - rate) = 2.5 ticks"),
+                 (["--noise", "on", "--set", "noise.range=0.1"], "--set noise.range and --noise both set noise"),
+                 (["--set", "comm_rang=2,3"], "command line: --set 'comm_rang=2': comm_rang: unknown key")]
         for args, message in cases:
             r = self.sweep(*args)
             self.assertEqual(r.returncode, 2, f"{args}: {r.stderr}")
@@ -266,6 +330,41 @@ class SweepCliTest(unittest.TestCase):
         self.assertEqual({w["index"]: w["params"] for w in res["worst"]}[3], {"k_goal": 2.0, "m_obstacle": 3.25})
         self.assertEqual(len(res["by_cell"]), 4)
         self.assertIn("params", r.stdout.splitlines()[0], "the table shows the parameters")
+
+    def test_loss_burst_noise_and_set_are_grid_axes_recorded_in_csv_and_json(self):
+        r = self.sweep("--seeds", "1", "--loss", "0,0.2", "--burst", "1,5", "--noise", "off,on",
+                       "--set", "comm_range=3", "--expect", "any")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        rows = read_csv(os.path.join(self.out, "sweep.csv"))
+        self.assertEqual(len(rows), 8)
+        axes = [(row["loss"], row["burst"], row["noise"], row["set_comm_range"]) for row in rows]
+        self.assertEqual(axes, [(lo, b, n, "3") for lo in ("0", "0.2") for b in ("1", "5") for n in ("off", "on")])
+        for row in rows:
+            loss = (f"packet_loss={row['loss']}" if row["burst"] == "1" else
+                    f"packet_loss={{rate: {row['loss']}, mean_burst: {row['burst']}}}")
+            noise = ("noise={range: 0.05, bearing: 0.05, ultrasonic: 0.02}" if row["noise"] == "on" else
+                     "noise={range: 0, bearing: 0, ultrasonic: 0}")
+            # The values reached the run, as --set flags in the axes' order.
+            self.assertEqual(row["fake_sets"], " | ".join([loss, noise, f"comm_range={row['set_comm_range']}"]))
+            argv = shlex.split(row["command"])  # the command reproduces the run
+            self.assertEqual([argv[i + 1] for i, a in enumerate(argv) if a == "--set"], row["fake_sets"].split(" | "))
+        with open(os.path.join(self.out, "sweep.json")) as f:
+            res = json.load(f)
+        self.assertEqual(res["grid"]["fields"], {"loss": ["0", "0.2"], "burst": ["1", "5"], "noise": ["off", "on"],
+                                                 "set_comm_range": ["3"]})
+        self.assertEqual(res["grid"]["field_combinations"], 8)
+        self.assertIn("loss=0.2 burst=5 noise=on set_comm_range=3", res["by_fields"])
+        self.assertEqual(len(res["by_cell"]), 8)
+        self.assertEqual({w["index"]: w["fields"] for w in res["worst"]}[7],
+                         {"loss": "0.2", "burst": "5", "noise": "on", "set_comm_range": "3"})
+        self.assertIn("fields", r.stdout.splitlines()[0], "the table shows the fields")
+
+    def test_a_set_value_with_commas_stays_one_value(self):
+        r = self.sweep("--seeds", "1", "--set", "packet_loss=0.1,{rate: 0.2, mean_burst: 5}", "--expect", "any")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        rows = read_csv(os.path.join(self.out, "sweep.csv"))
+        self.assertEqual([row["set_packet_loss"] for row in rows], ["0.1", "{rate: 0.2, mean_burst: 5}"])
+        self.assertEqual(rows[1]["fake_sets"], "packet_loss={rate: 0.2, mean_burst: 5}")
 
     def test_random_schedule_flags_reach_the_runs_and_repeat(self):
         self.sweep("--seeds", "1-3,7", "--kills", "random:2", "--kill-window", "100", "--max-ticks", "80",

@@ -3,7 +3,9 @@
 (the summary's deaths are the --kill flags), that the random draw is reproducible and within its window, that
 sweep.json's rates agree with the rows, and that a worst case's command reproduces its run bit for bit (the
 trajectory hash). Also: a bad scenario is refused by the probe, exit 2, before any run; a plug-in behaviour is swept
-with --plugin-dir (and refused without it); a --param shape_heading that turns the shape into a wall is refused."""
+with --plugin-dir (and refused without it); a --param shape_heading that turns the shape into a wall is refused;
+--loss, --burst and --noise reach the runs (each combination its own trajectory) and a bad --set value is refused by
+the loader, naming the flag."""
 
 import csv
 import json
@@ -111,6 +113,30 @@ class SweepSmokeTest(unittest.TestCase):
             self.assertEqual(r.returncode, 2, r.stderr)
             self.assertIn(says, r.stderr)
             self.assertFalse(os.path.exists(os.path.join(self.dir, "q", "sweep.csv")))
+
+    def test_loss_bursts_and_noise_reach_the_runs_and_a_bad_set_is_refused_by_the_loader(self):
+        out = os.path.join(self.dir, "m")
+        r = helpers.swarm("sweep", "--scenario", PAPER, "--seeds", "1", "--loss", "0.3", "--burst", "1,5", "--noise",
+                          "off,on", "--max-ticks", "300", "--jobs", "2", "--expect", "any", "--out", out,
+                          build_dir=BUILD_DIR, timeout=240)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        rows = read_csv(os.path.join(out, "sweep.csv"))
+        self.assertEqual([(row["burst"], row["noise"]) for row in rows],
+                         [("1", "off"), ("1", "on"), ("5", "off"), ("5", "on")])
+        # Each value changes the run (the messages lost, the readings perceived): four different trajectories.
+        self.assertEqual(len({row["trajectory_sha256"] for row in rows}), 4)
+        # A row's command reproduces it bit for bit.
+        again = subprocess.run(shlex.split(rows[2]["command"]), capture_output=True, text=True, timeout=120,
+                               cwd=os.getcwd())
+        self.assertEqual(json.loads(again.stdout)["trajectory_sha256"], rows[2]["trajectory_sha256"])
+        for args, says in ((["--set", "comm_range=2,-1"], "command line: --set 'comm_range=-1': comm_range: must be > 0"),
+                           (["--set", "packet_loss=0.1,{rate: 0.5, mean_burst: 1.5}"],
+                            "--set 'packet_loss={rate: 0.5, mean_burst: 1.5}': packet_loss.mean_burst: must be in [2,")):
+            r = helpers.swarm("sweep", "--scenario", PAPER, "--out", os.path.join(self.dir, "n"), *args,
+                              build_dir=BUILD_DIR, timeout=60)
+            self.assertEqual(r.returncode, 2, r.stderr)
+            self.assertIn(says, r.stderr)
+            self.assertFalse(os.path.exists(os.path.join(self.dir, "n", "sweep.csv")))
 
     @unittest.skipUnless(os.path.exists(os.path.join(AGGREGATION_DIR, "libaggregation.so")),
                          f"the aggregation example is not built in {AGGREGATION_DIR}")

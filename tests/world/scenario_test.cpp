@@ -316,6 +316,83 @@ TEST(Scenario, RejectsOutOfRangeValues) {
   expect_rejected("shape: triangle.txt\ngoal: {x: 40, y: 0}\n", 2, "goal: (40, 0) lies outside");
 }
 
+// packet_loss: a number (independent) or {rate, mean_burst} (bursty, burst_loss.hpp); each part checked.
+TEST(Scenario, PacketLossIsANumberOrARateAndAMeanBurst) {
+  const Scenario plain = parse("shape: triangle.txt\npacket_loss: 0.2\n");
+  EXPECT_DOUBLE_EQ(plain.packet_loss, 0.2);
+  EXPECT_EQ(plain.packet_loss_mean_burst, 0.0);
+  const Scenario bursty = parse("shape: triangle.txt\npacket_loss: {rate: 0.2, mean_burst: 5}\n");
+  EXPECT_DOUBLE_EQ(bursty.packet_loss, 0.2);
+  EXPECT_DOUBLE_EQ(bursty.packet_loss_mean_burst, 5.0);
+  const Scenario edge = parse("shape: triangle.txt\npacket_loss:\n  rate: 0.2\n  mean_burst: 1.25\n");
+  EXPECT_DOUBLE_EQ(edge.packet_loss_mean_burst, 1.25);
+
+  expect_rejected("shape: triangle.txt\npacket_loss: {rate: 1.0, mean_burst: 5}\n", 2,
+                  "packet_loss.rate: must be in [0, 1)");
+  expect_rejected("shape: triangle.txt\npacket_loss: {rate: -0.1, mean_burst: 5}\n", 2,
+                  "packet_loss.rate: must be in [0, 1)");
+  expect_rejected("shape: triangle.txt\npacket_loss:\n  rate: 0.2\n  mean_burst: 1\n", 4,
+                  "packet_loss.mean_burst: must be in [1.25, 1e+06] ticks, got 1");
+  expect_rejected("shape: triangle.txt\npacket_loss: {rate: 0.2, mean_burst: .nan}\n", 2,
+                  "packet_loss.mean_burst");
+  expect_rejected("shape: triangle.txt\npacket_loss: {rate: 0.2, mean_burst: 1e9}\n", 2,
+                  "packet_loss.mean_burst: must be in [1.25, 1e+06]");
+  expect_rejected("shape: triangle.txt\npacket_loss: {rate: 0.2, mean_burst: five}\n", 2,
+                  "packet_loss.mean_burst: expected a finite number, got 'five'");
+  expect_rejected("shape: triangle.txt\npacket_loss: {rate: 0.2}\n", 2,
+                  "packet_loss: needs rate and mean_burst");
+  expect_rejected("shape: triangle.txt\npacket_loss: {rate: 0.2, burst: 5}\n", 2,
+                  "packet_loss.burst: unknown key (known here: rate, mean_burst)");
+  expect_rejected("shape: triangle.txt\npacket_loss: [0.2, 5]\n", 2, "packet_loss: expected a number");
+}
+
+// --set KEY=VALUE: the field is set over the file's before it is read and checked as the file's are; an error
+// in it names the flag, an error elsewhere stays at its line of the file.
+TEST(Scenario, SetOverridesAFieldAndItsErrorsNameTheFlag) {
+  auto with = [](const std::string& text, std::vector<std::string> sets) {
+    ScenarioOverrides ov;
+    for (const std::string& t : sets) ov.fields.push_back(parse_field_override(t));
+    return parse(text, ov);
+  };
+  const Scenario s = with(
+      "shape: triangle.txt\npacket_loss: 0.1\nnoise: {bearing: 0.02}\n",
+      {"packet_loss={rate: 0.2, mean_burst: 5}", "noise.range=0.05", "comm_range=2.5", "arena.width=30"});
+  EXPECT_DOUBLE_EQ(s.packet_loss, 0.2);
+  EXPECT_DOUBLE_EQ(s.packet_loss_mean_burst, 5.0);
+  EXPECT_DOUBLE_EQ(s.range_noise_sd, 0.05);
+  EXPECT_DOUBLE_EQ(s.bearing_noise_sd, 0.02);  // the rest of the file's map stays
+  EXPECT_DOUBLE_EQ(s.comm_range, 2.5);
+  EXPECT_DOUBLE_EQ(s.arena_width, 30.0);
+  EXPECT_DOUBLE_EQ(with("shape: triangle.txt\n", {"noise.ultrasonic=0.02"}).ultrasonic_noise_sd, 0.02);
+
+  auto refused = [&](const std::string& text, std::vector<std::string> sets, const std::string& file,
+                     int line, const std::string& what) {
+    try {
+      with(text, sets);
+      ADD_FAILURE() << "accepted: " << sets.back();
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), file) << e.what();
+      EXPECT_EQ(e.line(), line) << e.what();
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  const std::string base = "shape: triangle.txt\n";
+  refused(base, {"packet_loss=1.5"}, "command line", 0,
+          "--set 'packet_loss=1.5': packet_loss: must be in [0, 1)");
+  refused(base, {"packet_loss={rate: 0.2, mean_burst: 1}"}, "command line", 0,
+          "--set 'packet_loss={rate: 0.2, mean_burst: 1}': packet_loss.mean_burst: must be in [1.25");
+  refused(base, {"noise={range: 0.05, colour: red}"}, "command line", 0, "noise.colour: unknown key");
+  refused(base, {"comm_rang=2"}, "command line", 0, "--set 'comm_rang=2': comm_rang: unknown key");
+  refused("shape: triangle.txt\npacket_loss: 0.1\n", {"packet_loss.rate=0.2"}, "command line", 0,
+          "--set 'packet_loss.rate=0.2': the scenario's packet_loss is not a map");
+  refused(base, {"comm_range"}, "command line", 0, "--set 'comm_range': expected KEY=VALUE");
+  refused(base, {"noise..range=1"}, "command line", 0, "'noise..range' is not a field name");
+  refused(base, {"noise={range: 0.1"}, "command line", 0, "the value is not YAML");
+  refused(base, {"comm_range="}, "command line", 0, "the value is empty");
+  // The file's own error, beside a --set: still at its line.
+  refused("shape: triangle.txt\nmax_speed: 0\n", {"comm_range=2"}, kOrigin, 2, "max_speed: must be > 0");
+}
+
 // Found by checking what the scenario fuzzer (tests/fuzz) accepts: centres and listed poses took any finite
 // number, so robots at 1e308 reached the physics.
 TEST(Scenario, RejectsCoordinatesBeyondTheLengthLimit) {

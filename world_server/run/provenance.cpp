@@ -40,6 +40,8 @@ ojson canonical(const Scenario& s) {
                  {"ultrasonic_noise_sd", s.ultrasonic_noise_sd},
                  {"packet_loss", s.packet_loss},
                  {"occlusion", s.occlusion}};
+  // Only when bursty, so that every scenario of independent loss keeps the hash it had before bursts.
+  if (s.packet_loss_mean_burst > 0.0) j["medium"]["packet_loss_mean_burst"] = s.packet_loss_mean_burst;
   j["time"] = {
       {"mode", std::string(to_string(s.mode))},       {"tick_rate", s.tick_rate}, {"substeps", s.substeps},
       {"lockstep_deadline_s", s.lockstep_deadline_s}, {"seed", s.seed},           {"max_ticks", s.max_ticks}};

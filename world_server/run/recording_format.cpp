@@ -129,6 +129,14 @@ ojson describe_world(const Scenario& scenario, const std::string& mode) {
   j["goal"] = {{"x", m.goal.x}, {"y", m.goal.y}, {"radius", m.goal_radius}};
   j["grid_spacing"] = m.grid_spacing;
   j["comm_range"] = scenario.comm_range;
+  // The radio and the sensors' noise (scenarios/README.md): mean_burst null is independent loss.
+  const ojson mean_burst =
+      scenario.packet_loss_mean_burst > 0.0 ? ojson(scenario.packet_loss_mean_burst) : ojson(nullptr);
+  j["medium"] = {{"packet_loss", {{"rate", scenario.packet_loss}, {"mean_burst", mean_burst}}},
+                 {"range_noise_sd", scenario.range_noise_sd},
+                 {"bearing_noise_sd", scenario.bearing_noise_sd},
+                 {"ultrasonic_noise_sd", scenario.ultrasonic_noise_sd},
+                 {"occlusion", scenario.occlusion}};
   j["shape"] = {{"rows", m.shape.rows}, {"cols", m.shape.cols}, {"cells", m.shape.cells}};
   j["robot_radius"] = kRobotRadius;
   j["shape_file"] = scenario.shape_file;

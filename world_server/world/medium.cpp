@@ -10,6 +10,7 @@ namespace swarmform::world {
 
 Medium::Medium(const MediumParams& params, const std::vector<Obstacle>& statics, std::uint64_t seed)
     : params_(params), rng_(seed, kSaltMedium) {
+  if (params.loss_mean_burst > 0.0) burst_.emplace(params.packet_loss, params.loss_mean_burst, seed);
   for (const Obstacle& o : statics) statics_.push_back(make_static_shape(o));
 }
 
@@ -33,6 +34,7 @@ void Medium::deliver(const std::vector<Pose2D>& poses, const std::vector<char>& 
   if (faults != nullptr && !faults->any) faults = nullptr;
   const std::size_t n = poses.size();
   spare_.resize(n);
+  const Tick round = ++round_;
   parallel::for_range(
       n,
       [&](std::size_t begin, std::size_t end, std::size_t) {
@@ -45,8 +47,10 @@ void Medium::deliver(const std::vector<Pose2D>& poses, const std::vector<char>& 
     std::vector<RabReading>& inbox = perceptions[r].messages;
     std::size_t kept = 0;
     for (std::size_t k = 0; k < inbox.size(); ++k) {
-      if (rng_.bernoulli(params_.packet_loss)) continue;
       RabReading& m = inbox[k];
+      const bool lost = burst_ ? burst_->lost(round, m.sender, static_cast<RobotId>(r))
+                               : rng_.bernoulli(params_.packet_loss);
+      if (lost) continue;
       m.range = std::max(0.0, m.range + rng_.gaussian(params_.range_noise_sd));
       m.bearing = wrap_angle(m.bearing + rng_.gaussian(params_.bearing_noise_sd));
       if (kept != k) std::swap(inbox[kept], m);  // swap: the lost reading's buffer stays for reuse

@@ -4,14 +4,17 @@
 // deliver() are those of tick t; they land in the perceptions of tick t+1, only of live robots, never of the
 // sender itself, never from a dead sender. All randomness comes from one seeded stream, drawn in a fixed
 // order (receivers by id, then senders in the grid's order), so a run replays exactly, whatever the worker
-// count (the geometry runs on the worker pool, the draws on the calling thread).
+// count (the geometry runs on the worker pool, the draws on the calling thread). Bursty loss draws instead
+// from a hash of the link and the tick (burst_loss.hpp); each deliver() is one tick's round.
 #pragma once
 
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "common/types.hpp"
+#include "world_server/world/burst_loss.hpp"
 #include "world_server/world/geometry.hpp"
 #include "world_server/world/rng.hpp"
 #include "world_server/world/spatial_grid.hpp"
@@ -22,7 +25,9 @@ struct MediumParams {
   double comm_range = 3.0;        // m
   double range_noise_sd = 0.0;    // m
   double bearing_noise_sd = 0.0;  // rad
-  double packet_loss = 0.0;       // per copy
+  double packet_loss = 0.0;       // per copy: the long-run loss rate
+  double loss_mean_burst = 0.0;   // ticks: > 0, losses come in bursts of this mean length per directed
+                                  // link (burst_loss.hpp); 0, each copy is lost independently
   bool occlusion = false;         // static bodies (obstacles, walls) block; robots never do
 };
 
@@ -120,6 +125,8 @@ class Medium {
   MediumParams params_;
   std::vector<StaticShape> statics_;
   Rng rng_;
+  std::optional<BurstLoss> burst_;              // when loss_mean_burst > 0
+  Tick round_ = 0;                              // deliver() calls so far: the tick, for the burst chains
   std::vector<std::vector<RabReading>> spare_;  // per receiver: readings kept for reuse (no churn)
 };
 

@@ -49,5 +49,6 @@ class Rng {
 inline constexpr std::uint64_t kSaltPlacement = 1;
 inline constexpr std::uint64_t kSaltMedium = 2;
 inline constexpr std::uint64_t kSaltUltrasonic = 3;
+inline constexpr std::uint64_t kSaltBurstLoss = 4;  // hashed per draw (burst_loss.hpp), not a stream
 
 }  // namespace swarmform::world

@@ -12,6 +12,7 @@
 #include "behaviour/params.hpp"
 #include "common/input_error.hpp"
 #include "common/shape.hpp"
+#include "world_server/world/burst_loss.hpp"
 #include "world_server/world/placement.hpp"
 #include "world_server/world/scenario.hpp"
 #include "world_server/world/yaml_fields.hpp"
@@ -26,6 +27,7 @@ using yaml::Source;
 constexpr double kMaxLength = 10000.0;  // m: any length beyond this is a typo
 constexpr double kMaxSpeedLimit = 2.0;  // m/s: physics is verified tunnel-free well beyond this (3 m/s)
 constexpr std::int64_t kMaxRobots = 100000;
+constexpr double kMaxMeanBurst = 1e6;  // ticks: a burst longer than any run is a typo
 
 // The folder to resolve relative paths against: the scenario file's, or the working directory.
 fs::path base_folder(const std::string& origin) {
@@ -212,6 +214,43 @@ void parse_noise(const Source& src, MapReader& top, Scenario& s) {
   s.bearing_noise_sd = m.number("bearing", s.bearing_noise_sd, 0.0, std::numbers::pi);
   s.ultrasonic_noise_sd = m.number("ultrasonic", s.ultrasonic_noise_sd, 0.0, 2.0);
   m.finish({"range", "bearing", "ultrasonic"});
+}
+
+// packet_loss: RATE (each copy lost independently) or {rate: RATE, mean_burst: B} (bursts of B ticks on
+// average per directed link, burst_loss.hpp).
+void parse_packet_loss(const Source& src, MapReader& top, Scenario& s) {
+  auto node = top.get("packet_loss");
+  if (!node) return;
+  auto rate_of = [&](const YAML::Node& n, const std::string& path) {
+    const double p = yaml::to_number(src, n, path);
+    if (p < 0.0 || p >= 1.0) yaml::fail(src, n, path, "must be in [0, 1)");
+    return p;
+  };
+  if (!node->IsMap()) {
+    s.packet_loss = rate_of(*node, "packet_loss");
+    return;
+  }
+  MapReader m(src, *node, "packet_loss");
+  auto rate = m.get("rate");
+  auto burst = m.get("mean_burst");
+  m.finish({"rate", "mean_burst"});
+  if (!rate || !burst) {
+    yaml::fail(src, *node, "packet_loss",
+               "needs rate and mean_burst ({rate: 0.2, mean_burst: 5}: bursts of 5 ticks on average); for "
+               "independent loss give a number (packet_loss: 0.2)");
+  }
+  s.packet_loss = rate_of(*rate, m.field("rate"));
+  const double b = yaml::to_number(src, *burst, m.field("mean_burst"));
+  const double lo = BurstLoss::min_mean_burst(s.packet_loss);
+  if (!(b >= lo) || b > kMaxMeanBurst) {
+    std::ostringstream why;
+    why << "must be in [" << lo << ", " << kMaxMeanBurst << "] ticks, got " << b
+        << " (the least, 1 / (1 - rate), "
+        << "is the mean burst of independent loss at rate " << s.packet_loss
+        << "; for independent loss give a number: packet_loss: " << s.packet_loss << ")";
+    yaml::fail(src, *burst, m.field("mean_burst"), why.str());
+  }
+  s.packet_loss_mean_burst = b;
 }
 
 void parse_kills(const Source& src, MapReader& top, std::vector<Kill>& kills,
@@ -540,11 +579,7 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
   const RobotsSection robots = parse_robots(src, top);
   s.comm_range = top.positive("comm_range", s.comm_range, kMaxLength);
   parse_noise(src, top, s);
-  if (auto n = top.get("packet_loss")) {
-    const double p = yaml::to_number(src, *n, "packet_loss");
-    if (p < 0.0 || p >= 1.0) yaml::fail(src, *n, "packet_loss", "must be in [0, 1)");
-    s.packet_loss = p;
-  }
+  parse_packet_loss(src, top, s);
   s.occlusion = top.boolean("occlusion", s.occlusion);
   if (auto n = top.get("mode")) s.mode = parse_mode(src, *n, "mode");
   s.tick_rate = top.positive("tick_rate", s.tick_rate, 1000.0);
@@ -695,10 +730,20 @@ Scenario parse_scenario_text(const std::string& yaml_text, const std::string& or
   } catch (const YAML::ParserException& e) {
     throw InputError(origin, e.mark.is_null() ? 0 : e.mark.line + 1, "YAML syntax: " + e.msg);
   }
+  apply_field_overrides(root, overrides.fields);
   try {
     return parse(root, origin, overrides, behaviours);
   } catch (const YAML::Exception& e) {  // anything yaml-cpp throws that our checks did not foresee
     throw InputError(origin, e.mark.is_null() ? 0 : e.mark.line + 1, e.msg);
+  } catch (const InputError& e) {
+    // An error in a field the command line set is the flag's, not the file line's.
+    if (e.file() != origin || overrides.fields.empty()) throw;
+    std::string what = e.what();
+    const std::string prefix = e.line() > 0 ? origin + ":" + std::to_string(e.line()) + ": " : origin + ": ";
+    if (what.compare(0, prefix.size(), prefix) == 0) what = what.substr(prefix.size());
+    const FieldOverride* f = override_of_error(overrides.fields, what);
+    if (f == nullptr) throw;
+    throw InputError("command line", 0, "--set '" + f->text + "': " + what);
   }
 }
 

@@ -13,6 +13,7 @@
 #include "common/mission.hpp"
 #include "common/types.hpp"
 #include "world_server/world/faults.hpp"
+#include "world_server/world/field_overrides.hpp"
 
 namespace swarmform::world {
 
@@ -50,12 +51,14 @@ struct Scenario {
   std::vector<Pose2D> robots;
 
   // Medium (SPEC section 3) and sensors (section 4).
-  double comm_range = 3.0;           // m
-  double range_noise_sd = 0.0;       // m, Gaussian noise on a received message's range
-  double bearing_noise_sd = 0.0;     // rad, on its bearing
-  double ultrasonic_noise_sd = 0.0;  // m, on each ultrasonic reading
-  double packet_loss = 0.0;          // probability in [0,1) that one copy of a message is lost
-  bool occlusion = false;            // obstacles block messages (line of sight)
+  double comm_range = 3.0;              // m
+  double range_noise_sd = 0.0;          // m, Gaussian noise on a received message's range
+  double bearing_noise_sd = 0.0;        // rad, on its bearing
+  double ultrasonic_noise_sd = 0.0;     // m, on each ultrasonic reading
+  double packet_loss = 0.0;             // probability in [0,1) that one copy of a message is lost
+  double packet_loss_mean_burst = 0.0;  // ticks: > 0, the loss comes in bursts (Gilbert-Elliott, per
+                                        // directed link); 0, independently per copy
+  bool occlusion = false;               // obstacles block messages (line of sight)
 
   // Time.
   Mode mode = Mode::Lockstep;
@@ -97,6 +100,8 @@ struct ScenarioOverrides {
   // Set over the file's parameters before anything that uses them is checked (the shape's fit reads
   // shape_heading); each checked against the behaviour's table ("command line: --param TEXT: why").
   std::vector<ParamOverride> params;
+  // --set KEY=VALUE (field_overrides.hpp): any field over the file's, checked as the file's are.
+  std::vector<FieldOverride> fields;
 };
 
 // Loads and checks a scenario; throws InputError (file:line: what) on anything wrong. A relative shape path

@@ -36,6 +36,7 @@ MediumParams medium_params(const Scenario& s) {
   p.range_noise_sd = s.range_noise_sd;
   p.bearing_noise_sd = s.bearing_noise_sd;
   p.packet_loss = s.packet_loss;
+  p.loss_mean_burst = s.packet_loss_mean_burst;
   p.occlusion = s.occlusion;
   return p;
 }

@@ -2,9 +2,10 @@
 // over DDS on loopback, scenarios/paper.yaml in lockstep. The triangle forms and two runs repeat bit for bit;
 // a real SIGKILL of the leader mid-way gives a new leader within 50 ticks and the swarm arrives; a real
 // SIGKILL of a parent makes its children re-parent and arrive. Whom to kill and when comes from a clean run
-// of the same deterministic scenario (lockstep: the killed run is that run up to the kill). Each test has its
-// own DDS domain (test_domain(16..20), tests/integration/test_domain.hpp), kills every process it started by
-// pid (Process's destructor), bounds every wait.
+// of the same deterministic scenario (lockstep: the killed run is that run up to the kill); bursty loss gives
+// the in-process trajectory bit for bit. Each test has its own DDS domain (test_domain(16..20),
+// tests/integration/test_domain.hpp; the bursty-loss test shares 16), kills every process it started by pid
+// (Process's destructor), bounds every wait.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -32,6 +33,8 @@ const std::string kWorld = WORLD_SERVER_EXE;
 const std::string kAgent = ROBOT_AGENT_EXE;
 const std::string kRogue = ROGUE_AGENT_EXE;
 const std::string kScenario = PAPER_SCENARIO;
+const std::string kInProcess = SWARM_INPROCESS_EXE;
+const std::string kBursty = BURSTY_SCENARIO;
 
 struct Row {
   int tick = 0, id = 0, alive = 0, state = 0, label = -1, parent = -1, leader = 0;
@@ -46,7 +49,8 @@ class PaperMultiProcess : public swarmform::testing::ProcessFixture {
   // is owned by `rogue_agent silent` (alive, never answers) instead of a robot_agent.
   // `rogue_mode`: the rogue_agent mode that owns `silent` (default "silent").
   Json run(int domain, const std::string& name, std::optional<std::pair<int, int>> kill = std::nullopt,
-           std::optional<int> silent = std::nullopt, const std::string& rogue_mode = "silent") {
+           std::optional<int> silent = std::nullopt, const std::string& rogue_mode = "silent",
+           const std::string& scenario = kScenario) {
     std::vector<Process*> agents;
     for (int i = 0; i < kRobots; ++i) {
       const std::string id = std::to_string(i);
@@ -56,9 +60,15 @@ class PaperMultiProcess : public swarmform::testing::ProcessFixture {
                                name + "-" + rogue_mode + id)
                       : &start({kAgent, "--id", id, "--domain", d, "--timeout", "30"}, name + "-agent" + id));
     }
-    std::vector<std::string> argv = {
-        kWorld,     "--scenario",           kScenario,           "--out", path(name),
-        "--domain", std::to_string(domain), "--connect-timeout", "30"};
+    std::vector<std::string> argv = {kWorld,
+                                     "--scenario",
+                                     scenario,
+                                     "--out",
+                                     path(name),
+                                     "--domain",
+                                     std::to_string(domain),
+                                     "--connect-timeout",
+                                     "30"};
     if (kill) {
       const auto [id, tick] = *kill;
       argv.insert(argv.end(), {"--kill", std::to_string(id) + "@" + std::to_string(tick), "--agent-pid",
@@ -154,6 +164,31 @@ TEST_F(PaperMultiProcess, TriangleFormsWithRealAgentsAndTwoLockstepRunsRepeatBit
   EXPECT_FALSE(events_of("first", "barrier_passed").empty());
   std::cout << "formation_tick=" << first["formation_tick"] << " goal_tick=" << first["goal_tick"]
             << " sha=" << first["trajectory_sha256"] << "\n";
+}
+
+// Bursty loss (scenarios/README.md, "Bursty loss") draws from the seed, the tick and the link only, so real
+// processes over DDS lose the copies the in-process harness loses: the same trajectory bit for bit. The loss
+// must matter to the run for this to mean anything: without it the in-process trajectory differs. Test domain
+// 16, shared with the test above (RUN_SERIAL: never at the same time).
+TEST_F(PaperMultiProcess, BurstyLossGivesTheInProcessTrajectoryBitForBit) {
+  const int domain = swarmform::testing::test_domain(16);
+  const Json dds = run(domain, "bursty", std::nullopt, std::nullopt, "silent", kBursty);
+  EXPECT_EQ(dds["ticks"], 400) << dds.dump();
+  const Json world = Json::parse(read_file(path("bursty") + "/world.json"));
+  EXPECT_EQ(world["medium"]["packet_loss"]["rate"], 0.3);
+  EXPECT_EQ(world["medium"]["packet_loss"]["mean_burst"], 5.0);
+
+  auto in_process = [&](const std::string& name, std::vector<std::string> extra) {
+    std::vector<std::string> argv = {kInProcess, "--scenario", kBursty, "--quiet", "--out", path(name)};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    Process& p = start(argv, name);
+    EXPECT_EQ(p.wait_for(kRunDeadline), 0) << p.err();
+    return Json::parse(read_file(path(name) + "/summary.json"));
+  };
+  const std::string sha = dds["trajectory_sha256"];
+  EXPECT_EQ(sha.size(), 64u);
+  EXPECT_EQ(sha, in_process("inprocess", {})["trajectory_sha256"].get<std::string>());
+  EXPECT_NE(sha, in_process("no-loss", {"--set", "packet_loss=0"})["trajectory_sha256"].get<std::string>());
 }
 
 TEST_F(PaperMultiProcess, LeaderKilledMidWayGetsASuccessorWithin50TicksAndTheSwarmArrives) {
