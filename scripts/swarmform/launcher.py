@@ -52,6 +52,7 @@ DONE = re.compile(r"^done ticks=(\d+) run_dir=(.*)$")
 READY = re.compile(r"^world ready domain=(\d+) run_nonce=([0-9a-f]+)$")
 CLAIMED = re.compile(r"^world_server: id (\d+) claimed by pid \d+")
 CONNECTED = re.compile(r"^connected agents=\d+")
+GAVE_UP = re.compile(r"^world_server: \d+ of \d+ agents missing after ")  # the world ended the wait itself
 # The connect deadline (--connect-timeout), when not given: world_server's default_connect_timeout
 # (world_server/server.hpp), which the launcher passes on so that both wait the same time.
 CONNECT_TIMEOUT_BASE_S = 30.0
@@ -416,6 +417,7 @@ class ConnectWatch:
         self.claimed: set[int] = set()
         self.connected = False
         self.since: Optional[float] = None
+        self.world_gave_up: Optional[float] = None  # when the world said it ended the wait (its exit follows)
 
     def start(self) -> None:
         if self.since is None:
@@ -428,6 +430,8 @@ class ConnectWatch:
             self.claimed.add(int(m[1]))
         elif CONNECTED.match(line):
             self.connected = True
+        elif GAVE_UP.match(line) and self.world_gave_up is None:
+            self.world_gave_up = time.monotonic()
         return False
 
     def missing(self) -> list[int]:
@@ -457,7 +461,12 @@ class ConnectWatch:
         if self.connected or self.since is None:
             return
         grace = min(CONNECT_GRACE_S[1], max(CONNECT_GRACE_S[0], 0.2 * self.timeout_s))
-        if time.monotonic() - self.since < self.timeout_s + grace:
+        # A world that has said it gave up is exiting: its own exit names the missing ids; it gets the grace
+        # again from its word (a loaded host may take seconds to end a process), not from the deadline.
+        if self.world_gave_up is not None:
+            if time.monotonic() - self.world_gave_up < grace:
+                return
+        elif time.monotonic() - self.since < self.timeout_s + grace:
             return
         missing = self.missing()
         raise LaunchError(f"{len(missing)} of {self.robots} agents did not connect within {self.timeout_s:g} s "
