@@ -474,8 +474,9 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
 
   // 2. The obstacles seen (obstacle_view.hpp): Algorithm 2's mask, eq. (6)-(7), the size and its latch; the
   //    trace remembers them; pinned or not over the last window (progress_window.hpp).
-  ObstacleView view =
-      look_at_obstacles(*ctx.neighbours, ctx.perception->ultrasonic, ctx.pose.theta, desire.m, p_);
+  const auto masking = neighbours_to_mask(*ctx.neighbours, ctx.pose, ctx.params->tick_rate, p_.max_speed,
+                                          last_position_, last_velocity_);
+  ObstacleView view = look_at_obstacles(masking, ctx.perception->ultrasonic, ctx.pose.theta, desire.m, p_);
   if (!wall_.active()) large_latch_.apply(view.sense, ctx.tick);
   const bool was_following = wall_.active();
   trace_.add(view.readings, view.mask, ctx.pose, ctx.tick, p_.fusion_range);

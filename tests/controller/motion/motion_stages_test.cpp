@@ -1,16 +1,19 @@
 // The stages of a tick in Motion (motion_phase.cpp's motion_velocity), each on its own: the desired motion
-// (desired_motion.hpp), the size latch (obstacle_view.hpp), pinned detection (progress_window.hpp), the
+// (desired_motion.hpp), Algorithm 2's mask over the neighbours heard and missed and the size latch
+// (obstacle_view.hpp), pinned detection (progress_window.hpp), the
 // approach's trigger and echoes (approach_stage.hpp), the boundary episode's Bug rules (boundary_episode.hpp)
 // and the slide (obstacle_response.hpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <string>
 #include <vector>
 
 #include "robot_agent/controller/approach_stage.hpp"
 #include "robot_agent/controller/boundary_episode.hpp"
 #include "robot_agent/controller/desired_motion.hpp"
+#include "robot_agent/controller/message.hpp"
 #include "robot_agent/controller/motion_math.hpp"
 #include "robot_agent/controller/obstacle_response.hpp"
 #include "robot_agent/controller/obstacle_view.hpp"
@@ -263,6 +266,59 @@ TEST(ObstacleResponse, BetweenTwoObstaclesWithTheWayClearItDoesNotSlide) {
   const Vec2 v = respond_to_obstacles(state, echoes, none, in);
   EXPECT_NEAR(v.y, 0.0, 1e-9);  // no sideways slide: eq. (6) alone against the full pull
   EXPECT_EQ(state.side, 0);
+}
+
+RobotMessage moving_message(RobotId id) {
+  RobotMessage m;
+  m.sender = id;
+  m.state = RobotState::Motion;
+  return m;
+}
+
+TEST(ObstacleView, ANeighbourNotHeardThisTickStillMasksWhereItShouldStand) {
+  NeighbourTable table(20);
+  Perception p;
+  p.tick = 10;
+  p.messages.push_back({3, 1.0, 0.0, encode_message(moving_message(3))});
+  p.messages.push_back({5, 1.5, 1.0, encode_message(moving_message(5))});
+  table.update(p, 0);
+  const std::map<RobotId, Vec2> last_position{{3, {1.0, 0.0}}, {5, vpolar(1.5, 1.0)}};
+  const std::map<RobotId, Vec2> last_velocity{{3, {0.1, 0.0}}, {5, {0.0, 0.0}}};
+  // Heard now: as read, exact.
+  auto now = neighbours_to_mask(table, {0, 0, 0}, 10.0, 0.1, last_position, last_velocity);
+  ASSERT_EQ(now.size(), 2u);
+  EXPECT_EQ(now[0].range, 1.0);
+  EXPECT_EQ(now[0].uncertainty, 0.0);
+  // Three ticks later, neither heard (their copies lost): where they should stand, 3 ticks' worth uncertain.
+  Perception silent;
+  silent.tick = 13;
+  table.update(silent, 0);
+  const auto later = neighbours_to_mask(table, {0, 0, 0}, 10.0, 0.1, last_position, last_velocity);
+  ASSERT_EQ(later.size(), 2u);
+  EXPECT_NEAR(later[0].range, 1.03, 1e-12);  // moved on at its broadcast velocity
+  EXPECT_NEAR(later[0].bearing, 0.0, 1e-12);
+  EXPECT_NEAR(later[0].uncertainty, 0.03, 1e-12);
+  EXPECT_NEAR(later[1].range, 1.5, 1e-12);
+  EXPECT_NEAR(later[1].bearing, 1.0, 1e-12);
+  // The robot itself turned by 0.5 rad meanwhile: the bearing is taken in its frame now.
+  const auto turned = neighbours_to_mask(table, {0, 0, 0.5}, 10.0, 0.1, last_position, last_velocity);
+  EXPECT_NEAR(turned[1].bearing, 0.5, 1e-12);
+  // Its echo straight ahead is masked on that tick, as when it was heard.
+  UltrasonicArray r;
+  r.fill(kUltrasonicMaxRange);
+  r[2] = 1.03 - 2 * kRobotRadius;
+  EXPECT_TRUE(mask_neighbour_directions(r, later, 0.35, 0.1)[2]);
+}
+
+TEST(ObstacleView, AnUncertainNeighbourMasksAWiderCone) {
+  UltrasonicArray r;
+  r.fill(kUltrasonicMaxRange);
+  r[2] = 0.85;
+  // Just outside the mask angle plus its half-size, as heard...
+  const double off = 0.35 + std::atan2(kRobotRadius, 1.0) + 0.02;
+  EXPECT_FALSE(mask_neighbour_directions(r, {{1.0, off, 0.0}}, 0.35, 0.1)[2]);
+  // ...inside once its place is 3 cm uncertain.
+  EXPECT_TRUE(mask_neighbour_directions(r, {{1.0, off, 0.03}}, 0.35, 0.1)[2]);
 }
 
 }  // namespace
