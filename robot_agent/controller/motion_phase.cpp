@@ -80,6 +80,7 @@ void PaperMotion::on_ready(const FormationContext& ctx) {
   slide_.side = 0;
   net_force_ = 0.0;
   episode_.reset();
+  place_watch_.reset();
   approach_.reset(seed_, ctx.self);
   trace_.clear();
   progress_.restart({ctx.pose.x, ctx.pose.y}, ctx.tick);
@@ -133,6 +134,12 @@ MotionStep PaperMotion::step(const FormationContext& ctx) {
     // centroid moved the leader's target): back to Motion until it has arrived again.
     state_ = RobotState::Motion;
     out.events.push_back("motion_resumed");
+  } else if (state_ == RobotState::Arrived && off_place(ctx)) {
+    // Pushed off its place, or its parent pushed off its own (place_watch.hpp): back to its place, from
+    // readings of its parent taken afresh (the mean from before its arrival may be where the parent was).
+    state_ = RobotState::Motion;
+    follower_.reset();
+    out.events.push_back("motion_resumed off_place");
   }
   if (state_ == RobotState::Motion) velocity = motion_velocity(ctx, out);
 
@@ -346,6 +353,22 @@ double PaperMotion::leader_stop_distance() const {
 // arrived alone (its piece cut off) follows again once it hears a parent: its own target is where the goal
 // puts its place, but the leader's piece stops anywhere inside the goal's radius, up to
 // leader_stop_distance() short of that, and the shape is whole only around the leader's place.
+// An arrived follower (not the leader, not one that arrived alone) whose place, as its parent's readings of
+// the last neighbour_timeout ticks put it, lies further than kResumeFactor x arrival_tolerance off. Watched
+// here, every tick in Arrived.
+bool PaperMotion::off_place(const FormationContext& ctx) {
+  if (!parent_ || arrived_alone_ || leader_ == ctx.self) return false;
+  const Vec2 position{ctx.pose.x, ctx.pose.y};
+  const Neighbour* n = ctx.neighbours->find(*parent_);
+  if (n != nullptr && ctx.neighbours->fresh(*parent_)) {
+    place_watch_.add(ctx.tick, vadd(position, vpolar(n->range, n->azimuth)),
+                     static_cast<Tick>(p_.neighbour_timeout));
+  }
+  const auto place =
+      place_watch_.place(parent_reference_, static_cast<std::size_t>(p_.neighbour_timeout / 2));
+  return place && vnorm(vsub(*place, position)) > kResumeFactor * p_.arrival_tolerance;
+}
+
 bool PaperMotion::should_resume(const FormationContext& ctx) const {
   const Vec2 position{ctx.pose.x, ctx.pose.y};
   if (leader_ == ctx.self) {
@@ -427,6 +450,7 @@ Desire PaperMotion::desired_motion(const FormationContext& ctx) {
 
 void PaperMotion::arrive(const FormationContext& ctx, Arrival arrival, MotionStep& out) {
   state_ = RobotState::Arrived;
+  place_watch_.reset();
   arrived_alone_ = arrival == Arrival::Alone;
   if (leader_ == ctx.self) {
     arrived_parent_.reset();

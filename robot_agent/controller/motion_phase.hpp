@@ -45,6 +45,7 @@
 #include "robot_agent/controller/obstacle_response.hpp"
 #include "robot_agent/controller/obstacle_view.hpp"
 #include "robot_agent/controller/parent_tree.hpp"
+#include "robot_agent/controller/place_watch.hpp"
 #include "robot_agent/controller/progress_window.hpp"
 #include "robot_agent/controller/wall_follow.hpp"
 
@@ -81,6 +82,7 @@ class PaperMotion final : public MotionPhases {
   double leader_stop_distance() const;
   bool parent_lost(const FormationContext& ctx) const;
   bool should_resume(const FormationContext& ctx) const;
+  bool off_place(const FormationContext& ctx);
 
   MotionParams p_;
   RobotState state_ = RobotState::Ready;
@@ -106,6 +108,7 @@ class PaperMotion final : public MotionPhases {
   std::uint64_t seed_ = 1;
   std::optional<RobotId> arrived_parent_;  // the parent when it arrived
   bool arrived_alone_ = false;             // it arrived at its own target (no parent heard)
+  PlaceWatch place_watch_;                 // an arrived follower's place, from its parent's recent readings
   // The stages of a tick in Motion, each with its own state (motion_velocity reads them in order).
   FollowerDesire follower_;         // 1. the desired motion: a follower's view of its resting parent
   LargeObstacleLatch large_latch_;  // 2. the obstacles seen: the size latch,

@@ -2,7 +2,7 @@
 // (desired_motion.hpp), Algorithm 2's mask over the neighbours heard and missed and the size latch
 // (obstacle_view.hpp), pinned detection (progress_window.hpp), the
 // approach's trigger and echoes (approach_stage.hpp), the boundary episode's Bug rules (boundary_episode.hpp)
-// and the slide (obstacle_response.hpp).
+// the slide (obstacle_response.hpp) and an arrived follower's watch over its place (place_watch.hpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,6 +17,7 @@
 #include "robot_agent/controller/motion_math.hpp"
 #include "robot_agent/controller/obstacle_response.hpp"
 #include "robot_agent/controller/obstacle_view.hpp"
+#include "robot_agent/controller/place_watch.hpp"
 #include "robot_agent/controller/progress_window.hpp"
 
 namespace swarmform::controller::motion {
@@ -319,6 +320,23 @@ TEST(ObstacleView, AnUncertainNeighbourMasksAWiderCone) {
   EXPECT_FALSE(mask_neighbour_directions(r, {{1.0, off, 0.0}}, 0.35, 0.1)[2]);
   // ...inside once its place is 3 cm uncertain.
   EXPECT_TRUE(mask_neighbour_directions(r, {{1.0, off, 0.03}}, 0.35, 0.1)[2]);
+}
+
+TEST(PlaceWatch, ThePlaceIsTheMeanOfTheRecentReadingsOfTheParentMinusTheReference) {
+  PlaceWatch w;
+  EXPECT_FALSE(w.place({1, 0}, 1).has_value());
+  w.add(10, {5.0, 0.1}, 20);
+  w.add(11, {5.0, -0.1}, 20);
+  EXPECT_FALSE(w.place({1, 0}, 3).has_value());  // too few readings yet
+  const auto place = w.place({1, 0}, 2);
+  ASSERT_TRUE(place.has_value());
+  EXPECT_NEAR(place->x, 4.0, 1e-12);
+  EXPECT_NEAR(place->y, 0.0, 1e-12);
+  // The parent pushed 0.5 m: once the window has passed, only where it stands now counts.
+  for (Tick t = 12; t < 40; ++t) w.add(t, {5.5, 0.0}, 20);
+  EXPECT_NEAR(w.place({1, 0}, 10)->x, 4.5, 1e-12);
+  w.reset();
+  EXPECT_FALSE(w.place({1, 0}, 1).has_value());
 }
 
 }  // namespace
