@@ -6,32 +6,20 @@
 #include <string>
 #include <vector>
 
-#include "common/splitmix64.hpp"
 #include "robot_agent/controller/boundary.hpp"
 #include "robot_agent/controller/collision_avoidance.hpp"
-#include "robot_agent/controller/formation_forces.hpp"
-#include "robot_agent/controller/goal_force.hpp"
 #include "robot_agent/controller/leader_election.hpp"
 #include "robot_agent/controller/motion_math.hpp"
 #include "robot_agent/controller/motion_section.hpp"
-#include "robot_agent/controller/obstacle_forces.hpp"
+#include "robot_agent/controller/obstacle_response.hpp"
+#include "robot_agent/controller/obstacle_view.hpp"
 #include "robot_agent/controller/parent_tree.hpp"
 
 namespace swarmform::controller::motion {
 
 namespace {
 
-constexpr double kKeepUpStrain = 1.5;    // x the speed limit: the lag of a follower that keeps up
-constexpr double kProgressShare = 0.25;  // of the way asked for
-constexpr double kMinAsked = 0.05;       // m asked for over the window
-constexpr Tick kPinnedTicks = 20;
-constexpr Tick kTraceTicks = 60;
-constexpr Tick kEchoMemoryTicks = 15;  // eq. (6)'s memory of echoes (obstacle_forces.hpp: EchoMemory)
-constexpr double kRestingShare = 0.1;  // of the cruise: the smallest eq. (7) |F_goal|
 constexpr double kResumeFactor = 2.0;  // x arrival_tolerance off its target: an arrived leader moves again
-constexpr double kSlowest = 0.3;  // x the cruise: the leader never stops, so the gaps a held robot needs open
-constexpr double kParentSide =
-    0.2;  // the parent stands on one side when its direction is this far off the normal
 // x the radio range: a member this near that is not heard is dead, not out of range (both death rules).
 constexpr double kWellInsideRange = 0.8;
 
@@ -49,30 +37,8 @@ bool marked_dead(const Stigmergy& s, RobotId id) {
   return s.get(parents_key(id)) == kDeadMark;
 }
 
-// eq. (2)/(4): k_o r^2 (cos a, sin a) for the vector r (cos a, sin a).
-Vec2 spring(double k_o, Vec2 to_parent) {
-  return attractive_force(k_o, {vnorm(to_parent), std::atan2(to_parent.y, to_parent.x)});
-}
-
 std::optional<MotionSection> section_of(const Neighbour& n) {
   return decode_motion_section(n.message.motion);
-}
-
-// Which way round an obstacle in direction `o` (unit, arena frame) leads away from the neighbours: +1 turning
-// left of `o`, -1 right, 0 when both sides are alike. Each neighbour within `reach` weighs by how much it
-// stands on that side, nearer ones more.
-int side_away_from_neighbours(const NeighbourTable& table, Vec2 o, double reach) {
-  double left = 0.0, right = 0.0;
-  const Vec2 t_left = vrotate(o, std::numbers::pi / 2);
-  for (const auto& [id, n] : table.all()) {
-    if (!table.fresh(n) || n.range > reach) continue;
-    const double side = vdot(vpolar(1.0, n.azimuth), t_left) / std::max(n.range, 0.3);
-    (side > 0 ? left : right) += std::abs(side);
-  }
-  constexpr double kAlike = 0.05;
-  if (left + kAlike < right) return 1;
-  if (right + kAlike < left) return -1;
-  return 0;
 }
 
 // Motion always drives forwards, turning towards the desired velocity first: the ultrasonic sensors cover
@@ -100,11 +66,10 @@ void PaperMotion::on_ready(const FormationContext& ctx) {
   parent_.reset();
   references_.clear();
   ready_sums_.clear();
-  parent_rest_ = {};
-  resting_parent_.reset();
+  follower_.reset();
   last_position_.clear();
   last_velocity_.clear();
-  large_until_ = 0;
+  large_latch_.reset();
   marked_dead_.clear();
   // Only at the shape's own barrier: a robot that joins a shape already on its way (a reserve, a robot back
   // from a restart) enters Ready where the members are not standing at their places, and no leader entry
@@ -112,17 +77,13 @@ void PaperMotion::on_ready(const FormationContext& ctx) {
   unheard_members_checked_ = ctx.stigmergy->get(leader_key()).has_value();
   wall_.reset();
   echoes_.clear();
-  slide_side_ = 0;
+  slide_.side = 0;
   net_force_ = 0.0;
-  boundary_.reset();
-  bug_side_ = 0;
-  bug_turns_ = 0;
-  approach_.reset();
-  rng_.seed(splitmix64(splitmix64(seed_) ^ static_cast<std::uint64_t>(ctx.self)));
+  episode_.reset();
+  place_watch_.reset();
+  approach_.reset(seed_, ctx.self);
   trace_.clear();
-  anchor_ = {ctx.pose.x, ctx.pose.y};
-  anchor_tick_ = ctx.tick;
-  asked_ = 0.0;
+  progress_.restart({ctx.pose.x, ctx.pose.y}, ctx.tick);
   has_live_centroid_ = false;
   choice_ = {};
 }
@@ -138,10 +99,9 @@ MotionStep PaperMotion::step(const FormationContext& ctx) {
       if (state_ == RobotState::Ready && ctx.members.count(id) != 0) {
         // eq. (2)'s r0: the mean of the readings while the neighbour stands (Reached or Ready); one that has
         // set off already counts where it is now, as the paper's record at the end of Ready has it.
-        Sum& sum = ready_sums_[id];
+        PointSum& sum = ready_sums_[id];
         if (n.message.state != RobotState::Ready && n.message.state != RobotState::Reached) sum = {};
-        sum.total = vadd(sum.total, vpolar(n.range, n.azimuth));
-        ++sum.count;
+        sum.add(vpolar(n.range, n.azimuth));
       }
       const auto section = section_of(n);
       last_velocity_[id] = section ? section->velocity : Vec2{};
@@ -174,6 +134,12 @@ MotionStep PaperMotion::step(const FormationContext& ctx) {
     // centroid moved the leader's target): back to Motion until it has arrived again.
     state_ = RobotState::Motion;
     out.events.push_back("motion_resumed");
+  } else if (state_ == RobotState::Arrived && off_place(ctx)) {
+    // Pushed off its place, or its parent pushed off its own (place_watch.hpp): back to its place, from
+    // readings of its parent taken afresh (the mean from before its arrival may be where the parent was).
+    state_ = RobotState::Motion;
+    follower_.reset();
+    out.events.push_back("motion_resumed off_place");
   }
   if (state_ == RobotState::Motion) velocity = motion_velocity(ctx, out);
 
@@ -202,7 +168,7 @@ MotionStep PaperMotion::step(const FormationContext& ctx) {
   // link): slowing the shape does not free it (the paper's corner robot trails its neighbour along the box,
   // whatever the leader's pace), but the leader must not leave it behind either.
   const bool held =
-      wall_.active() || boundary_.active() ||
+      wall_.active() || episode_.active() ||
       trace_.nearest({ctx.pose.x, ctx.pose.y}, ctx.tick, p_.fusion_range + kRobotRadius, kTraceTicks);
   const double held_allowance = 2.0 * p_.k_o * p_.spacing * p_.spacing;
   section.strain = std::max(held && lag_ < held_allowance ? 0.0 : lag_, children_strain_);
@@ -387,6 +353,22 @@ double PaperMotion::leader_stop_distance() const {
 // arrived alone (its piece cut off) follows again once it hears a parent: its own target is where the goal
 // puts its place, but the leader's piece stops anywhere inside the goal's radius, up to
 // leader_stop_distance() short of that, and the shape is whole only around the leader's place.
+// An arrived follower (not the leader, not one that arrived alone) whose place, as its parent's readings of
+// the last neighbour_timeout ticks put it, lies further than kResumeFactor x arrival_tolerance off. Watched
+// here, every tick in Arrived.
+bool PaperMotion::off_place(const FormationContext& ctx) {
+  if (!parent_ || arrived_alone_ || leader_ == ctx.self) return false;
+  const Vec2 position{ctx.pose.x, ctx.pose.y};
+  const Neighbour* n = ctx.neighbours->find(*parent_);
+  if (n != nullptr && ctx.neighbours->fresh(*parent_)) {
+    place_watch_.add(ctx.tick, vadd(position, vpolar(n->range, n->azimuth)),
+                     static_cast<Tick>(p_.neighbour_timeout));
+  }
+  const auto place =
+      place_watch_.place(parent_reference_, static_cast<std::size_t>(p_.neighbour_timeout / 2));
+  return place && vnorm(vsub(*place, position)) > kResumeFactor * p_.arrival_tolerance;
+}
+
 bool PaperMotion::should_resume(const FormationContext& ctx) const {
   const Vec2 position{ctx.pose.x, ctx.pose.y};
   if (leader_ == ctx.self) {
@@ -416,9 +398,8 @@ void PaperMotion::record_references(const FormationContext& ctx) {
     const auto member = ctx.members.find(id);
     if (member == ctx.members.end()) continue;
     const auto sum = ready_sums_.find(id);
-    references_[id] = sum != ready_sums_.end() && sum->second.count > 0
-                          ? vscale(sum->second.total, 1.0 / sum->second.count)
-                          : vsub(pos, {ctx.pose.x, ctx.pose.y});
+    references_[id] = sum != ready_sums_.end() && sum->second.count > 0 ? sum->second.mean()
+                                                                        : vsub(pos, {ctx.pose.x, ctx.pose.y});
     // Way out (extends eq. 2's record): a pair that stood well off the shape's own geometry at Ready -- one
     // of them took its place as reached short of a dead robot's body (blocked place) -- keeps the geometry
     // instead, or the shape would carry that offset to the goal, away from the body, and never match its
@@ -451,321 +432,124 @@ Vec2 PaperMotion::reference_to(const FormationContext& ctx, RobotId id) const {
   return {};
 }
 
-Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) {
+// Where the desired motion leads this tick, by the robot's role (desired_motion.hpp).
+Desire PaperMotion::desired_motion(const FormationContext& ctx) {
   const Vec2 position{ctx.pose.x, ctx.pose.y};
-  Vec2 desired;
-  // Where the desired motion leads (the leader's and a cut-off robot's target; a follower's spot where F_net
-  // vanishes) and whether that place stands still (a target does; a follower's, while its parent is at rest).
-  Vec2 place = position;
-  bool place_still = false;
-  bool alone = false;  // cut off from its parent: it makes for its place on its own
-  // eq. (7): m = m_obstacle |F_goal|. The leader's own; a follower takes its parent's broadcast speed for the
-  // formation's |F_goal| (so the repulsion fades as the shape comes to rest at the goal and a robot can take
-  // a place beside a dead robot's body), never below kRestingShare of the cruise (the slide needs a
-  // direction).
-  const double m_floor = p_.m_obstacle * kRestingShare * p_.cruise_speed;
-  double m = p_.m_obstacle * p_.cruise_speed;
-  if (leader_ == ctx.self) {
-    // The leader takes the centroid of the live shape to the goal: its own target is the goal plus its
-    // place's offset from that centroid.
-    const Vec2 target = own_target(ctx);
-    if (vnorm(vsub(target, position)) < leader_stop_distance()) {
-      state_ = RobotState::Arrived;
-      arrived_alone_ = false;
-      arrived_parent_.reset();
-      out.events.push_back("arrived");
-      wall_.reset();
-      boundary_.reset();
-      return {};
-    }
-    // Pace: cruise while every follower keeps up (a follower at full speed behind its parent has
-    // |F_net| ~ the speed limit); slow down linearly as the largest lag towards the goal grows past 1.5x
-    // the limit, and wait (stop) at 1.5x + strain_scale: the leader never leaves a follower behind.
-    double cruise = p_.cruise_speed;
-    if (p_.strain_scale > 0.0) {
-      const double over = std::max(0.0, children_strain_ - kKeepUpStrain * p_.max_speed);
-      cruise *= std::clamp(1.0 - over / p_.strain_scale, kSlowest, 1.0);
-    }
-    desired = goal_force(position, target, p_.k_goal, cruise, 0.0);  // eq. (3)
-    place = target;
-    place_still = true;
-    m = std::max(p_.m_obstacle * vnorm(desired), m_floor);  // eq. (7)
-  } else if (!parent_ || parent_lost(ctx)) {
-    // No parent (the tree cannot reach this robot's label: deaths cut it off), or a parent alive (not marked
-    // dead) but unheard: this robot's piece of the swarm cannot hear the leader's. It takes its own place to
-    // where the goal puts it (eq. 3 on its own place, as the leader does): every piece goes to the goal and
-    // the shape is whole again there.
-    const Vec2 target = own_target(ctx);
-    if (vnorm(vsub(target, position)) < p_.arrival_tolerance) {
-      state_ = RobotState::Arrived;
-      arrived_alone_ = true;
-      arrived_parent_ = parent_;
-      out.events.push_back("arrived alone");
-      wall_.reset();
-      boundary_.reset();
-      return {};
-    }
-    desired = goal_force(position, target, p_.k_goal, p_.max_speed, 0.0);
-    m = std::max(p_.m_obstacle * vnorm(desired), m_floor);
-    to_parent_ = {};
-    place = target;
-    place_still = true;
-    alone = true;
-  } else if (parent_) {
-    const Neighbour* n = ctx.neighbours->find(*parent_);
-    Vec2 to_parent;
-    const auto parent_section = n != nullptr ? section_of(*n) : std::nullopt;
-    const bool parent_resting = parent_section && parent_section->arrived;
-    if (!parent_resting || resting_parent_ != parent_) {
-      parent_rest_ = {};
-      resting_parent_ = parent_resting ? parent_ : std::nullopt;
-    }
-    if (n != nullptr && ctx.neighbours->fresh(*parent_)) {
-      to_parent = vpolar(n->range, n->azimuth);
-      if (parent_resting) {
-        // A parent at rest stands in one place: the mean of where it was heard since it came to rest, a
-        // range-and-bearing noise averaged away (one noisy reading let a follower arrive off its place).
-        parent_rest_.total = vadd(parent_rest_.total, vadd(position, to_parent));
-        ++parent_rest_.count;
-        to_parent = vsub(vscale(parent_rest_.total, 1.0 / parent_rest_.count), position);
-      }
-    } else if (parent_rest_.count > 0) {
-      to_parent = vsub(vscale(parent_rest_.total, 1.0 / parent_rest_.count), position);
-    } else if (auto it = last_position_.find(*parent_); it != last_position_.end()) {
-      // Not heard this tick (lost copies, or it drifted out of range behind an obstacle): where it was, moved
-      // on at the velocity it last said it had.
-      const auto heard = ctx.neighbours->last_heard(*parent_).value_or(ctx.tick);
-      const double dt = static_cast<double>(ctx.tick - std::min(heard, ctx.tick)) / ctx.params->tick_rate;
-      to_parent = vsub(vadd(it->second, vscale(last_velocity_[*parent_], dt)), position);
-    }
-    to_parent_ = to_parent;
-    const Vec2 f_net = net_force(spring(p_.k_o, to_parent), spring(p_.k_o, parent_reference_));  // eq. (5)
-    net_force_ = vnorm(f_net);
-    // How far behind towards the goal (every robot holds it): what the leader waits for. Not along the
-    // parent's velocity, which vanishes when the leader waits.
-    if (const Vec2 to_goal = vsub(p_.goal, position); vnorm(to_goal) > 1e-6) {
-      lag_ = std::max(0.0, vdot(f_net, vscale(to_goal, 1.0 / vnorm(to_goal))));
-    }
-    // eq. (5) plus the parent's own velocity (it broadcasts it): F_net corrects the follower's place and the
-    // feed-forward carries it along, so a follower keeps up with no standing lag, and one held off its place
-    // by an obstacle still moves on with its parent while it slides (the paper's F_net alone needs a lag of
-    // v / (2 k_o r0) to move at v; beside the paper's box, where the diagonal spring pulls the corner robot
-    // backwards as it gives way, that lag was ~0.7 m and the leader waited for it).
-    Vec2 feed;
-    if (auto it = last_velocity_.find(*parent_); it != last_velocity_.end()) feed = it->second;
-    desired = vclamp(vadd(f_net, feed), p_.max_speed);
-    m = std::max(p_.m_obstacle * vnorm(feed), m_floor);
-    const auto& section = parent_section;
-    place = vsub(vadd(position, to_parent), parent_reference_);
-    place_still = (section && section->arrived) || vnorm(feed) < kRestingShare * p_.cruise_speed;
-    if (section && section->arrived && net_force_ < p_.arrival_net_force) {
-      state_ = RobotState::Arrived;
-      arrived_alone_ = false;
-      arrived_parent_ = parent_;
-      out.events.push_back("arrived");
-      wall_.reset();
-      boundary_.reset();
-      return {};
-    }
-  }
+  // The leader takes the centroid of the live shape to the goal: its own target is the goal plus its place's
+  // offset from that centroid.
+  if (leader_ == ctx.self)
+    return leader_desire(position, own_target(ctx), leader_stop_distance(), children_strain_, p_);
+  if (!parent_ || parent_lost(ctx)) return cut_off_desire(position, own_target(ctx), p_);
+  ParentView parent;
+  parent.id = *parent_;
+  parent.reference = parent_reference_;
+  if (auto it = last_position_.find(*parent_); it != last_position_.end()) parent.last_position = it->second;
+  if (auto it = last_velocity_.find(*parent_); it != last_velocity_.end()) parent.last_velocity = it->second;
+  return follower_.step(*ctx.neighbours, position, ctx.tick, ctx.params->tick_rate, parent, p_);
+}
 
-  // Obstacles: Algorithm 2's mask from the neighbours heard now, eq. (6)-(7), size discrimination.
-  std::vector<NeighbourBearing> bearings;
-  for (const auto& [id, n] : ctx.neighbours->all()) {
-    if (ctx.neighbours->fresh(n)) bearings.push_back({n.range, n.bearing});
+void PaperMotion::arrive(const FormationContext& ctx, Arrival arrival, MotionStep& out) {
+  state_ = RobotState::Arrived;
+  place_watch_.reset();
+  arrived_alone_ = arrival == Arrival::Alone;
+  if (leader_ == ctx.self) {
+    arrived_parent_.reset();
+  } else {
+    arrived_parent_ = parent_;
   }
-  UltrasonicArray readings = ctx.perception->ultrasonic;
-  const auto mask = mask_neighbour_directions(readings, bearings, p_.mask_angle, p_.mask_slack);
-  auto sense = sense_obstacles(readings, mask, ctx.pose.theta,
-                               {m, p_.obstacle_range, p_.fusion_range, p_.small_obstacle_width});
-  // Size latch: once a large obstacle is seen, whatever is seen next without a break of kLargeLatchTicks is
-  // still that obstacle (sliding along a wall, only the side sensor sees it, which alone would read as a
-  // post).
-  constexpr Tick kLargeLatchTicks = 30;
-  if (!wall_.active()) {
-    if (sense.size == ObstacleSize::Large) large_until_ = ctx.tick + kLargeLatchTicks;
-    if (sense.size == ObstacleSize::Small && ctx.tick < large_until_) {
-      sense.size = ObstacleSize::Large;
-      large_until_ = ctx.tick + kLargeLatchTicks;
-    }
-  }
-  const bool was_following = wall_.active();
-  Vec2 around;
+  out.events.push_back(arrived_alone_ ? "arrived alone" : "arrived");
+  wall_.reset();
+  episode_.end();
+}
+
+// A small obstacle ahead (obstacle_forces.hpp's size): wall-following round it on the side away from the
+// neighbours (the robot leaves the shape and rejoins it), along the formation's direction of travel (the
+// parent's broadcast velocity; the leader: its own pull). None once it is not, or no longer, going round.
+std::optional<Vec2> PaperMotion::go_round_small_obstacle(const FormationContext& ctx, Vec2 desired,
+                                                         const ObstacleSense& sense) {
   const WallFollowParams wf{p_.obstacle_range, p_.wall_distance, 0.5, p_.cruise_speed,
                             p_.small_obstacle_width / 2};
   const Vec2 o = vpolar(1.0, ctx.pose.theta + sense.nearest_bearing);
   const int away = side_away_from_neighbours(*ctx.neighbours, o, 1.5 * p_.spacing);
-  // A small obstacle: round it on the side away from the neighbours (the robot leaves the shape and
-  // rejoins it).
-  // The formation's direction of travel: the parent's broadcast velocity (the leader: its own pull).
   Vec2 travel = desired;
   if (leader_ != ctx.self && parent_) {
     if (auto it = last_velocity_.find(*parent_); it != last_velocity_.end() && vnorm(it->second) > 0.01) {
       travel = it->second;
     }
   }
-  // Pinned: over each window of kPinnedTicks, it moved less than kProgressShare of the way its desired
-  // motion asked for (at least kMinAsked), an obstacle remembered near: it follows the obstacle's boundary
-  // (wall_follow.hpp) until the way is clear. Judged against what it asked for, not a fixed speed, so a
-  // follower of a leader that slows down is not pinned.
-  trace_.add(readings, mask, ctx.pose, ctx.tick, p_.fusion_range);
-  asked_ += vnorm(desired) / ctx.params->tick_rate;
-  bool pinned = false;
-  if (ctx.tick >= anchor_tick_ + kPinnedTicks) {
-    pinned = asked_ > kMinAsked && vnorm(vsub(position, anchor_)) < kProgressShare * asked_;
-    anchor_ = position;
-    anchor_tick_ = ctx.tick;
-    asked_ = 0.0;
+  Vec2 around;
+  if (wall_.update(sense, desired, travel, ctx.pose, wf, around, away)) return around;
+  return std::nullopt;
+}
+
+// One tick in Motion, stage by stage; each stage's header holds its rules.
+Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) {
+  const Vec2 position{ctx.pose.x, ctx.pose.y};
+  // 1. The desired motion (desired_motion.hpp): eq. (3) for the leader and a cut-off robot, eq. (5) with the
+  //    parent's velocity for a follower; where it leads; eq. (7)'s obstacle gain; arrival.
+  const Desire desire = desired_motion(ctx);
+  net_force_ = desire.net_force;
+  lag_ = desire.lag;
+  if (desire.to_parent) to_parent_ = *desire.to_parent;
+  if (desire.arrival != Arrival::None) {
+    arrive(ctx, desire.arrival, out);
+    return {};
   }
-  // The last approach, and a cut-off robot's way: a place that stands still within fusion_range, or a cut-off
-  // robot's own target, is reached as a Moving robot reaches its place in the formation phase
-  // (place_approach.hpp): straight, going round only the unexplained echoes nearer than the place (eq. 1's
-  // go-round), with a random detour when it makes no progress; no eq. (6), slide, wall- or
-  // boundary-following. Those keep an obstacle's range (0.6 m) or go round at wall_distance, so a dead
-  // robot's body standing beside a place (0.25-0.5 m off it) held its robot off for good, circling it, and a
-  // robot on its own among posts slid to and fro before every gap.
+
+  // 2. The obstacles seen (obstacle_view.hpp): Algorithm 2's mask, eq. (6)-(7), the size and its latch; the
+  //    trace remembers them; pinned or not over the last window (progress_window.hpp).
+  const auto masking = neighbours_to_mask(*ctx.neighbours, ctx.pose, ctx.params->tick_rate, p_.max_speed,
+                                          last_position_, last_velocity_);
+  ObstacleView view = look_at_obstacles(masking, ctx.perception->ultrasonic, ctx.pose.theta, desire.m, p_);
+  if (!wall_.active()) large_latch_.apply(view.sense, ctx.tick);
+  const bool was_following = wall_.active();
+  trace_.add(view.readings, view.mask, ctx.pose, ctx.tick, p_.fusion_range);
+  const bool pinned = progress_.update(position, vnorm(desire.velocity), ctx.tick, ctx.params->tick_rate);
+  const double surface_within = p_.obstacle_range + kRobotRadius + 0.3;
   const BoundaryFollowParams bf{p_.wall_distance + kRobotRadius, p_.max_speed, 1.0, 20, 1200};
-  // A follower going round an obstacle's boundary towards a place that stands still (its parent at rest)
-  // and that stops hearing its parent keeps going round it while its own target is that same place (the same
-  // episode, side and Bug2 leave rule) until the episode ends: following a wall between it and its place took
-  // it out of its parent's radio range, where the cut-off robot's way made straight for the place again,
-  // back into range, and it was pinned again at the same spot, on the border of the radio range, for good
-  // (unseen/pocket.yaml --seed 104: a robot outside the room's wall, its place inside). An episode about a
-  // place that moved with the shape is no such search: the cut-off robot's way takes over as before.
-  const bool near_place = vnorm(vsub(place, position)) < p_.fusion_range;
-  const bool same_search = alone && boundary_.active() && vnorm(vsub(place, hit_place_)) < bf.keep;
-  if (place_still && (near_place || (alone && !same_search))) {
-    if (boundary_.active()) out.events.push_back("boundary_follow_end");
+
+  // 3. The last approach, and a cut-off robot's way (approach_stage.hpp).
+  const bool near_place = vnorm(vsub(desire.place, position)) < p_.fusion_range;
+  const bool same_search = desire.alone && episode_.active() && episode_.about(desire.place, bf.keep);
+  if (approach_takes_over(desire.place_still, near_place, desire.alone, same_search)) {
+    if (episode_.active()) out.events.push_back("boundary_follow_end");
     if (was_following) out.events.push_back("wall_follow_end");
-    boundary_.reset();
+    episode_.end();
     wall_.reset();
-    slide_side_ = 0;
-    echoes_.add(readings, mask, ctx.pose, ctx.tick, p_.obstacle_range);
-    const double to_place = vnorm(vsub(place, position));
-    // The echoes of the last kEchoMemoryTicks (Algorithm 2's mask applied when each was heard), each seen as
-    // a robot standing a body radius beyond the echo point: a post the cones swept past while the robot
-    // turned is still gone round (this tick's readings alone let a robot graze a post beside it).
-    std::vector<NeighbourPosition> echoes;
-    for (const Vec2 e : echoes_.points(ctx.tick, kEchoMemoryTicks)) {
-      const Vec2 rel = vsub(e, position);
-      const double r = vnorm(rel);
-      if (r < to_place)  // nearer than the place: not a body just beyond it
-        echoes.push_back({r + kRobotRadius, std::atan2(rel.y, rel.x), RightOfWay::Mutual, true});
-    }
-    const auto wall = trace_.surface(position, ctx.tick, p_.obstacle_range + kRobotRadius + 0.3, kTraceTicks);
-    const auto across =
-        wall ? trace_.across(position, *wall, ctx.tick, 2.0 * bf.keep, kTraceTicks) : std::nullopt;
-    return approach_.step(position, place, desired, ctx.tick, echoes, wall,
+    slide_.side = 0;
+    echoes_.add(view.readings, view.mask, ctx.pose, ctx.tick, p_.obstacle_range);
+    return approach_.step(position, desire.place, desire.velocity, ctx.tick, echoes_, trace_, surface_within,
                           {p_.k_collision, p_.r_o, p_.max_speed, p_.arrival_tolerance, p_.fusion_range, bf},
-                          rng_, out.events, across);
+                          out.events);
   }
-  approach_.reset();
-  const auto echo = trace_.surface(position, ctx.tick, p_.obstacle_range + kRobotRadius + 0.3, kTraceTicks);
-  if (!boundary_.active() && !wall_.active() && echo && pinned) {
-    // A head-on tie goes to a side drawn from the seed and the id: deterministic per run, and two robots
-    // pinned face to face do not both pick the same way.
-    const int tie = ((seed_ * 0x9E3779B97F4A7C15ull) >> 7 ^ ctx.self) & 1 ? 1 : -1;
-    // The way round: towards the side of the desired motion the parent stands on, when it clearly stands on
-    // one (it is inside the shape, where the way was clear: a corner robot held at a box goes round its inner
-    // end, not its outer one), else the tangent nearer the desired motion.
-    Vec2 prefer = desired;
-    if (leader_ != ctx.self && vnorm(to_parent_) > 1e-6) {
-      const Vec2 d_hat = vscale(desired, 1.0 / vnorm(desired));
-      const Vec2 across = vsub(to_parent_, vscale(d_hat, vdot(to_parent_, d_hat)));
-      if (vnorm(across) > kParentSide * vnorm(to_parent_)) prefer = vadd(desired, across);
-    }
-    // Bug's rule for the way round: pinned again no nearer its place than when it last started (by less
-    // than the distance it keeps from the obstacle, which going round can gain without getting past), the
-    // same obstacle or cluster still blocks it: the same way round, its time on that side running on (the
-    // dead-end turn-back below still comes). Choosing afresh each time made a robot among posts alternate
-    // sides every few dozen ticks and stay where it was (posts.yaml, seed 2: for 5,000 ticks).
-    const double gap = vnorm(vsub(place, position));
-    if (bug_side_ != 0 && gap > bug_gap_ - bf.keep) {
-      boundary_.start(bug_side_, ctx.tick, bug_since_, bug_turns_);
-    } else {
-      boundary_.start(BoundaryFollower::choose_side(position, *echo, prefer, tie), ctx.tick);
-      bug_gap_ = gap;
-    }
-    hit_place_ = place;
-    hit_gap_ = gap;
-    out.events.push_back("boundary_follow_start " + std::to_string(boundary_.side()));
+  approach_.idle();
+
+  // 4. A boundary episode (boundary_episode.hpp): pinned with an obstacle remembered near.
+  const EpisodeInputs episode{
+      position, desire.velocity, desire.place, desire.place_still, leader_ != ctx.self ? to_parent_ : Vec2{},
+      ctx.tick};
+  const auto echo = trace_.surface(position, ctx.tick, surface_within, kTraceTicks);
+  if (!episode_.active() && !wall_.active() && echo && pinned) {
+    episode_.start(episode, *echo, BoundaryEpisode::tie_break(seed_, ctx.self), bf, out.events);
   }
-  if (boundary_.active()) {
-    Vec2 v;
-    // Bug2's leave rule: while its place stands where it stood when this episode began, a robot leaves the
-    // boundary only nearer it than it was then (by the distance it keeps from the obstacle). Leaving wherever
-    // the pull pointed away from the obstacle let it back into a concave one (a U open towards it), where
-    // the leader ran between the U's corners for good. A place that moved (a follower's, with the shape) is
-    // not a fixed point to measure progress against: then it leaves as soon as the way is clear.
-    const bool same_place = place_still && vnorm(vsub(place, hit_place_)) < bf.keep;
-    const bool may_leave = !same_place || vnorm(vsub(place, position)) < hit_gap_ - p_.arrival_tolerance;
-    const auto across =
-        echo ? trace_.across(position, *echo, ctx.tick, 2.0 * bf.keep, kTraceTicks) : std::nullopt;
-    const bool following = boundary_.update(echo, position, desired, ctx.tick, bf, v, may_leave, across);
-    bug_side_ = boundary_.side();
-    bug_since_ = boundary_.since();
-    bug_turns_ = boundary_.turns();
-    if (following) return v;
-    out.events.push_back("boundary_follow_end");
-    anchor_ = position;
-    anchor_tick_ = ctx.tick;
-    asked_ = 0.0;
+  if (episode_.active()) {
+    if (const auto v = episode_.follow(episode, echo, trace_, p_.arrival_tolerance, bf, out.events))
+      return *v;
+    progress_.restart(position, ctx.tick);
   }
-  if (wall_.update(sense, desired, travel, ctx.pose, wf, around, away)) {
+
+  // 5. A small obstacle: wall-following (wall_follow.hpp).
+  if (const auto around = go_round_small_obstacle(ctx, desire.velocity, view.sense)) {
     if (!was_following) out.events.push_back("wall_follow_start");
-    return around;
+    return *around;
   }
   if (was_following) out.events.push_back("wall_follow_end");
-  // A large one: eq. (6) repulsion, and the part of the desired motion that pushes into the obstacle is
-  // dropped, so the robot slides along it instead of stalling against it; head-on, it slides towards its
-  // neighbours: the perimeter gives way inwards and the shape shrinks on that side.
-  // eq. (6) over the echoes remembered for a moment (obstacle_forces.hpp: EchoMemory).
-  echoes_.add(readings, mask, ctx.pose, ctx.tick, p_.obstacle_range);
-  sense.force = echoes_.force(position, ctx.tick, m, p_.obstacle_range, kEchoMemoryTicks);
-  const double f_obs = vnorm(sense.force);
-  if (f_obs > 1e-9) {
-    last_obstacle_tick_ = ctx.tick;
-  } else if (ctx.tick > last_obstacle_tick_ + kEchoMemoryTicks) {
-    slide_side_ = 0;
-  }
-  const double d_norm = vnorm(desired);
-  if (f_obs > 1e-9 && d_norm > 1e-9) {
-    const Vec2 n = vscale(sense.force, 1.0 / f_obs);
-    const double into = vdot(desired, n);
-    Vec2 slide = vsub(desired, vscale(n, into));
-    // Head-on (the repulsion straight against the desired motion) is a wall ahead only if something
-    // remembered lies on the way: between two obstacles on either side (a gap between posts, 0.8-1 m) the
-    // summed repulsion also points straight back, and dropping the desired motion along it turned every such
-    // gap into a dead end (posts.yaml: lone robots and leaders slid to and fro before a gap for thousands of
-    // ticks). There eq. (6) alone, against the full desired motion, takes the robot through.
-    const bool head_on = vnorm(slide) < 0.5 * d_norm;
-    const bool gap_ahead =
-        head_on && echoes_.gap_ahead(position, vscale(desired, 1.0 / d_norm), p_.obstacle_range,
-                                     2.0 * kRobotRadius, ctx.tick, kEchoMemoryTicks);
-    if (into < 0.0 && !gap_ahead) {
-      if (head_on) {
-        // The side is judged against the remembered obstacle (-n, stable while the robot turns) and kept
-        // until the obstacle is gone, so that a robot never swings from one side to the other.
-        if (slide_side_ == 0) {
-          // Towards the parent's side (it stands inside the shape, where the way is clear); the leader, which
-          // has none, towards its neighbours.
-          const Vec2 to_obstacle = vscale(n, -1.0);
-          const double parent_side = to_obstacle.x * to_parent_.y - to_obstacle.y * to_parent_.x;
-          const int toward = side_away_from_neighbours(*ctx.neighbours, to_obstacle, 1.5 * p_.spacing);
-          if (parent_ && std::abs(parent_side) > 0.05) {
-            slide_side_ = parent_side > 0 ? 1 : -1;
-          } else {
-            slide_side_ =
-                toward != 0 ? -toward : (vdot(slide, vrotate(n, std::numbers::pi / 2)) >= 0 ? -1 : 1);
-          }
-        }
-        // +1: left of the obstacle direction -n, i.e. n turned by -pi/2.
-        slide = vadd(slide, vscale(vrotate(n, -slide_side_ * std::numbers::pi / 2), 0.5 * d_norm));
-      }
-      desired = slide;
-    }
-  }
-  return vadd(desired, sense.force);
+
+  // 6. A large one: eq. (6) over the echoes remembered for a moment, and the slide (obstacle_response.hpp).
+  echoes_.add(view.readings, view.mask, ctx.pose, ctx.tick, p_.obstacle_range);
+  return respond_to_obstacles(slide_, echoes_, *ctx.neighbours,
+                              {position, desire.velocity, desire.m, parent_.has_value(), to_parent_, ctx.tick,
+                               p_.obstacle_range, 1.5 * p_.spacing});
 }
 
 }  // namespace swarmform::controller::motion

@@ -34,13 +34,19 @@
 #include <optional>
 #include <vector>
 
+#include "robot_agent/controller/approach_stage.hpp"
+#include "robot_agent/controller/boundary_episode.hpp"
+#include "robot_agent/controller/desired_motion.hpp"
 #include "robot_agent/controller/leader_election.hpp"
 #include "robot_agent/controller/motion_hooks.hpp"
 #include "robot_agent/controller/motion_inputs_watch.hpp"
 #include "robot_agent/controller/motion_params.hpp"
 #include "robot_agent/controller/obstacle_forces.hpp"
+#include "robot_agent/controller/obstacle_response.hpp"
+#include "robot_agent/controller/obstacle_view.hpp"
 #include "robot_agent/controller/parent_tree.hpp"
-#include "robot_agent/controller/place_approach.hpp"
+#include "robot_agent/controller/place_watch.hpp"
+#include "robot_agent/controller/progress_window.hpp"
 #include "robot_agent/controller/wall_follow.hpp"
 
 namespace swarmform::controller::motion {
@@ -68,10 +74,15 @@ class PaperMotion final : public MotionPhases {
   void record_references(const FormationContext& ctx);
   Vec2 reference_to(const FormationContext& ctx, RobotId id) const;
   Vec2 motion_velocity(const FormationContext& ctx, MotionStep& out);
+  Desire desired_motion(const FormationContext& ctx);
+  void arrive(const FormationContext& ctx, Arrival arrival, MotionStep& out);
+  std::optional<Vec2> go_round_small_obstacle(const FormationContext& ctx, Vec2 desired,
+                                              const ObstacleSense& sense);
   Vec2 own_target(const FormationContext& ctx) const;
   double leader_stop_distance() const;
   bool parent_lost(const FormationContext& ctx) const;
   bool should_resume(const FormationContext& ctx) const;
+  bool off_place(const FormationContext& ctx);
 
   MotionParams p_;
   RobotState state_ = RobotState::Ready;
@@ -82,46 +93,33 @@ class PaperMotion final : public MotionPhases {
   std::optional<RobotId> parent_;
   Vec2 parent_reference_;               // eq. (2)'s r0 (cos a0, sin a0), arena frame
   std::map<RobotId, Vec2> references_;  // the same to every neighbour, recorded at the end of Ready
-  struct Sum {
-    Vec2 total;
-    int count = 0;
-  };
-  std::map<RobotId, Sum> ready_sums_;  // each member's vector as heard in every tick of Ready (eq. 2's r0)
-  Sum parent_rest_;                    // where the parent was heard since it came to rest (arena frame)
-  std::optional<RobotId> resting_parent_;  // the parent parent_rest_ is about
+  std::map<RobotId, PointSum>
+      ready_sums_;  // each member's vector as heard in every tick of Ready (eq. 2's r0)
   std::map<RobotId, Vec2> last_position_;  // each neighbour's arena position when last heard
   std::map<RobotId, Vec2> last_velocity_;  // and the velocity it said it had then
-  Tick large_until_ = 0;                   // a large obstacle was seen lately: no wall-following
   double children_strain_ = 0.0;           // max strain the children reported (motion_section.hpp)
   std::map<RobotId, Tick> marked_dead_;    // id -> last_heard when we marked it (mark once per silence)
   bool unheard_members_checked_ = false;   // the members never heard since Ready judged, or not to be
-  WallFollower wall_;
-  EchoMemory echoes_;
-  Vec2 to_parent_;      // this tick's vector to the parent, arena frame
-  int slide_side_ = 0;  // head-on give-way side, kept while the obstacle is near (0: none yet)
-  Tick last_obstacle_tick_ = 0;
+  Vec2 to_parent_;                         // the last vector to the parent, arena frame (desired_motion.hpp)
   double net_force_ = 0.0;
-  double lag_ = 0.0;  // the part of F_net towards the goal (>= 0): this robot's strain
-  // Pinned at an obstacle: boundary following (wall_follow.hpp), over echoes remembered longer.
-  BoundaryFollower boundary_;
-  PlaceApproach approach_;  // the last approach, and a cut-off robot's way to its place
-  std::mt19937_64 rng_;     // its detours, seeded from the run's seed and the id
-  int bug_side_ = 0;        // the way round last taken (0: none yet), since bug_since_, first chosen
-  Tick bug_since_ = 0;      // bug_gap_ m from its place, turned back bug_turns_ times
-  double bug_gap_ = 0.0;
-  int bug_turns_ = 0;
-  Vec2 hit_place_;        // this boundary episode began with its place here,
-  double hit_gap_ = 0.0;  // this far from it (Bug2's leave rule)
-  EchoMemory trace_;
-  Vec2 anchor_;  // where this progress window started, and when
-  Tick anchor_tick_ = 0;
-  double asked_ = 0.0;  // m the desired motion asked for since then
+  double lag_ = 0.0;    // the part of F_net towards the goal (>= 0): this robot's strain
   Vec2 live_centroid_;  // centroid of the places of the labels live members hold
   bool has_live_centroid_ = false;
   std::uint64_t seed_ = 1;
   std::optional<RobotId> arrived_parent_;  // the parent when it arrived
   bool arrived_alone_ = false;             // it arrived at its own target (no parent heard)
-  ParentTreeCache tree_cache_;  // our label's parent in the shared tree, kept while its inputs stay
+  PlaceWatch place_watch_;                 // an arrived follower's place, from its parent's recent readings
+  // The stages of a tick in Motion, each with its own state (motion_velocity reads them in order).
+  FollowerDesire follower_;         // 1. the desired motion: a follower's view of its resting parent
+  LargeObstacleLatch large_latch_;  // 2. the obstacles seen: the size latch,
+  EchoMemory trace_;                //    the echoes remembered longer (boundaries, the approach),
+  ProgressWindow progress_;         //    and the window that judges a robot pinned
+  ApproachStage approach_;          // 3. the last approach, and a cut-off robot's way
+  BoundaryEpisode episode_;         // 4. a boundary episode, and the way round remembered
+  WallFollower wall_;               // 5. a small obstacle gone round
+  EchoMemory echoes_;               // 6. eq. (6)'s short memory of echoes,
+  SlideState slide_;                //    and the slide's side
+  ParentTreeCache tree_cache_;      // our label's parent in the shared tree, kept while its inputs stay
   // choose_leader_and_parent's reading of the members, the stigmergy and the tree (the elected leader, the
   // parent the tree gives, the live centroid), and the inputs it was made from: while none of them changes
   // (the common case once the shape moves) it is reused instead of going over every member again.

@@ -14,7 +14,11 @@ SensorMask mask_neighbour_directions(const UltrasonicArray& readings,
   SensorMask mask{};
   for (std::size_t s = 0; s < kUltrasonicCount; ++s) {
     for (const auto& n : neighbours) {
-      if (neighbour_explains_echo(n.bearing, kUltrasonicAngles[s], readings[s], n.range, mask_angle, slack)) {
+      const double angle = n.uncertainty > 0.0
+                               ? mask_angle + std::atan2(n.uncertainty, std::max(n.range, kRobotRadius))
+                               : mask_angle;
+      if (neighbour_explains_echo(n.bearing, kUltrasonicAngles[s], readings[s], n.range, angle,
+                                  slack + n.uncertainty)) {
         mask[s] = true;
         break;
       }

@@ -39,10 +39,12 @@ namespace swarmform::controller::motion {
 using UltrasonicArray = std::array<double, kUltrasonicCount>;
 using SensorMask = std::array<bool, kUltrasonicCount>;  // true: left out (a neighbour stands there)
 
-// A neighbour in the robot's own frame, as the range-and-bearing sensor gives it.
+// A neighbour in the robot's own frame, as the range-and-bearing sensor gives it, or, not heard this tick,
+// where it is estimated to stand; `uncertainty` (m) is how far off that estimate may be (0: heard now).
 struct NeighbourBearing {
   double range = 0.0;    // m, centre to centre
   double bearing = 0.0;  // rad, body frame
+  double uncertainty = 0.0;
 };
 
 // Algorithm 2's test for one sensor and one neighbour: the neighbour stands within the sensor's direction
@@ -59,7 +61,8 @@ inline bool neighbour_explains_echo(double neighbour_angle, double sensor_angle,
   return std::abs(off) < mask_angle + half_size;
 }
 
-// Algorithm 2's mask. `slack`: m of tolerance on the range consistency.
+// Algorithm 2's mask. `slack`: m of tolerance on the range consistency. A neighbour's `uncertainty` widens
+// both tests by that much (the range by it, the angle by what it subtends at the neighbour's range).
 SensorMask mask_neighbour_directions(const UltrasonicArray& readings,
                                      const std::vector<NeighbourBearing>& neighbours, double mask_angle,
                                      double slack);

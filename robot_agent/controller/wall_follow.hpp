@@ -66,9 +66,9 @@ namespace swarmform::controller::motion {
 // side +1: counter-clockwise about the obstacle (it on the robot's left), -1 clockwise. It leaves once the
 // desired motion no longer leads into the obstacle (desired . (e - p) <= 0, after `min_ticks`) and the caller
 // allows it (`may_leave`: the leader leaves only nearer its goal than where it began, Bug2's rule; see
-// motion_phase.cpp), or when nothing is remembered near any more. After `max_ticks` on one side it turns back
-// the other way (a dead end), and each later turn-back waits twice as long as the one before: a boundary of
-// any finite length is searched both ways in the end (a fixed period turned a leader back before it could
+// boundary_episode.hpp), or when nothing is remembered near any more. After `max_ticks` on one side it turns
+// back the other way (a dead end), and each later turn-back waits twice as long as the one before: a boundary
+// of any finite length is searched both ways in the end (a fixed period turned a leader back before it could
 // round a long wall). Back within `keep` of where it began (or last turned back) after going more than 2 x
 // `keep` from there, it has
 // gone all the way round (Bug2's sign that the goal cannot be reached this way round: a post among posts, the
@@ -91,7 +91,7 @@ class BoundaryFollower {
  public:
   static int choose_side(Vec2 position, Vec2 echo, Vec2 desired, int tie_break);
   // `side_since`: when this side was first taken (a robot pinned again by the same obstacle keeps its way
-  // round and its time on it; motion_phase.cpp); by default now.
+  // round and its time on it; boundary_episode.hpp); by default now.
   // `turns`: how often it already turned back on this obstacle (its next turn-back waits 2^turns x
   // max_ticks).
   void start(int side, Tick tick, std::optional<Tick> side_since = std::nullopt, int turns = 0) {
