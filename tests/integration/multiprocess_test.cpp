@@ -5,9 +5,13 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <stdlib.h>
+#include <sys/resource.h>
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -308,13 +312,15 @@ TEST_F(MultiProcess, NonFiniteAndOversizeCommandsAreRejectedLoggedAndTheRunGoesO
 }
 
 TEST_F(MultiProcess, WorldNamesTheAgentsMissingAtTheConnectTimeout) {
+  // 10 s: time enough for agent 0 to find the world and claim on a loaded 2-core machine (with 1 s it was
+  // sometimes still discovering, and all 8 were named).
   const int domain = swarmform::testing::test_domain(6);
   Process& w = start({kWorld, "--scenario", kScenario, "--out", path("missing"), "--domain",
-                      std::to_string(domain), "--connect-timeout", "1"},
+                      std::to_string(domain), "--connect-timeout", "10"},
                      "missing-world");
   agent(domain, 0, "missing");
-  EXPECT_EQ(w.wait_for(20.0), 3);
-  EXPECT_NE(w.err().find("7 of 8 agents missing after 1 s: 1-7"), std::string::npos) << w.err();
+  EXPECT_EQ(w.wait_for(60.0), 3);
+  EXPECT_NE(w.err().find("7 of 8 agents missing after 10 s: 1-7"), std::string::npos) << w.err();
 }
 
 TEST_F(MultiProcess, AgentGivesUpWhenNoWorldShowsUp) {
@@ -621,6 +627,14 @@ TEST_F(Abuse, FloodFromAProcessThatOwnsNoIdKillsNobodyInRealtime) {
   // tick 13, a loaded machine 6 deaths. The lockstep flood test above runs the same input paths under ASan.
   GTEST_SKIP() << "realtime timing under AddressSanitizer; the Release suite asserts it";
 #endif
+  // The run's own processes (world, agents, the flooder alike) a step above the machine's other work: the
+  // property is what the flood costs the honest robots, not what a busy host does to a realtime run (on a
+  // loaded 2-core machine, beside another test, an agent's lease lapsed with no flood at all). Root only;
+  // without the right the run keeps the default priority.
+  errno = 0;
+  if (setpriority(PRIO_PROCESS, 0, getpriority(PRIO_PROCESS, 0) - 5) != 0) {
+    std::cout << "realtime-flooded: could not raise the run's priority (" << std::strerror(errno) << ")\n";
+  }
   const int domain = swarmform::testing::test_domain(43);
   const AbusedRun flooded = run_with(domain, "realtime-flooded",
                                      {{"flood", "--seconds", "6", "--ids", "8", "--made-up", "--realtime"}},
