@@ -1,11 +1,7 @@
 // swarm_inprocess: a whole run in one process (the world library + N controllers, no DDS), writing the same
 // run directory as `swarm run`. For users who want a quick answer and for the large-N benchmarks.
 //
-// Exit codes (also in --help): 0 the run ended (completed or max_ticks); 1 an internal error; 2 bad flags or
-// a bad scenario/shape/plug-in; 5 a write of the run directory failed (a full disk: end_reason disk_full); 6
-// a robot's behaviour failed (threw or returned a non-finite wheel speed: end_reason behaviour_failed, the
-// message names the robot and the behaviour); 130 interrupted by SIGINT/SIGTERM (summary.json written,
-// end_reason interrupted).
+// Exit codes: common/exit_codes.json (printed by --help).
 #include <unistd.h>
 
 #include <atomic>
@@ -21,6 +17,7 @@
 #include <CLI/CLI.hpp>
 
 #include "behaviour/registry.hpp"
+#include "common/exit_codes.hpp"
 #include "common/input_error.hpp"
 #include "harness/harness.hpp"
 #include "harness/param_flags.hpp"
@@ -33,9 +30,7 @@ namespace {
 using namespace swarmform;
 namespace fs = std::filesystem;
 
-constexpr int kExitRecordingFailed = 5;
-constexpr int kExitBehaviourFailed = 6;
-constexpr int kExitInterrupted = 130;
+using namespace swarmform::exit_codes;
 
 std::atomic<bool> g_interrupted{false};
 
@@ -186,15 +181,11 @@ int main(int argc, char** argv) {
   app.add_flag("--no-record", no_record, "write nothing (metrics only; for benchmarks)");
   swarmform::world::add_record_every_flag(app, record_every);
   app.add_flag("--quiet", quiet, "no progress lines on stderr");
-  app.footer(
-      "Exit codes: 0 the run ended (completed or max_ticks: summary.json's end_reason says which); 1 an "
-      "internal error; 2 bad flags, scenario or shape; 5 a write of the run directory failed (disk full: "
-      "end_reason disk_full); 6 a robot's behaviour failed (threw or returned a non-finite wheel speed: "
-      "end_reason behaviour_failed); 130 interrupted by SIGINT/SIGTERM (end_reason interrupted).");
+  app.footer(kExitHelp_swarm_inprocess);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    return app.exit(e) == 0 ? kExitOk : kExitBadInput;  // CLI11's own codes are not ours
   }
 
   try {
@@ -306,16 +297,16 @@ int main(int argc, char** argv) {
         g_interrupted ? std::string()
                       : world::max_ticks_line(harness.metrics(), harness.world().tick(), scenario.max_ticks);
     if (!why.empty()) std::cerr << "swarm_inprocess: " << why << "\n";
-    return g_interrupted ? kExitInterrupted : 0;
+    return g_interrupted ? kExitInterrupted : kExitOk;
   } catch (const world::RecordingError& e) {  // the run directory could not even be started
     std::cerr << "swarm_inprocess: run ended (" << world::to_string(e.reason())
               << ") before it started: " << e.what() << "\n";
     return kExitRecordingFailed;
   } catch (const InputError& e) {
     std::cerr << e.what() << "\n";
-    return 2;
+    return kExitBadInput;
   } catch (const std::exception& e) {
     std::cerr << "swarm_inprocess: " << e.what() << "\n";
-    return 1;
+    return kExitFailed;
   }
 }

@@ -4,13 +4,8 @@
 // robot_agent --id K --count N: robots K..K+N-1, each its own process forked from this one, which supervises
 // them (common/dds/robot_block.hpp: the way to start many agents on one machine).
 //
-// Exit codes: 0 the run ended (or --help); 2 bad flags or an unusable mission; 3 no world within --timeout,
-// or the world went away mid-run (silent for --world-timeout); 4 the id was refused; 5 the id was lost to
-// another agent (this one was taken for dead and a restarted one claimed it); 6 the robot's behaviour failed
-// (an --exec child exited, hung past its deadline or wrote garbage, the message says what it did; or a
-// built-in or plug-in behaviour returned a non-finite wheel speed): the robot is dead, the world goes on;
-// 1 anything else (a DDS failure, a controller exception); 128+signal when stopped by SIGINT/SIGTERM. The
-// last stdout line is a summary a test can read:
+// Exit codes: common/exit_codes.json (printed by --help). A failed behaviour (exit kExitBehaviourFailed)
+// makes the robot dead; the world goes on. The last stdout line is a summary a test can read:
 //   agent id=K packets=P foreign_packets=F refused=R restarts=S
 // (R: samples refused as not of this world, run or wire version; S: controller restarts after a rejoin).
 // robot_agent --exec "CMD": the behaviour is the program CMD, one child process per robot, spoken to through
@@ -31,6 +26,7 @@
 #include "common/dds/robot_process.hpp"
 #include "common/dds/security_config.hpp"
 #include "common/dds/signal_watch.hpp"
+#include "common/exit_codes.hpp"
 #include "common/input_error.hpp"
 #include "robot_agent/controller/builtins.hpp"
 #include "robot_agent/dds_link.hpp"
@@ -74,8 +70,7 @@ swarmform::dds::DdsSettings dds_settings(const Options& o) {
   return settings;
 }
 
-constexpr int kExitLostId = 5;
-constexpr int kExitBehaviourFailed = 6;
+using namespace swarmform::exit_codes;
 
 // The robot's controller: the mission's built-in behaviour, or the --exec program behind the same interface.
 std::unique_ptr<swarmform::controller::Controller> make_robot_controller(
@@ -113,7 +108,7 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
     case WaitResult::Ok:
       break;
     case WaitResult::Stopped:
-      return stopped(128 + signals.signal());
+      return stopped(kExitSignalBase + signals.signal());
     default:
       std::cerr << me << ": no world on DDS domain " << o.domain << " (peer " << o.world_host << ") within "
                 << o.timeout_s << " s; is world_server running"
@@ -122,13 +117,13 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
                         : " with DDS Security, from the same run's directory as --security-dir " +
                               o.security_dir + "?")
                 << "\n";
-      return stopped(3);
+      return stopped(kExitNoWorld);
   }
 
   if (o.id >= mission.robots) {
     // The world drops samples for ids far outside the run before reading them (it would not answer).
     std::cerr << me << ": no robot " << o.id << " in this run (ids 0.." << mission.robots - 1 << ")\n";
-    return stopped(4);
+    return stopped(kExitIdRefused);
   }
 
   // The behaviours this agent may run: the built-ins, and plug-ins from its own --plugin-dir and
@@ -139,7 +134,7 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
   for (const std::string& d : o.plugin_dirs) {
     if (!std::filesystem::is_directory(d)) {
       std::cerr << me << ": --plugin-dir '" << d << "': not a folder\n";
-      return stopped(2);
+      return stopped(kExitBadInput);
     }
     behaviours.add_folder(d);
   }
@@ -155,10 +150,10 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
     failed_start = e;
   } catch (const swarmform::InputError& e) {
     std::cerr << me << ": unusable mission: " << e.what() << "\n";
-    return stopped(2);
+    return stopped(kExitBadInput);
   } catch (const swarmform::behaviour::PluginError& e) {
     std::cerr << me << ": " << e.what() << "\n";
-    return stopped(2);
+    return stopped(kExitBadInput);
   }
 
   swarmform::dds::ClaimAnswer answer;
@@ -166,15 +161,15 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
     case WaitResult::Ok:
       break;
     case WaitResult::Stopped:
-      return stopped(128 + signals.signal());
+      return stopped(kExitSignalBase + signals.signal());
     default:
       std::cerr << me << ": the world did not answer the claim of id " << o.id << " within " << o.timeout_s
                 << " s\n";
-      return stopped(3);
+      return stopped(kExitNoWorld);
   }
   if (!answer.accepted) {
     std::cerr << me << ": refused: " << answer.reason << "\n";
-    return stopped(4);
+    return stopped(kExitIdRefused);
   }
 
   const auto behaviour_failed = [&](const swarmform::agent::BehaviourFailure& e) {
@@ -194,14 +189,14 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
       case WaitResult::Ok:
         break;
       case WaitResult::Stopped:
-        return stopped(128 + signals.signal());
+        return stopped(kExitSignalBase + signals.signal());
       case WaitResult::WorldGone:
         std::cerr << me << ": the world went away before announcing the end (silent for "
                   << link.world_silence_limit_s(o.timeout_s) << " s of this agent's own time)\n";
-        return stopped(3);
+        return stopped(kExitNoWorld);
       case WaitResult::Timeout:
         std::cerr << me << ": no packet and no world for " << o.timeout_s << " s\n";
-        return stopped(3);
+        return stopped(kExitNoWorld);
     }
     if (packet.owner_nonce != link.claim_nonce() && own_packets == 0 && ++stale_packets <= kStalePackets) {
       // Before our first own packet, one written before the world took our claim (a take-over of an owner
@@ -215,10 +210,10 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
           << me << ": lost id " << o.id
           << " to another agent: this one was taken for dead (stalled or cut off) and a restarted agent "
              "claimed the id; exiting\n";
-      return stopped(kExitLostId);
+      return stopped(kExitIdLost);
     }
     ++own_packets;
-    if (packet.status == swarmform::dds::PacketStatus::End) return stopped(0);
+    if (packet.status == swarmform::dds::PacketStatus::End) return stopped(kExitOk);
     if (generation == 0) {
       generation = packet.generation;
     } else if (packet.generation > generation) {
@@ -260,10 +255,10 @@ int run_agent(const Options& o) {
     return run(o, signals);
   } catch (const std::invalid_argument& e) {
     std::cerr << "robot_agent: " << e.what() << "\n";
-    return 2;
+    return kExitBadInput;
   } catch (const std::exception& e) {
     std::cerr << "robot_agent " << o.id << ": " << e.what() << "\n";
-    return 1;
+    return kExitFailed;
   }
 }
 
@@ -316,7 +311,8 @@ int main(int argc, char** argv) {
          "process per robot, started by /bin/sh -c 'exec CMD' with SWARMFORM_ROBOT_ID set, speaking the "
          "JSON line protocol of docs/agent-protocol.md on its stdin/stdout (its stderr goes to this "
          "agent's). A child that exits, hangs past --exec-timeout or writes garbage or NaN makes the robot "
-         "dead (exit 6, saying what the child did)")
+         "dead (exit " +
+             std::to_string(kExitBehaviourFailed) + ", saying what the child did)")
       ->check([](const std::string& v) {
         return v.find_first_not_of(" \t") == std::string::npos ? std::string("want a command")
                                                                : std::string();
@@ -327,21 +323,23 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.001, 3600.0));
   app.add_option("--plugin-dir", o.plugin_dirs,
                  "a folder behaviour plug-ins may be loaded from (with those of SWARMFORM_PLUGIN_PATH, "
-                 "':'-separated); repeatable. A mission naming a plug-in anywhere else is refused (exit 2)");
+                 "':'-separated); repeatable. A mission naming a plug-in anywhere else is refused (exit " +
+                     std::to_string(kExitBadInput) + ")");
+  app.footer(kExitHelp_robot_agent);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return e.get_exit_code() == 0 ? app.exit(e) : (app.exit(e), 2);
+    return e.get_exit_code() == 0 ? app.exit(e) : (app.exit(e), kExitBadInput);
   }
   try {
     o.user_dds = swarmform::dds::user_dds_config(o.dds_config, std::getenv("CYCLONEDDS_URI"));
     if (o.print_dds_config) {
       std::cout << swarmform::dds::cyclone_config_listing(dds_settings(o), "robot_agent");
-      return 0;
+      return kExitOk;
     }
   } catch (const std::invalid_argument& e) {
     std::cerr << "robot_agent: " << e.what() << "\n";
-    return 2;
+    return kExitBadInput;
   }
   // Before any thread exists, and before a block forks: every thread and every forked robot inherits both.
   (void)swarmform::dds::yield_to_world_on_wakeup();
@@ -359,6 +357,6 @@ int main(int argc, char** argv) {
         std::cout);
   } catch (const std::exception& e) {
     std::cerr << "robot_agent: " << e.what() << "\n";
-    return 1;
+    return kExitFailed;
   }
 }

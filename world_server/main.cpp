@@ -2,11 +2,9 @@
 // waits for every robot's agent to claim its id, then ticks (lockstep or realtime) until the run is complete,
 // and writes the run directory through RunSession. `--check` only loads and validates the scenario.
 //
-// Exit codes (kExitCodes below, printed by --help): 0 done (also after SIGINT/SIGTERM: the summary is
-// written, end_reason says why); 1 the world failed (a DDS failure, an internal error); 2 bad flags or a bad
-// scenario/shape (`file:line: what` on stderr); 3 agents missing at --connect-timeout; 5 a write of the run
-// directory failed (a full disk: end_reason disk_full). On 1, 3 and 5 the agents are told to end and
-// summary.json is written when the disk allows.
+// Exit codes: common/exit_codes.json (printed by --help). After a failure once agents connected (the world
+// failed, agents missing, a write failed) the agents are told to end and summary.json is written when the
+// disk allows.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <cstdlib>
@@ -19,6 +17,7 @@
 #include "behaviour/registry.hpp"
 #include "common/dds/robot_process.hpp"
 #include "common/dds/signal_watch.hpp"
+#include "common/exit_codes.hpp"
 #include "common/input_error.hpp"
 #include "robot_agent/controller/builtins.hpp"
 #include "world_server/run/record_every_flag.hpp"
@@ -30,13 +29,8 @@ namespace {
 using swarmform::RobotId;
 using swarmform::Tick;
 
-constexpr int kExitBadInput = 2;
-
-constexpr const char* kExitCodes =
-    "Exit codes: 0 the run ended (completed, max_ticks, or interrupted by SIGINT/SIGTERM; summary.json says "
-    "which in end_reason); 1 the world failed (DDS failure, internal error: end_reason world_failed); 2 bad "
-    "flags, scenario or shape; 3 agents missing at --connect-timeout (no_agents); 5 a write of the run "
-    "directory failed (disk full: disk_full). The agents are told to end in every case.";
+using swarmform::exit_codes::kExitBadInput;
+using swarmform::exit_codes::kExitOk;
 
 struct Options {
   std::string scenario;
@@ -110,7 +104,7 @@ swarmform::dds::DdsSettings dds_settings(const Options& o) {
 int run(const Options& o) {
   if (o.print_dds_config) {
     std::cout << swarmform::dds::cyclone_config_listing(dds_settings(o), "world_server");
-    return 0;
+    return kExitOk;
   }
   // The behaviours the scenario may name: the built-ins, and plug-ins from the scenario's own folder,
   // --plugin-dir and SWARMFORM_PLUGIN_PATH only (behaviour/registry.hpp).
@@ -140,7 +134,7 @@ int run(const Options& o) {
                                       {"max_ticks", scenario.max_ticks},
                                       {"seed", scenario.seed}};
     std::cout << j.dump() << std::endl;
-    return 0;
+    return kExitOk;
   }
   if (o.out.empty()) throw std::invalid_argument("--out DIR is required for a run (the run directory)");
 
@@ -256,12 +250,12 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     if (std::string(argv[i]) == "--print-dds-config") scenario->required(false);
   }
-  app.footer(kExitCodes);
+  app.footer(swarmform::exit_codes::kExitHelp_world_server);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
-    return code == 0 ? 0 : kExitBadInput;
+    return code == 0 ? kExitOk : kExitBadInput;
   }
   try {
     return run(o);
@@ -277,6 +271,6 @@ int main(int argc, char** argv) {
     return swarmform::server::kExitRecordingFailed;
   } catch (const std::exception& e) {
     std::cerr << "world_server: " << e.what() << "\n";
-    return 1;
+    return swarmform::exit_codes::kExitFailed;
   }
 }

@@ -17,6 +17,7 @@
 
 #include "common/dds/refusal_log.hpp"
 #include "common/dds/signal_watch.hpp"
+#include "common/exit_codes.hpp"
 #include "world_server/agent_registry.hpp"
 #include "world_server/dds_bridge.hpp"
 #include "world_server/input_guard.hpp"
@@ -61,11 +62,11 @@ struct ServerOptions {
   bool start_paused = false;
 };
 
-// Exit codes of a run (main.cpp documents them all; scripts/README.md too).
-inline constexpr int kExitOk = 0;           // completed, max_ticks or interrupted: summary.json written
-inline constexpr int kExitWorldFailed = 1;  // the world could not go on (a DDS failure, an internal error)
-inline constexpr int kExitAgentsMissing = 3;
-inline constexpr int kExitRecordingFailed = 5;  // a write of the run directory failed (disk full, ...)
+// Exit codes of a run: common/exit_codes.json holds them all (and their meanings).
+using exit_codes::kExitAgentsMissing;
+using exit_codes::kExitOk;
+using exit_codes::kExitRecordingFailed;
+inline constexpr int kExitWorldFailed = exit_codes::kExitFailed;  // the world could not go on
 
 class Server {
  public:

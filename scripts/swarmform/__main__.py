@@ -2,12 +2,13 @@
 
 import sys
 
+from . import exit_codes
 from .cli import main
 
 if __name__ == "__main__":
     try:
         sys.exit(main())
     except KeyboardInterrupt:
-        sys.exit(130)
+        sys.exit(exit_codes.INTERRUPTED)
     except BrokenPipeError:  # `swarm report ... | head`
-        sys.exit(1)
+        sys.exit(exit_codes.FAILED)

@@ -9,7 +9,7 @@ import sys
 import time
 from typing import IO, Any, Callable, NoReturn, Optional, Sequence
 
-from . import expect, faults, hosts, launcher, security
+from . import exit_codes, expect, faults, hosts, launcher, security
 
 DEFAULT_SCENARIO = os.path.join("scenarios", "paper.yaml")
 
@@ -47,10 +47,12 @@ examples:
   scripts/swarm run --no-pictures --expect 'outcome == arrived' --expect 'collisions_robot_robot == 0'
   scripts/swarm sweep --kills none random:2 --seeds 1-20
 
-`scripts/swarm <command> --help` tells more. Exit codes: 0 ok, 1 failed, 2 bad input, 130 interrupted.
+`scripts/swarm <command> --help` tells more. Exit codes: {codes} (`swarm run --help` lists its own).
 Environment: BUILD_DIR (default build/) holds the executables; SWARM_NO_BUILD=1 skips the build step;
 SWARM_RUNS_DIR (default runs/) is where default run directories go.
 """
+MAIN_HELP = MAIN_HELP.replace("{codes}", f"{exit_codes.OK} ok, {exit_codes.FAILED} failed, {exit_codes.BAD_INPUT} bad "
+                                         f"input, {exit_codes.INTERRUPTED} interrupted")
 
 
 class Parser(argparse.ArgumentParser):
@@ -209,7 +211,7 @@ def make_parser() -> Parser:
                                      "robots alive, ticks/s),\nSIGKILLs the --kill agents at their ticks, executes "
                                      "the --fault faults, writes the run directory\nand draws the pictures. Ctrl-C "
                                      "stops everything (the recording so far is kept) and exits 130.",
-                         epilog=launcher.EXIT_CODES[0].upper() + launcher.EXIT_CODES[1:])
+                         epilog=exit_codes.help_text("swarm_run"))
     _add_run_flags(run)
 
     demo = sub.add_parser("demo", help="run the paper's scenario",
@@ -394,13 +396,13 @@ def render_pictures(run_dir: str, ticks: Sequence[int] = (), out_dir: Optional[s
             progress.end()
     except recording.RecordingError as e:
         print(f"swarm: {e}", file=sys.stderr)
-        return 1
+        return exit_codes.FAILED
     except (pictures.PictureError, animation.AnimationError) as e:
         print(f"swarm: {e}", file=sys.stderr)
-        return 2 if isinstance(e, pictures.PictureError) else 1
+        return exit_codes.BAD_INPUT if isinstance(e, pictures.PictureError) else exit_codes.FAILED
     folder = os.path.dirname(written[0]) if written else out_dir
     print(f"pictures: {len(written)} files in {folder}/")
-    return 0
+    return exit_codes.OK
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
@@ -408,7 +410,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     args = parser.parse_args(argv)
     if args.command is None:
         parser.print_help(sys.stderr)
-        return 2
+        return exit_codes.BAD_INPUT
     if args.command in ("run", "demo"):
         if args.link and not args.hosts:
             parser.error("--link shapes the links of emulated hosts: it needs --hosts K")
@@ -426,7 +428,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             parser.error(f"--secure: DDS domain {args.domain} is above {security.MAX_SECURE_DOMAIN}, the highest "
                          "Cyclone 0.10.2's access control takes")
         if os.environ.get("SWARM_PARSE_ONLY") == "1":  # scripts/swarm checks the flags before it builds
-            return 0
+            return exit_codes.OK
         if args.view_paused and args.view is None:
             args.view = DEFAULT_VIEW_PORT
         code = launcher.run(args, lambda run_dir: render_pictures(run_dir, args.ticks,
@@ -435,7 +437,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         if args.expect and code != launcher.EXIT_INTERRUPTED and getattr(args, "run_dir", None):
             checked = expect.evaluate(args.expect, args.run_dir, lambda m: print(m, file=sys.stderr))
             code = code or checked  # a failed run keeps its own exit code
-        if args.command == "demo" and code == 0:
+        if args.command == "demo" and code == exit_codes.OK:
             where = os.path.relpath(args.run_dir)
             where = args.run_dir if where.startswith("..") else where
             print(f"demo done. Pictures: {where}/pictures/ (snapshot_t*.png, trajectories.png, residual_force.png,"
@@ -451,16 +453,16 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             print(f"swarm kill: {e}", file=sys.stderr)
             return e.code
         print(f"killed agent {args.id} (pid {pid})")
-        return 0
+        return exit_codes.OK
     if args.command == "view":
         if os.environ.get("SWARM_PARSE_ONLY") == "1":
-            return 0
+            return exit_codes.OK
         return launcher.view(args.run_dir, args.port, args.host)
     if args.command == "replay":
         return render_pictures(args.run_dir, args.ticks, args.out, not args.no_animation, args.labels)
     if args.command == "sweep":
         if os.environ.get("SWARM_PARSE_ONLY") == "1":
-            return 0
+            return exit_codes.OK
         from . import sweep
         args.seeds = [s for chunk in (args.seeds or []) for s in chunk] or None
         return sweep.sweep(args)
@@ -476,7 +478,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                     report.report(run_dir)
         except recording.RecordingError as e:
             print(f"swarm report: {e}", file=sys.stderr)
-            return 1
-        return 0
+            return exit_codes.FAILED
+        return exit_codes.OK
     parser.error(f"unknown command {args.command}")
-    return 2
+    return exit_codes.BAD_INPUT

@@ -6,7 +6,7 @@ Comparing: a number with a number numerically; a list (deaths, rejoins, stuck_ro
 `deaths <= 2` means at most two deaths; true/false and null only with == and !=; a word only with == and !=
 (`outcome == arrived`). A key whose value is null fails every ordering (`goal_tick <= 3000` fails when the goal
 was never reached). The launcher prints every expectation met or failed and exits 4 when one failed (the run
-itself succeeded), 2 for an unknown key.
+itself succeeded), 2 for an unknown key (common/exit_codes.json).
 """
 
 import json
@@ -15,7 +15,9 @@ import os
 import re
 from typing import Any, Callable, Sequence
 
-EXIT_EXPECTATION_FAILED = 4
+from . import exit_codes
+
+EXIT_EXPECTATION_FAILED = exit_codes.EXPECTATION_FAILED
 _SYNTAX = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*(==|!=|<=|>=|<|>)\s*(\S(?:.*\S)?)\s*$")
 OPS = ("==", "!=", "<=", ">=", "<", ">")
 
@@ -97,8 +99,8 @@ def check(exp: Expectation, summary: dict[str, Any]) -> tuple[bool, str]:
 
 
 def evaluate(expectations: Sequence[Expectation], run_dir: str, say: Callable[[str], None]) -> int:
-    """Checks every expectation against RUN_DIR/summary.json, saying each; returns the exit code: 0 all met,
-    EXIT_EXPECTATION_FAILED when one failed, 2 for an unknown key or no summary.json."""
+    """Checks every expectation against RUN_DIR/summary.json, saying each; returns the exit code: exit_codes.OK all met,
+    EXIT_EXPECTATION_FAILED when one failed, exit_codes.BAD_INPUT for an unknown key."""
     path = os.path.join(run_dir, "summary.json")
     try:
         with open(path, encoding="utf-8", errors="backslashreplace") as f:
@@ -123,8 +125,8 @@ def evaluate(expectations: Sequence[Expectation], run_dir: str, say: Callable[[s
             failed += 1
             say(f"swarm: EXPECTATION FAILED: {exp.text} ({exp.key} is {actual})")
     if bad:
-        return 2
+        return exit_codes.BAD_INPUT
     if failed:
         say(f"swarm: {failed} of {len(expectations)} expectation(s) failed")
         return EXIT_EXPECTATION_FAILED
-    return 0
+    return exit_codes.OK

@@ -41,6 +41,7 @@ import time
 from typing import IO, Any, Callable, Optional
 
 from . import domains
+from . import exit_codes
 from . import faults
 from . import hosts as hosts_mod
 from . import jsonfile
@@ -66,22 +67,17 @@ CHECK_TIMEOUT_S = 60
 AGENT_EXIT_DEADLINE_S = 5.0
 WORLD_STOP_DEADLINE_S = 10.0
 VIEWER_START_S = 5.0  # --view 0: how long to wait for the viewer to say its port
-EXIT_INTERRUPTED = 130
-EXIT_WORLD_FAILED = 1
-EXIT_BAD_INPUT = 2
-EXIT_AGENTS_MISSING = 3
-EXIT_DISK_FULL = 5
-# `swarm run`'s exit codes (cli.py's --help and scripts/README.md print this table).
-EXIT_CODES = ("exit codes: 0 the run ended (completed or max_ticks); 1 the world failed (crashed, or a DDS "
-              "failure); 2 bad input (also an --expect key summary.json lacks); 3 agents missing at the connect "
-              "timeout; 4 an --expect expectation failed; 5 a write failed (disk full); "
-              "130 interrupted (Ctrl-C, SIGTERM, SIGHUP). summary.json's end_reason says why, when it could be "
-              "written.")
+# `swarm run`'s exit codes: common/exit_codes.json (exit_codes.py reads it; cli.py's --help prints it).
+EXIT_INTERRUPTED = exit_codes.INTERRUPTED
+EXIT_WORLD_FAILED = exit_codes.FAILED
+EXIT_BAD_INPUT = exit_codes.BAD_INPUT
+EXIT_AGENTS_MISSING = exit_codes.AGENTS_MISSING
+EXIT_RECORDING_FAILED = exit_codes.RECORDING_FAILED
 REPEATS_SHOWN = 3
 
 
 class LaunchError(Exception):
-    def __init__(self, message: str, code: int = 1) -> None:
+    def __init__(self, message: str, code: int = exit_codes.FAILED) -> None:
         super().__init__(message)
         self.code = code
 
@@ -159,16 +155,16 @@ def check_exec(cmd: Optional[str]) -> None:
     try:
         words = shlex.split(cmd)
     except ValueError as e:
-        raise LaunchError(f"--exec {cmd!r}: not a command line ({e})", 2) from None
+        raise LaunchError(f"--exec {cmd!r}: not a command line ({e})", EXIT_BAD_INPUT) from None
     if not words:
-        raise LaunchError("--exec: the command is empty", 2)
+        raise LaunchError("--exec: the command is empty", EXIT_BAD_INPUT)
     if any(c in cmd for c in "|&;<>()$`*?[") or "=" in words[0]:
         return
     program = words[0]
     found = os.access(program, os.X_OK) and os.path.isfile(program) if os.sep in program else shutil.which(program)
     if not found:
         where = "no such executable file" if os.sep in program else "not found on PATH"
-        raise LaunchError(f"--exec {cmd!r}: {program}: {where}", 2)
+        raise LaunchError(f"--exec {cmd!r}: {program}: {where}", EXIT_BAD_INPUT)
 
 
 def check_scenario(world_exe: str, args: argparse.Namespace) -> dict[str, Any]:
@@ -180,7 +176,7 @@ def check_scenario(world_exe: str, args: argparse.Namespace) -> dict[str, Any]:
     except subprocess.TimeoutExpired:
         raise LaunchError(f"{' '.join(cmd)} did not answer within {CHECK_TIMEOUT_S} s") from None
     if p.returncode != 0:
-        raise LaunchError(p.stderr.strip() or f"world_server --check failed (exit {p.returncode})", 2)
+        raise LaunchError(p.stderr.strip() or f"world_server --check failed (exit {p.returncode})", EXIT_BAD_INPUT)
     for line in reversed(p.stdout.strip().splitlines()):
         try:
             info = json.loads(line)
@@ -685,7 +681,7 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
             if missing is not None:
                 status.line(f"swarm: {len(connecting.missing())} of {n} agents did not connect within {wait_s:g} s "
                             f"(--connect-timeout): {missing}")
-            return code if code in (EXIT_BAD_INPUT, EXIT_AGENTS_MISSING, EXIT_DISK_FULL) else EXIT_WORLD_FAILED
+            return code if code in (EXIT_BAD_INPUT, EXIT_AGENTS_MISSING, EXIT_RECORDING_FAILED) else EXIT_WORLD_FAILED
         ticks = done[0] if done else "?"
         status.line(f"swarm: {ticks} ticks in {time.monotonic() - started:.1f} s; run directory {run_dir}")
         stop.restore()  # Ctrl-C while drawing just stops the drawing
@@ -836,7 +832,7 @@ def _os_error_line(e: OSError) -> str:
 
 
 def _os_error_code(e: OSError) -> int:
-    return EXIT_DISK_FULL if e.errno in (errno.ENOSPC, errno.EDQUOT) else EXIT_WORLD_FAILED
+    return EXIT_RECORDING_FAILED if e.errno in (errno.ENOSPC, errno.EDQUOT) else EXIT_WORLD_FAILED
 
 
 def _close_quietly(procs: Processes) -> None:
@@ -930,7 +926,7 @@ def _run_in_process(args: argparse.Namespace, stop: StopFlag, status: Status,
         return EXIT_INTERRUPTED
     if code != 0:
         status.line(f"swarm: {_world_failure(code, run_dir).replace('world_server', 'swarm_inprocess')}")
-        return code if code == EXIT_DISK_FULL else EXIT_WORLD_FAILED
+        return code if code == EXIT_RECORDING_FAILED else EXIT_WORLD_FAILED
     status.line(f"swarm: run directory {run_dir}")
     stop.restore()
     code = 0 if args.no_pictures else render_pictures(run_dir)

@@ -20,6 +20,7 @@
 #include <sstream>
 #include <thread>
 
+#include "common/exit_codes.hpp"
 #include "tests/integration/process_fixture.hpp"
 #include "tests/integration/test_domain.hpp"
 
@@ -319,7 +320,7 @@ TEST_F(MultiProcess, WorldNamesTheAgentsMissingAtTheConnectTimeout) {
                       std::to_string(domain), "--connect-timeout", "10"},
                      "missing-world");
   agent(domain, 0, "missing");
-  EXPECT_EQ(w.wait_for(60.0), 3);
+  EXPECT_EQ(w.wait_for(60.0), swarmform::exit_codes::kExitAgentsMissing);
   EXPECT_NE(w.err().find("7 of 8 agents missing after 10 s: 1-7"), std::string::npos) << w.err();
 }
 
@@ -327,7 +328,7 @@ TEST_F(MultiProcess, AgentGivesUpWhenNoWorldShowsUp) {
   Process& a = start(
       {kAgent, "--id", "0", "--domain", std::to_string(swarmform::testing::test_domain(7)), "--timeout", "1"},
       "lonely");
-  EXPECT_EQ(a.wait_for(15.0), 3);
+  EXPECT_EQ(a.wait_for(15.0), swarmform::exit_codes::kExitNoWorld);
   EXPECT_NE(a.err().find("no world on DDS domain"), std::string::npos) << a.err();
 }
 
@@ -525,13 +526,13 @@ TEST_F(MultiProcess, CheckPrintsTheScenarioAndBadInputExitsTwo) {
     f << "mode: lockstep\nseed: 1\ntick_rate: -3\n";
   }
   Process& b = start({kWorld, "--scenario", bad, "--check"}, "bad");
-  EXPECT_EQ(b.wait_for(15.0), 2);
+  EXPECT_EQ(b.wait_for(15.0), swarmform::exit_codes::kExitBadInput);
   EXPECT_NE(b.err().find(bad + ":3:"), std::string::npos) << b.err();
   Process& flag = start({kWorld, "--scenario", kScenario, "--kill", "3-100"}, "badflag");
-  EXPECT_EQ(flag.wait_for(15.0), 2);
+  EXPECT_EQ(flag.wait_for(15.0), swarmform::exit_codes::kExitBadInput);
   EXPECT_NE(flag.err().find("--kill 3-100"), std::string::npos) << flag.err();
   Process& noout = start({kWorld, "--scenario", kScenario}, "noout");
-  EXPECT_EQ(noout.wait_for(15.0), 2);
+  EXPECT_EQ(noout.wait_for(15.0), swarmform::exit_codes::kExitBadInput);
   EXPECT_NE(noout.err().find("--out DIR is required"), std::string::npos) << noout.err();
 }
 
@@ -664,7 +665,7 @@ TEST_F(MultiProcess, AFullDiskEndsTheRunCleanlyWithEndReasonDiskFull) {
   Process& w = world(domain, "full");
   std::vector<Process*> agents;
   for (int i = 0; i < kRobots; ++i) agents.push_back(&agent(domain, i, "full"));
-  EXPECT_EQ(w.wait_for(kRunDeadline), 5) << w.err();
+  EXPECT_EQ(w.wait_for(kRunDeadline), swarmform::exit_codes::kExitRecordingFailed) << w.err();
   for (int i = 0; i < kRobots; ++i) EXPECT_EQ(agents[i]->wait_for(10.0), 0) << agents[i]->err();
   EXPECT_EQ(count_lines(w.err(), "world_server: run ended (disk_full)"), 1u) << w.err();
   EXPECT_NE(w.err().find("No space left on device"), std::string::npos) << w.err();
@@ -684,7 +685,7 @@ TEST_F(MultiProcess, SummaryTellsWhyTheRunEnded) {
   Process& w = start({kWorld, "--scenario", kScenario, "--out", path("nobody"), "--domain",
                       std::to_string(domain), "--connect-timeout", "1"},
                      "nobody-world");
-  EXPECT_EQ(w.wait_for(20.0), 3);
+  EXPECT_EQ(w.wait_for(20.0), swarmform::exit_codes::kExitAgentsMissing);
   EXPECT_EQ(summary("nobody")["end_reason"], "no_agents");
   Process& t = world(domain, "term", {"--max-ticks", kOpenEndedTicks});
   for (int i = 0; i < kRobots; ++i) agent(domain, i, "term");

@@ -16,6 +16,7 @@
 #include <sstream>
 #include <thread>
 
+#include "common/exit_codes.hpp"
 #include "tests/integration/process_fixture.hpp"
 #include "tests/integration/test_domain.hpp"
 
@@ -149,7 +150,7 @@ TEST_F(WireFaults, AgentGivesUpOnASilentWorldOnlyAfterItsWorldTimeout) {
   ASSERT_TRUE(eventually(kRunDeadline, [&] { return ticking(w) || !w.running(); })) << w.out();
   ASSERT_TRUE(w.running());
   stall(w.pid(), std::chrono::milliseconds(4000));
-  EXPECT_EQ(impatient.wait_for(15.0), 3) << impatient.err();
+  EXPECT_EQ(impatient.wait_for(15.0), swarmform::exit_codes::kExitNoWorld) << impatient.err();
   EXPECT_NE(impatient.err().find("the world went away before announcing the end (silent for 1 s"),
             std::string::npos)
       << impatient.err();
@@ -275,7 +276,7 @@ TEST_F(WireFaults, RealtimeAgentReplacedByARestartedOneIsToldAndExitsNonZero) {
   Process& again = agent(domain, 4, "replaced-again");
   EXPECT_TRUE(eventually(20.0, [&] { return has_event("replaced", "rejoin", 4) || !w.running(); }));
   ASSERT_EQ(::kill(as[4]->pid(), SIGCONT), 0);
-  EXPECT_EQ(as[4]->wait_for(15.0), 5) << as[4]->err();
+  EXPECT_EQ(as[4]->wait_for(15.0), swarmform::exit_codes::kExitIdLost) << as[4]->err();
   EXPECT_NE(as[4]->err().find("lost id 4 to another agent"), std::string::npos) << as[4]->err();
   EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
   EXPECT_EQ(again.wait_for(15.0), 0) << again.err();
@@ -352,7 +353,7 @@ TEST_F(WireFaults, SamplesOfAnotherRunOrWireVersionAreRefusedWithTheReason) {
   Process& stranger = start(
       {kAgent, "--id", "0", "--domain", std::to_string(domain), "--run-nonce", "1234", "--timeout", "3"},
       "stranger");
-  EXPECT_EQ(stranger.wait_for(20.0), 3) << stranger.err();
+  EXPECT_EQ(stranger.wait_for(20.0), swarmform::exit_codes::kExitNoWorld) << stranger.err();
   EXPECT_NE(stranger.err().find("another run's (run nonce 0000000000005eed, this side's run is "
                                 "0000000000001234)"),
             std::string::npos)

@@ -12,7 +12,7 @@ import time
 import unittest
 
 import helpers
-from swarmform import launcher
+from swarmform import exit_codes, launcher
 
 
 def agent_pids(run_dir):
@@ -179,7 +179,7 @@ class LauncherTest(unittest.TestCase):
         self.assertEqual(world_args[world_args.index("--connect-timeout") + 1], "1")
         self.assertIn("1 of 3 agents missing after 1 s: 1", r.stderr)
         self.assertIn("swarm: 1 of 3 agents did not connect within 1 s (--connect-timeout): 1 (agent exited with "
-                      "code 3: robot_agent 1: no world on DDS domain 0", r.stderr)
+                      f"code {exit_codes.CODES['no_world']}: robot_agent 1: no world on DDS domain 0", r.stderr)
         self.assertNotIn("Traceback", r.stderr)
         self.assert_all_gone(agent_pids(out).values())
 
@@ -211,7 +211,8 @@ class LauncherTest(unittest.TestCase):
                           "--domain", "77", "--no-pictures",
                           env={"FAKE_AGENT_EXIT_S": "0.2", "FAKE_AGENT_REFUSED": "1", "FAKE_WORLD_SLOW": "0.01"})
         self.assertEqual(r.returncode, 0, r.stderr)
-        self.assertIn("swarm: WARNING: agent 1 exited with code 4: robot_agent 1: refused: id is already owned",
+        refused = exit_codes.CODES["id_refused"]
+        self.assertIn(f"swarm: WARNING: agent 1 exited with code {refused}: robot_agent 1: refused: id is already owned",
                       r.stderr)
         self.assertEqual(r.stderr.count("WARNING"), 1, r.stderr)
 
