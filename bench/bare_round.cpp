@@ -1,6 +1,7 @@
-// The bare DDS bound of a lockstep round (issue 6 P1's baseline): a minimal world and N robot processes with
-// exactly the emulator's wire (common/dds: same Cyclone config, same QoS, same partition per robot, same
-// SensorPacket and Command types), and nothing else: no physics, no sensors, no controller, no recording.
+// The bare DDS bound of a lockstep round (P1's baseline, BENCHMARKS.md): a minimal world and N robot
+// processes with exactly the emulator's wire (common/dds: same Cyclone config, same QoS, same partition per
+// robot, same SensorPacket and Command types), and nothing else: no physics, no sensors, no controller, no
+// recording.
 //
 //   bare_round [--domain D] [--interface ADDR] world --robots N [--rounds R] [--warmup W] [--timeout SEC]
 //   bare_round [--domain D] [--interface ADDR] robot --id K [--count N] [--world-host ADDR]

@@ -2,7 +2,8 @@
 // swapped or overloaded host). Its loop promises to call observe() at least every `max_gap`; any longer gap
 // between two calls was the process's own stall, and only `max_gap` of it counts as awake. Deadlines that
 // judge others (an agent's lease at the world, the world's silence at an agent) are measured on this clock,
-// so a process's own pause never makes it blame the others (issue 18 point 1, docs/wire.md). Pure: no DDS.
+// so a process's own pause never makes it blame the others (docs/wire.md "Liveliness, stalls and deaths").
+// Pure: no DDS.
 #pragma once
 
 #include <cstdint>

@@ -36,7 +36,7 @@ inline constexpr std::array<double, kUltrasonicCount> kUltrasonicAngles = {
 inline constexpr double kUltrasonicMinRange = 0.25;  // m: readings are clamped up to this
 inline constexpr double kUltrasonicMaxRange = 2.0;   // m: "nothing seen" reads exactly this
 
-// Khepera IV geometry (SPEC section 4).
+// Khepera IV geometry.
 inline constexpr double kRobotRadius = 0.0704;   // m
 inline constexpr double kRobotHeight = 0.053;    // m
 inline constexpr double kWheelRadius = 0.021;    // m

@@ -29,7 +29,7 @@ struct LinkOptions {
   // Take only the mission of this run (the launcher's --run-nonce); any first mission when empty.
   std::optional<std::uint64_t> run_nonce;
   // How long, in this agent's own awake time, the world's writers may stay not alive before the world is
-  // taken for gone (issue 18: a stalled or swapped world is not a dead one).
+  // taken for gone (docs/wire.md: a stalled or swapped world is not a dead one).
   double world_timeout_s = 10.0;
 };
 
@@ -57,9 +57,9 @@ class AgentLink {
   // (bench/scale/README.md). In its first 2 s it asserts and re-claims as after the first packet: an agent
   // joining a running world is judged at once, and its first packet comes within a round. After the first
   // packet it re-sends the claim every second (kReclaimPeriod) while the world's writers are not alive, and
-  // in realtime when no packet came for a reclaim period (a network path lost and back, issue 19; a cut
-  // shorter than the world's 2 s writer lease leaves those writers alive here): the world took this agent for
-  // dead and sends it nothing, and in realtime (best effort) Cyclone 0.10.2 drops the writer's liveliness
+  // in realtime when no packet came for a reclaim period (a network path lost and back, docs/multi-host.md; a
+  // cut shorter than the world's 2 s writer lease leaves those writers alive here): the world took this agent
+  // for dead and sends it nothing, and in realtime (best effort) Cyclone 0.10.2 drops the writer's liveliness
   // heartbeats ("no-reliable-readers") before they revive it, so only a sample does. The world answers a
   // claim it already holds as a repeat, and takes a lost owner's claim back. WorldGone only after the world's
   // writers have stayed not alive for world_timeout_s of this agent's own awake time (OwnClock): an agent

@@ -217,7 +217,7 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
     if (generation == 0) {
       generation = packet.generation;
     } else if (packet.generation > generation) {
-      // The world took this robot for dead and brought it back (issue 18 point 1): its controller starts
+      // The world took this robot for dead and brought it back (docs/wire.md): its controller starts
       // afresh from the mission, as a restarted agent's would, rather than act on a state that went stale.
       controller.reset();  // an --exec child ends before its successor starts
       try {

@@ -1,4 +1,4 @@
-// swarm_viewer: the browser view of a swarmform run (issue 21; viewer/README.md). Live: a DDS participant
+// swarm_viewer: the browser view of a swarmform run (viewer/README.md). Live: a DDS participant
 // that reads the world's sf_observe frames and sends its viewer's sf_control samples, and serves the page
 // (and Foxglove) on one port. Replay (--replay, replay.cpp): the same page and Foxglove over a run
 // directory's recording.

@@ -1,4 +1,4 @@
-// Entering a named network namespace (`ip netns add NAME`) for the viewer's DDS side only (issue 19's
+// Entering a named network namespace (`ip netns add NAME`) for the viewer's DDS side only (`--hosts`'s
 // `swarm run --hosts` with `--view`): the page's listening socket is made first, in the namespace the viewer
 // started in (where the user's browser is), and the DDS participant afterwards, in the world's host.
 #pragma once

@@ -1,4 +1,4 @@
-// Bounds what any DDS writer can make the world do, log or hold (issue 18, point 4). Pure bookkeeping keyed
+// Bounds what any DDS writer can make the world do, log or hold (docs/faults.md). Pure bookkeeping keyed
 // by the writer's publication handle (no DDS, no World): the server asks it before acting on a sample.
 //
 // - Budgets: a writer gets at most `commands_per_window` commands a window (lockstep: a tick of the world;

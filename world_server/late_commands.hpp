@@ -1,6 +1,6 @@
-// Realtime mode: where the time went when a command missed its tick (issue 6 P2). A robot counted missed at
-// tick t is remembered with that round's start, the moment its packet was written and the round's deadline
-// (the start of t+1). When its command for t turns up later, the wait splits into three parts:
+// Realtime mode: where the time went when a command missed its tick (BENCHMARKS.md, P2). A robot counted
+// missed at tick t is remembered with that round's start, the moment its packet was written and the round's
+// deadline (the start of t+1). When its command for t turns up later, the wait splits into three parts:
 //   written   the packet written this long into the round (the world's publish phase);
 //   answered  the agent's command sent this long after its packet was written (the agent's wake-up, control
 //             step and write; `sent` is the writer's source timestamp, the same clock on one host);

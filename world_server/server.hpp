@@ -56,7 +56,7 @@ struct ServerOptions {
   // --agent-pids FILE: {"id": pid} JSON the launcher writes after starting the agents (after the world);
   // read when a --kill is due for an id not in agent_pids.
   std::string agent_pids_file;
-  // Issue 21: the run's viewer (viewer_control.hpp). A token != 0 makes the observer endpoints; the viewer
+  // The run's viewer (viewer_control.hpp). A token != 0 makes the observer endpoints; the viewer
   // presents the same token. start_paused: lockstep holds tick 0 until the viewer says go.
   std::uint64_t viewer_token = 0;
   bool start_paused = false;
@@ -138,13 +138,13 @@ class Server {
   // Ends a run that failed with `what` for `reason`: the agents are told, the summary written if it can be,
   // one line on stderr. Returns `code`.
   int fail(world::EndReason reason, const std::string& what, int code);
-  // Issue 18 point 4: the budget check and throttled report of one sample (input_guard.hpp).
+  // The budget check and throttled report of one sample (input_guard.hpp).
   bool admit(const dds::CommandSample& s, bool running);
   // Counts `what` from s's writer; when it is to be logged now (once a second per writer and kind), records
   // event `kind` with `detail` (plus the count it stands for), and prints it on stderr with `to_stderr`.
   void report(const dds::CommandSample& s, Abuse what, const std::string& kind, const std::string& detail,
               bool to_stderr);
-  // Issue 18 point 3: an owner's telemetry checked before the world takes it (telemetry_check.hpp).
+  // An owner's telemetry checked before the world takes it (telemetry_check.hpp).
   void check_telemetry_of(RobotId id);
   void note_input_dropped();
 
@@ -191,7 +191,7 @@ class Server {
   ProcessFaults faults_;                   // what they do to the agents' processes (process_faults.hpp)
   std::unique_ptr<ViewerControl> viewer_;  // null without --viewer-token
 
-  // Where a round's wall time goes (printed on stderr at the end; issue 6 P1's first question).
+  // Where a round's wall time goes (printed on stderr at the end; what P1 asks first, BENCHMARKS.md).
   struct Profile {
     // Where the stage being timed began: the wall clock, and the publish stage's thread clock.
     dds_time_t stage_start = 0;

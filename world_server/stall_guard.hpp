@@ -1,4 +1,4 @@
-// The world judges an agent's liveliness against its own progress (issue 18 point 1, docs/wire.md
+// The world judges an agent's liveliness against its own progress (docs/wire.md
 // "Liveliness, stalls and deaths"). When the world itself was not running (SIGSTOP, swap, a loaded host),
 // Cyclone finds every agent's 500 ms lease expired as soon as it resumes, although the agents kept asserting
 // it all along: their datagrams wait in the socket. So a writer lost within kSuspectWindow of awake time

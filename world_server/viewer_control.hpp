@@ -1,4 +1,4 @@
-// The world's end of its viewer (issue 21, docs/wire.md "Observers"): the sf_observe writer and the
+// The world's end of its viewer (docs/wire.md "Observers"): the sf_observe writer and the
 // sf_control reader, the binding to the run's own viewer, and what the viewer asked for (frame rate, pause,
 // steps, a speed cap, kills). Made only when the launcher gave the world a viewer token (--viewer-token): a
 // run without a viewer has no observer endpoint and pays nothing.

@@ -1,7 +1,7 @@
 #!/bin/bash
 # bench/faults/world_stall.sh BUILD_DIR DOMAIN OUT_DIR: the world SIGSTOPped for 3 s in the middle of a run of
 # 8 random walkers (tests/integration/random_walk_8.yaml), then SIGCONTed; prints the deaths and who was alive at
-# the end (issue 18 point 1, docs/faults.md). TICKS (default 15000) and MODE (lockstep or realtime) from the
+# the end (docs/faults.md). TICKS (default 15000) and MODE (lockstep or realtime) from the
 # environment. Every process it starts is killed by pid at the end; every wait has a deadline.
 set -u
 case "${1:-}" in -h|--help|"") sed -n '2,5s/^# \{0,1\}//p' "$0"; exit 0 ;; esac

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Issue 22 point 4: the paper controller with a shape as large as the swarm, in-process.
+"""P4 (BENCHMARKS.md): the paper controller with a shape as large as the swarm, in-process.
 
 Square blocks of 100, 400 and 1024 labels (scenarios/scale/block_*.txt) with as many robots, in the open
 arena of scenarios/scale/open_arena.yaml, from the random start of its seed, for a fixed window of --ticks

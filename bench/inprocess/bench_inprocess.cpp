@@ -1,4 +1,4 @@
-// Issue 6 P3: the world library with N robots and N controllers in one process, timed.
+// P3 (BENCHMARKS.md): the world library with N robots and N controllers in one process, timed.
 //
 //   bench_inprocess [--scenario bench/inprocess/field.yaml] [--robots 1000] [--behaviour paper|random_walk]
 //                   [--ticks 100] [--warmup 10] [--samples 3] [--seed 1]

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Issue 22 point 3: CPU and wall time per robot-tick of two builds of bench_inprocess, alternated, and their ratios.
+"""P3 (BENCHMARKS.md): CPU and wall time per robot-tick of two builds of bench_inprocess, alternated, and their ratios.
 
 For each behaviour (random_walk, paper) and each N (100, 1000) on bench/inprocess/field.yaml, runs
 `bench_inprocess --robots N --behaviour B --ticks T --warmup 10 --samples 1 --no-split` with --baseline and

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Issue 6 / 22 P2: N agent processes and the world on this machine, realtime mode; prints one JSON line.
+"""P2 (BENCHMARKS.md): N agent processes and the world on this machine, realtime mode; prints one JSON line.
 
   bench/scale/scale_run.py [--agents 1024] [--ticks 600] [--scenario bench/scale/realtime.yaml]
                            [--area-per-robot 0.6] [--domain 180] [--connect-timeout S] [--build-dir build]

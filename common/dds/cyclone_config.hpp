@@ -1,7 +1,7 @@
 // The project's own Cyclone DDS configuration, generated in code and applied with dds_create_domain, so a run
 // never depends on CYCLONEDDS_URI or on what the default configuration picks on this host.
 //
-// Star discovery (NOTES-DEPENDENCIES "Discovery shape decides scale"): loopback has no multicast, and a full
+// Star discovery (docs/design-notes/dds-discovery.md): loopback has no multicast, and a full
 // mesh of 128 processes takes minutes to converge. So the world takes ParticipantIndex 0 (a fixed discovery
 // port), every agent takes ParticipantIndex none (an ephemeral port, no limit of 9 a host) and has the world
 // as its only peer: agents never discover each other, and the world discovers each agent once. Death
@@ -47,7 +47,7 @@ struct DdsSettings {
   std::vector<std::string> extra_peers;
   // A user's Cyclone XML merged on top of ours (user_dds_config), or none.
   std::optional<UserDdsConfig> user;
-  // DDS Security (`--security-dir`, issue 19): when set, the domain's <Security> section
+  // DDS Security (`--security-dir`, docs/security.md): when set, the domain's <Security> section
   // (security_config.hpp); the participant then talks only to participants of the same run's authority.
   std::optional<SecurityFiles> security;
   // The world's face (docs/wire.md "Faces"): World role, the face this participant is (ParticipantIndex
@@ -64,7 +64,7 @@ inline constexpr std::uint32_t kDomainGain = 100;  // ports per domain: all fixe
 // The world's SPDP unicast port for a domain (RTPS port mapping: base + gain*domain + 10 + 2*index, index 0).
 std::uint16_t world_discovery_port(std::uint32_t domain);
 
-// Faces (issue 22, docs/wire.md "Faces"): the world speaks to its robots through one participant per block of
+// Faces (docs/wire.md "Faces"): the world speaks to its robots through one participant per block of
 // kRobotsPerFace ids, each in a Cyclone domain instance of its own (so agents of one block never discover the
 // per-robot endpoints of another: discovery grows as N x 64, not N^2). Face f is ParticipantIndex f, so at
 // most kMaxFaces fit in a domain's 100 ports (10 + 2f + 1 < 100); ids past the last face share it.

@@ -18,17 +18,17 @@ enum class Channel {
   Command,     // agents -> world: reliable, volatile, keep-all (a flood of spoofed samples for an id can
                // never push the owner's command out of the world's reader before it is taken)
   WorldState,  // world -> viewers: best effort, keep-last 1
-  Observe,     // world -> its viewer (issue 21): reliable, keep-last 1 (the newest frame is what matters)
-  Control,     // viewer -> world (issue 21): reliable, keep-last 256
+  Observe,     // world -> its viewer: reliable, keep-last 1 (the newest frame is what matters)
+  Control,     // viewer -> world: reliable, keep-last 256
 };
 
 // Liveliness of the agents' command writers (and the world's command reader): MANUAL_BY_TOPIC, this lease,
-// so the world sees a SIGKILLed agent within ~0.5 s (NOTES-DEPENDENCIES "Death detection"). Every command
-// written renews it at the world; an agent with nothing to write asserts it every kLivelinessAssertPeriod
-// (CommandWriter::keep_alive). AUTOMATIC cost a reliable participant message with its heartbeat and
-// acknowledgement every 0.4 s per agent, whatever the agent wrote: at 256 agents ~1,960 submessages a second
-// in the ~4,700 datagrams a second at the world's discovery socket while they connect, and ~850 of its 1,166
-// datagrams a second during the run (BENCHMARKS.md).
+// so the world sees a SIGKILLed agent within ~0.5 s (docs/wire.md "Liveliness, stalls and deaths"). Every
+// command written renews it at the world; an agent with nothing to write asserts it every
+// kLivelinessAssertPeriod (CommandWriter::keep_alive). AUTOMATIC cost a reliable participant message with its
+// heartbeat and acknowledgement every 0.4 s per agent, whatever the agent wrote: at 256 agents ~1,960
+// submessages a second in the ~4,700 datagrams a second at the world's discovery socket while they connect,
+// and ~850 of its 1,166 datagrams a second during the run (BENCHMARKS.md).
 inline constexpr dds_duration_t kLivelinessLease = DDS_MSECS(500);
 // Three assertions per lease: a lost one (they are best effort) does not cost the agent its liveliness.
 inline constexpr dds_duration_t kLivelinessAssertPeriod = kLivelinessLease / 3;

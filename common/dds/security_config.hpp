@@ -1,5 +1,5 @@
-// DDS Security (issue 19, `--secure`): the files one participant needs and the <Security> section of its
-// Cyclone configuration. Kept apart from cyclone_config.cpp, which appends this section when
+// DDS Security (`--secure`, docs/security.md): the files one participant needs and the <Security> section of
+// its Cyclone configuration. Kept apart from cyclone_config.cpp, which appends this section when
 // DdsSettings::security is set, so the two change independently.
 //
 // A security directory (made per run by the launcher, scripts/swarmform/security.py; docs/security.md) holds:

@@ -1,4 +1,4 @@
-"""A free DDS domain for a run started without --domain (issue 18 point 5, docs/wire.md "Domains and concurrent
+"""A free DDS domain for a run started without --domain (docs/wire.md "Domains and concurrent
 runs"), and the run's nonce.
 
 A domain is free when both hold:

@@ -1,5 +1,5 @@
 """`swarm run --expect 'KEY OP VALUE'`: assertions on the run's summary.json, so that any CI can gate on a swarm
-run (issue 20 point 7). KEY is a top-level key of summary.json (docs/recording-format.md; `swarm report RUN_DIR
+run (testing-your-swarm.md). KEY is a top-level key of summary.json (docs/recording-format.md; `swarm report RUN_DIR
 --json` lists them), OP one of == != <= >= < >, VALUE a number, true/false, null, or a word (compared as text).
 
 Comparing: a number with a number numerically; a list (deaths, rejoins, stuck_robots) by its length, so

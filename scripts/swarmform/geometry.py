@@ -1,5 +1,5 @@
 """Quantities the figures need that the recording does not hold directly: the formation's centre, the phases'
-ticks and the shape error (SPEC section 6) when summary.json has no `distortion` series.
+ticks and the shape error (docs/recording-format.md) when summary.json has no `distortion` series.
 
 The shape error is the RMS distance of each live labelled robot from its label's place after the best rigid fit
 (rotation and translation, no scaling) of the label grid onto the robots, in grid units -- the same definition

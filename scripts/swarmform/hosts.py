@@ -1,4 +1,4 @@
-"""`swarm run --hosts K [--link SPEC]`: the hosts of a deployment emulated by Linux network namespaces (issue 19).
+"""`swarm run --hosts K [--link SPEC]`: the hosts of a deployment emulated by Linux network namespaces.
 
 A run with prefix P = sfh<launcher pid> makes (every name starts with P, so runs never collide):
   P-sw        the switch: bridge P-br, one port per host (P-pw: the world's, P-p<h>: agent host h's)

@@ -373,7 +373,7 @@ class Status:
 
 
 class AgentWatch:
-    """Says, once per agent, when an agent exited with an error during the run (issue 18: a refused claim or a lost
+    """Says, once per agent, when an agent exited with an error during the run (faults.md: a refused claim or a lost
     id is a loud warning, not a silent death), with the last line of its log. A SIGKILLed agent (--kill, the end)
     is not an error of its own."""
 
@@ -402,7 +402,7 @@ def connect_timeout(robots: int, given: Optional[float] = None) -> float:
 
 
 class ConnectWatch:
-    """The start-up deadline (issue 22: a run must never wait for ever at "connecting 1023/1024"). It follows the
+    """The start-up deadline (a run must never wait for ever at "connecting 1023/1024"). It follows the
     world's `id K claimed` and `connected agents=N` lines from `world ready` on; when the world has not said
     `connected` by the world's own deadline plus a grace (CONNECT_GRACE_S), `check` raises a LaunchError (exit 3) naming the
     ids never claimed and what became of their agents. `missing_text` says the same when the world timed out
@@ -935,7 +935,7 @@ def _run_in_process(args: argparse.Namespace, stop: StopFlag, status: Status,
 
 
 def _say_if_not_arrived(status: Status, run_dir: str) -> None:
-    """The run's last line says when it used up max_ticks without arriving (issue 17: no silent end), from
+    """The run's last line says when it used up max_ticks without arriving (no silent end), from
     summary.json: the outcome and the stuck robots, as world_server's own line gives them."""
     try:
         with open(os.path.join(run_dir, "summary.json"), encoding="utf-8") as f:

@@ -199,7 +199,7 @@ def residual_force(rec: Recording, path: str) -> str:
 
 
 def shape_error(rec: Recording, path: str) -> str:
-    """Shape error (SPEC section 6) over time, with the formation, motion-start and goal ticks marked."""
+    """Shape error (docs/recording-format.md) over time, with the formation, motion-start and goal ticks marked."""
     ticks, errors = geometry.distortion_series(rec)
     fig = _figure(PICTURE_SIZES["shape_error"])
     ax = fig.add_axes([0.08, 0.13, 0.88, 0.77])

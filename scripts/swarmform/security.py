@@ -23,7 +23,7 @@ Domains = Union[int, Sequence[int]]  # one DDS domain id, or several (the world'
 
 # Topics and who may use them (docs/wire.md). Partitions: robot K's packets and commands in robot/K.
 MISSION, SENSOR, COMMAND, WORLD_STATE = "sf_mission", "sf_sensor", "sf_command", "sf_world_state"
-# Reserved for the viewer (issue 21, docs/wire.md): granted now so a viewer needs no new permissions scheme.
+# For the viewer (docs/wire.md "Observers"): granted now so a viewer needs no new permissions scheme.
 OBSERVE, CONTROL = "sf_observe", "sf_control"
 ORGANISATION = "swarmform"
 # Cyclone 0.10.2's access control parser refuses a domain id above 230 in governance and permissions

@@ -60,7 +60,7 @@ class BenchScript(unittest.TestCase):
             self.assertIn(r["ratio"], r["pair_ratios"])
             self.assertAlmostEqual(r["ratio"], r["emulator_ticks_per_second"] / r["bare_rounds_per_second"],
                                    delta=0.01 * r["ratio"] + 0.002)
-            # The bare round carried the emulator's bytes (issue 22): the random walkers' 51-byte broadcasts
+            # The bare round carried the emulator's bytes (BENCHMARKS.md): the random walkers' 51-byte broadcasts
             # in its replies, and as many neighbours' messages a packet, of the same total size.
             wire, payload = r["emulator_wire"], r["bare_payload"]
             self.assertEqual(payload["reply_bytes"], round(wire["bytes_per_command_message"]))
@@ -79,7 +79,7 @@ class BenchScript(unittest.TestCase):
         self.assertGreaterEqual(p2["missed_ticks"], 0)
         self.assertEqual(p2["rss_mib"]["agents_sampled"], 8)
         self.assertTrue(positive(p2["rss_mib"]["agents_max"]) and positive(p2["rss_mib"]["world"]))
-        # Issue 22: PSS (forked agents share pages, so it is below RSS) and the drops split by socket owner.
+        # PSS (forked agents share pages, so it is below RSS) and the drops split by socket owner.
         self.assertEqual(p2["pss_mib"]["agents_sampled"], 8)
         self.assertTrue(0 < p2["pss_mib"]["agents_max"] <= p2["rss_mib"]["agents_max"])
         self.assertEqual(set(p2["udp_socket_drops"]), {"world_sockets", "agent_sockets"})

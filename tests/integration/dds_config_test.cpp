@@ -1,5 +1,6 @@
-// The user's Cyclone configuration merged on top of ours (--dds-config FILE, else CYCLONEDDS_URI; issue 19
-// point 3): which source wins, the errors for a missing, empty, non-XML file or a list, the listing that
+// The user's Cyclone configuration merged on top of ours (--dds-config FILE, else CYCLONEDDS_URI;
+// docs/dds-config.md point 3): which source wins, the errors for a missing, empty, non-XML file or a list,
+// the listing that
 // --print-dds-config prints, and that Cyclone really merges it: a participant made with a user file that
 // turns tracing on traces the user's setting as coming from the second document and ours from the first
 // (test domain 58).

@@ -1,4 +1,4 @@
-// Faces (docs/wire.md "Faces", issue 22): a world of 66 robots speaks through two participants, face 0 for
+// Faces (docs/wire.md "Faces"): a world of 66 robots speaks through two participants, face 0 for
 // robots 0..63 and face 1 for 64 and 65, and agent K peers with face K/64 only. One lockstep run with every
 // robot its own process (a forked robot_agent --count block) must give the in-process harness's trajectory
 // bit for bit, every agent must get its own packets only (none of another robot), and the world must have had

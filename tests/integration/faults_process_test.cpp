@@ -121,7 +121,7 @@ TEST_F(ProcessFaults, AStallWithoutTheAgentsPidWithholdsItsPacketsAndAStallPastT
     EXPECT_EQ(a[i]->wait_for(10.0), 0) << "agent " << i << ": " << a[i]->err();
   }
   // Agent 5 was continued, so it ends by itself. (Stopped past its 500 ms lease, it was taken for dead and
-  // may not get the END: whether it does is the liveliness work of issue 18 point 1, not the fault's.)
+  // may not get the END: whether it does is the liveliness rule's (docs/wire.md), not the fault's.)
   const auto code5 = a[5]->wait_for(20.0);
   EXPECT_TRUE(code5.has_value()) << "agent 5 still stopped or running: state " << process_state(pid5);
   if (code5) {

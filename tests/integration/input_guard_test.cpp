@@ -1,4 +1,4 @@
-// InputGuard (issue 18 point 4): budgets per writer, reports throttled to one a second per writer and kind,
+// InputGuard (docs/faults.md): budgets per writer, reports throttled to one a second per writer and kind,
 // and what it holds for writers bounded.
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
-// world_server/late_commands: the split of a missed command's wait (issue 6 P2) into the world's publish
-// phase, the agent's answer and the transit.
+// world_server/late_commands: the split of a missed command's wait (BENCHMARKS.md, P2) into the world's
+// publish phase, the agent's answer and the transit.
 #include "world_server/late_commands.hpp"
 
 #include <gtest/gtest.h>

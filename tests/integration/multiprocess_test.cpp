@@ -1,4 +1,4 @@
-// Multi-process integration tests (issue 2): the real world_server and robot_agent executables over DDS on
+// Multi-process integration tests: the real world_server and robot_agent executables over DDS on
 // loopback. Each test has its own DDS domain (test_domain(k), tests/integration/test_domain.hpp), kills every
 // process it started by pid (Process's destructor) and bounds every wait. The scenario: 8 random walkers,
 // lockstep, 300 ticks (random_walk_8.yaml).
@@ -305,7 +305,7 @@ TEST_F(MultiProcess, NonFiniteAndOversizeCommandsAreRejectedLoggedAndTheRunGoesO
   const Json s = summary("nan");
   EXPECT_EQ(s["ticks"], 300);
   EXPECT_EQ(s["alive_at_end"], kRobots);
-  // Issue 18 point 4: every bad command counted, but logged once a second per robot and verdict (with the
+  // Every bad command counted, but logged once a second per robot and verdict (with the
   // count it stands for), not once a tick.
   EXPECT_GE(s["command_verdicts"].get<int>(), 290) << s.dump();
   const std::size_t seconds = static_cast<std::size_t>(s["wall_seconds"].get<double>()) + 2;
@@ -536,7 +536,8 @@ TEST_F(MultiProcess, CheckPrintsTheScenarioAndBadInputExitsTwo) {
   EXPECT_NE(noout.err().find("--out DIR is required"), std::string::npos) << noout.err();
 }
 
-// ---- issue 18 points 4 and 6 (helper "abuse"; domains base + 37..39, tests/README.md)
+// ---- untrusted input and clean ends, docs/faults.md (helper "abuse"; domains base + 37..39,
+// tests/README.md)
 // ----------------------
 
 // A lockstep run of 3000 ticks, with or without the abuse of `rogues` (started first, each ready before the
@@ -584,10 +585,10 @@ class Abuse : public MultiProcess {
 // one for a new made-up id and a claim for an id outside the run. Each writer gets its budget a tick (the
 // rest dropped and counted), what it sends is logged once a second, ids far outside the run never reach the
 // reader's cache, refused claims keep no channel: the run is bit for bit the one without them, its
-// directory and the world's memory barely grow. (8 s rather than issue 18's 20 s: the same mechanism;
-// scripts/bench-faults measures the 20 s flood and docs/faults.md has its figures.) Without the budgets
-// and throttled reports every spoofed command was an event line (~25,000 here); without the reader's id
-// filter the made-up ids grew the world by ~0.9 KB each (~300 MB here).
+// directory and the world's memory barely grow. (8 s rather than scripts/bench-faults' 20 s: the same
+// mechanism; scripts/bench-faults measures the 20 s flood and docs/faults.md has its figures.) Without the
+// budgets and throttled reports every spoofed command was an event line (~25,000 here); without the reader's
+// id filter the made-up ids grew the world by ~0.9 KB each (~300 MB here).
 TEST_F(Abuse, FloodOfCommandsAndClaimsFromAProcessThatOwnsNoIdLeavesTheLockstepRunUnchanged) {
   const int domain = swarmform::testing::test_domain(41);
   const std::vector<std::string> ticks = {"--max-ticks", "3000"};
@@ -653,10 +654,10 @@ TEST_F(Abuse, FloodFromAProcessThatOwnsNoIdKillsNobodyInRealtime) {
   EXPECT_LE(abuse_lines, 2u * 12u);  // two kinds, once a second, over ~8-12 s
 }
 
-// Issue 18 point 6: the run directory's events.jsonl is /dev/full (writes fail with ENOSPC, as on a full
-// disk; no root or mount needed, so the test runs anywhere). The recording's first flush (tick 10) fails: the
-// world tells the agents to end (they exit 0), writes summary.json (its directory still has room) with
-// end_reason disk_full and provenance, says so on one line and exits 5.
+// Every end says why (docs/faults.md): the run directory's events.jsonl is /dev/full (writes fail with
+// ENOSPC, as on a full disk; no root or mount needed, so the test runs anywhere). The recording's first flush
+// (tick 10) fails: the world tells the agents to end (they exit 0), writes summary.json (its directory still
+// has room) with end_reason disk_full and provenance, says so on one line and exits 5.
 TEST_F(MultiProcess, AFullDiskEndsTheRunCleanlyWithEndReasonDiskFull) {
   const int domain = swarmform::testing::test_domain(42);
   const std::string run = path("full");

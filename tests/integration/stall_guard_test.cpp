@@ -1,4 +1,4 @@
-// The pure parts of issue 18 point 1 (docs/wire.md "Liveliness, stalls and deaths"): a process's own clock of
+// The pure parts of the stall rule (docs/wire.md "Liveliness, stalls and deaths"): a process's own clock of
 // progress, the world's judgement of lost agents after its own stall, and refusals said once a second.
 #include <gtest/gtest.h>
 

@@ -5,7 +5,8 @@
 //   best-effort sample created the instance and freed it again through the domain's gc thread, whose wake-ups
 //   preempted the world in the middle of its publish phase;
 // - a packet writer says when it has matched its robot's reader (the world starts the run only then);
-// - issue 18: the world keeps at most kMaxExtraChannels channels for claims of ids outside the run, and its
+// - untrusted input (docs/faults.md): the world keeps at most kMaxExtraChannels channels for claims of ids
+// outside the run, and its
 //   command reader drops samples for ids at or above its accept_ids before storing them;
 // - a waiter counting a reader's arrivals sleeps until as many samples are in as it said it needs (so the
 //   world wakes once in a lockstep round, not at each of its 64 commands).

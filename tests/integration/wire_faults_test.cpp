@@ -1,7 +1,8 @@
-// Faults of issue 18 points 1 and 2 on real processes (docs/wire.md): stalls that are not deaths, a stalled
-// agent that rejoins afresh, an agent that lost its id, forged packets from another participant, and samples
-// of another wire version or run. Domains: test_domain(36) and (37) (tests/integration/test_domain.hpp);
-// every wait has a deadline and every process is SIGKILLed by pid at the end (ProcessFixture).
+// Stalls, identity and the wire on real processes (docs/wire.md, docs/faults.md): stalls that are not deaths,
+// a stalled agent that rejoins afresh, an agent that lost its id, forged packets from another participant,
+// and samples of another wire version or run. Domains: test_domain(36) and (37)
+// (tests/integration/test_domain.hpp); every wait has a deadline and every process is SIGKILLed by pid at the
+// end (ProcessFixture).
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -122,7 +123,7 @@ class WireFaults : public swarmform::testing::ProcessFixture {
   }
 };
 
-// Issue 18: a world SIGSTOPped for 3 s found every agent's liveliness lease expired when it resumed and
+// A world SIGSTOPped for 3 s found every agent's liveliness lease expired when it resumed and
 // recorded them all dead (12 of 13 runs). It now judges them against its own awake time (stall_guard.hpp).
 TEST_F(WireFaults, WorldStalledThreeSecondsInLockstepKillsNobodyAndChangesNothing) {
   const int domain = swarmform::testing::test_domain(36);

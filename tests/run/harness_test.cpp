@@ -106,7 +106,7 @@ TEST(Harness, RunWritesEveryFileAndTheKilledRobotsDeath) {
   fs::remove_all(dir);
 }
 
-// Issue 22: record_every K thins robots.csv to ticks 0, K, 2K... (the same rows as the full recording's), and
+// record_every K thins robots.csv to ticks 0, K, 2K... (the same rows as the full recording's), and
 // nothing else: every event, the same trajectory_sha256, world.json says K.
 TEST(Harness, RecordEveryFiveWritesAFifthOfTheRowsAndTheSameHash) {
   const auto full_dir = fresh_dir("every1");

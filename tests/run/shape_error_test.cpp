@@ -1,4 +1,5 @@
-// The shape error of SPEC section 6: the label grid fitted onto the robots by rotation + translation only.
+// The shape error (docs/recording-format.md): the label grid fitted onto the robots by rotation + translation
+// only.
 #include <cmath>
 #include <numbers>
 

@@ -1,4 +1,4 @@
-// check_telemetry (issue 18 point 3): every field of an agent's telemetry range-checked, every event string
+// check_telemetry (docs/faults.md): every field of an agent's telemetry range-checked, every event string
 // size-capped; what is out of range is dropped (the robot keeps its last accepted value) and counted.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-"""Outputs that fit the behaviour (issue 20): a recording of a behaviour with no shape and no goal, with its own
+"""Outputs that fit the behaviour: a recording of a behaviour with no shape and no goal, with its own
 states, colours and a telemetry column (world.json's behaviour_descriptor, docs/recording-format.md), read and
 drawn with those, and none of the paper's pictures or metrics."""
 

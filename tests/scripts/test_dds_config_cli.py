@@ -1,4 +1,4 @@
-"""`--print-dds-config` and `--dds-config FILE` of world_server and robot_agent (BUILD_DIR), issue 19 point 3: the
+"""`--print-dds-config` and `--dds-config FILE` of world_server and robot_agent (BUILD_DIR), docs/dds-config.md: the
 listing needs none of the run's flags, follows --world-host/--interface/--domain, shows a user's file (the flag
 over CYCLONEDDS_URI) after ours, and a missing or non-XML file is refused before any DDS, exit 2, naming it."""
 

@@ -1,4 +1,4 @@
-"""`scripts/swarm run --hosts K [--link SPEC]` against the real programs (BUILD_DIR), issue 19: the world and the
+"""`scripts/swarm run --hosts K [--link SPEC]` against the real programs (BUILD_DIR): the world and the
 agents in network namespaces of their own, over real UDP through a bridge.
 
 - 12 agents of the paper's scenario over 3 agent hosts reach the goal with the trajectory hash of the same run on

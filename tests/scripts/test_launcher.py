@@ -165,7 +165,7 @@ class LauncherTest(unittest.TestCase):
         self.assert_all_gone(agent_pids(out).values())
 
     def test_a_missing_agent_ends_the_run_at_the_connect_timeout_naming_its_id(self):
-        # Issue 22: the world waits --connect-timeout (the launcher passes it), then names the missing id and
+        # The world waits --connect-timeout (the launcher passes it), then names the missing id and
         # exits 3; the launcher says what became of that id's agent.
         out = os.path.join(self.dir, "run")
         began = time.monotonic()
@@ -205,7 +205,7 @@ class LauncherTest(unittest.TestCase):
         self.assertEqual(launcher.connect_timeout(1024, 5.0), 5.0)
 
     def test_an_agent_that_exits_with_an_error_is_a_loud_warning(self):
-        # Issue 18: a refused claim is a loud warning with the agent's own words, not a silent death.
+        # A refused claim is a loud warning with the agent's own words, not a silent death.
         out = os.path.join(self.dir, "run")
         r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "3", "--max-ticks", "200", "--out", out,
                           "--domain", "77", "--no-pictures",
@@ -237,7 +237,7 @@ class LauncherTest(unittest.TestCase):
         self.assertIn("DDS domain 77 is in use on this host", r.stderr)
         self.assertFalse(os.path.exists(os.path.join(out, "agents.json")))
 
-    # Issue 18 point 6: every end is one clear line with a documented exit code, never a traceback.
+    # Every end is one clear line with a documented exit code, never a traceback.
     def test_a_world_on_a_full_disk_ends_with_one_line_and_exit_5(self):
         out = os.path.join(self.dir, "run")
         r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "2", "--max-ticks", "40", "--out", out,

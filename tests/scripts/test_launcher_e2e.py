@@ -139,7 +139,7 @@ class LauncherEndToEndTest(unittest.TestCase):
         self.assertEqual(processes_mentioning(self.out), [])
 
     def test_two_concurrent_runs_without_domain_pick_their_own_and_both_complete(self):
-        # Issue 18 point 5: two `swarm run` at once on one host, no --domain. Each picks a free domain (here
+        # Two `swarm run` at once on one host, no --domain. Each picks a free domain (here
         # within this build's test window, SWARM_DOMAINS), says which, and only its own agents join its world.
         lo, hi = helpers.test_domain(38), helpers.test_domain(39)
         env = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=BUILD_DIR, SWARM_DOMAINS=f"{lo}-{hi}")

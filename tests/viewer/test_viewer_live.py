@@ -1,4 +1,4 @@
-"""The live view (issue 21) against a real lockstep swarm (world_server + robot_agent + swarm_viewer through
+"""The live view (viewer/README.md) against a real lockstep swarm (world_server + robot_agent + swarm_viewer through
 scripts/swarm, DDS test domain offset 62, one run at a time): in a headless Chromium the page draws the robots where
 robots.csv puts them in their state's colour, pause holds the tick, step 1 moves it by exactly one, a click on a
 robot opens its panel; a Foxglove client (foxglove.websocket.v1) gets the channels with their schemas, and poses

@@ -1,4 +1,4 @@
-"""The viewer against recordings and its own death (issue 21; DDS test domain offset 63, one run at a time): a
+"""The viewer against recordings and its own death (viewer/README.md; DDS test domain offset 63, one run at a time): a
 viewer SIGKILLed mid-run changes nothing of a lockstep run (the same trajectory hash as a run without one), and
 `swarm view RUN_DIR` serves the same page over a recording: scrubbed to a tick, a headless Chromium draws the robots
 where robots.csv puts them; a Foxglove client (foxglove.websocket.v1) during the replay gets the live channels and

@@ -1,6 +1,6 @@
-// Random placement at scale: the separation grid finds every close robot however the robots crowd (issue 18:
-// its cells were sized from the region's area, so robots grown from one another in a large region crowded a
-// few cells, and 100000 of them in a 10 km region took minutes to place; the poses are unchanged).
+// Random placement at scale: the separation grid finds every close robot however the robots crowd (a
+// grid sized from the region's area lets robots grown from one another in a large region crowd a few cells,
+// and 100000 of them in a 10 km region then take minutes to place; the grid changes no pose).
 #include "world_server/world/placement.hpp"
 
 #include <gtest/gtest.h>

@@ -90,7 +90,7 @@ std::string block_shape_file(int side) {
   return path.string();
 }
 
-// Issue 17: a 10 x 10 block with the paper's scenario was accepted, and 62 robots pushed against the walls.
+// A 10 x 10 block with the paper's scenario was accepted, and 62 robots pushed against the walls.
 TEST(Scenario, RefusesAShapeThatCannotFitInsideTheWalls) {
   const std::string block = block_shape_file(10);
   ScenarioOverrides ov;
@@ -125,7 +125,7 @@ TEST(Scenario, RefusesAShapeThatCannotFitInsideTheWalls) {
   std::filesystem::remove(block);
 }
 
-// Issue 20: `--param shape_heading=...` (swarm_inprocess, swarm sweep) was set after the loader's fit check,
+// `--param shape_heading=...` (swarm_inprocess, swarm sweep) was set after the loader's fit check,
 // so a heading that turns the shape into a wall was accepted. The override is set before every check now.
 TEST(Scenario, AParamOverrideIsSetBeforeTheShapeFitCheck) {
   // The triangle (apex up) from a robot 1.5 m under the north wall fits; turned upside down (heading -pi/2:

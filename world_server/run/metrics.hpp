@@ -1,4 +1,4 @@
-// The run's metrics, computed from the truth (SPEC section 6). Updated once per tick by RunSession.
+// The run's metrics, computed from the truth (docs/recording-format.md). Updated once per tick by RunSession.
 #pragma once
 
 #include <cstdint>
@@ -54,9 +54,10 @@ struct LabelledPosition {
   Vec2 position;  // m, arena frame
 };
 
-// SPEC section 6's shape error: RMS distance of each robot from its label's place after the best rigid fit
-// (rotation and translation, no scaling) of the label grid onto the robots, in grid units (divided by the
-// grid spacing). Labels held by no live robot are left out; returns nullopt for fewer than 2 robots.
+// The shape error (docs/recording-format.md): RMS distance of each robot from its label's place after the
+// best rigid fit (rotation and translation, no scaling) of the label grid onto the robots, in grid units
+// (divided by the grid spacing). Labels held by no live robot are left out; returns nullopt for fewer than 2
+// robots.
 std::optional<double> shape_error(const ShapeMatrix& shape, double grid_spacing,
                                   const std::vector<LabelledPosition>& robots);
 

@@ -1,6 +1,6 @@
-// SPEC section 6's shape error: the label grid is fitted onto the robots that hold its labels by the best
-// proper rigid motion (rotation + translation; no scaling, no reflection), and the RMS of what is left over
-// is given in grid units.
+// The shape error (docs/recording-format.md): the label grid is fitted onto the robots that hold its labels
+// by the best proper rigid motion (rotation + translation; no scaling, no reflection), and the RMS of what is
+// left over is given in grid units.
 //
 // The fit is the Kabsch/Umeyama solution, which in the plane has a closed form: with both point sets centred
 // (p_i the grid places, q_i the robots), sum_i |R p_i - q_i|^2 is least for the rotation angle

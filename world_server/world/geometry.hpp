@@ -1,7 +1,7 @@
 // Analytic 2-D geometry shared by the sensors, the medium and robot placement: rays and segments against
 // circles (robots, cylinders) and oriented boxes (walls, boxes). Header-only: these run tens of thousands of
 // times a tick and must inline. Bullet is not used here on purpose: its ray casts cost ~5 us each and ignore
-// a body that contains the ray's start (NOTES-DEPENDENCIES.md "Bullet"); these cost ~20 ns.
+// a body that contains the ray's start; these cost ~20 ns.
 #pragma once
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// The range-and-bearing medium (SPEC section 3), after ARGoS: the medium decides WHO hears whom (spatial
+// The range-and-bearing medium, after ARGoS: the medium decides WHO hears whom (spatial
 // grid, range test on the true centre distance, optional line of sight, per-copy loss), and to_receiver_frame
 // decides WHAT is perceived (range and bearing in the receiver's frame, with noise). Messages given to
 // deliver() are those of tick t; they land in the perceptions of tick t+1, only of live robots, never of the

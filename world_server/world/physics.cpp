@@ -1,5 +1,5 @@
 // Bullet (double precision, single-threaded) for the arena. Why it is set up as it is
-// (NOTES-DEPENDENCIES.md "Bullet", measured on this machine):
+// (measured on this machine):
 //  - robots are DYNAMIC btCylinderShapeZ bodies: kinematic bodies get no contacts;
 //  - gravity zero, linear factor (1,1,0), angular factor (0,0,1): planar, no tipping, no z drift;
 //  - DISABLE_DEACTIVATION: a sleeping body would ignore the velocities we set;
@@ -39,7 +39,7 @@ double yaw_of(const btTransform& t) {
 //    predicts a transform that only continuous collision detection and motion states read;
 //  - createPredictiveContacts is skipped: it predicts every body again, for CCD only. Continuous collision
 //    detection is off (dispatch info m_useContinuous = false): at 10 ms substeps discrete contacts do not
-//    tunnel up to 3 m/s (NOTES-DEPENDENCIES.md; tests/world/physics_test.cpp drives at 1 m/s into a 2 cm
+//    tunnel up to 3 m/s (tests/world/physics_test.cpp drives at 1 m/s into a 2 cm
 //    wall);
 //  - solveConstraints hands the solver only the contact manifolds, without Bullet's island pass over every
 //    body (btSimulationIslandManager::buildAndProcessIslands sorts all N bodies by island each substep, then
@@ -242,7 +242,7 @@ struct Physics::Impl {
     b.setFlags(b.getFlags() & ~BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY);
   }
 
-  // The body velocities for the wheel speeds of this tick (SPEC: v = (l+r)/2 along the heading,
+  // The body velocities for the wheel speeds of this tick (differential drive: v = (l+r)/2 along the heading,
   // w = (r-l)/wheel_spacing), from the body's heading now. v and w are the same for every substep of a tick.
   // The heading's direction is the body's x axis, the first column of its rotation (cos, sin of the yaw for
   // a body turning about z only): no atan2, sin or cos per body and substep.

@@ -50,7 +50,7 @@ struct Scenario {
   // the seed: never overlapping, communication graph connected).
   std::vector<Pose2D> robots;
 
-  // Medium (SPEC section 3) and sensors (section 4).
+  // Medium and sensors (scenarios/README.md).
   double comm_range = 3.0;              // m
   double range_noise_sd = 0.0;          // m, Gaussian noise on a received message's range
   double bearing_noise_sd = 0.0;        // rad, on its bearing

@@ -1,4 +1,4 @@
-// The Khepera IV's five ultrasonic sensors (SPEC section 4), after ARGoS's proximity sensors but as cones:
+// The Khepera IV's five ultrasonic sensors, after ARGoS's proximity sensors but as cones:
 // each sensor at kUltrasonicAngles casts kRaysPerSensor rays spread over +-kConeHalfAngle around its axis,
 // from the robot's CENTRE (a ray starting on the surface could start inside a touching body), against every
 // other robot (alive or dead) and every static body, analytically. A ray's distance is measured from the

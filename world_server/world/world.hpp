@@ -92,7 +92,7 @@ class World {
   // in robot order in step(). Takes effect from the next step().
   void defer_perceptions(bool on);
 
-  // The command of robot `id` for the current tick; checked and clamped here (SPEC section 7).
+  // The command of robot `id` for the current tick; checked and clamped here (world_server/world/README.md).
   // A robot with no command this tick keeps its last wheel speeds and says nothing.
   CommandVerdict apply_command(RobotId id, const Command& command);
 

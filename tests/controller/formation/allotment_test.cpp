@@ -235,7 +235,7 @@ TEST(Allotment, SimultaneousClaimsOnTwoControllersEndWithOneHolder) {
   EXPECT_EQ(label_status(b.stigmergy(), 2).holder, 6u);
 }
 
-// ---- Issue 17: a way out of every formation phase ----
+// ---- A way out of every formation phase ----
 
 RobotMessage searcher(RobotId id, Vec2 at, RobotId candidate, double distance, std::uint8_t age) {
   RobotMessage m;

@@ -1,5 +1,5 @@
-// Collision avoidance before Ready (eq. 1 and the task switch), with issue 17's additions: the right of way
-// that breaks symmetric deadlocks, the ultrasonic echoes no heard neighbour explains, the committed side.
+// Collision avoidance before Ready (eq. 1 and the task switch), with the controller's additions: the right of
+// way that breaks symmetric deadlocks, the ultrasonic echoes no heard neighbour explains, the committed side.
 #include <gtest/gtest.h>
 
 #include <array>

@@ -1,6 +1,7 @@
-// What the paper controller follows incrementally (issue 22 point 4) gives exactly what a full read gives:
-// the stigmergy's change log, revision, counts and slot index, and BarrierWatch against read_barrier, under
-// random puts, merges (with keys beyond the shape and lying values), copies and clears; MotionInputsWatch.
+// What the paper controller follows incrementally (bench/inprocess/README.md, P4) gives exactly what a full
+// read gives: the stigmergy's change log, revision, counts and slot index, and BarrierWatch against
+// read_barrier, under random puts, merges (with keys beyond the shape and lying values), copies and clears;
+// MotionInputsWatch.
 #include <gtest/gtest.h>
 
 #include <random>

@@ -1,4 +1,4 @@
-// The random walk (issue 2's simple behaviour): avoids what it sees, respects the limit, says its id.
+// The random walk (the simple behaviour): avoids what it sees, respects the limit, says its id.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// Issue 17's last ways out in the motion phase, as pure units: EchoMemory::gap_ahead (a gap between two
+// The last ways out in the motion phase, as pure units: EchoMemory::gap_ahead (a gap between two
 // obstacles is not a wall: no slide), PlaceApproach (the last approach and a cut-off robot's way: go round
 // the echoes, a committed side, a detour; never stuck-handling within `there` of the place) and
 // BoundaryFollower's kept side (Bug's memory: the turn-back counts from when the side was first taken, the

@@ -1,4 +1,4 @@
-// The paper's behaviour with real processes (issues 3, 4 and 17): world_server plus 9 robot_agent processes
+// The paper's behaviour with real processes: world_server plus 9 robot_agent processes
 // over DDS on loopback, scenarios/paper.yaml in lockstep. The triangle forms and two runs repeat bit for bit;
 // a real SIGKILL of the leader mid-way gives a new leader within 50 ticks and the swarm arrives; a real
 // SIGKILL of a parent makes its children re-parent and arrive. Whom to kill and when comes from a clean run
@@ -27,7 +27,7 @@ using Json = nlohmann::json;
 
 constexpr int kRobots = 9;
 constexpr double kRunDeadline = 90.0;  // s, one whole run (it takes ~5 s on a quiet 2-core machine)
-constexpr int kNewLeaderWithin = 50;   // ticks from the leader's death to its successor's `since` (issue 4)
+constexpr int kNewLeaderWithin = 50;   // ticks from the leader's death to its successor's `since`
 
 const std::string kWorld = WORLD_SERVER_EXE;
 const std::string kAgent = ROBOT_AGENT_EXE;
@@ -258,7 +258,7 @@ TEST_F(PaperMultiProcess, ParentKilledMidWayHasItsChildrenReparentAndArrive) {
   }
 }
 
-// The seed election survives its winner's death (issue 17): the robot that would become the seed (label 0,
+// The seed election survives its winner's death: the robot that would become the seed (label 0,
 // taken ~30 ticks in) is SIGKILLed at tick 5; the others elect another and the swarm still arrives.
 TEST_F(PaperMultiProcess, WouldBeSeedKilledAtTick5AnotherIsElectedAndTheSwarmArrives) {
   const int domain = swarmform::testing::test_domain(19);
@@ -278,7 +278,7 @@ TEST_F(PaperMultiProcess, WouldBeSeedKilledAtTick5AnotherIsElectedAndTheSwarmArr
             << " goal_tick=" << s["goal_tick"] << "\n";
 }
 
-// A live agent that never answers (issue 17): it holds an id but says nothing, so its robot takes no label.
+// A live agent that never answers: it holds an id but says nothing, so its robot takes no label.
 // The world stops waiting for it after one missed deadline; the others give its label up and arrive.
 TEST_F(PaperMultiProcess, SilentAgentsLabelIsAbandonedAndTheOthersArrive) {
   const int domain = swarmform::testing::test_domain(20);
@@ -292,13 +292,13 @@ TEST_F(PaperMultiProcess, SilentAgentsLabelIsAbandonedAndTheOthersArrive) {
             << " goal_tick=" << s["goal_tick"] << "\n";
 }
 
-// Issue 18 point 3: the agent that owns robot 4 is a liar. It moves exactly as an honest agent (the real
-// controller drives it) but every command's telemetry says: state arrived, label and parent 2e9, net force
-// NaN, and event strings of 20 KB, with control bytes, and "formed". The world drops and counts what is out
-// of range; nothing of it reaches robots.csv or events.jsonl; the metrics and the end come from the world's
-// poses, so formation_tick, goal_tick and the trajectory are the honest run's. Without the telemetry check,
-// robots.csv carries label 2000000000 and events.jsonl the 20 KB string. (Domain: base + 36, issue 18's
-// "abuse" tests; see tests/README.md.)
+// Telemetry is checked (docs/faults.md): the agent that owns robot 4 is a liar. It moves exactly as an honest
+// agent (the real controller drives it) but every command's telemetry says: state arrived, label and parent
+// 2e9, net force NaN, and event strings of 20 KB, with control bytes, and "formed". The world drops and
+// counts what is out of range; nothing of it reaches robots.csv or events.jsonl; the metrics and the end come
+// from the world's poses, so formation_tick, goal_tick and the trajectory are the honest run's. Without the
+// telemetry check, robots.csv carries label 2000000000 and events.jsonl the 20 KB string. (Domain: base + 36,
+// the abuse tests' "abuse" tests; see tests/README.md.)
 TEST_F(PaperMultiProcess, RogueOwnersFalseTelemetryIsDroppedCountedAndChangesNoMetric) {
   constexpr int kLiar = 4;
   const int domain = swarmform::testing::test_domain(40);

@@ -2,7 +2,7 @@
 // one process: every shape of shapes/ forms from 5 random starts with shape error <= 0.1 grid units and no
 // robot-robot contact; spares stay out of the way; a robot dying during formation, with and without a spare.
 //
-// Issue 17's formation rows, each with a deadline: the would-be seed killed during the election, a robot dead
+// The formation rows, each with a deadline: the would-be seed killed during the election, a robot dead
 // before taking a label (no spare), a silent agent and a holder that falls silent, the square's symmetric
 // deadlock (seed 13), no robot-obstacle contact while forming beside a dead body, the paper's pace.
 //
@@ -241,7 +241,7 @@ TEST(FormationSim, WithNoSpareTheShapeCompletesWithoutTheDeadRobot) {
   EXPECT_EQ(survivors_ready(), static_cast<int>(h.world().robot_count()) - 1) << snapshot(h);
 }
 
-// ---- Issue 17: a way out of every formation phase (robot_agent/README.md, shape formation) ----
+// ---- A way out of every formation phase (robot_agent/README.md, shape formation) ----
 
 world::Scenario paper_scenario() {
   return world::load_scenario(kRepo + "/scenarios/paper.yaml", {}, swarmform::controller::builtin_registry());

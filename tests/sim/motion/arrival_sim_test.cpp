@@ -1,6 +1,7 @@
-// Issue 17's motion rows, each reproduced in-process with a deadline and judged by the issue's arrival rule
-// from the truth (sim_checks.hpp, ArrivalJudge): the live shape at rest with shape error <= 0.1 grid units
-// and its centroid within the goal radius. The figures are printed for robot_agent/README.md.
+// The motion targets (scenarios/README.md, Figures), each reproduced in-process with a deadline and judged by
+// the world's arrival rule from the truth (sim_checks.hpp, ArrivalJudge): the live shape at rest with shape
+// error <= 0.1 grid units and its centroid within the goal radius. The figures are printed for
+// robot_agent/README.md.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -90,7 +91,7 @@ TEST(MotionArrival, PaperRunArrivesAtPace) {
   print("paper", out);
   ASSERT_TRUE(out.arrived.has_value());
   ASSERT_TRUE(out.motion_start.has_value());
-  // Issue 17 asks for 1.25 x the straight-line minimum (~1,120 ticks: the centroid's distance to the goal's
+  // The target is 1.25 x the straight-line minimum (~1,120 ticks: the centroid's distance to the goal's
   // radius at the limit) with peak distortion <= 0.5. With the leader carrying the shape on to the goal's
   // centre it took 1.27 x; it stops inside the radius now (robot_agent/README.md, "Arrival").
   const double ratio = static_cast<double>(*out.arrived - *out.motion_start) / out.minimum;

@@ -1,4 +1,4 @@
-// Failures during the formation motion (SPEC 5.9): a killed leader is replaced by one of the boundary robots
+// Failures during the formation motion: a killed leader is replaced by one of the boundary robots
 // within 50 ticks and the swarm still arrives; a killed parent's children re-parent and arrive. A lighter
 // run than the paper's: the triangle starts on its places (preformed.hpp) and the goal is 6 m away.
 #include <gtest/gtest.h>

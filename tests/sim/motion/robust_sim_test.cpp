@@ -1,4 +1,4 @@
-// Issue 17's last sweep failures, one test per mechanism fixed in the motion phase (robot_agent/README.md,
+// Sweep failures, one test per mechanism fixed in the motion phase (robot_agent/README.md,
 // "Ready and motion"), each a run that ended formed_not_arrived before the fix, judged by the world's own
 // metrics (world_server/run/metrics.hpp: the live shape at rest with shape error <= 0.1 grid units and its
 // centroid within the goal radius), with the scenario's max_ticks as the deadline.

@@ -80,7 +80,7 @@ inline bool all_arrived(const std::vector<world::RobotTruth>& robots) {
   return true;
 }
 
-// Issue 17's arrival, judged from the truth (as the world will judge it): the live labelled robots, each at
+// Arrival, judged from the truth (as the world will judge it): the live labelled robots, each at
 // its own label's place after the best proper rigid fit, with an RMS error <= 0.1 grid units, every one of
 // them at rest (within 5 mm of one point for the last 10 ticks), and their centroid within goal.radius of the
 // goal. (The robots' own labels stand in for the world's best assignment: an upper bound of its error.)
