@@ -285,8 +285,9 @@ class Processes:
                 w.wait(timeout=5)
         return w.returncode
 
-    def wait_agents(self, deadline_s: float) -> int:
-        """Gives the agents until the deadline to exit, then SIGKILLs the stragglers. Returns how many were."""
+    def wait_agents(self, deadline_s: float, before_kill: Optional[Callable[[], None]] = None) -> int:
+        """Gives the agents until the deadline to exit, calls `before_kill` (what became of each can still be told
+        apart: exited on its own, or still running), then SIGKILLs the stragglers. Returns how many were."""
         end = time.monotonic() + deadline_s
         for p in self.agents.values():
             try:
@@ -294,6 +295,8 @@ class Processes:
             except subprocess.TimeoutExpired:
                 pass
         stragglers = [p for p in self.agents.values() if p.poll() is None]
+        if before_kill:
+            before_kill()
         self.kill_agents()
         return len(stragglers)
 
@@ -669,9 +672,16 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
         if stop:
             return _interrupted(procs, stop, status, run_dir)
         code = world.returncode
-        # What became of the agents that never connected, before the stragglers are killed below.
-        missing = connecting.missing_text() if code == EXIT_AGENTS_MISSING and not connecting.connected else None
-        stragglers = procs.wait_agents(AGENT_EXIT_DEADLINE_S)
+        # What became of the agents that never connected: told once they have had their time to exit (one that
+        # gives up on its own as the world does says why), before the stragglers are killed.
+        missing: Optional[str] = None
+
+        def note_missing() -> None:
+            nonlocal missing
+            if code == EXIT_AGENTS_MISSING and not connecting.connected:
+                missing = connecting.missing_text()
+
+        stragglers = procs.wait_agents(AGENT_EXIT_DEADLINE_S, before_kill=note_missing)
         watch.check(force=True)
         if stragglers:
             status.line(f"swarm: {stragglers} agent(s) still running {AGENT_EXIT_DEADLINE_S:.0f} s after the world "
