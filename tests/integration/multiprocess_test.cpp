@@ -263,7 +263,7 @@ TEST_F(MultiProcess, SecondAgentWithATakenIdIsRefused) {
   ASSERT_TRUE(eventually(30.0, [&] { return w.err().find("id 2 claimed by pid") != std::string::npos; }));
   Process& second = agent(domain, 2, "dup-second");
   const auto code = second.wait_for(20.0);
-  EXPECT_EQ(code, 4) << second.err();
+  EXPECT_EQ(code, swarmform::exit_codes::kExitIdRefused) << second.err();
   EXPECT_NE(second.err().find("refused: id 2 is already owned by a live agent"), std::string::npos)
       << second.err();
   for (int i = 0; i < kRobots; ++i) {
