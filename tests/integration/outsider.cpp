@@ -4,8 +4,9 @@
 //   outsider listen --domain D --robots N --seconds S [--security-dir DIR --identity NAME]
 //       joins domain D as an agent would (the world on 127.0.0.1 as its discovery peer) with no certificate,
 //       or with NAME's of DIR (a directory of another run's authority: a stranger with a certificate). For S
-//       seconds, or until SIGTERM/SIGINT (a test lets it listen through a whole run, then stops it), it reads the mission, the world state and the sensor packets of robots 0..N-1 (a subscriber
-//       in each robot/K), and claims every id K from a writer in robot/K every 0.2 s. It prints one line
+//       seconds, or until SIGTERM/SIGINT (a test lets it listen through a whole run, then stops it), it reads
+//       the mission, the world state and the sensor packets of robots 0..N-1 (a subscriber in each robot/K),
+//       and claims every id K from a writer in robot/K every 0.2 s. It prints one line
 //         outsider samples=X readers_matched=R writers_matched=W participants_seen=P
 //       X: samples taken on all its readers; R, W: the most writers its readers matched and readers its
 //       writers matched at any moment; P: the most other participants its discovery saw at once (DDS Security
