@@ -120,7 +120,7 @@ double median_of(std::vector<double> v) {
 int main(int argc, char** argv) {
   CLI::App app{
       "bench_inprocess: robot-ticks per second of the world library with N robots and N controllers in one "
-      "process (issue 6 P3). Prints one JSON line."};
+      "process (BENCHMARKS.md, P3). Prints one JSON line."};
   std::string scenario_path = "bench/inprocess/field.yaml";
   std::size_t robots = 1000;
   std::string behaviour = "paper";

@@ -1,6 +1,6 @@
 // The built-in behaviours, registered through the same descriptor API as a plug-in
-// (behaviour/descriptor.hpp): "paper" (the paper's controller) and "random_walk" (issue 2's simple
-// behaviour).
+// (behaviour/descriptor.hpp): "paper" (the paper's controller) and "random_walk" (a simple wandering
+// behaviour, random_walk.hpp).
 #pragma once
 
 #include <memory>

@@ -1,4 +1,4 @@
-// The simple behaviour of issue 2, kept as a selectable one (mission.behaviour = "random_walk"): drive
+// A simple wandering behaviour, kept as a selectable one (mission.behaviour = "random_walk"): drive
 // forward at the speed limit with a random turn rate redrawn every few seconds, turn away on the spot from
 // anything the ultrasonic sensors see closer than the avoidance distance, and broadcast the robot's id (a
 // RobotMessage in state Idle, so any listener decodes it with the one codec). Randomness: a generator
