@@ -237,19 +237,7 @@ def parse_param(text: str) -> tuple[str, ParamValues]:
     usage = "expected NAME=V1,V2,... (e.g. k_goal=0.5,1,2)"
     if not sep or not _PARAM_NAME.match(name):
         raise ValueError(f"'{text}': {usage}")
-    out: ParamValues = []
-    for part in values.split(","):
-        part = part.strip()
-        try:
-            v = float(part)
-        except ValueError:
-            raise ValueError(f"'{text}': '{part}' is not a number; {usage}") from None
-        if not math.isfinite(v):
-            raise ValueError(f"'{text}': '{part}' is not a finite number")
-        if v in (x for _, x in out):
-            raise ValueError(f"'{text}': the value {part} is given twice")
-        out.append((part, v))
-    return name, out
+    return name, sweep_fields.number_list(values, text, usage)
 
 
 def param_combinations(params: Sequence[tuple[str, ParamValues]]) -> list[Combo]:

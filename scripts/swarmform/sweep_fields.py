@@ -32,22 +32,35 @@ class FieldAxis:
         self.column, self.key, self.labels = column, key, list(labels)
 
 
-def _numbers(text: str, what: str, lo: float, hi: float, hi_open: bool, example: str) -> Values:
+def number_list(values: str, quoted: str, usage: str,
+                bounds: Optional[tuple[float, float, bool, str]] = None) -> Values:
+    """`V1,V2,...` -> [(as written, as a number)]; ValueError quoting `quoted` (the flag's text) for a part that is
+    no number, is not finite or outside `bounds` (lo, hi, hi open, what the number is), or is given twice. One
+    parser for every comma-separated list of numbers a sweep takes (--param's values too)."""
     out: Values = []
-    usage = f"expected a comma-separated list of numbers (e.g. {example})"
-    for part in text.split(","):
+    for part in values.split(","):
         part = part.strip()
         try:
             v = float(part)
         except ValueError:
-            raise ValueError(f"'{text}': '{part}' is not a number; {usage}") from None
-        if not math.isfinite(v) or v < lo or (v >= hi if hi_open else v > hi):
-            bound = f"[{lo:g}, {hi:g})" if hi_open else f"[{lo:g}, {hi:g}]"
-            raise ValueError(f"'{text}': {what} {part} is outside {bound}")
+            raise ValueError(f"'{quoted}': '{part}' is not a number; {usage}") from None
+        if bounds is None:
+            if not math.isfinite(v):
+                raise ValueError(f"'{quoted}': '{part}' is not a finite number")
+        else:
+            lo, hi, hi_open, what = bounds
+            if not math.isfinite(v) or v < lo or (v >= hi if hi_open else v > hi):
+                bound = f"[{lo:g}, {hi:g})" if hi_open else f"[{lo:g}, {hi:g}]"
+                raise ValueError(f"'{quoted}': {what} {part} is outside {bound}")
         if v in (x for _, x in out):
-            raise ValueError(f"'{text}': the value {part} is given twice")
+            raise ValueError(f"'{quoted}': the value {part} is given twice")
         out.append((part, v))
     return out
+
+
+def _numbers(text: str, what: str, lo: float, hi: float, hi_open: bool, example: str) -> Values:
+    usage = f"expected a comma-separated list of numbers (e.g. {example})"
+    return number_list(text, text, usage, (lo, hi, hi_open, what))
 
 
 def parse_loss(text: str) -> Values:
