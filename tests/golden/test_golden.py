@@ -21,6 +21,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(ROOT, "tests", "scripts"))
 import helpers  # noqa: E402  (after the path above)
+from swarmform import inprocess  # noqa: E402  (helpers puts scripts/ on the path)
 
 GOLDEN = os.path.join(HERE, "golden.json")
 RUN_DEADLINE_S = 600  # a loaded 2-core machine runs the paper's 2,000 ticks in well under a minute
@@ -35,24 +36,30 @@ def plugin_dir(build_dir, name):
     return os.path.join(build_dir, "examples", "behaviours", name)
 
 
-def run_command(build_dir, mode, entry, out, domain=None):
-    """The command line of one golden run (in-process or through the launcher), and its environment."""
+def launcher_command(build_dir, entry, out, domain):
+    """The command line of one golden run through the launcher (real processes), and its environment."""
+    env = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=build_dir)
+    return [helpers.SWARM, "run", *run_args(build_dir, entry), "--mode", "lockstep", "--no-pictures", "--domain",
+            str(domain), "--out", out], env
+
+
+def run_args(build_dir, entry):
     args = list(entry["args"])
     if "plugin" in entry:
         args += ["--plugin-dir", plugin_dir(build_dir, entry["plugin"])]
-    if mode == "inprocess":
-        return [os.path.join(build_dir, "harness", "swarm_inprocess"), *args, "--out", out, "--quiet"], None
-    env = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=build_dir)
-    return [helpers.SWARM, "run", *args, "--mode", "lockstep", "--no-pictures", "--domain", str(domain),
-            "--out", out], env
+    return args
 
 
 def trajectory_sha256(build_dir, mode, entry, domain=None):
-    """Runs one golden run in a temporary folder; returns (sha256 or None, the run's output for a failure)."""
+    """Runs one golden run; returns (sha256 or None, the command, and why it failed if it did)."""
+    if mode == "inprocess":
+        summary, said = inprocess.summary_of(os.path.join(build_dir, "harness", "swarm_inprocess"),
+                                             run_args(build_dir, entry), ROOT, RUN_DEADLINE_S)
+        return (summary["trajectory_sha256"] if summary else None), said
     tmp = tempfile.mkdtemp(prefix="swarm-golden-")
     try:
         out = os.path.join(tmp, "run")
-        argv, env = run_command(build_dir, mode, entry, out, domain)
+        argv, env = launcher_command(build_dir, entry, out, domain)
         # Its own process group: on a timeout the launcher's world and agents go with it.
         p = subprocess.Popen(argv, cwd=ROOT, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                              stdin=subprocess.DEVNULL, start_new_session=True)
