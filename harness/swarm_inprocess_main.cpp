@@ -168,7 +168,7 @@ int main(int argc, char** argv) {
       "--set", set_texts,
       "KEY=VALUE: set the scenario field KEY (dotted for a nested one: noise.range) to VALUE "
       "(YAML: packet_loss={rate: 0.2, mean_burst: 5}) over the file's; repeatable; checked like the "
-      "file's fields (scenarios/README.md; a bad one: exit 2 naming the flag)");
+      "file's fields (docs/scenario-format.md; a bad one: exit 2 naming the flag)");
   app.add_option("--out", out, "run directory (default runs/<UTC time>, and runs/latest points at it)");
   app.add_option("--kill", kill_texts, "kill robot ID at tick TICK (ID@TICK); repeatable");
   app.add_option(

@@ -184,7 +184,7 @@ int main(int argc, char** argv) {
   Options o;
   CLI::App app{"world_server: the world of a swarmform run (Bullet physics, sensors, medium) over DDS"};
   CLI::Option* scenario =
-      app.add_option("--scenario", o.scenario, "scenario file (YAML, scenarios/README.md)")->required();
+      app.add_option("--scenario", o.scenario, "scenario file (YAML, docs/scenario-format.md)")->required();
   app.add_option("--shape", o.shape, "shape file, overrides the scenario's");
   app.add_option("--robots", o.robots, "number of robots, overrides the scenario's")
       ->check(CLI::PositiveNumber);

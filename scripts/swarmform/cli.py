@@ -129,7 +129,7 @@ def _existing_file() -> Callable[[str], str]:
 def _add_run_flags(p: argparse.ArgumentParser, demo: bool = False) -> None:
     if not demo:
         p.add_argument("--scenario", type=_existing_file(), default=None, metavar="FILE",
-                       help=f"scenario file (YAML; scenarios/README.md). Default: {DEFAULT_SCENARIO}")
+                       help=f"scenario file (YAML; docs/scenario-format.md). Default: {DEFAULT_SCENARIO}")
     p.add_argument("--shape", metavar="FILE",  # the world resolves it (also against shapes/) and checks it
                    help="shape matrix file, instead of the scenario's (shapes/README.md); a bare name is "
                         "looked up in shapes/")

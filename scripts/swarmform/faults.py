@@ -1,4 +1,4 @@
-"""Scheduled faults in `swarm run` (--fault; format in scenarios/README.md, "Faults").
+"""Scheduled faults in `swarm run` (--fault; format in docs/scenario-format.md, "Faults").
 
 The world server checks and executes them (a bad fault fails `world_server --check` with a clear message);
 the launcher's only part is the one fault the world cannot execute: a restart needs a new agent process, and
@@ -21,7 +21,7 @@ RETIRED_WAIT_S = 5.0
 FAULT_HELP = ("a scheduled fault KIND:TARGET@TICK[+TICKS][=VALUE] (repeatable): kill:ID@T, stall:ID@T+TICKS "
               "(SIGSTOP/SIGCONT), restart:ID@T (a new agent after a kill), ultrasonic:ID[/SENSOR]@T[+TICKS] "
               "(reads its maximum), wheel:ID/left|right@T[+TICKS] (stops), loss:ID|all@T[+TICKS] (messages "
-              "lost), range:ID|all@T[+TICKS]=METRES (range cut); scenarios/README.md, Faults")
+              "lost), range:ID|all@T[+TICKS]=METRES (range cut); docs/scenario-format.md, Faults")
 
 
 class Restarter:

@@ -1,6 +1,6 @@
 """`swarm sweep`'s scenario-field axes: the radio (--loss, --burst), the noise (--noise) and any scenario field
 (--set KEY=V1,V2,...). Each becomes one axis of the grid; a run gets its values as `swarm_inprocess --set KEY=VALUE`
-flags, which the scenario loader checks like the file's own fields (scenarios/README.md).
+flags, which the scenario loader checks like the file's own fields (docs/scenario-format.md).
 
   --loss 0,0.1,0.2     packet_loss rates, each in [0, 1)
   --burst 1,5          mean burst lengths in ticks (Gilbert-Elliott, per directed link); 1 is independent loss (the
@@ -232,7 +232,7 @@ Scenario fields (each flag one axis of the grid; a run gets `swarm_inprocess --s
   --loss 0,0.1,0.2,0.3   packet_loss rates, [0, 1)
   --burst 1,5            mean loss bursts in ticks (needs --loss): 1 is independent loss (packet_loss: RATE), B > 1
                          bursty loss (packet_loss: {rate: RATE, mean_burst: B}, a Gilbert-Elliott chain per
-                         directed link; B >= 1 / (1 - RATE), scenarios/README.md "Bursty loss")
+                         directed link; B >= 1 / (1 - RATE), docs/scenario-format.md "Bursty loss")
   --noise off,on         off: noise {range: 0, bearing: 0, ultrasonic: 0}; on: noise {range: 0.05 m, bearing: 0.05
                          rad, ultrasonic: 0.02 m} (Gaussian sds)
   --set KEY=V1,V2,...    any scenario field, dotted for a nested one (comm_range=2,3; noise.range=0,0.05;

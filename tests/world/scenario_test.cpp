@@ -179,8 +179,8 @@ TEST(Scenario, EveryShippedShapeFitsEveryShippedScenario) {
   }
 }
 
-TEST(Scenario, TheFullExampleOfTheReadmeParses) {
-  std::ifstream in(kRepo + "/scenarios/README.md");
+TEST(Scenario, TheFullExampleOfTheFormatDocParses) {
+  std::ifstream in(kRepo + "/docs/scenario-format.md");
   std::stringstream text;
   text << in.rdbuf();
   const std::string md = text.str();

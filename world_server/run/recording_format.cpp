@@ -129,7 +129,7 @@ ojson describe_world(const Scenario& scenario, const std::string& mode) {
   j["goal"] = {{"x", m.goal.x}, {"y", m.goal.y}, {"radius", m.goal_radius}};
   j["grid_spacing"] = m.grid_spacing;
   j["comm_range"] = scenario.comm_range;
-  // The radio and the sensors' noise (scenarios/README.md): mean_burst null is independent loss.
+  // The radio and the sensors' noise (docs/scenario-format.md): mean_burst null is independent loss.
   const ojson mean_burst =
       scenario.packet_loss_mean_burst > 0.0 ? ojson(scenario.packet_loss_mean_burst) : ojson(nullptr);
   j["medium"] = {{"packet_loss", {{"rate", scenario.packet_loss}, {"mean_burst", mean_burst}}},
@@ -147,7 +147,7 @@ ojson describe_world(const Scenario& scenario, const std::string& mode) {
   ojson kills = ojson::array();
   for (const auto& k : scenario.kills) kills.push_back({{"id", k.id}, {"tick", k.tick}});
   j["kills"] = std::move(kills);
-  ojson faults = ojson::array();  // every other scheduled fault, as written (scenarios/README.md, Faults)
+  ojson faults = ojson::array();  // every other scheduled fault, as written (docs/scenario-format.md, Faults)
   for (const auto& f : scenario.faults) faults.push_back(f.text);
   j["faults"] = std::move(faults);
   return j;

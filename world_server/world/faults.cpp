@@ -1,4 +1,4 @@
-// The fault format's parser and checks (faults.hpp; reference: scenarios/README.md, "Faults").
+// The fault format's parser and checks (faults.hpp; reference: docs/scenario-format.md, "Faults").
 #include "world_server/world/faults.hpp"
 
 #include <charconv>

@@ -2,7 +2,7 @@
 //
 //   KIND:TARGET@TICK[+TICKS][=VALUE]        e.g. stall:3@200+30, wheel:1/left@120, range:all@500=1.5
 //
-// (scenarios/README.md, "Faults", is the reference.) World faults (ultrasonic, wheel, loss, range) are
+// (docs/scenario-format.md, "Faults", is the reference.) World faults (ultrasonic, wheel, loss, range) are
 // executed by World itself, so the in-process harness and the DDS world_server give the same run; process
 // faults (kill, stall, restart) are executed by whoever owns the agent processes (world_server with
 // --agent-pid, the launcher for a restart) or, in-process, on the robot's controller. No DDS here.
@@ -73,7 +73,7 @@ std::string check_fault(const std::vector<Fault>& faults, std::size_t index, con
 inline constexpr const char* kFaultFormatHelp =
     "KIND:TARGET@TICK[+TICKS][=VALUE], repeatable: kill:ID@T, stall:ID@T+TICKS, restart:ID@T (after a kill), "
     "ultrasonic:ID[/SENSOR]@T[+TICKS], wheel:ID/left|right@T[+TICKS], loss:ID|all@T[+TICKS], "
-    "range:ID|all@T[+TICKS]=METRES (scenarios/README.md, Faults)";
+    "range:ID|all@T[+TICKS]=METRES (docs/scenario-format.md, Faults)";
 
 // The world faults that start (first active tick) or end (first tick no longer active) at tick t, in the
 // order given: for the front ends' events.

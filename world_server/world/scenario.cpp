@@ -1,4 +1,4 @@
-// The scenario loader: YAML (format in scenarios/README.md) -> an immutable, fully checked Scenario.
+// The scenario loader: YAML (format in docs/scenario-format.md) -> an immutable, fully checked Scenario.
 // Order: parse and check every field; load the shape; apply the command-line overrides; resolve the robots'
 // initial poses (listed, or random from the seed); check what depends on the robot count (kills).
 #include <yaml-cpp/yaml.h>
@@ -338,9 +338,9 @@ const behaviour::Descriptor& named_behaviour(const Source& src, const YAML::Node
   throw InputError(at ? src.file : "command line", 0, (at ? "" : "--behaviour: ") + why);
 }
 
-// behaviour: NAME | {name: NAME, params: {...}} | {plugin: PATH, params: {...}} (scenarios/README.md), and
-// the older `controller:` section for the parameters. Every parameter is checked against the behaviour's own
-// table, with the line it is on.
+// behaviour: NAME | {name: NAME, params: {...}} | {plugin: PATH, params: {...}} (docs/scenario-format.md),
+// and the older `controller:` section for the parameters. Every parameter is checked against the behaviour's
+// own table, with the line it is on.
 void parse_behaviour(const Source& src, MapReader& top, const ScenarioOverrides& ov, const fs::path& base,
                      behaviour::Registry& registry, Scenario& s) {
   std::optional<YAML::Node> params_node;
@@ -471,8 +471,8 @@ void resolve_robots(const Source& src, const RobotsSection& r, const ScenarioOve
   s.robots = std::move(*poses);
 }
 
-// The shape must fit inside the walls from where it forms (scenarios/README.md, "The shape must fit"). The
-// controller puts label 0 where the robot nearest the arena origin stands and every other label L at
+// The shape must fit inside the walls from where it forms (docs/scenario-format.md, "The shape must fit").
+// The controller puts label 0 where the robot nearest the arena origin stands and every other label L at
 // origin + R(shape_heading - pi/2) * offset(L) (robot_agent/README.md, "Shape formation"). The robots' start
 // poses are known here (listed, or drawn from the seed), so label 0 is taken at the robot nearest the origin
 // and, should it die and another be elected, at every robot less than one grid spacing farther from the

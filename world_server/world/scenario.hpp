@@ -1,6 +1,6 @@
 // The scenario: an immutable description of one run (arena, obstacles, robots, medium, mode, goal, shape,
-// controller parameters), loaded from a YAML file in scenarios/ (format: scenarios/README.md) and then never
-// changed. The mutable state lives in World.
+// controller parameters), loaded from a YAML file in scenarios/ (format: docs/scenario-format.md) and then
+// never changed. The mutable state lives in World.
 #pragma once
 
 #include <cstdint>
@@ -50,7 +50,7 @@ struct Scenario {
   // the seed: never overlapping, communication graph connected).
   std::vector<Pose2D> robots;
 
-  // Medium and sensors (scenarios/README.md).
+  // Medium and sensors (docs/scenario-format.md).
   double comm_range = 3.0;              // m
   double range_noise_sd = 0.0;          // m, Gaussian noise on a received message's range
   double bearing_noise_sd = 0.0;        // rad, on its bearing

@@ -166,10 +166,10 @@ TEST_F(PaperMultiProcess, TriangleFormsWithRealAgentsAndTwoLockstepRunsRepeatBit
             << " sha=" << first["trajectory_sha256"] << "\n";
 }
 
-// Bursty loss (scenarios/README.md, "Bursty loss") draws from the seed, the tick and the link only, so real
-// processes over DDS lose the copies the in-process harness loses: the same trajectory bit for bit. The loss
-// must matter to the run for this to mean anything: without it the in-process trajectory differs. Test domain
-// 16, shared with the test above (RUN_SERIAL: never at the same time).
+// Bursty loss (docs/scenario-format.md, "Bursty loss") draws from the seed, the tick and the link only, so
+// real processes over DDS lose the copies the in-process harness loses: the same trajectory bit for bit. The
+// loss must matter to the run for this to mean anything: without it the in-process trajectory differs. Test
+// domain 16, shared with the test above (RUN_SERIAL: never at the same time).
 TEST_F(PaperMultiProcess, BurstyLossGivesTheInProcessTrajectoryBitForBit) {
   const int domain = swarmform::testing::test_domain(16);
   const Json dds = run(domain, "bursty", std::nullopt, std::nullopt, "silent", kBursty);

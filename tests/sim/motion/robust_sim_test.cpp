@@ -84,7 +84,7 @@ TEST(MotionRobustness, RobotsThreadAClusterOfPosts) {
 
 // Five spares stood in the shape's path, just ahead of its leader, and the shape stood still for 7,500 ticks:
 // a searcher gave way only to a Moving robot. It now gives way to a robot in Motion as well (the paper's
-// yield rule, robot_agent/README.md "Way out of symmetric deadlocks").
+// yield rule, robot_agent/README.md "right of way").
 TEST(MotionRobustness, SparesGiveWayToTheShapeOnItsWay) {
   expect_arrives({"scenarios/spares.yaml", 18, {}});
 }
