@@ -1,6 +1,7 @@
-// The robot's broadcast: one message per tick, heard by every neighbour in range (SPEC section 3).
-// A compact, versioned, little-endian binary codec. decode() never trusts its input: any truncation, bad
-// magic or version, count over its bound, non-finite number or trailing byte gives nullopt, never a crash.
+// The robot's broadcast: one message per tick, heard by every neighbour in range
+// (world_server/world/medium.hpp). A compact, versioned, little-endian binary codec. decode() never trusts
+// its input: any truncation, bad magic or version, count over its bound, non-finite number or trailing byte
+// gives nullopt, never a crash.
 //
 // Wire layout, version 2 (all little-endian; f32 = IEEE-754 binary32):
 //   u8  magic 0x53 ('S')         u8  version (1)

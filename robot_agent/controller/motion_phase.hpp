@@ -1,4 +1,4 @@
-// The motion phases behind motion_hooks.hpp (paper III.C 'Ready' to III.E, SPEC 5 items 5-9):
+// The motion phases behind motion_hooks.hpp (paper III.C 'Ready' to III.E):
 //
 //   Ready    boundary role from the neighbours' azimuths -> stigmergy (boundary.hpp); leader elected from the
 //            shared entries (leader_election.hpp); parent from the shared shortest-path tree
