@@ -29,6 +29,7 @@
 #include "world_server/run/run_session.hpp"
 #include "world_server/run/telemetry_check.hpp"
 #include "world_server/stall_guard.hpp"
+#include "world_server/stragglers.hpp"
 #include "world_server/viewer_control.hpp"
 #include "world_server/world/scenario.hpp"
 #include "world_server/world/world.hpp"
@@ -120,6 +121,10 @@ class Server {
   void on_claim(const dds::CommandSample& s, bool running);
   void on_command(const dds::CommandSample& s);
   void on_lost(dds::PublicationHandle writer, bool running, bool gone);
+  // Lockstep: `writer`'s owner lost its liveliness but its process is there: a straggler (stragglers.hpp).
+  bool straggles(dds::PublicationHandle writer, bool running);
+  // Stragglers whose process went are deaths now.
+  void check_stragglers();
   bool judged(dds::PublicationHandle writer) const;  // judged_ of the robot `writer` owns
   void on_regained(dds::PublicationHandle writer, bool running);
   // A lost owner that is a death now (after StallGuard's judgement).
@@ -156,6 +161,7 @@ class Server {
   AgentRegistry registry_;
   WorldLink link_;
   StallGuard stalls_;
+  Stragglers stragglers_;
   dds::RefusalLog refusals_;
   std::vector<dds::PublicationHandle> expired_;
   std::vector<RobotSlot> robots_;  // by id
@@ -173,6 +179,7 @@ class Server {
   std::vector<dds::CommandReader::LivelinessChange> liveliness_;
   // Liveliness lapses before an owner's first packet: counted, not losses.
   std::uint64_t unjudged_lapses_ = 0;
+  bool stalled_out_ = false;  // lockstep waited Stragglers::kLimit for stragglers: the run ends
   // Claims and commands taken after their writer went away: ignored, counted.
   std::uint64_t stale_samples_ = 0;
   std::vector<dds::RobotPoseRow> rows_;
