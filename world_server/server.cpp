@@ -560,6 +560,7 @@ bool Server::straggles(dds::PublicationHandle writer, bool running) {
                         "liveliness lost at tick " + std::to_string(world_.tick()) +
                             " while its process (pid " + std::to_string(*pid) +
                             ") is still there: slow, not dead; the world waits for it");
+  session_.flush();  // the world records nothing else while it waits: the reason is in events.jsonl now
   return true;
 }
 
@@ -571,11 +572,13 @@ void Server::check_stragglers() {
   });
   for (const dds::PublicationHandle w : gone) {
     stragglers_.remove(w);
-    on_dead(w, true);
+    // An agent that exits while it is waited for (killed, or gave up on a world it could not hear: a host
+    // cut off past the agent's --world-timeout) is dead now.
+    on_dead(w, true, "its process exited while the world waited for it");
   }
 }
 
-void Server::on_dead(dds::PublicationHandle writer, bool running) {
+void Server::on_dead(dds::PublicationHandle writer, bool running, const char* why) {
   stragglers_.remove(writer);
   guard_.forget(writer);
   const auto id = registry_.lose(writer);
@@ -591,7 +594,8 @@ void Server::on_dead(dds::PublicationHandle writer, bool running) {
   if (!world_.alive(*id)) return;
   world_.kill(*id);
   session_.record_death(*id);
-  std::string detail = "liveliness lost at tick " + std::to_string(world_.tick());
+  std::string detail =
+      std::string(why ? why : "liveliness lost") + " at tick " + std::to_string(world_.tick());
   if (const auto ms = faults_.take_kill_delay_ms(*id)) {
     detail += "; detected " + std::to_string(*ms) + " ms after SIGKILL";
   }
@@ -752,10 +756,19 @@ bool Server::collect_lockstep() {
   const dds_time_t collect_start = dds_time();
   // In the world's awake time (stall_guard.hpp): the world's own pause makes no agent late.
   stalls_.observe(collect_start);
-  const dds_time_t deadline = stalls_.awake() + seconds(scenario_.lockstep_deadline_s);
+  const dds_duration_t allowed = seconds(scenario_.lockstep_deadline_s);
+  dds_time_t deadline = stalls_.awake() + allowed;
+  std::size_t came_back = stragglers_.came_back();
   for (;;) {
     pump(true);
     if (waiting_count_ == 0 || stopping()) break;
+    if (stragglers_.came_back() != came_back) {
+      // A straggler heard again has the whole deadline from now to answer: the packet it missed comes
+      // again first (DDS retransmits it), and a deadline that ran while it was waited for would pass it by
+      // the moment it is back (a host cut off for 4 s: every robot of it command_late, a changed trajectory).
+      came_back = stragglers_.came_back();
+      deadline = std::max(deadline, stalls_.awake() + allowed);
+    }
     if (stragglers_.overdue(stalls_.awake())) {
       stalled_out_ = true;
       break;

@@ -127,8 +127,9 @@ class Server {
   void check_stragglers();
   bool judged(dds::PublicationHandle writer) const;  // judged_ of the robot `writer` owns
   void on_regained(dds::PublicationHandle writer, bool running);
-  // A lost owner that is a death now (after StallGuard's judgement).
-  void on_dead(dds::PublicationHandle writer, bool running);
+  // A lost owner that is a death now (after StallGuard's judgement); `why` for its death_detected event
+  // (default: its liveliness was lost).
+  void on_dead(dds::PublicationHandle writer, bool running, const char* why = nullptr);
   // Brings a dead robot back for its (same or new) owner: a rejoin, its generation raised so that the agent
   // starts its controller afresh.
   void revive(RobotId id);
