@@ -83,6 +83,13 @@ std::optional<std::string> ProcessFaults::restart(const world::Fault& f, Tick t)
          (t == f.tick ? std::string() : "; after its death was seen at tick " + std::to_string(t));
 }
 
+bool ProcessFaults::stopped(pid_t pid) const {
+  for (const auto& [fault, p] : stopped_) {
+    if (p == pid) return true;
+  }
+  return false;
+}
+
 void ProcessFaults::resume_all(world::RunSession* session) {
   for (const auto& [fault, pid] : stopped_) {
     const bool ok = ::kill(pid, SIGCONT) == 0;

@@ -50,6 +50,9 @@ class ProcessFaults : public world::FaultActions {
   // How long ago a SIGKILL went to robot `id`'s agent (ms), if one did and was not asked for yet: the
   // detection delay its death event reports.
   std::optional<long long> take_kill_delay_ms(RobotId id);
+  // The world itself stopped `pid` (a stall fault in progress): its silence is that fault's, judged as a
+  // stall fault is, not the host's slowness.
+  bool stopped(pid_t pid) const;
   // SIGCONT every agent still stopped (the run ends); events when `session` is given.
   void resume_all(world::RunSession* session);
 

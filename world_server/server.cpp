@@ -12,6 +12,7 @@
 #include <random>
 
 #include "common/id_ranges.hpp"
+#include "world_server/agent_process.hpp"
 #include "world_server/run/run_end.hpp"
 #include "world_server/wire_check.hpp"
 
@@ -182,6 +183,12 @@ int Server::run_inner() {
         static_cast<unsigned long long>(stalls_.own_stalls()), stalls_.own_stalled_seconds(),
         static_cast<unsigned long long>(stalls_.suspicions_cleared()));
   }
+  if (stragglers_.total() > 0) {
+    std::fprintf(stderr,
+                 "world_server: lockstep waited for %zu agent(s) whose liveliness lapsed while their process "
+                 "was there; %zu came back (not deaths)\n",
+                 stragglers_.total(), stragglers_.came_back());
+  }
   if (unjudged_lapses_ > 0) {
     std::fprintf(
         stderr,
@@ -286,7 +293,7 @@ void Server::pump(bool running) {
     // all came back together after the world's own stall, one's regained event sometimes never arrived (2
     // runs in 13; not traced: Cyclone 0.10 calls the listener once per change, so it is not a merged status).
     // Not from a writer that went away: its samples may be taken after its going (stall_guard.hpp).
-    if (stalls_.suspected(s.writer)) on_regained(s.writer, running);
+    if (stalls_.suspected(s.writer) || stragglers_.contains(s.writer)) on_regained(s.writer, running);
     if (!first_answer_due_.empty()) first_answer_due_.erase(s.writer);
     // An ALIVE sample has done its work on arrival (its writer's liveliness, in Cyclone): nothing to keep.
     if (s.kind == dds::CommandKind::Alive) continue;
@@ -322,6 +329,7 @@ void Server::pump(bool running) {
     it = first_answer_due_.erase(it);
   }
   for (const dds::PublicationHandle w : expired_) on_dead(w, running);
+  if (!stragglers_.empty() && stragglers_.recheck_due(dds_time())) check_stragglers();
   if (viewer_) viewer_->poll(dds_time());
 }
 
@@ -527,13 +535,51 @@ void Server::on_command(const dds::CommandSample& s) {
 }
 
 void Server::on_lost(dds::PublicationHandle writer, bool running, bool gone) {
+  if (gone) {
+    stragglers_.remove(writer);  // its writer went away with its participant: judged as below
+  } else if (straggles(writer, running)) {
+    return;
+  }
   // Right after the world's own stall a loss is only suspected (stall_guard.hpp): the agent keeps its robot
   // and its packets until the grace is over or its liveliness is back (never, if its writer went away).
   if (running && registry_.owner_of(writer) && stalls_.suspect(writer, gone)) return;
   on_dead(writer, running);
 }
 
-void Server::on_dead(dds::PublicationHandle writer, bool running) {
+bool Server::straggles(dds::PublicationHandle writer, bool running) {
+  if (!running || scenario_.mode != world::Mode::Lockstep) return false;
+  if (stragglers_.contains(writer)) return true;
+  const auto id = registry_.owner_of(writer);
+  if (!id || !world_.alive(*id)) return false;
+  // Only a process seen gone is a death at once; without a pid the world cannot look, and a loss is judged as
+  // before (stall_guard.hpp).
+  const auto pid = agent_pid(*id);
+  if (!pid || faults_.stopped(*pid) || process_state(*pid) != ProcessState::Present) return false;
+  stragglers_.add(writer, *id, stalls_.awake());
+  session_.record_event(*id, "agent_stalled",
+                        "liveliness lost at tick " + std::to_string(world_.tick()) +
+                            " while its process (pid " + std::to_string(*pid) +
+                            ") is still there: slow, not dead; the world waits for it");
+  session_.flush();  // the world records nothing else while it waits: the reason is in events.jsonl now
+  return true;
+}
+
+void Server::check_stragglers() {
+  std::vector<dds::PublicationHandle> gone;
+  stragglers_.for_each([&](dds::PublicationHandle writer, RobotId id) {
+    const auto pid = agent_pid(id);
+    if (!pid || process_state(*pid) == ProcessState::Gone) gone.push_back(writer);
+  });
+  for (const dds::PublicationHandle w : gone) {
+    stragglers_.remove(w);
+    // An agent that exits while it is waited for (killed, or gave up on a world it could not hear: a host
+    // cut off past the agent's --world-timeout) is dead now.
+    on_dead(w, true, "its process exited while the world waited for it");
+  }
+}
+
+void Server::on_dead(dds::PublicationHandle writer, bool running, const char* why) {
+  stragglers_.remove(writer);
   guard_.forget(writer);
   const auto id = registry_.lose(writer);
   if (!id) return;  // not an owner (a refused claimant, a spoofer, a test program)
@@ -548,7 +594,8 @@ void Server::on_dead(dds::PublicationHandle writer, bool running) {
   if (!world_.alive(*id)) return;
   world_.kill(*id);
   session_.record_death(*id);
-  std::string detail = "liveliness lost at tick " + std::to_string(world_.tick());
+  std::string detail =
+      std::string(why ? why : "liveliness lost") + " at tick " + std::to_string(world_.tick());
   if (const auto ms = faults_.take_kill_delay_ms(*id)) {
     detail += "; detected " + std::to_string(*ms) + " ms after SIGKILL";
   }
@@ -558,6 +605,12 @@ void Server::on_dead(dds::PublicationHandle writer, bool running) {
 
 void Server::on_regained(dds::PublicationHandle writer, bool running) {
   first_answer_due_.erase(writer);
+  if (const auto id = stragglers_.remove(writer)) {
+    stragglers_.note_came_back();
+    session_.record_event(*id, "liveliness_regained",
+                          "the owner's writer is alive again after a stall of its own: not a death");
+    return;
+  }
   // An owner declared dead whose writer turns out alive was stalled (starved of CPU past the lease), not
   // dead: its robot comes back as on a rejoin, rather than leaving a live agent without packets until the
   // end.
@@ -703,27 +756,57 @@ bool Server::collect_lockstep() {
   const dds_time_t collect_start = dds_time();
   // In the world's awake time (stall_guard.hpp): the world's own pause makes no agent late.
   stalls_.observe(collect_start);
-  const dds_time_t deadline = stalls_.awake() + seconds(scenario_.lockstep_deadline_s);
+  const dds_duration_t allowed = seconds(scenario_.lockstep_deadline_s);
+  dds_time_t deadline = stalls_.awake() + allowed;
+  std::size_t came_back = stragglers_.came_back();
   for (;;) {
     pump(true);
     if (waiting_count_ == 0 || stopping()) break;
+    if (stragglers_.came_back() != came_back) {
+      // A straggler heard again has the whole deadline from now to answer: the packet it missed comes
+      // again first (DDS retransmits it), and a deadline that ran while it was waited for would pass it by
+      // the moment it is back (a host cut off for 4 s: every robot of it command_late, a changed trajectory).
+      came_back = stragglers_.came_back();
+      deadline = std::max(deadline, stalls_.awake() + allowed);
+    }
+    if (stragglers_.overdue(stalls_.awake())) {
+      stalled_out_ = true;
+      break;
+    }
     if (stalls_.awake() >= deadline) {
+      // The deadline passes by an agent that is alive but does not answer; a straggler (its liveliness lost,
+      // its process there) is waited for, within Stragglers::kLimit.
+      bool straggling = false;
       for (std::size_t i = 0; i < robots_.size(); ++i) {
         if (!robots_[i].waiting) continue;
+        if (stragglers_.holds(static_cast<RobotId>(i))) {
+          straggling = true;
+          continue;
+        }
+        robots_[i].waiting = false;
+        --waiting_count_;
         robots_[i].unresponsive = true;
         session_.record_event(static_cast<RobotId>(i), "command_late",
                               "no command for tick " + std::to_string(world_.tick()) + " within the " +
                                   "lockstep deadline; not waited for until it answers again");
       }
-      break;
+      if (!straggling) break;
     }
     // Sleep until as many samples are in as commands are awaited (each awaited agent sends one), not at each
     // arrival: a round at N = 64 took the commands 8.9 times (dds::Waiter, "Counted arrivals").
     link_.waiter.need(waiting_count_);
-    wait_a_while(dds_time() + (deadline - stalls_.awake()));
+    wait_a_while(dds_time() + std::max<dds_duration_t>(0, deadline - stalls_.awake()) +
+                 (stalls_.awake() >= deadline ? StallGuard::kProbe : 0));
   }
   link_.waiter.need(1);  // elsewhere every sample wakes the world
   profile_.collect += dds_time() - collect_start;
+  if (stalled_out_) {
+    std::cerr << "world_server: " << stragglers_.size() << " agent(s) alive but silent for "
+              << Stragglers::kLimit / DDS_NSECS_IN_SEC << " s of the world's time at tick " << world_.tick()
+              << ": the run ends (agents_stalled)\n";
+    session_.set_end_reason(world::EndReason::AgentsStalled);
+    return false;
+  }
   return !stopping();
 }
 

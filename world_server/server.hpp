@@ -29,6 +29,7 @@
 #include "world_server/run/run_session.hpp"
 #include "world_server/run/telemetry_check.hpp"
 #include "world_server/stall_guard.hpp"
+#include "world_server/stragglers.hpp"
 #include "world_server/viewer_control.hpp"
 #include "world_server/world/scenario.hpp"
 #include "world_server/world/world.hpp"
@@ -120,10 +121,15 @@ class Server {
   void on_claim(const dds::CommandSample& s, bool running);
   void on_command(const dds::CommandSample& s);
   void on_lost(dds::PublicationHandle writer, bool running, bool gone);
+  // Lockstep: `writer`'s owner lost its liveliness but its process is there: a straggler (stragglers.hpp).
+  bool straggles(dds::PublicationHandle writer, bool running);
+  // Stragglers whose process went are deaths now.
+  void check_stragglers();
   bool judged(dds::PublicationHandle writer) const;  // judged_ of the robot `writer` owns
   void on_regained(dds::PublicationHandle writer, bool running);
-  // A lost owner that is a death now (after StallGuard's judgement).
-  void on_dead(dds::PublicationHandle writer, bool running);
+  // A lost owner that is a death now (after StallGuard's judgement); `why` for its death_detected event
+  // (default: its liveliness was lost).
+  void on_dead(dds::PublicationHandle writer, bool running, const char* why = nullptr);
   // Brings a dead robot back for its (same or new) owner: a rejoin, its generation raised so that the agent
   // starts its controller afresh.
   void revive(RobotId id);
@@ -156,6 +162,7 @@ class Server {
   AgentRegistry registry_;
   WorldLink link_;
   StallGuard stalls_;
+  Stragglers stragglers_;
   dds::RefusalLog refusals_;
   std::vector<dds::PublicationHandle> expired_;
   std::vector<RobotSlot> robots_;  // by id
@@ -173,6 +180,7 @@ class Server {
   std::vector<dds::CommandReader::LivelinessChange> liveliness_;
   // Liveliness lapses before an owner's first packet: counted, not losses.
   std::uint64_t unjudged_lapses_ = 0;
+  bool stalled_out_ = false;  // lockstep waited Stragglers::kLimit for stragglers: the run ends
   // Claims and commands taken after their writer went away: ignored, counted.
   std::uint64_t stale_samples_ = 0;
   std::vector<dds::RobotPoseRow> rows_;

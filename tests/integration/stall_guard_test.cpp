@@ -1,13 +1,18 @@
 // The pure parts of the stall rule (docs/wire.md "Liveliness, stalls and deaths"): a process's own clock of
 // progress, the world's judgement of lost agents after its own stall, and refusals said once a second.
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <sstream>
 
 #include "common/dds/refusal_log.hpp"
 #include "common/own_clock.hpp"
+#include "world_server/agent_process.hpp"
 #include "world_server/stall_guard.hpp"
+#include "world_server/stragglers.hpp"
 
 namespace {
 
@@ -75,6 +80,49 @@ TEST(StallGuard, AWriterThatWentAwayIsNotBroughtBackByItsOwnLateSamples) {
   std::sort(dead.begin(), dead.end());
   EXPECT_EQ(dead, (std::vector<swarmform::dds::PublicationHandle>{5, 6}));
   EXPECT_EQ(g.suspicions_cleared(), 1u);
+}
+
+TEST(AgentProcess, AStoppedProcessIsPresentAKilledOneIsGoneEvenBeforeItIsReaped) {
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    ::pause();
+    ::_exit(0);
+  }
+  using swarmform::server::process_state;
+  using swarmform::server::ProcessState;
+  EXPECT_EQ(process_state(child), ProcessState::Present);
+  ASSERT_EQ(::kill(child, SIGSTOP), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, WUNTRACED), child);  // it is stopped now
+  EXPECT_EQ(process_state(child), ProcessState::Present);  // stopped: slow, not dead
+  ASSERT_EQ(::kill(child, SIGKILL), 0);
+  ASSERT_EQ(::waitid(P_PID, static_cast<id_t>(child), nullptr, WEXITED | WNOWAIT),
+            0);  // a zombie, not reaped
+  EXPECT_EQ(process_state(child), ProcessState::Gone);
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  EXPECT_EQ(process_state(child), ProcessState::Gone);  // reaped: no such process
+  EXPECT_EQ(process_state(0), ProcessState::Gone);
+}
+
+TEST(Stragglers, AreWaitedForUntilTheyComeBackOrTheBoundPasses) {
+  using swarmform::server::Stragglers;
+  Stragglers s;
+  EXPECT_TRUE(s.add(11, 3, DDS_SECS(1)));
+  EXPECT_FALSE(s.add(11, 3, DDS_SECS(2)));  // already one: its wait started at its first loss
+  EXPECT_TRUE(s.add(12, 4, DDS_SECS(2)));
+  EXPECT_TRUE(s.holds(3));
+  EXPECT_FALSE(s.holds(5));
+  EXPECT_FALSE(s.overdue(DDS_SECS(1) + Stragglers::kLimit - 1));
+  EXPECT_TRUE(s.overdue(DDS_SECS(1) + Stragglers::kLimit));
+  EXPECT_EQ(s.remove(11), std::optional<swarmform::RobotId>(3));  // it came back
+  EXPECT_FALSE(s.remove(11).has_value());
+  EXPECT_FALSE(s.overdue(DDS_SECS(1) + Stragglers::kLimit));  // the other one's wait began later
+  EXPECT_TRUE(s.overdue(DDS_SECS(2) + Stragglers::kLimit));
+  EXPECT_EQ(s.total(), 2u);
+  EXPECT_TRUE(s.recheck_due(DDS_SECS(5)));
+  EXPECT_FALSE(s.recheck_due(DDS_SECS(5) + Stragglers::kRecheck - 1));
+  EXPECT_TRUE(s.recheck_due(DDS_SECS(5) + Stragglers::kRecheck));
 }
 
 TEST(StallGuard, ALossDuringAFloodIsOnlySuspectedUntilTheFloodHasPassed) {

@@ -6,8 +6,10 @@ agents in network namespaces of their own, over real UDP through a bridge.
   so it never meets another run's traffic);
 - 2 hosts whose links lose 20% of the datagrams: the run completes, no robot taken for dead; `loss 5% rate
   20mbit`: the nftables rule and the tbf qdisc are on every host's interface while the run goes;
-- one host's link cut mid-run (`ip link set down` on its switch port), in lockstep and in realtime: its agents
-  are recorded dead, the other host's carry on; restored: they rejoin (the run then ends by Ctrl-C);
+- one host's link cut mid-run (`ip link set down` on its switch port). Lockstep: its agents' processes are there,
+  so the world waits for them (world_server/README.md "In lockstep slowness is never death"): no tick is
+  stepped until the link is restored, then they go on with the same controllers, nobody dead. Realtime: its
+  agents are recorded dead, the other host's carry on; restored: they rejoin. (Either run ends by Ctrl-C.)
 - a launcher killed with SIGKILL leaves its namespaces, and the next --hosts run removes them;
 - the flags' errors (a --link without --hosts, delay without netem here, a bad --link) are clear, exit 2;
 - scripts/bench-hosts runs tiny in every setting and writes figures (none asserted as a speed);
@@ -197,21 +199,59 @@ class HostsEndToEndTest(unittest.TestCase):
         self.assertIn("links: loss 5% rate 20mbit", err)
         self.assert_nothing_left(out)
 
-    def test_a_host_cut_off_in_lockstep_has_its_agents_taken_for_dead_and_rejoin_when_restored(self):
-        self.cut_and_restore("lockstep")
+    def test_a_host_cut_off_in_lockstep_is_waited_for_and_goes_on_with_the_same_controllers(self):
+        # A cut host's agents are alive but unreachable: in lockstep that is slowness, not death. The world
+        # waits (it steps no tick while they are cut), and once the link is back they answer the round they
+        # were given and go on with their controllers: no death, no rejoin, and the trajectory of the same run
+        # uncut. The cut is held past the world's 2 s writer lease (the agents see the world silent and
+        # re-claim) and past the 2 s lockstep_deadline, well under their 10 s --world-timeout, past which they
+        # would exit (and be recorded dead: docs/faults.md).
+        ticks = ["--max-ticks", "4000"]
+        uncut = self.out("uncut")
+        r = self.run_swarm(uncut, "--scenario", WALK, "--robots", "6", "--domain", str(helpers.test_domain(57)),
+                           "--hosts", "2", *ticks)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        out = self.out("cut-lockstep")
+        p, hosts = self.start_cut_run(out, "lockstep", ticks)
+        cut = hosts["agent_hosts"][1]
+        try:
+            port = self.cut_port(hosts, cut)
+            subprocess.run(port + ["down"], check=True, timeout=30)
+            stalled = lambda: {e["id"] for e in events(out) if e["kind"] == "agent_stalled"} >= set(cut["agents"])  # noqa
+            wait_for(f"{cut['agents']} waited for", stalled, 8, p)
+            time.sleep(3)
+            subprocess.run(port + ["up"], check=True, timeout=30)
+            _, err = p.communicate(timeout=120)
+        finally:
+            if p.poll() is None:
+                os.killpg(p.pid, signal.SIGINT)
+                p.communicate(timeout=60)
+        self.assertEqual(p.returncode, 0, err)
+        self.assert_nothing_left(out)
+        ev = events(out)
+        self.assertEqual([e for e in ev if e["kind"] in ("death", "rejoin", "command_late")], [])
+        stalled = {e["id"]: e["tick"] for e in ev if e["kind"] == "agent_stalled"}
+        back = {e["id"]: e["tick"] for e in ev if e["kind"] == "liveliness_regained"}
+        self.assertEqual(sorted(stalled), cut["agents"], "only the cut host's agents are waited for")
+        for rid in cut["agents"]:  # the world stepped nothing while it waited for them
+            self.assertEqual(back.get(rid), stalled[rid], f"robot {rid}")
+        s = summary(out)
+        self.assertEqual(s["ticks"], 4000)
+        self.assertEqual(s["alive_at_end"], 6)
+        self.assertEqual(s["deaths"], [])
+        self.assertEqual(s["trajectory_sha256"], summary(uncut)["trajectory_sha256"])
+        for rid in cut["agents"]:  # the same controller: never started afresh
+            self.assertIn("restarts=0", self.log(out, rid))
 
     def test_a_host_cut_off_in_realtime_has_its_agents_taken_for_dead_and_rejoin_when_restored(self):
         # Best effort: the agents' liveliness heartbeats do not revive them at the world (docs/multi-host.md);
         # their claims, re-sent while the world's writers are not alive, do.
         self.cut_and_restore("realtime")
 
-    def cut_and_restore(self, mode):
-        # The run is long; Ctrl-C ends it once the agents rejoined, which also checks that an interrupted
-        # --hosts run leaves nothing behind.
-        out = self.out(f"cut-{mode}")
-        p = subprocess.Popen(self.swarm_args(out, "--scenario", WALK, "--robots", "6", "--max-ticks", "1000000",
-                                             "--mode", mode, "--domain", str(helpers.test_domain(57)),
-                                             "--hosts", "2"),
+    def start_cut_run(self, out, mode, ticks=("--max-ticks", "1000000")):
+        """A run of 6 agents on 2 hosts, every agent connected: (the launcher, hosts.json)."""
+        p = subprocess.Popen(self.swarm_args(out, "--scenario", WALK, "--robots", "6", *ticks, "--mode", mode,
+                                             "--domain", str(helpers.test_domain(57)), "--hosts", "2"),
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=self.env(),
                              process_group=0)
         try:
@@ -219,12 +259,30 @@ class HostsEndToEndTest(unittest.TestCase):
             wait_for("hosts.json", lambda: os.path.exists(hosts_json), 60, p)
             with open(hosts_json, encoding="utf-8") as f:
                 hosts = json.load(f)
-            cut, kept = hosts["agent_hosts"][1], hosts["agent_hosts"][0]
             ev = os.path.join(out, "events.jsonl")
             connected = lambda: os.path.exists(ev) and len(  # noqa: E731
                 {e["id"] for e in events(out) if e["kind"] == "agent_connected"}) == 6
             wait_for("6 connected agents", connected, 60, p)
-            port = ["ip", "-n", hosts["switch"]["namespace"], "link", "set", cut["switch_port"]]
+        except BaseException:
+            if p.poll() is None:
+                os.killpg(p.pid, signal.SIGINT)
+            p.communicate(timeout=60)
+            raise
+        return p, hosts
+
+    @staticmethod
+    def cut_port(hosts, host):
+        """`ip link set` of `host`'s switch port, to which "down" or "up" is added."""
+        return ["ip", "-n", hosts["switch"]["namespace"], "link", "set", host["switch_port"]]
+
+    def cut_and_restore(self, mode):
+        # The run is long; Ctrl-C ends it once the agents rejoined, which also checks that an interrupted
+        # --hosts run leaves nothing behind.
+        out = self.out(f"cut-{mode}")
+        p, hosts = self.start_cut_run(out, mode)
+        try:
+            cut = hosts["agent_hosts"][1]
+            port = self.cut_port(hosts, cut)
             subprocess.run(port + ["down"], check=True, timeout=30)
             dead = lambda: {e["id"] for e in events(out) if e["kind"] == "death"} >= set(cut["agents"])  # noqa
             wait_for(f"deaths of {cut['agents']}", dead, 20, p)

@@ -17,6 +17,8 @@ enum class EndReason {
   DiskFull,         // a write of the recording failed with ENOSPC or EDQUOT
   NoAgents,         // not every agent connected within --connect-timeout
   BehaviourFailed,  // in-process: a robot's controller threw or returned a non-finite wheel speed
+  AgentsStalled,    // lockstep: agents whose processes live but are silent (stopped, starved) past the wait's
+                    // bound
 };
 
 constexpr std::string_view to_string(EndReason r) {
@@ -35,6 +37,8 @@ constexpr std::string_view to_string(EndReason r) {
       return "no_agents";
     case EndReason::BehaviourFailed:
       return "behaviour_failed";
+    case EndReason::AgentsStalled:
+      return "agents_stalled";
   }
   return "unknown";
 }

@@ -152,6 +152,10 @@ void RunSession::record_command_verdict(RobotId id, CommandVerdict verdict, std:
   impl_->emit(e);
 }
 
+void RunSession::flush() {
+  if (impl_->writer) impl_->writer->flush();
+}
+
 void RunSession::record_event(std::int64_t id, const std::string& kind, const std::string& detail) {
   Event e = make_event(impl_->world.tick(), kind, id);
   e["detail"] = detail;

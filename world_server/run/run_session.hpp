@@ -52,6 +52,9 @@ class RunSession {
   void record_command_verdict(RobotId id, CommandVerdict verdict, std::uint64_t event_for = 1);
   // `id` -1: about no single robot (e.g. a fault of every robot).
   void record_event(std::int64_t id, const std::string& kind, const std::string& detail);
+  // Writes out what is recorded so far, now rather than at the next periodic flush: for an event that says
+  // why the run stands still (nothing else is recorded while it does).
+  void flush();
 
   const Metrics& metrics() const;
   // What the world's robot-to-place assignment has cost so far (metrics_tracker.hpp).

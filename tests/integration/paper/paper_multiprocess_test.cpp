@@ -7,6 +7,9 @@
 // tests/integration/test_domain.hpp; the bursty-loss test shares 16), kills every process it started by pid
 // (Process's destructor), bounds every wait.
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -15,6 +18,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include "tests/integration/process_fixture.hpp"
 #include "tests/integration/test_domain.hpp"
@@ -40,6 +44,39 @@ struct Row {
   int tick = 0, id = 0, alive = 0, state = 0, label = -1, parent = -1, leader = 0;
 };
 
+// CPU-spinning child processes that load the host while they live, each in its own session: killed by pid
+// (SIGKILL) and reaped when this goes out of scope; each also dies with the test (PR_SET_PDEATHSIG) and by
+// alarm() after kHogLifeS at the latest, so no hog outlives a crashed or hung test.
+class CpuHogs {
+ public:
+  static constexpr unsigned kHogLifeS = 150;  // > kRunDeadline plus the agents' exit
+  explicit CpuHogs(int count) {
+    for (int i = 0; i < count; ++i) {
+      const pid_t pid = ::fork();
+      if (pid == 0) {
+        // A session of its own, as another user's program would be: with the kernel's autogroup scheduling a
+        // spinner in the test's session only competes inside it, and loads the run far less.
+        ::setsid();
+        ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+        ::alarm(kHogLifeS);
+        volatile std::uint64_t spins = 0;
+        for (;;) spins = spins + 1;
+      }
+      if (pid > 0) pids_.push_back(pid);
+    }
+    EXPECT_EQ(static_cast<int>(pids_.size()), count) << "could not start every CPU hog";
+  }
+  ~CpuHogs() {
+    for (const pid_t pid : pids_) ::kill(pid, SIGKILL);
+    for (const pid_t pid : pids_) ::waitpid(pid, nullptr, 0);
+  }
+  CpuHogs(const CpuHogs&) = delete;
+  CpuHogs& operator=(const CpuHogs&) = delete;
+
+ private:
+  std::vector<pid_t> pids_;
+};
+
 class PaperMultiProcess : public swarmform::testing::ProcessFixture {
  protected:
   PaperMultiProcess() : ProcessFixture("swarmform-paper-it") {}
@@ -50,7 +87,9 @@ class PaperMultiProcess : public swarmform::testing::ProcessFixture {
   // `rogue_mode`: the rogue_agent mode that owns `silent` (default "silent").
   Json run(int domain, const std::string& name, std::optional<std::pair<int, int>> kill = std::nullopt,
            std::optional<int> silent = std::nullopt, const std::string& rogue_mode = "silent",
-           const std::string& scenario = kScenario) {
+           const std::string& scenario = kScenario, double stop_all_s = 0.0, int hogs_per_core = 0) {
+    // The host loaded for the run's whole length, from before the first agent starts.
+    const CpuHogs hogs(hogs_per_core * static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
     std::vector<Process*> agents;
     for (int i = 0; i < kRobots; ++i) {
       const std::string id = std::to_string(i);
@@ -74,13 +113,37 @@ class PaperMultiProcess : public swarmform::testing::ProcessFixture {
       argv.insert(argv.end(), {"--kill", std::to_string(id) + "@" + std::to_string(tick), "--agent-pid",
                                std::to_string(id) + "=" + std::to_string(agents[id]->pid())});
     }
+    if (stop_all_s > 0 || hogs_per_core > 0) {
+      // The world may look at every agent's process (the launcher gives it every pid).
+      for (int i = 0; i < kRobots; ++i)
+        argv.insert(argv.end(), {"--agent-pid", std::to_string(i) + "=" + std::to_string(agents[i]->pid())});
+    }
     Process& w = start(argv, name + "-world");
+    if (stop_all_s > 0) stop_all_for(w, agents, stop_all_s);
     EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
     for (int i = 0; i < kRobots; ++i) {
       const int expected = kill && kill->first == i ? 128 + 9 : 0;
       EXPECT_EQ(agents[i]->wait_for(10.0), expected) << "agent " << i << ": " << agents[i]->err();
     }
     return Json::parse(read_file(path(name) + "/summary.json"));
+  }
+
+  // Every agent SIGSTOPped at once for `seconds` about a second into the run (mid-formation), the world
+  // awake; then SIGCONT. Every agent is continued whatever happens (no stopped process outlives the test).
+  static void stop_all_for(Process& world, const std::vector<Process*>& agents, double seconds) {
+    ASSERT_TRUE(swarmform::testing::eventually(60.0, [&] {
+      return world.out().find("connected agents=") != std::string::npos || !world.running();
+    }));
+    std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+    ASSERT_TRUE(world.running()) << "the run ended before the agents could be stopped";
+    for (Process* a : agents) ::kill(a->pid(), SIGSTOP);
+    std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+    for (Process* a : agents) ::kill(a->pid(), SIGCONT);
+  }
+
+  // The paper's multi-process hash (tests/golden/golden.json).
+  static std::string golden_paper_sha() {
+    return Json::parse(read_file(GOLDEN_JSON))["paper"]["sha256"].get<std::string>();
   }
 
   std::vector<Json> events_of(const std::string& run, const std::string& kind) const {
@@ -348,3 +411,46 @@ TEST_F(PaperMultiProcess, RogueOwnersFalseTelemetryIsDroppedCountedAndChangesNoM
 }
 
 }  // namespace
+
+// In lockstep slowness is never death (world_server/README.md "In lockstep slowness is never death"): every
+// agent SIGSTOPped at once while the world is awake loses its liveliness, but its process is there, so the
+// world waits for it rather than burying it; each one resumes with the same controller and the run is the
+// undisturbed one bit for bit (tests/golden's paper hash). 0.7 s passes the 500 ms lease; 2 s also passes
+// paper.yaml's 2 s lockstep deadline, which a straggler does not miss.
+TEST_F(PaperMultiProcess, EveryAgentStoppedAtOnceIsWaitedForNotBuriedAndTheTrajectoryIsUnchanged) {
+  const int domain = swarmform::testing::test_domain(21);
+  const std::string golden = golden_paper_sha();
+  for (const double seconds : {0.7, 1.0, 2.0}) {
+    const std::string name = "stopped-" + std::to_string(static_cast<int>(seconds * 1000)) + "ms";
+    const Json s = run(domain, name, std::nullopt, std::nullopt, "silent", kScenario, seconds);
+    EXPECT_TRUE(s["deaths"].empty()) << name << ": " << s["deaths"].dump();
+    EXPECT_EQ(s["alive_at_end"], kRobots) << name;
+    EXPECT_EQ(s["trajectory_sha256"], golden) << name;
+    EXPECT_EQ(s.value("end_reason", ""), "completed") << name;
+    const auto stalled = events_of(name, "agent_stalled");
+    EXPECT_TRUE(events_of(name, "command_late").empty()) << name;
+    EXPECT_TRUE(events_of(name, "rejoin").empty()) << name;
+    std::cout << name << ": " << stalled.size() << " agent(s) waited for, "
+              << events_of(name, "liveliness_regained").size() << " came back, deaths " << s["deaths"].size()
+              << ", sha " << s["trajectory_sha256"] << "\n";
+    // 2 s is four leases: every agent's liveliness lapsed, and each was waited for.
+    if (seconds >= 2.0) {
+      EXPECT_EQ(stalled.size(), static_cast<std::size_t>(kRobots)) << name;
+    }
+  }
+}
+
+// The same rule under the host's load: 4 CPU-spinning processes per core for the whole run (started before
+// the agents, killed when it is over) starve the agents and the world alike, past their leases at times, and
+// the lockstep run is still the undisturbed one bit for bit: no death, no command_late, tests/golden's hash.
+TEST_F(PaperMultiProcess, TheHostLoadedWithFourSpinnersPerCoreChangesNotOneBitOfTheTrajectory) {
+  const int domain = swarmform::testing::test_domain(21);
+  const Json s = run(domain, "loaded", std::nullopt, std::nullopt, "silent", kScenario, 0.0, 4);
+  EXPECT_TRUE(s["deaths"].empty()) << s["deaths"].dump();
+  EXPECT_EQ(s["alive_at_end"], kRobots);
+  EXPECT_EQ(s.value("end_reason", ""), "completed");
+  EXPECT_TRUE(events_of("loaded", "command_late").empty());
+  EXPECT_EQ(s["trajectory_sha256"], golden_paper_sha());
+  std::cout << "loaded: " << events_of("loaded", "agent_stalled").size() << " agent stall(s) waited for, "
+            << s["wall_seconds"] << " s, sha " << s["trajectory_sha256"] << "\n";
+}
