@@ -1,9 +1,9 @@
 // What a behaviour says about itself (docs/behaviour-api.md): its name, its parameter table, its states and
-// their colours, the telemetry columns it records, whether it needs a shape or a goal, and how to make one
-// controller. The built-in behaviours and the shared-library plug-ins describe themselves with this one
-// struct; the world validates a scenario's parameters through `params`, the pictures colour robots by
-// `states`, the recorder names `telemetry`'s columns. A descriptor is static data: it lives as long as the
-// program (a plug-in is never unloaded).
+// their colours, the telemetry columns it records, whether it needs a shape or a goal, how it forms a shape
+// (what the world checks and measures of it), and how to make one controller. The built-in behaviours and the
+// shared-library plug-ins describe themselves with this one struct; the world validates a scenario's
+// parameters through `params`, the pictures colour robots by `states`, the recorder names `telemetry`'s
+// columns. A descriptor is static data: it lives as long as the program (a plug-in is never unloaded).
 #pragma once
 
 #include <cstdint>
@@ -17,7 +17,7 @@ namespace swarmform::behaviour {
 
 // Raised with any change to Descriptor, Controller, Mission, Perception or Command: a plug-in built against
 // another version is refused with both numbers named, never run.
-inline constexpr std::uint32_t kApiVersion = 1;
+inline constexpr std::uint32_t kApiVersion = 2;
 
 struct ParamSpec {
   std::string_view name;  // as written in the scenario: `behaviour: {params: {name: value}}`
@@ -38,6 +38,29 @@ struct TelemetryColumn {
   std::string_view doc;   // meaning and unit
 };
 
+// Where a shape-forming behaviour puts its shape's label 0, as far as the world can tell before the run: the
+// world checks that the shape fits inside the walls from there (docs/scenario-format.md, "The shape must
+// fit").
+enum class ShapeAnchor : std::int32_t {
+  Unknown = 0,        // the world cannot tell: no fit check
+  NearestOrigin = 1,  // at the start position of the robot nearest the arena's origin (0, 0)
+};
+
+// What the world needs to know of how a behaviour forms its shape (with `needs_shape`) to check a scenario
+// and measure a run. The world knows nothing else of shapes, labels or leaders.
+struct ShapeRules {
+  static constexpr std::int32_t kNoState = -1;
+  ShapeAnchor anchor = ShapeAnchor::Unknown;
+  // The parameter (radians) that turns the shape: label L stands at anchor + R(heading - pi/2) * offset(L),
+  // offset in the matrix's own axes (columns along +x, rows down along -y). Empty: the shape stands as
+  // written (heading pi/2).
+  std::string_view heading_param;
+  // The state a robot reports while its formation travels to the goal: the first tick a robot reports it
+  // starts the motion's metrics (summary.json motion_start_tick). kNoState: the metrics start from the
+  // formation alone.
+  std::int32_t motion_state = kNoState;
+};
+
 struct Descriptor {
   std::uint32_t api_version = kApiVersion;
   std::string_view name;     // the scenario's `behaviour: NAME`; a plug-in's own name (unique in a run)
@@ -46,8 +69,9 @@ struct Descriptor {
   std::span<const StateSpec> states;  // empty: every robot is drawn in one colour
   // Telemetry::extra[k] is telemetry[k]; a controller fills exactly telemetry.size() values (or none).
   std::span<const TelemetryColumn> telemetry;
-  bool needs_shape = false;  // the scenario must give `shape:`; the paper's metrics apply
+  bool needs_shape = false;  // the scenario must give `shape:`; the shape metrics apply
   bool needs_goal = false;   // the scenario's goal must lie inside the walls; the run has an outcome
+  ShapeRules shape_rules;    // with needs_shape: how the shape is placed, turned, and when it moves
   std::unique_ptr<controller::Controller> (*make)() = nullptr;  // a fresh, not yet initialised controller
 };
 

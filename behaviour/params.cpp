@@ -25,6 +25,30 @@ double param(const std::map<std::string, double>& values, const Descriptor& d, s
   return it != values.end() ? it->second : spec->default_value;
 }
 
+double shape_heading(const Mission& mission, const Descriptor& d) {
+  const std::string_view name = d.shape_rules.heading_param;
+  return name.empty() ? kShapeUp : param(mission, d, name);
+}
+
+std::string check_shape_rules(const Descriptor& d) {
+  const ShapeRules& r = d.shape_rules;
+  const std::string where = "behaviour '" + std::string(d.name) + "': shape_rules.";
+  if (r.anchor != ShapeAnchor::Unknown && r.anchor != ShapeAnchor::NearestOrigin) {
+    return where + "anchor " + std::to_string(static_cast<std::int32_t>(r.anchor)) + " is not a ShapeAnchor";
+  }
+  if (!r.heading_param.empty() && find_param(d, r.heading_param) == nullptr) {
+    return where + "heading_param '" + std::string(r.heading_param) + "' is not one of its parameters (" +
+           param_names(d) + ")";
+  }
+  if (r.motion_state != ShapeRules::kNoState) {
+    bool listed = false;
+    for (const StateSpec& st : d.states) listed = listed || st.value == r.motion_state;
+    if (!listed)
+      return where + "motion_state " + std::to_string(r.motion_state) + " is not one of its states";
+  }
+  return {};
+}
+
 std::string param_names(const Descriptor& d) {
   std::string known;
   for (const ParamSpec& p : d.params) known += (known.empty() ? "" : ", ") + std::string(p.name);

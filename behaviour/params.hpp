@@ -29,6 +29,15 @@ std::string check_param(const Descriptor& d, std::string_view name, double value
 // one (robot_agent meets a mission on the wire: no file to name).
 void check_params(const Descriptor& d, const std::map<std::string, double>& params);
 
+// The shape's heading as the world checks and measures it (ShapeRules::heading_param): that parameter's
+// value, or kShapeUp (the shape as written) when the behaviour names none.
+inline constexpr double kShapeUp = 1.5707963267948966;  // pi / 2
+double shape_heading(const Mission& mission, const Descriptor& d);
+
+// Empty when d's shape_rules agree with the rest of d (heading_param in its params, motion_state in its
+// states, a known anchor); otherwise what is wrong, for the registry to refuse the descriptor.
+std::string check_shape_rules(const Descriptor& d);
+
 // "a, b, c": the table's names, for messages.
 std::string param_names(const Descriptor& d);
 

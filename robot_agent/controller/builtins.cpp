@@ -3,10 +3,10 @@
 
 #include <array>
 
-#include "common/robot_state.hpp"
 #include "robot_agent/controller/paper_controller.hpp"
 #include "robot_agent/controller/paper_params.hpp"
 #include "robot_agent/controller/random_walk.hpp"
+#include "robot_agent/controller/robot_state.hpp"
 
 namespace swarmform::controller {
 namespace {
@@ -53,6 +53,11 @@ const Descriptor kPaper{
     .telemetry = {},
     .needs_shape = true,
     .needs_goal = true,
+    // Label 0 at the robot nearest the origin (its seed election), turned by shape_heading
+    // (paper_params.hpp).
+    .shape_rules = {.anchor = behaviour::ShapeAnchor::NearestOrigin,
+                    .heading_param = "shape_heading",
+                    .motion_state = state(RobotState::Motion)},
     .make = &make_paper,
 };
 
@@ -65,6 +70,7 @@ const Descriptor kWalk{
     .telemetry = {},
     .needs_shape = false,
     .needs_goal = false,
+    .shape_rules = {},
     .make = &make_walk,
 };
 

@@ -5,7 +5,7 @@
 //
 // Wire layout, version 2 (all little-endian; f32 = IEEE-754 binary32):
 //   u8  magic 0x53 ('S')         u8  version (1)
-//   u32 sender id                u8  state (common/robot_state.hpp)     i16 label (-1 none)
+//   u32 sender id                u8  state (robot_agent/controller/robot_state.hpp)     i16 label (-1 none)
 //   f32 x, f32 y, f32 heading    (the sender's own positioning sensor, arena frame: the paper's robots
 //                                 exchange their coordinates)
 //   u8  flags                    bit 0: has_origin
@@ -30,8 +30,8 @@
 #include <span>
 #include <vector>
 
-#include "common/robot_state.hpp"
 #include "common/types.hpp"
+#include "robot_agent/controller/robot_state.hpp"
 
 namespace swarmform::controller {
 

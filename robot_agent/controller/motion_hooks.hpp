@@ -19,12 +19,12 @@
 #include <string>
 #include <vector>
 
-#include "common/robot_state.hpp"
 #include "common/shape.hpp"
 #include "common/types.hpp"
 #include "robot_agent/controller/drive.hpp"
 #include "robot_agent/controller/neighbours.hpp"
 #include "robot_agent/controller/params.hpp"
+#include "robot_agent/controller/robot_state.hpp"
 #include "robot_agent/controller/shape_table.hpp"
 #include "robot_agent/controller/stigmergy.hpp"
 

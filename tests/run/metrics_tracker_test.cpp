@@ -1,11 +1,12 @@
 // The metrics and the derived events on hand-made truth, tick by tick (no physics needed).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <numbers>
 
-#include "common/robot_state.hpp"
 #include "robot_agent/controller/builtins.hpp"
+#include "robot_agent/controller/robot_state.hpp"
 #include "world_server/run/comm_graph.hpp"
 #include "world_server/run/metrics_tracker.hpp"
 #include "world_server/run/run_events.hpp"
@@ -301,8 +302,28 @@ std::vector<std::string> kinds(const std::vector<Event>& events) {
   return k;
 }
 
+// A state event names its values from the behaviour's own table, never from the paper's: a value the table
+// does not list is "unknown".
+TEST(EventDeriver, NamesStatesFromTheBehavioursOwnTable) {
+  const std::array<swarmform::behaviour::StateSpec, 2> table{
+      {{0, "walking", "#000000"}, {9, "resting", "#ffffff"}}};
+  EventDeriver deriver(3.0, table);
+  std::size_t components = 0;
+  auto robots = line_at(0.0, 0);
+  EXPECT_TRUE(deriver.observe(0, robots, false, components).empty());  // baseline
+  robots[0].telemetry.state = 9;
+  auto events = deriver.observe(1, robots, false, components);
+  ASSERT_EQ(kinds(events), (std::vector<std::string>{"state"}));
+  EXPECT_EQ(events[0]["from_name"], "walking");
+  EXPECT_EQ(events[0]["to_name"], "resting");
+  robots[0].telemetry.state = kReady;  // the paper's "ready": not this behaviour's
+  events = deriver.observe(2, robots, false, components);
+  ASSERT_EQ(kinds(events), (std::vector<std::string>{"state"}));
+  EXPECT_EQ(events[0]["to_name"], "unknown");
+}
+
 TEST(EventDeriver, StateLabelLeaderDeathAndGraph) {
-  EventDeriver deriver(3.0);
+  EventDeriver deriver(3.0, swarmform::controller::paper_descriptor().states);
   std::size_t components = 0;
   auto robots = line_at(0.0, kReached);
   EXPECT_TRUE(deriver.observe(0, robots, false, components).empty());  // baseline

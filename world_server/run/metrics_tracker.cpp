@@ -7,7 +7,6 @@
 #include <numbers>
 
 #include "behaviour/params.hpp"
-#include "common/robot_state.hpp"
 
 namespace swarmform::world {
 
@@ -17,18 +16,11 @@ Tick full_solve_interval(std::size_t places, bool near_formed) {
   return kFullSolveEvery * static_cast<Tick>(std::max(1.0, std::floor(scale * scale)));
 }
 
-namespace {
-// The heading the behaviour turns its shape by: its `shape_heading` parameter, or 'up' along +y.
-double shape_heading(const Mission& mission, const behaviour::Descriptor* d) {
-  if (d && behaviour::find_param(*d, "shape_heading")) return behaviour::param(mission, *d, "shape_heading");
-  return std::numbers::pi / 2.0;
-}
-}  // namespace
-
-MetricsTracker::MetricsTracker(const Mission& mission, const behaviour::Descriptor* behaviour)
-    : has_mission_(behaviour && behaviour->needs_shape && behaviour->needs_goal &&
-                   mission.shape.label_count() > 0),
-      assigner_(mission.shape, mission.grid_spacing, shape_heading(mission, behaviour)),
+MetricsTracker::MetricsTracker(const Mission& mission, const behaviour::Descriptor* d)
+    : has_mission_(d && d->needs_shape && d->needs_goal && mission.shape.label_count() > 0),
+      motion_state_(d ? d->shape_rules.motion_state : behaviour::ShapeRules::kNoState),
+      assigner_(mission.shape, mission.grid_spacing,
+                d ? behaviour::shape_heading(mission, *d) : behaviour::kShapeUp),
       grid_spacing_(mission.grid_spacing),
       goal_(mission.goal),
       goal_radius_(mission.goal_radius),
@@ -84,7 +76,6 @@ ShapeAssignment MetricsTracker::assign(Tick tick, bool force_full) {
 void MetricsTracker::observe(Tick tick, const std::vector<RobotTruth>& robots, ContactCounts contacts) {
   metrics_.collisions_robot_robot += contacts.robot_robot;
   metrics_.collisions_robot_obstacle += contacts.robot_obstacle;
-  constexpr auto kMotion = static_cast<std::int32_t>(RobotState::Motion);
 
   if (rest_.size() < robots.size()) {
     rest_.resize(robots.size());
@@ -113,7 +104,9 @@ void MetricsTracker::observe(Tick tick, const std::vector<RobotTruth>& robots, C
     live_ids_.push_back(r.id);
     live_positions_.push_back(p);
     live_labels_.push_back(r.telemetry.label);
-    if (r.telemetry.state == kMotion) any_motion = true;
+    if (motion_state_ != behaviour::ShapeRules::kNoState && r.telemetry.state == motion_state_) {
+      any_motion = true;
+    }
   }
   last_tick_ = tick;
   const bool motion_starts = !metrics_.motion_start_tick && any_motion;

@@ -95,6 +95,7 @@ class MetricsTracker {
   ShapeAssignment assign(Tick tick, bool force_full);
 
   bool has_mission_;
+  std::int32_t motion_state_;  // the behaviour's ShapeRules::motion_state
   ShapeAssigner assigner_;
   double grid_spacing_;
   Vec2 goal_;

@@ -83,6 +83,13 @@ ojson describe_behaviour(const Scenario& scenario) {
   j["summary"] = std::string(d->summary);
   j["needs_shape"] = d->needs_shape;
   j["needs_goal"] = d->needs_goal;
+  const behaviour::ShapeRules& rules = d->shape_rules;
+  j["shape_rules"] = {
+      {"anchor", rules.anchor == behaviour::ShapeAnchor::NearestOrigin ? "nearest_origin" : "unknown"},
+      {"heading_param",
+       rules.heading_param.empty() ? ojson(nullptr) : ojson(std::string(rules.heading_param))},
+      {"motion_state",
+       rules.motion_state == behaviour::ShapeRules::kNoState ? ojson(nullptr) : ojson(rules.motion_state)}};
   ojson params = ojson::array();
   for (const auto& p : d->params) {
     auto it = scenario.mission.params.find(std::string(p.name));

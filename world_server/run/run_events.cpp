@@ -3,19 +3,11 @@
 #include <array>
 #include <string>
 
-#include "common/robot_state.hpp"
 #include "world_server/run/comm_graph.hpp"
 
 namespace swarmform::world {
 
 namespace {
-
-std::string state_name(std::int32_t s) {
-  if (s < static_cast<std::int32_t>(RobotState::Idle) || s > static_cast<std::int32_t>(RobotState::Arrived)) {
-    return "unknown";
-  }
-  return std::string(to_string(static_cast<RobotState>(s)));
-}
 
 // The kinds the recorder derives itself or the front end reports with fixed meanings
 // (docs/recording-format.md); a controller's event may not pose as one of them.
@@ -55,6 +47,13 @@ std::vector<Event> controller_events(Tick tick, const std::vector<RobotTruth>& r
     }
   }
   return out;
+}
+
+std::string EventDeriver::state_name(std::int32_t s) const {
+  for (const auto& st : states_) {
+    if (st.value == s) return std::string(st.name);
+  }
+  return "unknown";
 }
 
 Event make_event(Tick tick, std::string_view kind, std::int64_t id) {

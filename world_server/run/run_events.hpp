@@ -9,7 +9,9 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+#include <span>
 
+#include "behaviour/descriptor.hpp"
 #include "world_server/world/world.hpp"
 
 namespace swarmform::world {
@@ -33,7 +35,9 @@ std::vector<Event> controller_events(Tick tick, const std::vector<RobotTruth>& r
 
 class EventDeriver {
  public:
-  explicit EventDeriver(double comm_range) : comm_range_(comm_range) {}
+  // `states`: the behaviour's (its descriptor's), which name a state event's values ("unknown" for others).
+  EventDeriver(double comm_range, std::span<const behaviour::StateSpec> states)
+      : comm_range_(comm_range), states_(states) {}
 
   // Compares this tick's truth with what was seen before. The first call only sets the baseline. With
   // `track_graph` the shape robots' communication graph is checked and its component count is put in
@@ -54,7 +58,10 @@ class EventDeriver {
   void observe_graph(Tick tick, const std::vector<RobotTruth>& robots, std::vector<Event>& out,
                      std::size_t& components);
 
+  std::string state_name(std::int32_t s) const;
+
   double comm_range_;
+  std::span<const behaviour::StateSpec> states_;
   std::vector<Seen> seen_;  // by id
   bool baseline_ = false;
   struct Candidate {

@@ -47,7 +47,8 @@ struct RunSession::Impl {
         options(std::move(o)),
         tracker(w.scenario().mission, w.scenario().behaviour),
         fragment_range(options.fragment_range > 0.0 ? options.fragment_range : w.scenario().comm_range),
-        events(fragment_range) {
+        events(fragment_range, w.scenario().behaviour ? w.scenario().behaviour->states
+                                                      : std::span<const behaviour::StateSpec>{}) {
     if (options.record_every < 1) throw std::invalid_argument("RunOptions::record_every must be at least 1");
     if (!options.run_dir.empty()) {
       std::vector<std::string> columns;

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "common/robot_state.hpp"
-
 namespace swarmform::world {
 
 namespace {

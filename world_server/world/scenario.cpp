@@ -472,21 +472,20 @@ void resolve_robots(const Source& src, const RobotsSection& r, const ScenarioOve
 }
 
 // The shape must fit inside the walls from where it forms (docs/scenario-format.md, "The shape must fit").
-// The controller puts label 0 where the robot nearest the arena origin stands and every other label L at
-// origin + R(shape_heading - pi/2) * offset(L) (robot_agent/README.md, "Shape formation"). The robots' start
-// poses are known here (listed, or drawn from the seed), so label 0 is taken at the robot nearest the origin
-// and, should it die and another be elected, at every robot less than one grid spacing farther from the
-// origin than it; every place must then lie inside the walls less a body radius.
+// Checked for a behaviour whose descriptor says where its label 0 stands (ShapeRules::anchor); every other
+// label L stands at label 0 + R(heading - pi/2) * offset(L) (ShapeRules::heading_param). For NearestOrigin
+// the robots' start poses are known here (listed, or drawn from the seed), so label 0 is taken at the robot
+// nearest the origin and, should it die and another be elected, at every robot less than one grid spacing
+// farther from the origin than it; every place must then lie inside the walls less a body radius.
 void check_shape_fits(const Source& src, const Scenario& s, int shape_line, bool shape_from_command_line) {
   if (!s.walls || !s.behaviour->needs_shape) return;
+  const behaviour::ShapeRules& rules = s.behaviour->shape_rules;
+  if (rules.anchor != behaviour::ShapeAnchor::NearestOrigin) return;
   const ShapeMatrix& shape = s.mission.shape;
   const auto [r0, c0] = shape.cell_of(0);
   if (r0 < 0) return;
-  // A behaviour that needs a shape forms it as the paper's does; its `shape_heading` parameter, if it has
-  // one, turns it (the default: 'up' along +y).
-  const double heading = behaviour::find_param(*s.behaviour, "shape_heading")
-                             ? behaviour::param(s.mission, *s.behaviour, "shape_heading")
-                             : std::numbers::pi / 2.0;
+  const double heading = behaviour::shape_heading(s.mission, *s.behaviour);
+  const std::string heading_name = rules.heading_param.empty() ? "heading" : std::string(rules.heading_param);
   const double rot = heading - std::numbers::pi / 2.0;
   const double cr = std::cos(rot);
   const double sr = std::sin(rot);
@@ -551,7 +550,7 @@ void check_shape_fits(const Source& src, const Scenario& s, int shape_line, bool
     std::ostringstream what;
     what << "shape: " << fs::path(s.shape_file).filename().string()
          << (shape_from_command_line ? " (--shape)" : "") << " (" << shape.rows << " x " << shape.cols << ", "
-         << shape.label_count() << " labels, grid_spacing " << g << " m, shape_heading " << heading
+         << shape.label_count() << " labels, grid_spacing " << g << " m, " << heading_name << " " << heading
          << ") cannot fit inside the walls from where it forms: with label 0 at (" << o.x << ", " << o.y
          << ")"
          << (std::hypot(o.x, o.y) == nearest
@@ -561,7 +560,8 @@ void check_shape_fits(const Source& src, const Scenario& s, int shape_line, bool
          << ") lies outside the walls' interior x in [" << wx_lo << ", " << wx_hi << "], y in [" << wy_lo
          << ", " << wy_hi
          << "] (less a body radius); give a larger arena, a smaller shape or grid_spacing, or a start "
-         << "region (robots.region) and shape_heading that leave the shape room";
+         << "region (robots.region)" << (rules.heading_param.empty() ? "" : " and " + heading_name)
+         << " that leave the shape room";
     throw InputError(src.file, shape_line, what.str());
   }
 }

@@ -40,6 +40,7 @@ const behaviour::Descriptor kDescriptor{
     .telemetry = kTelemetry,
     .needs_shape = false,
     .needs_goal = false,
+    .shape_rules = {},
     .make = &make,
 };
 

@@ -17,9 +17,9 @@
 #include <string>
 #include <vector>
 
-#include "common/robot_state.hpp"
 #include "harness/harness.hpp"
 #include "robot_agent/controller/builtins.hpp"
+#include "robot_agent/controller/robot_state.hpp"
 #include "world_server/world/scenario.hpp"
 
 namespace swarmform {

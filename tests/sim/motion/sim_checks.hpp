@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "common/mission.hpp"
-#include "common/robot_state.hpp"
+#include "robot_agent/controller/robot_state.hpp"
 #include "world_server/world/world.hpp"
 
 namespace swarmform::sim_motion {

@@ -29,6 +29,7 @@ const behaviour::Descriptor kDescriptor{
     .telemetry = {},
     .needs_shape = false,
     .needs_goal = false,
+    .shape_rules = {},
     .make = &make,
 };
 
