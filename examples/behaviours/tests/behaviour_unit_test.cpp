@@ -4,10 +4,12 @@
 // behaviour.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 
 #include "behaviour/params.hpp"
@@ -154,6 +156,52 @@ TEST(Registry, ChecksParametersAgainstThePluginsTable) {
   EXPECT_FALSE(d.needs_shape);
   EXPECT_EQ(d.telemetry.size(), 2u);
   EXPECT_NE(behaviour::check_param(d, "stop_distance", 50.0).find("must be in"), std::string::npos);
+}
+
+// A descriptor's shape rules must name its own parameter and state: the registry refuses one that does not
+// (a plug-in with a PluginError naming the field, a built-in as a bug), so the world never looks up a
+// parameter or waits for a state the behaviour does not have.
+std::unique_ptr<controller::Controller> no_controller() {
+  return nullptr;
+}
+
+TEST(Registry, RefusesShapeRulesThatNameAParameterOrStateTheBehaviourLacks) {
+  static constexpr std::array params{behaviour::ParamSpec{"turn", 0.0, -4.0, 4.0, "rad"}};
+  static constexpr std::array states{behaviour::StateSpec{0, "forming", "#000000"},
+                                     behaviour::StateSpec{1, "moving", "#ffffff"}};
+  behaviour::Descriptor d{.name = "shaper",
+                          .summary = "",
+                          .params = params,
+                          .states = states,
+                          .telemetry = {},
+                          .needs_shape = true,
+                          .needs_goal = true,
+                          .shape_rules = {.anchor = behaviour::ShapeAnchor::NearestOrigin,
+                                          .heading_param = "turn",
+                                          .motion_state = 1},
+                          .make = &no_controller};
+  EXPECT_EQ(behaviour::check_shape_rules(d), "");
+  Mission m;
+  m.params = {{"turn", 0.5}};
+  EXPECT_DOUBLE_EQ(behaviour::shape_heading(m, d), 0.5);
+
+  d.shape_rules.heading_param = "shape_heading";
+  EXPECT_NE(behaviour::check_shape_rules(d).find(
+                "heading_param 'shape_heading' is not one of its parameters (turn)"),
+            std::string::npos)
+      << behaviour::check_shape_rules(d);
+  behaviour::Registry registry;
+  EXPECT_THROW(registry.add(d), std::logic_error);
+
+  d.shape_rules.heading_param = {};
+  EXPECT_DOUBLE_EQ(behaviour::shape_heading(m, d), behaviour::kShapeUp);  // none named: the shape as written
+  d.shape_rules.motion_state = 5;
+  EXPECT_NE(behaviour::check_shape_rules(d).find("motion_state 5 is not one of its states"),
+            std::string::npos);
+  d.shape_rules.motion_state = behaviour::ShapeRules::kNoState;
+  EXPECT_EQ(behaviour::check_shape_rules(d), "");
+  registry.add(d);
+  EXPECT_EQ(registry.find("shaper"), &d);
 }
 
 }  // namespace
