@@ -10,10 +10,10 @@
 #include <optional>
 #include <sstream>
 
+#include "common/dds/behaviour_view.hpp"
 #include "viewer/foxglove.hpp"
 #include "viewer/robots_csv.hpp"
 #include "viewer/web_server.hpp"
-#include "world_server/behaviour_view.hpp"
 
 namespace swarmform::viewer {
 
@@ -67,8 +67,8 @@ std::string check_world(const json& w) {
 
 // The recording's own description of its behaviour (world.json's behaviour_descriptor: the descriptor's
 // states and telemetry columns, docs/recording-format.md), in the form the live frames give it.
-server::BehaviourView behaviour_of(const json& world) {
-  server::BehaviourView v = server::describe_behaviour("", nullptr);
+dds::BehaviourView behaviour_of(const json& world) {
+  dds::BehaviourView v = dds::describe_behaviour("", nullptr);
   v.name = world.value("behaviour", std::string("?"));
   const json d = world.value("behaviour_descriptor", json::object());
   if (!d.is_object()) return v;
@@ -265,7 +265,7 @@ class Session {
   const ReplayOptions& o_;
   json world_;
   RobotsCsv& csv_;
-  server::BehaviourView view_;
+  dds::BehaviourView view_;
   Foxglove foxglove_;
   WebServer* server_ = nullptr;
   double tick_rate_ = 10.0;

@@ -3,7 +3,7 @@
 namespace swarmform::server {
 
 void build_frame(const world::World& world, const LatestCommand& latest, const world::Metrics& metrics,
-                 const BehaviourView& behaviour, dds::ObserveFrameData& frame) {
+                 const dds::BehaviourView& behaviour, dds::ObserveFrameData& frame) {
   const auto& truth = world.robots();
   frame.tick = world.tick();
   frame.finished = false;

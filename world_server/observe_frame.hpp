@@ -6,8 +6,8 @@
 
 #include <functional>
 
+#include "common/dds/behaviour_view.hpp"
 #include "common/dds/observe_wire.hpp"
-#include "world_server/behaviour_view.hpp"
 #include "world_server/run/metrics.hpp"
 #include "world_server/world/world.hpp"
 
@@ -18,6 +18,6 @@ using LatestCommand = std::function<const Command&(RobotId)>;
 
 // `frame`'s rows are reused.
 void build_frame(const world::World& world, const LatestCommand& latest, const world::Metrics& metrics,
-                 const BehaviourView& behaviour, dds::ObserveFrameData& frame);
+                 const dds::BehaviourView& behaviour, dds::ObserveFrameData& frame);
 
 }  // namespace swarmform::server

@@ -82,7 +82,7 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
   if (options_.viewer_token != 0) {
     viewer_ = std::make_unique<ViewerControl>(
         link_.participant, options_.run_nonce, options_.viewer_token, scenario.mode == world::Mode::Lockstep,
-        options_.start_paused, describe_behaviour(scenario.mission.behaviour, scenario.behaviour));
+        options_.start_paused, dds::describe_behaviour(scenario.mission.behaviour, scenario.behaviour));
     link_.waiter.attach(viewer_->condition());
   }
   signals_.notify(&link_.waiter);

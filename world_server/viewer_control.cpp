@@ -24,7 +24,8 @@ std::string writer_name(dds::PublicationHandle w) {
 }  // namespace
 
 ViewerControl::ViewerControl(const dds::Participant& participant, std::uint64_t run_nonce,
-                             std::uint64_t token, bool lockstep, bool start_paused, BehaviourView behaviour)
+                             std::uint64_t token, bool lockstep, bool start_paused,
+                             dds::BehaviourView behaviour)
     : behaviour_(std::move(behaviour)),
       observe_(participant, run_nonce),
       control_(participant),

@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
+#include "common/dds/behaviour_view.hpp"
 #include "common/dds/observe_wire.hpp"
 #include "common/dds/refusal_log.hpp"
-#include "world_server/behaviour_view.hpp"
 #include "world_server/observe_frame.hpp"
 #include "world_server/run/metrics.hpp"
 #include "world_server/world/world.hpp"
@@ -28,7 +28,7 @@ class ViewerControl {
   // `lockstep`: pause, step and speed are honoured (realtime ticks on the clock). `start_paused`: hold tick
   // 0 until the viewer says go (or no viewer bound within kBindWait).
   ViewerControl(const dds::Participant& participant, std::uint64_t run_nonce, std::uint64_t token,
-                bool lockstep, bool start_paused, BehaviourView behaviour);
+                bool lockstep, bool start_paused, dds::BehaviourView behaviour);
 
   dds_entity_t condition() const { return control_.condition(); }
 
@@ -59,7 +59,7 @@ class ViewerControl {
  private:
   void apply(const dds::ControlSample& c);
 
-  BehaviourView behaviour_;
+  dds::BehaviourView behaviour_;
   dds::ObserveFrameData frame_;
   dds::ObserveWriter observe_;
   dds::ControlReader control_;

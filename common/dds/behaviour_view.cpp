@@ -1,6 +1,6 @@
-#include "world_server/behaviour_view.hpp"
+#include "common/dds/behaviour_view.hpp"
 
-namespace swarmform::server {
+namespace swarmform::dds {
 
 BehaviourView describe_behaviour(const std::string& name, const behaviour::Descriptor* d) {
   BehaviourView v;
@@ -8,9 +8,9 @@ BehaviourView describe_behaviour(const std::string& name, const behaviour::Descr
   v.telemetry_fields = {"state", "label", "parent", "leader", "net_force"};
   if (d == nullptr) return v;
   for (const auto& s : d->states)
-    v.states.push_back(dds::StateStyleRow{s.value, std::string(s.name), std::string(s.colour)});
+    v.states.push_back(StateStyleRow{s.value, std::string(s.name), std::string(s.colour)});
   for (const auto& t : d->telemetry) v.telemetry_fields.emplace_back(t.name);
   return v;
 }
 
-}  // namespace swarmform::server
+}  // namespace swarmform::dds

@@ -10,11 +10,11 @@
 #include "behaviour/descriptor.hpp"
 #include "common/dds/observe_wire.hpp"
 
-namespace swarmform::server {
+namespace swarmform::dds {
 
 struct BehaviourView {
   std::string name;
-  std::vector<dds::StateStyleRow> states;
+  std::vector<StateStyleRow> states;
   std::vector<std::string> telemetry_fields;  // of "state", "label", "parent", "leader", "net_force"
 };
 
@@ -23,4 +23,4 @@ struct BehaviourView {
 // state numbers are drawn grey.
 BehaviourView describe_behaviour(const std::string& name, const behaviour::Descriptor* d);
 
-}  // namespace swarmform::server
+}  // namespace swarmform::dds
