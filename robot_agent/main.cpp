@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <iomanip>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -184,6 +185,8 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
   std::uint64_t own_packets = 0;    // perceptions stamped with our claim nonce
   std::uint32_t stale_packets = 0;  // perceptions of the previous owner skipped before the first own one
   constexpr std::uint32_t kStalePackets = 2;  // a round in flight, one more for a realtime world's timing
+  std::optional<swarmform::Tick> last_tick;   // of the last own perception, and when it came
+  std::chrono::steady_clock::time_point last_at;
   for (;;) {
     switch (link.next_packet(o.timeout_s, packet)) {
       case WaitResult::Ok:
@@ -213,7 +216,25 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
       return stopped(kExitIdLost);
     }
     ++own_packets;
-    if (packet.status == swarmform::dds::PacketStatus::End) return stopped(kExitOk);
+    if (packet.status == swarmform::dds::PacketStatus::End) {
+      // An END after rounds stepped without this robot comes to an agent the world took for dead (stopped or
+      // starved past its liveliness lease) that was not back before the run ended: it says so, or its log
+      // would say nothing of why its robot stopped.
+      // (Realtime: a slow agent skips a perception now and then, hence the second's silence too.)
+      const swarmform::Tick end_tick = packet.perception.tick;
+      const double silent_s =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - last_at).count();
+      if (last_tick && end_tick > *last_tick + 1 && silent_s >= 1.0) {
+        std::cerr << me << ": the run ended at tick " << end_tick
+                  << " without this robot: its last packet was for tick " << *last_tick << ", " << std::fixed
+                  << std::setprecision(1) << silent_s
+                  << " s before the END (the world took it for dead meanwhile: this process was stopped, "
+                     "starved or cut off past its liveliness lease, and the run ended before it was back)\n";
+      }
+      return stopped(kExitOk);
+    }
+    last_tick = packet.perception.tick;
+    last_at = std::chrono::steady_clock::now();
     if (generation == 0) {
       generation = packet.generation;
     } else if (packet.generation > generation) {

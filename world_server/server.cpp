@@ -905,13 +905,26 @@ void Server::offer_frame(dds_time_t now, bool finished) {
       finished);
 }
 
+bool Server::may_hear_the_end(RobotId id) {
+  if (registry_.connected(id)) return true;
+  // Its owner was taken for dead (or never answered) and nobody took the id over: its agent may still be
+  // there, stopped or starved past its lease, and resume after the run. Its END waits for it in its own
+  // socket (the packet instance still names its claim nonce), so it exits on its own, saying why. Not to a
+  // process seen gone: its reader, still matched until its participant's lease ends, would hold the
+  // acknowledgement wait below for nothing.
+  if (robots_[id].owner_nonce == 0) return false;
+  const auto pid = agent_pid(id);
+  return !pid || process_state(*pid) == ProcessState::Present;
+}
+
 void Server::announce_end() {
-  // Every agent that holds an id hears the end (dead robots' agents are gone; refused ones left already).
+  // Every agent that holds an id hears the end, and so does every agent that held one and may still be
+  // there (may_hear_the_end); refused ones left already.
   Perception end;
   end.tick = world_.tick();
   for (std::size_t i = 0; i < scenario_.robots.size(); ++i) {
     const auto id = static_cast<RobotId>(i);
-    if (registry_.connected(id)) link_.robots.write_packet(id, dds::PacketStatus::End, end);
+    if (may_hear_the_end(id)) link_.robots.write_packet(id, dds::PacketStatus::End, end);
   }
   pose_rows(world_, rows_);
   std::uint32_t alive = 0;

@@ -265,6 +265,32 @@ TEST_F(WireFaults, AgentTakenForDeadWhileItsWorldWaitsRejoinsWithoutAPacket) {
   EXPECT_EQ(summary("waiting")["alive_at_end"], 3);
 }
 
+// An agent taken for dead that resumes only after the run has ended (stopped until the world has exited; the
+// world does not know its pid, so nothing tells its stop from a death) finds its END waiting and exits 0 on
+// its own, its log saying why, well within the launcher's 5 s. Before, the world told only the agents it
+// held alive: this one waited out its 10 s world timeout (the launcher SIGKILLed it at 5 s, its log empty).
+TEST_F(WireFaults, AnAgentThatResumesAfterTheRunEndedFindsItsEndAndSaysWhy) {
+  const int domain = swarmform::testing::test_domain(36);
+  Process& w = world(domain, "late", {"--max-ticks", std::to_string(kLongRun)});
+  std::vector<Process*> as = agents(domain, "late");
+  ASSERT_TRUE(eventually(kRunDeadline, [&] { return ticking(w) || !w.running(); })) << w.out();
+  ASSERT_TRUE(w.running()) << "the run ended before the fault: make it longer";
+  ASSERT_EQ(::kill(as[3]->pid(), SIGSTOP), 0);
+  EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_NE(w.out().find("death id=3 tick="), std::string::npos) << w.out();
+  ASSERT_EQ(::kill(as[3]->pid(), SIGCONT), 0);
+  EXPECT_EQ(as[3]->wait_for(4.0), 0) << as[3]->err();
+  EXPECT_NE(as[3]->err().find("robot_agent 3: the run ended at tick " + std::to_string(kLongRun) +
+                              " without this robot: its last packet was for tick "),
+            std::string::npos)
+      << as[3]->err();
+  for (int i = 0; i < kRobots; ++i) {
+    if (i == 3) continue;
+    EXPECT_EQ(as[i]->wait_for(15.0), 0) << i << ": " << as[i]->err();
+  }
+  EXPECT_EQ(summary("late")["alive_at_end"], kRobots - 1);
+}
+
 // Realtime: agent 4 stalls, is taken for dead, and a restarted agent claims id 4. The old one, resumed, is
 // told by the world's packets (another owner) and exits 5 with a clear message; it used to run to the end.
 TEST_F(WireFaults, RealtimeAgentReplacedByARestartedOneIsToldAndExitsNonZero) {
