@@ -176,12 +176,16 @@ int Server::run_inner() {
                  mean(profile_.command_message_bytes, profile_.commands));
   }
   if (stalls_.own_stalls() > 0) {
+    // The counts agree with what was recorded: a lost agent that came back and then turned out gone is a
+    // death (in summary.json's deaths), not a comeback.
     std::fprintf(
         stderr,
         "world_server: the world itself stalled %llu time(s), %.1f s in all; %llu lost agent(s) came "
-        "back within the grace and were not taken for dead\n",
+        "back within the grace and were not taken for dead; %llu were recorded dead (gone, or lost past "
+        "the grace)\n",
         static_cast<unsigned long long>(stalls_.own_stalls()), stalls_.own_stalled_seconds(),
-        static_cast<unsigned long long>(stalls_.suspicions_cleared()));
+        static_cast<unsigned long long>(stalls_.suspicions_cleared()),
+        static_cast<unsigned long long>(stalls_.suspects_died()));
   }
   if (stragglers_.total() > 0) {
     std::fprintf(stderr,
@@ -594,6 +598,7 @@ void Server::on_dead(dds::PublicationHandle writer, bool running, const char* wh
   if (!world_.alive(*id)) return;
   world_.kill(*id);
   session_.record_death(*id);
+  stalls_.died(writer);
   std::string detail =
       std::string(why ? why : "liveliness lost") + " at tick " + std::to_string(world_.tick());
   if (const auto ms = faults_.take_kill_delay_ms(*id)) {
