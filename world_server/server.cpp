@@ -115,9 +115,10 @@ int Server::fail(world::EndReason reason, const std::string& what, int code) {
   }
   session_.set_end_reason(reason);
   note_input_dropped();
-  std::string summary = "summary.json written";
+  std::string summary;
   try {
     session_.finish(start_ ? to_s(dds_time() - start_) : 0.0);
+    summary = session_.summary_written();
   } catch (const std::exception& e) {
     summary = std::string("summary.json not written: ") + e.what();
   }
