@@ -329,6 +329,29 @@ TEST_F(WireFaults, AnAgentThatResumesAfterTheRunEndedFindsItsEndAndSaysWhy) {
   EXPECT_EQ(summary("late")["alive_at_end"], kRobots - 1);
 }
 
+// The same in realtime (deadlines stand there, whatever the world knows of its pids): the perceptions written
+// to agent 3 before its death come in with its END when it resumes; it still tells the END from them.
+TEST_F(WireFaults, ARealtimeAgentThatResumesAfterTheRunEndedFindsItsEndAndSaysWhy) {
+  const int domain = swarmform::testing::test_domain(37);
+  Process& w = world(domain, "late-rt", {"--mode", "realtime", "--max-ticks", "60"});
+  std::vector<Process*> as = agents(domain, "late-rt");
+  ASSERT_TRUE(eventually(kRunDeadline, [&] { return ticking(w) || !w.running(); })) << w.out();
+  ASSERT_TRUE(w.running()) << "the run ended before the fault: make it longer";
+  ASSERT_EQ(::kill(as[3]->pid(), SIGSTOP), 0);
+  EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_NE(w.out().find("death id=3 tick="), std::string::npos) << w.out();
+  ASSERT_EQ(::kill(as[3]->pid(), SIGCONT), 0);
+  EXPECT_EQ(as[3]->wait_for(4.0), 0) << as[3]->err();
+  EXPECT_NE(as[3]->err().find("robot_agent 3: the run ended at tick 60 without this robot"),
+            std::string::npos)
+      << as[3]->err();
+  for (int i = 0; i < kRobots; ++i) {
+    if (i == 3) continue;
+    EXPECT_EQ(as[i]->wait_for(15.0), 0) << i << ": " << as[i]->err();
+    EXPECT_EQ(as[i]->err().find("without this robot"), std::string::npos) << i << ": " << as[i]->err();
+  }
+}
+
 // Realtime: agent 4 stalls, is taken for dead, and a restarted agent claims id 4. The old one, resumed, is
 // told by the world's packets (another owner) and exits 5 with a clear message; it used to run to the end.
 TEST_F(WireFaults, RealtimeAgentReplacedByARestartedOneIsToldAndExitsNonZero) {
