@@ -1,6 +1,7 @@
 """scripts/swarm against the real world_server and robot_agent (BUILD_DIR): a short random-walk run writes a
 run directory the reader and the pictures take back, a scheduled --kill is recorded as a death, and no process
-is left behind. Each test has its own DDS domain and every wait a deadline."""
+is left behind. Each test has its own DDS domain (the full-disk test shares the first one's: the module's tests
+run one at a time) and every wait a deadline."""
 
 import json
 import os
