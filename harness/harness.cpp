@@ -232,4 +232,8 @@ std::string Harness::finish(double wall_seconds, std::optional<world::EndReason>
   return impl_->session.finish(wall_seconds);
 }
 
+std::string Harness::summary_written() const {
+  return impl_->session.summary_written();
+}
+
 }  // namespace swarmform::harness

@@ -64,6 +64,8 @@ class Harness {
   // Writes summary.json and returns its text; `reason` overrides the end_reason RunSession derives
   // (completed or max_ticks). Throws world::RecordingError when summary.json cannot be written.
   std::string finish(double wall_seconds, std::optional<world::EndReason> reason = std::nullopt);
+  // After finish(): its words for the end-of-run line (RunSession::summary_written).
+  std::string summary_written() const;
 
  private:
   struct Impl;

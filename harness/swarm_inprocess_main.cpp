@@ -256,9 +256,10 @@ int main(int argc, char** argv) {
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (behaviour_failed) {
-      std::string written = "summary.json written";
+      std::string written;
       try {
         harness.finish(wall, world::EndReason::BehaviourFailed);
+        written = harness.summary_written();
       } catch (const std::exception& e) {
         written = std::string("summary.json not written: ") + e.what();
       }
@@ -267,9 +268,10 @@ int main(int argc, char** argv) {
       return kExitBehaviourFailed;
     }
     if (failed) {
-      std::string written = "summary.json written";
+      std::string written;
       try {
         harness.finish(wall, failed->reason());
+        written = harness.summary_written();
       } catch (const std::exception& e) {
         written = std::string("summary.json not written: ") + e.what();
       }

@@ -184,6 +184,7 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
   std::uint64_t own_packets = 0;    // perceptions stamped with our claim nonce
   std::uint32_t stale_packets = 0;  // perceptions of the previous owner skipped before the first own one
   constexpr std::uint32_t kStalePackets = 2;  // a round in flight, one more for a realtime world's timing
+  std::optional<swarmform::Tick> last_tick;   // of the last own perception
   for (;;) {
     switch (link.next_packet(o.timeout_s, packet)) {
       case WaitResult::Ok:
@@ -213,7 +214,25 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
       return stopped(kExitIdLost);
     }
     ++own_packets;
-    if (packet.status == swarmform::dds::PacketStatus::End) return stopped(kExitOk);
+    if (packet.status == swarmform::dds::PacketStatus::End) {
+      // An END after rounds stepped without this robot comes to an agent the world took for dead (stopped or
+      // starved past its liveliness lease) that was not back before the run ended: it says so, or its log
+      // would say nothing of why its robot stopped. Lockstep steps no round without a live robot's command;
+      // realtime does, and a slow agent skips a perception now and then: there a second's worth of ticks.
+      // (Not wall time: the perceptions written before its death come in with the END when it resumes.)
+      const swarmform::Tick end_tick = packet.perception.tick;
+      const auto allowed = static_cast<swarmform::Tick>(
+          mission.realtime ? std::max(2.0, std::ceil(mission.mission.tick_rate)) : 1.0);
+      if (last_tick && end_tick > *last_tick + allowed) {
+        std::cerr
+            << me << ": the run ended at tick " << end_tick
+            << " without this robot: its last packet was for tick " << *last_tick
+            << " (the world took it for dead meanwhile: this process was stopped, starved or cut off past "
+               "its liveliness lease, and the run ended before it was back)\n";
+      }
+      return stopped(kExitOk);
+    }
+    last_tick = packet.perception.tick;
     if (generation == 0) {
       generation = packet.generation;
     } else if (packet.generation > generation) {

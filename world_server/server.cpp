@@ -115,9 +115,10 @@ int Server::fail(world::EndReason reason, const std::string& what, int code) {
   }
   session_.set_end_reason(reason);
   note_input_dropped();
-  std::string summary = "summary.json written";
+  std::string summary;
   try {
     session_.finish(start_ ? to_s(dds_time() - start_) : 0.0);
+    summary = session_.summary_written();
   } catch (const std::exception& e) {
     summary = std::string("summary.json not written: ") + e.what();
   }
@@ -176,12 +177,16 @@ int Server::run_inner() {
                  mean(profile_.command_message_bytes, profile_.commands));
   }
   if (stalls_.own_stalls() > 0) {
+    // The counts agree with what was recorded: a lost agent that came back and then turned out gone is a
+    // death (in summary.json's deaths), not a comeback.
     std::fprintf(
         stderr,
         "world_server: the world itself stalled %llu time(s), %.1f s in all; %llu lost agent(s) came "
-        "back within the grace and were not taken for dead\n",
+        "back within the grace and were not taken for dead; %llu were recorded dead (gone, or lost past "
+        "the grace)\n",
         static_cast<unsigned long long>(stalls_.own_stalls()), stalls_.own_stalled_seconds(),
-        static_cast<unsigned long long>(stalls_.suspicions_cleared()));
+        static_cast<unsigned long long>(stalls_.suspicions_cleared()),
+        static_cast<unsigned long long>(stalls_.suspects_died()));
   }
   if (stragglers_.total() > 0) {
     std::fprintf(stderr,
@@ -594,6 +599,7 @@ void Server::on_dead(dds::PublicationHandle writer, bool running, const char* wh
   if (!world_.alive(*id)) return;
   world_.kill(*id);
   session_.record_death(*id);
+  stalls_.died(writer);
   std::string detail =
       std::string(why ? why : "liveliness lost") + " at tick " + std::to_string(world_.tick());
   if (const auto ms = faults_.take_kill_delay_ms(*id)) {
@@ -905,13 +911,26 @@ void Server::offer_frame(dds_time_t now, bool finished) {
       finished);
 }
 
+bool Server::may_hear_the_end(RobotId id) {
+  if (registry_.connected(id)) return true;
+  // Its owner was taken for dead (or never answered) and nobody took the id over: its agent may still be
+  // there, stopped or starved past its lease, and resume after the run. Its END waits for it in its own
+  // socket (the packet instance still names its claim nonce), so it exits on its own, saying why. Not to a
+  // process seen gone: its reader, still matched until its participant's lease ends, would hold the
+  // acknowledgement wait below for nothing.
+  if (robots_[id].owner_nonce == 0) return false;
+  const auto pid = agent_pid(id);
+  return !pid || process_state(*pid) == ProcessState::Present;
+}
+
 void Server::announce_end() {
-  // Every agent that holds an id hears the end (dead robots' agents are gone; refused ones left already).
+  // Every agent that holds an id hears the end, and so does every agent that held one and may still be
+  // there (may_hear_the_end); refused ones left already.
   Perception end;
   end.tick = world_.tick();
   for (std::size_t i = 0; i < scenario_.robots.size(); ++i) {
     const auto id = static_cast<RobotId>(i);
-    if (registry_.connected(id)) link_.robots.write_packet(id, dds::PacketStatus::End, end);
+    if (may_hear_the_end(id)) link_.robots.write_packet(id, dds::PacketStatus::End, end);
   }
   pose_rows(world_, rows_);
   std::uint32_t alive = 0;

@@ -137,6 +137,8 @@ class Server {
   void wait_a_while(dds_time_t deadline);
   std::optional<pid_t> agent_pid(RobotId id);
   void announce_end();
+  // Whether robot `id`'s agent gets the END: its owner, or a lost owner whose process may still be there.
+  bool may_hear_the_end(RobotId id);
   void progress(bool force);
   bool stopping() const;
   // run() without its failure handling: a RecordingError or another exception out of it ends in fail().

@@ -8,6 +8,7 @@ bool StallGuard::suspect(dds::PublicationHandle writer, bool gone) {
   if (!after_stall && !in_flood) return false;
   Suspect& s = suspects_.try_emplace(writer, Suspect{clock_.awake(), false}).first->second;
   s.gone = s.gone || gone;
+  lately_[writer].since = clock_.awake();
   return true;
 }
 
@@ -16,7 +17,16 @@ bool StallGuard::clear(dds::PublicationHandle writer) {
   if (it == suspects_.end() || it->second.gone) return false;
   suspects_.erase(it);
   ++cleared_;
+  ++lately_[writer].clears;
   return true;
+}
+
+void StallGuard::died(dds::PublicationHandle writer) {
+  const auto it = lately_.find(writer);
+  if (it == lately_.end()) return;
+  cleared_ -= it->second.clears;
+  ++died_;
+  lately_.erase(it);
 }
 
 void StallGuard::expired(std::vector<dds::PublicationHandle>& out) {
@@ -24,6 +34,13 @@ void StallGuard::expired(std::vector<dds::PublicationHandle>& out) {
     if (clock_.awake() - it->second.since >= kGrace) {
       out.push_back(it->first);
       it = suspects_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  for (auto it = lately_.begin(); it != lately_.end();) {
+    if (clock_.awake() - it->second.since >= kRecent && suspects_.count(it->first) == 0) {
+      it = lately_.erase(it);
     } else {
       ++it;
     }

@@ -56,10 +56,18 @@ class StallGuard {
   bool suspected(dds::PublicationHandle writer) const { return suspects_.count(writer) != 0; }
   // Suspects lost for kGrace of awake time: they are deaths now (removed from the suspects).
   void expired(std::vector<dds::PublicationHandle>& out);
+  // The world recorded `writer`'s owner dead. If it was suspected lately, it is one of the losses that were
+  // deaths, and a sample that cleared it did not hold: an agent that exits while the world is stopped is
+  // often heard again (its last samples wait in the socket) before its going is seen, and counting that as
+  // a comeback made the end-of-run line say 9 came back where 6 of the 9 were recorded dead.
+  void died(dds::PublicationHandle writer);
 
   std::uint64_t own_stalls() const { return clock_.stalls(); }
   double own_stalled_seconds() const { return static_cast<double>(clock_.stalled_total()) * 1e-9; }
+  // Lost writers that came back within the grace and were not recorded dead afterwards.
   std::uint64_t suspicions_cleared() const { return cleared_; }
+  // Lost writers, suspected lately, that were recorded dead (after the grace, or after going away).
+  std::uint64_t suspects_died() const { return died_; }
 
  private:
   OwnClock clock_;
@@ -68,7 +76,17 @@ class StallGuard {
     bool gone = false;
   };
   std::unordered_map<dds::PublicationHandle, Suspect> suspects_;
+  // Writers suspected within kRecent of awake time (cleared or not): the awake time of their last
+  // suspicion and how often a sample or their liveliness cleared them. A death of one of them is a loss of
+  // the stall (died); older ones are forgotten (a death long after is another story).
+  struct Lately {
+    dds_time_t since = 0;
+    std::uint64_t clears = 0;
+  };
+  static constexpr dds_duration_t kRecent = kSuspectWindow + kGrace;
+  std::unordered_map<dds::PublicationHandle, Lately> lately_;
   std::uint64_t cleared_ = 0;
+  std::uint64_t died_ = 0;
   bool flooded_ = false;
   dds_time_t last_flood_ = 0;  // awake time of the last refused sample
 };

@@ -7,7 +7,17 @@ from typing import Any
 
 
 def write_atomically(path: str, data: Any) -> None:
+    """A failure is an OSError that names the file: a full disk is seen only when the buffer is written, where
+    Python's error names none."""
     tmp = f"{path}.tmp-{os.getpid()}"
-    with open(tmp, "w") as f:
-        json.dump(data, f, indent=1)
-    os.replace(tmp, path)
+    text = json.dumps(data, indent=1)
+    try:
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    except OSError as e:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise OSError(e.errno, e.strerror, e.filename or path) from None

@@ -38,7 +38,7 @@ import signal
 import subprocess
 import sys
 import time
-from typing import IO, Any, Callable, Optional
+from typing import IO, Any, Callable, Optional, Union
 
 from . import domains
 from . import exit_codes
@@ -54,6 +54,9 @@ READY = re.compile(r"^world ready domain=(\d+) run_nonce=([0-9a-f]+)$")
 CLAIMED = re.compile(r"^world_server: id (\d+) claimed by pid \d+")
 CONNECTED = re.compile(r"^connected agents=\d+")
 GAVE_UP = re.compile(r"^world_server: \d+ of \d+ agents missing after ")  # the world ended the wait itself
+# The world's one line for a run it ended on a failure: why, at which tick, the file and the error, and whether
+# summary.json was written (world_server/server.cpp Server::fail).
+RUN_ENDED = re.compile(r"^world_server: run ended \((\w+)\) at tick (\d+): (.*?)(?:; (summary\.json .*))?$")
 # The connect deadline (--connect-timeout), when not given: world_server's default_connect_timeout
 # (world_server/server.hpp), which the launcher passes on so that both wait the same time.
 CONNECT_TIMEOUT_BASE_S = 30.0
@@ -317,6 +320,54 @@ class Processes:
             f.close()
 
 
+class CopyLog:
+    """The world's console log: a copy of what the launcher reads from the world. A write to it that fails (a full
+    disk) is said once, naming the file, and the copying stops; the run goes on, because its outcome is the world's
+    to record (in the room it reserved for summary.json) and the world's lines still reach the terminal."""
+
+    def __init__(self, path: str, status: "Status") -> None:
+        self.name = path
+        self.failed: Optional[OSError] = None
+        self._status = status
+        self._f = open(path, "ab")
+
+    def _fail(self, e: OSError) -> None:
+        if self.failed is None:
+            self.failed = e
+            self._status.line(f"swarm: {self.name}: {e.strerror or e}{_full_disk(e)}; the world's lines are no "
+                              "longer copied there (they are still shown here)")
+
+    def write(self, data: bytes) -> None:
+        if self.failed is None:
+            try:
+                self._f.write(data)
+            except OSError as e:
+                self._fail(e)
+
+    def flush(self) -> None:
+        if self.failed is None:
+            try:
+                self._f.flush()
+            except OSError as e:
+                self._fail(e)
+
+    def close(self) -> None:
+        try:
+            self._f.close()
+        except OSError as e:  # its last buffer
+            self._fail(e)
+
+    def __enter__(self) -> "CopyLog":
+        return self
+
+    def __exit__(self, *_: object) -> None:
+        self.close()
+
+
+def _full_disk(e: OSError) -> str:
+    return " (the disk is full)" if e.errno in (errno.ENOSPC, errno.EDQUOT) else ""
+
+
 def _kill_quietly(fn: Callable[[], object]) -> None:
     try:
         fn()
@@ -501,7 +552,7 @@ def _last_line(logs: str, rid: int) -> str:
     return (said or lines or ["(empty log)"])[-1]
 
 
-def _follow(proc: "subprocess.Popen[bytes]", stop: StopFlag, status: Status, console_log: IO[bytes],
+def _follow(proc: "subprocess.Popen[bytes]", stop: StopFlag, status: Status, console_log: Union[IO[bytes], CopyLog],
             max_ticks: Optional[int], prefix: str = "world", on_ready: Optional[Callable[[], None]] = None,
             on_idle: Optional[Callable[[], object]] = None,
             on_line: Optional[Callable[[str, Status], bool]] = None) -> Optional[tuple[int, str]]:
@@ -651,7 +702,8 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
         watch = AgentWatch(procs, logs, status)
         connecting = ConnectWatch(procs, logs, n, wait_s)
         started = time.monotonic()
-        with open(os.path.join(logs, "world_console.log"), "ab") as console_log:
+        ended: list[re.Match[str]] = []  # the world's `run ended` line, if it ended the run on a failure
+        with CopyLog(os.path.join(logs, "world_console.log"), status) as console_log:
             world = procs.start_world(cmd)
             restarter = faults.Restarter(procs, agent_exe, domain, nonce, logs, write_agents, n)
 
@@ -661,6 +713,9 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
                 connecting.check()
 
             def on_line(line: str, st: Status) -> bool:
+                m = RUN_ENDED.match(line)
+                if m:
+                    ended.append(m)  # and shown as it is
                 return connecting.line(line, st) or restarter.handle(line, st)
 
             done = _follow(world, stop, status, console_log, max_ticks, on_ready=start_agents, on_idle=idle,
@@ -687,7 +742,9 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
             status.line(f"swarm: {stragglers} agent(s) still running {AGENT_EXIT_DEADLINE_S:.0f} s after the world "
                         "ended were killed")
         if code != 0:
-            status.line(f"swarm: {_world_failure(code, run_dir)}; details in {logs}/world_console.log")
+            details = (f"details in {console_log.name}" if console_log.failed is None
+                       else f"{console_log.name} could not be written")
+            status.line(f"swarm: {_world_failure(code, run_dir, ended[-1] if ended else None)}; {details}")
             if missing is not None:
                 status.line(f"swarm: {len(connecting.missing())} of {n} agents did not connect within {wait_s:g} s "
                             f"(--connect-timeout): {missing}")
@@ -837,8 +894,7 @@ def view(run_dir: str, port: int, host: str) -> int:
 
 def _os_error_line(e: OSError) -> str:
     where = f"{e.filename}: " if e.filename else ""
-    full = " (the disk is full)" if e.errno in (errno.ENOSPC, errno.EDQUOT) else ""
-    return f"{where}{e.strerror or e}{full}; stopped the world and the agents"
+    return f"{where}{e.strerror or e}{_full_disk(e)}; stopped the world and the agents"
 
 
 def _os_error_code(e: OSError) -> int:
@@ -860,10 +916,11 @@ def _end_reason(run_dir: str) -> Optional[str]:
         return None
 
 
-def _world_failure(code: int, run_dir: str) -> str:
-    """One line for a world that exited non-zero: why (summary.json's end_reason, else the exit code or the
-    signal that killed it) and whether a recording is there to draw."""
-    reason = _end_reason(run_dir)
+def _world_failure(code: int, run_dir: str, ended: "Optional[re.Match[str]]" = None) -> str:
+    """One line for a world that exited non-zero: why (summary.json's end_reason, else the world's own `run ended`
+    line, else the exit code or the signal that killed it), the file that failed and where the outcome is, and
+    whether a recording is there to draw."""
+    reason = _end_reason(run_dir) or (ended[1] if ended else None)
     if code < 0:
         try:
             name = signal.Signals(-code).name
@@ -872,6 +929,14 @@ def _world_failure(code: int, run_dir: str) -> str:
         what = f"world_server died of {name} (world_failed; no summary.json)"
     elif reason:
         what = f"the run ended ({reason}): world_server exit {code}"
+        if ended:  # the tick, the file and its error, in the world's words
+            what += f" at tick {ended[2]}: {ended[3]}"
+            summary = os.path.join(run_dir, "summary.json")
+            if os.path.exists(summary):
+                cut = ", cut to the run's outcome" if ended[4] and "cut" in ended[4] else ""
+                what += f"; the outcome is in {summary}{cut}"
+            else:
+                what += f"; no summary.json could be written ({ended[4] or 'the world said why above'})"
     else:
         what = f"world_server failed (exit {code})"
     if os.path.exists(os.path.join(run_dir, "robots.csv")):

@@ -82,6 +82,34 @@ TEST(StallGuard, AWriterThatWentAwayIsNotBroughtBackByItsOwnLateSamples) {
   EXPECT_EQ(g.suspicions_cleared(), 1u);
 }
 
+TEST(StallGuard, ALostWriterHeardAgainThenGoneCountsAsADeathNotAComeback) {
+  // A world stopped 12 s (past its agents' 10 s world timeout): 6 agents exited, their last samples cleared
+  // their suspicion before their going was seen, and the end-of-run line said all 9 came back while
+  // summary.json recorded 6 deaths.
+  StallGuard g;
+  g.observe(DDS_SECS(10));
+  g.observe(DDS_SECS(22));  // the world was stopped ~12 s
+  EXPECT_TRUE(g.suspect(5));
+  EXPECT_TRUE(g.suspect(6));
+  EXPECT_TRUE(g.clear(5));  // a sample written before it exited
+  EXPECT_TRUE(g.clear(6));  // a live one
+  EXPECT_EQ(g.suspicions_cleared(), 2u);
+  EXPECT_TRUE(g.suspect(5, true));  // then its writer is seen gone
+  std::vector<swarmform::dds::PublicationHandle> dead;
+  for (int i = 1; i <= 6; ++i) g.observe(DDS_SECS(22) + i * DDS_MSECS(100));
+  g.expired(dead);
+  ASSERT_EQ(dead, (std::vector<swarmform::dds::PublicationHandle>{5}));
+  g.died(5);  // the server recorded its death
+  EXPECT_EQ(g.suspicions_cleared(), 1u);
+  EXPECT_EQ(g.suspects_died(), 1u);
+  // A death long after the stall is not one of its losses, and a comeback then stays a comeback.
+  for (int i = 1; i <= 40; ++i) g.observe(DDS_SECS(23) + i * DDS_MSECS(100));
+  g.expired(dead);
+  g.died(6);
+  EXPECT_EQ(g.suspicions_cleared(), 1u);
+  EXPECT_EQ(g.suspects_died(), 1u);
+}
+
 TEST(AgentProcess, AStoppedProcessIsPresentAKilledOneIsGoneEvenBeforeItIsReaped) {
   const pid_t child = ::fork();
   ASSERT_GE(child, 0);

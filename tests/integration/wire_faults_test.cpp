@@ -163,6 +163,44 @@ TEST_F(WireFaults, AgentGivesUpOnASilentWorldOnlyAfterItsWorldTimeout) {
   EXPECT_EQ(s["deaths"][0]["id"], 0);
 }
 
+// A world stopped past some agents' world timeout: those give up and exit (deaths), the others ride the stall
+// out. The world's end-of-run line counts what it recorded: its deaths are summary.json's, its comebacks no
+// more than the robots alive at the end. It used to count an agent that exited during the stall as a comeback
+// when its last samples were taken before its going was seen (a 12 s stall: "9 lost agent(s) came back" with
+// 6 deaths recorded).
+TEST_F(WireFaults, TheWorldsStallLineAgreesWithTheDeathsItRecorded) {
+  const int domain = swarmform::testing::test_domain(36);
+  constexpr int kAgents = 6;
+  Process& w = world(domain, "stall-count",
+                     {"--robots", std::to_string(kAgents), "--max-ticks", std::to_string(kLongRun)});
+  std::vector<Process*> as;
+  for (int i = 0; i < kAgents; ++i) {
+    as.push_back(i < kAgents / 2 ? &agent(domain, i, "stall-count", {"--world-timeout", "1"})
+                                 : &agent(domain, i, "stall-count"));
+  }
+  ASSERT_TRUE(eventually(kRunDeadline, [&] { return ticking(w) || !w.running(); })) << w.out();
+  ASSERT_TRUE(w.running());
+  stall(w.pid(), std::chrono::milliseconds(4000));
+  EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  for (int i = 0; i < kAgents; ++i) {
+    EXPECT_EQ(as[i]->wait_for(15.0),
+              i < kAgents / 2 ? swarmform::exit_codes::kExitNoWorld : swarmform::exit_codes::kExitOk)
+        << i << ": " << as[i]->err();
+  }
+  const Json s = summary("stall-count");
+  ASSERT_EQ(s["deaths"].size(), static_cast<std::size_t>(kAgents / 2)) << s.dump();
+  std::smatch m;
+  const std::string err = w.err();
+  ASSERT_TRUE(
+      std::regex_search(err, m,
+                        std::regex("the world itself stalled 1 time\\(s\\), [0-9.]+ s in all; ([0-9]+) "
+                                   "lost agent\\(s\\) came back within the grace and were not taken "
+                                   "for dead; ([0-9]+) were recorded dead")))
+      << err;
+  EXPECT_EQ(std::stoi(m[2]), kAgents / 2) << err;
+  EXPECT_LE(std::stoi(m[1]), s["alive_at_end"].get<int>()) << err;
+}
+
 // Before the run starts the world may be slow to admit the others (1024 agents on 2 cores: its writers
 // missed their lease for many seconds): an agent waiting for its first packet takes the world for gone only
 // after its own timeout, not after its world timeout. Here agent 0 (world timeout 1 s) is admitted, the
@@ -263,6 +301,55 @@ TEST_F(WireFaults, AgentTakenForDeadWhileItsWorldWaitsRejoinsWithoutAPacket) {
   EXPECT_EQ(a1.wait_for(15.0), 0) << a1.err();
   EXPECT_TRUE(silent.wait_for(15.0).has_value());
   EXPECT_EQ(summary("waiting")["alive_at_end"], 3);
+}
+
+// An agent taken for dead that resumes only after the run has ended (stopped until the world has exited; the
+// world does not know its pid, so nothing tells its stop from a death) finds its END waiting and exits 0 on
+// its own, its log saying why, well within the launcher's 5 s. Before, the world told only the agents it
+// held alive: this one waited out its 10 s world timeout (the launcher SIGKILLed it at 5 s, its log empty).
+TEST_F(WireFaults, AnAgentThatResumesAfterTheRunEndedFindsItsEndAndSaysWhy) {
+  const int domain = swarmform::testing::test_domain(36);
+  Process& w = world(domain, "late", {"--max-ticks", std::to_string(kLongRun)});
+  std::vector<Process*> as = agents(domain, "late");
+  ASSERT_TRUE(eventually(kRunDeadline, [&] { return ticking(w) || !w.running(); })) << w.out();
+  ASSERT_TRUE(w.running()) << "the run ended before the fault: make it longer";
+  ASSERT_EQ(::kill(as[3]->pid(), SIGSTOP), 0);
+  EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_NE(w.out().find("death id=3 tick="), std::string::npos) << w.out();
+  ASSERT_EQ(::kill(as[3]->pid(), SIGCONT), 0);
+  EXPECT_EQ(as[3]->wait_for(4.0), 0) << as[3]->err();
+  EXPECT_NE(as[3]->err().find("robot_agent 3: the run ended at tick " + std::to_string(kLongRun) +
+                              " without this robot: its last packet was for tick "),
+            std::string::npos)
+      << as[3]->err();
+  for (int i = 0; i < kRobots; ++i) {
+    if (i == 3) continue;
+    EXPECT_EQ(as[i]->wait_for(15.0), 0) << i << ": " << as[i]->err();
+  }
+  EXPECT_EQ(summary("late")["alive_at_end"], kRobots - 1);
+}
+
+// The same in realtime (deadlines stand there, whatever the world knows of its pids): the perceptions written
+// to agent 3 before its death come in with its END when it resumes; it still tells the END from them.
+TEST_F(WireFaults, ARealtimeAgentThatResumesAfterTheRunEndedFindsItsEndAndSaysWhy) {
+  const int domain = swarmform::testing::test_domain(37);
+  Process& w = world(domain, "late-rt", {"--mode", "realtime", "--max-ticks", "60"});
+  std::vector<Process*> as = agents(domain, "late-rt");
+  ASSERT_TRUE(eventually(kRunDeadline, [&] { return ticking(w) || !w.running(); })) << w.out();
+  ASSERT_TRUE(w.running()) << "the run ended before the fault: make it longer";
+  ASSERT_EQ(::kill(as[3]->pid(), SIGSTOP), 0);
+  EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_NE(w.out().find("death id=3 tick="), std::string::npos) << w.out();
+  ASSERT_EQ(::kill(as[3]->pid(), SIGCONT), 0);
+  EXPECT_EQ(as[3]->wait_for(4.0), 0) << as[3]->err();
+  EXPECT_NE(as[3]->err().find("robot_agent 3: the run ended at tick 60 without this robot"),
+            std::string::npos)
+      << as[3]->err();
+  for (int i = 0; i < kRobots; ++i) {
+    if (i == 3) continue;
+    EXPECT_EQ(as[i]->wait_for(15.0), 0) << i << ": " << as[i]->err();
+    EXPECT_EQ(as[i]->err().find("without this robot"), std::string::npos) << i << ": " << as[i]->err();
+  }
 }
 
 // Realtime: agent 4 stalls, is taken for dead, and a restarted agent claims id 4. The old one, resumed, is

@@ -1,5 +1,6 @@
 // The recording format: what RecordingWriter writes, the reader gets back exactly; world.json and
 // summary.json carry every documented key; the SHA-256 helper is the standard one.
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -245,6 +246,49 @@ TEST(Recording, SummaryHasEveryKeyNullWhereNotReached) {
   const std::string text = summary_text(with_series);
   EXPECT_EQ(nlohmann::ordered_json::parse(text), with_series);
   EXPECT_NE(text.find("\"distortion\": [[40,0.05],[41,0.0625]]"), std::string::npos) << text;
+}
+
+// A disk that fills during the run still takes its outcome: the writer allocates summary.json's room when it
+// makes the run directory and writes the summary into it; on a full disk, when the whole does not fit, the
+// summary cut to its outcome does, whatever the run (here far larger than the room: 5,000 deaths, a
+// distortion series of 20,000 ticks).
+TEST(Recording, SummaryRoomIsReservedAtTheStartAndTheOutcomeAloneAlwaysFitsIt) {
+  const auto dir = fresh_dir("room");
+  {
+    RecordingWriter writer(dir.string());
+    struct stat st {};
+    ASSERT_EQ(::stat((dir / "summary.json.tmp").c_str(), &st), 0);
+    EXPECT_GE(static_cast<std::size_t>(st.st_blocks) * 512, kSummaryRoomBytes);  // allocated, not sparse
+    EXPECT_FALSE(writer.write_summary(nlohmann::ordered_json{{"end_reason", "max_ticks"}}));  // not cut
+  }
+  EXPECT_FALSE(fs::exists(dir / "summary.json.tmp"));
+  EXPECT_EQ(nlohmann::ordered_json::parse(std::ifstream(dir / "summary.json"))["end_reason"], "max_ticks");
+  fs::remove_all(dir);
+
+  const Scenario s = small_scenario();
+  const auto robots = robots_at(3);
+  Metrics m;
+  for (RobotId i = 0; i < 5000; ++i) m.deaths.push_back({i, 7});
+  for (Tick t = 0; t < 20000; ++t) m.distortion.push_back({t, 0.0625});
+  m.stuck_robots = std::vector<RobotId>(1000, 1);
+  m.outcome = "formed_not_arrived";
+  SummaryInputs in = lockstep_inputs(s, robots, m, 20000, 2.0);
+  in.trajectory_sha256 = std::string(64, 'a');
+  in.end_reason = "disk_full";
+  const auto whole = make_summary(in);
+  ASSERT_GT(summary_text(whole).size(), kSummaryRoomBytes);
+  const auto outcome = summary_outcome(whole);
+  EXPECT_LT(summary_text(outcome).size(), kSummaryRoomBytes / 4);
+  EXPECT_FALSE(outcome.contains("distortion"));
+  for (const char* key :
+       {"end_reason", "ticks", "outcome", "alive_at_end", "trajectory_sha256", "provenance"}) {
+    EXPECT_EQ(outcome[key], whole[key]) << key;
+  }
+  EXPECT_EQ(outcome["deaths"].size(), kOutcomeListEntries);
+  EXPECT_EQ(outcome["deaths"][3], whole["deaths"][3]);
+  EXPECT_EQ(outcome["summary_cut"]["lists_cut_to_16_entries"]["deaths"], 5000);
+  EXPECT_EQ(outcome["summary_cut"]["lists_cut_to_16_entries"]["stuck_robots"], 1000);
+  EXPECT_EQ(outcome["summary_cut"]["left_out"][0], "distortion");
 }
 
 TEST(Recording, SummarySteadyRateLeavesTheWarmupTicksOut) {

@@ -12,7 +12,7 @@ import time
 import unittest
 
 import helpers
-from swarmform import exit_codes, launcher
+from swarmform import exit_codes, jsonfile, launcher
 
 
 def agent_pids(run_dir):
@@ -244,8 +244,21 @@ class LauncherTest(unittest.TestCase):
                           "--no-pictures", env={"FAKE_WORLD_FAIL": "disk_full", "FAKE_AGENT_EXIT_S": "0.5"})
         self.assertEqual(r.returncode, 5, r.stderr)
         self.assertNotIn("Traceback", r.stderr)
-        self.assertIn("swarm: the run ended (disk_full): world_server exit 5", r.stderr)
+        # The launcher's line names the file that failed and where the outcome is.
+        self.assertIn(f"swarm: the run ended (disk_full): world_server exit 5 at tick 20: {out}/robots.csv: cannot "
+                      f"write: No space left on device; the outcome is in {out}/summary.json", r.stderr)
         self.assert_all_gone(agent_pids(out).values())
+
+    def test_a_world_that_could_not_write_its_summary_is_said_with_the_file(self):
+        out = os.path.join(self.dir, "run")
+        r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "2", "--max-ticks", "40", "--out", out,
+                          "--no-pictures", env={"FAKE_WORLD_FAIL": "disk_full", "FAKE_WORLD_NO_SUMMARY": "1",
+                                                "FAKE_AGENT_EXIT_S": "0.5"})
+        self.assertEqual(r.returncode, 5, r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
+        self.assertIn(f"swarm: the run ended (disk_full): world_server exit 5 at tick 20: {out}/robots.csv: cannot "
+                      f"write: No space left on device; no summary.json could be written (summary.json not "
+                      f"written: {out}/summary.json: cannot write: No space left on device)", r.stderr)
 
     def test_a_crashed_world_is_named_and_the_agents_end(self):
         out = os.path.join(self.dir, "run")
@@ -256,19 +269,32 @@ class LauncherTest(unittest.TestCase):
         self.assertIn("swarm: world_server died of SIGSEGV (world_failed; no summary.json)", r.stderr)
         self.assert_all_gone(agent_pids(out).values())
 
-    def test_the_launchers_own_write_failing_on_a_full_disk_is_one_line(self):
+    def test_the_launchers_copy_of_the_worlds_lines_failing_is_one_line_naming_it_and_the_run_goes_on(self):
         out = os.path.join(self.dir, "run")
         os.makedirs(os.path.join(out, "logs"))
         # The world's console log is the launcher's own file (agents.json is replaced whole, so a symlink there
-        # would be replaced, not written through): every write fails with ENOSPC, as on a full disk.
+        # would be replaced, not written through): every write fails with ENOSPC, as on a full disk. It is a copy:
+        # the run's end is the world's to say (before, the launcher stopped the world, naming no file).
         os.symlink("/dev/full", os.path.join(out, "logs", "world_console.log"))
         r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "2", "--max-ticks", "40", "--out", out,
                           "--no-pictures", env={"FAKE_AGENT_EXIT_S": "0.5"})
-        self.assertEqual(r.returncode, 5, r.stderr)
+        self.assertEqual(r.returncode, 0, r.stderr)
         self.assertNotIn("Traceback", r.stderr)
         lines = [line for line in r.stderr.splitlines() if "No space left on device" in line]
         self.assertEqual(len(lines), 1, r.stderr)
-        self.assertIn("(the disk is full); stopped the world and the agents", lines[0])
+        self.assertIn(f"swarm: {out}/logs/world_console.log: No space left on device (the disk is full); the world's "
+                      "lines are no longer copied there", lines[0])
+        self.assertTrue(os.path.exists(os.path.join(out, "summary.json")))
+
+    def test_the_launchers_own_agents_json_failing_names_it(self):
+        # agents.json is written whole (a temporary file renamed): a full disk shows only when its buffer is
+        # written, where Python's error names no file. jsonfile names it.
+        path = os.path.join(self.dir, "agents.json")
+        os.symlink("/dev/full", f"{path}.tmp-{os.getpid()}")
+        with self.assertRaises(OSError) as caught:
+            jsonfile.write_atomically(path, {"0": 1})
+        self.assertEqual(caught.exception.filename, path)
+        self.assertIn("No space left on device", str(caught.exception))
 
     def test_missing_executables_are_explained(self):
         r = helpers.swarm("run", "--scenario", self.scenario, build_dir=os.path.join(self.dir, "nothing"))

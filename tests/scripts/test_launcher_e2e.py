@@ -1,6 +1,7 @@
 """scripts/swarm against the real world_server and robot_agent (BUILD_DIR): a short random-walk run writes a
 run directory the reader and the pictures take back, a scheduled --kill is recorded as a death, and no process
-is left behind. Each test has its own DDS domain and every wait a deadline."""
+is left behind. Each test has its own DDS domain (the full-disk test shares the first one's: the module's tests
+run one at a time) and every wait a deadline."""
 
 import json
 import os
@@ -96,6 +97,48 @@ class LauncherEndToEndTest(unittest.TestCase):
         self.assertFalse(rec.track.alive[-1, 1])
         self.assertTrue(rec.track.alive[-1, [0, 2, 3]].all())
         self.assertEqual(rec.summary["alive_at_end"], 3)
+
+    def test_a_full_disk_keeps_the_runs_outcome_and_every_message_names_its_file(self):
+        # A real full disk: --out on a 2 MiB tmpfs this test mounts with ~500 KB left (removed whatever happens).
+        # The run fills it (robots.csv), the world ends it with disk_full, and the outcome is kept: summary.json
+        # goes into the room the world reserved for it at the start. The launcher's own copy of the world's lines
+        # fails too: said once with its file, the run's end still its own. Before: no summary.json at all, and
+        # the launcher's line named no file. Domain 23, as the first test (this module's tests run one at a time).
+        if os.geteuid() != 0:
+            self.skipTest("mounting a small tmpfs needs root")
+        small = os.path.join(self.dir, "small")
+        os.makedirs(small)
+        subprocess.run(["mount", "-t", "tmpfs", "-o", "size=2m", "tmpfs", small], check=True, timeout=30)
+        try:
+            st = os.statvfs(small)
+            with open(os.path.join(small, "filler"), "wb") as f:
+                f.write(b"\0" * (st.f_bavail * st.f_frsize - 500 * 1024))
+            out = os.path.join(small, "run")
+            r = helpers.swarm("run", "--scenario", SCENARIO, "--robots", "4", "--max-ticks", "1000000",
+                              "--no-pictures", "--domain", str(helpers.test_domain(23)), "--out", out,
+                              build_dir=BUILD_DIR, timeout=180)
+            self.assertEqual(r.returncode, 5, r.stderr)
+            self.assertNotIn("Traceback", r.stderr)
+            with open(os.path.join(out, "summary.json"), encoding="utf-8") as f:
+                summary = json.load(f)
+            self.assertEqual(summary["end_reason"], "disk_full")
+            self.assertGreater(summary["ticks"], 100)
+            self.assertEqual(len(summary["trajectory_sha256"]), 64)
+            full = [line for line in r.stderr.splitlines() if "No space left on device" in line]
+            self.assertTrue(full, r.stderr)
+            for line in full:
+                self.assertRegex(line, re.escape(out) + r"/[^ :]+: (cannot write: )?No space left on device", line)
+            ended = [line for line in r.stderr.splitlines() if line.startswith("swarm: the run ended (disk_full)")]
+            self.assertEqual(len(ended), 1, r.stderr)
+            self.assertRegex(ended[0], r"world_server exit 5 at tick \d+: " + re.escape(out) +
+                             r"/[a-z_.]+: cannot write: No space left on device; the outcome is in " +
+                             re.escape(os.path.join(out, "summary.json")))
+            with open(os.path.join(out, "agents.json")) as f:
+                pids = list(json.load(f).values())
+            self.assertEqual([x for x in pids if helpers.pid_alive(x)], [])
+            self.assertEqual(processes_mentioning(out), [])
+        finally:
+            subprocess.run(["umount", "-l", small], timeout=30)
 
     def start_long_run(self, domain):
         env = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=BUILD_DIR)

@@ -3,6 +3,9 @@
 #include "world_server/run/end_reason.hpp"
 #include "world_server/run/recording_format.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <charconv>
 #include <cstring>
@@ -61,6 +64,40 @@ RecordingWriter::RecordingWriter(const std::string& run_dir, std::vector<std::st
   for (const std::string& c : extra_columns) header += "," + c;
   write_all(robots_, header + "\n", run_dir_, "robots.csv");
   if (std::fflush(robots_) != 0) fail(run_dir_, "robots.csv", errno);
+  reserve_summary_room();
+}
+
+void RecordingWriter::reserve_summary_room() {
+  const std::string tmp = run_dir_ + "/summary.json.tmp";
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) return;  // said when the summary is written, if it still cannot be
+  const int rc = ::posix_fallocate(fd, 0, static_cast<off_t>(kSummaryRoomBytes));
+  ::close(fd);
+  if (rc != 0) std::remove(tmp.c_str());  // a disk full already: nothing held back for nothing
+}
+
+void RecordingWriter::write_into_room(const std::string& name, const std::string& text) {
+  const std::string path = run_dir_ + "/" + name;
+  const std::string tmp = path + ".tmp";
+  // No O_TRUNC: the blocks reserved at the start are written over, not freed and asked for again.
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) fail(run_dir_, (name + ".tmp").c_str(), errno);
+  int error = 0;
+  for (std::size_t done = 0; done < text.size();) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      error = n < 0 ? errno : EIO;
+      break;
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  if (error == 0 && ::ftruncate(fd, static_cast<off_t>(text.size())) != 0) error = errno;
+  if (::close(fd) != 0 && error == 0) error = errno;
+  if (error != 0) fail(run_dir_, name.c_str(), error);  // the .tmp and its room stay for another try
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw RecordingError(path + ": cannot write: " + ec.message(), ec.value());
 }
 
 RecordingWriter::~RecordingWriter() {
@@ -146,7 +183,7 @@ void RecordingWriter::flush() {
   }
 }
 
-void RecordingWriter::write_summary(const nlohmann::ordered_json& summary) {
+bool RecordingWriter::write_summary(const nlohmann::ordered_json& summary) {
   // The streams' failures were reported when they happened (or are now, by flush): the summary is still
   // written if it can be, so that a run whose robots.csv hit a full disk says so in summary.json.
   try {
@@ -154,7 +191,21 @@ void RecordingWriter::write_summary(const nlohmann::ordered_json& summary) {
   } catch (const RecordingError&) {
   }
   close_streams();
-  write_file_atomically("summary.json", summary_text(summary));
+  try {
+    write_into_room("summary.json", summary_text(summary));
+    return false;
+  } catch (const RecordingError& e) {
+    if (!e.disk_full()) throw;
+  }
+  // Larger than its room on a full disk (a long run's distortion series, many deaths): the outcome alone,
+  // which always fits.
+  try {
+    write_into_room("summary.json", summary_text(summary_outcome(summary)));
+  } catch (const RecordingError&) {
+    std::remove((run_dir_ + "/summary.json.tmp").c_str());
+    throw;
+  }
+  return true;
 }
 
 }  // namespace swarmform::world

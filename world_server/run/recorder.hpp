@@ -17,6 +17,10 @@ namespace swarmform::world {
 
 inline constexpr const char* kRobotsCsvHeader = "tick,id,x,y,theta,alive,state,label,parent,leader,net_force";
 inline constexpr Tick kFlushEveryTicks = 10;
+// Room reserved for summary.json when the run directory is made (summary.json.tmp, allocated at once), so
+// that a disk that fills during the run still takes the run's outcome: the summary is written into that
+// room, and cut to its outcome (summary_outcome, recording_format.hpp) when the whole of it does not fit.
+inline constexpr std::size_t kSummaryRoomBytes = 64 * 1024;
 
 class RecordingWriter {
  public:
@@ -36,13 +40,20 @@ class RecordingWriter {
   void write_event(const nlohmann::ordered_json& event);  // one line of events.jsonl
   void log(Tick tick, const std::string& text);           // one line of world.log
   void flush();
-  void write_summary(const nlohmann::ordered_json& summary);  // summary.json; closes the streams first
+  // summary.json, into its reserved room; closes the streams first. On a full disk the summary cut to its
+  // outcome is written instead (returns true then); throws RecordingError when not even that can be.
+  bool write_summary(const nlohmann::ordered_json& summary);
 
  private:
   // Opens `path` with `buffer` (allocated here) as its stdio buffer.
   static std::FILE* open(const std::string& path, const char* mode, std::unique_ptr<char[]>& buffer);
   void close_streams();
   void write_file_atomically(const std::string& name, const std::string& text);
+  // Allocates summary.json.tmp's room (best effort: without it the summary is written as any file).
+  void reserve_summary_room();
+  // Writes `text` over `name`.tmp from its start (into the room already allocated there), cuts the file to
+  // it and renames it to `name`.
+  void write_into_room(const std::string& name, const std::string& text);
 
   std::string run_dir_;
   std::FILE* robots_ = nullptr;

@@ -225,6 +225,24 @@ ojson make_summary(const SummaryInputs& in) {
   return j;
 }
 
+ojson summary_outcome(const ojson& summary) {
+  ojson out = ojson::object();
+  ojson cut = ojson::object();
+  for (const auto& [key, value] : summary.items()) {
+    if (key == "distortion") continue;
+    if (value.is_array() && value.size() > kOutcomeListEntries) {
+      cut[key] = value.size();
+      out[key] = ojson(value.begin(), value.begin() + static_cast<std::ptrdiff_t>(kOutcomeListEntries));
+    } else {
+      out[key] = value;
+    }
+  }
+  out["summary_cut"] = {{"why", "the disk was full: the whole summary did not fit the room reserved for it"},
+                        {"left_out", ojson::array({"distortion"})},
+                        {"lists_cut_to_" + std::to_string(kOutcomeListEntries) + "_entries", cut}};
+  return out;
+}
+
 std::string summary_text(const ojson& summary) {
   ojson head = summary;
   const auto it = head.find("distortion");

@@ -50,5 +50,10 @@ struct SummaryInputs {
 nlohmann::ordered_json make_summary(const SummaryInputs& in);
 // The summary as text: indented, except the long `distortion` series, which goes on one line at the end.
 std::string summary_text(const nlohmann::ordered_json& summary);
+// The summary cut to the run's outcome, for a full disk: every field but the `distortion` series, each list
+// (deaths, stuck robots, ...) cut to its first kOutcomeListEntries, and `summary_cut` saying so with the
+// lists' full lengths. It fits the room reserved for summary.json (recorder.hpp) whatever the run.
+inline constexpr std::size_t kOutcomeListEntries = 16;
+nlohmann::ordered_json summary_outcome(const nlohmann::ordered_json& summary);
 
 }  // namespace swarmform::world

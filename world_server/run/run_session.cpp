@@ -115,6 +115,7 @@ struct RunSession::Impl {
   std::optional<EndReason> end_reason;
   nlohmann::ordered_json extra = nlohmann::ordered_json::object();
   bool finished = false;
+  bool summary_cut = false;
 };
 
 RunSession::RunSession(const World& world, RunOptions options)
@@ -171,6 +172,15 @@ const AssignmentStats& RunSession::assignment_stats() const {
   return impl_->tracker.assignment_stats();
 }
 
+bool RunSession::summary_cut() const {
+  return impl_->summary_cut;
+}
+
+std::string RunSession::summary_written() const {
+  return impl_->summary_cut ? "summary.json written, cut to the run's outcome (the whole did not fit)"
+                            : "summary.json written";
+}
+
 std::string RunSession::trajectory_sha256() const {
   return impl_->sha.hex_digest();
 }
@@ -217,7 +227,7 @@ std::string RunSession::finish(double wall_seconds, const SteadyWindow& steady) 
       impl_->writer->log(impl_->last_recorded_tick, "run ends: " + in.end_reason);
     } catch (const RecordingError&) {  // world.log may be what failed; the summary is still tried
     }
-    impl_->writer->write_summary(summary);
+    impl_->summary_cut = impl_->writer->write_summary(summary);
   }
   return summary_text(summary);
 }

@@ -71,6 +71,11 @@ class RunSession {
   // closes the recording. Returns the summary as JSON text. Throws RecordingError when summary.json cannot be
   // written (a full disk); the text is then still what it would have held.
   std::string finish(double wall_seconds, const SteadyWindow& steady = {});
+  // The disk was full when finish() wrote summary.json: it holds the run's outcome only
+  // (recording_format.hpp summary_outcome).
+  bool summary_cut() const;
+  // The summary's words for the end-of-run line: "summary.json written" (", cut to the run's outcome").
+  std::string summary_written() const;
 
   // SHA-256 over the recorded poses so far (bit patterns of x, y, theta of every robot every tick).
   std::string trajectory_sha256() const;
