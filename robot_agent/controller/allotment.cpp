@@ -188,6 +188,12 @@ std::vector<int> labels_to_free(const ShapeTable& table, int own_label, const St
   for (const int l : watched_labels(table, own_label, stigmergy)) {
     const auto other = held_by_other(stigmergy, l, entry_changed, self);
     if (!other) continue;
+    // Beyond a freed label only a holder that never stood at its place: one in the barrier is counted by it
+    // (nothing waits for its label), and it may be alive out of everyone's radio range, its heartbeat unable
+    // to cross the freed labels (the cross's long arm beyond two dead robots).
+    if (!table.are_neighbours(own_label, l) &&
+        stigmergy.get(stig::key(stig::Ns::Barrier, other->holder)) == static_cast<std::int64_t>(l))
+      continue;
     Tick quiet_since = other->since;
     if (const auto heard = neighbours.last_heard(other->holder)) quiet_since = std::max(quiet_since, *heard);
     if (now >= quiet_since + static_cast<Tick>(label_timeout)) out.push_back(l);

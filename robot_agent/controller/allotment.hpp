@@ -143,7 +143,8 @@ std::optional<LabelOffer> choose_offer(const std::vector<LabelOffer>& offers,
 // and the barrier waited for it for ever. Own grid first, in Table II's order, then outwards.
 std::vector<int> watched_labels(const ShapeTable& table, int own_label, const Stigmergy& stigmergy);
 
-// The rule that frees a dead holder's label: the watched labels (above) whose holder has been
+// The rule that frees a dead holder's label: the watched labels (above; beyond the own grid only those whose
+// holder is not in the barrier) whose holder has been
 // silent for `label_timeout` ticks, counted from the later of the last time it was heard directly and
 // `entry_changed[label]`, the tick this robot last saw that label's entry change (a claim or a heartbeat).
 std::vector<int> labels_to_free(const ShapeTable& table, int own_label, const Stigmergy& stigmergy,

@@ -142,6 +142,9 @@ TEST(Allotment, LabelsOfSilentHoldersAreFreedAfterTheTimeout) {
   put_label_freed(s, 1, 150);
   EXPECT_EQ(watched_labels(table, 0, s), (std::vector<int>{1, 2, 3, 4, 5, 6}));
   EXPECT_EQ(labels_to_free(table, 0, s, nb, changed, 0, 170, 40), (std::vector<int>{2, 4}));
+  // Unless its holder stands in the barrier: counted there, and perhaps alive beyond everyone's range.
+  barrier_enter(s, 8, 4);
+  EXPECT_EQ(labels_to_free(table, 0, s, nb, changed, 0, 170, 40), (std::vector<int>{2}));
 }
 
 TEST(Barrier, CountsEntriesWhoseLabelTheyStillHoldAndDropsAbandonedLabels) {
