@@ -106,6 +106,23 @@ std::optional<OtherHolder> held_by_other(const Stigmergy& stigmergy, int label,
 
 }  // namespace
 
+std::vector<int> watched_labels(const ShapeTable& table, int own_label, const Stigmergy& stigmergy) {
+  std::vector<int> out;
+  if (own_label < 0 || own_label >= table.size()) return out;
+  std::vector<int> through{own_label};  // labels whose grid is watched: our own, then the freed ones reached
+  std::vector<bool> seen(static_cast<std::size_t>(table.size()), false);
+  seen[static_cast<std::size_t>(own_label)] = true;
+  for (std::size_t i = 0; i < through.size(); ++i) {
+    for (const auto& nb : table.neighbours(through[i])) {
+      if (seen[static_cast<std::size_t>(nb.label)]) continue;
+      seen[static_cast<std::size_t>(nb.label)] = true;
+      out.push_back(nb.label);
+      if (label_status(stigmergy, nb.label).kind == LabelStatus::Kind::Freed) through.push_back(nb.label);
+    }
+  }
+  return out;
+}
+
 std::vector<int> free_grid_labels(const ShapeTable& table, int label, const Stigmergy& stigmergy,
                                   const NeighbourTable& neighbours) {
   std::vector<int> out;
@@ -168,12 +185,18 @@ std::vector<int> labels_to_free(const ShapeTable& table, int own_label, const St
                                 const NeighbourTable& neighbours, const LabelTicks& entry_changed,
                                 RobotId self, Tick now, int label_timeout) {
   std::vector<int> out;
-  for (const auto& nb : table.neighbours(own_label)) {
-    const auto other = held_by_other(stigmergy, nb.label, entry_changed, self);
+  for (const int l : watched_labels(table, own_label, stigmergy)) {
+    const auto other = held_by_other(stigmergy, l, entry_changed, self);
     if (!other) continue;
+    // Beyond a freed label only a holder that never stood at its place: one in the barrier is counted by it
+    // (nothing waits for its label), and it may be alive out of everyone's radio range, its heartbeat unable
+    // to cross the freed labels (the cross's long arm beyond two dead robots).
+    if (!table.are_neighbours(own_label, l) &&
+        stigmergy.get(stig::key(stig::Ns::Barrier, other->holder)) == static_cast<std::int64_t>(l))
+      continue;
     Tick quiet_since = other->since;
     if (const auto heard = neighbours.last_heard(other->holder)) quiet_since = std::max(quiet_since, *heard);
-    if (now >= quiet_since + static_cast<Tick>(label_timeout)) out.push_back(nb.label);
+    if (now >= quiet_since + static_cast<Tick>(label_timeout)) out.push_back(l);
   }
   return out;
 }
@@ -181,8 +204,8 @@ std::vector<int> labels_to_free(const ShapeTable& table, int own_label, const St
 Tick earliest_label_free(const ShapeTable& table, int own_label, const Stigmergy& stigmergy,
                          const LabelTicks& entry_changed, RobotId self, int label_timeout) {
   Tick earliest = std::numeric_limits<Tick>::max();
-  for (const auto& nb : table.neighbours(own_label)) {
-    if (const auto other = held_by_other(stigmergy, nb.label, entry_changed, self))
+  for (const int l : watched_labels(table, own_label, stigmergy)) {
+    if (const auto other = held_by_other(stigmergy, l, entry_changed, self))
       earliest = std::min(earliest, other->since + static_cast<Tick>(label_timeout));
   }
   return earliest;
@@ -193,8 +216,9 @@ std::vector<int> labels_left_untaken(const ShapeTable& table, int own_label, con
                                      int label_timeout) {
   std::vector<int> out;
   if (now < reached_at + static_cast<Tick>(label_timeout)) return out;
-  for (int l : free_grid_labels(table, own_label, stigmergy, neighbours)) {
-    if (label_status(stigmergy, l).kind == LabelStatus::Kind::Unclaimed) out.push_back(l);
+  for (const int l : watched_labels(table, own_label, stigmergy)) {
+    if (label_status(stigmergy, l).kind == LabelStatus::Kind::Unclaimed && !heard_holding(neighbours, l))
+      out.push_back(l);
   }
   return out;
 }

@@ -25,7 +25,8 @@
 //   refreshed its entry for `label_timeout` ticks: it puts kLabelFreedBase - tick. L is then offered again.
 //   A holder that is alive and sees its label freed re-puts itself. A freed label nobody takes within
 //   another `label_timeout` ticks is abandoned: the barrier no longer waits for it (barrier.hpp). A label
-//   that never had a holder (its robot died first, or never spoke) is freed by labels_left_untaken().
+//   that never had a holder (its robot died first, or never spoke) is freed by labels_left_untaken(). A
+//   freed label passes its watch on: its grid is watched by whoever watches it (watched_labels()).
 #pragma once
 
 #include <cstdint>
@@ -135,7 +136,15 @@ struct Searcher {
 std::optional<LabelOffer> choose_offer(const std::vector<LabelOffer>& offers,
                                        const std::vector<Searcher>& searchers, RobotId self);
 
-// The rule that frees a dead holder's label: the labels of `own_label`'s 3x3 grid whose holder has been
+// The labels a robot answers for, for the two rules below: those of its own label's 3x3 grid and, through
+// every one of them that is freed (its holder died, or nobody took it), that label's grid in turn, and so on.
+// A freed label has nobody to watch its grid: a label whose only grid neighbours are freed or empty (the end
+// of a V's arm, a ring's segment beside a dead robot) was held for ever by a dead robot, or left unclaimed,
+// and the barrier waited for it for ever. Own grid first, in Table II's order, then outwards.
+std::vector<int> watched_labels(const ShapeTable& table, int own_label, const Stigmergy& stigmergy);
+
+// The rule that frees a dead holder's label: the watched labels (above; beyond the own grid only those whose
+// holder is not in the barrier) whose holder has been
 // silent for `label_timeout` ticks, counted from the later of the last time it was heard directly and
 // `entry_changed[label]`, the tick this robot last saw that label's entry change (a claim or a heartbeat).
 std::vector<int> labels_to_free(const ShapeTable& table, int own_label, const Stigmergy& stigmergy,
@@ -143,12 +152,12 @@ std::vector<int> labels_to_free(const ShapeTable& table, int own_label, const St
                                 RobotId self, Tick now, int label_timeout);
 // The first tick at which labels_to_free could free anything while these entries stand (the silence is
 // counted from no earlier than an entry's last change): the earliest entry change + label_timeout over the
-// grid's labels held by another robot; the largest Tick if there is none. Before it the rule can be skipped.
+// watched labels held by another robot; the largest Tick if there is none. Before it the rule can be skipped.
 Tick earliest_label_free(const ShapeTable& table, int own_label, const Stigmergy& stigmergy,
                          const LabelTicks& entry_changed, RobotId self, int label_timeout);
 
 // The rule that gives up on a label nobody takes (no robot left to take it: one died before taking a label,
-// or never spoke): the labels of `own_label`'s 3x3 grid that are still unclaimed (nobody in the labels
+// or never spoke): the watched labels (above) that are still unclaimed (nobody in the labels
 // stigmergy, no neighbour reporting it) once this robot has stood at its place since `reached_at` for
 // `label_timeout` ticks. They are marked freed (still offered; abandoned by the barrier label_timeout later).
 std::vector<int> labels_left_untaken(const ShapeTable& table, int own_label, const Stigmergy& stigmergy,

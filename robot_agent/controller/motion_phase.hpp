@@ -131,6 +131,7 @@ class PaperMotion final : public MotionPhases {
     RobotId self = 0;
     std::optional<RobotId> leader;  // elect_leader's answer
     std::optional<RobotId> parent;  // the tree's parent for our label (before the cycle check)
+    bool split = false;             // the leader's: the tree reaches not every label a live member holds
   };
   Choice choice_;
   // The stigmergy it reads: the members' boundary roles and dead marks (not the live robots' parent entries,

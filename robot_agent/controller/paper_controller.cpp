@@ -468,9 +468,10 @@ void PaperController::track_holders() {
     if (stig::ns_of(key) == labels && stig::index_of(key) < static_cast<std::uint32_t>(table_.size())) {
       const int l = static_cast<int>(stig::index_of(key));
       track(l);
-      // Any change to an entry of our grid (a holder, a freed mark, a conflict settled at the same
-      // version) may change what free_dead_labels can free.
-      if (!free_stale_ && table_.are_neighbours(free_label_, l)) free_stale_ = true;
+      // Any change to an entry we watch (a holder, a freed mark, a conflict settled at the same version)
+      // may change what free_dead_labels can free, and what it watches.
+      if (!free_stale_ && std::find(free_watched_.begin(), free_watched_.end(), l) != free_watched_.end())
+        free_stale_ = true;
     }
   }
 }
@@ -500,6 +501,7 @@ void PaperController::free_dead_labels() {
     free_stale_ = false;
     free_label_ = label_;
     free_from_ = earliest_label_free(table_, label_, stigmergy_, holder_since_, self_, params_.label_timeout);
+    free_watched_ = watched_labels(table_, label_, stigmergy_);
   }
   const std::vector<int> dead = tick_ >= free_from_
                                     ? labels_to_free(table_, label_, stigmergy_, neighbours_, holder_since_,

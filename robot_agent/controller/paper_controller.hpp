@@ -139,13 +139,15 @@ class PaperController final : public Controller {
   bool has_places_ = false;
   std::uint64_t places_version_ = 0;        // bumped on each recompute (ctx_.places_version)
   Stigmergy::ChangeCursor holders_cursor_;  // track_holders: the stigmergy changes read so far
-  // free_dead_labels: no label of our grid can be freed before free_from_ (the earliest, over the grid's
-  // labels held by another robot, of the tick its entry last changed + label_timeout: the rule counts the
-  // silence from no earlier than that). Valid while no entry of the grid of free_label_ changed
-  // (free_stale_ is set when one did) and we still hold free_label_; the rule runs only from free_from_ on.
+  // free_dead_labels: no watched label (allotment.hpp) can be freed before free_from_ (the earliest, over
+  // the watched labels held by another robot, of the tick its entry last changed + label_timeout: the rule
+  // counts the silence from no earlier than that). Valid while no entry of free_watched_ (the labels watched
+  // from free_label_, which also decide what is watched) changed (free_stale_ is set when one did) and we
+  // still hold free_label_; the rule runs only from free_from_ on.
   bool free_stale_ = true;
   int free_label_ = -1;
   Tick free_from_ = 0;
+  std::vector<int> free_watched_;
   // Labels whose entry, changed this tick, names this robot although it does not hold them: an earlier run of
   // this robot's id (killed, restarted) held them (disown_stale_claims).
   std::vector<int> stale_claims_;

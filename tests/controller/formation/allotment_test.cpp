@@ -137,6 +137,14 @@ TEST(Allotment, LabelsOfSilentHoldersAreFreedAfterTheTimeout) {
   EXPECT_EQ(labels_to_free(table, 0, s, nb, changed, 0, 170, 40), (std::vector<int>{2}));
   // Our own label and untracked labels are never freed.
   EXPECT_TRUE(labels_to_free(table, 0, s, nb, {}, 0, 10000, 40).empty());
+  // Label 4 lies beyond label 1 (not in label 0's grid): watched once 1 is freed, and its silent holder's
+  // label freed.
+  put_label_freed(s, 1, 150);
+  EXPECT_EQ(watched_labels(table, 0, s), (std::vector<int>{1, 2, 3, 4, 5, 6}));
+  EXPECT_EQ(labels_to_free(table, 0, s, nb, changed, 0, 170, 40), (std::vector<int>{2, 4}));
+  // Unless its holder stands in the barrier: counted there, and perhaps alive beyond everyone's range.
+  barrier_enter(s, 8, 4);
+  EXPECT_EQ(labels_to_free(table, 0, s, nb, changed, 0, 170, 40), (std::vector<int>{2}));
 }
 
 TEST(Barrier, CountsEntriesWhoseLabelTheyStillHoldAndDropsAbandonedLabels) {
@@ -302,12 +310,16 @@ TEST(Allotment, ALabelLeftUntakenIsGivenUpAfterTheTimeoutAtThePlace) {
   Stigmergy s(0);
   NeighbourTable nb;
   put_label_holder(s, 1, 7);  // held
-  put_label_freed(s, 3, 90);  // already freed: its own timeout runs
-  // Label 2 was never claimed. At our place since tick 100: nothing before 140, then label 2.
+  put_label_freed(s, 3, 90);  // already freed: its own timeout runs, and it passes its grid's watch on
+  // Label 2 was never claimed, nor were 6, 7 and 8 (label 3's grid, watched through the freed 3). At our
+  // place since tick 100: nothing before 140, then those.
   EXPECT_TRUE(labels_left_untaken(table, 0, s, nb, 100, 139, 40).empty());
-  EXPECT_EQ(labels_left_untaken(table, 0, s, nb, 100, 140, 40), (std::vector<int>{2}));
+  EXPECT_EQ(labels_left_untaken(table, 0, s, nb, 100, 140, 40), (std::vector<int>{2, 6, 7, 8}));
   // A neighbour reporting label 2 as its own (its claim not yet in our stigmergy): not untaken.
   nb.update(perceive(140, {}, {shape_robot(8, 2, {0, -1}, {})}), 0);
+  EXPECT_EQ(labels_left_untaken(table, 0, s, nb, 100, 140, 40), (std::vector<int>{6, 7, 8}));
+  // Label 3 taken again: its grid is its new holder's to watch.
+  put_label_holder(s, 3, 9);
   EXPECT_TRUE(labels_left_untaken(table, 0, s, nb, 100, 140, 40).empty());
 }
 

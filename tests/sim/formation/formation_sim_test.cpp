@@ -241,6 +241,41 @@ TEST(FormationSim, WithNoSpareTheShapeCompletesWithoutTheDeadRobot) {
   EXPECT_EQ(survivors_ready(), static_cast<int>(h.world().robot_count()) - 1) << snapshot(h);
 }
 
+// The V's arm ends in label 7, whose only grid neighbour is label 5 (shapes/v.txt). Both holders die on
+// their way: label 3's holder frees 5, but nobody holds a label of 7's grid, so under the grid rule alone 7
+// stayed held by a dead robot and the barrier never passed (seen under 20 % loss, where formation is slower
+// and a random kill finds both arms' robots still moving: scenarios/untuned/slalom_loss20_noise.yaml
+// --shape shapes/v.txt --seed 1103 --kill 8@366 --kill 1@817). A freed label passes its watch on.
+TEST(FormationSim, ALabelBeyondAFreedOneIsFreedWhenItsHolderDies) {
+  constexpr Tick kMaxTicks = 3000;
+  harness::Harness h(scenario("v.txt", 1, std::nullopt, kMaxTicks));
+  const auto mover_of = [&](int label) -> std::optional<RobotId> {
+    for (RobotId id = 0; id < h.world().robot_count(); ++id) {
+      if (state_of(h, id) == static_cast<int>(RobotState::Moving) && label_of(h, id) == label) return id;
+    }
+    return std::nullopt;
+  };
+  std::optional<RobotId> five, seven;
+  while (h.world().tick() < kMaxTicks && !(five && seven)) {
+    h.step();
+    five = mover_of(5);
+    seven = mover_of(7);
+  }
+  ASSERT_TRUE(five && seven) << snapshot(h);
+  h.kill(*five);
+  h.kill(*seven);
+  const auto survivors_ready = [&] {
+    int ready = 0;
+    for (RobotId id = 0; id < h.world().robot_count(); ++id) {
+      if (id != *five && id != *seven && state_of(h, id) >= static_cast<int>(RobotState::Ready)) ++ready;
+    }
+    return ready;
+  };
+  const int survivors = static_cast<int>(h.world().robot_count()) - 2;
+  while (h.world().tick() < kMaxTicks && survivors_ready() < survivors) h.step();
+  EXPECT_EQ(survivors_ready(), survivors) << snapshot(h);
+}
+
 // ---- A way out of every formation phase (robot_agent/README.md, shape formation) ----
 
 world::Scenario paper_scenario() {

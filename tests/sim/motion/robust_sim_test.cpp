@@ -180,5 +180,32 @@ TEST(MotionUnderLoss, AnArrivedRobotPushedOffItsPlaceMovesBack) {
   expect_arrives({"scenarios/loss/field_30_noise.yaml", 5, {}, {}, "shapes/square.txt"});
 }
 
+// A freed label passes its watch on (allotment.hpp), but not onto a robot that stands at its place: the
+// cross's long arm, its labels 5 and 6 dead in formation, left label 7's robot at its place beyond the radio
+// range of every live robot, its heartbeat unable to cross the dead labels; label 4's robot, watching through
+// 5 and 6, freed label 7, the barrier passed without that live robot and the shape left it behind. A holder
+// in the barrier is counted there: only one that never reached its place is freed beyond a freed label.
+TEST(FormationUnderLoss, ALiveRobotAtItsPlaceBeyondDeadLabelsIsNotFreed) {
+  expect_arrives({"scenarios/untuned/doorway_loss20_noise.yaml",
+                  1104,
+                  {{0, 113}, {9, 662}},
+                  {},
+                  "shapes/untuned/cross_long_arm.txt"});
+}
+
+// Deaths that split the shape for good: the zig-zag's labels are joined only diagonally, and with label 9
+// dead in formation and label 6 killed on the way, the leader's label 10 lies beyond the radio range of every
+// live label. The tree reaches no other label; every other robot made for its own target, arriving alone,
+// while the leader stopped anywhere inside the goal's radius (up to ~0.3 m short of its target): the shape
+// stood 0.105 grid units off its matrix for the rest of the run. A split shape's leader now stops at its own
+// target, as the cut-off pieces do (motion_phase.cpp, leader_stop_distance).
+TEST(MotionUnderLoss, AShapeSplitForGoodMeetsAtTheGoalsCentre) {
+  expect_arrives({"scenarios/untuned/slalom_loss20_noise.yaml",
+                  1101,
+                  {{3, 799}, {8, 2075}},
+                  {},
+                  "shapes/untuned/zigzag.txt"});
+}
+
 }  // namespace
 }  // namespace swarmform::sim_motion
