@@ -40,6 +40,7 @@ import sys
 import time
 from typing import IO, Any, Callable, Optional
 
+from . import claims
 from . import domains
 from . import exit_codes
 from . import faults
@@ -224,6 +225,8 @@ class Processes:
         self._files: list[IO[bytes]] = []
         # rid -> (command prefix, extra flags): where agent rid runs (hosts.Hosts.agent_wrap under --hosts)
         self.placement: Optional[Callable[[int], tuple[list[str], list[str]]]] = None
+        # the run's secret (claims.py): the world's, and each agent's token is derived from it
+        self.run_secret: bytes = claims.run_secret()
 
     def _log(self, path: str) -> IO[bytes]:
         f = open(path, "ab")
@@ -236,21 +239,24 @@ class Processes:
         cmd = wrap + [exe, "--id", str(rid)] + (["--domain", str(domain)] if domain is not None else [])
         cmd += (["--run-nonce", run_nonce] if run_nonce else []) + extra
         cmd += self.agent_args
+        # Its own id's token only when it knows the run (the token is the run's and the id's).
+        env = claims.agent_env(self.run_secret, run_nonce, rid) if run_nonce else None
         log = self._log(log_path)
         group = next(iter(self.groups), 0)
         try:
             p = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
-                                 process_group=group, preexec_fn=_die_with_parent)
+                                 process_group=group, preexec_fn=_die_with_parent, env=env)
         except (subprocess.SubprocessError, OSError):  # the group is gone (its members all died): a new one
             p = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
-                                 process_group=0, preexec_fn=_die_with_parent)
+                                 process_group=0, preexec_fn=_die_with_parent, env=env)
         self.groups.add(os.getpgid(p.pid) if p.poll() is None else p.pid)
         self.agents[rid] = p
         return p
 
     def start_world(self, cmd: list[str]) -> "subprocess.Popen[bytes]":
         self.world = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                                      stderr=subprocess.STDOUT, process_group=0, preexec_fn=_die_with_parent)
+                                      stderr=subprocess.STDOUT, process_group=0, preexec_fn=_die_with_parent,
+                                      env=claims.world_env(self.run_secret))
         return self.world
 
     def start_viewer(self, cmd: list[str], log_path: str) -> "subprocess.Popen[bytes]":
@@ -627,6 +633,8 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
         cmd = [world_exe] + overrides(args) + ["--out", run_dir, "--domain", str(domain), "--run-nonce", nonce,
                                                "--agent-pids", agents_json, "--connect-timeout", f"{wait_s:g}"]
         cmd += secure_args
+        if getattr(args, "open_rejoin", False):
+            cmd.append("--open-rejoin")
         view = _ViewerStart(args, info, run_dir, domain, nonce, logs, procs, status)
         view.extra = list(secure_args)
         cmd += view.world_flags()

@@ -1,5 +1,5 @@
 """`scripts/swarm run --fault` against the real programs (BUILD_DIR): a scheduled restart after a kill makes the
-launcher start a new agent with that id, which rejoins (DDS test domain 47); an in-process run takes the same
+launcher start a new agent with that id, which proves its claim with the id's token and rejoins (DDS test domain 47); an in-process run takes the same
 faults; a bad fault is refused by the world's check with the flag named, exit 2, no traceback. Every wait has
 a deadline and no process is left behind."""
 
@@ -54,7 +54,9 @@ class FaultsEndToEndTest(unittest.TestCase):
         # agents.json names the new agent, and nothing of the run is left running.
         with open(os.path.join(self.out, "agents.json"), encoding="utf-8") as f:
             pids = {int(k): v for k, v in json.load(f).items()}
-        self.assertEqual(claims[1]["detail"], f"pid {pids[1]}")
+        # The restarted agent's claim was issued: the launcher gave it robot 1's token (docs/wire.md, Claim
+        # proofs); a claim without one would say ", unissued", and a world holding the run's secret refuses it.
+        self.assertRegex(claims[1]["detail"], rf"^pid {pids[1]} \(participant [0-9a-f]{{32}}\)$")
         self.assertEqual([p for p in pids.values() if helpers.pid_alive(p)], [], "agents left running")
 
     def test_a_restart_due_before_the_kill_is_seen_waits_for_the_death(self):
