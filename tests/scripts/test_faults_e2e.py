@@ -1,7 +1,7 @@
 """`scripts/swarm run --fault` against the real programs (BUILD_DIR): a scheduled restart after a kill makes the
 launcher start a new agent with that id, which proves its claim with the id's token and rejoins, while an agent
-started by hand may take a dead robot's id only with --open-rejoin (DDS test domain 47); an in-process run takes the same
-faults; a bad fault is refused by the world's check with the flag named, exit 2, no traceback. Every wait has
+started by hand may take a dead robot's id only with --open-rejoin (DDS test domain 47); an in-process run takes
+the same faults; a bad fault is refused by the world's check with the flag named, exit 2, no traceback. Every wait has
 a deadline and no process is left behind."""
 
 import json
