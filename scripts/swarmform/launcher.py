@@ -519,7 +519,8 @@ def _follow(proc: "subprocess.Popen[bytes]", stop: StopFlag, status: Status, con
     os.set_blocking(fd, False)
     buf = b""
     done: Optional[tuple[int, str]] = None
-    # a line's pattern (digits blanked) -> times shown: "id 7 claimed by pid 123" x 256 shows 3
+    # a line's pattern (numbers and participant GUIDs blanked) -> times shown: "id 7 claimed by pid 123
+    # (participant 0110...)" x 256 shows 3
     seen: dict[str, int] = {}
 
 
@@ -542,7 +543,7 @@ def _follow(proc: "subprocess.Popen[bytes]", stop: StopFlag, status: Status, con
         if m:
             done = (int(m[1]), m[2])
         elif line.strip():
-            pattern = re.sub(r"\d+", "#", line)
+            pattern = re.sub(r"\b[0-9a-f]{32}\b|\d+", "#", line)
             seen[pattern] = seen.get(pattern, 0) + 1
             if seen[pattern] <= REPEATS_SHOWN:
                 status.line(f"{prefix}: {line}")
