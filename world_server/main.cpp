@@ -244,10 +244,11 @@ int main(int argc, char** argv) {
       "(docs/security.md)");
   app.add_flag(
       "--open-rejoin", o.open_rejoin,
-      "let any agent take a dead robot's id (an agent restarted by hand). Without it, an id that had an "
-      "owner, or any id once the run is going, goes only to a claim issued by whoever started the run: a "
-      "proof from the id's token, derived from the secret in SWARMFORM_RUN_SECRET (64 hex digits; `swarm "
-      "run` draws one), or under --security-dir the id's certificate (docs/wire.md \"Claim proofs\")");
+      "let any agent take a free or dead robot's id (an agent restarted by hand). Without it, a world given "
+      "the run's secret in SWARMFORM_RUN_SECRET (64 hex digits; `swarm run` gives one) takes only claims its "
+      "starter issued: a proof from the id's token, derived from the secret, or under --security-dir the "
+      "id's certificate; a world without one takes a claim without a proof only for an id nobody has owned, "
+      "before the run (docs/wire.md \"Claim proofs\")");
   app.add_option(
       "--plugin-dir", o.plugin_dirs,
       "a folder behaviour plug-ins may be loaded from, besides the scenario's own folder and those "
