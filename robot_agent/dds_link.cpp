@@ -72,6 +72,16 @@ WaitResult AgentLink::wait_mission(double timeout_s, dds::MissionAnnouncement& o
   }
 }
 
+void AgentLink::send_claim(std::uint64_t nonce) {
+  if (options_.claim_token && (!proof_ || proof_nonce_ != nonce)) {
+    proof_ =
+        dds::claim_proof(*options_.claim_token, mission_taken_.run_nonce, self_, nonce, commands_->guid());
+    proof_nonce_ = nonce;
+  }
+  commands_->claim(self_, nonce, static_cast<std::uint32_t>(getpid()),
+                   proof_ ? std::span<const std::uint8_t>(*proof_) : std::span<const std::uint8_t>());
+}
+
 WaitResult AgentLink::claim(double timeout_s, dds::ClaimAnswer& out) {
   const dds_time_t deadline = after(timeout_s);
   const std::uint64_t nonce = fresh_nonce();
@@ -95,7 +105,7 @@ WaitResult AgentLink::claim(double timeout_s, dds::ClaimAnswer& out) {
       // Re-sent: a claim written before the world matched our writer is lost, and so is an answer written
       // before the world matched our reader (both volatile). The first answers come quickly, the endpoints
       // were just made; then the world may be busy (see the header).
-      commands_->claim(self_, nonce, static_cast<std::uint32_t>(getpid()));
+      send_claim(nonce);
       // 0.1 s four times, then 0.5, 1, 2, 2, ... s.
       resend = now + (++attempts < 5 ? DDS_MSECS(100) : DDS_MSECS(250) << std::min(attempts - 4, 3));
     }
@@ -161,7 +171,7 @@ WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out)
     const bool reclaiming =
         !reclaim_refused && (packets_ == 0 || (alive == 0 && inbox_->world_seen()) || starved);
     if (reclaiming && now >= reclaim) {
-      commands_->claim(self_, claim_nonce_, static_cast<std::uint32_t>(getpid()));
+      send_claim(claim_nonce_);
       reclaim = now + reclaim_period(now);
     }
     // Wake at least once a second to re-check the world's liveliness against the idle deadline, and to keep

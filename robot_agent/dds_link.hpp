@@ -31,6 +31,9 @@ struct LinkOptions {
   // How long, in this agent's own awake time, the world's writers may stay not alive before the world is
   // taken for gone (docs/wire.md: a stalled or swapped world is not a dead one).
   double world_timeout_s = 10.0;
+  // This robot's token from whoever started the run (SWARMFORM_CLAIM_TOKEN): every claim carries the proof
+  // it gives (common/dds/claim_proof.hpp). Without one the world takes the claim only where it needs none.
+  std::optional<dds::ClaimToken> claim_token;
 };
 
 class AgentLink {
@@ -98,6 +101,11 @@ class AgentLink {
   std::uint64_t foreign_ = 0;
   std::uint64_t claim_nonce_ = 0;  // of the accepted claim, re-sent before the first packet
   dds_time_t claimed_at_ = 0;      // when the world accepted it
+  std::uint64_t proof_nonce_ = 0;  // the claim nonce proof_ is for
+  std::optional<dds::ClaimProof> proof_;
+
+  // Writes the claim of attempt `nonce`, with its proof when this agent has a token.
+  void send_claim(std::uint64_t nonce);
 };
 
 }  // namespace swarmform::agent

@@ -22,6 +22,7 @@
 #include <optional>
 
 #include "behaviour/registry.hpp"
+#include "common/dds/claim_proof.hpp"
 #include "common/dds/robot_block.hpp"
 #include "common/dds/robot_process.hpp"
 #include "common/dds/security_config.hpp"
@@ -53,6 +54,7 @@ struct Options {
   std::string exec_command;  // --exec: the behaviour as a child process; empty: the mission's built-in one
   double exec_timeout_s = 5.0;
   std::vector<std::string> plugin_dirs;  // with SWARMFORM_PLUGIN_PATH's: where plug-ins may load from
+  std::optional<swarmform::dds::ClaimToken> claim_token;  // SWARMFORM_CLAIM_TOKEN (claim_proof.hpp)
 };
 
 swarmform::dds::DdsSettings dds_settings(const Options& o) {
@@ -92,6 +94,7 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
   const swarmform::dds::DdsSettings settings = dds_settings(o);
   swarmform::agent::LinkOptions lo;
   lo.world_timeout_s = o.world_timeout_s;
+  lo.claim_token = o.claim_token;
   if (!o.run_nonce.empty()) lo.run_nonce = std::stoull(o.run_nonce, nullptr, 16);  // checked in main
   AgentLink link(settings, o.id, signals, lo);
   std::uint64_t restarts = 0;
@@ -352,6 +355,13 @@ int main(int argc, char** argv) {
   }
   try {
     o.user_dds = swarmform::dds::user_dds_config(o.dds_config, std::getenv("CYCLONEDDS_URI"));
+    // Taken out of the environment before an --exec child or a block's robot could inherit it.
+    o.claim_token = swarmform::dds::take_key_from_env(swarmform::dds::kClaimTokenEnv);
+    if (o.claim_token && o.count > 1) {
+      throw std::invalid_argument(std::string(swarmform::dds::kClaimTokenEnv) +
+                                  " is one robot's token: it cannot go with --count " +
+                                  std::to_string(o.count));
+    }
     if (o.print_dds_config) {
       std::cout << swarmform::dds::cyclone_config_listing(dds_settings(o), "robot_agent");
       return kExitOk;

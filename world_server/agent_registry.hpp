@@ -5,6 +5,12 @@
 // while the machine was starved, and discovered it again) keeps the id on the new handle. Commands are the
 // owner's only if they come from the owner's writer. Pure bookkeeping: no DDS, no World (the server acts on
 // the answers).
+// Who may take an id (docs/wire.md "Claim proofs"): a claim the run's starter issued (its proof checked by
+// the server) may take any id these rules allow. One that is not issued may take the id its own writer owns
+// or last owned (the same writer GUID: the owner itself, rediscovered or back from a lapse), and, by the
+// policy: nothing else when the world holds the run's secret (its starter issues every agent it starts); an
+// id nobody has owned, before the run's first round, when it holds none (a world and its agents started by
+// hand); a free or dead owner's id too with --open-rejoin.
 #pragma once
 
 #include <cstdint>
@@ -13,6 +19,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "common/dds/claim_proof.hpp"
 #include "common/dds/identity.hpp"
 #include "common/types.hpp"
 
@@ -25,6 +32,19 @@ enum class ClaimOutcome {
   TakenOver,   // the previous owner had died: bound to this writer (a rejoin once the run is going)
   Refused,     // a live writer owns it
   OutOfRange,  // no such robot in this run
+  Unproven,    // the id needs a claim the run's starter issued, and this one is not
+};
+
+enum class ClaimPolicy {
+  IssuedOnly,       // every claim must be issued (the world holds the run's secret)
+  FirstClaimsOpen,  // unissued claims may take never-owned ids before the run (no secret: a start by hand)
+  Open,             // any claimant may take a free or dead owner's id (--open-rejoin)
+};
+
+// What the server knows of a claimant beyond what its sample says of itself.
+struct ClaimCredentials {
+  dds::WriterGuid guid{};  // its writer's GUID, from discovery (all zero: unknown)
+  bool issued = false;     // its proof is valid (or, under --secure, its certificate is the id's)
 };
 
 struct ClaimResult {
@@ -34,11 +54,13 @@ struct ClaimResult {
 
 class AgentRegistry {
  public:
-  explicit AgentRegistry(std::size_t robots);
+  explicit AgentRegistry(std::size_t robots, ClaimPolicy policy = ClaimPolicy::Open);
 
   // `claim_nonce`: the claimant's nonce for this claim attempt (re-sent claims carry the same); 0: none.
   ClaimResult claim(RobotId id, dds::PublicationHandle writer, std::uint32_t pid,
-                    std::uint64_t claim_nonce = 0);
+                    std::uint64_t claim_nonce = 0, const ClaimCredentials& credentials = {});
+  // The run's first round is next: from now on an unissued claim takes no id its writer did not own.
+  void start_run() { running_ = true; }
   // The live owner of `id` is `writer`.
   bool owns(RobotId id, dds::PublicationHandle writer) const;
   // The robot `writer` owns now, if any.
@@ -69,10 +91,16 @@ class AgentRegistry {
     dds::PublicationHandle writer = 0;
     std::uint32_t pid = 0;
     std::uint64_t claim_nonce = 0;
+    dds::WriterGuid guid{};
     bool alive = false;   // an owner whose writer is alive
     bool lapsed = false;  // alive, but its liveliness lapsed before the run (lapse)
     bool ever = false;    // someone owned it once
   };
+  // Why an unissued claim of `o`'s id by `credentials` is refused (empty: it is allowed).
+  std::string unissued_refusal(RobotId id, const Owner& o, const ClaimCredentials& credentials) const;
+
+  ClaimPolicy policy_;
+  bool running_ = false;
   std::vector<Owner> owners_;
   std::unordered_map<dds::PublicationHandle, RobotId> by_writer_;    // live owners
   std::unordered_map<dds::PublicationHandle, RobotId> lost_writer_;  // owners lost, their id not taken over

@@ -77,6 +77,12 @@ bool FaceCommands::matched(std::uint32_t face, dds::PublicationHandle writer) co
   return face < readers_.size() && readers_[face]->matched(writer);
 }
 
+std::optional<dds::RemoteWriter> FaceCommands::remote(std::uint32_t face,
+                                                      dds::PublicationHandle writer) const {
+  if (face >= readers_.size()) return std::nullopt;
+  return readers_[face]->remote(writer);
+}
+
 WorldLink::WorldLink(const dds::DdsSettings& settings, std::size_t robot_count, bool realtime,
                      std::uint64_t run_nonce)
     : faces(settings, robot_count),

@@ -53,6 +53,8 @@ class FaceCommands {
   std::optional<RobotId> authenticated_robot(std::uint32_t face, dds::PublicationHandle writer);
   // Whether `writer` is still matched by the reader of `face` (dds::CommandReader::matched).
   bool matched(std::uint32_t face, dds::PublicationHandle writer) const;
+  // `writer`'s GUID and its participant's, asked of the reader of `face` (dds::CommandReader::remote).
+  std::optional<dds::RemoteWriter> remote(std::uint32_t face, dds::PublicationHandle writer) const;
 
  private:
   dds::Waiter& waiter_;  // counts the readers' samples (dds::Waiter, "Counted arrivals")

@@ -15,6 +15,8 @@ std::string_view to_string(Abuse what) {
       return "spoofed_commands";
     case Abuse::RefusedClaim:
       return "refused_claims";
+    case Abuse::UnprovenClaim:
+      return "unproven_claims";
     case Abuse::BadTelemetry:
       return "bad_telemetry_commands";
     case Abuse::BadCommand:

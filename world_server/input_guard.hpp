@@ -26,6 +26,7 @@ enum class Abuse : std::uint8_t {
   ClaimOverLimit,    // a claim past its writer's budget
   SpoofedCommand,    // a command for an id its writer does not own
   RefusedClaim,      // a claim the registry refused (taken id, id outside the run)
+  UnprovenClaim,     // a claim for an id that needs one issued by the run's starter, without a valid proof
   BadTelemetry,      // an owner's command whose telemetry had fields out of range (telemetry_check.hpp)
   BadCommand,        // an owner's command the world did not take as it came (World::apply_command's verdict)
   Count,

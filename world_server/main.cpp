@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include "common/dds/claim_proof.hpp"
 #include "common/dds/security_config.hpp"
 
 #include "behaviour/registry.hpp"
@@ -57,6 +58,7 @@ struct Options {
   std::string dds_config;  // --dds-config FILE
   bool print_dds_config = false;
   std::string security_dir;
+  bool open_rejoin = false;
 };
 
 // "A<sep>B" with two unsigned integers; throws std::invalid_argument naming the flag.
@@ -167,6 +169,10 @@ int run(const Options& o) {
     throw std::invalid_argument("--start-paused needs --viewer-token (only the run's viewer can say go)");
   }
   so.start_paused = o.start_paused;
+  // The run's secret comes only from the environment of whoever started the world (never its argv, which
+  // every user of the host can read), and is removed from it at once.
+  so.run_secret = swarmform::dds::take_key_from_env(swarmform::dds::kRunSecretEnv);
+  so.open_rejoin = o.open_rejoin;
   for (const std::string& p : o.agent_pids) {
     const auto [id, pid] = split_pair("--agent-pid", p, '=');
     if (pid == 0 || pid > 4194304) throw std::invalid_argument("--agent-pid " + p + ": not a process id");
@@ -236,6 +242,13 @@ int main(int argc, char** argv) {
       "authenticates as `world` (DIR/world.pem, .key, .permissions.p7s), talks only to participants "
       "of the same authority, and gives id K only to the participant authenticated as robot K "
       "(docs/security.md)");
+  app.add_flag(
+      "--open-rejoin", o.open_rejoin,
+      "let any agent take a free or dead robot's id (an agent restarted by hand). Without it, a world given "
+      "the run's secret in SWARMFORM_RUN_SECRET (64 hex digits; `swarm run` gives one) takes only claims its "
+      "starter issued: a proof from the id's token, derived from the secret, or under --security-dir the "
+      "id's certificate; a world without one takes a claim without a proof only for an id nobody has owned, "
+      "before the run (docs/wire.md \"Claim proofs\")");
   app.add_option(
       "--plugin-dir", o.plugin_dirs,
       "a folder behaviour plug-ins may be loaded from, besides the scenario's own folder and those "

@@ -65,7 +65,9 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
       world_(scenario),
       session_(world_, world::RunOptions{options_.run_dir, std::string(world::to_string(scenario.mode)), 0.0,
                                          options_.record_every}),
-      registry_(scenario.robots.size()),
+      registry_(scenario.robots.size(), options_.open_rejoin  ? ClaimPolicy::Open
+                                        : options_.run_secret ? ClaimPolicy::IssuedOnly
+                                                              : ClaimPolicy::FirstClaimsOpen),
       link_(options_.dds, scenario.robots.size(), scenario.mode == world::Mode::Realtime, options_.run_nonce),
       refusals_("world_server", std::cerr),
       robots_(scenario.robots.size()),
@@ -142,6 +144,7 @@ int Server::run_inner() {
   }
   start_ = last_progress_ = dds_time();
   if (options_.warmup_ticks == 0) steady_start_ = start_;
+  registry_.start_run();
   run_rounds();
   const dds_time_t end = dds_time();
   const double wall = to_s(end - start_);
@@ -449,10 +452,26 @@ void Server::on_claim(const dds::CommandSample& s, bool running) {
     ++stale_samples_;
     return;
   }
-  const ClaimResult r = registry_.claim(s.robot_id, s.writer, s.pid, s.nonce);
+  // Who the claimant is, as DDS discovery knows it (not what its sample says), and whether the run's starter
+  // issued its claim: under --secure its certificate says so (checked above), otherwise its proof.
+  const std::optional<dds::RemoteWriter> remote = link_.commands.remote(s.face, s.writer);
+  ClaimCredentials credentials;
+  if (remote) credentials.guid = remote->guid;
+  credentials.issued =
+      link_.participant.secure() || (options_.run_secret && remote &&
+                                     dds::proof_valid(*options_.run_secret, options_.run_nonce, s.robot_id,
+                                                      s.nonce, remote->guid, s.command.message));
+  const ClaimResult r = registry_.claim(s.robot_id, s.writer, s.pid, s.nonce, credentials);
   const bool accepted = r.outcome == ClaimOutcome::Accepted || r.outcome == ClaimOutcome::Repeated ||
                         r.outcome == ClaimOutcome::Rebound || r.outcome == ClaimOutcome::TakenOver;
   link_.robots.reply_claim(dds::ClaimAnswer{s.robot_id, s.nonce, accepted, r.reason});
+  if (r.outcome == ClaimOutcome::Unproven) {
+    report(s, Abuse::UnprovenClaim, "claim_unproven",
+           "refused a claim of id " + std::to_string(s.robot_id) + " from " + claimant_text(s, remote) +
+               ": " + r.reason,
+           true);
+    return;
+  }
   if (!accepted) {
     report(s, Abuse::RefusedClaim, "claim_refused",
            "refused a claim of id " + std::to_string(s.robot_id) + ": " + r.reason, true);
@@ -465,8 +484,9 @@ void Server::on_claim(const dds::CommandSample& s, bool running) {
         "pid " + std::to_string(s.pid) + ": its re-sent claim came through a new writer handle");
     return;
   }
-  session_.record_event(s.robot_id, "agent_connected", "pid " + std::to_string(s.pid));
-  std::cerr << "world_server: id " << s.robot_id << " claimed by pid " << s.pid << "\n";
+  const std::string who = claimant_text(s, remote) + (credentials.issued ? "" : ", unissued");
+  session_.record_event(s.robot_id, "agent_connected", who);
+  std::cerr << "world_server: id " << s.robot_id << " claimed by " << who << "\n";
   // The new owner's claim nonce goes on its perceptions: a previous owner that comes back learns from it
   // that it lost the id (docs/wire.md "Identity and the claim protocol").
   RobotSlot& slot = robots_[s.robot_id];

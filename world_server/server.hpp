@@ -61,6 +61,11 @@ struct ServerOptions {
   // presents the same token. start_paused: lockstep holds tick 0 until the viewer says go.
   std::uint64_t viewer_token = 0;
   bool start_paused = false;
+  // Who may take a robot's id (docs/wire.md "Claim proofs"): the run's secret, from which every agent the
+  // launcher starts has its id's token (none: no claim is issued, so an owned id goes to nobody else), and
+  // --open-rejoin (anyone may take a dead owner's id).
+  std::optional<dds::RunSecret> run_secret;
+  bool open_rejoin = false;
 };
 
 // Exit codes of a run: common/exit_codes.json holds them all (and their meanings).

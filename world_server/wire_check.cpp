@@ -26,4 +26,9 @@ std::string writer_text(const dds::CommandSample& s) {
   return b;
 }
 
+std::string claimant_text(const dds::CommandSample& s, const std::optional<dds::RemoteWriter>& remote) {
+  return "pid " + std::to_string(s.pid) +
+         (remote ? " (participant " + dds::to_string(remote->participant) + ")" : " (participant unknown)");
+}
+
 }  // namespace swarmform::server

@@ -168,6 +168,10 @@ bool CommandReader::matched(PublicationHandle writer) const {
   return true;
 }
 
+std::optional<RemoteWriter> CommandReader::remote(PublicationHandle writer) const {
+  return remote_writer(impl_->reader.get(), writer);
+}
+
 dds_entity_t CommandReader::condition() const {
   return impl_->condition.get();
 }

@@ -11,6 +11,7 @@
 
 #include "common/dds/command_sample.hpp"
 #include "common/dds/identity.hpp"
+#include "common/dds/matching.hpp"
 #include "common/dds/participant.hpp"
 #include "common/dds/waiter.hpp"
 #include "common/types.hpp"
@@ -62,6 +63,8 @@ class CommandReader {
   // Whether `writer` is still matched: false once it went away (its participant deleted or forgotten). Its
   // samples taken after that are stale: a writer's data and its going reach the reader by different threads.
   bool matched(PublicationHandle writer) const;
+  // `writer`'s GUID and its participant's (matching.hpp); nullopt once it is no longer matched.
+  std::optional<RemoteWriter> remote(PublicationHandle writer) const;
 
  private:
   struct Impl;

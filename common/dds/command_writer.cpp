@@ -1,7 +1,9 @@
 #include "common/dds/command_writer.hpp"
 
+#include <cstring>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "common/dds/identity.hpp"
@@ -72,7 +74,8 @@ void CommandWriter::set_stamp(std::uint64_t run_nonce, std::uint16_t wire_versio
   impl_->wire_version = wire_version;
 }
 
-void CommandWriter::claim(RobotId id, std::uint64_t nonce, std::uint32_t pid) {
+void CommandWriter::claim(RobotId id, std::uint64_t nonce, std::uint32_t pid,
+                          std::span<const std::uint8_t> proof) {
   if (impl_->registered != id) {
     const sfdds_Command key = command_key(id);
     keep_instance(impl_->writer.get(), &key);
@@ -81,8 +84,19 @@ void CommandWriter::claim(RobotId id, std::uint64_t nonce, std::uint32_t pid) {
   sfdds_Command s = stamped_command(id, sfdds_COMMAND_CLAIM, impl_->run_nonce, impl_->wire_version);
   s.nonce = nonce;
   s.pid = pid;
+  s.message._buffer = const_cast<std::uint8_t*>(proof.data());
+  s.message._length = s.message._maximum = static_cast<std::uint32_t>(proof.size());
   check(dds_write(impl_->writer.get(), &s), "dds_write(claim)");
   impl_->alive_at = dds_time();
+}
+
+WriterGuid CommandWriter::guid() const {
+  dds_guid_t g{};
+  check(dds_get_guid(impl_->writer.get(), &g), "dds_get_guid(command writer)");
+  WriterGuid out{};
+  static_assert(sizeof(g.v) == std::tuple_size_v<WriterGuid>);
+  std::memcpy(out.data(), g.v, out.size());
+  return out;
 }
 
 dds_time_t CommandWriter::keep_alive(dds_time_t now, bool by_sample) {

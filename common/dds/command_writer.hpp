@@ -5,7 +5,9 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 
+#include "common/dds/claim_proof.hpp"
 #include "common/dds/participant.hpp"
 #include "common/dds/wire_version.hpp"
 #include "common/types.hpp"
@@ -25,7 +27,11 @@ class CommandWriter {
   // Every sample written from now on carries this run's nonce and wire version (a test may forge another
   // version; an agent never does).
   void set_stamp(std::uint64_t run_nonce, std::uint16_t wire_version = kWireVersion);
-  void claim(RobotId id, std::uint64_t nonce, std::uint32_t pid);
+  // `proof`: the claim's proof (claim_proof.hpp), empty for an agent started without a token; it travels in
+  // the claim's `message`.
+  void claim(RobotId id, std::uint64_t nonce, std::uint32_t pid, std::span<const std::uint8_t> proof = {});
+  // This writer's GUID: what a claim proof is bound to.
+  WriterGuid guid() const;
   void step(RobotId id, Tick tick, const Command& command);
   dds_entity_t get() const;
   // Asserts the writer's liveliness if nothing was written or asserted for kLivelinessAssertPeriod (its

@@ -181,6 +181,11 @@ def _add_run_flags(p: argparse.ArgumentParser, demo: bool = False) -> None:
                         "signed governance and permissions, made fresh in RUN_DIR/security (keys 0600); traffic "
                         "is encrypted, only this run's identities take part, robot K reads only its own packets "
                         "and only robot K's identity may claim id K (docs/security.md)")
+    p.add_argument("--open-rejoin", action="store_true",
+                   help="let an agent started by hand take a dead robot's id (the world's --open-rejoin). Without "
+                        "it only the agents this launcher starts (restarted ones too) can: each gets its id's token "
+                        "from the run's secret, which only the world shares, and proves its claims with it "
+                        "(docs/wire.md, Claim proofs)")
     p.add_argument("--exec", metavar="CMD",
                    help="run each robot's behaviour as the program CMD (one child process per robot_agent, any "
                         "language) speaking the JSON line protocol of docs/agent-protocol.md on stdin/stdout; "

@@ -40,6 +40,7 @@ import sys
 import time
 from typing import IO, Any, Callable, Optional, Union
 
+from . import claims
 from . import domains
 from . import exit_codes
 from . import faults
@@ -227,6 +228,8 @@ class Processes:
         self._files: list[IO[bytes]] = []
         # rid -> (command prefix, extra flags): where agent rid runs (hosts.Hosts.agent_wrap under --hosts)
         self.placement: Optional[Callable[[int], tuple[list[str], list[str]]]] = None
+        # the run's secret (claims.py): the world's, and each agent's token is derived from it
+        self.run_secret: bytes = claims.run_secret()
 
     def _log(self, path: str) -> IO[bytes]:
         f = open(path, "ab")
@@ -239,21 +242,24 @@ class Processes:
         cmd = wrap + [exe, "--id", str(rid)] + (["--domain", str(domain)] if domain is not None else [])
         cmd += (["--run-nonce", run_nonce] if run_nonce else []) + extra
         cmd += self.agent_args
+        # Its own id's token only when it knows the run (the token is the run's and the id's).
+        env = claims.agent_env(self.run_secret, run_nonce, rid) if run_nonce else None
         log = self._log(log_path)
         group = next(iter(self.groups), 0)
         try:
             p = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
-                                 process_group=group, preexec_fn=_die_with_parent)
+                                 process_group=group, preexec_fn=_die_with_parent, env=env)
         except (subprocess.SubprocessError, OSError):  # the group is gone (its members all died): a new one
             p = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
-                                 process_group=0, preexec_fn=_die_with_parent)
+                                 process_group=0, preexec_fn=_die_with_parent, env=env)
         self.groups.add(os.getpgid(p.pid) if p.poll() is None else p.pid)
         self.agents[rid] = p
         return p
 
     def start_world(self, cmd: list[str]) -> "subprocess.Popen[bytes]":
         self.world = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                                      stderr=subprocess.STDOUT, process_group=0, preexec_fn=_die_with_parent)
+                                      stderr=subprocess.STDOUT, process_group=0, preexec_fn=_die_with_parent,
+                                      env=claims.world_env(self.run_secret))
         return self.world
 
     def start_viewer(self, cmd: list[str], log_path: str) -> "subprocess.Popen[bytes]":
@@ -564,7 +570,8 @@ def _follow(proc: "subprocess.Popen[bytes]", stop: StopFlag, status: Status, con
     os.set_blocking(fd, False)
     buf = b""
     done: Optional[tuple[int, str]] = None
-    # a line's pattern (digits blanked) -> times shown: "id 7 claimed by pid 123" x 256 shows 3
+    # a line's pattern (numbers and participant GUIDs blanked) -> times shown: "id 7 claimed by pid 123
+    # (participant 0110...)" x 256 shows 3
     seen: dict[str, int] = {}
 
 
@@ -587,7 +594,7 @@ def _follow(proc: "subprocess.Popen[bytes]", stop: StopFlag, status: Status, con
         if m:
             done = (int(m[1]), m[2])
         elif line.strip():
-            pattern = re.sub(r"\d+", "#", line)
+            pattern = re.sub(r"\b[0-9a-f]{32}\b|\d+", "#", line)
             seen[pattern] = seen.get(pattern, 0) + 1
             if seen[pattern] <= REPEATS_SHOWN:
                 status.line(f"{prefix}: {line}")
@@ -678,6 +685,8 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
         cmd = [world_exe] + overrides(args) + ["--out", run_dir, "--domain", str(domain), "--run-nonce", nonce,
                                                "--agent-pids", agents_json, "--connect-timeout", f"{wait_s:g}"]
         cmd += secure_args
+        if getattr(args, "open_rejoin", False):
+            cmd.append("--open-rejoin")
         view = _ViewerStart(args, info, run_dir, domain, nonce, logs, procs, status)
         view.extra = list(secure_args)
         cmd += view.world_flags()

@@ -61,11 +61,22 @@ class MultiProcess : public swarmform::testing::ProcessFixture {
     Process& world;
     Process& agent0;
   };
-  WorldAndAgent0 world_and_agent0(int domain, const std::string& run) {
-    Process& w =
-        start({kWorld, "--scenario", kScenario, "--out", path(run), "--domain", std::to_string(domain),
-               "--connect-timeout", "20", "--robots", "2", "--max-ticks", "30"},
-              run + "-world");
+  WorldAndAgent0 world_and_agent0(int domain, const std::string& run, std::vector<std::string> extra = {}) {
+    std::vector<std::string> argv = {kWorld,
+                                     "--scenario",
+                                     kScenario,
+                                     "--out",
+                                     path(run),
+                                     "--domain",
+                                     std::to_string(domain),
+                                     "--connect-timeout",
+                                     "20",
+                                     "--robots",
+                                     "2",
+                                     "--max-ticks",
+                                     "30"};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    Process& w = start(argv, run + "-world");
     return {w, agent(domain, 0, run)};
   }
   static bool agent0_claimed(const Process& w) {
@@ -75,8 +86,9 @@ class MultiProcess : public swarmform::testing::ProcessFixture {
   // A world for 2 robots on `domain` whose agent 0 claimed its id and was SIGKILLed before the run, its
   // writer's lease lapsed since (a lapse before the first packet is not a loss: the id stays counted).
   // (integration_tests run serially: its tests reuse the stalled tests' domain.)
-  Process& world_whose_agent0_died_before_the_run(int domain, const std::string& run) {
-    auto [w, first] = world_and_agent0(domain, run);
+  Process& world_whose_agent0_died_before_the_run(int domain, const std::string& run,
+                                                  std::vector<std::string> extra = {}) {
+    auto [w, first] = world_and_agent0(domain, run, std::move(extra));
     EXPECT_TRUE(agent0_claimed(w)) << w.err();
     EXPECT_EQ(::kill(first.pid(), SIGKILL), 0);
     EXPECT_EQ(first.wait_for(5.0), 128 + SIGKILL);
@@ -213,13 +225,14 @@ TEST_F(MultiProcess, EightAgentsInLockstepGetOnlyTheirOwnPacketsAndRepeatBitForB
 }
 
 // The run is open-ended (kOpenEndedTicks): ended by SIGTERM once the restarted agent has rejoined.
-TEST_F(MultiProcess, KilledAgentIsDetectedWithinOneSecondAndARestartedOneRejoins) {
+TEST_F(MultiProcess, KilledAgentIsDetectedWithinOneSecondAndOneRestartedByHandRejoinsWithOpenRejoin) {
   const int domain = swarmform::testing::test_domain(2);
   std::vector<Process*> agents;
   for (int i = 0; i < kRobots; ++i) agents.push_back(&agent(domain, i, "kill"));
+  // The agent is restarted by hand, as --open-rejoin allows (docs/wire.md "Claim proofs").
   Process& w = world(domain, "kill",
                      {"--max-ticks", kOpenEndedTicks, "--kill", "3@100", "--agent-pid",
-                      "3=" + std::to_string(agents[3]->pid())});
+                      "3=" + std::to_string(agents[3]->pid()), "--open-rejoin"});
   ASSERT_TRUE(eventually(kRunDeadline, [&] { return has_event("kill", "death", 3) || !w.running(); }));
   EXPECT_EQ(agents[3]->wait_for(1.0), 128 + 9);  // it was SIGKILLed
   Process& again = agent(domain, 3, "kill-again");
@@ -228,6 +241,11 @@ TEST_F(MultiProcess, KilledAgentIsDetectedWithinOneSecondAndARestartedOneRejoins
     return w.out().find("rejoin id=3 ") != std::string::npos || !w.running();
   })) << w.out();
   ASSERT_TRUE(w.running()) << w.err();
+  // Taken without a token: the world says so, naming the claimant's participant.
+  EXPECT_NE(w.err().find("id 3 claimed by pid " + std::to_string(again.pid()) + " (participant "),
+            std::string::npos)
+      << w.err();
+  EXPECT_NE(w.err().find("), unissued"), std::string::npos) << w.err();
   ASSERT_EQ(::kill(w.pid(), SIGTERM), 0);
   EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
   EXPECT_EQ(again.wait_for(10.0), 0) << again.err() << w.err();
@@ -343,11 +361,11 @@ TEST_F(MultiProcess, AgentStalledForThreeSecondsBeforeTheRunIsCountedAgain) {
                          std::chrono::milliseconds(3000));
 }
 
-// An agent killed before the run and restarted need not wait for the dead one's participant lease (30 s):
-// the lapsed id is taken over, and the run starts with the new agent.
+// An agent killed before the run and restarted (by hand: --open-rejoin) need not wait for the dead one's
+// participant lease (30 s): the lapsed id is taken over, and the run starts with the new agent.
 TEST_F(MultiProcess, AgentKilledBeforeTheRunIsReplacedByARestartedOne) {
   const int domain = swarmform::testing::test_domain(8);
-  Process& w = world_whose_agent0_died_before_the_run(domain, "restarted");
+  Process& w = world_whose_agent0_died_before_the_run(domain, "restarted", {"--open-rejoin"});
   Process& again = start({kAgent, "--id", "0", "--domain", std::to_string(domain), "--timeout", "30"},
                          "restarted-agent0-again");
   Process& second = agent(domain, 1, "restarted");
@@ -357,6 +375,31 @@ TEST_F(MultiProcess, AgentKilledBeforeTheRunIsReplacedByARestartedOne) {
   EXPECT_EQ(second.wait_for(10.0), 0) << second.err();
   EXPECT_EQ(events_of("restarted", "agent_connected").size(), 3u) << w.err();  // 0 twice: taken over
   EXPECT_EQ(w.err().find("refused a claim"), std::string::npos) << w.err();
+}
+
+// The same in a world started by hand without --open-rejoin: it cannot tell an agent restarted by hand from a
+// stranger that read the run nonce, so the id that had an owner is not taken (docs/wire.md "Claim proofs");
+// the refusal names the claimant's participant. The run starts with agent 0 counted, and it is dead at its
+// first packet.
+TEST_F(MultiProcess, AnAgentStartedByHandCannotTakeAnOwnedIdWithoutOpenRejoin) {
+  const int domain = swarmform::testing::test_domain(8);
+  Process& w = world_whose_agent0_died_before_the_run(domain, "closed");
+  Process& again = start({kAgent, "--id", "0", "--domain", std::to_string(domain), "--timeout", "30"},
+                         "closed-agent0-again");
+  EXPECT_EQ(again.wait_for(30.0), swarmform::exit_codes::kExitIdRefused) << again.err();
+  EXPECT_NE(again.err().find("refused: id 0 had an owner"), std::string::npos) << again.err();
+  EXPECT_NE(again.err().find("--open-rejoin"), std::string::npos) << again.err();
+  EXPECT_NE(
+      w.err().find("refused a claim of id 0 from pid " + std::to_string(again.pid()) + " (participant "),
+      std::string::npos)
+      << w.err();
+  Process& second = agent(domain, 1, "closed");
+  ASSERT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_EQ(second.wait_for(10.0), 0) << second.err();
+  const Json s = summary("closed");
+  EXPECT_EQ(s["alive_at_end"], 1) << w.err();
+  EXPECT_GE(s["input_dropped"]["unproven_claims"].get<int>(), 1) << s["input_dropped"].dump();
+  EXPECT_EQ(events_of("closed", "agent_connected").size(), 2u);  // 0 once (the dead one) and 1
 }
 
 // Not replaced: the run starts with it counted; it does not answer its first packet, and the world takes it

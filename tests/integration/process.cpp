@@ -11,7 +11,9 @@
 
 namespace swarmform::testing {
 
-Process::Process(const std::vector<std::string>& argv, const std::string& out_prefix) : prefix_(out_prefix) {
+Process::Process(const std::vector<std::string>& argv, const std::string& out_prefix,
+                 const std::vector<std::string>& env)
+    : prefix_(out_prefix) {
   std::vector<char*> args;
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
@@ -29,6 +31,11 @@ Process::Process(const std::vector<std::string>& argv, const std::string& out_pr
     sigset_t none;
     sigemptyset(&none);
     sigprocmask(SIG_SETMASK, &none, nullptr);
+    for (const std::string& var : env) {
+      const auto eq = var.find('=');
+      if (eq == std::string::npos || setenv(var.substr(0, eq).c_str(), var.c_str() + eq + 1, 1) != 0)
+        _exit(126);
+    }
     execv(args[0], args.data());
     _exit(127);
   }

@@ -12,8 +12,10 @@ namespace swarmform::testing {
 
 class Process {
  public:
-  // `out_prefix`: stdout goes to out_prefix + ".out", stderr to out_prefix + ".err".
-  Process(const std::vector<std::string>& argv, const std::string& out_prefix);
+  // `out_prefix`: stdout goes to out_prefix + ".out", stderr to out_prefix + ".err". `env`: "NAME=VALUE"
+  // set in the child's environment besides the test's own.
+  Process(const std::vector<std::string>& argv, const std::string& out_prefix,
+          const std::vector<std::string>& env = {});
   ~Process();  // SIGKILL if still running, then reap
   Process(const Process&) = delete;
   Process& operator=(const Process&) = delete;

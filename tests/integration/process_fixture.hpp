@@ -37,8 +37,9 @@ class ProcessFixture : public ::testing::Test {
   }
 
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  Process& start(const std::vector<std::string>& argv, const std::string& name) {
-    processes_.push_back(std::make_unique<Process>(argv, path(name)));
+  Process& start(const std::vector<std::string>& argv, const std::string& name,
+                 const std::vector<std::string>& env = {}) {
+    processes_.push_back(std::make_unique<Process>(argv, path(name), env));
     return *processes_.back();
   }
 

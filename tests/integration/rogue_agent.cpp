@@ -43,6 +43,11 @@
 //       owns nothing; claims ids ID, ID+1, ... (default 1000: outside any test run) as fast as it can for S
 //       seconds, then prints "claims sent=K" and exits 0. The world must refuse them, hold no channel per
 //       refused id, and log them at most once a second.
+//   rogue_agent stranger --id K --pid P --domain D [--timeout SEC]
+//       a process that read the run nonce from the mission and claims K as robot_agent would, but with no
+//       token from the run's starter, stating the pid P (anything: the world must not take it as who it is).
+//       Prints "stranger participant=<GUID>" (its participant's GUID, as DDS discovery gives it to the world)
+//       first. Exits 0 once the world accepts the claim, 4 when it refuses it ("rogue_agent: refused: ...").
 //
 // Exits 0 when the world announces the end (nan, slow, silent, liar) or finishes (spoof, forge), 3 on
 // --timeout.
@@ -366,6 +371,30 @@ int badwire(dds::Participant& participant, RobotId id, std::uint16_t version, st
   }
 }
 
+int stranger(dds::Participant& participant, RobotId id, std::uint32_t pid, double timeout_s) {
+  dds_guid_t guid{};
+  if (dds_get_guid(participant.get(), &guid) != DDS_RETCODE_OK) return 1;
+  dds::ParticipantKey key{};
+  std::copy(std::begin(guid.v), std::end(guid.v), key.begin());
+  std::cout << "stranger participant=" << dds::to_string(key) << std::endl;
+  dds::Waiter waiter(participant);
+  dds::AgentInbox inbox(participant, id, waiter);
+  dds::CommandWriter commands(participant);
+  waiter.attach(inbox.packet_condition());
+  const dds_time_t deadline = after(timeout_s);
+  commands.set_stamp(run_nonce_of(participant, deadline));
+  const std::uint64_t attempt = 0x57a0000u + id;
+  for (;;) {
+    if (auto a = inbox.take_claim_reply(); a && a->nonce == attempt) {
+      std::cerr << "rogue_agent: " << (a->accepted ? "accepted" : "refused: " + a->reason) << "\n";
+      return a->accepted ? 0 : 4;
+    }
+    if (dds_time() >= deadline) return 3;
+    commands.claim(id, attempt, pid);
+    waiter.wait_until(std::min(deadline, after(0.2)));
+  }
+}
+
 int silent_agent(dds::Participant& participant, RobotId id, double timeout_s) {
   return answering_agent(participant, id, false, timeout_s, "silent",
                          [](const Perception&) { return std::optional<Command>(); });
@@ -426,6 +455,10 @@ int main(int argc, char** argv) {
   cs->add_option("--seconds", seconds, "how long to claim")->check(CLI::PositiveNumber);
   std::uint32_t first = 1000;
   cs->add_option("--first", first, "the first id claimed");
+  auto* st = app.add_subcommand("stranger", "claim an id with no token, stating any pid");
+  st->add_option("--id", id, "the id to claim")->required();
+  std::uint32_t stated_pid = 1;
+  st->add_option("--pid", stated_pid, "the pid its claims state");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -448,6 +481,7 @@ int main(int argc, char** argv) {
     if (li->parsed()) return liar_agent(participant, id, timeout_s);
     if (fl->parsed()) return flood(participant, seconds, ids, made_up, with_claims, realtime, timeout_s);
     if (cs->parsed()) return claim_storm(participant, seconds, first, timeout_s);
+    if (st->parsed()) return stranger(participant, id, stated_pid, timeout_s);
     return nan_agent(participant, id, timeout_s);
   } catch (const std::exception& e) {
     std::cerr << "rogue_agent: " << e.what() << "\n";

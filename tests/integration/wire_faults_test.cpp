@@ -18,12 +18,14 @@
 #include <thread>
 
 #include "common/exit_codes.hpp"
+#include "tests/integration/issued_run.hpp"
 #include "tests/integration/process_fixture.hpp"
 #include "tests/integration/test_domain.hpp"
 
 namespace {
 
 using swarmform::testing::eventually;
+using swarmform::testing::IssuedRun;
 using swarmform::testing::kOpenEndedTicks;
 using swarmform::testing::Process;
 using swarmform::testing::read_file;
@@ -84,6 +86,14 @@ class WireFaults : public swarmform::testing::ProcessFixture {
         kAgent, "--id", std::to_string(id), "--domain", std::to_string(domain), "--timeout", "30"};
     argv.insert(argv.end(), extra.begin(), extra.end());
     return start(argv, tag + "-agent" + std::to_string(id) + "-" + std::to_string(processes_.size()));
+  }
+  // An agent as `swarm run` starts it: the run's nonce, and its id's token in its environment.
+  Process& issued_agent(int domain, int id, const std::string& tag, const IssuedRun& run) {
+    std::vector<std::string> argv = {
+        kAgent, "--id", std::to_string(id), "--domain", std::to_string(domain), "--timeout", "30"};
+    for (const std::string& f : run.nonce_flags()) argv.push_back(f);
+    return start(argv, tag + "-agent" + std::to_string(id) + "-" + std::to_string(processes_.size()),
+                 run.agent_env(static_cast<swarmform::RobotId>(id)));
   }
   std::vector<Process*> agents(int domain, const std::string& tag) {
     std::vector<Process*> out;
@@ -352,11 +362,14 @@ TEST_F(WireFaults, ARealtimeAgentThatResumesAfterTheRunEndedFindsItsEndAndSaysWh
   }
 }
 
-// Realtime: agent 4 stalls, is taken for dead, and a restarted agent claims id 4. The old one, resumed, is
-// told by the world's packets (another owner) and exits 5 with a clear message; it used to run to the end.
+// Realtime: agent 4 stalls, is taken for dead, and an agent restarted by hand claims id 4. The old one,
+// resumed, is told by the world's packets (another owner) and exits 5 with a clear message; it used to run to
+// the end.
 TEST_F(WireFaults, RealtimeAgentReplacedByARestartedOneIsToldAndExitsNonZero) {
   const int domain = swarmform::testing::test_domain(37);
-  Process& w = world(domain, "replaced", {"--mode", "realtime", "--max-ticks", "150"});
+  // Restarted by hand: only a world started with --open-rejoin lets it take the id (docs/wire.md "Claim
+  // proofs").
+  Process& w = world(domain, "replaced", {"--mode", "realtime", "--max-ticks", "150", "--open-rejoin"});
   std::vector<Process*> as = agents(domain, "replaced");
   ASSERT_TRUE(eventually(kRunDeadline, [&] { return ticking(w) || !w.running(); })) << w.out();
   ASSERT_EQ(::kill(as[4]->pid(), SIGSTOP), 0);
@@ -369,6 +382,78 @@ TEST_F(WireFaults, RealtimeAgentReplacedByARestartedOneIsToldAndExitsNonZero) {
   EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
   EXPECT_EQ(again.wait_for(15.0), 0) << again.err();
   EXPECT_EQ(summary("replaced")["alive_at_end"], kRobots);
+}
+
+// Without --secure, a process on the host that read the run nonce from the mission claims robot 3 after its
+// agent died, stating a pid of its own choosing. The world, holding the run's secret as under `swarm run`,
+// refuses it and names it by its participant's GUID (what DDS discovery says, not what the claim says); a
+// robot_agent started by hand is refused too; the agent restarted with robot 3's token, as the launcher
+// restarts one, takes the id back. Before: the stranger was accepted (`rejoin id=3`) and drove robot 3.
+TEST_F(WireFaults, AStrangersClaimOfADeadIdIsRefusedAndTheStartersRestartedAgentRejoins) {
+  const int domain = swarmform::testing::test_domain(36);
+  const IssuedRun run;
+  std::vector<Process*> as;
+  for (int i = 0; i < kRobots; ++i) as.push_back(&issued_agent(domain, i, "stranger", run));
+  std::vector<std::string> argv = {kWorld,
+                                   "--scenario",
+                                   kScenario,
+                                   "--out",
+                                   path("stranger"),
+                                   "--domain",
+                                   std::to_string(domain),
+                                   "--connect-timeout",
+                                   "30",
+                                   "--max-ticks",
+                                   kOpenEndedTicks,
+                                   "--kill",
+                                   "3@50",
+                                   "--agent-pid",
+                                   "3=" + std::to_string(as[3]->pid())};
+  for (const std::string& f : run.nonce_flags()) argv.push_back(f);
+  Process& w = start(argv, "stranger-world", run.world_env());
+  ASSERT_TRUE(eventually(kRunDeadline,
+                         [&] { return w.out().find("death id=3 ") != std::string::npos || !w.running(); }))
+      << w.out() << w.err();
+  ASSERT_TRUE(w.running()) << w.err();
+
+  Process& rogue = start({kRogue, "--domain", std::to_string(domain), "--timeout", "30", "stranger", "--id",
+                          "3", "--pid", "4242"},
+                         "stranger-rogue");
+  EXPECT_EQ(rogue.wait_for(40.0), 4) << rogue.out() << rogue.err();
+  EXPECT_NE(rogue.err().find("refused: this run's ids go only to agents its starter issued"),
+            std::string::npos)
+      << rogue.err();
+  std::smatch m;
+  const std::string rogue_out = rogue.out();
+  ASSERT_TRUE(std::regex_search(rogue_out, m, std::regex("stranger participant=([0-9a-f]{32})")))
+      << rogue_out;
+  const std::string named = "refused a claim of id 3 from pid 4242 (participant " + m[1].str() + ")";
+  EXPECT_TRUE(eventually(5.0, [&] { return w.err().find(named) != std::string::npos; })) << named << "\n"
+                                                                                         << w.err();
+
+  Process& by_hand = agent(domain, 3, "stranger-by-hand", run.nonce_flags());  // no token
+  EXPECT_EQ(by_hand.wait_for(40.0), swarmform::exit_codes::kExitIdRefused) << by_hand.err();
+  EXPECT_EQ(w.out().find("rejoin id=3"), std::string::npos) << w.out();
+
+  Process& again = issued_agent(domain, 3, "stranger-again", run);
+  EXPECT_TRUE(eventually(kRunDeadline, [&] {
+    return w.out().find("rejoin id=3 ") != std::string::npos || !w.running();
+  })) << w.out();
+  ASSERT_TRUE(w.running()) << w.err();
+  ASSERT_EQ(::kill(w.pid(), SIGTERM), 0);
+  EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_EQ(again.wait_for(15.0), 0) << again.err();
+  EXPECT_EQ(as[3]->wait_for(5.0), 128 + SIGKILL);
+  for (int i = 0; i < kRobots; ++i) {
+    if (i == 3) continue;
+    EXPECT_EQ(as[i]->wait_for(15.0), 0) << i << ": " << as[i]->err();
+  }
+  const Json s = summary("stranger");
+  EXPECT_GE(s["input_dropped"]["unproven_claims"].get<int>(), 2) << s["input_dropped"].dump();
+  ASSERT_EQ(s["rejoins"].size(), 1u);
+  EXPECT_EQ(s["rejoins"][0]["id"], 3);
+  EXPECT_EQ(s["alive_at_end"], kRobots);
+  EXPECT_TRUE(has_event("stranger", "claim_unproven", 3));
 }
 
 // Another participant writes forged perceptions and END packets into robot/3 (with the right run nonce,
@@ -431,7 +516,7 @@ TEST_F(WireFaults, SamplesOfAnotherRunOrWireVersionAreRefusedWithTheReason) {
   EXPECT_GE(sent, 10);
   const std::regex said(
       "world_server: refused ([0-9]+) claim sample\\(s\\) from writer [0-9a-f]+ \\(pid 0\\): "
-      "wire version 1, this world speaks 5");
+      "wire version 1, this world speaks 6");
   const std::string err = w.err();
   int lines = 0;
   for (auto it = std::sregex_iterator(err.begin(), err.end(), said); it != std::sregex_iterator(); ++it)

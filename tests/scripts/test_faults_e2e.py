@@ -1,18 +1,33 @@
 """`scripts/swarm run --fault` against the real programs (BUILD_DIR): a scheduled restart after a kill makes the
-launcher start a new agent with that id, which rejoins (DDS test domain 47); an in-process run takes the same
-faults; a bad fault is refused by the world's check with the flag named, exit 2, no traceback. Every wait has
+launcher start a new agent with that id, which proves its claim with the id's token and rejoins, while an agent
+started by hand may take a dead robot's id only with --open-rejoin (DDS test domain 47); an in-process run takes
+the same faults; a bad fault is refused by the world's check with the flag named, exit 2, no traceback. Every wait has
 a deadline and no process is left behind."""
 
 import json
 import os
 import shutil
+import signal
+import subprocess
 import tempfile
+import threading
+import time
 import unittest
 
 import helpers
 
 SCENARIO = os.path.join(helpers.HERE, "data", "walk4.yaml")
 BUILD_DIR = os.environ.get("BUILD_DIR") or os.path.join(helpers.ROOT, "build")
+
+
+def wait_for(predicate, seconds):
+    """Polls `predicate` every 0.1 s until it holds or `seconds` pass; returns whether it held."""
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        if predicate():
+            return True
+        time.sleep(0.1)
+    return predicate()
 
 
 def events(run_dir):
@@ -54,7 +69,9 @@ class FaultsEndToEndTest(unittest.TestCase):
         # agents.json names the new agent, and nothing of the run is left running.
         with open(os.path.join(self.out, "agents.json"), encoding="utf-8") as f:
             pids = {int(k): v for k, v in json.load(f).items()}
-        self.assertEqual(claims[1]["detail"], f"pid {pids[1]}")
+        # The restarted agent's claim was issued: the launcher gave it robot 1's token (docs/wire.md, Claim
+        # proofs); a claim without one would say ", unissued", and a world holding the run's secret refuses it.
+        self.assertRegex(claims[1]["detail"], rf"^pid {pids[1]} \(participant [0-9a-f]{{32}}\)$")
         self.assertEqual([p for p in pids.values() if helpers.pid_alive(p)], [], "agents left running")
 
     def test_a_restart_due_before_the_kill_is_seen_waits_for_the_death(self):
@@ -71,6 +88,66 @@ class FaultsEndToEndTest(unittest.TestCase):
         self.assertGreaterEqual(restart[0]["tick"], max(21, death[0]))
         self.assertEqual([e["kind"] for e in ev if e["kind"] == "claim_refused"], [])
         self.assertEqual(len([e for e in ev if e["kind"] == "rejoin" and e["id"] == 1]), 1, ev)
+
+    def test_an_agent_started_by_hand_cannot_take_a_dead_robots_id_and_the_launcher_says_so(self):
+        # Without --secure: robot 1 is killed at tick 20; a robot_agent started by hand with the run's nonce (read
+        # off an agent's command line, as any local user can, or from the mission) claims id 1. The world holds
+        # the run's secret, so it refuses the claim (the agent exits 8) and the launcher shows the world's line,
+        # naming the claimant's participant. With --open-rejoin the same agent takes the id (a rejoin).
+        for open_rejoin in (False, True):
+            with self.subTest(open_rejoin=open_rejoin):
+                shutil.rmtree(self.out, ignore_errors=True)
+                env = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=BUILD_DIR)
+                domain = helpers.test_domain(47)
+                argv = [helpers.SWARM, "run", "--scenario", SCENARIO, "--robots", "4", "--max-ticks", "1000000",
+                        "--no-pictures", "--domain", str(domain), "--out", self.out, "--kill", "1@20"]
+                p = subprocess.Popen(argv + (["--open-rejoin"] if open_rejoin else []), env=env,
+                                     stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+                lines: list[str] = []  # the launcher's stderr, as it comes (its status lines are not buffered)
+                reader = threading.Thread(target=lambda: lines.extend(iter(p.stderr.readline, "")), daemon=True)
+                reader.start()
+                stranger = None
+                try:
+                    self.assertTrue(wait_for(lambda: any("world: death id=1 " in x for x in lines), 60.0), lines)
+                    with open(os.path.join(self.out, "agents.json"), encoding="utf-8") as f:
+                        agent0 = json.load(f)["0"]
+                    with open(f"/proc/{agent0}/cmdline", "rb") as f:
+                        cmdline = f.read().split(b"\0")
+                    nonce = cmdline[cmdline.index(b"--run-nonce") + 1].decode()
+                    stranger = subprocess.Popen(
+                        [os.path.join(BUILD_DIR, "robot_agent", "robot_agent"), "--id", "1", "--domain",
+                         str(domain), "--run-nonce", nonce, "--timeout", "30"],
+                        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+                    if open_rejoin:
+                        self.assertTrue(wait_for(lambda: any("world: rejoin id=1 " in x for x in lines), 40.0),
+                                        lines)
+                    else:
+                        _, agent_err = stranger.communicate(timeout=40)
+                        self.assertEqual(stranger.returncode, 8, agent_err)
+                        self.assertIn("refused: this run's ids go only to agents its starter issued", agent_err)
+                finally:
+                    p.send_signal(signal.SIGINT)
+                    p.wait(timeout=60)
+                    reader.join(timeout=10)
+                    p.stderr.close()
+                    if stranger is not None and stranger.poll() is None:
+                        stranger.kill()
+                    if stranger is not None:
+                        stranger.communicate(timeout=10)
+                err = "".join(lines)
+                self.assertEqual(p.returncode, 130, err)
+                with open(os.path.join(self.out, "summary.json"), encoding="utf-8") as f:
+                    summary = json.load(f)
+                if open_rejoin:
+                    self.assertRegex(err, rf"world: world_server: id 1 claimed by pid {stranger.pid} "
+                                          r"\(participant [0-9a-f]{32}\), unissued")
+                    self.assertEqual([r["id"] for r in summary["rejoins"]], [1])
+                    self.assertEqual(summary["input_dropped"]["unproven_claims"], 0)
+                else:
+                    self.assertRegex(err, rf"world: world_server: refused a claim of id 1 from pid {stranger.pid} "
+                                          r"\(participant [0-9a-f]{32}\)")
+                    self.assertEqual(summary["rejoins"], [])
+                    self.assertGreaterEqual(summary["input_dropped"]["unproven_claims"], 1)
 
     def test_an_in_process_run_takes_the_faults(self):
         r = self.swarm_run("--in-process", "--max-ticks", "60", "--fault", "kill:1@20", "--fault", "restart:1@40",

@@ -12,7 +12,7 @@ import time
 import unittest
 
 import helpers
-from swarmform import exit_codes, jsonfile, launcher
+from swarmform import claims, exit_codes, jsonfile, launcher
 
 
 def agent_pids(run_dir):
@@ -73,6 +73,30 @@ class LauncherTest(unittest.TestCase):
         self.assertNotIn("killed", r.stderr)  # the agents exited by themselves before the deadline
         self.assertFalse(os.path.exists(os.path.join(out, "pictures")))
         self.assert_all_gone(pids.values())
+
+    def test_the_world_gets_the_runs_secret_and_each_agent_only_its_token(self):
+        out = os.path.join(self.dir, "run")
+        r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "3", "--max-ticks", "10", "--out", out,
+                          "--no-pictures", env={"FAKE_AGENT_EXIT_S": "0.3"})
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(os.path.join(out, "world_env.json")) as f:
+            secret = json.load(f)["SWARMFORM_RUN_SECRET"]
+        self.assertRegex(secret, r"^[0-9a-f]{64}$")
+        with open(os.path.join(out, "world_args.json")) as f:
+            world_args = json.load(f)
+        self.assertNotIn(secret, " ".join(world_args))  # never on a command line
+        self.assertNotIn("--open-rejoin", world_args)
+        nonce = world_args[world_args.index("--run-nonce") + 1]
+        for rid in range(3):
+            with open(os.path.join(out, "logs", f"agent-{rid}.log")) as f:
+                log = f.read()
+            self.assertIn(f"token={claims.claim_token(bytes.fromhex(secret), nonce, rid)} secret=False", log)
+        r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "1", "--max-ticks", "10", "--out",
+                          os.path.join(self.dir, "open"), "--no-pictures", "--open-rejoin",
+                          env={"FAKE_AGENT_EXIT_S": "0.3"})
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(os.path.join(self.dir, "open", "world_args.json")) as f:
+            self.assertIn("--open-rejoin", json.load(f))
 
     def test_repeated_world_lines_are_shown_three_times_and_logged_all(self):
         out = os.path.join(self.dir, "run")

@@ -212,7 +212,7 @@ class LauncherEndToEndTest(unittest.TestCase):
             self.assertEqual(summary["ticks"], 3000)
             with open(os.path.join(out, "agents.json")) as f:
                 own = {int(pid) for pid in json.load(f).values()}
-            joined = {int(e["detail"].split()[-1]) for e in recording.load(out).events
+            joined = {int(e["detail"].split()[1]) for e in recording.load(out).events  # "pid P (participant G)"
                       if e["kind"] == "agent_connected"}
             self.assertEqual(joined, own, "only this run's agents joined its world")
             self.assertEqual(processes_mentioning(out), [])

@@ -136,7 +136,7 @@ class SecureRunTest(unittest.TestCase):
         with open(os.path.join(out, "logs", "world_console.log")) as f:
             world_log = f.read()
         self.assertIn("the claimant is authenticated as robot 3, not robot", world_log)
-        self.assertNotIn("claimed by pid 1\n", world_log, "an impostor's claim was accepted")
+        self.assertNotIn("claimed by pid 1 (", world_log, "an impostor's claim was accepted")
 
         # The observer of this run reads (the outsiders' zeros below are not a deaf program's), and its own
         # permissions refused it every robot's packets and every command writer.
