@@ -13,6 +13,7 @@
 #include <string>
 #include <string_view>
 
+#include "common/hex.hpp"  // to_hex for the tokens in the environment
 #include "common/types.hpp"
 
 namespace swarmform::dds {
@@ -39,7 +40,6 @@ bool proof_valid(const RunSecret& secret, std::uint64_t run_nonce, RobotId id, s
 
 // 64 hex digits into 32 bytes; nullopt for anything else.
 std::optional<std::array<std::uint8_t, 32>> parse_key_hex(std::string_view hex);
-std::string to_hex(std::span<const std::uint8_t> bytes);
 // Reads and removes the environment variable `name`: nullopt when unset; throws std::invalid_argument
 // naming it when it is set but not 64 hex digits.
 std::optional<std::array<std::uint8_t, 32>> take_key_from_env(const char* name);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <utility>
 
 namespace swarmform::agent {
 
@@ -40,25 +41,7 @@ double finite_number(const json& j, const char* key, const char* what) {
   return v;
 }
 
-int hex_digit(char c) {
-  if (c >= '0' && c <= '9') return c - '0';
-  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-  return -1;
-}
-
 }  // namespace
-
-std::string to_hex(const std::vector<std::uint8_t>& bytes) {
-  static constexpr char kDigits[] = "0123456789abcdef";
-  std::string out;
-  out.reserve(bytes.size() * 2);
-  for (const std::uint8_t b : bytes) {
-    out.push_back(kDigits[b >> 4]);
-    out.push_back(kDigits[b & 15]);
-  }
-  return out;
-}
 
 std::string encode_hello(const Mission& mission, RobotId self) {
   json params = json::object();
@@ -140,13 +123,9 @@ Command parse_command(const std::string& line, Tick tick, std::size_t max_messag
                           " bytes, over the mission's max_message_bytes " +
                           std::to_string(max_message_bytes));
     }
-    c.message.reserve(hex.size() / 2);
-    for (std::size_t i = 0; i < hex.size(); i += 2) {
-      const int hi = hex_digit(hex[i]);
-      const int lo = hex_digit(hex[i + 1]);
-      if (hi < 0 || lo < 0) throw ProtocolError("the command's \"message\" is not hex");
-      c.message.push_back(static_cast<std::uint8_t>(hi * 16 + lo));
-    }
+    auto bytes = from_hex(hex);
+    if (!bytes) throw ProtocolError("the command's \"message\" is not hex");
+    c.message = std::move(*bytes);
   }
   if (const auto s = j.find("state"); s != j.end()) {
     if (!s->is_number_integer() || s->get<long long>() < 0 ||

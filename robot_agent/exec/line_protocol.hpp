@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/hex.hpp"
 #include "common/mission.hpp"
 #include "common/types.hpp"
 
@@ -35,7 +36,6 @@ std::string encode_perception(const Perception& perception);
 // that is not a finite number, a message that is not hex or longer than `max_message_bytes`.
 Command parse_command(const std::string& line, Tick tick, std::size_t max_message_bytes);
 
-// Message payloads travel as lowercase hex strings (two digits a byte): JSON has no bytes.
-std::string to_hex(const std::vector<std::uint8_t>& bytes);
+// Message payloads travel as lowercase hex strings (two digits a byte, common/hex.hpp): JSON has no bytes.
 
 }  // namespace swarmform::agent

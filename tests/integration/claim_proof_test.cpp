@@ -40,11 +40,9 @@ constexpr std::uint64_t kNonce = 0x1122334455667788ULL;
 // byte.
 TEST(ClaimProof, TokenAndProofAreTheDocumentedHmacs) {
   const auto token = swarmform::dds::claim_token(counting_secret(), kRun, 8);
-  EXPECT_EQ(swarmform::dds::to_hex(token),
-            "17d8631642b43b963d394221fc28b59e10616eb74fe6b726e4c7b4d1e555296c");
+  EXPECT_EQ(swarmform::to_hex(token), "17d8631642b43b963d394221fc28b59e10616eb74fe6b726e4c7b4d1e555296c");
   const ClaimProof proof = swarmform::dds::claim_proof(token, kRun, 8, kNonce, guid_from(0x10));
-  EXPECT_EQ(swarmform::dds::to_hex(proof),
-            "4de520b7074d5d8537cac76ffff0ee1c4cba58c2757a9bb1cfce393278f38f81");
+  EXPECT_EQ(swarmform::to_hex(proof), "4de520b7074d5d8537cac76ffff0ee1c4cba58c2757a9bb1cfce393278f38f81");
 }
 
 TEST(ClaimProof, AProofHoldsOnlyForItsRunIdNonceAndWriter) {
@@ -76,14 +74,14 @@ TEST(ClaimProof, AProofHoldsOnlyForItsRunIdNonceAndWriter) {
 TEST(ClaimProof, KeysAreSixtyFourHexDigitsTakenOutOfTheEnvironment) {
   EXPECT_FALSE(swarmform::dds::parse_key_hex("00").has_value());
   EXPECT_FALSE(swarmform::dds::parse_key_hex(std::string(63, 'a') + "g").has_value());
-  const auto key = swarmform::dds::parse_key_hex(swarmform::dds::to_hex(counting_secret()));
+  const auto key = swarmform::dds::parse_key_hex(swarmform::to_hex(counting_secret()));
   ASSERT_TRUE(key.has_value());
   EXPECT_EQ(*key, counting_secret());
 
   const char* name = "SWARMFORM_TEST_CLAIM_KEY";
   ::unsetenv(name);
   EXPECT_FALSE(swarmform::dds::take_key_from_env(name).has_value());
-  ::setenv(name, swarmform::dds::to_hex(counting_secret()).c_str(), 1);
+  ::setenv(name, swarmform::to_hex(counting_secret()).c_str(), 1);
   EXPECT_EQ(swarmform::dds::take_key_from_env(name), counting_secret());
   EXPECT_EQ(std::getenv(name), nullptr);  // no child inherits it
   ::setenv(name, "not hex", 1);

@@ -28,10 +28,11 @@ struct IssuedRun {
   // The world's and the agents' --run-nonce.
   std::vector<std::string> nonce_flags() const { return {"--run-nonce", nonce_hex()}; }
   std::vector<std::string> world_env() const {
-    return {std::string(dds::kRunSecretEnv) + "=" + dds::to_hex(secret)};
+    return {std::string(dds::kRunSecretEnv) + "=" + swarmform::to_hex(secret)};
   }
   std::vector<std::string> agent_env(RobotId id) const {
-    return {std::string(dds::kClaimTokenEnv) + "=" + dds::to_hex(dds::claim_token(secret, run_nonce, id))};
+    return {std::string(dds::kClaimTokenEnv) + "=" +
+            swarmform::to_hex(dds::claim_token(secret, run_nonce, id))};
   }
 };
 
