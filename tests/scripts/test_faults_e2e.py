@@ -322,3 +322,20 @@ class StatusChannelTest(unittest.TestCase):
                                    timeout=60)
                 self.assertEqual(p.returncode, 2, p.stderr)
                 self.assertIn(f"--status-fd {fd}: not an open file descriptor", p.stderr)
+
+    def test_a_status_reader_that_has_gone_is_said_once_and_the_world_goes_on(self):
+        # The read end closed before the world writes: no SIGPIPE death; one line, then the world's own end
+        # (no agents here: exit 3 at the connect timeout).
+        r, w = os.pipe()
+        os.close(r)
+        try:
+            p = subprocess.run([os.path.join(BUILD_DIR, "world_server", "world_server"), "--scenario", SCENARIO,
+                                "--robots", "1", "--out", self.out, "--domain", str(helpers.test_domain(47)),
+                                "--connect-timeout", "1", "--status-fd", str(w)], capture_output=True, text=True,
+                               timeout=60, pass_fds=(w,))
+        finally:
+            os.close(w)
+        self.assertEqual(p.returncode, 3, p.stderr)
+        self.assertEqual(p.stderr.count(f"--status-fd {w}: cannot write (Broken pipe); no more status lines"), 1,
+                         p.stderr)
+        self.assertIn("world ready", p.stdout)
