@@ -5,6 +5,7 @@
 // Exit codes: common/exit_codes.json (printed by --help). After a failure once agents connected (the world
 // failed, agents missing, a write failed) the agents are told to end and summary.json is written when the
 // disk allows.
+#include <fcntl.h>
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <cstdlib>
@@ -58,6 +59,7 @@ struct Options {
   std::string dds_config;  // --dds-config FILE
   bool print_dds_config = false;
   std::string security_dir;
+  std::optional<int> status_fd;
   bool open_rejoin = false;
 };
 
@@ -173,6 +175,14 @@ int run(const Options& o) {
   // every user of the host can read), and is removed from it at once.
   so.run_secret = swarmform::dds::take_key_from_env(swarmform::dds::kRunSecretEnv);
   so.open_rejoin = o.open_rejoin;
+  if (o.status_fd) {
+    if (*o.status_fd < 3 || ::fcntl(*o.status_fd, F_GETFL) == -1 ||
+        (::fcntl(*o.status_fd, F_GETFL) & O_ACCMODE) == O_RDONLY) {
+      throw std::invalid_argument("--status-fd " + std::to_string(*o.status_fd) +
+                                  ": not an open file descriptor (3 or more) this process can write");
+    }
+    so.status_fd = *o.status_fd;
+  }
   for (const std::string& p : o.agent_pids) {
     const auto [id, pid] = split_pair("--agent-pid", p, '=');
     if (pid == 0 || pid > 4194304) throw std::invalid_argument("--agent-pid " + p + ": not a process id");
@@ -206,12 +216,12 @@ int main(int argc, char** argv) {
                  "local interface address (agents on other hosts: this "
                  "host's address; default loopback)");
   app.add_option("--kill", o.kills, "ID@TICK: SIGKILL agent ID at TICK (needs --agent-pid ID=PID)");
-  app.add_option(
-      "--fault", o.faults,
-      std::string("a scheduled fault, added to the scenario's `faults`: ") +
-          swarmform::world::kFaultFormatHelp +
-          ". kill and stall signal the --agent-pid process (a stall without one withholds the "
-          "robot's packets); restart prints `restart id=ID tick=T` for the launcher to start the agent");
+  app.add_option("--fault", o.faults,
+                 std::string("a scheduled fault, added to the scenario's `faults`: ") +
+                     swarmform::world::kFaultFormatHelp +
+                     ". kill and stall signal the --agent-pid process (a stall without one withholds the "
+                     "robot's packets); restart prints `restart id=ID tick=T` (and a --status-fd event) for "
+                     "the launcher to start the agent");
   app.add_option("--agent-pid", o.agent_pids, "ID=PID: the process of agent ID, for --kill and stalls");
   app.add_option(
       "--agent-pids", o.agent_pids_file,
@@ -253,6 +263,10 @@ int main(int argc, char** argv) {
       "--plugin-dir", o.plugin_dirs,
       "a folder behaviour plug-ins may be loaded from, besides the scenario's own folder and those "
       "of SWARMFORM_PLUGIN_PATH (':'-separated); repeatable. A plug-in anywhere else is refused");
+  app.add_option(
+      "--status-fd", o.status_fd,
+      "N: an inherited file descriptor (a pipe) to write the run's status on, one JSON object a line "
+      "(ready, claimed, connected, gave_up, progress, restart, run_ended, done; docs/status-channel.md)");
   app.add_flag("--check", o.check, "load and validate the scenario, print a JSON line, exit");
   app.add_option("--dds-config", o.dds_config,
                  "FILE: a Cyclone DDS XML configuration merged on top of the built-in one (default: the file "

@@ -8,8 +8,12 @@
 namespace swarmform::server {
 
 ProcessFaults::ProcessFaults(const world::Scenario& scenario, world::World& world, world::RunSession& session,
-                             PidLookup agent_pid)
-    : scenario_(scenario), world_(world), session_(session), agent_pid_(std::move(agent_pid)) {}
+                             PidLookup agent_pid, StatusChannel* status)
+    : scenario_(scenario),
+      world_(world),
+      session_(session),
+      agent_pid_(std::move(agent_pid)),
+      status_(status) {}
 
 ProcessFaults::~ProcessFaults() {
   resume_all(nullptr);
@@ -77,7 +81,12 @@ std::optional<std::string> ProcessFaults::restart(const world::Fault& f, Tick t)
   // until then the old owner holds the id and would refuse the new agent's claim.
   if (world_.alive(*f.robot)) return std::nullopt;
   // The launcher owns the agent processes: it starts the new one on this line.
-  std::cout << "restart id=" << *f.robot << " tick=" << t << std::endl;
+  const std::string line = "restart id=" + std::to_string(*f.robot) + " tick=" + std::to_string(t);
+  if (status_ != nullptr) {
+    status_->emit_and_print("restart", {{"id", *f.robot}, {"tick", t}}, line);
+  } else {
+    std::cout << line << std::endl;
+  }
   return "asked for a new agent process (stdout: restart id=" + std::to_string(*f.robot) +
          "; scripts/swarm run starts it)" +
          (t == f.tick ? std::string() : "; after its death was seen at tick " + std::to_string(t));

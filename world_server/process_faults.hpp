@@ -7,7 +7,8 @@
 //                 while no kill of K has been due (the pid may be reused after a kill): otherwise the
 //                 schedule holds the robot (its packets are withheld for those ticks; its agent is then not
 //                 stepped, as in the harness).
-//   restart:K@T   the world prints `restart id=K tick=T` on stdout (at T, or later when the kill's death is
+//   restart:K@T   the world says `restart` on its status channel and prints `restart id=K tick=T` on stdout
+//                 (docs/status-channel.md; at T, or later when the kill's death is
 //                 not yet seen at T: the old owner would refuse the claim); scripts/swarm run (which owns the
 //                 agent processes) starts a new robot_agent --id K, which claims the id and rejoins. A world
 //                 run by hand prints the line and nothing else happens until someone starts that agent.
@@ -26,6 +27,7 @@
 
 #include "world_server/run/fault_schedule.hpp"
 #include "world_server/run/run_session.hpp"
+#include "world_server/status_channel.hpp"
 #include "world_server/world/scenario.hpp"
 #include "world_server/world/world.hpp"
 
@@ -37,7 +39,7 @@ class ProcessFaults : public world::FaultActions {
   // written after the world started: so it is asked when a fault is due, not at construction).
   using PidLookup = std::function<std::optional<pid_t>(RobotId)>;
   ProcessFaults(const world::Scenario& scenario, world::World& world, world::RunSession& session,
-                PidLookup agent_pid);
+                PidLookup agent_pid, StatusChannel* status = nullptr);
   ~ProcessFaults() override;
   ProcessFaults(const ProcessFaults&) = delete;
   ProcessFaults& operator=(const ProcessFaults&) = delete;
@@ -64,6 +66,7 @@ class ProcessFaults : public world::FaultActions {
   world::World& world_;
   world::RunSession& session_;
   PidLookup agent_pid_;
+  StatusChannel* status_;                         // where a restart is asked for; null: stdout only
   std::map<const world::Fault*, pid_t> stopped_;  // stalls in progress by SIGSTOP, and the pid stopped
   std::map<RobotId, std::chrono::steady_clock::time_point> kill_sent_;
 };

@@ -75,7 +75,9 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
       telemetry_limits_(world::telemetry_limits(scenario)),
       late_(scenario.robots.size()),
       schedule_(scenario),
-      faults_(scenario, world_, session_, [this](RobotId id) { return agent_pid(id); }) {
+      status_(options_.status_fd),
+      faults_(
+          scenario, world_, session_, [this](RobotId id) { return agent_pid(id); }, &status_) {
   // Each robot's messages are gathered and its ultrasonics read in publish_packets, just before its packet is
   // written, instead of for every robot in the step: robot i computes while the world senses for robot
   // i + 1, and the step (which every agent waits for) is shorter. The readings are the same
@@ -118,23 +120,35 @@ int Server::fail(world::EndReason reason, const std::string& what, int code) {
   session_.set_end_reason(reason);
   note_input_dropped();
   std::string summary;
+  bool summary_ok = false;
   try {
     session_.finish(start_ ? to_s(dds_time() - start_) : 0.0);
     summary = session_.summary_written();
+    summary_ok = true;
   } catch (const std::exception& e) {
     summary = std::string("summary.json not written: ") + e.what();
   }
   std::cerr << "world_server: run ended (" << world::to_string(reason) << ") at tick " << world_.tick()
             << ": " << what << "; " << summary << "\n";
+  status_.emit("run_ended",
+               {{"end_reason", world::to_string(reason)},
+                {"tick", world_.tick()},
+                {"what", what},
+                {"summary", summary_ok ? nlohmann::ordered_json(options_.run_dir + "/summary.json")
+                                       : nlohmann::ordered_json(nullptr)},
+                {"summary_note", summary},
+                {"summary_cut", summary_ok && session_.summary_cut()},
+                {"exit_code", code}});
   return code;
 }
 
 int Server::run_inner() {
   link_.mission.publish(mission_of(scenario_, options_.run_nonce));
   // The launcher starts the agents once it reads this line (docs/wire.md "Run nonce").
-  std::printf("world ready domain=%u run_nonce=%016llx\n", options_.dds.domain,
-              static_cast<unsigned long long>(options_.run_nonce));
-  std::fflush(stdout);
+  char nonce[17];
+  std::snprintf(nonce, sizeof nonce, "%016llx", static_cast<unsigned long long>(options_.run_nonce));
+  status_.emit_and_print("ready", {{"domain", options_.dds.domain}, {"run_nonce", nonce}},
+                         "world ready domain=" + std::to_string(options_.dds.domain) + " run_nonce=" + nonce);
   if (!connect_agents()) {
     announce_end();
     session_.set_end_reason(stopping() ? world::EndReason::Interrupted : world::EndReason::NoAgents);
@@ -217,7 +231,11 @@ int Server::run_inner() {
     std::cerr << "world_server: " << missed_ticks_ << " missed ticks (see events)\n";
     std::cerr << "world_server: " << late_.summary() << "\n";  // its own line: scripts read the one above
   }
-  std::cout << "done ticks=" << world_.tick() << " run_dir=" << options_.run_dir << std::endl;
+  status_.emit_and_print("done",
+                         {{"ticks", world_.tick()},
+                          {"run_dir", options_.run_dir},
+                          {"summary", options_.run_dir + "/summary.json"}},
+                         "done ticks=" + std::to_string(world_.tick()) + " run_dir=" + options_.run_dir);
   // Last: a run that used up max_ticks without arriving says so (not after a stop by signal).
   const std::string why = stopping()
                               ? std::string()
@@ -244,11 +262,17 @@ bool Server::connect_agents() {
     if (claimed && unmatched_robots().empty()) {
       std::printf("connected agents=%zu seconds=%.2f\n", n, to_s(dds_time() - begin));
       std::fflush(stdout);
+      status_.emit("connected", {{"agents", n}, {"seconds", to_s(dds_time() - begin)}});
       return true;
     }
     if (stopping()) return false;
     const dds_time_t now = dds_time();
     if (now >= deadline) {
+      status_.emit("gave_up", {{"robots", n},
+                               {"claimed", registry_.connected_count()},
+                               {"timeout_s", options_.connect_timeout_s},
+                               {"missing", claimed ? unmatched_robots() : registry_.missing()},
+                               {"why", claimed ? "not_matched" : "not_claimed"}});
       if (claimed) {
         std::cerr << "world_server: every agent claimed its id, but these robots' packet writers matched no "
                      "reader within "
@@ -487,6 +511,7 @@ void Server::on_claim(const dds::CommandSample& s, bool running) {
   const std::string who = claimant_text(s, remote) + (credentials.issued ? "" : ", unissued");
   session_.record_event(s.robot_id, "agent_connected", who);
   std::cerr << "world_server: id " << s.robot_id << " claimed by " << who << "\n";
+  status_.emit("claimed", {{"id", s.robot_id}, {"pid", s.pid}});
   // The new owner's claim nonce goes on its perceptions: a previous owner that comes back learns from it
   // that it lost the id (docs/wire.md "Identity and the claim protocol").
   RobotSlot& slot = robots_[s.robot_id];
@@ -967,9 +992,12 @@ void Server::progress(bool force) {
   const double tps = dt > 0 ? static_cast<double>(world_.tick() - last_progress_tick_) / dt : 0.0;
   std::size_t alive = 0;
   for (const auto& r : world_.robots()) alive += r.alive ? 1 : 0;
-  std::printf("progress tick=%llu alive=%zu/%zu tps=%.1f\n", static_cast<unsigned long long>(world_.tick()),
-              alive, world_.robots().size(), tps);
-  std::fflush(stdout);
+  char line[128];
+  std::snprintf(line, sizeof line, "progress tick=%llu alive=%zu/%zu tps=%.1f",
+                static_cast<unsigned long long>(world_.tick()), alive, world_.robots().size(), tps);
+  status_.emit_and_print(
+      "progress",
+      {{"tick", world_.tick()}, {"alive", alive}, {"robots", world_.robots().size()}, {"tps", tps}}, line);
   last_progress_ = now;
   last_progress_tick_ = world_.tick();
 }

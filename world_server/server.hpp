@@ -29,6 +29,7 @@
 #include "world_server/run/run_session.hpp"
 #include "world_server/run/telemetry_check.hpp"
 #include "world_server/stall_guard.hpp"
+#include "world_server/status_channel.hpp"
 #include "world_server/stragglers.hpp"
 #include "world_server/viewer_control.hpp"
 #include "world_server/world/scenario.hpp"
@@ -66,6 +67,8 @@ struct ServerOptions {
   // --open-rejoin (anyone may take a dead owner's id).
   std::optional<dds::RunSecret> run_secret;
   bool open_rejoin = false;
+  // --status-fd: where the JSON status lines go (status_channel.hpp); -1: none.
+  int status_fd = -1;
 };
 
 // Exit codes of a run: common/exit_codes.json holds them all (and their meanings).
@@ -203,6 +206,7 @@ class Server {
   dds_time_t round_due_ = 0;               // realtime: when this round's period is over
   LateCommands late_;                      // realtime: where a missed command's time went
   world::FaultSchedule schedule_;          // scheduled kills and faults (run/fault_schedule.hpp)
+  StatusChannel status_;                   // the JSON status lines (status_channel.hpp)
   ProcessFaults faults_;                   // what they do to the agents' processes (process_faults.hpp)
   std::unique_ptr<ViewerControl> viewer_;  // null without --viewer-token
 

@@ -2,20 +2,19 @@
 
 The world server checks and executes them (a bad fault fails `world_server --check` with a clear message);
 the launcher's only part is the one fault the world cannot execute: a restart needs a new agent process, and
-the launcher owns the agents. The world prints `restart id=K tick=T` at the restart's tick; the launcher
+the launcher owns the agents. The world's status channel says `restart` (id K, tick T) at the restart's
+tick (docs/status-channel.md); the launcher
 starts `robot_agent --id K` (its output appended to logs/agent-K.log), updates agents.json, and the new agent
 claims id K and rejoins.
 """
 
 import os
-import re
 import subprocess
 from typing import TYPE_CHECKING, Callable
 
 if TYPE_CHECKING:  # the launcher imports this module
     from .launcher import Processes, Status
 
-RESTART = re.compile(r"^restart id=(\d+) tick=(\d+)$")
 RETIRED_WAIT_S = 5.0
 
 FAULT_HELP = ("a scheduled fault KIND:TARGET@TICK[+TICKS][=VALUE] (repeatable): kill:ID@T, stall:ID@T+TICKS "
@@ -25,7 +24,7 @@ FAULT_HELP = ("a scheduled fault KIND:TARGET@TICK[+TICKS][=VALUE] (repeatable): 
 
 
 class Restarter:
-    """Starts a new agent for each `restart id=K tick=T` line of the world."""
+    """Starts a new agent for each `restart` event of the world."""
 
     def __init__(self, procs: "Processes", agent_exe: str, domain: int, run_nonce: str, logs: str,
                  write_agents: Callable[[], None], robots: int) -> None:
@@ -33,15 +32,11 @@ class Restarter:
         self.procs, self.agent_exe, self.domain, self.run_nonce = procs, agent_exe, domain, run_nonce
         self.logs, self.write_agents, self.robots = logs, write_agents, robots
 
-    def handle(self, line: str, status: "Status") -> bool:
-        """True when `line` was a restart request (acted on and reported)."""
-        m = RESTART.match(line)
-        if not m:
-            return False
-        rid, tick = int(m[1]), int(m[2])
-        if rid >= self.robots:
+    def restart(self, rid: int, tick: int, status: "Status") -> None:
+        """Starts agent `rid` anew (the world's restart fault at `tick`), and says so."""
+        if not 0 <= rid < self.robots:
             status.line(f"swarm: the world asked to restart agent {rid}, but the run has {self.robots}; ignored")
-            return True
+            return
         old = self.procs.agents.get(rid)
         if old is not None and old.poll() is None:  # a restart follows a kill: it is dying; make sure of it
             try:
@@ -53,4 +48,3 @@ class Restarter:
                                    self.run_nonce)
         self.write_agents()
         status.line(f"swarm: restarted agent {rid} at tick {tick} (pid {p.pid})")
-        return True

@@ -4,18 +4,22 @@ Order of a run:
   1. `world_server --check` validates the scenario with the overrides and tells N (file:line errors pass through);
   2. the run directory (runs/<UTC time>/ and runs/latest, or --out) with logs/;
   3. the DDS domain: --domain, or a free one picked and locked for the run (domains.py says how), and the run's
-     nonce; the world first (`--run-nonce`, `--agent-pids agents.json`), and once it says `world ready` (its
+     nonce; the world first (`--run-nonce`, `--agent-pids agents.json`), and once its status says `ready` (its
      mission is out) N `robot_agent --id K --run-nonce X` processes, all in one process group of their own, so
      an agent can only join this run's world (docs/wire.md); agents.json (id -> pid) lets the world SIGKILL the
      --kill ones at their exact ticks and `swarm kill` find them; an agent that exits with an error during the
      run (a refused claim, a lost id) is a loud warning with the last line of its log; every agent must connect
      within --connect-timeout (passed to the world, which ends the run naming the missing ids; the launcher
      stops a world that does not, naming the ids it never saw claimed and what became of their agents);
-  4. the world's `progress` lines become one status line; every other line it prints is shown and logged;
+  4. what the world does comes from its status channel (--status-fd: a pipe, one JSON object a line;
+     docs/status-channel.md, world_status.py): `ready` starts the agents, `progress` becomes one status line,
+     `claimed`/`connected`/`gave_up` follow the start-up, `restart` starts an agent, `run_ended`/`done` end it;
+     every line the world prints is logged and shown, but for those its status says it printed for a moment
+     shown here (`line`);
   5. when the world exits, the agents get a deadline to exit, then SIGKILL.
 With --hosts K the world and each agent start inside their emulated host's network namespace (hosts.py),
 and the namespaces are removed in the same `finally` that kills the processes.
-A `restart id=K` line of the world (a scheduled restart fault) starts a new agent K (faults.py).
+A `restart` event of the world (a scheduled restart fault) starts a new agent K (faults.py).
 Ctrl-C, SIGTERM and SIGHUP only set a flag that the loop (which polls, never blocks) acts on: the world gets
 SIGTERM (it closes the recording and writes summary.json), then every process we started is killed by pid and
 by group, and the launcher exits 130. Every child also has PR_SET_PDEATHSIG = SIGKILL, so even a SIGKILLed
@@ -47,17 +51,10 @@ from . import faults
 from . import hosts as hosts_mod
 from . import jsonfile
 from . import security
+from . import world_status
+from .world_status import Event
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-PROGRESS = re.compile(r"^progress tick=(\d+) alive=(\d+)/(\d+) tps=([0-9.eE+-]+|nan|inf)")
-DONE = re.compile(r"^done ticks=(\d+) run_dir=(.*)$")
-READY = re.compile(r"^world ready domain=(\d+) run_nonce=([0-9a-f]+)$")
-CLAIMED = re.compile(r"^world_server: id (\d+) claimed by pid \d+")
-CONNECTED = re.compile(r"^connected agents=\d+")
-GAVE_UP = re.compile(r"^world_server: \d+ of \d+ agents missing after ")  # the world ended the wait itself
-# The world's one line for a run it ended on a failure: why, at which tick, the file and the error, and whether
-# summary.json was written (world_server/server.cpp Server::fail).
-RUN_ENDED = re.compile(r"^world_server: run ended \((\w+)\) at tick (\d+): (.*?)(?:; (summary\.json .*))?$")
 # The connect deadline (--connect-timeout), when not given: world_server's default_connect_timeout
 # (world_server/server.hpp), which the launcher passes on so that both wait the same time.
 CONNECT_TIMEOUT_BASE_S = 30.0
@@ -256,10 +253,11 @@ class Processes:
         self.agents[rid] = p
         return p
 
-    def start_world(self, cmd: list[str]) -> "subprocess.Popen[bytes]":
+    def start_world(self, cmd: list[str], status_fd: int) -> "subprocess.Popen[bytes]":
+        """The world, with `status_fd` (a pipe's write end, in `cmd` as --status-fd) its only inherited extra."""
         self.world = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                                       stderr=subprocess.STDOUT, process_group=0, preexec_fn=_die_with_parent,
-                                      env=claims.world_env(self.run_secret))
+                                      env=claims.world_env(self.run_secret), pass_fds=(status_fd,))
         return self.world
 
     def start_viewer(self, cmd: list[str], log_path: str) -> "subprocess.Popen[bytes]":
@@ -463,7 +461,7 @@ def connect_timeout(robots: int, given: Optional[float] = None) -> float:
 
 class ConnectWatch:
     """The start-up deadline (a run must never wait for ever at "connecting 1023/1024"). It follows the
-    world's `id K claimed` and `connected agents=N` lines from `world ready` on; when the world has not said
+    world's `claimed` and `connected` events from `ready` on; when the world has not said
     `connected` by the world's own deadline plus a grace (CONNECT_GRACE_S), `check` raises a LaunchError (exit 3) naming the
     ids never claimed and what became of their agents. `missing_text` says the same when the world timed out
     itself (its exit 3)."""
@@ -479,16 +477,13 @@ class ConnectWatch:
         if self.since is None:
             self.since = time.monotonic()
 
-    def line(self, line: str, _status: Status) -> bool:
-        """Sees every world line (never takes one: returns False)."""
-        m = CLAIMED.match(line)
-        if m:
-            self.claimed.add(int(m[1]))
-        elif CONNECTED.match(line):
+    def event(self, ev: Event) -> None:
+        if ev.name == "claimed":
+            self.claimed.add(ev["id"])
+        elif ev.name == "connected":
             self.connected = True
-        elif GAVE_UP.match(line) and self.world_gave_up is None:
+        elif ev.name == "gave_up" and self.world_gave_up is None:  # the world ended the wait itself
             self.world_gave_up = time.monotonic()
-        return False
 
     def missing(self) -> list[int]:
         return [rid for rid in range(self.robots) if rid not in self.claimed]
@@ -559,41 +554,58 @@ def _last_line(logs: str, rid: int) -> str:
 
 
 def _follow(proc: "subprocess.Popen[bytes]", stop: StopFlag, status: Status, console_log: Union[IO[bytes], CopyLog],
-            max_ticks: Optional[int], prefix: str = "world", on_ready: Optional[Callable[[], None]] = None,
-            on_idle: Optional[Callable[[], object]] = None,
-            on_line: Optional[Callable[[str, Status], bool]] = None) -> Optional[tuple[int, str]]:
-    """Reads the world's output until it exits or a stop is asked; returns the `done` line's fields or None.
-    `on_ready()` runs at the world's `world ready` line, `on_idle()` every time round the loop, and
-    `on_line(line, status)` may take a line first (True: handled)."""
+            max_ticks: Optional[int], prefix: str = "world", on_idle: Optional[Callable[[], object]] = None,
+            status_fd: Optional[int] = None, on_event: Optional[Callable[[Event], None]] = None,
+            bad: Optional[world_status.BadLines] = None) -> Optional[Event]:
+    """Reads the world's output (and its status channel, `status_fd`) until both close, the world exits, or a stop
+    is asked; returns the `done` event or None. Every output line is logged; it is shown unless a status event
+    said it printed it (`line`). `on_event(ev)` sees every other event (`progress` becomes the status line);
+    `on_idle()` runs every time round the loop (at least every 0.2 s). A status line that is not an event is
+    counted in `bad`, the first said."""
     assert proc.stdout is not None  # stdout=PIPE
-    fd = proc.stdout.fileno()
-    os.set_blocking(fd, False)
-    buf = b""
-    done: Optional[tuple[int, str]] = None
+    out = proc.stdout.fileno()
+    bufs = {out: b""}
+    if status_fd is not None:
+        bufs[status_fd] = b""
+    for fd in bufs:
+        os.set_blocking(fd, False)
+    bad_lines = bad if bad is not None else world_status.BadLines()
+    done: Optional[Event] = None
+    said: dict[str, int] = {}  # human lines a status event said the world printed -> how many are still due
     # a line's pattern (numbers and participant GUIDs blanked) -> times shown: "id 7 claimed by pid 123
     # (participant 0110...)" x 256 shows 3
     seen: dict[str, int] = {}
 
-
-    def handle(raw: bytes) -> None:
+    def on_status(raw: bytes) -> None:
         nonlocal done
+        if not raw.strip():
+            return
+        ev = world_status.parse(raw)
+        if isinstance(ev, str):
+            message = bad_lines.add(raw, ev)
+            if message:
+                status.line(message)
+            return
+        line = ev.fields.get("line")
+        if isinstance(line, str) and len(said) < 1000:
+            said[line] = said.get(line, 0) + 1
+        if ev.name == "progress":
+            tps = ev["tps"] if ev["tps"] is not None else float("nan")
+            status.progress(ev["tick"], ev["alive"], ev["robots"], float(tps), max_ticks)
+        elif ev.name == "done":
+            done = ev
+        if on_event is not None:
+            on_event(ev)
+
+    def on_output(raw: bytes) -> None:
         console_log.write(raw + b"\n")
         line = raw.decode(errors="replace").rstrip("\r")
-        m = PROGRESS.match(line)
-        if m:
-            status.progress(int(m[1]), int(m[2]), int(m[3]), float(m[4]), max_ticks)
+        if said.get(line):
+            said[line] -= 1
+            if not said[line]:
+                del said[line]
             return
-        if on_line is not None and on_line(line, status):
-            return
-        m = READY.match(line)
-        if m:
-            if on_ready:
-                on_ready()
-            return
-        m = DONE.match(line)
-        if m:
-            done = (int(m[1]), m[2])
-        elif line.strip():
+        if line.strip():
             pattern = re.sub(r"\b[0-9a-f]{32}\b|\d+", "#", line)
             seen[pattern] = seen.get(pattern, 0) + 1
             if seen[pattern] <= REPEATS_SHOWN:
@@ -601,26 +613,34 @@ def _follow(proc: "subprocess.Popen[bytes]", stop: StopFlag, status: Status, con
             elif seen[pattern] == REPEATS_SHOWN + 1:
                 status.line(f"{prefix}: ... (more lines like this in {os.path.basename(console_log.name)})")
 
-    while not stop:
+    handlers = {out: on_output, status_fd: on_status}
+    while bufs and not stop:
         if on_idle:
             on_idle()
-        ready, _, _ = select.select([fd], [], [], 0.2)
+        ready, _, _ = select.select(list(bufs), [], [], 0.2)
         if not ready:
             if proc.poll() is not None:
                 break
             continue
-        try:
-            chunk = os.read(fd, 65536)
-        except BlockingIOError:
-            continue
-        if not chunk:
-            break
-        buf += chunk
-        *lines, buf = buf.split(b"\n")
-        for raw in lines:
-            handle(raw)
-    if buf and not stop:
-        handle(buf)
+        # The world writes a moment's status line before its stdout line: read the status first.
+        for fd in sorted(ready, key=lambda f: f != status_fd):
+            try:
+                chunk = os.read(fd, 65536)
+            except BlockingIOError:
+                continue
+            if not chunk:  # closed: the world exited (or closed it); a last line without its newline counts
+                rest = bufs.pop(fd)
+                if rest:
+                    handlers[fd](rest)
+                continue
+            bufs[fd] += chunk
+            *lines, bufs[fd] = bufs[fd].split(b"\n")
+            for raw in lines:
+                handlers[fd](raw)
+    if not stop:
+        for fd in sorted(bufs, key=lambda f: f != status_fd):
+            if bufs[fd]:
+                handlers[fd](bufs[fd])
     console_log.flush()
     return done
 
@@ -632,6 +652,7 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
     status = Status()
     lease: Optional[domains.DomainLease] = None
     hosts: Optional[hosts_mod.Hosts] = None
+    status_pipe: list[int] = []  # the read end of the world's status channel, once made
     try:
         if args.in_process:
             return _run_in_process(args, stop, status, render_pictures)
@@ -696,7 +717,7 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
             view.extra += hosts.viewer_flags()
             procs.placement = hosts.agent_wrap
 
-        def start_agents() -> None:  # at the world's `world ready`: its mission is out
+        def start_agents() -> None:  # at the world's `ready` event: its mission is out
             connecting.start()
             view.start()
             for rid in range(n):
@@ -711,9 +732,18 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
         watch = AgentWatch(procs, logs, status)
         connecting = ConnectWatch(procs, logs, n, wait_s)
         started = time.monotonic()
-        ended: list[re.Match[str]] = []  # the world's `run ended` line, if it ended the run on a failure
+        ended: list[Event] = []  # the world's `run_ended`, if it ended the run on a failure
+        bad = world_status.BadLines()
         with CopyLog(os.path.join(logs, "world_console.log"), status) as console_log:
-            world = procs.start_world(cmd)
+            # The status channel: the world writes, the launcher reads. The launcher keeps no write end, so the
+            # read end sees end-of-file when the world exits; it stays open until the world has exited (the outer
+            # `finally`): a world still writing its last status while it stops must find a reader.
+            status_r, status_w = os.pipe()
+            status_pipe.append(status_r)
+            try:
+                world = procs.start_world(cmd + ["--status-fd", str(status_w)], status_w)
+            finally:
+                os.close(status_w)
             restarter = faults.Restarter(procs, agent_exe, domain, nonce, logs, write_agents, n)
 
             def idle() -> None:
@@ -721,17 +751,28 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
                 view.check()
                 connecting.check()
 
-            def on_line(line: str, st: Status) -> bool:
-                m = RUN_ENDED.match(line)
-                if m:
-                    ended.append(m)  # and shown as it is
-                return connecting.line(line, st) or restarter.handle(line, st)
+            def on_event(ev: Event) -> None:
+                if ev.name == "ready":
+                    start_agents()
+                elif ev.name == "run_ended":
+                    ended.append(ev)  # its human line is shown as it is
+                elif ev.name == "restart":
+                    restarter.restart(ev["id"], ev["tick"], status)
+                connecting.event(ev)
 
-            done = _follow(world, stop, status, console_log, max_ticks, on_ready=start_agents, on_idle=idle,
-                           on_line=on_line)
-            while world.poll() is None and not stop:  # its output closed; it should be exiting
+            done = _follow(world, stop, status, console_log, max_ticks, on_idle=idle, status_fd=status_r,
+                           on_event=on_event, bad=bad)
+            # Its output closed: it should be exiting. One that does not is stopped (the `finally` below).
+            deadline = time.monotonic() + WORLD_STOP_DEADLINE_S
+            while world.poll() is None and not stop and time.monotonic() < deadline:
                 time.sleep(0.1)
+            if world.poll() is None and not stop:
+                status.line(f"swarm: the world closed its output but had not exited {WORLD_STOP_DEADLINE_S:g} s "
+                            "later; stopping it")
+                procs.stop_world(WORLD_STOP_DEADLINE_S)
         status.end()
+        if bad.summary():
+            status.line(bad.summary() or "")
         procs.stop_viewer()
         if stop:
             return _interrupted(procs, stop, status, run_dir)
@@ -758,7 +799,7 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
                 status.line(f"swarm: {len(connecting.missing())} of {n} agents did not connect within {wait_s:g} s "
                             f"(--connect-timeout): {missing}")
             return code if code in (EXIT_BAD_INPUT, EXIT_AGENTS_MISSING, EXIT_RECORDING_FAILED) else EXIT_WORLD_FAILED
-        ticks = done[0] if done else "?"
+        ticks = done["ticks"] if done else "?"
         status.line(f"swarm: {ticks} ticks in {time.monotonic() - started:.1f} s; run directory {run_dir}")
         stop.restore()  # Ctrl-C while drawing just stops the drawing
         code = 0 if args.no_pictures else render_pictures(run_dir)
@@ -774,6 +815,8 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
         return _os_error_code(e)
     finally:
         procs.stop_world(WORLD_STOP_DEADLINE_S)
+        for fd in status_pipe:
+            os.close(fd)
         procs.stop_viewer()
         procs.kill_agents()
         _close_quietly(procs)
@@ -810,7 +853,7 @@ def _make_hosts(args: argparse.Namespace, status: Status, run_dir: str, robots: 
 
 
 class _ViewerStart:
-    """--view: the world gets a viewer token (and --start-paused for --view-paused); at `world ready` the viewer
+    """--view: the world gets a viewer token (and --start-paused for --view-paused); at the world's `ready` the viewer
     starts with the same token, and its URL is printed. A viewer that fails or dies is said once; the run goes on
     (the world forgets a viewer that went away: viewer_control.hpp)."""
 
@@ -925,11 +968,11 @@ def _end_reason(run_dir: str) -> Optional[str]:
         return None
 
 
-def _world_failure(code: int, run_dir: str, ended: "Optional[re.Match[str]]" = None) -> str:
-    """One line for a world that exited non-zero: why (summary.json's end_reason, else the world's own `run ended`
-    line, else the exit code or the signal that killed it), the file that failed and where the outcome is, and
+def _world_failure(code: int, run_dir: str, ended: Optional[Event] = None) -> str:
+    """One line for a world that exited non-zero: why (summary.json's end_reason, else the world's own `run_ended`
+    event, else the exit code or the signal that killed it), the file that failed and where the outcome is, and
     whether a recording is there to draw."""
-    reason = _end_reason(run_dir) or (ended[1] if ended else None)
+    reason = _end_reason(run_dir) or (ended["end_reason"] if ended else None)
     if code < 0:
         try:
             name = signal.Signals(-code).name
@@ -939,13 +982,13 @@ def _world_failure(code: int, run_dir: str, ended: "Optional[re.Match[str]]" = N
     elif reason:
         what = f"the run ended ({reason}): world_server exit {code}"
         if ended:  # the tick, the file and its error, in the world's words
-            what += f" at tick {ended[2]}: {ended[3]}"
+            what += f" at tick {ended['tick']}: {ended['what']}"
             summary = os.path.join(run_dir, "summary.json")
             if os.path.exists(summary):
-                cut = ", cut to the run's outcome" if ended[4] and "cut" in ended[4] else ""
+                cut = ", cut to the run's outcome" if ended.fields.get("summary_cut") is True else ""
                 what += f"; the outcome is in {summary}{cut}"
             else:
-                what += f"; no summary.json could be written ({ended[4] or 'the world said why above'})"
+                what += f"; no summary.json could be written ({ended['summary_note']})"
     else:
         what = f"world_server failed (exit {code})"
     if os.path.exists(os.path.join(run_dir, "robots.csv")):

@@ -1,5 +1,5 @@
-"""scripts/swarmform/faults.py without real processes: the launcher acts only on the world's `restart id=K
-tick=T` lines, refuses ids outside the run, starts the new agent and rewrites agents.json."""
+"""scripts/swarmform/faults.py without real processes: on the world's `restart` event the launcher refuses ids
+outside the run, starts the new agent and rewrites agents.json."""
 
 import json
 import os
@@ -59,14 +59,9 @@ class RestarterTest(unittest.TestCase):
     def tearDown(self):
         shutil.rmtree(self.dir)
 
-    def test_other_lines_are_not_taken(self):
-        for line in ("progress tick=3 alive=2/2 tps=1.0", "restart id=1", "restart id=x tick=3", "death id=1 tick=3"):
-            self.assertFalse(self.r.handle(line, self.status), line)
-        self.assertEqual(self.procs.started, [])
-
     def test_a_restart_line_starts_the_agent_and_updates_agents_json(self):
         old = self.procs.agents[1]
-        self.assertTrue(self.r.handle("restart id=1 tick=40", self.status))
+        self.r.restart(1, 40, self.status)
         self.assertTrue(old.killed, "the old agent is made sure of")
         self.assertEqual(self.procs.started, [("/bin/agent", 1, 7, "agent-1.log", "00000000000000ab")])
         with open(os.path.join(self.dir, "agents.json")) as f:
@@ -74,7 +69,7 @@ class RestarterTest(unittest.TestCase):
         self.assertEqual(self.status.lines, ["swarm: restarted agent 1 at tick 40 (pid 201)"])
 
     def test_an_id_outside_the_run_is_refused_with_a_message(self):
-        self.assertTrue(self.r.handle("restart id=5 tick=40", self.status))
+        self.r.restart(5, 40, self.status)
         self.assertEqual(self.procs.started, [])
         self.assertIn("has 2; ignored", self.status.lines[0])
 

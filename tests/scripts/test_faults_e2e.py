@@ -1,11 +1,13 @@
 """`scripts/swarm run --fault` against the real programs (BUILD_DIR): a scheduled restart after a kill makes the
 launcher start a new agent with that id, which proves its claim with the id's token and rejoins, while an agent
 started by hand may take a dead robot's id only with --open-rejoin (DDS test domain 47); an in-process run takes
-the same faults; a bad fault is refused by the world's check with the flag named, exit 2, no traceback. Every wait has
-a deadline and no process is left behind."""
+the same faults; a bad fault is refused by the world's check with the flag named, exit 2, no traceback. The world's
+status channel (--status-fd, docs/status-channel.md) is read here without the launcher: every moment a JSON line with
+its fields, the restart fault's included. Every wait has a deadline and no process is left behind."""
 
 import json
 import os
+import select
 import shutil
 import signal
 import subprocess
@@ -171,3 +173,169 @@ class FaultsEndToEndTest(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+def _read_status(fd, deadline_s, on_event):
+    """The status lines on `fd` until end-of-file (or the deadline: then the test fails on what came), each as
+    (raw bytes, parsed JSON or None); `on_event(obj)` sees each object as it comes."""
+    lines, buf = [], b""
+    end = time.monotonic() + deadline_s
+    while time.monotonic() < end:
+        ready, _, _ = select.select([fd], [], [], 0.2)
+        if not ready:
+            continue
+        chunk = os.read(fd, 65536)
+        if not chunk:
+            return lines, True
+        buf += chunk
+        *whole, buf = buf.split(b"\n")
+        for raw in whole:
+            try:
+                obj = json.loads(raw)
+            except ValueError:
+                obj = None
+            lines.append((raw, obj))
+            if isinstance(obj, dict):
+                on_event(obj)
+    return lines, False
+
+
+@unittest.skipUnless(os.access(os.path.join(BUILD_DIR, "world_server", "world_server"), os.X_OK) and
+                     os.access(os.path.join(BUILD_DIR, "robot_agent", "robot_agent"), os.X_OK),
+                     f"world_server and robot_agent are not built in {BUILD_DIR}")
+class StatusChannelTest(unittest.TestCase):
+    """world_server --status-fd (docs/status-channel.md), without the launcher: the test is the starter. Its
+    restart event is the one fault only a starter can carry out. DDS test domain 47 (this module's)."""
+
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="swarm-status-")
+        self.out = os.path.join(self.dir, "run")
+        os.makedirs(self.out)
+        self.agents: dict[int, subprocess.Popen] = {}
+        self.world = None
+
+    def tearDown(self):
+        for p in list(self.agents.values()) + ([self.world] if self.world else []):
+            if p.poll() is None:
+                p.kill()
+            p.wait(timeout=30)
+        shutil.rmtree(self.dir)
+
+    def run_world(self, robots, start_ids, *extra):
+        """Starts the world with a status pipe, and at `ready` the agents `start_ids` (their pids in agents.json);
+        returns the status lines (raw, parsed), whether end-of-file came, and the world's stdout lines."""
+        domain = helpers.test_domain(47)
+        agents_json = os.path.join(self.out, "agents.json")
+        r, w = os.pipe()
+        try:
+            with open(os.path.join(self.dir, "stdout"), "wb") as out, open(os.path.join(self.dir, "stderr"),
+                                                                            "wb") as err:
+                self.world = subprocess.Popen(
+                    [os.path.join(BUILD_DIR, "world_server", "world_server"), "--scenario", SCENARIO, "--robots",
+                     str(robots), "--out", self.out, "--domain", str(domain), "--agent-pids", agents_json,
+                     "--status-fd", str(w), *extra], stdin=subprocess.DEVNULL, stdout=out, stderr=err,
+                    pass_fds=(w,))
+        finally:
+            os.close(w)  # the world's is its only write end: end-of-file when it exits
+
+        def on_event(obj):
+            if obj.get("event") != "ready":
+                return
+            for rid in start_ids:
+                self.agents[rid] = subprocess.Popen(
+                    [os.path.join(BUILD_DIR, "robot_agent", "robot_agent"), "--id", str(rid), "--domain",
+                     str(domain), "--run-nonce", obj["run_nonce"], "--timeout", "60"],
+                    stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            with open(agents_json + ".tmp", "w") as f:
+                json.dump({str(k): p.pid for k, p in self.agents.items()}, f)
+            os.replace(agents_json + ".tmp", agents_json)
+
+        try:
+            lines, eof = _read_status(r, 150.0, on_event)
+        finally:
+            os.close(r)
+        self.world.wait(timeout=60)
+        with open(os.path.join(self.dir, "stdout"), encoding="utf-8") as f:
+            stdout = f.read().splitlines()
+        return lines, eof, stdout
+
+    def check_lines(self, lines, stdout):
+        """Every line a JSON object of version 1 with a known event and its documented fields (world_status.py
+        holds the table the launcher reads by), and every `line` printed on stdout as it says."""
+        from swarmform import world_status
+        evs = []
+        for raw, obj in lines:
+            self.assertIsInstance(obj, dict, raw)
+            self.assertEqual(obj["v"], 1, raw)
+            ev = world_status.parse(raw)
+            self.assertNotIsInstance(ev, str, f"{raw!r}: {ev}")
+            if "line" in obj:
+                self.assertIn(obj["line"], stdout)
+            evs.append(obj)
+        return evs
+
+    def test_a_run_says_each_moment_on_its_status_channel_as_a_json_line(self):
+        lines, eof, stdout = self.run_world(2, [0, 1], "--max-ticks", "60", "--run-nonce", "00000000000000ab",
+                                            "--connect-timeout", "60", "--fault", "kill:1@10", "--fault",
+                                            "restart:1@12")
+        self.assertTrue(eof, lines)
+        self.assertEqual(self.world.returncode, 0, lines)
+        evs = self.check_lines(lines, stdout)
+        names = [e["event"] for e in evs]
+        self.assertEqual(evs[0], {"v": 1, "event": "ready", "domain": helpers.test_domain(47),
+                                  "run_nonce": "00000000000000ab", "line": evs[0]["line"]})
+        self.assertEqual(sorted((e["id"], e["pid"]) for e in evs if e["event"] == "claimed"),
+                         [(0, self.agents[0].pid), (1, self.agents[1].pid)])
+        self.assertEqual([e["agents"] for e in evs if e["event"] == "connected"], [2])
+        self.assertLess(names.index("claimed"), names.index("connected"))
+        progress = [e for e in evs if e["event"] == "progress"]
+        self.assertTrue(progress, names)
+        self.assertEqual(progress[-1]["tick"], 60)
+        self.assertEqual(progress[-1]["robots"], 2)
+        self.assertEqual(progress[-1]["alive"], 1)  # robot 1 was killed; nobody started it again
+        restarts = [e for e in evs if e["event"] == "restart"]
+        self.assertEqual(len(restarts), 1, names)
+        self.assertEqual(restarts[0]["id"], 1)
+        self.assertGreaterEqual(restarts[0]["tick"], 12)
+        self.assertEqual(evs[-1]["event"], "done")
+        self.assertEqual((evs[-1]["ticks"], evs[-1]["run_dir"]), (60, self.out))
+        self.assertTrue(os.path.isfile(evs[-1]["summary"]))
+        self.assertNotIn("gave_up", names)
+        self.assertNotIn("run_ended", names)
+
+    def test_a_missing_agent_is_a_gave_up_event_naming_it(self):
+        lines, eof, stdout = self.run_world(2, [0], "--max-ticks", "60", "--connect-timeout", "3")
+        self.assertTrue(eof, lines)
+        self.assertEqual(self.world.returncode, 3, lines)
+        evs = self.check_lines(lines, stdout)
+        self.assertEqual([e["event"] for e in evs], ["ready", "claimed", "gave_up"])
+        gave_up = evs[-1]
+        self.assertEqual((gave_up["robots"], gave_up["claimed"], gave_up["missing"], gave_up["why"]),
+                         (2, 1, [1], "not_claimed"))
+        self.assertEqual(gave_up["timeout_s"], 3)
+
+    def test_a_status_fd_that_is_not_open_for_writing_is_refused(self):
+        for fd in ("1", "57"):
+            with self.subTest(fd=fd):
+                p = subprocess.run([os.path.join(BUILD_DIR, "world_server", "world_server"), "--scenario",
+                                    SCENARIO, "--out", self.out, "--status-fd", fd], capture_output=True, text=True,
+                                   timeout=60)
+                self.assertEqual(p.returncode, 2, p.stderr)
+                self.assertIn(f"--status-fd {fd}: not an open file descriptor", p.stderr)
+
+    def test_a_status_reader_that_has_gone_is_said_once_and_the_world_goes_on(self):
+        # The read end closed before the world writes: no SIGPIPE death; one line, then the world's own end
+        # (no agents here: exit 3 at the connect timeout).
+        r, w = os.pipe()
+        os.close(r)
+        try:
+            p = subprocess.run([os.path.join(BUILD_DIR, "world_server", "world_server"), "--scenario", SCENARIO,
+                                "--robots", "1", "--out", self.out, "--domain", str(helpers.test_domain(47)),
+                                "--connect-timeout", "1", "--status-fd", str(w)], capture_output=True, text=True,
+                               timeout=60, pass_fds=(w,))
+        finally:
+            os.close(w)
+        self.assertEqual(p.returncode, 3, p.stderr)
+        self.assertEqual(p.stderr.count(f"--status-fd {w}: cannot write (Broken pipe); no more status lines"), 1,
+                         p.stderr)
+        self.assertIn("world ready", p.stdout)

@@ -74,6 +74,45 @@ class LauncherTest(unittest.TestCase):
         self.assertFalse(os.path.exists(os.path.join(out, "pictures")))
         self.assert_all_gone(pids.values())
 
+    def test_the_launcher_follows_the_worlds_status_channel_not_its_printed_words(self):
+        # The same run with every human line of the world in other words: the agents still start at `ready`,
+        # the kill is still done, the run still ends at `done`; the reworded lines are logged, and those the
+        # status said the world printed for a moment shown here (ready, progress, done) are not echoed.
+        out = os.path.join(self.dir, "run")
+        r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "3", "--max-ticks", "40", "--kill",
+                          "1@20", "--out", out, "--domain", "77", "--no-pictures",
+                          env={"FAKE_AGENT_EXIT_S": "0.5", "FAKE_WORLD_HUMAN": "reworded"})
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(sorted(agent_pids(out)), [0, 1, 2])
+        with open(os.path.join(out, "world_args.json")) as f:
+            world_args = json.load(f)
+        fd = world_args[world_args.index("--status-fd") + 1]
+        self.assertRegex(fd, r"^\d+$")
+        self.assertIn("40 ticks in", r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
+        self.assertNotIn("not understood", r.stderr)
+        with open(os.path.join(out, "logs", "world_console.log")) as f:
+            console = f.read()
+        self.assertIn("[fake world, reworded]", console)
+        self.assertNotIn("world ready", console)
+        for words in ("YDAER DLROW", "SSERGORP", "SKCIT ENOD"):  # said on the status channel: logged, not shown
+            self.assertIn(words, console)
+            self.assertNotIn(words, r.stderr)
+        self.assertIn("DEMIALC", r.stderr)  # a claim's line is shown as it is
+        self.assert_all_gone(agent_pids(out).values())
+
+    def test_lines_on_the_status_channel_that_are_not_events_are_said_once_and_counted(self):
+        out = os.path.join(self.dir, "run")
+        r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "2", "--max-ticks", "20", "--out", out,
+                          "--no-pictures", env={"FAKE_AGENT_EXIT_S": "0.3", "FAKE_WORLD_BAD_STATUS": "1"})
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
+        self.assertEqual(r.stderr.count("was not understood"), 1, r.stderr)
+        self.assertIn("(not JSON): 'not json at all'", r.stderr)
+        self.assertIn("swarm: WARNING: 6 lines of the world's status channel were not understood and ignored",
+                      r.stderr)
+        self.assertIn("20 ticks in", r.stderr)
+
     def test_the_world_gets_the_runs_secret_and_each_agent_only_its_token(self):
         out = os.path.join(self.dir, "run")
         r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "3", "--max-ticks", "10", "--out", out,
