@@ -7,7 +7,7 @@
 #include <set>
 #include <tuple>
 
-#include "robot_agent/controller/drive.hpp"
+#include "robot_agent/controller/vec2_math.hpp"
 
 namespace swarmform::controller {
 
@@ -164,7 +164,7 @@ std::optional<LabelOffer> choose_offer(const std::vector<LabelOffer>& offers,
   std::vector<Pair> pairs;
   for (std::size_t o = 0; o < offers.size(); ++o) {
     for (const auto& s : searchers) {
-      pairs.push_back({norm(offers[o].place - s.position), s.id, offers[o].label, o});
+      pairs.push_back({vnorm(vsub(offers[o].place, s.position)), s.id, offers[o].label, o});
     }
   }
   std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {

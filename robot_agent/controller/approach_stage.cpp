@@ -4,8 +4,8 @@
 
 #include "common/splitmix64.hpp"
 #include "robot_agent/controller/boundary_episode.hpp"
-#include "robot_agent/controller/motion_math.hpp"
 #include "robot_agent/controller/obstacle_response.hpp"
+#include "robot_agent/controller/vec2_math.hpp"
 
 namespace swarmform::controller::motion {
 

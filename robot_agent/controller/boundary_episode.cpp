@@ -1,6 +1,6 @@
 #include "robot_agent/controller/boundary_episode.hpp"
 
-#include "robot_agent/controller/motion_math.hpp"
+#include "robot_agent/controller/vec2_math.hpp"
 
 namespace swarmform::controller::motion {
 

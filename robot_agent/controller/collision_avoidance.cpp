@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "robot_agent/controller/drive.hpp"
 #include "robot_agent/controller/obstacle_forces.hpp"
 #include "robot_agent/controller/paper_params.hpp"
+#include "robot_agent/controller/vec2_math.hpp"
 
 namespace swarmform::controller {
 
@@ -14,7 +14,7 @@ Vec2 collision_force(const std::vector<NeighbourPosition>& neighbours, double k_
   for (const auto& n : neighbours) {
     if (!(n.range < r_o)) continue;
     const double gap = std::max(std::abs(n.range - r_o), kSingularityFloor);
-    f = f + (-k_collision / (gap * gap)) * unit(n.azimuth);  // eq. (1)
+    f = vadd(f, vpolar(-k_collision / (gap * gap), n.azimuth));  // eq. (1)
   }
   return f;
 }
@@ -36,38 +36,39 @@ Vec2 avoid_collisions(Vec2 desired, const std::vector<NeighbourPosition>& neighb
     near = true;
     if (n.way != RightOfWay::Theirs) continue;
     const double w = weight(n.range);
-    const Vec2 towards = unit(n.azimuth);
-    v = v - (w * std::max(0.0, v.x * towards.x + v.y * towards.y)) * towards;
-    retreat = retreat + (-w * max_speed) * towards;
+    const Vec2 towards = vpolar(1.0, n.azimuth);
+    v = vsub(v, vscale(towards, w * std::max(0.0, vdot(v, towards))));
+    retreat = vadd(retreat, vscale(towards, -w * max_speed));
   }
   if (!near) return desired;
-  if (retreat.x != 0.0 || retreat.y != 0.0) v = limit(v + retreat, max_speed);  // else as before (motion)
-  const double speed = norm(v);
+  if (retreat.x != 0.0 || retreat.y != 0.0)
+    v = vclamp(vadd(v, retreat), max_speed);  // else as before (motion)
+  const double speed = vnorm(v);
   for (const auto& n : neighbours) {
     if (!(n.range < outer)) continue;
     if (n.way == RightOfWay::Ours) continue;  // it gives way; eq. (1) below keeps us apart
     const double w = weight(n.range);
-    const Vec2 towards = unit(n.azimuth);
-    const double closing = v.x * towards.x + v.y * towards.y;
+    const Vec2 towards = vpolar(1.0, n.azimuth);
+    const double closing = vdot(v, towards);
     if (closing <= 0.0) continue;
     // No more progress into the neighbour: go round it, at the desired speed, on the side the goal is on
     // (on the right when the goal is straight behind it, so two robots meeting head-on do not mirror each
     // other).
     const Vec2 right{towards.y, -towards.x};
-    const double side = v.x * right.x + v.y * right.y;
+    const double side = vdot(v, right);
     // A committed side: always that side of an echo; for a robot heard, that side when the goal is (nearly)
     // straight behind it, instead of the right.
     bool go_right = side >= -0.2 * closing;
     if (side_choice != 0 && n.echo) go_right = side_choice > 0;
     if (side_choice < 0 && !n.echo) go_right = side > 0.2 * closing;
     const Vec2 tangent = go_right ? right : Vec2{-right.x, -right.y};
-    Vec2 g = v - closing * towards;
-    g = g - (g.x * tangent.x + g.y * tangent.y) * tangent + speed * tangent;
-    v = (1.0 - w) * v + w * g;
+    Vec2 g = vsub(v, vscale(towards, closing));
+    g = vadd(vsub(g, vscale(tangent, vdot(g, tangent))), vscale(tangent, speed));
+    v = vadd(vscale(v, 1.0 - w), vscale(g, w));
   }
   // eq. (1), capped at the speed limit so that going round still has a say (the sum is limited below).
-  const Vec2 repulsion = limit(collision_force(neighbours, k_collision, r_o), max_speed);
-  return limit(v + repulsion, max_speed);
+  const Vec2 repulsion = vclamp(collision_force(neighbours, k_collision, r_o), max_speed);
+  return vclamp(vadd(v, repulsion), max_speed);
 }
 
 std::vector<NeighbourPosition> unexplained_echoes(const std::array<double, kUltrasonicCount>& readings,

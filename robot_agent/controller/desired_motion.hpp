@@ -17,9 +17,9 @@
 #include <optional>
 
 #include "common/types.hpp"
-#include "robot_agent/controller/motion_math.hpp"
 #include "robot_agent/controller/motion_params.hpp"
 #include "robot_agent/controller/neighbours.hpp"
+#include "robot_agent/controller/vec2_math.hpp"
 
 namespace swarmform::controller::motion {
 

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "robot_agent/controller/vec2_math.hpp"
+
 namespace swarmform::controller {
 
 namespace {
@@ -13,40 +15,6 @@ namespace {
 constexpr double kTurnGain = 3.0;
 
 }  // namespace
-
-double wrap_angle(double a) {
-  constexpr double kPi = std::numbers::pi;
-  constexpr double kTwoPi = 2.0 * std::numbers::pi;
-  // Fast paths, bit-identical to std::remainder (which costs ~100 instructions and was 7% of an in-process
-  // tick at N=1000): for |a| <= pi it returns a; for pi < |a| < 2.5 pi it takes exactly one 2 pi off, and
-  // that subtraction is exact in floating point there (Sterbenz). Sums of two wrapped angles land here.
-  if (a > -kPi && a <= kPi) return a;
-  if (a > kPi && a < 2.5 * kPi) {
-    a -= kTwoPi;
-  } else if (a < -kPi && a > -2.5 * kPi) {
-    a += kTwoPi;
-    if (a == 0.0) a = -0.0;  // remainder keeps the sign of a: wrap(-2 pi) is -0
-  } else {
-    if (!std::isfinite(a)) return 0.0;
-    a = std::remainder(a, kTwoPi);  // [-pi, pi]
-  }
-  if (a <= -kPi) a += kTwoPi;
-  return a;
-}
-
-double norm(Vec2 a) {
-  return std::hypot(a.x, a.y);
-}
-
-Vec2 unit(double a) {
-  return {std::cos(a), std::sin(a)};
-}
-
-Vec2 limit(Vec2 v, double max_len) {
-  const double n = norm(v);
-  if (!(n > max_len) || n == 0.0) return v;
-  return (max_len / n) * v;
-}
 
 WheelSpeeds clamp_wheels(WheelSpeeds w, double max_speed) {
   if (!std::isfinite(w.left) || !std::isfinite(w.right)) return {};
@@ -60,7 +28,7 @@ WheelSpeeds clamp_wheels(WheelSpeeds w, double max_speed) {
 }
 
 WheelSpeeds drive_velocity(Vec2 velocity, double heading, double max_speed, bool may_reverse) {
-  const double speed = std::min(norm(velocity), max_speed);
+  const double speed = std::min(vnorm(velocity), max_speed);
   if (!(speed > 1e-9)) return {};
   double error = wrap_angle(std::atan2(velocity.y, velocity.x) - heading);
   double direction = 1.0;

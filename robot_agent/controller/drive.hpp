@@ -25,23 +25,4 @@ WheelSpeeds turn_towards(double target_heading, double heading, double max_speed
 // Clamps both wheels into [-max_speed, max_speed] keeping their ratio (so the curvature is kept).
 WheelSpeeds clamp_wheels(WheelSpeeds w, double max_speed);
 
-// Wraps an angle to (-pi, pi].
-double wrap_angle(double a);
-
-// Vec2 helpers used across the controller.
-inline Vec2 operator+(Vec2 a, Vec2 b) {
-  return {a.x + b.x, a.y + b.y};
-}
-inline Vec2 operator-(Vec2 a, Vec2 b) {
-  return {a.x - b.x, a.y - b.y};
-}
-inline Vec2 operator*(double k, Vec2 a) {
-  return {k * a.x, k * a.y};
-}
-double norm(Vec2 a);
-// A unit vector at angle `a` (rad).
-Vec2 unit(double a);
-// `v` with its length limited to `max_len`.
-Vec2 limit(Vec2 v, double max_len);
-
 }  // namespace swarmform::controller

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "robot_agent/controller/motion_math.hpp"
+#include "robot_agent/controller/vec2_math.hpp"
 
 namespace swarmform::controller::motion {
 

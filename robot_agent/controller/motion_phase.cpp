@@ -9,11 +9,11 @@
 #include "robot_agent/controller/boundary.hpp"
 #include "robot_agent/controller/collision_avoidance.hpp"
 #include "robot_agent/controller/leader_election.hpp"
-#include "robot_agent/controller/motion_math.hpp"
 #include "robot_agent/controller/motion_section.hpp"
 #include "robot_agent/controller/obstacle_response.hpp"
 #include "robot_agent/controller/obstacle_view.hpp"
 #include "robot_agent/controller/parent_tree.hpp"
+#include "robot_agent/controller/vec2_math.hpp"
 
 namespace swarmform::controller::motion {
 

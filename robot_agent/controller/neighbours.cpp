@@ -2,8 +2,8 @@
 
 #include <utility>
 
-#include "robot_agent/controller/drive.hpp"
 #include "robot_agent/controller/sorted_search.hpp"
+#include "robot_agent/controller/vec2_math.hpp"
 
 namespace swarmform::controller {
 

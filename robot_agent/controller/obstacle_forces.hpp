@@ -32,7 +32,7 @@
 #include <vector>
 
 #include "common/types.hpp"
-#include "robot_agent/controller/motion_math.hpp"
+#include "robot_agent/controller/vec2_math.hpp"
 
 namespace swarmform::controller::motion {
 

@@ -9,6 +9,7 @@
 #include "robot_agent/controller/drive.hpp"
 #include "robot_agent/controller/label_timeout.hpp"
 #include "robot_agent/controller/reserve.hpp"
+#include "robot_agent/controller/vec2_math.hpp"
 
 namespace swarmform::controller {
 
@@ -53,8 +54,8 @@ struct PlacesAround {
 PlacesAround places_around(const std::vector<Vec2>& places, Vec2 pos) {
   PlacesAround a;
   for (const auto& pl : places) {
-    a.centroid = a.centroid + (1.0 / static_cast<double>(places.size())) * pl;
-    const double d = norm(pl - pos);
+    a.centroid = vadd(a.centroid, vscale(pl, 1.0 / static_cast<double>(places.size())));
+    const double d = vnorm(vsub(pl, pos));
     if (d < a.nearest) {
       a.nearest = d;
       a.nearest_place = pl;
@@ -65,9 +66,9 @@ PlacesAround places_around(const std::vector<Vec2>& places, Vec2 pos) {
 
 // A spare leaves the shape's area at full speed: away from its centroid (from the nearest place when on it).
 Vec2 leave_the_shape(Vec2 pos, const PlacesAround& a, double max_speed) {
-  Vec2 away = pos - a.centroid;
-  if (norm(away) < 1e-6) away = pos - a.nearest_place;
-  return (max_speed / std::max(norm(away), 1e-9)) * away;
+  Vec2 away = vsub(pos, a.centroid);
+  if (vnorm(away) < 1e-6) away = vsub(pos, a.nearest_place);
+  return vscale(away, max_speed / std::max(vnorm(away), 1e-9));
 }
 
 }  // namespace
@@ -87,9 +88,10 @@ void PaperController::init(const Mission& mission, RobotId self) {
   if (!motion_) motion_ = make_motion_phases(params_);
   const auto places = table_.places({}, params_.shape_heading);
   Vec2 centroid;
-  for (const auto& pl : places) centroid = centroid + (1.0 / static_cast<double>(places.size())) * pl;
+  for (const auto& pl : places)
+    centroid = vadd(centroid, vscale(pl, 1.0 / static_cast<double>(places.size())));
   shape_radius_ = 0.0;
-  for (const auto& pl : places) shape_radius_ = std::max(shape_radius_, norm(pl - centroid));
+  for (const auto& pl : places) shape_radius_ = std::max(shape_radius_, vnorm(vsub(pl, centroid)));
   reset();
 }
 
@@ -260,7 +262,7 @@ Vec2 PaperController::searching_step(const Perception& p) {
   const auto seed_status = label_status(stigmergy_, 0).kind;
   const bool first_election = seed_status == LabelStatus::Kind::Unclaimed && !has_origin_;
   const bool re_election = seed_status == LabelStatus::Kind::Freed && has_origin_;
-  election_.update(self_, re_election ? norm(pos - origin_) : norm(pos), neighbours_, tick_,
+  election_.update(self_, re_election ? vnorm(vsub(pos, origin_)) : vnorm(pos), neighbours_, tick_,
                    params_.seed_settle);
   if ((first_election || re_election) && election_.candidate() == self_ &&
       election_.settled(tick_, params_.seed_settle)) {
@@ -308,27 +310,28 @@ Vec2 PaperController::searching_step(const Perception& p) {
     if (spare && nearest < kSpareClearance * s) {
       v = leave_the_shape(pos, around, params_.max_speed);
     } else if (nearest < kSearcherClearance * s) {
-      const Vec2 away = pos - around.nearest_place;
-      v = (params_.k_move * (kSearcherClearance * s - nearest) / std::max(norm(away), 1e-9)) * away;
+      const Vec2 away = vsub(pos, around.nearest_place);
+      v = vscale(away, params_.k_move * (kSearcherClearance * s - nearest) / std::max(vnorm(away), 1e-9));
     } else if (!spare && tick_ > last_offer_tick_ + static_cast<Tick>(params_.neighbour_timeout)) {
       double best = 1e18;
       Vec2 target;
       for (int l = 0; l < table_.size(); ++l) {
         if (label_status(stigmergy_, l).kind == LabelStatus::Kind::Held) continue;
-        const double d = norm(places[static_cast<std::size_t>(l)] - pos);
+        const double d = vnorm(vsub(places[static_cast<std::size_t>(l)], pos));
         if (d < best) {
           best = d;
           target = places[static_cast<std::size_t>(l)];
         }
       }
       if (best < 1e17 && best > kApproachDistance * s) {
-        v = limit(params_.k_move * (best - kApproachDistance * s) * ((1.0 / best) * (target - pos)),
-                  params_.max_speed);
+        v = vclamp(
+            vscale(vscale(vsub(target, pos), 1.0 / best), params_.k_move * (best - kApproachDistance * s)),
+            params_.max_speed);
       }
     }
   }
   fresh_neighbour_positions();
-  return avoid_collisions(limit(v, params_.max_speed), with_echoes(p, echo_range()), params_.k_collision,
+  return avoid_collisions(vclamp(v, params_.max_speed), with_echoes(p, echo_range()), params_.k_collision,
                           params_.r_o, params_.max_speed);
 }
 
@@ -342,7 +345,7 @@ Vec2 PaperController::reserve_step(const Perception& p) {
   int vacancy = -1;
   double vacancy_distance = 1e18;
   for (int l : vacant_labels(stigmergy_, table_.size(), holder_since_, tick_, params_.label_timeout)) {
-    const double d = norm(places[static_cast<std::size_t>(l)] - pos);
+    const double d = vnorm(vsub(places[static_cast<std::size_t>(l)], pos));
     if (d < vacancy_distance) {
       vacancy = l;
       vacancy_distance = d;
@@ -354,7 +357,7 @@ Vec2 PaperController::reserve_step(const Perception& p) {
         std::none_of(neighbours_.all().begin(), neighbours_.all().end(), [&](const auto& entry) {
           const auto& [id, n] = entry;
           if (n.last_heard != tick_ || n.message.state != RobotState::Searching) return false;
-          const double d = norm(Vec2{n.message.pose.x, n.message.pose.y} - place);
+          const double d = vnorm(vsub(Vec2{n.message.pose.x, n.message.pose.y}, place));
           return d < vacancy_distance || (d == vacancy_distance && id < self_);
         });
     if (nearest) {
@@ -376,11 +379,11 @@ Vec2 PaperController::reserve_step(const Perception& p) {
   } else {
     // Unheard, it walks to the goal itself: where the shape is, or will be, within radio range.
     const Vec2 to =
-        (shape_heard ? trailing_point(centre, shape_radius_, mission_.goal, pos, s) : mission_.goal) - pos;
-    if (norm(to) > 0.5 * s) v = limit(params_.k_move * to, params_.max_speed);
+        vsub(shape_heard ? trailing_point(centre, shape_radius_, mission_.goal, pos, s) : mission_.goal, pos);
+    if (vnorm(to) > 0.5 * s) v = vclamp(vscale(to, params_.k_move), params_.max_speed);
   }
   fresh_neighbour_positions();
-  return avoid_collisions(limit(v, params_.max_speed), with_echoes(p, echo_range()), params_.k_collision,
+  return avoid_collisions(vclamp(v, params_.max_speed), with_echoes(p, echo_range()), params_.k_collision,
                           params_.r_o, params_.max_speed);
 }
 
@@ -548,8 +551,8 @@ void PaperController::free_seed_label() {
 Vec2 PaperController::moving_step(const Perception& p) {
   const Vec2 pos = position(p.pose);
   const Vec2 target = table_.place(label_, origin_, params_.shape_heading);
-  const Vec2 error = target - pos;
-  const double distance = norm(error);
+  const Vec2 error = vsub(target, pos);
+  const double distance = vnorm(error);
   if (distance < params_.reach_tolerance) {
     state_ = RobotState::Reached;
     reached_tick_ = tick_;
@@ -595,7 +598,7 @@ Vec2 PaperController::moving_step(const Perception& p) {
     // kDetourTicks, then the place again.
     if (go_round_side_ != 0) {
       const double a = std::uniform_real_distribution<double>(-std::numbers::pi, std::numbers::pi)(rng_);
-      detour_ = position(p.pose) + kDetourDistance * unit(a);
+      detour_ = vadd(position(p.pose), vpolar(kDetourDistance, a));
       detour_until_ = tick_ + kDetourTicks;
       event("detour " + std::to_string(label_));
     }
@@ -605,8 +608,8 @@ Vec2 PaperController::moving_step(const Perception& p) {
   }
   Vec2 heading_for = error;
   if (detour_) {
-    const Vec2 to_detour = *detour_ - position(p.pose);
-    if (tick_ >= detour_until_ || norm(to_detour) < 0.15) {
+    const Vec2 to_detour = vsub(*detour_, position(p.pose));
+    if (tick_ >= detour_until_ || vnorm(to_detour) < 0.15) {
       detour_.reset();
       best_distance_ = distance;
       progress_tick_ = tick_;
@@ -614,7 +617,7 @@ Vec2 PaperController::moving_step(const Perception& p) {
       heading_for = to_detour;
     }
   }
-  const Vec2 v = limit(params_.k_move * heading_for, params_.max_speed);
+  const Vec2 v = vclamp(vscale(heading_for, params_.k_move), params_.max_speed);
   // Echoes from nearer than the place (the echo point, a body radius beyond the reading): a body, a wall or
   // an obstacle on the way, not one standing just beyond the place.
   return avoid_collisions(v, with_echoes(p, std::min(echo_range(), distance - kRobotRadius)),
@@ -635,13 +638,13 @@ const std::vector<NeighbourPosition>& PaperController::with_echoes(const Percept
 
 std::optional<WheelSpeeds> PaperController::reached_step(const Perception& p) {
   const Vec2 pos = position(p.pose);
-  const Vec2 error = table_.place(label_, origin_, params_.shape_heading) - pos;
+  const Vec2 error = vsub(table_.place(label_, origin_, params_.shape_heading), pos);
   WheelSpeeds wheels;
   const double heading_error = wrap_angle(params_.shape_heading - p.pose.theta);
-  if (blocked_ticks_ < kBlockedPlaceTicks && norm(error) > 2.0 * params_.reach_tolerance) {
+  if (blocked_ticks_ < kBlockedPlaceTicks && vnorm(error) > 2.0 * params_.reach_tolerance) {
     // Pushed off its place: back to it without leaving the state.
-    wheels =
-        drive_velocity(limit(params_.k_move * error, params_.max_speed), p.pose.theta, params_.max_speed);
+    wheels = drive_velocity(vclamp(vscale(error, params_.k_move), params_.max_speed), p.pose.theta,
+                            params_.max_speed);
   } else if (std::abs(heading_error) > params_.heading_tolerance) {
     wheels = turn_towards(params_.shape_heading, p.pose.theta, params_.max_speed);
   } else if (!barrier_contains(stigmergy_, self_) ||
@@ -754,7 +757,7 @@ RobotMessage PaperController::compose_message(const Perception& p, const std::ve
   m.has_origin = has_origin_;
   m.origin = origin_;
   m.seed_candidate = state_ == RobotState::Searching ? election_.candidate() : self_;
-  m.seed_distance = state_ == RobotState::Searching ? election_.distance() : norm(position(p.pose));
+  m.seed_distance = state_ == RobotState::Searching ? election_.distance() : vnorm(position(p.pose));
   m.seed_age = state_ == RobotState::Searching ? election_.age() : 0;
   if (in_shape_before_ready(state_) && !reserve_)
     m.free_labels = free_grid_labels(table_, label_, stigmergy_, neighbours_);

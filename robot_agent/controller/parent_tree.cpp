@@ -9,7 +9,7 @@
 #include <queue>
 #include <utility>
 
-#include "robot_agent/controller/motion_math.hpp"
+#include "robot_agent/controller/vec2_math.hpp"
 
 namespace swarmform::controller::motion {
 

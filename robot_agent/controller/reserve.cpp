@@ -5,8 +5,8 @@
 #include <utility>
 
 #include "robot_agent/controller/allotment.hpp"
-#include "robot_agent/controller/drive.hpp"
 #include "robot_agent/controller/motion_phase.hpp"
+#include "robot_agent/controller/vec2_math.hpp"
 
 namespace swarmform::controller {
 
@@ -104,20 +104,20 @@ std::optional<Vec2> moving_origin(const NeighbourTable& neighbours, const Pose2D
     if (!neighbours.fresh(n) || !in_motion_phases(n.message.state) || n.message.label < 0 ||
         n.message.label >= table.size())
       continue;
-    const Vec2 at{self.x + n.range * std::cos(n.azimuth), self.y + n.range * std::sin(n.azimuth)};
-    sum = sum + (at - table.place(n.message.label, {}, shape_heading));
+    const Vec2 at = vadd(Vec2{self.x, self.y}, vpolar(n.range, n.azimuth));
+    sum = vadd(sum, vsub(at, table.place(n.message.label, {}, shape_heading)));
     ++count;
   }
   if (count == 0) return std::nullopt;
-  return (1.0 / static_cast<double>(count)) * sum;
+  return vscale(sum, 1.0 / static_cast<double>(count));
 }
 
 Vec2 trailing_point(Vec2 centre, double radius, Vec2 goal, Vec2 self, double spacing) {
   const double keep = radius + 1.5 * spacing;
-  Vec2 away = centre - goal;                      // behind the shape, seen from the goal
-  if (norm(away) < radius) away = self - centre;  // at the goal: stay on its own side
-  if (norm(away) < 1e-9) away = {-1.0, 0.0};
-  return centre + (keep / norm(away)) * away;
+  Vec2 away = vsub(centre, goal);                       // behind the shape, seen from the goal
+  if (vnorm(away) < radius) away = vsub(self, centre);  // at the goal: stay on its own side
+  if (vnorm(away) < 1e-9) away = {-1.0, 0.0};
+  return vadd(centre, vscale(away, keep / vnorm(away)));
 }
 
 }  // namespace swarmform::controller

@@ -10,7 +10,7 @@
 
 #include "common/mission.hpp"
 #include "robot_agent/controller/builtins.hpp"
-#include "robot_agent/controller/drive.hpp"
+#include "robot_agent/controller/vec2_math.hpp"
 
 namespace swarmform::controller::testing {
 

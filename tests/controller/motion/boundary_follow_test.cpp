@@ -8,8 +8,8 @@
 #include <optional>
 #include <vector>
 
-#include "robot_agent/controller/motion_math.hpp"
 #include "robot_agent/controller/obstacle_forces.hpp"
+#include "robot_agent/controller/vec2_math.hpp"
 #include "robot_agent/controller/wall_follow.hpp"
 
 namespace swarmform::controller::motion {

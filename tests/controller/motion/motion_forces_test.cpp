@@ -7,8 +7,8 @@
 
 #include "robot_agent/controller/formation_forces.hpp"
 #include "robot_agent/controller/goal_force.hpp"
-#include "robot_agent/controller/motion_math.hpp"
 #include "robot_agent/controller/obstacle_forces.hpp"
+#include "robot_agent/controller/vec2_math.hpp"
 #include "robot_agent/controller/wall_follow.hpp"
 
 namespace swarmform::controller::motion {

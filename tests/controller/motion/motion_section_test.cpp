@@ -5,9 +5,9 @@
 #include <limits>
 #include <numbers>
 
-#include "robot_agent/controller/motion_math.hpp"
 #include "robot_agent/controller/motion_section.hpp"
 #include "robot_agent/controller/obstacle_forces.hpp"
+#include "robot_agent/controller/vec2_math.hpp"
 
 namespace swarmform::controller::motion {
 namespace {

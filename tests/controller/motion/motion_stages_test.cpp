@@ -14,11 +14,11 @@
 #include "robot_agent/controller/boundary_episode.hpp"
 #include "robot_agent/controller/desired_motion.hpp"
 #include "robot_agent/controller/message.hpp"
-#include "robot_agent/controller/motion_math.hpp"
 #include "robot_agent/controller/obstacle_response.hpp"
 #include "robot_agent/controller/obstacle_view.hpp"
 #include "robot_agent/controller/place_watch.hpp"
 #include "robot_agent/controller/progress_window.hpp"
+#include "robot_agent/controller/vec2_math.hpp"
 
 namespace swarmform::controller::motion {
 namespace {

@@ -13,8 +13,8 @@
 #include <random>
 
 #include "common/shape.hpp"
-#include "robot_agent/controller/motion_math.hpp"
 #include "robot_agent/controller/parent_tree.hpp"
+#include "robot_agent/controller/vec2_math.hpp"
 
 namespace swarmform::controller::motion {
 namespace {

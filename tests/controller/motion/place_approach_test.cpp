@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "robot_agent/controller/motion_math.hpp"
 #include "robot_agent/controller/obstacle_forces.hpp"
 #include "robot_agent/controller/place_approach.hpp"
+#include "robot_agent/controller/vec2_math.hpp"
 #include "robot_agent/controller/wall_follow.hpp"
 
 namespace swarmform::controller::motion {

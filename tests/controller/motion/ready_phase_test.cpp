@@ -9,8 +9,8 @@
 
 #include "robot_agent/controller/boundary.hpp"
 #include "robot_agent/controller/leader_election.hpp"
-#include "robot_agent/controller/motion_math.hpp"
 #include "robot_agent/controller/parent_tree.hpp"
+#include "robot_agent/controller/vec2_math.hpp"
 
 namespace swarmform::controller::motion {
 namespace {
