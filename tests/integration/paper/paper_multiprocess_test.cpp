@@ -128,13 +128,15 @@ class PaperMultiProcess : public swarmform::testing::ProcessFixture {
     return Json::parse(read_file(path(name) + "/summary.json"));
   }
 
-  // Every agent SIGSTOPped at once for `seconds` about a second into the run (mid-formation), the world
+  // Every agent SIGSTOPped at once for `seconds` 0.1 s into the run (early in the formation), the world
   // awake; then SIGCONT. Every agent is continued whatever happens (no stopped process outlives the test).
+  // Not later: on an idle host the whole paper run takes under a second after the agents connect, and a stop
+  // 1 s in came after the world had exited ("the run ended before the agents could be stopped").
   static void stop_all_for(Process& world, const std::vector<Process*>& agents, double seconds) {
     ASSERT_TRUE(swarmform::testing::eventually(60.0, [&] {
       return world.out().find("connected agents=") != std::string::npos || !world.running();
     }));
-    std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
     ASSERT_TRUE(world.running()) << "the run ended before the agents could be stopped";
     for (Process* a : agents) ::kill(a->pid(), SIGSTOP);
     std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
