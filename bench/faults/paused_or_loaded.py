@@ -2,11 +2,11 @@
 """bench/faults/paused_or_loaded.py BUILD_DIR DOMAIN OUT_DIR [CASE ...]: the paper's lockstep run
 (scenarios/paper.yaml, world_server plus 9 robot_agent processes, the world given every agent's pid as the
 launcher gives it) undisturbed, on a loaded host, or with every agent SIGSTOPped at once mid-formation; prints
-one row per case: its trajectory_sha256, whether it is tests/golden's paper hash, end_reason, deaths, rejoins
-and alive_at_end (docs/faults.md "Paused or loaded").
+one row per case: its trajectory_sha256, whether it is tests/golden's paper hash, end_reason, deaths, rejoins,
+stragglers (agent_stalled events) and alive_at_end (docs/faults.md "Paused or loaded").
 
 CASE: `none`; `load` or `load:K` (K CPU-spinning processes per core, default 4, each in a session of its own,
-for the run's whole length); `pause:S` (every agent stopped for S seconds, 1 s after every agent connected).
+for the run's whole length); `pause:S` (every agent stopped for S seconds, 0.1 s after every agent connected: the run lasts about a second on an idle host).
 Default: none load pause:0.7 pause:1 pause:2. REPEAT (environment, default 1): runs of each case. Every
 process it starts is killed by pid at the end; every wait has a deadline.
 """
@@ -69,7 +69,7 @@ def run_case(build, domain, out, case, n):
                     if "connected agents=" in f.read():
                         break
                 time.sleep(0.05)
-            time.sleep(1.0)
+            time.sleep(0.1)
             for a in agents:
                 os.kill(a.pid, signal.SIGSTOP)
             time.sleep(seconds)
@@ -88,7 +88,10 @@ def run_case(build, domain, out, case, n):
         kill_all(hogs + agents + ([world] if world else []))
     try:
         with open(os.path.join(run_dir, "run", "summary.json")) as f:
-            return json.load(f)
+            summary = json.load(f)
+        with open(os.path.join(run_dir, "run", "events.jsonl"), encoding="utf-8", errors="replace") as f:
+            summary["stalled"] = sum(1 for line in f if '"kind":"agent_stalled"' in line.replace(" ", ""))
+        return summary
     except (OSError, ValueError) as e:
         return {"error": str(e)}
 
@@ -102,16 +105,16 @@ def main():
     with open(os.path.join(ROOT, "tests", "golden", "golden.json")) as f:
         golden = json.load(f)["paper"]["sha256"]
     os.makedirs(out, exist_ok=True)
-    print("| case | trajectory_sha256 | = golden | end_reason | deaths | rejoins | alive_at_end | wall s |")
-    print("| --- | --- | --- | --- | --- | --- | --- | --- |")
+    print("| case | trajectory_sha256 | = golden | end_reason | deaths | rejoins | stragglers | alive_at_end | wall s |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for n, case in enumerate([c for c in cases for _ in range(int(os.environ.get("REPEAT", "1")))]):
         s = run_case(build, domain, out, case, n)
         if "error" in s:
-            print(f"| {case} | no summary: {s['error']} | | | | | | |", flush=True)
+            print(f"| {case} | no summary: {s['error']} | | | | | | | |", flush=True)
             continue
         sha = s.get("trajectory_sha256", "")
         print(f"| {case} | `{sha[:12]}` | {'yes' if sha == golden else 'no'} | {s.get('end_reason')} | "
-              f"{len(s.get('deaths', []))} | {len(s.get('rejoins', []))} | {s.get('alive_at_end')}/{ROBOTS} | "
+              f"{len(s.get('deaths', []))} | {len(s.get('rejoins', []))} | {s['stalled']} | {s.get('alive_at_end')}/{ROBOTS} | "
               f"{s.get('wall_seconds', 0):.1f} |", flush=True)
     return 0
 
