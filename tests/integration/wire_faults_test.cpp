@@ -16,6 +16,7 @@
 #include <set>
 #include <sstream>
 #include <thread>
+#include <utility>
 
 #include "common/exit_codes.hpp"
 #include "tests/integration/issued_run.hpp"
@@ -112,6 +113,8 @@ class WireFaults : public swarmform::testing::ProcessFixture {
   }
   // Once the world has printed a progress line, the run is ticking.
   static bool ticking(Process& w) { return w.out().find("progress tick=") != std::string::npos; }
+  std::vector<Process*> resume_agent_3_after_the_end(int domain, const std::string& name,
+                                                     std::vector<std::string> flags, int ticks);
   static void stall(pid_t pid, std::chrono::milliseconds how_long) {
     ASSERT_EQ(::kill(pid, SIGSTOP), 0);
     std::this_thread::sleep_for(how_long);
@@ -313,24 +316,42 @@ TEST_F(WireFaults, AgentTakenForDeadWhileItsWorldWaitsRejoinsWithoutAPacket) {
   EXPECT_EQ(summary("waiting")["alive_at_end"], 3);
 }
 
+// Runs `name` (world flags `flags`, `ticks` ticks) with agent 3 SIGSTOPped mid-run until the world has
+// exited, then continued: it finds its END waiting and exits 0 on its own within 4 s, saying the run ended at
+// tick `ticks` without it. Returns the agents for the caller's checks of the others.
+std::vector<Process*> WireFaults::resume_agent_3_after_the_end(int domain, const std::string& name,
+                                                               std::vector<std::string> flags, int ticks) {
+  Process& w = world(domain, name, std::move(flags));
+  std::vector<Process*> as = agents(domain, name);
+  if (!eventually(kRunDeadline, [&] { return ticking(w) || !w.running(); })) {
+    ADD_FAILURE() << "the run never ticked: " << w.out();
+    return as;
+  }
+  if (!w.running()) {
+    ADD_FAILURE() << "the run ended before the fault: make it longer";
+    return as;
+  }
+  EXPECT_EQ(::kill(as[3]->pid(), SIGSTOP), 0);
+  EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_NE(w.out().find("death id=3 tick="), std::string::npos) << w.out();
+  EXPECT_EQ(::kill(as[3]->pid(), SIGCONT), 0);
+  EXPECT_EQ(as[3]->wait_for(4.0), 0) << as[3]->err();
+  EXPECT_NE(as[3]->err().find("robot_agent 3: the run ended at tick " + std::to_string(ticks) +
+                              " without this robot"),
+            std::string::npos)
+      << as[3]->err();
+  return as;
+}
+
 // An agent taken for dead that resumes only after the run has ended (stopped until the world has exited; the
 // world does not know its pid, so nothing tells its stop from a death) finds its END waiting and exits 0 on
 // its own, its log saying why, well within the launcher's 5 s. Before, the world told only the agents it
 // held alive: this one waited out its 10 s world timeout (the launcher SIGKILLed it at 5 s, its log empty).
 TEST_F(WireFaults, AnAgentThatResumesAfterTheRunEndedFindsItsEndAndSaysWhy) {
   const int domain = swarmform::testing::test_domain(36);
-  Process& w = world(domain, "late", {"--max-ticks", std::to_string(kLongRun)});
-  std::vector<Process*> as = agents(domain, "late");
-  ASSERT_TRUE(eventually(kRunDeadline, [&] { return ticking(w) || !w.running(); })) << w.out();
-  ASSERT_TRUE(w.running()) << "the run ended before the fault: make it longer";
-  ASSERT_EQ(::kill(as[3]->pid(), SIGSTOP), 0);
-  EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
-  EXPECT_NE(w.out().find("death id=3 tick="), std::string::npos) << w.out();
-  ASSERT_EQ(::kill(as[3]->pid(), SIGCONT), 0);
-  EXPECT_EQ(as[3]->wait_for(4.0), 0) << as[3]->err();
-  EXPECT_NE(as[3]->err().find("robot_agent 3: the run ended at tick " + std::to_string(kLongRun) +
-                              " without this robot: its last packet was for tick "),
-            std::string::npos)
+  const std::vector<Process*> as =
+      resume_agent_3_after_the_end(domain, "late", {"--max-ticks", std::to_string(kLongRun)}, kLongRun);
+  EXPECT_NE(as[3]->err().find(" without this robot: its last packet was for tick "), std::string::npos)
       << as[3]->err();
   for (int i = 0; i < kRobots; ++i) {
     if (i == 3) continue;
@@ -343,18 +364,8 @@ TEST_F(WireFaults, AnAgentThatResumesAfterTheRunEndedFindsItsEndAndSaysWhy) {
 // to agent 3 before its death come in with its END when it resumes; it still tells the END from them.
 TEST_F(WireFaults, ARealtimeAgentThatResumesAfterTheRunEndedFindsItsEndAndSaysWhy) {
   const int domain = swarmform::testing::test_domain(37);
-  Process& w = world(domain, "late-rt", {"--mode", "realtime", "--max-ticks", "60"});
-  std::vector<Process*> as = agents(domain, "late-rt");
-  ASSERT_TRUE(eventually(kRunDeadline, [&] { return ticking(w) || !w.running(); })) << w.out();
-  ASSERT_TRUE(w.running()) << "the run ended before the fault: make it longer";
-  ASSERT_EQ(::kill(as[3]->pid(), SIGSTOP), 0);
-  EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
-  EXPECT_NE(w.out().find("death id=3 tick="), std::string::npos) << w.out();
-  ASSERT_EQ(::kill(as[3]->pid(), SIGCONT), 0);
-  EXPECT_EQ(as[3]->wait_for(4.0), 0) << as[3]->err();
-  EXPECT_NE(as[3]->err().find("robot_agent 3: the run ended at tick 60 without this robot"),
-            std::string::npos)
-      << as[3]->err();
+  const std::vector<Process*> as =
+      resume_agent_3_after_the_end(domain, "late-rt", {"--mode", "realtime", "--max-ticks", "60"}, 60);
   for (int i = 0; i < kRobots; ++i) {
     if (i == 3) continue;
     EXPECT_EQ(as[i]->wait_for(15.0), 0) << i << ": " << as[i]->err();
