@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <random>
 
@@ -118,7 +119,7 @@ int Server::fail(world::EndReason reason, const std::string& what, int code) {
     std::cerr << "world_server: could not announce the end to the agents: " << e.what() << "\n";
   }
   session_.set_end_reason(reason);
-  note_input_dropped();
+  note_summary_fields();
   std::string summary;
   bool summary_ok = false;
   try {
@@ -152,7 +153,7 @@ int Server::run_inner() {
   if (!connect_agents()) {
     announce_end();
     session_.set_end_reason(stopping() ? world::EndReason::Interrupted : world::EndReason::NoAgents);
-    note_input_dropped();
+    note_summary_fields();
     session_.finish(0.0);
     return stopping() ? kExitOk : kExitAgentsMissing;
   }
@@ -167,7 +168,7 @@ int Server::run_inner() {
   announce_end();
   progress(true);
   if (stopping()) session_.set_end_reason(world::EndReason::Interrupted);
-  note_input_dropped();
+  note_summary_fields();
   session_.finish(
       wall, world::SteadyWindow{options_.warmup_ticks, steady_start_ ? to_s(end - steady_start_) : 0.0});
   if (stopping())
@@ -361,6 +362,7 @@ void Server::pump(bool running) {
     it = first_answer_due_.erase(it);
   }
   for (const dds::PublicationHandle w : expired_) on_dead(w, running);
+  if (const auto g = mass_.close(stalls_.awake())) report_mass_loss(*g);
   if (!stragglers_.empty() && stragglers_.recheck_due(dds_time())) check_stragglers();
   if (viewer_) viewer_->poll(dds_time());
 }
@@ -415,6 +417,37 @@ void Server::check_telemetry_of(RobotId id) {
   if (*n > 1) text += "; x" + std::to_string(*n) + " commands (logged once a second a writer)";
   session_.record_event(id, "telemetry_dropped", text);
   std::cerr << "world_server: " << text << "\n";
+}
+
+void Server::note_summary_fields() {
+  note_input_dropped();
+  // A group still open at the end is closed now: its window cannot take more deaths.
+  if (const auto g = mass_.close(std::numeric_limits<dds_time_t>::max())) report_mass_loss(*g);
+  nlohmann::ordered_json losses = nlohmann::ordered_json::array();
+  for (const MassLoss::Group& g : mass_.groups()) {
+    losses.push_back({{"tick", g.tick},
+                      {"robots", g.robots},
+                      {"within_ms", static_cast<double>(g.last - g.first) / 1e6},
+                      {"processes_present", g.processes_present}});
+  }
+  session_.set_summary_field("mass_losses", std::move(losses));
+}
+
+void Server::report_mass_loss(const MassLoss::Group& g) {
+  std::string ids;
+  for (const RobotId id : g.robots) ids += (ids.empty() ? "" : ", ") + std::to_string(id);
+  char within[32];
+  std::snprintf(within, sizeof within, "%.0f", static_cast<double>(g.last - g.first) / 1e6);
+  const std::string n = std::to_string(g.robots.size());
+  const std::string detail = n + " robots (" + ids + ") lost their liveliness within " + within +
+                             " ms of each other from tick " + std::to_string(g.tick) + ", " +
+                             std::to_string(g.processes_present) + " of their processes still there: " +
+                             "one event of the host (load, a stopped group of processes, a suspended "
+                             "machine, a cut link) rather than " +
+                             n + " independent deaths";
+  session_.record_event(-1, "mass_loss", detail);
+  std::cout << "mass_loss robots=" << n << " tick=" << g.tick << " processes_present=" << g.processes_present
+            << std::endl;
 }
 
 void Server::note_input_dropped() {
@@ -652,6 +685,11 @@ void Server::on_dead(dds::PublicationHandle writer, bool running, const char* wh
   }
   session_.record_event(*id, "death_detected", detail);
   std::cout << "death id=" << *id << " tick=" << world_.tick() << std::endl;
+  if (!why) {  // its liveliness lapsed (not an exit the world saw): it may be one of many lost together
+    const auto pid = agent_pid(*id);
+    const bool present = pid && process_state(*pid) == ProcessState::Present;
+    if (const auto g = mass_.died(*id, world_.tick(), stalls_.awake(), present)) report_mass_loss(*g);
+  }
 }
 
 void Server::on_regained(dds::PublicationHandle writer, bool running) {

@@ -22,6 +22,7 @@
 #include "world_server/dds_bridge.hpp"
 #include "world_server/input_guard.hpp"
 #include "world_server/late_commands.hpp"
+#include "world_server/mass_loss.hpp"
 #include "world_server/process_faults.hpp"
 #include "world_server/robot_slot.hpp"
 #include "world_server/run/end_reason.hpp"
@@ -162,7 +163,11 @@ class Server {
               bool to_stderr);
   // An owner's telemetry checked before the world takes it (telemetry_check.hpp).
   void check_telemetry_of(RobotId id);
+  // The summary's fields of the world_server alone: input_dropped and mass_losses.
+  void note_summary_fields();
   void note_input_dropped();
+  // One `mass_loss` event and stdout line for a group of robots lost together (mass_loss.hpp).
+  void report_mass_loss(const MassLoss::Group& g);
 
   const world::Scenario& scenario_;
   ServerOptions options_;
@@ -173,6 +178,7 @@ class Server {
   WorldLink link_;
   StallGuard stalls_;
   Stragglers stragglers_;
+  MassLoss mass_;
   dds::RefusalLog refusals_;
   std::vector<dds::PublicationHandle> expired_;
   std::vector<RobotSlot> robots_;  // by id

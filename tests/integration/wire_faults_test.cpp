@@ -373,6 +373,36 @@ TEST_F(WireFaults, ARealtimeAgentThatResumesAfterTheRunEndedFindsItsEndAndSaysWh
   }
 }
 
+// Realtime keeps its deadlines: agents stopped together past their lease are dead. But the run says what it
+// was, one event of the host: one mass_loss event and one summary entry naming all 8 robots, their processes
+// all still there (the world knows their pids, as the launcher tells it). Before: 8 deaths and nothing else.
+TEST_F(WireFaults, RealtimeAgentsStoppedTogetherAreOneMassLossNotEightIndependentDeaths) {
+  const int domain = swarmform::testing::test_domain(37);
+  const std::vector<Process*> as = agents(domain, "mass");
+  std::vector<std::string> flags = {"--mode", "realtime", "--max-ticks", "60"};
+  for (int i = 0; i < kRobots; ++i)
+    flags.insert(flags.end(), {"--agent-pid", std::to_string(i) + "=" + std::to_string(as[i]->pid())});
+  Process& w = world(domain, "mass", flags);
+  ASSERT_TRUE(eventually(kRunDeadline, [&] { return ticking(w) || !w.running(); })) << w.out();
+  ASSERT_TRUE(w.running()) << "the run ended before the fault: make it longer";
+  for (Process* a : as) ASSERT_EQ(::kill(a->pid(), SIGSTOP), 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // three leases
+  for (Process* a : as) ASSERT_EQ(::kill(a->pid(), SIGCONT), 0);
+  EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  for (int i = 0; i < kRobots; ++i) EXPECT_TRUE(as[i]->wait_for(15.0).has_value()) << i;
+  const Json s = summary("mass");
+  EXPECT_EQ(s["deaths"].size(), static_cast<std::size_t>(kRobots)) << s["deaths"].dump();
+  ASSERT_EQ(s["mass_losses"].size(), 1u) << s["mass_losses"].dump();
+  const Json& g = s["mass_losses"][0];
+  std::set<int> robots;
+  for (const auto& id : g["robots"]) robots.insert(id.get<int>());
+  EXPECT_EQ(robots.size(), static_cast<std::size_t>(kRobots)) << g.dump();
+  EXPECT_EQ(g["processes_present"], kRobots) << g.dump();
+  EXPECT_LE(g["within_ms"].get<double>(), 500.0) << g.dump();
+  EXPECT_TRUE(has_event("mass", "mass_loss", -1));
+  EXPECT_NE(w.out().find("mass_loss robots=8 "), std::string::npos) << w.out();
+}
+
 // Realtime: agent 4 stalls, is taken for dead, and an agent restarted by hand claims id 4. The old one,
 // resumed, is told by the world's packets (another owner) and exits 5 with a clear message; it used to run to
 // the end.
