@@ -14,7 +14,7 @@
 
 #include "common/dds/cyclone_config.hpp"
 #include "common/dds/participant.hpp"
-#include "tests/integration/test_domain.hpp"
+#include "tests/support/test_domain.hpp"
 
 namespace {
 

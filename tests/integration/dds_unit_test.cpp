@@ -7,7 +7,7 @@
 
 #include "common/dds/cyclone_config.hpp"
 #include "common/dds/robot_block.hpp"
-#include "tests/integration/test_domain.hpp"
+#include "tests/support/test_domain.hpp"
 #include "world_server/agent_registry.hpp"
 
 namespace {

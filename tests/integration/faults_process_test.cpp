@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "tests/integration/process.hpp"
-#include "tests/integration/process_fixture.hpp"
-#include "tests/integration/test_domain.hpp"
+#include "tests/support/process.hpp"
+#include "tests/support/process_fixture.hpp"
+#include "tests/support/test_domain.hpp"
 
 namespace {
 

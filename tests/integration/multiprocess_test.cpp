@@ -1,5 +1,5 @@
 // Multi-process integration tests: the real world_server and robot_agent executables over DDS on
-// loopback. Each test has its own DDS domain (test_domain(k), tests/integration/test_domain.hpp), kills every
+// loopback. Each test has its own DDS domain (test_domain(k), tests/support/test_domain.hpp), kills every
 // process it started by pid (Process's destructor) and bounds every wait. The scenario: 8 random walkers,
 // lockstep, 300 ticks (random_walk_8.yaml).
 #include <gtest/gtest.h>
@@ -21,8 +21,8 @@
 #include <thread>
 
 #include "common/exit_codes.hpp"
-#include "tests/integration/process_fixture.hpp"
-#include "tests/integration/test_domain.hpp"
+#include "tests/support/process_fixture.hpp"
+#include "tests/support/test_domain.hpp"
 
 namespace {
 

@@ -24,7 +24,7 @@
 #include "common/dds/participant.hpp"
 #include "common/dds/robot_channels.hpp"
 #include "common/dds/waiter.hpp"
-#include "tests/integration/test_domain.hpp"
+#include "tests/support/test_domain.hpp"
 
 namespace {
 

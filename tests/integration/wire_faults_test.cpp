@@ -1,7 +1,7 @@
 // Stalls, identity and the wire on real processes (docs/wire.md, docs/faults.md): stalls that are not deaths,
 // a stalled agent that rejoins afresh, an agent that lost its id, forged packets from another participant,
 // and samples of another wire version or run. Domains: test_domain(36) and (37)
-// (tests/integration/test_domain.hpp); every wait has a deadline and every process is SIGKILLed by pid at the
+// (tests/support/test_domain.hpp); every wait has a deadline and every process is SIGKILLed by pid at the
 // end (ProcessFixture).
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -20,8 +20,8 @@
 
 #include "common/exit_codes.hpp"
 #include "tests/integration/issued_run.hpp"
-#include "tests/integration/process_fixture.hpp"
-#include "tests/integration/test_domain.hpp"
+#include "tests/support/process_fixture.hpp"
+#include "tests/support/test_domain.hpp"
 
 namespace {
 

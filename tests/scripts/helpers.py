@@ -16,7 +16,7 @@ sys.path.insert(0, os.path.join(ROOT, "scripts"))
 
 def test_domain(offset):
     """The DDS domain of a networked test: SWARMFORM_TEST_DOMAIN_BASE (default 100) + offset, the scheme and the
-    offsets' table of tests/integration/test_domain.hpp (a window of 64 domains per build; 38-39 are the launcher's
+    offsets' table of tests/support/test_domain.hpp (a window of 64 domains per build; 38-39 are the launcher's
     free-domain picker's, in test_launcher_e2e's concurrent runs)."""
     text = os.environ.get("SWARMFORM_TEST_DOMAIN_BASE") or "100"
     if not text.isdigit() or int(text) > 232 - 64 + 1:

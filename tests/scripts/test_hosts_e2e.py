@@ -18,7 +18,7 @@ agents in network namespaces of their own, over real UDP through a bridge.
 After every run: no namespace, link, pid file or process of the run is left (asserted).
 
 Needs root and the root network namespace (namespaces made from inside another do not work): each test skips with
-the reason otherwise. DDS test domains 56-57 (tests/integration/test_domain.hpp). Every wait has a deadline.
+the reason otherwise. DDS test domains 56-57 (tests/support/test_domain.hpp). Every wait has a deadline.
 """
 
 import asyncio

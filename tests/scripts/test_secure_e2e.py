@@ -1,5 +1,5 @@
 """`swarm run --secure` against the real world_server and robot_agent (BUILD_DIR), on DDS test domains 60 and 61
-(tests/integration/test_domain.hpp). Participants outside the run are tests/integration/outsider.cpp.
+(tests/support/test_domain.hpp). Participants outside the run are tests/integration/outsider.cpp.
 
 - the paper's scenario, lockstep, arrives under DDS Security; every private key is 0600, the directory 0700,
   the CA's key gone;

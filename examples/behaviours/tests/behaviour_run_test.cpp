@@ -3,7 +3,7 @@
 // in-process run's trajectory_sha256 (both modes load the same plug-in through the registry). A parameter out
 // of the plug-in's bounds is file:line; a plug-in outside the allowed folders is refused by the world, the
 // harness and the agent; a plug-in that fails is a dead robot multi-process and a clear end in-process. DDS
-// domain offsets 48..51 (tests/integration/test_domain.hpp).
+// domain offsets 48..51 (tests/support/test_domain.hpp).
 #include <gtest/gtest.h>
 
 #include <csignal>
@@ -12,8 +12,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "tests/integration/process_fixture.hpp"
-#include "tests/integration/test_domain.hpp"
+#include "tests/support/process_fixture.hpp"
+#include "tests/support/test_domain.hpp"
 
 namespace {
 

@@ -4,7 +4,7 @@
 // SIGKILL of a parent makes its children re-parent and arrive. Whom to kill and when comes from a clean run
 // of the same deterministic scenario (lockstep: the killed run is that run up to the kill); bursty loss gives
 // the in-process trajectory bit for bit. Each test has its own DDS domain (test_domain(16..20),
-// tests/integration/test_domain.hpp; the bursty-loss test shares 16), kills every process it started by pid
+// tests/support/test_domain.hpp; the bursty-loss test shares 16), kills every process it started by pid
 // (Process's destructor), bounds every wait.
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -20,8 +20,8 @@
 #include <sstream>
 #include <thread>
 
-#include "tests/integration/process_fixture.hpp"
-#include "tests/integration/test_domain.hpp"
+#include "tests/support/process_fixture.hpp"
+#include "tests/support/test_domain.hpp"
 
 namespace {
 

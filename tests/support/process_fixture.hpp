@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "tests/integration/process.hpp"
+#include "tests/support/process.hpp"
 
 namespace swarmform::testing {
 
