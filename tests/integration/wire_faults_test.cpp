@@ -148,9 +148,15 @@ TEST_F(WireFaults, WorldStalledThreeSecondsInLockstepKillsNobodyAndChangesNothin
   EXPECT_EQ(stalled, baseline);
   const Json s = summary("stalled");
   EXPECT_EQ(s["deaths"].size(), 0u) << s["deaths"].dump();
-  EXPECT_NE(read_file(path("stalled-world.err")).find("world_server: the world itself stalled 1 time(s)"),
-            std::string::npos)
-      << read_file(path("stalled-world.err"));
+  // The 3 s stop is one of the world's own stalls; a loaded host may add short ones of its own (seen: 4 in
+  // all), so the count is at least 1 and the time at least the stop's, less the loop's 250 ms allowance.
+  const std::string err = read_file(path("stalled-world.err"));
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(
+      err, m, std::regex(R"(the world itself stalled (\d+) time\(s\), ([0-9.]+) s in all)")))
+      << err;
+  EXPECT_GE(std::stoi(m[1]), 1) << err;
+  EXPECT_GE(std::stod(m[2]), 2.7) << err;
   EXPECT_EQ(s["alive_at_end"], kRobots);
 }
 
