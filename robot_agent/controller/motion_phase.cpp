@@ -20,8 +20,6 @@ namespace swarmform::controller::motion {
 namespace {
 
 constexpr double kResumeFactor = 2.0;  // x arrival_tolerance off its target: an arrived leader moves again
-// x the radio range: a member this near that is not heard is dead, not out of range (both death rules).
-constexpr double kWellInsideRange = 0.8;
 
 std::uint32_t boundary_key(RobotId id) {
   return stig::key(stig::Ns::Boundary, id);
@@ -191,7 +189,7 @@ void PaperMotion::judge_boundary(const FormationContext& ctx) {
   }
 }
 
-// A member we heard since Ready, last heard well inside radio range, silent for neighbour_timeout: dead.
+// A member we heard since Ready, last heard well inside radio range, silent for its silence limit: dead.
 // A live robot marked dead by a mistaken neighbour rewrites its own entry (a newer version wins).
 void PaperMotion::watch_for_the_dead(const FormationContext& ctx) {
   Stigmergy& st = *ctx.stigmergy;
@@ -200,8 +198,7 @@ void PaperMotion::watch_for_the_dead(const FormationContext& ctx) {
   for (const auto& [id, last] : last_position_) {
     if (id == ctx.self || ctx.members.count(id) == 0) continue;
     const auto heard = ctx.neighbours->last_heard(id);
-    if (!heard || *heard < ready_tick_ || ctx.tick < *heard + static_cast<Tick>(p_.neighbour_timeout))
-      continue;
+    if (!heard || *heard < ready_tick_ || ctx.tick < *heard + ctx.neighbours->silence_limit(id)) continue;
     const auto pos = last_position_.find(id);
     const double last_range = vnorm(vsub(pos->second, {ctx.pose.x, ctx.pose.y}));
     if (last_range > kWellInsideRange * p_.comm_range) continue;  // it may simply have drifted out of range
@@ -405,11 +402,12 @@ bool PaperMotion::should_resume(const FormationContext& ctx) const {
   return section && !section->arrived;
 }
 
-// The parent is alive as far as the shared table says, but has not been heard for neighbour_timeout ticks.
+// The parent is alive as far as the shared table says, but has not been heard for its silence limit
+// (neighbour_timeout, or longer on a link that has come back from longer losses: neighbours.hpp).
 bool PaperMotion::parent_lost(const FormationContext& ctx) const {
   if (!parent_) return false;
   const auto heard = ctx.neighbours->last_heard(*parent_);
-  return !heard || ctx.tick >= *heard + static_cast<Tick>(p_.neighbour_timeout);
+  return !heard || ctx.tick >= *heard + ctx.neighbours->silence_limit(*parent_);
 }
 
 // eq. (2) at the end of Ready: the vector to every neighbour as it stands now.

@@ -1,5 +1,7 @@
 #include "robot_agent/controller/neighbours.hpp"
 
+#include <algorithm>
+#include <limits>
 #include <utility>
 
 #include "robot_agent/controller/sorted_search.hpp"
@@ -98,6 +100,7 @@ void NeighbourTable::update(const Perception& perception, RobotId self, std::uin
       continue;
     }
     if (status_[where_[k]] == kDropped) status_[where_[k]] = kKnown;  // a later good copy in the same tick
+    if (status_[where_[k]] == kKnown) learn_gap(reading.sender, n, reading.range);
     n.id = reading.sender;
     n.range = reading.range;
     n.bearing = reading.bearing;
@@ -109,12 +112,37 @@ void NeighbourTable::update(const Perception& perception, RobotId self, std::uin
   remove_dropped_and_expired();
 }
 
+NeighbourTable NeighbourTable::learning_losses(int timeout_ticks, double comm_range, double max_speed,
+                                               double tick_rate) {
+  NeighbourTable t(timeout_ticks);
+  const double within = kWellInsideRange * comm_range;
+  // Robots that cannot move cannot leave the range: every silence is a loss (bounded to stay a Tick).
+  const double out_and_back_ticks = max_speed > 0.0 ? (comm_range - within) / max_speed * tick_rate
+                                                    : std::numeric_limits<double>::infinity();
+  t.learn_loss_gaps(within, static_cast<Tick>(std::min(out_and_back_ticks, 1e9)));
+  return t;
+}
+
+void NeighbourTable::learn_gap(RobotId id, const Neighbour& before, double range_now) {
+  if (learn_within_ <= 0.0 || before.last_heard + 1 >= now_) return;  // learning off, or heard last tick
+  const Tick gap = now_ - before.last_heard - 1;
+  if (gap > learn_max_gap_ || before.range > learn_within_ || range_now > learn_within_) return;
+  if (gap > loss_gaps_.find(id).value_or(0)) loss_gaps_.set(id, gap);
+}
+
+Tick NeighbourTable::silence_limit(RobotId id) const {
+  const Tick timeout = static_cast<Tick>(timeout_);
+  if (loss_gaps_.size() == 0) return timeout;
+  return std::max(timeout, 2 * loss_gaps_.find(id).value_or(0));
+}
+
 void NeighbourTable::remove_dropped_and_expired() {
   std::size_t kept = 0;
   for (std::size_t i = 0; i < live_.size(); ++i) {
     auto& entry = live_[i];
     if (status_[i] == kDropped) continue;
-    if (now_ - entry.second.last_heard >= static_cast<Tick>(timeout_)) {
+    const Tick silence = now_ - entry.second.last_heard;
+    if (silence >= static_cast<Tick>(timeout_) && silence >= silence_limit(entry.first)) {
       expired_.set(entry.first, entry.second.last_heard);
       continue;
     }
@@ -158,6 +186,7 @@ void NeighbourTable::clear() {
   ids_.clear();
   heard_entries_.clear();
   expired_.clear();
+  loss_gaps_.clear();
   now_ = 0;
   dropped_ = 0;
 }

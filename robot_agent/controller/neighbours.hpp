@@ -1,6 +1,7 @@
 // The neighbours a robot hears, as Buzz's `neighbors` structure: id -> last range, bearing, decoded message
-// and the tick it was last heard. A neighbour silent for `neighbour_timeout` ticks is dropped (taken for
-// gone or dead). The tick each id was last heard is kept after expiry too: the label-freeing rule needs to
+// and the tick it was last heard. A neighbour silent for its silence limit is dropped (taken for gone or
+// dead): `neighbour_timeout` ticks, or twice the longest loss its link has come back from (learn_loss_gaps,
+// silence_limit). The tick each id was last heard is kept after expiry too: the label-freeing rule needs to
 // know that a robot was heard once and then fell silent (allotment.hpp).
 #pragma once
 
@@ -14,6 +15,10 @@
 #include "robot_agent/controller/message.hpp"
 
 namespace swarmform::controller {
+
+// x the radio range: a neighbour last heard this near that is not heard now is lost or dead, not out of range
+// (the motion's death rules, and the loss gaps a link learns from).
+inline constexpr double kWellInsideRange = 0.8;
 
 struct Neighbour {
   RobotId id = 0;
@@ -70,6 +75,11 @@ using NeighbourList = std::vector<std::pair<RobotId, Neighbour>>;
 class NeighbourTable {
  public:
   explicit NeighbourTable(int timeout_ticks = 20) : timeout_(timeout_ticks) {}
+  // A table that learns each link's losses (learn_loss_gaps) where its neighbour cannot have left radio range
+  // meanwhile: heard before and after well inside it, and back sooner than two robots, each at `max_speed`,
+  // could have opened the rest of the range between them and closed it again.
+  static NeighbourTable learning_losses(int timeout_ticks, double comm_range, double max_speed,
+                                        double tick_rate);
 
   // Takes this tick's readings: decodes each message (our own id is skipped; an undecodable or forged one
   // is dropped and counted, and its sender with it, remembered as last heard at its last good tick), then
@@ -79,7 +89,21 @@ class NeighbourTable {
   // it after the others' newer entries still changes nothing). 0 keeps every message's entries.
   void update(const Perception& perception, RobotId self, std::uint64_t own_digest = 0);
 
-  // Neighbours heard within the timeout.
+  // A real radio loses packets in bursts: a link silent for longer than neighbour_timeout may be alive (a
+  // Gilbert-Elliott link of 20 % loss in bursts of mean 5 ticks is silent 20 ticks or more about once in 70
+  // bursts). Learn from each link what it has come back from: a silence that ended with the neighbour
+  // heard again, both before and after it within `within_range` metres, and no longer than `max_gap` ticks
+  // (the shortest time in which a neighbour that near could have left radio range and come back: a longer
+  // one may have been out of range, not lost). 0 metres: learn nothing (every limit is the timeout).
+  void learn_loss_gaps(double within_range, Tick max_gap) {
+    learn_within_ = within_range;
+    learn_max_gap_ = max_gap;
+  }
+  // How long `id` may stay silent before it is taken for gone: the timeout, or twice the longest loss its
+  // link has come back from (the margin of a burst length's geometric tail).
+  Tick silence_limit(RobotId id) const;
+
+  // Neighbours heard within their silence limit.
   const NeighbourList& all() const { return live_; }
   // The stigmergy entries `n` sent this tick (none when it was not heard this tick, or when its table had
   // the receiver's digest). They are decoded into one buffer of the table's, not into each neighbour's
@@ -109,6 +133,8 @@ class NeighbourTable {
   // Removes the entries flagged kDropped and the neighbours silent for the timeout, keeping ids_ beside
   // live_.
   void remove_dropped_and_expired();
+  // learn_loss_gaps' rule, for a known neighbour heard again (`before`: its entry as it was).
+  void learn_gap(RobotId id, const Neighbour& before, double range_now);
 
   int timeout_;
   Tick now_ = 0;
@@ -128,6 +154,10 @@ class NeighbourTable {
   // The tick each expired neighbour was last heard (a live one's is in live_): written only on expiry,
   // not for each message heard.
   IdTicks expired_;
+  // id -> the longest silence learned from its link (learn_loss_gaps); kept after expiry.
+  IdTicks loss_gaps_;
+  double learn_within_ = 0.0;
+  Tick learn_max_gap_ = 0;
   std::uint64_t dropped_ = 0;
 };
 

@@ -117,7 +117,8 @@ void PaperController::reset() {
   last_heartbeat_ = 0;
   last_member_heard_ = 0;
   reached_tick_ = 0;
-  neighbours_ = NeighbourTable(params_.neighbour_timeout);
+  neighbours_ = NeighbourTable::learning_losses(params_.neighbour_timeout, params_.comm_range,
+                                                params_.max_speed, params_.tick_rate);
   stigmergy_ = Stigmergy(self_);
   election_.reset();
   barrier_at_ready_ = {};

@@ -23,10 +23,10 @@ RobotMessage message_from(RobotId id, std::uint64_t digest = 0) {
   return m;
 }
 
-Perception heard(Tick tick, const std::vector<RobotMessage>& messages) {
+Perception heard(Tick tick, const std::vector<RobotMessage>& messages, double range = 1.0) {
   Perception p;
   p.tick = tick;
-  for (const auto& m : messages) p.messages.push_back({m.sender, 1.0, 0.5, encode_message(m)});
+  for (const auto& m : messages) p.messages.push_back({m.sender, range, 0.5, encode_message(m)});
   return p;
 }
 
@@ -164,6 +164,47 @@ TEST(NeighbourTable, KeepsEachNeighboursEntriesOfThisTickApartAndDropsThoseOfABa
 // IdTicks (the expired neighbours' ticks, an open-addressing table) finds what a std::map of the same sets
 // finds: random ids, clustered and spread (0, the largest id, ids that collide in a small table), re-sets of
 // an id, growth through many sizes, and clears.
+// A radio that loses packets in bursts: a link that came back from a 15-tick loss is given twice that before
+// its neighbour is taken for gone (neighbours.hpp, learn_loss_gaps); without learning the timeout stands.
+TEST(NeighbourTable, ALinkThatCameBackFromALongLossKeepsItsNeighbourTwiceThatLong) {
+  NeighbourTable learning(20);
+  learning.learn_loss_gaps(2.4, 60);
+  NeighbourTable fixed(20);
+  for (NeighbourTable* t : {&learning, &fixed}) {
+    t->update(heard(1, {message_from(3)}), 0);
+    t->update(heard(17, {message_from(3)}), 0);  // ticks 2..16 lost: a gap of 15
+    t->update(heard(18, {message_from(3)}), 0);
+    t->update(heard(18 + 25, {}), 0);  // silent 25 ticks
+  }
+  EXPECT_EQ(learning.silence_limit(3), 30u);
+  EXPECT_EQ(fixed.silence_limit(3), 20u);
+  EXPECT_EQ(ids(learning), (std::vector<RobotId>{3}));
+  EXPECT_TRUE(ids(fixed).empty());
+  learning.update(heard(18 + 30, {}), 0);
+  EXPECT_TRUE(ids(learning).empty()) << "silent for its limit: gone";
+  EXPECT_EQ(learning.last_heard(3), Tick{18});
+}
+
+// Only a loss the neighbour cannot have spent out of radio range is learned: heard well inside the range
+// before and after it, and shorter than the way out of range and back.
+TEST(NeighbourTable, ASilenceNearTheRangesEdgeOrLongerThanTheWayOutAndBackIsNotLearned) {
+  NeighbourTable near_edge(20);
+  near_edge.learn_loss_gaps(2.4, 60);
+  near_edge.update(heard(1, {message_from(3)}, 2.9), 0);
+  near_edge.update(heard(17, {message_from(3)}, 1.0), 0);
+  EXPECT_EQ(near_edge.silence_limit(3), 20u) << "last heard beyond 2.4 m: it may have been out of range";
+  NeighbourTable slow_way(20);
+  slow_way.learn_loss_gaps(2.4, 10);
+  slow_way.update(heard(1, {message_from(3)}), 0);
+  slow_way.update(heard(17, {message_from(3)}), 0);
+  EXPECT_EQ(slow_way.silence_limit(3), 20u) << "15 ticks > 10: long enough to go out of range and back";
+  NeighbourTable short_loss(20);
+  short_loss.learn_loss_gaps(2.4, 60);
+  short_loss.update(heard(1, {message_from(3)}), 0);
+  short_loss.update(heard(6, {message_from(3)}), 0);
+  EXPECT_EQ(short_loss.silence_limit(3), 20u) << "twice a 4-tick loss is within the timeout";
+}
+
 TEST(IdTicks, FindsWhatAMapFinds) {
   std::mt19937 rng(11);
   IdTicks fast;

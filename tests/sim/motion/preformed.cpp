@@ -22,7 +22,8 @@ void PreformedController::init(const Mission& mission, RobotId self) {
   params_ = controller::params_from_mission(mission);
   table_ = controller::ShapeTable(mission.shape, mission.grid_spacing);
   motion_ = std::make_unique<controller::motion::PaperMotion>(params_);
-  neighbours_ = controller::NeighbourTable(params_.neighbour_timeout);
+  neighbours_ = controller::NeighbourTable::learning_losses(params_.neighbour_timeout, params_.comm_range,
+                                                            params_.max_speed, params_.tick_rate);
   stigmergy_ = controller::Stigmergy(self);
   members_.clear();
   for (int label = 0; label < table_.size(); ++label) members_[static_cast<RobotId>(label)] = label;

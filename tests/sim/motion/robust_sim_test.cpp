@@ -207,5 +207,15 @@ TEST(MotionUnderLoss, AShapeSplitForGoodMeetsAtTheGoalsCentre) {
                   "shapes/untuned/zigzag.txt"});
 }
 
+// 20 % loss in bursts of mean 5 ticks: a link is silent for neighbour_timeout (20 ticks) or longer about once
+// in 70 bursts, and each time its live neighbour was taken for dead (marked so in the shared table, which
+// reshaped every robot's parent tree) and dropped from the table (its body an obstacle again): the ring with
+// a gap re-parented thousands of times and never arrived. A link now keeps its neighbour twice as long as the
+// longest loss it has come back from (neighbours.hpp, learn_loss_gaps).
+TEST(MotionUnderLoss, ALinkThatCameBackFromALongBurstKeepsItsNeighbourAlive) {
+  expect_arrives(
+      {"scenarios/untuned/slalom_burst20_noise.yaml", 1102, {}, {}, "shapes/untuned/ring_gap.txt"});
+}
+
 }  // namespace
 }  // namespace swarmform::sim_motion
