@@ -26,13 +26,13 @@ void FaceMissions::publish(const dds::MissionAnnouncement& announcement) {
 }
 
 FaceCommands::FaceCommands(const WorldFaces& faces, dds::Waiter& waiter, bool realtime,
-                           std::uint32_t accept_ids)
+                           std::uint32_t accept_ids, std::uint32_t samples_per_window)
     : waiter_(waiter) {
   // Counted, not attached: the world wakes once as many samples are in as it awaits commands, not at each one
   // (dds::Waiter, "Counted arrivals").
   for (std::uint32_t f = 0; f < faces.faces.size(); ++f) {
     readers_.push_back(std::make_unique<dds::CommandReader>(*faces.faces[f], waiter, realtime, accept_ids, f,
-                                                            /*count_arrivals=*/true));
+                                                            /*count_arrivals=*/true, samples_per_window));
   }
 }
 
@@ -68,6 +68,20 @@ std::uint64_t FaceCommands::filtered() const {
   return n;
 }
 
+void FaceCommands::set_window(std::uint64_t window) {
+  for (auto& r : readers_) r->set_window(window);
+}
+
+void FaceCommands::take_budget_drops(std::vector<dds::ReceiveBudget::Drops>& out) {
+  for (auto& r : readers_) r->take_budget_drops(out);
+}
+
+std::uint64_t FaceCommands::over_budget() const {
+  std::uint64_t n = 0;
+  for (const auto& r : readers_) n += r->over_budget();
+  return n;
+}
+
 std::optional<RobotId> FaceCommands::authenticated_robot(std::uint32_t face, dds::PublicationHandle writer) {
   if (face >= readers_.size()) return std::nullopt;
   return readers_[face]->authenticated_robot(writer);
@@ -84,13 +98,14 @@ std::optional<dds::RemoteWriter> FaceCommands::remote(std::uint32_t face,
 }
 
 WorldLink::WorldLink(const dds::DdsSettings& settings, std::size_t robot_count, bool realtime,
-                     std::uint64_t run_nonce)
+                     std::uint64_t run_nonce, std::uint32_t samples_per_window)
     : faces(settings, robot_count),
       participant(*faces.faces.front()),
       waiter(participant),
       mission(faces),
       robots(faces.list(), robot_count, realtime),
-      commands(faces, waiter, realtime, static_cast<std::uint32_t>(robot_count + dds::kMaxExtraChannels)),
+      commands(faces, waiter, realtime, static_cast<std::uint32_t>(robot_count + dds::kMaxExtraChannels),
+               samples_per_window),
       state(participant, run_nonce) {
   robots.set_run_nonce(run_nonce);
 }

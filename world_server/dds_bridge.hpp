@@ -42,13 +42,19 @@ class FaceMissions {
 // Every face's command reader, read as one (the world's pump).
 class FaceCommands {
  public:
-  FaceCommands(const WorldFaces& faces, dds::Waiter& waiter, bool realtime, std::uint32_t accept_ids);
+  // samples_per_window: each writer's budget on the receive thread (dds::ReceiveBudget).
+  FaceCommands(const WorldFaces& faces, dds::Waiter& waiter, bool realtime, std::uint32_t accept_ids,
+               std::uint32_t samples_per_window);
   // As dds::CommandReader::take, over every face (each sample's `face` says whose reader took it). A call
   // that empties every reader tells the waiter (Waiter::drained); one that stops at `max_samples` wakes it,
   // so that the next wait does not sleep on what is left.
   std::size_t take(std::vector<dds::CommandSample>& buf, std::size_t max_samples = dds::kMaxCommandTake);
   void take_liveliness_changes(std::vector<dds::CommandReader::LivelinessChange>& out);
   std::uint64_t filtered() const;
+  // As dds::CommandReader's, over every face.
+  void set_window(std::uint64_t window);
+  void take_budget_drops(std::vector<dds::ReceiveBudget::Drops>& out);
+  std::uint64_t over_budget() const;
   // The authenticated robot of `writer`, asked of the reader of `face` (the one that took its sample).
   std::optional<RobotId> authenticated_robot(std::uint32_t face, dds::PublicationHandle writer);
   // Whether `writer` is still matched by the reader of `face` (dds::CommandReader::matched).
@@ -65,7 +71,9 @@ class FaceCommands {
 struct WorldLink {
   // realtime: the per-tick topics are best effort (common/dds/qos.hpp Pace), as the mission tells the agents.
   // run_nonce: stamped on every sample the world writes (docs/wire.md "Run nonce").
-  WorldLink(const dds::DdsSettings& settings, std::size_t robots, bool realtime, std::uint64_t run_nonce);
+  // samples_per_window: each command writer's budget on the receive thread (dds::ReceiveBudget).
+  WorldLink(const dds::DdsSettings& settings, std::size_t robots, bool realtime, std::uint64_t run_nonce,
+            std::uint32_t samples_per_window);
 
   WorldFaces faces;
   dds::Participant& participant;  // face 0: the world state, the viewer

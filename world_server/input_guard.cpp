@@ -34,6 +34,10 @@ GuardLimits realtime_limits(double tick_rate) {
   return l;
 }
 
+std::uint32_t receive_budget(const GuardLimits& limits) {
+  return limits.commands_per_window + limits.claims_per_second + kAliveSamplesPerSecond;
+}
+
 InputGuard::Writer& InputGuard::writer(dds::PublicationHandle handle, std::int64_t now_ns) {
   prune(now_ns);
   Writer& w = writers_[handle];
@@ -67,16 +71,17 @@ bool InputGuard::admit_claim(dds::PublicationHandle handle, std::int64_t now_ns)
 }
 
 std::optional<std::uint64_t> InputGuard::report(dds::PublicationHandle handle, Abuse what,
-                                                std::int64_t now_ns, std::size_t sub) {
-  ++totals_[static_cast<std::size_t>(what)];
+                                                std::int64_t now_ns, std::size_t sub, std::uint64_t n) {
+  if (n == 0) return std::nullopt;
+  totals_[static_cast<std::size_t>(what)] += n;
   Throttle& t = writer(handle, now_ns)
                     .throttles[static_cast<std::size_t>(what) * kSubKinds + std::min(sub, kSubKinds - 1)];
-  ++t.unlogged;
+  t.unlogged += n;
   if (t.logged_at != 0 && now_ns - t.logged_at < kSecond) return std::nullopt;
   t.logged_at = now_ns;
-  const std::uint64_t n = t.unlogged;
+  const std::uint64_t all = t.unlogged;
   t.unlogged = 0;
-  return n;
+  return all;
 }
 
 }  // namespace swarmform::server

@@ -46,6 +46,14 @@ struct GuardLimits {
 // re-sent claim's neighbours and a burst after a stall.
 GuardLimits realtime_limits(double tick_rate);
 
+// Each writer's budget of samples a window on the world's receive thread, before any sample is decoded
+// (dds::ReceiveBudget; its window ends each second and, in lockstep, each tick): what `limits` admits of
+// commands and claims in a window, plus the liveliness assertions of an agent with nothing to write (3 a
+// lease of 0.5 s, common/dds/qos.hpp) with room to spare. It must never drop what InputGuard would admit:
+// an owner's command dropped there is a missed tick (realtime) or a stalled round (lockstep).
+inline constexpr std::uint32_t kAliveSamplesPerSecond = 8;
+std::uint32_t receive_budget(const GuardLimits& limits);
+
 class InputGuard {
  public:
   static constexpr std::int64_t kSecond = 1'000'000'000;  // ns
@@ -60,9 +68,10 @@ class InputGuard {
   // Counts one occurrence of `what` from `writer`; when it is to be logged now (the first in a second for
   // this writer, kind and `sub`-kind), returns how many occurrences that log line stands for (>= 1). `sub`
   // (< kSubKinds) tells apart reports of one kind that must each be seen, e.g. a command's verdicts.
+  // `n`: occurrences this call stands for (the receive thread's drops come counted).
   static constexpr std::size_t kSubKinds = 8;
   std::optional<std::uint64_t> report(dds::PublicationHandle writer, Abuse what, std::int64_t now_ns,
-                                      std::size_t sub = 0);
+                                      std::size_t sub = 0, std::uint64_t n = 1);
   // Counts `n` occurrences without a writer to throttle on (e.g. telemetry event strings dropped).
   void count(Abuse what, std::uint64_t n) { totals_[static_cast<std::size_t>(what)] += n; }
 

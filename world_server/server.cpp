@@ -52,6 +52,10 @@ ThreadClock thread_clock() {
   return c;
 }
 
+GuardLimits guard_limits(const world::Scenario& scenario) {
+  return scenario.mode == world::Mode::Realtime ? realtime_limits(scenario.tick_rate) : GuardLimits{};
+}
+
 // Observers get the world state at most this often (it is for viewers; agents never read it).
 constexpr dds_duration_t kStatePeriod = DDS_MSECS(50);
 // connect_agents, once every claim is in but a packet writer has not matched its reader yet.
@@ -69,10 +73,11 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
       registry_(scenario.robots.size(), options_.open_rejoin  ? ClaimPolicy::Open
                                         : options_.run_secret ? ClaimPolicy::IssuedOnly
                                                               : ClaimPolicy::FirstClaimsOpen),
-      link_(options_.dds, scenario.robots.size(), scenario.mode == world::Mode::Realtime, options_.run_nonce),
+      link_(options_.dds, scenario.robots.size(), scenario.mode == world::Mode::Realtime, options_.run_nonce,
+            receive_budget(guard_limits(scenario))),
       refusals_("world_server", std::cerr),
       robots_(scenario.robots.size()),
-      guard_(scenario.mode == world::Mode::Realtime ? realtime_limits(scenario.tick_rate) : GuardLimits{}),
+      guard_(guard_limits(scenario)),
       telemetry_limits_(world::telemetry_limits(scenario)),
       late_(scenario.robots.size()),
       schedule_(scenario),
@@ -318,6 +323,8 @@ void Server::pump(bool running) {
   stalls_.observe(dds_time());  // first: a gap since the last wake-up was the world's own stall
   liveliness_.clear();
   link_.commands.take_liveliness_changes(liveliness_);
+  if (scenario_.mode == world::Mode::Lockstep) link_.commands.set_window(world_.tick());
+  report_budget_drops();
   // Commands before losses: a dying agent's last command for this round still counts.
   const std::size_t n = link_.commands.take(samples_);
   for (std::size_t i = 0; i < n; ++i) {
@@ -392,6 +399,24 @@ bool Server::admit(const dds::CommandSample& s, bool running) {
              (lockstep ? "tick" : "second") + " from one writer",
          false);
   return false;
+}
+
+void Server::report_budget_drops() {
+  budget_drops_.clear();
+  link_.commands.take_budget_drops(budget_drops_);
+  for (const dds::ReceiveBudget::Drops& d : budget_drops_) {
+    stalls_.flooded();
+    const auto n = guard_.report(d.writer, Abuse::CommandOverLimit, dds_time(), 0, d.count);
+    if (!n) continue;
+    char b[64];
+    std::snprintf(b, sizeof b, "%016llx", static_cast<unsigned long long>(d.writer));
+    session_.record_event(-1, "commands_dropped",
+                          "dropped " + std::to_string(*n) + " sample(s) of writer " + b +
+                              " over its budget of " +
+                              std::to_string(receive_budget(guard_limits(scenario_))) + " a second" +
+                              (scenario_.mode == world::Mode::Lockstep ? " or tick" : "") +
+                              ", before decoding them (logged once a second a writer)");
+  }
 }
 
 void Server::report(const dds::CommandSample& s, Abuse what, const std::string& kind,

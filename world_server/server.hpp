@@ -159,6 +159,9 @@ class Server {
   bool admit(const dds::CommandSample& s, bool running);
   // Counts `what` from s's writer; when it is to be logged now (once a second per writer and kind), records
   // event `kind` with `detail` (plus the count it stands for), and prints it on stderr with `to_stderr`.
+  // The samples the command readers dropped over their writers' budgets (dds::ReceiveBudget), reported as
+  // commands over the limit: counted, an event a second a writer.
+  void report_budget_drops();
   void report(const dds::CommandSample& s, Abuse what, const std::string& kind, const std::string& detail,
               bool to_stderr);
   // An owner's telemetry checked before the world takes it (telemetry_check.hpp).
@@ -194,6 +197,7 @@ class Server {
   std::size_t waiting_count_ = 0;
   std::vector<dds::CommandSample> samples_;
   std::vector<dds::CommandReader::LivelinessChange> liveliness_;
+  std::vector<dds::ReceiveBudget::Drops> budget_drops_;
   // Liveliness lapses before an owner's first packet: counted, not losses.
   std::uint64_t unjudged_lapses_ = 0;
   bool stalled_out_ = false;  // lockstep waited Stragglers::kLimit for stragglers: the run ends

@@ -1,7 +1,6 @@
 #include "common/dds/command_reader.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <mutex>
 #include <string>
 #include <unordered_map>
@@ -29,23 +28,22 @@ struct CommandReader::Impl {
   Waiter* waiter = nullptr;
   std::mutex mutex;
   std::vector<LivelinessChange> changes;  // guarded by mutex
-  dds_entity_t topic = 0;                 // with the id filter set on it (0: none)
-  std::uint32_t accept_ids = 0;
-  std::atomic<std::uint64_t> filtered{0};
+  dds_entity_t topic = 0;                 // with the filter set on it (0: none)
+  std::unique_ptr<ReceiveBudget> budget;  // with the filter
   bool secure = false;
   std::uint32_t face = 0;  // stamped on every sample taken (CommandSample::face)
   Entity subscriber;       // secure: partition robot/* (every robot's own)
   Entity reader, condition;
   std::unordered_map<PublicationHandle, std::optional<RobotId>> authenticated;  // per writer, looked up once
 
-  // Runs on Cyclone's receive thread for every sample, before the sample is stored: a sample for an id at or
-  // above accept_ids never creates an instance in the reader (each costs ~0.9 KB for as long as its writer
-  // lives: a flood over a million made-up ids once took the world to 890 MB).
-  static bool accept(const void* sample, void* arg) {
-    auto* self = static_cast<Impl*>(arg);
-    if (static_cast<const sfdds_Command*>(sample)->robot_id < self->accept_ids) return true;
-    self->filtered.fetch_add(1, std::memory_order_relaxed);
-    return false;
+  // Runs on Cyclone's receive thread for every sample, before the sample is stored, and on its info alone:
+  // Cyclone decodes a sample for a filter that asks for it (a filter on the sample decoded every sample of a
+  // flood, 1 KB message and event strings, and stored all of those for ids inside the run: the world then
+  // decoded them again, queued behind the flood, and the honest robots' commands with them).
+  static bool accept(const dds_sample_info_t* info, void* arg) {
+    // The world's clock, not the sample's source timestamp: that is the writer's to say.
+    return static_cast<Impl*>(arg)->budget->admit(info->publication_handle, info->instance_handle,
+                                                  dds_time());
   }
 
   static void on_data_available(dds_entity_t, void* arg) {
@@ -80,18 +78,19 @@ struct CommandReader::Impl {
 };
 
 CommandReader::CommandReader(const Participant& participant, Waiter& waiter, bool realtime,
-                             std::uint32_t accept_ids, std::uint32_t face, bool count_arrivals)
+                             std::uint32_t accept_ids, std::uint32_t face, bool count_arrivals,
+                             std::uint32_t samples_per_window)
     : impl_(std::make_unique<Impl>()) {
   impl_->waiter = &waiter;
   impl_->face = face;
-  if (accept_ids > 0) {
+  if (accept_ids > 0 || samples_per_window > 0) {
     // Set before the reader exists (Cyclone's rule for topic filters); only the world reads this topic in
     // its participant.
     impl_->topic = participant.topics().command();
-    impl_->accept_ids = accept_ids;
+    impl_->budget = std::make_unique<ReceiveBudget>(samples_per_window, accept_ids);
     dds_topic_filter filter{};
-    filter.mode = DDS_TOPIC_FILTER_SAMPLE_ARG;
-    filter.f.sample_arg = &Impl::accept;
+    filter.mode = DDS_TOPIC_FILTER_SAMPLEINFO_ARG;
+    filter.f.sampleinfo_arg = &Impl::accept;
     filter.arg = impl_.get();
     check(dds_set_topic_filter_extended(impl_->topic, &filter), "dds_set_topic_filter_extended(command)");
   }
@@ -131,7 +130,19 @@ CommandReader::~CommandReader() {
 }
 
 std::uint64_t CommandReader::filtered() const {
-  return impl_->filtered.load(std::memory_order_relaxed);
+  return impl_->budget ? impl_->budget->out_of_range() : 0;
+}
+
+void CommandReader::set_window(std::uint64_t window) {
+  if (impl_->budget) impl_->budget->set_window(window);
+}
+
+void CommandReader::take_budget_drops(std::vector<ReceiveBudget::Drops>& out) {
+  if (impl_->budget) impl_->budget->take_drops(out);
+}
+
+std::uint64_t CommandReader::over_budget() const {
+  return impl_->budget ? impl_->budget->over_budget() : 0;
 }
 
 std::optional<RobotId> CommandReader::authenticated_robot(PublicationHandle writer) {
@@ -194,6 +205,10 @@ std::size_t CommandReader::take(std::vector<CommandSample>& buf, std::size_t max
     for (int i = 0; i < n; ++i) {
       if (!infos[i].valid_data) continue;
       const auto& s = *static_cast<const sfdds_Command*>(ptrs[i]);
+      if (impl_->budget &&
+          !impl_->budget->taken(infos[i].publication_handle, infos[i].instance_handle, s.robot_id)) {
+        continue;  // an id outside the run: its writer's unknown instances are dropped from now on
+      }
       if (count == buf.size()) buf.emplace_back();
       CommandSample& c = buf[count++];
       c.wire_version = s.wire_version;

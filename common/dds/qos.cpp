@@ -29,7 +29,9 @@ Qos make_qos(Channel channel, Pace pace) {
       dds_qset_history(q, DDS_HISTORY_KEEP_LAST, 1);
       break;
     case Channel::Command:
-      dds_qset_reliability(q, per_tick, DDS_SECS(1));
+      // Reliable in realtime too (qos.hpp): the flow control is what keeps a flood from filling the
+      // world's socket buffer, where the kernel drops the honest agents' datagrams with the flood's.
+      dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
       dds_qset_durability(q, DDS_DURABILITY_VOLATILE);
       dds_qset_history(q, DDS_HISTORY_KEEP_ALL, 0);
       break;

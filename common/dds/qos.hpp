@@ -6,17 +6,21 @@
 
 namespace swarmform::dds {
 
-// Sensor and Command are reliable in lockstep (a lost sample would stall the round until its deadline and
-// change the run) and best effort in realtime (a lost sample is a missed tick, and reliability costs every
-// process a heartbeat, an acknowledgement and two more thread wake-ups a tick: see README.md).
+// Sensor is reliable in lockstep (a lost sample would stall the round until its deadline and change the run)
+// and best effort in realtime (a lost sample is a missed tick, and reliability costs every process a
+// heartbeat, an acknowledgement and two more thread wake-ups a tick: see README.md). Command is reliable in
+// both: a best-effort command topic let any process on the host send the world commands faster than its
+// receive thread takes datagrams; the world's socket buffer filled and the kernel dropped the honest agents'
+// commands and liveliness with the flood's (docs/faults.md "A 20 s flood, measured"). Reliable, a writer
+// has at most its unacknowledged window in flight, and a best-effort writer does not match at all.
 enum class Pace { Lockstep, Realtime };
 
 enum class Channel {
   Mission,     // world -> agents: reliable, transient-local, keep-last 1 (agents started late still get it)
   Sensor,      // world -> agent: reliable, volatile, keep-last 1 per instance (only the newest perception
                // matters; claim answers are another instance, re-sent when the agent re-sends its claim)
-  Command,     // agents -> world: reliable, volatile, keep-all (a flood of spoofed samples for an id can
-               // never push the owner's command out of the world's reader before it is taken)
+  Command,     // agents -> world: reliable in both paces, volatile, keep-all (a flood of spoofed samples
+               // for an id can never push the owner's command out of the world's reader before it is taken)
   WorldState,  // world -> viewers: best effort, keep-last 1
   Observe,     // world -> its viewer: reliable, keep-last 1 (the newest frame is what matters)
   Control,     // viewer -> world: reliable, keep-last 256

@@ -6,8 +6,10 @@
 //   preempted the world in the middle of its publish phase;
 // - a packet writer says when it has matched its robot's reader (the world starts the run only then);
 // - untrusted input (docs/faults.md): the world keeps at most kMaxExtraChannels channels for claims of ids
-// outside the run, and its
-//   command reader drops samples for ids at or above its accept_ids before storing them;
+//   outside the run; its command reader never returns samples for ids at or above its accept_ids and, once
+//   a writer sent one, drops that writer's samples for instances not known inside the run before storing
+//   them; it keeps at most a writer's budget of samples a window, the rest dropped before they are decoded
+//   or stored (dds::ReceiveBudget);
 // - a waiter counting a reader's arrivals sleeps until as many samples are in as it said it needs (so the
 //   world wakes once in a lockstep round, not at each of its 64 commands).
 #include <gtest/gtest.h>
@@ -90,26 +92,77 @@ TEST(WireEndpoints, ClaimsForIdsOutsideTheRunKeepAtMostEightChannels) {
   EXPECT_EQ(channels.extra_channels(), dds::kMaxExtraChannels);
 }
 
-TEST(WireEndpoints, CommandReaderDropsIdsAtOrAboveItsLimitBeforeStoringThem) {
+TEST(WireEndpoints, CommandReaderDropsIdsAtOrAboveItsLimitAndTheirWritersMadeUpInstancesBeforeStoringThem) {
   const dds::Participant participant(world_on_loopback());
   dds::Waiter waiter(participant);
-  dds::CommandReader reader(participant, waiter, /*realtime=*/false, /*accept_ids=*/4);
+  dds::CommandReader reader(participant, waiter, /*realtime=*/false, /*accept_ids=*/4, /*face=*/0,
+                            /*count_arrivals=*/true);
   dds::CommandWriter writer(participant, /*realtime=*/false);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
   while (!dds::writer_matched(writer.get()) && std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   Command c;
+  auto take_ids = [&](std::size_t want) {
+    std::vector<dds::CommandSample> got;
+    std::vector<RobotId> ids;
+    while (ids.size() < want && std::chrono::steady_clock::now() < deadline) {
+      const std::size_t n = reader.take(got);
+      for (std::size_t i = 0; i < n; ++i) ids.push_back(got[i].robot_id);
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return ids;
+  };
   for (RobotId id : {1u, 3u, 4u, 1000u, 2u}) writer.step(id, 0, c);
-  std::vector<dds::CommandSample> got;
-  std::vector<RobotId> ids;
-  while (ids.size() < 3 && std::chrono::steady_clock::now() < deadline) {
-    const std::size_t n = reader.take(got);
-    for (std::size_t i = 0; i < n; ++i) ids.push_back(got[i].robot_id);
+  EXPECT_EQ(take_ids(3), (std::vector<RobotId>{1, 3, 2}));
+  EXPECT_EQ(reader.filtered(), 2u);
+  // The writer sent ids outside the run: its new made-up ids are dropped on arrival (never an instance of
+  // the reader's), its samples for ids inside the run still come.
+  const std::uint64_t stored = waiter.arrivals();  // one a sample the reader stored
+  for (RobotId id : {2000u, 2001u, 2002u, 1u}) writer.step(id, 1, c);
+  EXPECT_EQ(take_ids(1), (std::vector<RobotId>{1}));
+  EXPECT_EQ(reader.filtered(), 5u);
+  EXPECT_EQ(waiter.arrivals(), stored + 1);
+}
+
+TEST(WireEndpoints, CommandReaderKeepsAtMostAWritersBudgetAWindowTheRestDroppedBeforeDecoding) {
+  const dds::Participant participant(world_on_loopback());
+  dds::Waiter waiter(participant);
+  constexpr std::uint32_t kBudget = 5;
+  dds::CommandReader reader(participant, waiter, /*realtime=*/false, /*accept_ids=*/4, /*face=*/0,
+                            /*count_arrivals=*/false, kBudget);
+  dds::CommandWriter flooder(participant, /*realtime=*/false);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (!dds::writer_matched(flooder.get()) && std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
-  EXPECT_EQ(ids, (std::vector<RobotId>{1, 3, 2}));
-  EXPECT_EQ(reader.filtered(), 2u);
+  Command c;
+  constexpr std::size_t kWritten = 200;
+  for (std::size_t i = 0; i < kWritten; ++i) flooder.step(1, 0, c);
+  std::vector<dds::CommandSample> got;
+  std::size_t kept = 0;
+  while (kept + reader.over_budget() < kWritten && std::chrono::steady_clock::now() < deadline) {
+    kept += reader.take(got);
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  kept += reader.take(got);
+  // A second may have begun during the writes: a new window, at most one more budget.
+  EXPECT_GE(kept, kBudget);
+  EXPECT_LE(kept, 2 * kBudget);
+  EXPECT_EQ(reader.over_budget(), kWritten - kept);
+  std::vector<dds::ReceiveBudget::Drops> drops;
+  reader.take_budget_drops(drops);
+  ASSERT_EQ(drops.size(), 1u);
+  EXPECT_EQ(drops[0].count, kWritten - kept);
+  // A new window (lockstep: the world's next tick) renews the budget.
+  reader.set_window(1);
+  flooder.step(1, 1, c);
+  std::size_t renewed = 0;
+  while (renewed == 0 && std::chrono::steady_clock::now() < deadline) {
+    renewed += reader.take(got);
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  EXPECT_EQ(renewed, 1u);
 }
 
 // 1024 agents on 2 cores: an agent's last claim, taken by the world after its writer had gone away, bound
