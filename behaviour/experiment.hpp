@@ -80,6 +80,9 @@ class Experiment {
   virtual void observe(const Truth& truth) = 0;
   // Once, when the run ends (whatever the reason).
   virtual Result conclude() = 0;
+  // Asked after every observe (ARGoS's IsExperimentFinished): true ends the run at the next tick, with
+  // end_reason completed (one tick later because world_server decides before it records the tick it steps).
+  virtual bool done() const { return false; }
 };
 
 }  // namespace swarmform::experiment

@@ -12,6 +12,7 @@
 
 #include "behaviour/descriptor_check.hpp"
 #include "behaviour/registry.hpp"
+#include "world_server/run/run_end.hpp"
 #include "world_server/run/run_session.hpp"
 #include "world_server/world/scenario.hpp"
 #include "world_server/world/world.hpp"
@@ -22,7 +23,7 @@ namespace {
 using Json = nlohmann::json;
 
 // How the test experiment concludes.
-enum class Ending { Honest, UndeclaredOutcome, Throws };
+enum class Ending { Honest, UndeclaredOutcome, Throws, DoneAtSeven };
 Ending g_ending = Ending::Honest;
 
 constexpr std::array kMetrics = {behaviour::MetricSpec{"ticks_seen", "observe calls"},
@@ -45,6 +46,7 @@ class CountingExperiment final : public experiment::Experiment {
     ++ticks_;
     if (g_ending == Ending::Throws && ticks_ == 5) throw std::runtime_error("on purpose");
   }
+  bool done() const override { return g_ending == Ending::DoneAtSeven && ticks_ > 7; }
   experiment::Result conclude() override {
     experiment::Result r;
     r.metrics = {static_cast<double>(ticks_), static_cast<double>(deaths_), first_x_,
@@ -97,7 +99,8 @@ const behaviour::Descriptor kUnjudged{
     .experiment = {},
 };
 
-// 20 ticks of 4 robots driving ahead; robot 1 dies at tick 10. Returns summary.json's content.
+// Up to 20 ticks (run_complete decides, as both front ends do) of 4 robots driving ahead; robot 1 dies at
+// tick 10. Returns summary.json's content.
 Json run(const std::string& behaviour) {
   behaviour::Registry registry;
   registry.add(kJudged);
@@ -113,7 +116,7 @@ max_ticks: 20
   RunSession session(world, {});
   Command ahead;
   ahead.left_speed = ahead.right_speed = 0.05;
-  for (Tick t = 0; t < 20; ++t) {
+  for (Tick t = 0; !run_complete(session, world.tick(), s.max_ticks); ++t) {
     if (t == 10) {
       world.kill(1);
       session.record_death(1);
@@ -153,6 +156,16 @@ TEST(ExperimentRunner, AnUndeclaredOutcomeOrAThrowIsNamedNotTaken) {
   EXPECT_EQ(j["outcome"], "experiment_failed");
   EXPECT_EQ(j["experiment_error"], "experiment of behaviour 'judged' threw at tick 4: on purpose");
   EXPECT_EQ(j["ticks"], 20);  // the run itself went on
+}
+
+TEST(ExperimentRunner, AnExperimentThatSaysDoneEndsTheRunAtTheNextTick) {
+  g_ending = Ending::DoneAtSeven;
+  const Json j = run("judged");
+  g_ending = Ending::Honest;
+  EXPECT_EQ(j["ticks"], 8);
+  EXPECT_EQ(j["end_reason"], "completed");
+  EXPECT_EQ(j["behaviour_metrics"]["ticks_seen"], 9);
+  EXPECT_EQ(run("judged")["end_reason"], "max_ticks");
 }
 
 TEST(ExperimentRunner, ABehaviourWithoutOneHasOutcomeNone) {

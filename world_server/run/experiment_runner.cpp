@@ -65,6 +65,7 @@ void ExperimentRunner::observe(const Metrics& metrics) {
   if (track_shape_) t.shape = experiment::ShapeProgress{metrics.formation_tick, metrics.goal_tick};
   try {
     experiment_->observe(t);
+    if (!done_at_ && experiment_->done()) done_at_ = t.tick;
   } catch (const std::exception& e) {
     fail("threw at tick " + std::to_string(t.tick) + ": " + e.what());
   }

@@ -39,6 +39,8 @@ class ExperimentRunner {
   void rejoined(RobotId id) { rejoined_.push_back(id); }
   // Once; later calls return the same verdict.
   const ExperimentVerdict& conclude();
+  // The tick after whose observe the experiment first said it was done (Experiment::done), if it has.
+  std::optional<Tick> done_at() const { return done_at_; }
   // Set once the experiment failed (for world.log), else empty.
   const std::string& error() const { return verdict_.error; }
 
@@ -55,6 +57,7 @@ class ExperimentRunner {
   std::optional<experiment::Goal> goal_;
   bool track_shape_ = false;
   bool concluded_ = false;
+  std::optional<Tick> done_at_;
   ExperimentVerdict verdict_;
 };
 

@@ -174,6 +174,10 @@ void RunSession::record_event(std::int64_t id, const std::string& kind, const st
   impl_->emit(e);
 }
 
+std::optional<Tick> RunSession::experiment_done_at() const {
+  return impl_->experiment.done_at();
+}
+
 const Metrics& RunSession::metrics() const {
   return impl_->tracker.metrics();
 }
@@ -212,6 +216,8 @@ std::string RunSession::finish(double wall_seconds, const SteadyWindow& steady) 
   if (impl_->end_reason) {
     reason = *impl_->end_reason;
   } else if (metrics.goal_tick && tick >= *metrics.goal_tick + kTicksAfterGoal) {
+    reason = EndReason::Completed;
+  } else if (const auto done = impl_->experiment.done_at(); done && tick >= *done + kTicksAfterDone) {
     reason = EndReason::Completed;
   } else if (tick >= max_ticks) {
     reason = EndReason::MaxTicks;
