@@ -1,7 +1,8 @@
 // aggregation: every robot drives towards the centroid of the neighbours it hears (range and bearing only; no
 // positions are shared), turns away from what its ultrasonics see close ahead, and stops once the centroid is
-// within `stop_distance`. A robot that hears nobody random-walks (legs of random length and turn rate, from
-// its own behaviour::RobotRandom) until it does. The swarm gathers into clusters, one per connected group.
+// within `stop_distance`, its LEDs green. A robot that hears nobody random-walks (legs of random length and
+// turn rate, from its own behaviour::RobotRandom) until it does. The swarm gathers into clusters, one per
+// connected group.
 //
 // Its experiment judges the run from the true poses: robots whose centres are within 2 x stop_distance of
 // each other are in one cluster (transitively); the outcome is `gathered` when every live robot ends in one
@@ -43,6 +44,7 @@ constexpr std::array kMetrics = {
     behaviour::MetricSpec{"gathered_tick", "first tick every live robot stood in one cluster (null: never)"},
     behaviour::MetricSpec{"mean_distance_to_centroid",
                           "live robots' mean distance to their centroid at the end, m"},
+    behaviour::MetricSpec{"green_at_end", "live robots showing green LEDs (gathered) at the end"},
 };
 constexpr std::array<std::string_view, 2> kOutcomes = {"gathered", "scattered"};
 
@@ -115,6 +117,7 @@ class Aggregation final : public controller::Controller {
       w = (left < right ? -1.0 : 1.0) * 2.0 * max_speed_ / kWheelSpacing;
     }
     drive(v, w, c);
+    c.leds.fill(state == kGathered ? Rgb{0, 255, 0} : Rgb{});
     c.telemetry.state = state;
     c.telemetry.extra = {n, distance};
     c.message = {1};  // a one-byte beacon: being heard is all the others need
@@ -156,8 +159,11 @@ class AggregationExperiment final : public experiment::Experiment {
 
   void observe(const experiment::Truth& truth) override {
     live_.clear();
+    green_ = 0;
     for (const auto& r : truth.robots) {
-      if (r.alive) live_.push_back({r.pose.x, r.pose.y});
+      if (!r.alive) continue;
+      live_.push_back({r.pose.x, r.pose.y});
+      green_ += r.leds[0] == Rgb{0, 255, 0} ? 1 : 0;
     }
     sizes_ = cluster_sizes();
     if (sizes_.size() == 1 && gathered_tick_ < 0) gathered_tick_ = static_cast<double>(truth.tick);
@@ -176,7 +182,8 @@ class AggregationExperiment final : public experiment::Experiment {
     experiment::Result r;
     r.metrics = {static_cast<double>(sizes_.size()),
                  sizes_.empty() ? 0.0 : static_cast<double>(*std::max_element(sizes_.begin(), sizes_.end())),
-                 gathered_tick_ < 0 ? nan : gathered_tick_, live_.empty() ? nan : mean};
+                 gathered_tick_ < 0 ? nan : gathered_tick_, live_.empty() ? nan : mean,
+                 static_cast<double>(green_)};
     r.outcome = sizes_.size() == 1 ? "gathered" : "scattered";
     return r;
   }
@@ -205,6 +212,7 @@ class AggregationExperiment final : public experiment::Experiment {
 
   double link_ = 0.8;  // m
   double gathered_tick_ = -1.0;
+  std::size_t green_ = 0;
   std::vector<Vec2> live_;
   std::vector<std::size_t> parent_;
   std::vector<std::size_t> sizes_;

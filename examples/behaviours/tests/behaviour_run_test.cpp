@@ -89,6 +89,9 @@ class ExampleRuns : public swarmform::testing::ProcessFixture {
       EXPECT_LE(m["largest_cluster"].get<double>(), in["alive_at_end"].get<double>());
       EXPECT_TRUE(m.contains("gathered_tick"));
       EXPECT_TRUE(m["mean_distance_to_centroid"].is_number());
+      // The gathered robots' green LEDs reached the world's truth (multi-process: over the wire).
+      EXPECT_EQ(m["green_at_end"], in["states_at_end"]["gathered"]);
+      EXPECT_GT(m["green_at_end"].get<double>(), 0.0);
     } else {  // no experiment: nothing to judge
       EXPECT_EQ(in["outcome"], "none");
       EXPECT_TRUE(in["success"].is_null());

@@ -228,7 +228,7 @@ TEST(AggregationExperiment, CountsClustersAndJudgesGatheredOnTheTruth) {
   behaviour::Registry registry({AGGREGATION_DIR});
   const behaviour::Descriptor& d = registry.load_plugin(std::string(AGGREGATION_DIR) + "/libaggregation.so");
   ASSERT_NE(d.experiment.make, nullptr);
-  ASSERT_EQ(d.experiment.metrics.size(), 4u);
+  ASSERT_EQ(d.experiment.metrics.size(), 5u);
   EXPECT_EQ(d.experiment.success, "gathered");
   Mission m = mission_of("aggregation", AGGREGATION_DIR);
   m.params = {{"stop_distance", 0.5}};  // link: 1 m
