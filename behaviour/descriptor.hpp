@@ -1,6 +1,7 @@
 // What a behaviour says about itself (docs/behaviour-api.md): its name, its parameter table, its states and
 // their colours, the telemetry columns it records, whether it needs a shape or a goal, how it forms a shape
-// (what the world checks and measures of it), and how to make one controller. The built-in behaviours and the
+// (what the world checks and measures of it), how to make one controller, the optional sensors it reads and
+// its experiment (its own metrics and outcome, experiment.hpp). The built-in behaviours and the
 // shared-library plug-ins describe themselves with this one struct; the world validates a scenario's
 // parameters through `params`, the pictures colour robots by `states`, the recorder names `telemetry`'s
 // columns. A descriptor is static data: it lives as long as the program (a plug-in is never unloaded).
@@ -12,12 +13,14 @@
 #include <string_view>
 
 #include "behaviour/controller.hpp"
+#include "behaviour/experiment.hpp"
 
 namespace swarmform::behaviour {
 
-// Raised with any change to Descriptor, Controller, Mission, Perception or Command: a plug-in built against
-// another version is refused with both numbers named, never run.
-inline constexpr std::uint32_t kApiVersion = 2;
+// Raised with any change to Descriptor, Controller, Experiment, Mission, Perception or Command: a plug-in
+// built against another version is refused with both numbers named, never run (docs/behaviour-api.md has the
+// list).
+inline constexpr std::uint32_t kApiVersion = 3;
 
 struct ParamSpec {
   std::string_view name;  // as written in the scenario: `behaviour: {params: {name: value}}`
@@ -61,6 +64,31 @@ struct ShapeRules {
   std::int32_t motion_state = kNoState;
 };
 
+// The Khepera IV's optional sensors (common/types.hpp Perception), as bits of Descriptor::sensors: the world
+// computes only the ones a behaviour declares; the others are not equipped (empty).
+enum Sensor : std::uint32_t {
+  kProximity = 1U << 0,
+  kLight = 1U << 1,
+  kGround = 1U << 2,
+  kLidar = 1U << 3,
+  kBattery = 1U << 4,
+};
+
+// A metric the behaviour's experiment returns (summary.json behaviour_metrics.NAME).
+struct MetricSpec {
+  std::string_view name;  // lower_case, unique
+  std::string_view doc;   // meaning and unit
+};
+
+// The behaviour's own judge (experiment.hpp): what it returns, declared so a launcher can check a gate's keys
+// and a sweep can judge success before the run. All empty (the default): no experiment, outcome "none".
+struct ExperimentSpec {
+  std::span<const MetricSpec> metrics;         // Result::metrics, in this order
+  std::span<const std::string_view> outcomes;  // every value Result::outcome may take ("none" is reserved)
+  std::string_view success;                    // the one outcome that counts as success, among `outcomes`
+  std::unique_ptr<experiment::Experiment> (*make)() = nullptr;  // one per run, made by the world
+};
+
 struct Descriptor {
   std::uint32_t api_version = kApiVersion;
   std::string_view name;     // the scenario's `behaviour: NAME`; a plug-in's own name (unique in a run)
@@ -73,6 +101,8 @@ struct Descriptor {
   bool needs_goal = false;   // the scenario's goal must lie inside the walls; the run has an outcome
   ShapeRules shape_rules;    // with needs_shape: how the shape is placed, turned, and when it moves
   std::unique_ptr<controller::Controller> (*make)() = nullptr;  // a fresh, not yet initialised controller
+  std::uint32_t sensors = 0;  // Sensor bits: the optional sensors the controller reads
+  ExperimentSpec experiment;  // its own metrics and outcome; {}: none
 };
 
 }  // namespace swarmform::behaviour

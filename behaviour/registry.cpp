@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "behaviour/descriptor_check.hpp"
 #include "behaviour/params.hpp"
 #include "behaviour/plugin.hpp"
 #include "common/input_error.hpp"
@@ -34,6 +35,8 @@ void Registry::add(const Descriptor& d) {
   if (d.name.empty() || d.make == nullptr)
     throw std::logic_error("behaviour descriptor without name or make");
   if (const std::string why = check_shape_rules(d); !why.empty()) throw std::logic_error(why);
+  if (const std::string why = check_experiment(d); !why.empty()) throw std::logic_error(why);
+  if (const std::string why = check_sensors(d); !why.empty()) throw std::logic_error(why);
   if (!by_name_.emplace(std::string(d.name), &d).second) {
     throw std::logic_error("behaviour '" + std::string(d.name) + "' registered twice");
   }
@@ -111,6 +114,8 @@ const Descriptor& Registry::load_plugin(const std::string& path) {
   if (d->name.empty() || d->make == nullptr)
     throw PluginError(what + ": its descriptor has no name or no make");
   if (const std::string why = check_shape_rules(*d); !why.empty()) throw PluginError(what + ": " + why);
+  if (const std::string why = check_experiment(*d); !why.empty()) throw PluginError(what + ": " + why);
+  if (const std::string why = check_sensors(*d); !why.empty()) throw PluginError(what + ": " + why);
   if (const Descriptor* other = find(d->name); other != nullptr && other != d) {
     throw PluginError(what + ": names behaviour '" + std::string(d->name) +
                       "', which is already registered (a built-in or another plug-in)");

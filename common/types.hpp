@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,12 +52,36 @@ struct RabReading {
   std::vector<std::uint8_t> data;  // the sender's payload, opaque to the world
 };
 
-// Everything a robot perceives in one tick. The controller gets nothing else.
+// The rest of ARGoS's Khepera IV (ilpincy/argos3-kheperaiv): sensors a behaviour reads only when its
+// descriptor declares them (behaviour/descriptor.hpp Sensor), and the three RGB LEDs on top.
+inline constexpr std::size_t kProximityCount = 8;  // infrared ring
+inline constexpr std::size_t kLightCount = 8;      // light sensors on the same ring
+inline constexpr std::size_t kGroundCount = 4;     // ground sensors underneath
+inline constexpr std::size_t kLedCount = 3;
+
+// One lidar ray: where it points and what it measured.
+struct LidarRay {
+  double angle = 0.0;  // rad, robot frame, counter-clockwise from the heading
+  double range = 0.0;  // m
+};
+
+struct Rgb {
+  std::uint8_t r = 0, g = 0, b = 0;
+  friend bool operator==(const Rgb&, const Rgb&) = default;
+};
+
+// Everything a robot perceives in one tick. The controller gets nothing else. The optional sensors are empty
+// (nullopt, no rays) when not equipped: the behaviour did not declare them, so the world computed nothing.
 struct Perception {
   Tick tick = 0;
   Pose2D pose;                                        // positioning sensor, arena frame
   std::array<double, kUltrasonicCount> ultrasonic{};  // m, in [kUltrasonicMinRange, kUltrasonicMaxRange]
   std::vector<RabReading> messages;                   // heard this tick, any order
+  std::optional<std::array<double, kProximityCount>> proximity;  // infrared ring (Sensor::Proximity)
+  std::optional<std::array<double, kLightCount>> light;          // light ring (Sensor::Light)
+  std::optional<std::array<double, kGroundCount>> ground;        // floor under the robot (Sensor::Ground)
+  std::vector<LidarRay> lidar;                                   // (Sensor::Lidar)
+  std::optional<double> battery;                                 // charge left, 0..1 (Sensor::Battery)
 };
 
 // What the controller reports about itself, for the recorder and the metrics only (never delivered to
@@ -81,6 +106,7 @@ struct Command {
   double left_speed = 0.0;            // m/s, linear speed of the left wheel's rim
   double right_speed = 0.0;           // m/s
   std::vector<std::uint8_t> message;  // broadcast to the neighbours in range next tick; empty = say nothing
+  std::array<Rgb, kLedCount> leds{};  // the three RGB LEDs on top; all off unless set
   Telemetry telemetry;
 };
 

@@ -187,7 +187,7 @@ void Harness::step() {
 
 void Harness::run(const std::function<bool(const Harness&)>& stop) {
   const Tick max_ticks = impl_->scenario.max_ticks;
-  while (!world::run_complete(metrics(), impl_->world.tick(), max_ticks)) {
+  while (!world::run_complete(impl_->session, impl_->world.tick(), max_ticks)) {
     step();
     if (stop && stop(*this)) break;
   }

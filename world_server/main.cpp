@@ -23,6 +23,7 @@
 #include "common/input_error.hpp"
 #include "robot_agent/controller/builtins.hpp"
 #include "world_server/run/record_every_flag.hpp"
+#include "world_server/run/recording_format.hpp"
 #include "world_server/server.hpp"
 #include "world_server/world/scenario.hpp"
 
@@ -132,11 +133,13 @@ int run(const Options& o) {
     }
   }
   if (o.check) {
-    const nlohmann::ordered_json j = {{"robots", scenario.robots.size()},
-                                      {"labels", scenario.mission.shape.label_count()},
-                                      {"mode", std::string(swarmform::world::to_string(scenario.mode))},
-                                      {"max_ticks", scenario.max_ticks},
-                                      {"seed", scenario.seed}};
+    const nlohmann::ordered_json j = {
+        {"robots", scenario.robots.size()},
+        {"labels", scenario.mission.shape.label_count()},
+        {"mode", std::string(swarmform::world::to_string(scenario.mode))},
+        {"max_ticks", scenario.max_ticks},
+        {"seed", scenario.seed},
+        {"behaviour_descriptor", swarmform::world::describe_behaviour(scenario)}};
     std::cout << j.dump() << std::endl;
     return kExitOk;
   }

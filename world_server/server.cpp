@@ -976,10 +976,10 @@ void Server::step_world() {
 }
 
 bool Server::record_or_defer() {
-  // Decided before the new tick is recorded: the record can set goal_tick, which ends the run only
-  // kTicksAfterGoal ticks later, so the answer is the same as after it.
-  static_assert(world::kTicksAfterGoal > 0);
-  const bool complete = world::run_complete(session_.metrics(), world_.tick(), scenario_.max_ticks);
+  // Decided before the new tick is recorded: the record can set goal_tick or the experiment's done, which
+  // end the run only kTicksAfterGoal / kTicksAfterDone ticks later, so the answer is the same as after it.
+  static_assert(world::kTicksAfterGoal > 0 && world::kTicksAfterDone > 0);
+  const bool complete = world::run_complete(session_, world_.tick(), scenario_.max_ticks);
   // Every agent waits for the step and the packets after it: the new tick's record (events, metrics, the
   // recording's rows) waits until the next round's packets are out when that round's start does not depend
   // on it, and runs while the agents compute. The last tick is recorded at once.

@@ -226,6 +226,8 @@ std::size_t CommandReader::take(std::vector<CommandSample>& buf, std::size_t max
       c.command.left_speed = s.left_speed;
       c.command.right_speed = s.right_speed;
       assign_octets(c.command.message, s.message);
+      for (std::size_t k = 0; k < kLedCount; ++k)
+        c.command.leds[k] = {s.leds[3 * k], s.leds[3 * k + 1], s.leds[3 * k + 2]};
       Telemetry& t = c.command.telemetry;
       t.state = s.state;
       t.label = s.label;

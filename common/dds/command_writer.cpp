@@ -124,6 +124,11 @@ void CommandWriter::step(RobotId id, Tick tick, const Command& c) {
   s.left_speed = c.left_speed;
   s.right_speed = c.right_speed;
   s.message = octets(c.message);
+  for (std::size_t k = 0; k < kLedCount; ++k) {
+    s.leds[3 * k] = c.leds[k].r;
+    s.leds[3 * k + 1] = c.leds[k].g;
+    s.leds[3 * k + 2] = c.leds[k].b;
+  }
   s.state = c.telemetry.state;
   s.label = c.telemetry.label;
   s.parent = c.telemetry.parent;

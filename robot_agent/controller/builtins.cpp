@@ -4,6 +4,7 @@
 #include <array>
 
 #include "robot_agent/controller/paper_controller.hpp"
+#include "robot_agent/controller/paper_experiment.hpp"
 #include "robot_agent/controller/paper_params.hpp"
 #include "robot_agent/controller/random_walk.hpp"
 #include "robot_agent/controller/robot_state.hpp"
@@ -59,6 +60,12 @@ const Descriptor kPaper{
                     .heading_param = "shape_heading",
                     .motion_state = state(RobotState::Motion)},
     .make = &make_paper,
+    .sensors = 0,
+    // The outcome is the experiment's; the formation and motion numbers are still the world's own keys.
+    .experiment = {.metrics = {},
+                   .outcomes = kPaperOutcomes,
+                   .success = kPaperSuccess,
+                   .make = &make_paper_experiment},
 };
 
 const Descriptor kWalk{
@@ -72,6 +79,8 @@ const Descriptor kWalk{
     .needs_goal = false,
     .shape_rules = {},
     .make = &make_walk,
+    .sensors = 0,
+    .experiment = {},
 };
 
 }  // namespace

@@ -33,7 +33,9 @@ swarmform::behaviour::Registry& stand_ins() {
                                 .telemetry = {},
                                 .needs_shape = true,
                                 .needs_goal = true,
-                                .make = &no_controller};
+                                .make = &no_controller,
+                                .sensors = 0,
+                                .experiment = {}};
   static const Descriptor walk{.name = "random_walk",
                                .summary = "",
                                .params = {},
@@ -41,7 +43,9 @@ swarmform::behaviour::Registry& stand_ins() {
                                .telemetry = {},
                                .needs_shape = false,
                                .needs_goal = false,
-                               .make = &no_controller};
+                               .make = &no_controller,
+                               .sensors = 0,
+                               .experiment = {}};
   static swarmform::behaviour::Registry registry = [] {
     swarmform::behaviour::Registry r;
     r.add(paper);

@@ -563,7 +563,7 @@ TEST_F(WireFaults, SamplesOfAnotherRunOrWireVersionAreRefusedWithTheReason) {
   EXPECT_GE(sent, 10);
   const std::regex said(
       "world_server: refused ([0-9]+) claim sample\\(s\\) from writer [0-9a-f]+ \\(pid 0\\): "
-      "wire version 1, this world speaks 6");
+      "wire version 1, this world speaks 7");
   const std::string err = w.err();
   int lines = 0;
   for (auto it = std::sregex_iterator(err.begin(), err.end(), said); it != std::sregex_iterator(); ++it)

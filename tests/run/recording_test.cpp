@@ -192,6 +192,11 @@ TEST(Recording, SummaryHasEveryKeyNullWhereNotReached) {
   m.deaths.push_back({2, 7});
   SummaryInputs in = lockstep_inputs(s, robots, m, 100, 2.0);
   in.trajectory_sha256 = std::string(64, 'a');
+  EXPECT_EQ(make_summary(in)["outcome"], "none");  // no experiment's verdict: nothing judged
+  ExperimentVerdict verdict;
+  verdict.outcome = "not_formed";
+  verdict.success = false;
+  in.verdict = &verdict;
   const auto j = make_summary(in);
   for (const char* key : {"robots",
                           "seed",
@@ -215,6 +220,8 @@ TEST(Recording, SummaryHasEveryKeyNullWhereNotReached) {
                           "path_length",
                           "arrived",
                           "outcome",
+                          "success",
+                          "behaviour_metrics",
                           "stuck_robots",
                           "stuck_robot_count",
                           "motion_ticks_minimum",
@@ -234,7 +241,7 @@ TEST(Recording, SummaryHasEveryKeyNullWhereNotReached) {
   EXPECT_TRUE(j["motion_ticks_minimum"].is_null());
   EXPECT_EQ(j["stuck_robot_count"], 0);
   m.stuck_robots = {1, 4};
-  m.outcome = "formed_not_arrived";
+  verdict.outcome = "formed_not_arrived";
   const auto k = make_summary(in);
   EXPECT_EQ(k["stuck_robots"], nlohmann::ordered_json::parse("[1, 4]"));
   EXPECT_EQ(k["stuck_robot_count"], 2);
@@ -271,8 +278,10 @@ TEST(Recording, SummaryRoomIsReservedAtTheStartAndTheOutcomeAloneAlwaysFitsIt) {
   for (RobotId i = 0; i < 5000; ++i) m.deaths.push_back({i, 7});
   for (Tick t = 0; t < 20000; ++t) m.distortion.push_back({t, 0.0625});
   m.stuck_robots = std::vector<RobotId>(1000, 1);
-  m.outcome = "formed_not_arrived";
+  ExperimentVerdict verdict;
+  verdict.outcome = "formed_not_arrived";
   SummaryInputs in = lockstep_inputs(s, robots, m, 20000, 2.0);
+  in.verdict = &verdict;
   in.trajectory_sha256 = std::string(64, 'a');
   in.end_reason = "disk_full";
   const auto whole = make_summary(in);

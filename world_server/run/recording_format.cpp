@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "behaviour/descriptor_check.hpp"
+
 namespace swarmform::world {
 
 namespace {
@@ -112,6 +114,27 @@ ojson describe_behaviour(const Scenario& scenario) {
     telemetry.push_back({{"name", std::string(t.name)}, {"doc", std::string(t.doc)}});
   }
   j["telemetry"] = std::move(telemetry);
+  ojson sensors = ojson::array();
+  const std::string names = behaviour::sensor_names(d->sensors);
+  for (std::size_t at = 0; at < names.size();) {
+    const std::size_t end = std::min(names.find(", ", at), names.size());
+    sensors.push_back(names.substr(at, end - at));
+    at = end + 2;
+  }
+  j["sensors"] = std::move(sensors);
+  const behaviour::ExperimentSpec& e = d->experiment;
+  if (e.make == nullptr) {
+    j["experiment"] = nullptr;
+  } else {
+    ojson metrics = ojson::array();
+    for (const auto& m : e.metrics)
+      metrics.push_back({{"name", std::string(m.name)}, {"doc", std::string(m.doc)}});
+    ojson outcomes = ojson::array();
+    for (std::string_view o : e.outcomes) outcomes.push_back(std::string(o));
+    j["experiment"] = {{"metrics", std::move(metrics)},
+                       {"outcomes", std::move(outcomes)},
+                       {"success", std::string(e.success)}};
+  }
   return j;
 }
 
@@ -207,7 +230,12 @@ ojson make_summary(const SummaryInputs& in) {
   j["max_components"] = m.max_components;
   j["path_length"] = m.path_length;
   j["arrived"] = m.arrived;
-  j["outcome"] = m.outcome;
+  const ExperimentVerdict none;
+  const ExperimentVerdict& verdict = in.verdict != nullptr ? *in.verdict : none;
+  j["outcome"] = verdict.outcome;
+  j["success"] = verdict.success ? ojson(*verdict.success) : ojson(nullptr);
+  j["behaviour_metrics"] = verdict.metrics;
+  if (!verdict.error.empty()) j["experiment_error"] = verdict.error;
   j["stuck_robots"] = m.stuck_robots;
   j["stuck_robot_count"] = m.stuck_robots.size();
   j["silent_robots"] = m.silent_robots;

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "world_server/run/experiment_runner.hpp"
 #include "world_server/run/metrics.hpp"
 #include "world_server/world/scenario.hpp"
 #include "world_server/world/world.hpp"
@@ -38,6 +39,7 @@ struct SummaryInputs {
   SteadyWindow steady;
   const std::vector<RobotTruth>* robots = nullptr;
   const Metrics* metrics = nullptr;
+  const ExperimentVerdict* verdict = nullptr;  // the behaviour's experiment: outcome, success, its metrics
   std::string trajectory_sha256;
   std::uint64_t command_verdicts = 0;  // commands not taken as they came (clamped, rejected, dropped)
   std::string end_reason;              // why the run stopped (end_reason.hpp)

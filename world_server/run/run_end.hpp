@@ -1,20 +1,28 @@
-// When a run ends: at the scenario's max_ticks, or kTicksAfterGoal ticks after goal_tick (so the recording
-// shows the formation settle at the goal). One rule for both front ends: the DDS world_server and the
-// in-process harness call run_complete after every recorded tick.
+// When a run ends: at the scenario's max_ticks, kTicksAfterGoal ticks after goal_tick (so the recording
+// shows the formation settle at the goal), or kTicksAfterDone ticks after the behaviour's experiment said it
+// was done. One rule for both front ends: the DDS world_server and the in-process harness call run_complete
+// after every recorded tick. Both delays are > 0: world_server decides before it records the tick it stepped,
+// the harness after, and either way the run ends at the same tick.
 #pragma once
 
 #include <string>
 
 #include "common/types.hpp"
 #include "world_server/run/metrics.hpp"
+#include "world_server/run/run_session.hpp"
 
 namespace swarmform::world {
 
 inline constexpr Tick kTicksAfterGoal = 20;
+inline constexpr Tick kTicksAfterDone = 1;
 
 // `tick` is the tick just recorded (World::tick() after the step).
 inline bool run_complete(const Metrics& metrics, Tick tick, Tick max_ticks) {
   return tick >= max_ticks || (metrics.goal_tick && tick >= *metrics.goal_tick + kTicksAfterGoal);
+}
+inline bool run_complete(const RunSession& session, Tick tick, Tick max_ticks) {
+  const std::optional<Tick> done = session.experiment_done_at();
+  return run_complete(session.metrics(), tick, max_ticks) || (done && tick >= *done + kTicksAfterDone);
 }
 
 // The last line a front end prints when the run used up max_ticks without arriving (outcome and stuck

@@ -8,6 +8,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "world_server/run/experiment_runner.hpp"
 #include "world_server/run/metrics_tracker.hpp"
 #include "world_server/run/provenance.hpp"
 #include "world_server/run/recorder.hpp"
@@ -46,6 +47,7 @@ struct RunSession::Impl {
       : world(w),
         options(std::move(o)),
         tracker(w.scenario().mission, w.scenario().behaviour),
+        experiment(w),
         fragment_range(options.fragment_range > 0.0 ? options.fragment_range : w.scenario().comm_range),
         events(fragment_range, w.scenario().behaviour ? w.scenario().behaviour->states
                                                       : std::span<const behaviour::StateSpec>{}) {
@@ -85,6 +87,7 @@ struct RunSession::Impl {
     // What the controllers said happened (label taken/lost/freed, barrier, leader elected, parent...).
     for (const auto& e : controller_events(tick, robots)) emit(e);
     if (track_graph) tracker.note_components(components);
+    experiment.observe(tracker.metrics());
     // x, y, theta of every robot in id order, each as its 8-byte little-endian bit pattern; one update a
     // tick.
     pose_bytes.resize(robots.size() * 3 * sizeof(double));
@@ -104,7 +107,8 @@ struct RunSession::Impl {
   const World& world;
   RunOptions options;
   MetricsTracker tracker;
-  double fragment_range;  // m
+  ExperimentRunner experiment;  // the behaviour's own judge, if it has one
+  double fragment_range;        // m
   EventDeriver events;
   Sha256 sha;
   std::vector<unsigned char> pose_bytes;
@@ -137,11 +141,17 @@ void RunSession::record_tick() {
 }
 
 void RunSession::record_death(RobotId id) {
-  if (auto e = impl_->events.death(impl_->world.tick(), id)) impl_->emit(*e);
+  if (auto e = impl_->events.death(impl_->world.tick(), id)) {
+    impl_->emit(*e);
+    impl_->experiment.died(id);
+  }
 }
 
 void RunSession::record_rejoin(RobotId id) {
-  if (auto e = impl_->events.rejoin(impl_->world.tick(), id)) impl_->emit(*e);
+  if (auto e = impl_->events.rejoin(impl_->world.tick(), id)) {
+    impl_->emit(*e);
+    impl_->experiment.rejoined(id);
+  }
 }
 
 void RunSession::record_command_verdict(RobotId id, CommandVerdict verdict, std::uint64_t event_for) {
@@ -162,6 +172,10 @@ void RunSession::record_event(std::int64_t id, const std::string& kind, const st
   Event e = make_event(impl_->world.tick(), kind, id);
   e["detail"] = detail;
   impl_->emit(e);
+}
+
+std::optional<Tick> RunSession::experiment_done_at() const {
+  return impl_->experiment.done_at();
 }
 
 const Metrics& RunSession::metrics() const {
@@ -203,6 +217,8 @@ std::string RunSession::finish(double wall_seconds, const SteadyWindow& steady) 
     reason = *impl_->end_reason;
   } else if (metrics.goal_tick && tick >= *metrics.goal_tick + kTicksAfterGoal) {
     reason = EndReason::Completed;
+  } else if (const auto done = impl_->experiment.done_at(); done && tick >= *done + kTicksAfterDone) {
+    reason = EndReason::Completed;
   } else if (tick >= max_ticks) {
     reason = EndReason::MaxTicks;
   }
@@ -214,6 +230,7 @@ std::string RunSession::finish(double wall_seconds, const SteadyWindow& steady) 
   in.steady = steady;
   in.robots = &impl_->world.robots();
   in.metrics = &impl_->tracker.metrics();
+  in.verdict = &impl_->experiment.conclude();
   in.trajectory_sha256 = trajectory_sha256();
   in.command_verdicts = impl_->command_verdicts;
   in.end_reason = std::string(to_string(reason));
@@ -224,6 +241,7 @@ std::string RunSession::finish(double wall_seconds, const SteadyWindow& steady) 
   impl_->finished = true;
   if (write) {
     try {
+      if (!in.verdict->error.empty()) impl_->writer->log(impl_->last_recorded_tick, in.verdict->error);
       impl_->writer->log(impl_->last_recorded_tick, "run ends: " + in.end_reason);
     } catch (const RecordingError&) {  // world.log may be what failed; the summary is still tried
     }

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "common/types.hpp"
@@ -57,6 +58,8 @@ class RunSession {
   void flush();
 
   const Metrics& metrics() const;
+  // The tick at which the behaviour's experiment said the run was done (run_end.hpp), if it has.
+  std::optional<Tick> experiment_done_at() const;
   // What the world's robot-to-place assignment has cost so far (metrics_tracker.hpp).
   const AssignmentStats& assignment_stats() const;
 

@@ -297,6 +297,7 @@ CommandVerdict World::apply_command(RobotId id, const Command& command) {
   }
   m.truth[id].telemetry = command.telemetry;
   m.truth[id].telemetry_tick = m.tick;
+  m.truth[id].leds = command.leds;
   return verdict;
 }
 
@@ -332,6 +333,7 @@ void World::revive(RobotId id) {
   m.outboxes[id].has_message = false;
   m.truth[id].alive = true;
   m.truth[id].telemetry = Telemetry{};
+  m.truth[id].leds = {};
   // Its perception for this tick: fresh sensors, no messages (it heard nothing while dead).
   Perception& p = m.perceptions[id];
   p.messages.clear();

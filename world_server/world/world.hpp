@@ -24,7 +24,8 @@ struct RobotTruth {
   RobotId id = 0;
   Pose2D pose;
   bool alive = true;
-  Telemetry telemetry;  // what its controller last reported
+  Telemetry telemetry;                // what its controller last reported
+  std::array<Rgb, kLedCount> leds{};  // its LEDs as last commanded (off after a rebirth)
   // The tick at which `telemetry` was applied (apply_command before the step to telemetry_tick + 1). The
   // recorder writes telemetry.events only when they are new (telemetry_tick + 1 == the recorded tick): a
   // robot whose command did not come keeps its old telemetry, whose events must not be logged twice.

@@ -42,6 +42,8 @@ const behaviour::Descriptor kDescriptor{
     .needs_goal = false,
     .shape_rules = {},
     .make = &make,
+    .sensors = 0,
+    .experiment = {},
 };
 
 class Dispersion final : public controller::Controller {

@@ -47,6 +47,8 @@ const behaviour::Descriptor kDescriptor{
     .needs_goal = false,
     .shape_rules = {},
     .make = &make,
+    .sensors = 0,
+    .experiment = {},
 };
 
 // The heading in a message: 8 bytes, little-endian IEEE double (the machines we run on are little-endian).

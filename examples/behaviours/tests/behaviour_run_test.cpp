@@ -1,9 +1,10 @@
 // The example behaviours in whole runs: swarm_inprocess, and world_server with robot_agent processes over DDS
 // (inside the caller's network namespace: tests/README.md). Each example's multi-process run has the
-// in-process run's trajectory_sha256 (both modes load the same plug-in through the registry). A parameter out
-// of the plug-in's bounds is file:line; a plug-in outside the allowed folders is refused by the world, the
-// harness and the agent; a plug-in that fails is a dead robot multi-process and a clear end in-process. DDS
-// domain offsets 48..51 (tests/support/test_domain.hpp).
+// in-process run's trajectory_sha256 (both modes load the same plug-in through the registry; the aggregation
+// draws from its per-robot generator) and the same outcome and behaviour metrics (its experiment). A
+// parameter out of the plug-in's bounds is file:line; a plug-in outside the allowed folders is refused by the
+// world, the harness and the agent; a plug-in that fails is a dead robot multi-process and a clear end
+// in-process. DDS domain offsets 48..51 (tests/support/test_domain.hpp).
 #include <gtest/gtest.h>
 
 #include <csignal>
@@ -74,9 +75,28 @@ class ExampleRuns : public swarmform::testing::ProcessFixture {
     multiprocess(scenario(e.name), dir, in["robots"].get<int>(), test_domain(e.domain_offset), "multi");
     const Json multi = summary("multi");
     EXPECT_EQ(in["behaviour"], e.name);
-    EXPECT_EQ(in["outcome"], "none");  // no goal: no arrival to judge
     EXPECT_EQ(in["ticks"], multi["ticks"]);
     EXPECT_EQ(in["trajectory_sha256"], multi["trajectory_sha256"]);
+    // The behaviour's own judgement is the world's, on the same truth: the same in both modes.
+    EXPECT_EQ(in["outcome"], multi["outcome"]);
+    EXPECT_EQ(in["success"], multi["success"]);
+    EXPECT_EQ(in["behaviour_metrics"], multi["behaviour_metrics"]);
+    if (e.name == "aggregation") {  // its own experiment: the metrics its descriptor declares, an outcome
+      EXPECT_TRUE(in["outcome"] == "gathered" || in["outcome"] == "scattered") << in["outcome"];
+      EXPECT_EQ(in["success"], in["outcome"] == "gathered");
+      const Json& m = in["behaviour_metrics"];
+      EXPECT_GE(m["clusters"].get<double>(), 1.0);
+      EXPECT_LE(m["largest_cluster"].get<double>(), in["alive_at_end"].get<double>());
+      EXPECT_TRUE(m.contains("gathered_tick"));
+      EXPECT_TRUE(m["mean_distance_to_centroid"].is_number());
+      // The gathered robots' green LEDs reached the world's truth (multi-process: over the wire).
+      EXPECT_EQ(m["green_at_end"], in["states_at_end"]["gathered"]);
+      EXPECT_GT(m["green_at_end"].get<double>(), 0.0);
+    } else {  // no experiment: nothing to judge
+      EXPECT_EQ(in["outcome"], "none");
+      EXPECT_TRUE(in["success"].is_null());
+      EXPECT_TRUE(in["behaviour_metrics"].empty());
+    }
     EXPECT_FALSE(in["trajectory_sha256"].get<std::string>().empty());
     // The behaviour's telemetry columns are recorded after the fixed ones.
     std::ifstream csv(path("multi") + "/robots.csv");

@@ -1,7 +1,8 @@
 // The example behaviours' controllers, each loaded from its plug-in through the registry exactly as
 // robot_agent and swarm_inprocess load it, stepped on perceptions built here: each does what its rule says.
-// Also the registry's refusals: a plug-in outside the allowed folders, and a mission naming another
-// behaviour.
+// Also the registry's refusals: a plug-in outside the allowed folders, a mission naming another behaviour, a
+// plug-in of an older API version; the aggregation's experiment on truths built here; the per-robot
+// generator.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -13,6 +14,7 @@
 #include <string>
 
 #include "behaviour/params.hpp"
+#include "behaviour/random.hpp"
 #include "behaviour/registry.hpp"
 #include "common/input_error.hpp"
 
@@ -179,7 +181,9 @@ TEST(Registry, RefusesShapeRulesThatNameAParameterOrStateTheBehaviourLacks) {
                           .shape_rules = {.anchor = behaviour::ShapeAnchor::NearestOrigin,
                                           .heading_param = "turn",
                                           .motion_state = 1},
-                          .make = &no_controller};
+                          .make = &no_controller,
+                          .sensors = 0,
+                          .experiment = {}};
   EXPECT_EQ(behaviour::check_shape_rules(d), "");
   Mission m;
   m.params = {{"turn", 0.5}};
@@ -202,6 +206,94 @@ TEST(Registry, RefusesShapeRulesThatNameAParameterOrStateTheBehaviourLacks) {
   EXPECT_EQ(behaviour::check_shape_rules(d), "");
   registry.add(d);
   EXPECT_EQ(registry.find("shaper"), &d);
+}
+
+// A plug-in built against API version 2 is refused by a version-3 program, naming both.
+TEST(Registry, RefusesAPluginOfAnotherApiVersionNamingBoth) {
+  behaviour::Registry registry({OLD_API_DIR});
+  try {
+    registry.load_plugin(std::string(OLD_API_DIR) + "/libold_api.so");
+    FAIL() << "an API-2 plug-in was loaded";
+  } catch (const behaviour::PluginError& e) {
+    EXPECT_NE(std::string(e.what()).find("built against behaviour API version 2, this program has version 3"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(registry.find("old_api"), nullptr);
+}
+
+// The aggregation's experiment, made from its plug-in's descriptor, on truths built here: clusters by true
+// distance (link 2 x stop_distance), the tick everyone first stood in one, and the outcome.
+TEST(AggregationExperiment, CountsClustersAndJudgesGatheredOnTheTruth) {
+  behaviour::Registry registry({AGGREGATION_DIR});
+  const behaviour::Descriptor& d = registry.load_plugin(std::string(AGGREGATION_DIR) + "/libaggregation.so");
+  ASSERT_NE(d.experiment.make, nullptr);
+  ASSERT_EQ(d.experiment.metrics.size(), 5u);
+  EXPECT_EQ(d.experiment.success, "gathered");
+  Mission m = mission_of("aggregation", AGGREGATION_DIR);
+  m.params = {{"stop_distance", 0.5}};  // link: 1 m
+  auto run = [&](const std::vector<std::vector<Vec2>>& ticks, const std::vector<bool>& alive) {
+    auto e = d.experiment.make();
+    e->init(m, alive.size());
+    const Telemetry telemetry;
+    for (std::size_t t = 0; t < ticks.size(); ++t) {
+      std::vector<experiment::RobotTruth> robots;
+      for (std::size_t i = 0; i < ticks[t].size(); ++i)
+        robots.push_back(
+            {static_cast<RobotId>(i), {ticks[t][i].x, ticks[t][i].y, 0.0}, alive[i], &telemetry, {}});
+      experiment::Truth truth;
+      truth.tick = t;
+      truth.robots = robots;
+      e->observe(truth);
+    }
+    return e->conclude();
+  };
+  // Two pairs 5 m apart (a chain within a pair at 0.9 m), then all four within links of each other.
+  const std::vector<Vec2> apart = {{0, 0}, {0.9, 0}, {5, 0}, {5.9, 0}};
+  const std::vector<Vec2> together = {{0, 0}, {0.9, 0}, {1.8, 0}, {2.7, 0}};
+  const auto scattered = run({apart, apart}, {true, true, true, true});
+  EXPECT_EQ(scattered.outcome, "scattered");
+  EXPECT_EQ(scattered.metrics[0], 2.0);           // clusters
+  EXPECT_EQ(scattered.metrics[1], 2.0);           // largest_cluster
+  EXPECT_TRUE(std::isnan(scattered.metrics[2]));  // never gathered
+  const auto gathered = run({apart, apart, together, together}, {true, true, true, true});
+  EXPECT_EQ(gathered.outcome, "gathered");
+  EXPECT_EQ(gathered.metrics[0], 1.0);
+  EXPECT_EQ(gathered.metrics[1], 4.0);
+  EXPECT_EQ(gathered.metrics[2], 2.0);  // the first tick in one cluster
+  EXPECT_NEAR(gathered.metrics[3], (1.35 + 0.45 + 0.45 + 1.35) / 4.0, 1e-12);
+  // A dead robot far away is no cluster of its own.
+  const auto dead_apart = run({{{0, 0}, {0.9, 0}, {1.8, 0}, {9, 9}}}, {true, true, true, false});
+  EXPECT_EQ(dead_apart.outcome, "gathered");
+  EXPECT_EQ(dead_apart.metrics[1], 3.0);
+}
+
+// The per-robot generator is the documented splitmix64 stream (docs/behaviour-api.md), so an agent in
+// another language can reproduce it; streams differ by robot and by seed.
+TEST(RobotRandom, IsTheDocumentedStreamOfTheSeedAndTheId) {
+  constexpr std::uint64_t golden = 0x9e3779b97f4a7c15ULL;
+  auto mix = [](std::uint64_t z) {  // splitmix64's finaliser, written out independently of the API's
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  };
+  const std::uint64_t seed = 42;
+  const RobotId id = 7;
+  std::uint64_t s = mix(seed + golden) ^ (std::uint64_t{id} * golden);
+  behaviour::RobotRandom rng(seed, id);
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_EQ(rng.next(), mix(s + golden));
+    s += golden;
+  }
+  behaviour::RobotRandom a(seed, id), b(seed, id);
+  EXPECT_EQ(a.uniform(), static_cast<double>(b.next() >> 11) * 0x1.0p-53);
+  EXPECT_NE(behaviour::RobotRandom(seed, 8).next(), behaviour::RobotRandom(seed, 7).next());
+  EXPECT_NE(behaviour::RobotRandom(seed + 1, 7).next(), behaviour::RobotRandom(seed, 7).next());
+  for (int k = 0; k < 1000; ++k) {
+    const double x = a.uniform(-2.0, 3.0);
+    ASSERT_GE(x, -2.0);
+    ASSERT_LT(x, 3.0);
+  }
 }
 
 }  // namespace

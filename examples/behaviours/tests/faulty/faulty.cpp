@@ -31,6 +31,8 @@ const behaviour::Descriptor kDescriptor{
     .needs_goal = false,
     .shape_rules = {},
     .make = &make,
+    .sensors = 0,
+    .experiment = {},
 };
 
 class Faulty final : public controller::Controller {

@@ -1,0 +1,100 @@
+#include "behaviour/descriptor_check.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <utility>
+
+namespace swarmform::behaviour {
+namespace {
+
+constexpr std::array<std::pair<std::uint32_t, std::string_view>, 5> kSensorNames = {{
+    {kProximity, "proximity"},
+    {kLight, "light"},
+    {kGround, "ground"},
+    {kLidar, "lidar"},
+    {kBattery, "battery"},
+}};
+
+bool lower_case_name(std::string_view s) {
+  if (s.empty() || !(s[0] >= 'a' && s[0] <= 'z')) return false;
+  return std::all_of(s.begin(), s.end(),
+                     [](char c) { return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_'; });
+}
+
+std::string outcome_list(const ExperimentSpec& e) {
+  std::string s;
+  for (std::string_view o : e.outcomes) s += (s.empty() ? "" : ", ") + std::string(o);
+  return s;
+}
+
+}  // namespace
+
+std::string check_experiment(const Descriptor& d) {
+  const ExperimentSpec& e = d.experiment;
+  const std::string where = "behaviour '" + std::string(d.name) + "': experiment: ";
+  if (e.make == nullptr) {
+    if (!e.metrics.empty() || !e.outcomes.empty() || !e.success.empty())
+      return where + "metrics, outcomes or success declared without a make";
+    return {};
+  }
+  if (e.outcomes.empty()) return where + "declares no outcomes";
+  for (std::size_t i = 0; i < e.outcomes.size(); ++i) {
+    if (e.outcomes[i].empty() || e.outcomes[i] == "none" || e.outcomes[i] == "experiment_failed")
+      return where + "outcome '" + std::string(e.outcomes[i]) + "' is empty or reserved";
+    for (std::size_t j = 0; j < i; ++j) {
+      if (e.outcomes[j] == e.outcomes[i]) return where + "outcome '" + std::string(e.outcomes[i]) + "' twice";
+    }
+  }
+  if (std::find(e.outcomes.begin(), e.outcomes.end(), e.success) == e.outcomes.end())
+    return where + "success '" + std::string(e.success) + "' is not one of its outcomes (" + outcome_list(e) +
+           ")";
+  for (std::size_t i = 0; i < e.metrics.size(); ++i) {
+    const std::string_view name = e.metrics[i].name;
+    if (!lower_case_name(name)) return where + "metric '" + std::string(name) + "' is not a lower_case name";
+    for (std::size_t j = 0; j < i; ++j) {
+      if (e.metrics[j].name == name) return where + "metric '" + std::string(name) + "' twice";
+    }
+  }
+  return {};
+}
+
+std::string sensor_names(std::uint32_t sensors) {
+  std::string s;
+  for (std::uint32_t bit = 0; bit < 32; ++bit) {
+    const std::uint32_t mask = 1U << bit;
+    if ((sensors & mask) == 0) continue;
+    std::string name = "bit " + std::to_string(bit);
+    for (const auto& [m, n] : kSensorNames) {
+      if (m == mask) name = std::string(n);
+    }
+    s += (s.empty() ? "" : ", ") + name;
+  }
+  return s;
+}
+
+std::string check_sensors(const Descriptor& d) {
+  const std::uint32_t unmodelled = d.sensors & ~kModelledSensors;
+  if (unmodelled == 0) return {};
+  return "behaviour '" + std::string(d.name) + "' declares sensor " + sensor_names(unmodelled) +
+         ", which this world does not model yet (docs/behaviour-api.md, \"Sensors and actuators\")";
+}
+
+std::string check_result(const Descriptor& d, const experiment::Result& r) {
+  const ExperimentSpec& e = d.experiment;
+  if (r.metrics.size() != e.metrics.size()) {
+    return "returned " + std::to_string(r.metrics.size()) + " metrics, declares " +
+           std::to_string(e.metrics.size());
+  }
+  if (std::find(e.outcomes.begin(), e.outcomes.end(), r.outcome) == e.outcomes.end())
+    return "returned outcome '" + r.outcome + "', not one of: " + outcome_list(e);
+  for (std::size_t k = 0; k < r.metrics.size(); ++k) {
+    if (std::isinf(r.metrics[k])) {
+      return "returned metric '" + std::string(e.metrics[k].name) +
+             "' infinite (NaN says not reached; summary.json holds numbers)";
+    }
+  }
+  return {};
+}
+
+}  // namespace swarmform::behaviour

@@ -1,0 +1,28 @@
+// What a program checks of a behaviour's declarations beyond its parameters (params.hpp): its experiment
+// (descriptor.hpp ExperimentSpec) and its sensors, when the registry takes the descriptor; and what an
+// experiment returned, against what it declared, when the world concludes a run.
+#pragma once
+
+#include <string>
+
+#include "behaviour/descriptor.hpp"
+#include "behaviour/experiment.hpp"
+
+namespace swarmform::behaviour {
+
+// The Sensor bits this world models (Perception fields it fills). A behaviour that declares another is
+// refused: it would read "not equipped" where it expects readings.
+inline constexpr std::uint32_t kModelledSensors = 0;
+
+// Empty when d's experiment declaration is consistent (outcomes given with a make, success among them, "none"
+// not used, metric names lower_case and unique); otherwise what is wrong, naming the behaviour.
+std::string check_experiment(const Descriptor& d);
+// Empty when every sensor d declares is modelled; otherwise which are not.
+std::string check_sensors(const Descriptor& d);
+// "proximity, ground": the names of the Sensor bits set in `sensors` (unknown bits as "bit N").
+std::string sensor_names(std::uint32_t sensors);
+// Empty when `r` is what d's experiment declares (one metric each, a declared outcome); otherwise what it
+// did.
+std::string check_result(const Descriptor& d, const experiment::Result& r);
+
+}  // namespace swarmform::behaviour

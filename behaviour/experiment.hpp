@@ -1,0 +1,88 @@
+// The experiment: a behaviour's own judge, after ARGoS's loop functions (docs/behaviour-api.md, "The
+// experiment"). The world makes one per run (never the agents), shows it the truth after every tick, and asks
+// it at the end for the behaviour's own metrics and outcome, which summary.json carries. It only watches:
+// what it returns never feeds back into the run, so a run's trajectory is the same with or without it. Part
+// of the installed behaviour API.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "common/mission.hpp"
+#include "common/types.hpp"
+
+namespace swarmform::experiment {
+
+// One robot as it truly is this tick.
+struct RobotTruth {
+  RobotId id = 0;
+  Pose2D pose;                        // arena frame, true (no sensor noise)
+  bool alive = true;                  // false: dead (a body in the arena)
+  const Telemetry* telemetry{};       // what its controller last reported; never null
+  std::array<Rgb, kLedCount> leds{};  // its LEDs as last commanded
+};
+
+struct ObstacleTruth {
+  enum class Kind { Box, Cylinder };
+  Kind kind = Kind::Box;
+  Vec2 centre;          // m
+  double yaw = 0.0;     // rad (boxes)
+  Vec2 half_extents;    // m (boxes): half width along the box's x, half depth along its y
+  double radius = 0.0;  // m (cylinders)
+};
+
+struct ArenaTruth {
+  Vec2 centre;
+  double width = 0.0;   // m
+  double height = 0.0;  // m
+  bool walls = false;
+};
+
+struct Goal {
+  Vec2 at;              // m, arena frame
+  double radius = 0.0;  // m
+};
+
+// The world's own measurement of a shape-forming behaviour that goes to a goal (summary.json's definitions of
+// formation_tick and goal_tick), so far.
+struct ShapeProgress {
+  std::optional<Tick> formation_tick;
+  std::optional<Tick> goal_tick;
+};
+
+// One tick of the world. Spans and pointers refer to the world's data and are valid during observe() only.
+struct Truth {
+  Tick tick = 0;                             // the tick just stepped (0: the start)
+  std::span<const RobotTruth> robots;        // every robot, id order
+  std::span<const RobotId> died;             // detected dead since the last observe
+  std::span<const RobotId> rejoined;         // back since the last observe
+  std::span<const ObstacleTruth> obstacles;  // walls excluded
+  ArenaTruth arena;
+  std::optional<Goal> goal;            // nullopt: the run has no goal
+  std::optional<ShapeProgress> shape;  // set for a behaviour that needs a shape and a goal
+};
+
+// What the experiment concludes.
+struct Result {
+  std::vector<double> metrics;  // one per declared metric, in the declared order; NaN: not reached (null)
+  std::string outcome;          // one of the declared outcomes
+};
+
+class Experiment {
+ public:
+  virtual ~Experiment() = default;
+  // Once, before tick 0 is observed: the mission (parameters, seed, goal...) and the number of robots.
+  virtual void init(const Mission& mission, std::size_t robots) = 0;
+  // Tick 0 (the starting poses), then after every step, every tick.
+  virtual void observe(const Truth& truth) = 0;
+  // Once, when the run ends (whatever the reason).
+  virtual Result conclude() = 0;
+  // Asked after every observe (ARGoS's IsExperimentFinished): true ends the run at the next tick, with
+  // end_reason completed (one tick later because world_server decides before it records the tick it steps).
+  virtual bool done() const { return false; }
+};
+
+}  // namespace swarmform::experiment

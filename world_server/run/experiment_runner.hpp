@@ -1,0 +1,64 @@
+// Runs a behaviour's experiment (behaviour/experiment.hpp) over a run: made from the descriptor, shown the
+// truth after every recorded tick, concluded at the end and its result checked against what the descriptor
+// declares. Both front ends get it through RunSession, so an in-process run and a multi-process run judge the
+// same truth with the same code. An experiment that throws or breaks its declaration is a bug in the
+// behaviour: the run goes on and the verdict says so (outcome experiment_failed), never a silent default.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "behaviour/descriptor.hpp"
+#include "behaviour/experiment.hpp"
+#include "world_server/run/metrics.hpp"
+#include "world_server/world/world.hpp"
+
+namespace swarmform::world {
+
+// What summary.json says of the behaviour's judgement (docs/recording-format.md).
+struct ExperimentVerdict {
+  std::string outcome = "none";  // the experiment's, "none" without one, "experiment_failed"
+  std::optional<bool> success;   // null without an experiment
+  nlohmann::ordered_json metrics = nlohmann::ordered_json::object();  // behaviour_metrics
+  std::string error;  // with experiment_failed: what went wrong
+};
+
+inline constexpr const char* kExperimentFailed = "experiment_failed";
+
+class ExperimentRunner {
+ public:
+  explicit ExperimentRunner(const World& world);
+  bool active() const { return experiment_ != nullptr; }
+  // The tick's truth (after World::step, or tick 0); `metrics` for the world's shape progress.
+  void observe(const Metrics& metrics);
+  void died(RobotId id) { died_.push_back(id); }
+  void rejoined(RobotId id) { rejoined_.push_back(id); }
+  // Once; later calls return the same verdict.
+  const ExperimentVerdict& conclude();
+  // The tick after whose observe the experiment first said it was done (Experiment::done), if it has.
+  std::optional<Tick> done_at() const { return done_at_; }
+  // Set once the experiment failed (for world.log), else empty.
+  const std::string& error() const { return verdict_.error; }
+
+ private:
+  void fail(const std::string& what);
+
+  const World& world_;
+  const behaviour::Descriptor* descriptor_ = nullptr;
+  std::unique_ptr<experiment::Experiment> experiment_;
+  std::vector<experiment::RobotTruth> robots_;
+  std::vector<experiment::ObstacleTruth> obstacles_;
+  std::vector<RobotId> died_, rejoined_;
+  experiment::ArenaTruth arena_;
+  std::optional<experiment::Goal> goal_;
+  bool track_shape_ = false;
+  bool concluded_ = false;
+  std::optional<Tick> done_at_;
+  ExperimentVerdict verdict_;
+};
+
+}  // namespace swarmform::world
