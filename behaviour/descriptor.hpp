@@ -17,7 +17,7 @@ namespace swarmform::behaviour {
 
 // Raised with any change to Descriptor, Controller, Mission, Perception or Command: a plug-in built against
 // another version is refused with both numbers named, never run.
-inline constexpr std::uint32_t kApiVersion = 2;
+inline constexpr std::uint32_t kApiVersion = 3;
 
 struct ParamSpec {
   std::string_view name;  // as written in the scenario: `behaviour: {params: {name: value}}`

@@ -6,6 +6,6 @@
 
 namespace swarmform::dds {
 
-inline constexpr std::uint16_t kWireVersion = 6;
+inline constexpr std::uint16_t kWireVersion = 7;
 
 }  // namespace swarmform::dds

@@ -480,6 +480,19 @@ TEST(Scenario, AShapeAndAGoalOnlyWhenTheBehaviourNeedsThem) {
   EXPECT_EQ(s.robots.size(), 4u);
   EXPECT_EQ(s.mission.shape.label_count(), 0);
   EXPECT_TRUE(s.shape_file.empty());
+  // A goal given is told, whatever the behaviour.
+  EXPECT_TRUE(s.mission.has_goal);
+  EXPECT_EQ(s.mission.goal.x, 40.0);
+  // No goal: a behaviour that goes nowhere is told there is none, not the default (10, 0).
+  const Scenario none = parse("behaviour: random_walk\nrobots: {count: 4}\n");
+  EXPECT_FALSE(none.mission.has_goal);
+  EXPECT_EQ(none.mission.goal.x, 0.0);
+  EXPECT_EQ(none.mission.goal_radius, 0.0);
+  // The paper goes somewhere: without goal: it is told the default.
+  const Scenario paper = parse("shape: triangle.txt\n");
+  EXPECT_TRUE(paper.mission.has_goal);
+  EXPECT_EQ(paper.mission.goal.x, 10.0);
+  EXPECT_EQ(paper.mission.goal_radius, 0.5);
   // Without a shape the robots must be counted.
   expect_rejected("behaviour: random_walk\nrobots: {region: {centre: [0, 0], width: 2, height: 2}}\n", 2,
                   "robots: give robots.count or robots.poses (behaviour 'random_walk' has no shape");

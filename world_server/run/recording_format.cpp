@@ -141,7 +141,8 @@ ojson describe_world(const Scenario& scenario, const std::string& mode) {
   ojson obstacles = ojson::array();
   for (const auto& o : scenario.obstacles) obstacles.push_back(obstacle_json(o));
   j["obstacles"] = std::move(obstacles);
-  j["goal"] = {{"x", m.goal.x}, {"y", m.goal.y}, {"radius", m.goal_radius}};
+  j["goal"] =
+      m.has_goal ? ojson{{"x", m.goal.x}, {"y", m.goal.y}, {"radius", m.goal_radius}} : ojson(nullptr);
   j["grid_spacing"] = m.grid_spacing;
   j["comm_range"] = scenario.comm_range;
   // The radio and the sensors' noise (docs/scenario-format.md): mean_burst null is independent loss.

@@ -671,6 +671,13 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
   }
   if (!s.shape_file.empty()) s.mission.shape = load_shape_file(s.shape_file);
 
+  // No goal: a behaviour that goes somewhere is told the default one (checked below); any other is told there
+  // is none rather than a point it would take for one.
+  if (goal_line == 0 && !s.behaviour->needs_goal) {
+    s.mission.has_goal = false;
+    s.mission.goal = Vec2{0.0, 0.0};
+    s.mission.goal_radius = 0.0;
+  }
   // Goal inside the walls (else the formation can never get there), for a behaviour that goes to one.
   if (s.behaviour->needs_goal && s.walls && !inside_arena(s, s.mission.goal)) {
     std::ostringstream what;

@@ -100,6 +100,8 @@ class JudgingTest(unittest.TestCase):
         self.assertIn("expectation met: params.spacing == 1.2", r.stderr)
         with open(os.path.join(out, "summary.json")) as f:
             self.assertEqual(json.load(f)["params"]["k_turn"], 3.0)
+        with open(os.path.join(out, "world.json")) as f:
+            self.assertIsNone(json.load(f)["goal"], "no goal: in the scenario, none told to a behaviour without one")
         for mode in ([], ["--in-process"]):
             r = swarm("run", "--scenario", SCENARIO, "--plugin-dir", PLUGIN_DIR, "--no-pictures",
                       "--out", os.path.join(self.dir, "bad" + "".join(mode)), "--param", "spacing=99", *mode)
