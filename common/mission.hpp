@@ -19,11 +19,16 @@ struct Mission {
   std::string plugin;         // empty: a built-in
   ShapeMatrix shape;          // the label matrix (common/shape.hpp)
   double grid_spacing = 1.0;  // m between horizontally/vertically adjacent labels (paper Table II)
-  Vec2 goal{10.0, 0.0};       // m, arena frame; only the elected leader uses it (paper eq. 3)
-  double goal_radius = 0.5;   // m
-  double max_speed = 0.1;     // m/s, wheel speed limit (the world clamps anything above)
-  double tick_rate = 10.0;    // ticks per second of simulated time
-  double comm_range = 3.0;    // m, range-and-bearing range (for the controller's own reasoning only)
+  // The goal, when the run has one: the scenario's `goal:`, or for a behaviour that goes somewhere
+  // (needs_goal) without one, the default (10, 0) r 0.5. A behaviour that does not go somewhere and whose
+  // scenario gives no goal is told there is none: has_goal false, goal (0, 0), goal_radius 0. Every robot is
+  // told the same; which robot acts on it is the behaviour's business (the paper's: only its elected leader).
+  bool has_goal = true;
+  Vec2 goal{10.0, 0.0};      // m, arena frame
+  double goal_radius = 0.5;  // m
+  double max_speed = 0.1;    // m/s, wheel speed limit (the world clamps anything above)
+  double tick_rate = 10.0;   // ticks per second of simulated time
+  double comm_range = 3.0;   // m, range-and-bearing range (for the controller's own reasoning only)
   std::uint32_t max_message_bytes = 1024;  // the world drops larger outgoing messages
   std::uint64_t seed = 1;  // per-run seed; a controller mixes in its id for its own randomness
   // The behaviour's parameters by name, as the scenario sets them (`behaviour: {params: ...}` or

@@ -20,8 +20,8 @@
 #include "common/exit_codes.hpp"
 #include "common/input_error.hpp"
 #include "harness/harness.hpp"
-#include "harness/param_flags.hpp"
 #include "robot_agent/controller/builtins.hpp"
+#include "world_server/run/param_flags.hpp"
 #include "world_server/run/record_every_flag.hpp"
 #include "world_server/run/run_end.hpp"
 
@@ -200,7 +200,7 @@ int main(int argc, char** argv) {
     for (const auto& k : kill_texts) overrides.kills.push_back(parse_kill(k));
     overrides.faults = fault_texts;
     if (!behaviour.empty()) overrides.behaviour = behaviour;
-    overrides.params = harness::parse_param_flags(param_texts);
+    overrides.params = world::parse_param_flags(param_texts);
     for (const std::string& t : set_texts) overrides.fields.push_back(world::parse_field_override(t));
     // Plug-ins load from the scenario's folder, --plugin-dir and SWARMFORM_PLUGIN_PATH only.
     behaviour::Registry behaviours;
@@ -212,7 +212,7 @@ int main(int argc, char** argv) {
     }
     behaviours.add_folders_from_environment();
     world::Scenario scenario = world::load_scenario(scenario_path, overrides, behaviours);
-    harness::check_param_flags(param_texts, scenario.mission, behaviours);
+    world::check_param_flags(param_texts, scenario.mission, behaviours);
 
     const bool default_out = out.empty();
     const std::string run_dir = no_record ? std::string() : (default_out ? default_run_dir() : out);

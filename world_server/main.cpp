@@ -22,6 +22,7 @@
 #include "common/exit_codes.hpp"
 #include "common/input_error.hpp"
 #include "robot_agent/controller/builtins.hpp"
+#include "world_server/run/param_flags.hpp"
 #include "world_server/run/record_every_flag.hpp"
 #include "world_server/run/recording_format.hpp"
 #include "world_server/server.hpp"
@@ -62,6 +63,7 @@ struct Options {
   std::string security_dir;
   std::optional<int> status_fd;
   bool open_rejoin = false;
+  std::vector<std::string> params;  // --param NAME=VALUE
 };
 
 // "A<sep>B" with two unsigned integers; throws std::invalid_argument naming the flag.
@@ -91,6 +93,7 @@ swarmform::world::ScenarioOverrides overrides_of(const Options& o) {
     ov.kills.push_back(swarmform::world::Kill{static_cast<RobotId>(id), tick});
   }
   ov.faults = o.faults;
+  ov.params = swarmform::world::parse_param_flags(o.params);
   return ov;
 }
 
@@ -125,6 +128,7 @@ int run(const Options& o) {
   behaviours.add_folders_from_environment();
   const swarmform::world::Scenario scenario =
       swarmform::world::load_scenario(o.scenario, overrides_of(o), behaviours);
+  swarmform::world::check_param_flags(o.params, scenario.mission, behaviours);
   for (const auto& k : scenario.kills) {
     if (k.id >= scenario.robots.size()) {
       throw std::invalid_argument("--kill " + std::to_string(k.id) + "@" + std::to_string(k.tick) +
@@ -212,6 +216,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"lockstep", "realtime"}));
   app.add_option("--max-ticks", o.max_ticks, "ticks to run at most, overrides the scenario's")
       ->check(CLI::Range(Tick{1}, Tick{1000000000}));
+  app.add_option(
+      "--param", o.params,
+      "NAME=VALUE: set the behaviour's parameter NAME over the scenario's value; repeatable; checked against "
+      "the behaviour's parameter table (unknown name or out of bounds: exit 2 naming it)");
   app.add_option("--out", o.out, "run directory to write (required for a run)");
   swarmform::world::add_record_every_flag(app, o.record_every);
   app.add_option("--domain", o.domain, "DDS domain id (0..232)")->check(CLI::Range(0u, 232u));

@@ -44,6 +44,7 @@ void MissionWriter::publish(const MissionAnnouncement& a) {
   s.cells._buffer = cells.data();
   s.cells._length = s.cells._maximum = static_cast<std::uint32_t>(cells.size());
   s.grid_spacing = m.grid_spacing;
+  s.has_goal = m.has_goal;
   s.goal_x = m.goal.x;
   s.goal_y = m.goal.y;
   s.goal_radius = m.goal_radius;
@@ -97,6 +98,7 @@ std::optional<MissionAnnouncement> MissionReader::take(std::optional<std::uint64
     m.shape.cols = s.cols;
     m.shape.cells.assign(s.cells._buffer, s.cells._buffer + s.cells._length);
     m.grid_spacing = s.grid_spacing;
+    m.has_goal = s.has_goal;
     m.goal = Vec2{s.goal_x, s.goal_y};
     m.goal_radius = s.goal_radius;
     m.max_speed = s.max_speed;

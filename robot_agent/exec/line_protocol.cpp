@@ -63,7 +63,9 @@ std::string encode_hello(const Mission& mission, RobotId self) {
       {"max_speed", mission.max_speed},
       {"comm_range", mission.comm_range},
       {"max_message_bytes", mission.max_message_bytes},
-      {"goal", {{"x", mission.goal.x}, {"y", mission.goal.y}, {"radius", mission.goal_radius}}},
+      {"goal", mission.has_goal
+                   ? json{{"x", mission.goal.x}, {"y", mission.goal.y}, {"radius", mission.goal_radius}}
+                   : json(nullptr)},
       {"grid_spacing", mission.grid_spacing},
       {"shape", std::move(shape)},
   };

@@ -4,7 +4,9 @@ matplotlib is imported only by the commands that draw, so `--help`, `kill` and `
 """
 
 import argparse
+import math
 import os
+import re
 import sys
 import time
 from typing import IO, Any, Callable, NoReturn, Optional, Sequence
@@ -111,6 +113,20 @@ def _kill_spec(text: str) -> str:
     return f"{int(rid)}@{int(tick)}"
 
 
+def _param(text: str) -> str:
+    """`NAME=VALUE` (one value; `swarm sweep --param` takes several): the syntax here, the name and the bounds by
+    the behaviour's own table when the world loads the scenario (before anything starts)."""
+    name, sep, value = text.partition("=")
+    try:
+        number = float(value)
+    except ValueError:
+        number = math.nan
+    if not sep or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name.strip()) or not math.isfinite(number):
+        raise argparse.ArgumentTypeError(f"expected NAME=VALUE with VALUE a finite number (e.g. radius=1.5), "
+                                         f"got '{text}'")
+    return f"{name.strip()}={value.strip()}"
+
+
 def _expectation(text: str) -> expect.Expectation:
     try:
         return expect.parse(text)
@@ -143,6 +159,11 @@ def _add_run_flags(p: argparse.ArgumentParser, demo: bool = False) -> None:
     p.add_argument("--plugin-dir", action="append", default=[], metavar="DIR",
                    help="a folder behaviour plug-ins may be loaded from, besides the scenario's own "
                         "(docs/behaviour-api.md); repeatable")
+    p.add_argument("--param", type=_param, action="append", default=[], metavar="NAME=VALUE",
+                   help="set the behaviour's parameter NAME (a scenario `behaviour: {params:}` / `controller:` "
+                        "key) over the scenario's value; repeatable. Checked against the behaviour's parameter "
+                        "table before anything starts: an unknown NAME or a value out of bounds is refused "
+                        "naming it (exit 2). summary.json's params holds the values the run had")
     p.add_argument("--out", metavar="DIR", help="run directory (default runs/<UTC time>/, and runs/latest)")
     p.add_argument("--record-every", type=_int_at_least(1), metavar="K",
                    help="robots.csv gets the rows of every K-th tick only (ticks 0, K, 2K...; default 1): a "
@@ -195,10 +216,13 @@ def _add_run_flags(p: argparse.ArgumentParser, demo: bool = False) -> None:
     p.add_argument("--exec-timeout", type=_float_at_least(0.001), metavar="S",
                    help="seconds the --exec program may take to answer each perception (default 5)")
     p.add_argument("--expect", type=_expectation, action="append", default=[], metavar="'KEY OP VALUE'",
-                   help="after the run, check summary.json: KEY a summary key, OP one of == != <= >= < >, e.g. "
-                        "--expect 'outcome == arrived' --expect 'collisions_robot_robot == 0' --expect "
-                        "'deaths <= 2' (a list compares by its length); repeatable. Each is printed met or "
-                        "FAILED; exit 4 when one failed, 2 for a key summary.json lacks (docs/testing-your-swarm.md)")
+                   help="after the run, check summary.json: KEY a summary key, dotted for a nested one "
+                        "(states_at_end.NAME, params.NAME, telemetry_mean_at_end.NAME), OP one of == != <= >= < >, "
+                        "e.g. --expect 'outcome == arrived' --expect 'collisions_robot_robot == 0' --expect "
+                        "'deaths <= 2' (a list compares by its length); repeatable. Every KEY is checked before "
+                        "the run against what the behaviour declares (exit 2 for an unknown one, nothing run); "
+                        "after it each is printed met or FAILED; exit 4 when one failed "
+                        "(docs/testing-your-swarm.md)")
     p.add_argument("--labels", action="store_true",
                    help="write each robot's id beside it and draw its heading on the snapshots")
     p.add_argument("--in-process", action="store_true",
@@ -337,9 +361,13 @@ def _add_sweep_parser(sub: Any) -> None:
     g.add_argument("--kill-window", type=_int_at_least(1), default=sweep.DEFAULT_KILL_WINDOW, metavar="T",
                    help="random:K kills fall at ticks 1..min(T, max_ticks) (default %(default)s)")
     j = p.add_argument_group("judging")
-    j.add_argument("--expect", choices=sweep.EXPECT, default="arrived",
-                   help="the outcome a run must end with (default %(default)s; formed: arrived or "
-                        "formed_not_arrived; any: a clean exit)")
+    j.add_argument("--expect", action="append", type=_checked(sweep.parse_expect), metavar="WORD|'KEY OP VALUE'",
+                   help="how a run succeeds; repeatable. An outcome word: success (the default: the behaviour's "
+                        "own outcome; one with no judge of its own, outcome none, by a clean exit), arrived, "
+                        "formed (arrived or formed_not_arrived), not_formed, none, any (a clean exit). Or "
+                        "'KEY OP VALUE' as `swarm run --expect` (KEY dotted for a nested one: "
+                        "'states_at_end.gathered >= 6'), each checked before any run against the keys the "
+                        "behaviour declares; given alone, they judge a clean run")
     j.add_argument("--max-shape-error", type=_float_at_least(0), metavar="E",
                    help="fail a run whose shape error (at the goal for --expect arrived, at formation "
                         "otherwise) is above E grid units")

@@ -1,12 +1,15 @@
 """`swarm run --expect 'KEY OP VALUE'`: assertions on the run's summary.json, so that any CI can gate on a swarm
-run (testing-your-swarm.md). KEY is a top-level key of summary.json (docs/recording-format.md; `swarm report RUN_DIR
---json` lists them), OP one of == != <= >= < >, VALUE a number, true/false, null, or a word (compared as text).
+run (testing-your-swarm.md). KEY is a key of summary.json (docs/recording-format.md; `swarm report RUN_DIR --json`
+lists them), a nested one named with dots (`states_at_end.settled`, `params.radius`: summary_keys.py), OP one of
+== != <= >= < >, VALUE a number, true/false, null, or a word (compared as text).
 
 Comparing: a number with a number numerically; a list (deaths, rejoins, stuck_robots) by its length, so
 `deaths <= 2` means at most two deaths; true/false and null only with == and !=; a word only with == and !=
 (`outcome == arrived`). A key whose value is null fails every ordering (`goal_tick <= 3000` fails when the goal
-was never reached). The launcher prints every expectation met or failed and exits 4 when one failed (the run
-itself succeeded), 2 for an unknown key (common/exit_codes.json).
+was never reached). Every KEY is checked before the run starts against the keys the run's summary will have
+(`check_declared`: its behaviour's parameters, states and telemetry, and the generic keys); an unknown one is
+refused then, exit 2. After the run the launcher prints every expectation met or failed and exits 4 when one
+failed (the run itself succeeded) (common/exit_codes.json).
 """
 
 import json
@@ -15,10 +18,10 @@ import os
 import re
 from typing import Any, Callable, Sequence
 
-from . import exit_codes
+from . import exit_codes, summary_keys
 
 EXIT_EXPECTATION_FAILED = exit_codes.EXPECTATION_FAILED
-_SYNTAX = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*(==|!=|<=|>=|<|>)\s*(\S(?:.*\S)?)\s*$")
+_SYNTAX = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*(?:\.[A-Za-z0-9_]+)*)\s*(==|!=|<=|>=|<|>)\s*(\S(?:.*\S)?)\s*$")
 OPS = ("==", "!=", "<=", ">=", "<", ">")
 
 
@@ -56,8 +59,9 @@ def parse(text: str) -> Expectation:
     """'KEY OP VALUE' -> Expectation; ExpectationError naming the text and what is wrong."""
     m = _SYNTAX.match(text)
     if not m:
-        raise ExpectationError(f"'{text}': expected 'KEY OP VALUE' with OP one of {' '.join(OPS)} "
-                               f"(e.g. 'outcome == arrived', 'collisions_robot_robot == 0')")
+        raise ExpectationError(f"'{text}': expected 'KEY OP VALUE' with OP one of {' '.join(OPS)} and KEY a "
+                               f"summary key, dotted for a nested one (e.g. 'outcome == arrived', "
+                               f"'collisions_robot_robot == 0', 'states_at_end.settled >= 10')")
     key, op, raw = m[1], m[2], m[3]
     value = _value(raw)
     if op not in ("==", "!=") and not _is_number(value):
@@ -74,15 +78,28 @@ def _shown(v: Any) -> str:
     return json.dumps(v) if not isinstance(v, str) else v
 
 
+def check_declared(expectations: Sequence[Expectation], declared: set[str],
+                   skip: Callable[[str], bool] = lambda key: False) -> list[str]:
+    """Before a run: a message for each expectation whose key the run's summary will not have (`declared`:
+    summary_keys.declared_keys of a one-tick probe); keys for which `skip(key)` is true are left to after the
+    run."""
+    return [f"'{e.text}': summary.json will have {summary_keys.unknown_text(e.key, declared)}"
+            for e in expectations if e.key not in declared and not skip(e.key)]
+
+
 def check(exp: Expectation, summary: dict[str, Any]) -> tuple[bool, str]:
     """(met, the actual value as the message shows it). ExpectationError for a key summary.json lacks."""
-    if exp.key not in summary:
-        known = ", ".join(sorted(k for k in summary if k not in ("format", "version")))
-        raise ExpectationError(f"'{exp.text}': summary.json has no key '{exp.key}' (its keys: {known})")
-    actual = summary[exp.key]
+    flat = summary_keys.flatten(summary)
+    if exp.key in summary:
+        actual = summary[exp.key]
+    elif exp.key in flat:
+        actual = flat[exp.key]
+    else:
+        raise ExpectationError(f"'{exp.text}': summary.json has {summary_keys.unknown_text(exp.key, flat)}")
+    raw = actual
     shown = _shown(actual)
     if isinstance(actual, list) and _is_number(exp.value):
-        actual, shown = len(actual), f"{len(actual)} ({_shown(summary[exp.key])})"
+        actual, shown = len(actual), f"{len(actual)} ({_shown(raw)})"
     if exp.op in ("==", "!="):
         if _is_number(actual) and _is_number(exp.value):
             equal = float(actual) == float(exp.value)

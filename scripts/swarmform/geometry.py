@@ -69,12 +69,16 @@ def _summary_tick(summary: Optional[dict[str, Any]], key: str) -> Optional[int]:
 def phases(rec: Recording) -> dict[str, Optional[int]]:
     """Ticks of the run's phases: formation (all shape robots ready), motion start, goal; None when not reached.
 
-    summary.json's values win (the world computed them from the truth); otherwise derived from the states.
+    summary.json's values win (the world computed them from the truth); otherwise derived from the states, for
+    the paper's kind of behaviour only (one that forms a shape and goes to a goal): another behaviour's state
+    values mean other things, and it has no such phases.
     """
     track, summary = rec.track, rec.summary
     out = {"formation": _summary_tick(summary, "formation_tick"),
            "motion": _summary_tick(summary, "motion_start_tick"),
            "goal": _summary_tick(summary, "goal_tick")}
+    if not (rec.world.needs_shape and rec.world.needs_goal):
+        return out
     labelled = track.alive & (track.label >= 0)
     if out["formation"] is None:
         n = rec.world.shape.label_count() if rec.world.shape else None

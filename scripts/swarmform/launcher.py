@@ -124,7 +124,51 @@ def overrides(args: argparse.Namespace) -> list[str]:
         out += ["--fault", fault]
     for folder in getattr(args, "plugin_dir", None) or []:
         out += ["--plugin-dir", os.path.abspath(folder)]
+    for param in getattr(args, "param", None) or []:
+        out += ["--param", param]
     return out
+
+
+def probe_flags(args: argparse.Namespace) -> list[str]:
+    """The overrides that decide what the run's summary holds (the scenario, its behaviour and parameters, the
+    robots), for a one-tick in-process probe: not the kills and faults (a probe stops before them)."""
+    flags = overrides(args)
+    out: list[str] = []
+    for i in range(0, len(flags), 2):
+        if flags[i] not in ("--kill", "--fault", "--record-every", "--max-ticks", "--mode"):
+            out += flags[i:i + 2]
+    return out
+
+
+def check_expectations(args: argparse.Namespace, status: "Status") -> None:
+    """--expect: every key checked against what the run's summary will hold, before the run starts: a one-tick
+    in-process probe of the same scenario (summary_keys.py). An unknown key: LaunchError, exit 2. Under --exec the
+    behaviour is the program's, not the scenario's: its parameters, states and telemetry are checked after the
+    run."""
+    from . import expect, summary_keys
+    exps = getattr(args, "expect", None) or []
+    if not exps:
+        return
+    exe = executable("inprocess")
+    cmd = [exe] + probe_flags(args) + ["--max-ticks", "1", "--no-record", "--quiet"]
+    try:
+        p = subprocess.run(cmd, capture_output=True, timeout=CHECK_TIMEOUT_S, encoding="utf-8",
+                           errors="backslashreplace", preexec_fn=_die_with_parent)
+    except subprocess.TimeoutExpired:
+        raise LaunchError(f"--expect: the probe {shlex.join(cmd)} did not answer within {CHECK_TIMEOUT_S} s") \
+            from None
+    from .sweep import parse_summary
+    probe = parse_summary(p.stdout) if p.returncode == 0 else None
+    if probe is None:
+        raise LaunchError(p.stderr.strip() or f"{shlex.join(cmd)}: exit {p.returncode}, no summary",
+                          p.returncode if p.returncode == EXIT_BAD_INPUT else EXIT_WORLD_FAILED)
+    skip = summary_keys.behaviour_owned if getattr(args, "exec", None) else (lambda key: False)
+    bad = expect.check_declared(exps, summary_keys.declared_keys(probe), skip)
+    if bad:
+        raise LaunchError("--expect " + "\nswarm: --expect ".join(bad) + "\n(nothing was run)", EXIT_BAD_INPUT)
+    if getattr(args, "exec", None) and any(skip(e.key) for e in exps):
+        status.line("swarm: --expect: the --exec program's parameters, states and telemetry are checked after "
+                    "the run")
 
 
 def agent_plugin_flags(args: argparse.Namespace) -> list[str]:
@@ -665,6 +709,7 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
         check_exec(getattr(args, "exec", None))
         procs.agent_args = exec_args(args) + agent_plugin_flags(args)
         info = check_scenario(world_exe, args)
+        check_expectations(args, status)
         if stop:
             return EXIT_INTERRUPTED
         n = info["robots"]
@@ -1030,6 +1075,7 @@ def _run_in_process(args: argparse.Namespace, stop: StopFlag, status: Status,
         dropped.append("--view")
     if dropped:
         status.line(f"swarm: {', '.join(sorted(set(dropped)))} do(es) not apply to an in-process run; ignored")
+    check_expectations(args, status)
     run_dir = args.run_dir = make_run_dir(args.out)
     cmd += ["--out", run_dir]
     procs = Processes()
@@ -1053,7 +1099,8 @@ def _run_in_process(args: argparse.Namespace, stop: StopFlag, status: Status,
         return EXIT_INTERRUPTED
     if code != 0:
         status.line(f"swarm: {_world_failure(code, run_dir).replace('world_server', 'swarm_inprocess')}")
-        return code if code == EXIT_RECORDING_FAILED else EXIT_WORLD_FAILED
+        # The same mistake, the same code as a multi-process run (a bad scenario, plug-in or flag: 2).
+        return code if code in (EXIT_BAD_INPUT, EXIT_RECORDING_FAILED) else EXIT_WORLD_FAILED
     status.line(f"swarm: run directory {run_dir}")
     stop.restore()
     code = 0 if args.no_pictures else render_pictures(run_dir)

@@ -35,7 +35,8 @@ LAYOUT = [
                 ("command_verdicts", "commands clamped/dropped", "int")]),
     ("Collisions (contact onsets)", [("collisions_robot_robot", "robot-robot", "int"),
                                      ("collisions_robot_obstacle", "robot-obstacle", "int")]),
-    ("Behaviour at the end", [("states_at_end", "live robots by state", "counts"),
+    ("Behaviour at the end", [("params", "parameters", "means"),
+                              ("states_at_end", "live robots by state", "counts"),
                               ("telemetry_mean_at_end", "telemetry (live mean)", "means")]),
     ("Reproducibility", [("trajectory_sha256", "trajectory sha256", "text")]),
 ]

@@ -36,9 +36,9 @@ import subprocess
 import sys
 import tempfile
 import time
-from typing import IO, Any, Callable, Iterable, Optional, Sequence
+from typing import IO, Any, Callable, Iterable, Optional, Sequence, Union
 
-from . import launcher, sweep_fields
+from . import expect, launcher, summary_keys, sweep_fields
 
 ParamValues = list[tuple[str, float]]  # a --param's values: (as written, as a number)
 Combo = dict[str, tuple[str, float]]  # one run's parameters: NAME -> (text, value)
@@ -48,9 +48,12 @@ DEFAULT_KILL_WINDOW = 3000
 DEFAULT_TIMEOUT_S = 1800.0
 INTERRUPT_GRACE_S = 10.0
 PROBE_TIMEOUT_S = 120.0
-EXPECT = ("arrived", "formed", "not_formed", "none", "any")
-SERIES_KEYS = {"distortion"}  # per-tick series: not a column
+EXPECT = ("success", "arrived", "formed", "not_formed", "none", "any")
+PAPER_OUTCOMES = ("arrived", "formed_not_arrived", "not_formed")
+SERIES_KEYS = summary_keys.SERIES_KEYS  # per-tick series: not a column
 WORST_SHOWN = 5
+BEHAVIOUR_COLUMNS_SHOWN = 6  # the table's columns of a behaviour's own numbers (every one is in sweep.csv)
+Judging = Union[str, expect.Expectation]  # an --expect: an outcome word, or 'KEY OP VALUE'
 
 HELP = """\
 Runs a grid of in-process runs (build/harness/swarm_inprocess --no-record --quiet):
@@ -61,14 +64,16 @@ combination of the --param values x every combination of the scenario-field valu
   sweep.csv   one row per run: the grid coordinates (scenario, shape, robots, seed, kills and the --kill
               flags they gave, a param_NAME column per --param, and a loss, burst, noise or set_KEY column per
               scenario-field axis), the exact command, its exit code, wall seconds, success and the reason of a
-              failure, then every scalar key of the run's summary.json (lists of ids or {id, tick} are
-              written as "3 7" / "3@120 7@900"; the per-tick distortion series is left out). A summary key
-              named like one of the sweep's own columns is written as summary_<key>.
+              failure, then every key of the run's summary.json, a nested one flattened with dots
+              (states_at_end.NAME, telemetry_mean_at_end.NAME, params.NAME, an experiment's metrics; lists of
+              ids or {id, tick} are written as "3 7" / "3@120 7@900"; the per-tick distortion series is left
+              out). A summary key named like one of the sweep's own columns is written as summary_<key>.
   sweep.json  the grid, the commit, the success rates (overall, per scenario, per shape, per kill schedule,
               per parameter combination, per field combination (by_fields), per scenario x shape x schedule x
               parameters x fields, with median formation/goal ticks and the largest shape
-              errors), and the worst runs: failed ones first, then the largest shape error, then the latest
-              goal, each with the command that reproduces it (and the same command writing a run directory).
+              errors, and the medians of the behaviour's own numbers), and the worst runs: failed ones first,
+              then the largest shape error, then the latest goal, each with its flattened summary and the
+              command that reproduces it (and the same command writing a run directory).
               Commands are relative to the folder the sweep ran in (sweep.json's cwd).
 
   runs.jsonl  written as the sweep goes: one line per finished run (its sweep.json record), to read a long
@@ -95,15 +100,21 @@ Behaviour parameters (--param NAME=V1,V2,..., repeatable; each NAME one axis of 
   passed to every run.
 
 """ + sweep_fields.HELP + """
-Success: the summary's `outcome` is the one --expect asks for (arrived: outcome arrived; formed: arrived or
-formed_not_arrived; not_formed; none; any: a clean exit with a summary). A summary without `outcome` (older
-builds) is judged from its ticks: arrived iff goal_tick is set, formed iff formation_tick is set. Then the
-optional thresholds: --max-shape-error on shape_error_at_goal (--expect arrived) or shape_error_at_formation
+Success (--expect, repeatable): by default (`success`) the behaviour's own outcome: a run succeeds when its
+summary's `outcome` is its behaviour's success (the paper's: arrived; a summary's boolean `success`, when it has
+one, says it for any behaviour); a behaviour with no judge of its own (outcome none) succeeds by a clean exit
+with a summary. An outcome word instead: arrived, formed (arrived or formed_not_arrived), not_formed, none, any
+(a clean exit with a summary). Or 'KEY OP VALUE', the grammar of `swarm run --expect` (a summary key, dotted for
+a nested one: 'states_at_end.settled >= 10', 'outcome == settled'): every one must hold; given alone, they
+judge the run with a clean exit (no outcome word asked). Every KEY is checked before any run against the keys
+the scenario's behaviour declares (each scenario's probe; an unknown one: exit 2). A summary without `outcome`
+(older builds) is judged from its ticks: arrived iff goal_tick is set, formed iff formation_tick is set. Then the
+optional thresholds: --max-shape-error on shape_error_at_goal (success, arrived) or shape_error_at_formation
 (otherwise), --max-contacts on robot-robot + robot-obstacle contacts, --max-robot-contacts on robot-robot ones.
 A run that never ends is cut at max_ticks by the harness and fails by its outcome; a run that crashes, exits
 non-zero, prints no summary or outlives --timeout (SIGKILLed) fails with that reason.
 
-With no grid flag: scenarios/paper.yaml x seeds 1-10, no kills, --expect arrived.
+With no grid flag: scenarios/paper.yaml x seeds 1-10, no kills, --expect success.
 
 Exit codes: 0 every run succeeded; 1 at least one run failed (or could not start); 2 bad input (a flag, a
 schedule, a scenario or shape the probe refused: nothing was run); 130 interrupted (the runs in flight get
@@ -122,6 +133,8 @@ examples:
   scripts/swarm sweep --param k_goal=0.5,1,2 --param m_obstacle=0.5,1 --seeds 1-10   # 3 x 2 x 10 runs
   scripts/swarm sweep --loss 0,0.1,0.2,0.3 --burst 1,5 --noise off,on --kills none random:2 --seeds 1-10
   scripts/swarm sweep --set comm_range=2,3 --set occlusion=false,true --seeds 1-5
+  scripts/swarm sweep --scenario examples/behaviours/aggregation/aggregation.yaml --param stop_distance=0.3,0.5 \\
+      --expect 'states_at_end.gathered >= 6' --seeds 1-10
 """
 
 
@@ -160,13 +173,14 @@ class KillSchedule:
                 raise SweepError(f"--kills {self.text}: robot {rid} does not exist (ids 0..{robots - 1})")
         return [f"{rid}@{tick}" for rid, tick in self.kills]
 
-    def restart_flags(self, kill_flags: list[str]) -> list[str]:
-        """The `restart:ID@TICK` faults that follow the kills `kill_flags` (this schedule's `flags`)."""
+    def restart_flags(self, kill_flags: list[str], last_tick: Optional[int] = None) -> list[str]:
+        """The `restart:ID@TICK` faults that follow the kills `kill_flags` (this schedule's `flags`), but for those
+        after `last_tick` (the run's max_ticks: they would never happen)."""
         out = []
         for k in kill_flags:
             rid, tick = (int(v) for v in k.split("@"))
             after = self.random_restart_after if self.random_count else self.restart_after.get(rid, 0)
-            if after:
+            if after and (last_tick is None or tick + after <= last_tick):
                 out.append(f"restart:{rid}@{tick + after}")
         return out
 
@@ -418,6 +432,60 @@ def outcome_of(summary: dict[str, Any]) -> str:
     return "not_formed"
 
 
+def parse_expect(text: str) -> Judging:
+    """An --expect value: an outcome word (EXPECT) or 'KEY OP VALUE' (expect.py); ValueError naming the text."""
+    t = text.strip()
+    if t in EXPECT:
+        return t
+    if any(op in t for op in expect.OPS):
+        try:
+            return expect.parse(t)
+        except expect.ExpectationError as e:
+            raise ValueError(str(e)) from None
+    raise ValueError(f"'{text}': expected an outcome word ({', '.join(EXPECT)}) or 'KEY OP VALUE' (e.g. "
+                     "'states_at_end.settled >= 10')")
+
+
+def outcome_word(opts: argparse.Namespace) -> str:
+    """The one outcome word of the --expect values: the one given, `any` when only expressions were given, else
+    `success`."""
+    given: Sequence[Judging] = getattr(opts, "expect", None) or []
+    words = [e for e in given if isinstance(e, str)]
+    if words:
+        return words[0]
+    return "any" if given else "success"
+
+
+def expressions(opts: argparse.Namespace) -> list[expect.Expectation]:
+    return [e for e in (getattr(opts, "expect", None) or []) if isinstance(e, expect.Expectation)]
+
+
+def check_judging(opts: argparse.Namespace) -> None:
+    """SweepError for --expect values that cannot judge together (two outcome words)."""
+    words = [e for e in (getattr(opts, "expect", None) or []) if isinstance(e, str)]
+    if len(set(words)) > 1:
+        raise SweepError(f"--expect {' and '.join(words)}: one outcome word at most (add 'KEY OP VALUE' "
+                         "expressions beside it)")
+
+
+def behaviour_success(summary: dict[str, Any]) -> tuple[Optional[bool], str]:
+    """Whether the run ended in its behaviour's own success, and what that success is (for the reason of a
+    failure). The one place that reads a behaviour's verdict from its summary: a boolean `success` when the
+    summary has one (a behaviour with its own judge says it); else the paper's outcomes (success: arrived); a
+    behaviour with no judge of its own (outcome none): None, judged by a clean exit; any other outcome without
+    a `success` key cannot be judged: (False, why)."""
+    outcome = outcome_of(summary)
+    verdict = summary.get("success")
+    if isinstance(verdict, bool):
+        return verdict, "the behaviour's success"
+    if outcome in PAPER_OUTCOMES:
+        return outcome == "arrived", "arrived"
+    if outcome == "none":
+        return None, "none"
+    return False, "a verdict: the summary has no boolean `success` to say whether it is the behaviour's " \
+                  "success; judge it with --expect 'outcome == WORD'"
+
+
 def judge(run: Run, opts: argparse.Namespace) -> None:
     """Sets run.success, run.reason and run.severity from its exit and summary."""
     s = run.summary
@@ -425,18 +493,34 @@ def judge(run: Run, opts: argparse.Namespace) -> None:
         run.success, run.severity = False, 4
         return
     outcome = outcome_of(s)
-    expect = opts.expect
-    wanted = {"arrived": ("arrived",), "formed": ("arrived", "formed_not_arrived"),
-              "not_formed": ("not_formed",), "none": ("none",)}.get(expect)
+    expect_word = outcome_word(opts)
     reasons: list[str] = []
     severity = 0
-    if wanted is not None and outcome not in wanted:
-        ticks = s.get("ticks")
-        cut = f" (ended at tick {ticks})" if isinstance(ticks, int) else ""
-        reasons.append(f"outcome {outcome}, expected {expect}{cut}")
-        severity = {"not_formed": 3, "none": 3, "formed_not_arrived": 2}.get(outcome, 3)
-    if opts.max_shape_error is not None and expect != "any":
-        key = "shape_error_at_goal" if expect == "arrived" else "shape_error_at_formation"
+    ticks = s.get("ticks")
+    cut = f" (ended at tick {ticks})" if isinstance(ticks, int) else ""
+    if expect_word == "success":
+        ok, what = behaviour_success(s)
+        if ok is False:
+            reasons.append(f"outcome {outcome}, expected {what}{cut}")
+            severity = {"formed_not_arrived": 2}.get(outcome, 3)
+    else:
+        wanted = {"arrived": ("arrived",), "formed": ("arrived", "formed_not_arrived"),
+                  "not_formed": ("not_formed",), "none": ("none",)}.get(expect_word)
+        if wanted is not None and outcome not in wanted:
+            reasons.append(f"outcome {outcome}, expected {expect_word}{cut}")
+            severity = {"not_formed": 3, "none": 3, "formed_not_arrived": 2}.get(outcome, 3)
+    for exp in expressions(opts):
+        try:
+            met, actual = expect.check(exp, s)
+        except expect.ExpectationError as e:
+            reasons.append(str(e))
+            severity = max(severity, 3)
+            continue
+        if not met:
+            reasons.append(f"{exp.text} failed ({exp.key} is {actual})")
+            severity = max(severity, 1)
+    if opts.max_shape_error is not None and expect_word != "any":
+        key = "shape_error_at_goal" if expect_word in ("arrived", "success") else "shape_error_at_formation"
         value = s.get(key)
         if not isinstance(value, (int, float)):
             if not reasons:
@@ -661,10 +745,12 @@ def _cell(value: Any) -> Optional[str]:
 
 
 def summary_columns(runs: Sequence[Run]) -> list[str]:
+    """Every key of the runs' summaries, nested ones flattened with dots (summary_keys.flatten), first-seen order;
+    not the series, nor lists of objects that have no cell."""
     keys: list[str] = []
     seen: set[str] = set()
     for r in runs:
-        for k, v in (r.summary or {}).items():
+        for k, v in summary_keys.flatten(r.summary or {}).items():
             if k in seen or k in SERIES_KEYS or _cell(v) is None:
                 continue
             seen.add(k)
@@ -690,7 +776,7 @@ def write_csv(path: str, runs: Sequence[Run], param_names: Sequence[str] = (),
                 "" if r.wall is None else f"{r.wall:.3f}", command_text(r.cmd)]
             row += [r.params[n][0] if n in r.params else "" for n in param_names]
             row += [r.fields.get(c, "") for c in field_columns]
-            s = r.summary or {}
+            s = summary_keys.flatten(r.summary or {})
             row += [_cell(s.get(k)) or "" for k in keys]
             w.writerow(row)
 
@@ -700,7 +786,9 @@ def _num(s: Optional[dict[str, Any]], key: str) -> Optional[float]:
     return v if isinstance(v, (int, float)) and not isinstance(v, bool) else None
 
 
-def group_stats(runs: Sequence[Run]) -> dict[str, Any]:
+def group_stats(runs: Sequence[Run], behaviour_keys: Sequence[str] = ()) -> dict[str, Any]:
+    """Success rates, outcomes, the paper's medians and maxima, contacts; `behaviour_keys` (flattened summary keys
+    of the behaviour's own numbers): their medians over the runs that have them, in `medians`."""
     n = len(runs)
     ok = sum(1 for r in runs if r.success)
     out: dict[str, Any] = {"runs": n, "succeeded": ok, "failed": n - ok,
@@ -725,11 +813,18 @@ def group_stats(runs: Sequence[Run]) -> dict[str, Any]:
     out["contacts_robot_robot"], out["contacts_robot_obstacle"] = rr, ro
     walls = [r.wall for r in runs if r.wall is not None]
     out["median_wall_seconds"] = round(statistics.median(walls), 3) if walls else None
+    if behaviour_keys:
+        flat = [summary_keys.flatten(r.summary) for r in runs if r.summary]
+        medians: dict[str, Optional[float]] = {}
+        for key in behaviour_keys:
+            vals = [v for v in (f.get(key) for f in flat) if isinstance(v, (int, float)) and not isinstance(v, bool)]
+            medians[key] = statistics.median(vals) if vals else None
+        out["medians"] = medians
     return out
 
 
 def worst_key(opts: argparse.Namespace) -> Callable[[Run], tuple[Any, ...]]:
-    err_key = "shape_error_at_goal" if opts.expect == "arrived" else "shape_error_at_formation"
+    err_key = "shape_error_at_goal" if outcome_word(opts) in ("arrived", "success") else "shape_error_at_formation"
 
     def key(r: Run) -> tuple[Any, ...]:
         err = _num(r.summary, err_key)
@@ -752,6 +847,8 @@ def run_record(r: Run) -> dict[str, Any]:
               "alive_at_end", "stuck_robots"):
         if k in s:
             rec[k] = s[k]
+    # Every key of the summary, flattened as sweep.csv's columns (the behaviour's own numbers among them).
+    rec["summary"] = {k: v for k, v in summary_keys.flatten(s).items() if _cell(v) is not None}
     rec["command"] = command_text(r.cmd)
     rec["record_command"] = record_command(r.cmd, r.index)
     return rec
@@ -771,6 +868,10 @@ def git_commit() -> Optional[str]:
 def results(runs: Sequence[Run], opts: argparse.Namespace, grid: dict[str, Any], started: str, wall: float,
             interrupted: bool, worst_n: int) -> dict[str, Any]:
     finished = [r for r in runs if r.reason != "not run" and r.reason != "interrupted"]
+    # The behaviour's own numbers (its states and telemetry at the end, an experiment's metrics) and the keys the
+    # --expect expressions name: their medians per group, and the table's columns.
+    own = summary_keys.behaviour_columns(r.summary for r in finished)
+    behaviour_keys = list(dict.fromkeys([e.key for e in expressions(opts)] + own))
     by: dict[str, Any] = {}
     keys: tuple[tuple[str, Callable[[Run], str]], ...] = (
         ("by_scenario", lambda r: r.scenario), ("by_shape", lambda r: r.shape_name),
@@ -780,22 +881,23 @@ def results(runs: Sequence[Run], opts: argparse.Namespace, grid: dict[str, Any],
         groups: dict[str, list[Run]] = {}
         for r in finished:
             groups.setdefault(key(r), []).append(r)
-        by[name] = {k: group_stats(v) for k, v in groups.items()}
+        by[name] = {k: group_stats(v, behaviour_keys) for k, v in groups.items()}
     cells: dict[tuple[str, str, int, str, str, str], list[Run]] = {}
     for r in finished:
         cells.setdefault((r.scenario, r.shape_name, r.robots, r.schedule.text, param_label(r.params),
                           sweep_fields.label(r.fields)), []).append(r)
     by["by_cell"] = [dict(scenario=k[0], shape=k[1], robots=k[2], kills=k[3], params=k[4], fields=k[5],
-                          **group_stats(v))
+                          **group_stats(v, behaviour_keys))
                      for k, v in cells.items()]
     ordered = sorted(finished, key=worst_key(opts))
-    overall = group_stats(finished)
+    overall = group_stats(finished, behaviour_keys)
     return {
         "format": "swarmform-sweep", "version": 1,
         "commit": git_commit(), "cwd": os.getcwd(), "started_utc": started, "wall_seconds": round(wall, 1),
         "interrupted": interrupted, "planned_runs": len(runs),
         "grid": grid,
-        "judging": {"expect": opts.expect, "max_shape_error": opts.max_shape_error,
+        "judging": {"expect": outcome_word(opts), "expressions": [e.text for e in expressions(opts)],
+                    "behaviour_keys": behaviour_keys, "max_shape_error": opts.max_shape_error,
                     "max_contacts": opts.max_contacts, "max_robot_contacts": opts.max_robot_contacts,
                     "timeout_seconds": opts.timeout},
         "overall": overall,
@@ -808,39 +910,54 @@ def _opt(value: Optional[float]) -> str:
     return "-" if value is None else f"{value:g}"
 
 
+PAPER_COLUMNS = (("formed@", "median_formation_tick", ".0f"), ("goal@", "median_goal_tick", ".0f"),
+                 ("err@form", "max_shape_error_at_formation", ".3f"), ("err@goal", "max_shape_error_at_goal", ".3f"))
+
+
 def print_table(res: dict[str, Any], out: Callable[[str], None] = print) -> None:
+    """One row per cell: its grid coordinates, successes, then the paper's formation and goal columns when a run
+    had them, and the medians of the behaviour's own numbers (and of the --expect keys), the first few of them."""
     cells = res["by_cell"]
-    head: tuple[str, ...] = ("scenario", "shape", "N", "kills", "ok", "rate", "formed@", "goal@", "err@form",
-                             "err@goal", "contacts")
+
+    def f(v: Any, fmt: str) -> str:
+        return "-" if not isinstance(v, (int, float)) or isinstance(v, bool) else format(v, fmt)
+
+    paper = [c for c in PAPER_COLUMNS if any(cell.get(c[1]) is not None for cell in cells)]
+    own = list(res["judging"].get("behaviour_keys") or [])
+    shown_own = own[:BEHAVIOUR_COLUMNS_SHOWN]
     with_params = any(c.get("params", "defaults") != "defaults" for c in cells)
     with_fields = any(c.get("fields", "scenario") != "scenario" for c in cells)
-    if with_fields:
-        head = head[:4] + ("fields",) + head[4:]
-    if with_params:
-        head = head[:4] + ("params",) + head[4:]
-    rows: list[tuple[str, ...]] = []
+    head = ["scenario", "shape", "N", "kills"] + (["params"] if with_params else []) + \
+        (["fields"] if with_fields else []) + ["ok", "rate"] + [h for h, _, _ in paper] + shown_own + ["contacts"]
+    rows: list[list[str]] = []
     for c in cells:
-        def f(v: Optional[float], fmt: str) -> str:
-            return "-" if v is None else format(v, fmt)
-        rows.append((os.path.basename(c["scenario"]), c["shape"], str(c["robots"]), c["kills"],
-                     f"{c['succeeded']}/{c['runs']}", f"{100 * c['success_rate']:.0f}%" if c["runs"] else "-",
-                     f(c["median_formation_tick"], ".0f"), f(c["median_goal_tick"], ".0f"),
-                     f(c["max_shape_error_at_formation"], ".3f"), f(c["max_shape_error_at_goal"], ".3f"),
-                     f"{c['contacts_robot_robot']}+{c['contacts_robot_obstacle']}"))
-        if with_fields:
-            rows[-1] = rows[-1][:4] + (c["fields"],) + rows[-1][4:]
-        if with_params:
-            rows[-1] = rows[-1][:4] + (c["params"],) + rows[-1][4:]
+        row = [os.path.basename(c["scenario"]), c["shape"], str(c["robots"]), c["kills"]]
+        row += ([c["params"]] if with_params else []) + ([c["fields"]] if with_fields else [])
+        row += [f"{c['succeeded']}/{c['runs']}", f"{100 * c['success_rate']:.0f}%" if c["runs"] else "-"]
+        row += [f(c.get(key), fmt) for _, key, fmt in paper]
+        row += [f((c.get("medians") or {}).get(key), ".4g") for key in shown_own]
+        row.append(f"{c['contacts_robot_robot']}+{c['contacts_robot_obstacle']}")
+        rows.append(row)
     widths = [max(len(h), *(len(r[i]) for r in rows)) if rows else len(h) for i, h in enumerate(head)]
     out("  ".join(h.ljust(w) for h, w in zip(head, widths)))
     for r in rows:
         out("  ".join(v.ljust(w) for v, w in zip(r, widths)))
     o = res["overall"]
     rate = "-" if o["success_rate"] is None else f"{100 * o['success_rate']:.1f}%"
-    out(f"overall: {o['succeeded']}/{o['runs']} succeeded ({rate}); expect {res['judging']['expect']}"
-        f"; medians formed@ {_opt(o['median_formation_tick'])} goal@ {_opt(o['median_goal_tick'])}"
-        f"; commit {res['commit']}")
-    out("(formed@/goal@: median ticks; err@: largest shape error, grid units; contacts: robot-robot+robot-obstacle)")
+    judged = res["judging"]["expect"]
+    if res["judging"].get("expressions"):
+        judged += " and " + " and ".join(f"'{e}'" for e in res["judging"]["expressions"])
+    medians = (f"; medians formed@ {_opt(o['median_formation_tick'])} goal@ {_opt(o['median_goal_tick'])}"
+               if paper else "")
+    out(f"overall: {o['succeeded']}/{o['runs']} succeeded ({rate}); expect {judged}{medians}; commit {res['commit']}")
+    notes = []
+    if paper:
+        notes.append("formed@/goal@: median ticks; err@: largest shape error, grid units")
+    if shown_own:
+        more = f"; {len(own) - len(shown_own)} more in sweep.json" if len(own) > len(shown_own) else ""
+        notes.append(f"{', '.join(shown_own)}: medians{more}")
+    notes.append("contacts: robot-robot+robot-obstacle")
+    out(f"({'; '.join(notes)})")
     bad = [w for w in res["worst"] if not w["success"]][:WORST_SHOWN]
     if bad:
         out("worst failures (every one in sweep.json's worst / sweep.csv):")
@@ -883,6 +1000,7 @@ def plan(opts: argparse.Namespace, exe: str) -> tuple[list[Run], dict[str, Any]]
             raise SweepError(f"--param {name} is given twice (one flag per parameter: NAME=V1,V2,...)")
         seen.add(name)
     combos = param_combinations(params)
+    check_judging(opts)
     try:
         fields = sweep_fields.FieldGrid(sweep_fields.once(getattr(opts, "loss", None), "--loss"),
                                         sweep_fields.once(getattr(opts, "burst", None), "--burst"),
@@ -909,13 +1027,23 @@ def plan(opts: argparse.Namespace, exe: str) -> tuple[list[Run], dict[str, Any]]
             probe(exe, scenario, shapes[0], robots_list[0], combos[0], plugin_dirs, flag)
         window_cap = opts.max_ticks or scenario_max_ticks(scenario)
         window = min(opts.kill_window, window_cap)
+        for schedule in schedules:
+            late = [f"{rid}@{tick}" for rid, tick in schedule.kills if tick > window_cap]
+            if late:
+                raise SweepError(f"--kills {schedule.text}: {', '.join(late)} after the run's last tick (max_ticks "
+                                 f"{window_cap} of {scenario}): it would never happen")
         for shape in shapes:
             for robots in robots_list:
                 # With the grid's first parameters: they may decide whether the scenario loads (shape_heading
                 # turns the shape, and the loader checks that it fits).
                 info = probe(exe, scenario, shape, robots, combos[0], plugin_dirs, field_combos[0][1])
+                # Every --expect key against what this scenario's behaviour declares, before any run.
+                bad = expect.check_declared(expressions(opts), summary_keys.declared_keys(info))
+                if bad:
+                    raise SweepError("--expect " + "\n--expect ".join(bad) + f"\n(the probe of {scenario}; "
+                                     "nothing was run)")
                 n = info["robots"]
-                shape_name = os.path.basename(str(info.get("shape_file") or shape or "?"))
+                shape_name = os.path.basename(str(info.get("shape_file") or shape or "")) or "-"
                 for combo, (field_labels, field_flags) in itertools.product(combos, field_combos):
                     for schedule in schedules:
                         for seed in seeds:
@@ -923,7 +1051,8 @@ def plan(opts: argparse.Namespace, exe: str) -> tuple[list[Run], dict[str, Any]]
                             cmd = base_command(exe, scenario, shape, robots, seed, opts.max_ticks, plugin_dirs)
                             for k in flags:
                                 cmd += ["--kill", k]
-                            for f in schedule.restart_flags(flags):
+                            # A restart after the run's last tick would never happen (and is refused): left out.
+                            for f in schedule.restart_flags(flags, window_cap):
                                 cmd += ["--fault", f]
                             cmd += param_flags(combo) + field_flags + ["--no-record", "--quiet"]
                             runs.append(Run(len(runs), scenario, shape, shape_name, robots, n, seed, schedule,

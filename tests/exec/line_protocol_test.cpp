@@ -22,6 +22,16 @@ TEST(LineProtocol, HelloCarriesTheVersionTheRobotAndTheBehavioursParams) {
   EXPECT_EQ(j["behaviour"], "random_walk");
   EXPECT_EQ(j["params"]["k_move"], 0.5);
   EXPECT_EQ(j["max_message_bytes"], 64);
+  EXPECT_EQ(j["goal"]["x"], m.goal.x);
+}
+
+// A run without a goal says so: null, not a point the behaviour would take for one.
+TEST(LineProtocol, HelloWithoutAGoalSaysNull) {
+  Mission m;
+  m.has_goal = false;
+  m.goal = {0.0, 0.0};
+  m.goal_radius = 0.0;
+  EXPECT_TRUE(json::parse(encode_hello(m, 0))["goal"].is_null());
 }
 
 TEST(LineProtocol, PerceptionIsExactAndPayloadsAreHex) {

@@ -18,6 +18,7 @@
 #include <thread>
 #include <utility>
 
+#include "common/dds/wire_version.hpp"
 #include "common/exit_codes.hpp"
 #include "tests/integration/issued_run.hpp"
 #include "tests/support/process_fixture.hpp"
@@ -563,7 +564,8 @@ TEST_F(WireFaults, SamplesOfAnotherRunOrWireVersionAreRefusedWithTheReason) {
   EXPECT_GE(sent, 10);
   const std::regex said(
       "world_server: refused ([0-9]+) claim sample\\(s\\) from writer [0-9a-f]+ \\(pid 0\\): "
-      "wire version 1, this world speaks 7");
+      "wire version 1, this world speaks " +
+      std::to_string(swarmform::dds::kWireVersion));
   const std::string err = w.err();
   int lines = 0;
   for (auto it = std::sregex_iterator(err.begin(), err.end(), said); it != std::sregex_iterator(); ++it)

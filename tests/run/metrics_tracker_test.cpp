@@ -191,6 +191,24 @@ TEST(MetricsTracker, OutcomeNoneForRandomWalk) {
   EXPECT_FALSE(tracker.metrics().formation_tick);
 }
 
+// Only a behaviour that goes somewhere has stuck robots: robots of one that does not (random_walk's
+// descriptor: no needs_goal) that stood still for 300 ticks have done what they were told.
+TEST(MetricsTracker, NoStuckRobotsForABehaviourWithoutAGoal) {
+  Mission mission = line_mission();
+  mission.behaviour = "random_walk";
+  MetricsTracker tracker(mission, &swarmform::controller::random_walk_descriptor());
+  auto robots = line_at(0.0, kSearching);
+  robots[1].pose.y += 0.5;  // off its place, still
+  for (Tick t = 0; t <= 400; ++t) tracker.observe(t, robots, {});
+  tracker.conclude();
+  EXPECT_TRUE(tracker.metrics().stuck_robots.empty());
+  MetricsTracker paper(line_mission(), &swarmform::controller::paper_descriptor());
+  for (Tick t = 0; t <= 400; ++t) paper.observe(t, robots, {});
+  paper.conclude();
+  EXPECT_EQ(paper.metrics().stuck_robots, (std::vector<RobotId>{1, 3}))
+      << "the same robots, a behaviour with a goal: the one off its place and the spare are stuck";
+}
+
 // A 4x4 block (labels row-major) with robots 0..15 on their places (left column at x0) and robot 16 a spare.
 Mission block_mission() {
   Mission m;

@@ -83,6 +83,18 @@ class BehaviourOutputsTest(unittest.TestCase):
         self.assertNotIn("residual_force.png", written)
         self.assertTrue(any(n.startswith("snapshot_t") for n in written))
 
+    def test_no_paper_phases_from_a_behaviours_own_state_values(self):
+        # Its robots report labels and the values the paper uses for ready (4) and motion (5): they mean other
+        # things to this behaviour, so no snapshot is captioned with the paper's phases.
+        from swarmform import geometry
+        rec = recording.load(self.dir)
+        rec.track.state[:] = 5
+        rec.track.label[:] = np.arange(ROBOTS)
+        self.assertEqual(geometry.phases(rec), {"formation": None, "motion": None, "goal": None})
+        captions = [c for _, c in pictures.snapshot_ticks(rec)]
+        self.assertNotIn("shape formed", captions)
+        self.assertNotIn("motion towards the goal starts", captions)
+
     def test_the_legend_names_the_behaviours_states(self):
         from swarmform import scene
         handles = scene.legend_handles({0, 7}, recording.load(self.dir).world.states, leaders=False, links=False)

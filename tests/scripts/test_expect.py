@@ -9,7 +9,7 @@ import tempfile
 import unittest
 
 import helpers
-from swarmform import expect
+from swarmform import expect, summary_keys
 
 SUMMARY = {"format": "swarmform-summary", "version": 1, "outcome": "arrived", "robots": 9, "alive_at_end": 8,
            "collisions_robot_robot": 0, "collisions_robot_obstacle": 3, "goal_tick": None, "shape_error_at_goal": 0.04,
@@ -81,6 +81,32 @@ class CheckTest(unittest.TestCase):
         self.assertIn("collisions_robot_robot", str(cm.exception))
 
 
+class NestedKeyTest(unittest.TestCase):
+    NESTED = dict(SUMMARY, states_at_end={"settled": 10, "moving": 2}, params={"radius": 1.5})
+
+    def test_a_dotted_key_names_a_nested_value(self):
+        self.assertEqual(expect.parse("states_at_end.settled >= 10").key, "states_at_end.settled")
+        self.assertTrue(met("states_at_end.settled >= 10", self.NESTED))
+        self.assertFalse(met("states_at_end.moving == 0", self.NESTED))
+        self.assertTrue(met("params.radius == 1.5", self.NESTED))
+        with self.assertRaises(expect.ExpectationError) as cm:
+            expect.check(expect.parse("states_at_end.setled >= 1"), self.NESTED)
+        self.assertIn("no key 'states_at_end.setled' (under 'states_at_end': states_at_end.moving, "
+                      "states_at_end.settled)", str(cm.exception))
+
+    def test_keys_are_checked_against_the_declared_ones_before_a_run(self):
+        declared = summary_keys.declared_keys(self.NESTED)
+        exps = [expect.parse(t) for t in ("states_at_end.settled >= 10", "params.radius < 2", "outcome == x",
+                                          "states_at_end.dancing > 0", "colisions == 0")]
+        bad = expect.check_declared(exps, declared)
+        self.assertEqual(len(bad), 2, bad)
+        self.assertTrue(bad[0].startswith("'states_at_end.dancing > 0': summary.json will have no key "
+                                          "'states_at_end.dancing'"), bad[0])
+        self.assertIn("no key 'colisions'", bad[1])
+        self.assertEqual(expect.check_declared(exps, declared, summary_keys.behaviour_owned), [bad[1]],
+                         "the behaviour's own keys left to after the run (--exec)")
+
+
 class EvaluateTest(unittest.TestCase):
     def setUp(self):
         self.dir = tempfile.mkdtemp(prefix="swarm-expect-")
@@ -118,6 +144,21 @@ class EvaluateTest(unittest.TestCase):
 
 
 class CommandLineTest(unittest.TestCase):
+    def test_an_unknown_key_is_refused_before_the_run_starts(self):
+        """The stand-in build's one-tick probe has no `dancers` key: refused before the world starts."""
+        out = os.path.join(tempfile.mkdtemp(prefix="swarm-expect-run-"), "run")
+        try:
+            for mode in ([], ["--in-process"]):
+                r = helpers.swarm("run", "--robots", "2", "--max-ticks", "20", "--no-pictures", "--out", out,
+                                  "--expect", "ticks >= 1", "--expect", "dancers.count > 1", *mode)
+                self.assertEqual(r.returncode, 2, f"{mode}: {r.stderr}")
+                self.assertIn("--expect 'dancers.count > 1': summary.json will have no key 'dancers.count'",
+                              r.stderr)
+                self.assertIn("(nothing was run)", r.stderr)
+                self.assertFalse(os.path.exists(out), f"{mode}: no run directory")
+        finally:
+            shutil.rmtree(os.path.dirname(out))
+
     def test_bad_syntax_exits_2_before_anything_runs(self):
         r = helpers.swarm("run", "--expect", "outcome = arrived", env={"SWARM_PARSE_ONLY": "1"})
         self.assertEqual(r.returncode, 2)

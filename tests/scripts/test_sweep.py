@@ -187,7 +187,8 @@ class SweepCliTest(unittest.TestCase):
                  (["--seeds", "9-2"], "argument --seeds: '9-2': the range 9-2 is empty"),
                  (["--jobs", "0"], "argument --jobs/-j: must be >= 1"),
                  (["--max-shape-error", "-1"], "argument --max-shape-error: must be a finite number >= 0"),
-                 (["--expect", "maybe"], "argument --expect: invalid choice"),
+                 (["--expect", "maybe"], "argument --expect: 'maybe': expected an outcome word"),
+                 (["--expect", "arrived", "--expect", "formed"], "one outcome word at most"),
                  (["--shape", os.path.join(self.dir, "*.nothing")], "no file matches"),
                  (["--scenario", bad_scenario], f"{bad_scenario}:1: fake: a bad scenario"),
                  (["--param", "k_goal"], "argument --param: 'k_goal': expected NAME=V1,V2,..."),
@@ -271,6 +272,32 @@ class SweepCliTest(unittest.TestCase):
         self.assertEqual({j["index"]: j["success"] for j in journal}, {w["index"]: w["success"] for w in worst})
         self.assertIn("overall: 8/16 succeeded (50.0%)", r.stdout)
         self.assertIn("worst failures", r.stdout)
+
+    def test_an_expression_judges_by_a_nested_key_checked_before_any_run(self):
+        r = self.sweep("--seeds", "1-3", "--expect", "states_at_end.settled >= 2")
+        self.assertEqual(r.returncode, 1, r.stderr)
+        rows = {int(row["seed"]): row for row in read_csv(os.path.join(self.out, "sweep.csv"))}
+        self.assertEqual({s: rows[s]["success"] for s in rows}, {1: "0", 2: "1", 3: "1"},
+                         "given alone, the expression judges (seed 3 is not_formed, a clean run)")
+        self.assertEqual(rows[1]["reason"], "states_at_end.settled >= 2 failed (states_at_end.settled is 1)")
+        self.assertEqual((rows[3]["states_at_end.settled"], rows[3]["states_at_end.moving"]), ("3", "6"))
+        self.assertEqual(rows[3]["params.k_goal"], "1.0")
+        self.assertIn("states_at_end.settled", r.stdout.splitlines()[0], "the table's column")
+        with open(os.path.join(self.out, "sweep.json")) as f:
+            res = json.load(f)
+        self.assertEqual(res["overall"]["medians"]["states_at_end.settled"], 2)
+
+        shutil.rmtree(self.out)
+        r = self.sweep("--seeds", "1", "--expect", "states_at_end.setled >= 2")
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn("'states_at_end.setled >= 2': summary.json will have no key 'states_at_end.setled' (under "
+                      "'states_at_end': states_at_end, states_at_end.moving, states_at_end.settled)", r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(self.out, "sweep.csv")))
+
+        r = self.sweep("--seeds", "1-3", "--expect", "formed", "--expect", "states_at_end.settled >= 2")
+        rows = {int(row["seed"]): row for row in read_csv(os.path.join(self.out, "sweep.csv"))}
+        self.assertEqual({s: rows[s]["success"] for s in rows}, {1: "0", 2: "1", 3: "0"}, "the word and the "
+                         "expression both")
 
     def test_thresholds_and_the_exit_code_when_all_succeed(self):
         r = self.sweep("--seeds", "1,7,8")

@@ -461,8 +461,12 @@ TEST(Scenario, AnUnknownBehaviourListsTheRegisteredOnes) {
       "shape: triangle.txt\nbehaviour: dance\n", 2,
       "behaviour: unknown behaviour 'dance' (built in: paper, random_walk; a plug-in is named by its "
       "library");
-  expect_rejected("shape: triangle.txt\nbehaviour: {plugin: libnothing.so}\n", 2,
-                  "behaviour.plugin: plug-in");
+  // A plug-in not found names every folder searched and how to add one.
+  expect_rejected(
+      "shape: triangle.txt\nbehaviour: {plugin: libnothing.so}\n", 2,
+      "behaviour.plugin: plug-in 'libnothing.so' not found in the folders searched (" + kRepo +
+          "/scenarios): the scenario's folder, each --plugin-dir DIR and SWARMFORM_PLUGIN_PATH; give "
+          "the folder that holds it with --plugin-dir DIR");
   expect_rejected("behaviour: {}\nrobots: {count: 2}\n", 1,
                   "behaviour: expected name: (a built-in) or plugin:");
 }
@@ -476,6 +480,19 @@ TEST(Scenario, AShapeAndAGoalOnlyWhenTheBehaviourNeedsThem) {
   EXPECT_EQ(s.robots.size(), 4u);
   EXPECT_EQ(s.mission.shape.label_count(), 0);
   EXPECT_TRUE(s.shape_file.empty());
+  // A goal given is told, whatever the behaviour.
+  EXPECT_TRUE(s.mission.has_goal);
+  EXPECT_EQ(s.mission.goal.x, 40.0);
+  // No goal: a behaviour that goes nowhere is told there is none, not the default (10, 0).
+  const Scenario none = parse("behaviour: random_walk\nrobots: {count: 4}\n");
+  EXPECT_FALSE(none.mission.has_goal);
+  EXPECT_EQ(none.mission.goal.x, 0.0);
+  EXPECT_EQ(none.mission.goal_radius, 0.0);
+  // The paper goes somewhere: without goal: it is told the default.
+  const Scenario paper = parse("shape: triangle.txt\n");
+  EXPECT_TRUE(paper.mission.has_goal);
+  EXPECT_EQ(paper.mission.goal.x, 10.0);
+  EXPECT_EQ(paper.mission.goal_radius, 0.5);
   // Without a shape the robots must be counted.
   expect_rejected("behaviour: random_walk\nrobots: {region: {centre: [0, 0], width: 2, height: 2}}\n", 2,
                   "robots: give robots.count or robots.poses (behaviour 'random_walk' has no shape");
@@ -492,6 +509,37 @@ TEST(Scenario, RejectsSyntaxErrorsAndDuplicatesWithTheirLine) {
 TEST(Scenario, RejectsKillsOfRobotsThatDoNotExist) {
   expect_rejected("shape: triangle.txt\nkills:\n  - {id: 3, tick: 10}\n  - {id: 9, tick: 10}\n", 4,
                   "kill of robot 9, but there are only 9 robots");
+}
+
+// A kill or fault after the run's last tick would never happen: refused, saying so. The file's own are held
+// to the file's max_ticks; a --max-ticks that cuts the run short leaves them out on purpose (a probe, a short
+// run).
+TEST(Scenario, RejectsKillsAndFaultsAfterTheLastTick) {
+  expect_rejected("shape: triangle.txt\nmax_ticks: 2000\nkills:\n  - {id: 3, tick: 3000}\n", 4,
+                  "kill at tick 3000, after the run's last tick (max_ticks 2000): it would never happen");
+  expect_rejected("shape: triangle.txt\nmax_ticks: 2000\nfaults: [stall:1@2500+10]\n", 3,
+                  "it starts at tick 2500, after the run's last tick (max_ticks 2000)");
+  ScenarioOverrides ov;
+  ov.max_ticks = 2000;
+  ov.kills.push_back(Kill{3, 3000});
+  try {
+    parse("shape: triangle.txt\n", ov);
+    ADD_FAILURE() << "--kill 3@3000 with --max-ticks 2000 accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "command line");
+    EXPECT_NE(
+        std::string(e.what()).find("--kill: kill at tick 3000, after the run's last tick (max_ticks 2000)"),
+        std::string::npos)
+        << e.what();
+  }
+  ScenarioOverrides fault;
+  fault.max_ticks = 100;
+  fault.faults.push_back("restart:2@150");
+  EXPECT_THROW(parse("shape: triangle.txt\n", fault), InputError);
+  // The file's kill at 900 in a run cut to 10 ticks: kept, never reached.
+  ScenarioOverrides cut;
+  cut.max_ticks = 10;
+  EXPECT_EQ(parse("shape: triangle.txt\nkills:\n  - {id: 3, tick: 900}\n", cut).kills.size(), 1u);
 }
 
 TEST(Scenario, RejectsARegionTooSmallForItsRobots) {

@@ -18,6 +18,7 @@ Tick full_solve_interval(std::size_t places, bool near_formed) {
 
 MetricsTracker::MetricsTracker(const Mission& mission, const behaviour::Descriptor* d)
     : has_mission_(d && d->needs_shape && d->needs_goal && mission.shape.label_count() > 0),
+      goes_somewhere_(d && d->needs_goal),
       motion_state_(d ? d->shape_rules.motion_state : behaviour::ShapeRules::kNoState),
       assigner_(mission.shape, mission.grid_spacing,
                 d ? behaviour::shape_heading(mission, *d) : behaviour::kShapeUp),
@@ -199,7 +200,7 @@ void MetricsTracker::observe(Tick tick, const std::vector<RobotTruth>& robots, C
 void MetricsTracker::conclude() {
   metrics_.stuck_robots.clear();
   metrics_.silent_robots = silent_ids_;
-  if (metrics_.outcome == "arrived" || live_ids_.empty()) return;
+  if (!goes_somewhere_ || metrics_.outcome == "arrived" || live_ids_.empty()) return;
   std::vector<int> labels(live_ids_.size(), -1);
   RigidFit fit;
   if (has_mission_) {

@@ -19,9 +19,10 @@
 // - path_length: the distance travelled by the assigned robots' centroid over the motion ticks; a step in
 //   which the assigned set changed (a death) is not counted, so a death is not a jump;
 // - outcome: none (behaviour other than paper), arrived (goal_tick set), formed_not_arrived, not_formed;
-// - stuck_robots (at the end, unless arrived): live robots neither at a place (the robot nearest to a place
-//   of the final fit, within kAtPlace of it; the fit refitted on the better half of the assigned robots, then
-//   on the robots within kInlier of a place, so robots stranded far away do not pull it) nor
+// - stuck_robots (at the end, unless arrived; only for a behaviour that goes somewhere, needs_goal: a robot
+//   that stopped is stuck only if it had somewhere to go): live robots neither at a place (the robot nearest
+//   to a place of the final fit, within kAtPlace of it; the fit refitted on the better half of the assigned
+//   robots, then on the robots within kInlier of a place, so robots stranded far away do not pull it) nor
 //   having left a kStuckRadius disc in the last kStuckTicks ticks.
 #pragma once
 
@@ -95,6 +96,7 @@ class MetricsTracker {
   ShapeAssignment assign(Tick tick, bool force_full);
 
   bool has_mission_;
+  bool goes_somewhere_;        // the behaviour's needs_goal: only then can a robot be stuck
   std::int32_t motion_state_;  // the behaviour's ShapeRules::motion_state
   ShapeAssigner assigner_;
   double grid_spacing_;

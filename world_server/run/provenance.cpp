@@ -52,7 +52,7 @@ ojson canonical(const Scenario& s) {
   j["mission"] = {{"behaviour", m.behaviour},
                   {"shape", {{"rows", m.shape.rows}, {"cols", m.shape.cols}, {"cells", m.shape.cells}}},
                   {"grid_spacing", m.grid_spacing},
-                  {"goal", xy(m.goal)},
+                  {"goal", m.has_goal ? xy(m.goal) : ojson(nullptr)},
                   {"goal_radius", m.goal_radius},
                   {"max_speed", m.max_speed},
                   {"tick_rate", m.tick_rate},

@@ -48,6 +48,14 @@ ojson deaths_json(const std::vector<DeathRecord>& records) {
 void behaviour_at_end(const Scenario& scenario, const std::vector<RobotTruth>& robots, ojson& j) {
   const behaviour::Descriptor* d = scenario.behaviour;
   if (d == nullptr) return;
+  // The behaviour's parameters as the run had them (the scenario's, a --param's, or the default), so that a
+  // sweep's rows and an --expect can name them (params.NAME).
+  ojson params = ojson::object();
+  for (const auto& p : d->params) {
+    const auto it = scenario.mission.params.find(std::string(p.name));
+    params[std::string(p.name)] = it != scenario.mission.params.end() ? it->second : p.default_value;
+  }
+  j["params"] = std::move(params);
   ojson states = ojson::object();
   for (const auto& st : d->states) states[std::string(st.name)] = 0;
   for (const RobotTruth& r : robots) {
@@ -156,7 +164,8 @@ ojson describe_world(const Scenario& scenario, const std::string& mode) {
   ojson obstacles = ojson::array();
   for (const auto& o : scenario.obstacles) obstacles.push_back(obstacle_json(o));
   j["obstacles"] = std::move(obstacles);
-  j["goal"] = {{"x", m.goal.x}, {"y", m.goal.y}, {"radius", m.goal_radius}};
+  j["goal"] =
+      m.has_goal ? ojson{{"x", m.goal.x}, {"y", m.goal.y}, {"radius", m.goal_radius}} : ojson(nullptr);
   j["grid_spacing"] = m.grid_spacing;
   j["comm_range"] = scenario.comm_range;
   // The radio and the sensors' noise (docs/scenario-format.md): mean_burst null is independent loss.

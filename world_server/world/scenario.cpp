@@ -3,6 +3,7 @@
 // initial poses (listed, or random from the seed); check what depends on the robot count (kills).
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -317,16 +318,30 @@ int parse_goal(const Source& src, MapReader& top, Mission& mission) {
 
 // A plug-in's path: as given when absolute; else under the scenario's folder, then under each plug-in folder
 // of the registry (the first that holds it). The registry then refuses any path outside its folders.
-std::string resolve_plugin(const std::string& given, const fs::path& base,
-                           const std::vector<fs::path>& folders) {
+// A plug-in's path as the scenario gives it: as is when absolute, else the first of the scenario's folder and
+// the registry's folders (--plugin-dir, SWARMFORM_PLUGIN_PATH) that holds it. Not found: InputError naming
+// every folder searched and how to add one.
+std::string resolve_plugin(const Source& src, const YAML::Node& at, const std::string& given,
+                           const fs::path& base, const std::vector<fs::path>& folders) {
   std::error_code ec;
   const fs::path g(given);
-  if (g.is_absolute()) return g.string();
-  if (fs::exists(base / g, ec)) return (base / g).string();
-  for (const fs::path& f : folders) {
-    if (fs::exists(f / g, ec)) return (f / g).string();
+  if (g.is_absolute()) {
+    if (fs::exists(g, ec)) return g.string();
+    yaml::fail(src, at, "behaviour.plugin", "plug-in '" + given + "': no such file");
   }
-  return (base / g).string();  // not found: the registry says so, naming this path
+  std::vector<fs::path> searched{fs::weakly_canonical(fs::absolute(base), ec)};
+  for (const fs::path& f : folders) {
+    if (std::find(searched.begin(), searched.end(), f) == searched.end()) searched.push_back(f);
+  }
+  std::string list;
+  for (const fs::path& f : searched) {
+    if (fs::exists(f / g, ec)) return (f / g).string();
+    list += (list.empty() ? "" : ", ") + f.string();
+  }
+  yaml::fail(src, at, "behaviour.plugin",
+             "plug-in '" + given + "' not found in the folders searched (" + list +
+                 "): the scenario's folder, each --plugin-dir DIR and " + behaviour::kPluginPathVariable +
+                 "; give the folder that holds it with --plugin-dir DIR");
 }
 
 const behaviour::Descriptor& named_behaviour(const Source& src, const YAML::Node* at, const std::string& name,
@@ -355,7 +370,7 @@ void parse_behaviour(const Source& src, MapReader& top, const ScenarioOverrides&
       yaml::fail(src, *node, "behaviour", "give name (a built-in) or plugin (a library), not both");
     if (plugin) {
       const std::string given = yaml::to_string(src, *plugin, "behaviour.plugin");
-      const std::string path = resolve_plugin(given, base, registry.folders());
+      const std::string path = resolve_plugin(src, *plugin, given, base, registry.folders());
       try {
         d = &registry.load_plugin(path);
       } catch (const behaviour::PluginError& e) {
@@ -621,6 +636,7 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
   // Overrides (before placement, so --robots and --seed take effect).
   if (ov.seed) s.seed = *ov.seed;
   if (ov.mode) s.mode = *ov.mode;
+  const Tick file_max_ticks = s.max_ticks;
   if (ov.max_ticks) {
     if (*ov.max_ticks < 1) throw InputError("command line", 0, "--max-ticks must be >= 1");
     s.max_ticks = *ov.max_ticks;
@@ -655,6 +671,13 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
   }
   if (!s.shape_file.empty()) s.mission.shape = load_shape_file(s.shape_file);
 
+  // No goal: a behaviour that goes somewhere is told the default one (checked below); any other is told there
+  // is none rather than a point it would take for one.
+  if (goal_line == 0 && !s.behaviour->needs_goal) {
+    s.mission.has_goal = false;
+    s.mission.goal = Vec2{0.0, 0.0};
+    s.mission.goal_radius = 0.0;
+  }
   // Goal inside the walls (else the formation can never get there), for a behaviour that goes to one.
   if (s.behaviour->needs_goal && s.walls && !inside_arena(s, s.mission.goal)) {
     std::ostringstream what;
@@ -687,10 +710,20 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
     }
   }
   const std::size_t flag_kills_from = s.kills.size() - flag_kill_texts.size();
+  const std::size_t file_kills = kill_nodes.size();
   for (std::size_t i = 0; i < s.kills.size(); ++i) {
-    if (s.kills[i].id < s.robots.size()) continue;
-    const std::string what = "kill of robot " + std::to_string(s.kills[i].id) + ", but there are only " +
-                             std::to_string(s.robots.size()) + " robots";
+    // A kill after the last tick would never happen. The file's own kills are held to the file's max_ticks
+    // only: a --max-ticks that cuts the run short leaves them out on purpose (a probe, a short test run).
+    const Tick last = i < file_kills ? file_max_ticks : s.max_ticks;
+    const bool too_late = s.kills[i].tick > last;
+    if (s.kills[i].id < s.robots.size() && !too_late) continue;
+    const std::string what =
+        too_late
+            ? "kill at tick " + std::to_string(s.kills[i].tick) + ", after the run's last tick (max_ticks " +
+                  std::to_string(last) +
+                  "): it would never happen; give a tick <= max_ticks or a larger max_ticks (--max-ticks)"
+            : "kill of robot " + std::to_string(s.kills[i].id) + ", but there are only " +
+                  std::to_string(s.robots.size()) + " robots";
     // The file's kills, then its kill faults: kill_nodes holds their nodes in this order.
     if (i < kill_nodes.size()) yaml::fail(src, kill_nodes[i], kill_paths[i], what);
     if (i >= flag_kills_from) {
@@ -702,7 +735,13 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
   for (const Kill& k : s.kills) context.kills.emplace_back(k.id, k.tick);
   const std::size_t flag_faults_from = s.faults.size() - flag_fault_texts.size();
   for (std::size_t i = 0; i < s.faults.size(); ++i) {
-    const std::string what = check_fault(s.faults, i, context);
+    std::string what = check_fault(s.faults, i, context);
+    const Tick last = i < flag_faults_from ? file_max_ticks : s.max_ticks;
+    if (what.empty() && s.faults[i].tick > last) {
+      what = "it starts at tick " + std::to_string(s.faults[i].tick) +
+             ", after the run's last tick (max_ticks " + std::to_string(last) +
+             "): it would never happen; give a tick <= max_ticks or a larger max_ticks (--max-ticks)";
+    }
     if (what.empty()) continue;
     if (i < flag_faults_from)
       yaml::fail(src, fault_nodes[i], fault_paths[i], "'" + s.faults[i].text + "': " + what);

@@ -1,13 +1,13 @@
-#include "harness/param_flags.hpp"
+#include "world_server/run/param_flags.hpp"
 
 #include <cmath>
 
 #include "common/input_error.hpp"
 
-namespace swarmform::harness {
+namespace swarmform::world {
 
-std::vector<world::ParamOverride> parse_param_flags(const std::vector<std::string>& texts) {
-  std::vector<world::ParamOverride> out;
+std::vector<ParamOverride> parse_param_flags(const std::vector<std::string>& texts) {
+  std::vector<ParamOverride> out;
   for (const std::string& text : texts) {
     const auto eq = text.find('=');
     const std::string name = eq == std::string::npos ? std::string() : text.substr(0, eq);
@@ -43,4 +43,4 @@ void check_param_flags(const std::vector<std::string>& texts, const Mission& mis
   }
 }
 
-}  // namespace swarmform::harness
+}  // namespace swarmform::world
