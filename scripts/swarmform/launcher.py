@@ -1109,19 +1109,19 @@ def _run_in_process(args: argparse.Namespace, stop: StopFlag, status: Status,
 
 
 def _say_if_not_arrived(status: Status, run_dir: str) -> None:
-    """The run's last line says when it used up max_ticks without arriving (no silent end), from
-    summary.json: the outcome and the stuck robots, as world_server's own line gives them."""
+    """The run's last line says when it ended without the behaviour's success (no silent end), from
+    summary.json: the outcome its experiment gave and, for a behaviour that goes somewhere, the stuck robots.
+    Nothing for a behaviour without a judge of its own (`success` null)."""
     try:
         with open(os.path.join(run_dir, "summary.json"), encoding="utf-8") as f:
             summary = json.load(f)
     except (OSError, ValueError):
         return
-    outcome = summary.get("outcome")
-    if outcome in (None, "arrived", "none"):
+    if summary.get("success") is not False:
         return
-    stuck = " ".join(str(i) for i in summary.get("stuck_robots") or []) or "none"
-    status.line(f"swarm: ended at tick {summary.get('ticks')} without arriving: outcome {outcome}, "
-                f"stuck robots {stuck}")
+    stuck = " ".join(str(i) for i in summary.get("stuck_robots") or [])
+    status.line(f"swarm: ended at tick {summary.get('ticks')} without success: outcome {summary.get('outcome')}"
+                + (f", stuck robots {stuck}" if stuck else ""))
 
 
 def kill(rid: int, run_dir: str) -> int:
