@@ -228,6 +228,10 @@ def _add_run_flags(p: argparse.ArgumentParser, demo: bool = False) -> None:
     p.add_argument("--in-process", action="store_true",
                    help="run every robot's controller inside one process (swarm_inprocess; no DDS, "
                         "deterministic, fast); same run directory")
+    p.add_argument("--check", action="store_true",
+                   help="check the scenario, the shape and every flag (--expect keys included) as a run would, "
+                        "print what would run, and exit (0: it would start; 2: what is wrong, where) without "
+                        "starting anything or making a run directory")
 
 
 def make_parser() -> Parser:

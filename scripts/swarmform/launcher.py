@@ -698,6 +698,8 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
     hosts: Optional[hosts_mod.Hosts] = None
     status_pipe: list[int] = []  # the read end of the world's status channel, once made
     try:
+        if getattr(args, "check", False):
+            return _check_only(args, status)
         if args.in_process:
             return _run_in_process(args, stop, status, render_pictures)
         if getattr(args, "hosts", None):
@@ -1050,6 +1052,18 @@ def _interrupted(procs: Processes, stop: StopFlag, status: Status, run_dir: str)
     procs.kill_agents()
     status.line(f"swarm: stopped; what was recorded is in {run_dir} (`swarm replay {run_dir}` draws it)")
     return EXIT_INTERRUPTED
+
+
+def _check_only(args: argparse.Namespace, status: Status) -> int:
+    """--check: the checks a run makes before it starts anything (the scenario loader's through world_server
+    --check, the same library the in-process runner loads with; the --exec command; the --expect keys), then
+    one line of what would run."""
+    check_exec(getattr(args, "exec", None))
+    info = check_scenario(executable("world"), args)
+    check_expectations(args, status)
+    status.line(f"swarm: would run {info['robots']} robots, {info.get('mode', '?')} mode, up to "
+                f"{info.get('max_ticks')} ticks, seed {info.get('seed')} (--check: nothing started)")
+    return 0
 
 
 def _run_in_process(args: argparse.Namespace, stop: StopFlag, status: Status,
