@@ -562,7 +562,13 @@ TEST_F(MultiProcess, RealtimeWorldTellsWhereALateCommandsTimeWent) {
 TEST_F(MultiProcess, CheckPrintsTheScenarioAndBadInputExitsTwo) {
   Process& ok = start({kWorld, "--scenario", kScenario, "--robots", "5", "--seed", "9", "--check"}, "check");
   EXPECT_EQ(ok.wait_for(15.0), 0) << ok.err();
-  EXPECT_EQ(ok.out(), "{\"robots\":5,\"labels\":16,\"mode\":\"lockstep\",\"max_ticks\":300,\"seed\":9}\n");
+  const Json checked = Json::parse(ok.out());
+  EXPECT_EQ(checked["robots"], 5);
+  EXPECT_EQ(checked["labels"], 16);
+  EXPECT_EQ(checked["mode"], "lockstep");
+  EXPECT_EQ(checked["max_ticks"], 300);
+  EXPECT_EQ(checked["seed"], 9);
+  EXPECT_EQ(checked["behaviour_descriptor"]["name"], "random_walk") << ok.out();
   const std::string bad = path("bad.yaml");
   {
     std::ofstream f(bad);

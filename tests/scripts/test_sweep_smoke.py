@@ -143,7 +143,7 @@ class SweepSmokeTest(unittest.TestCase):
     def test_a_plugin_behaviour_is_swept_with_plugin_dir(self):
         out = os.path.join(self.dir, "agg")
         common = ("sweep", "--scenario", AGGREGATION, "--seeds", "1-2", "--max-ticks", "60", "--jobs", "2",
-                  "--expect", "none", "--out", out)
+                  "--expect", "any", "--out", out)
         # The plug-in is not in the scenario's folder: without --plugin-dir the probe is refused naming it.
         r = helpers.swarm(*common, build_dir=BUILD_DIR, timeout=120)
         self.assertEqual(r.returncode, 2, r.stderr)
@@ -155,7 +155,9 @@ class SweepSmokeTest(unittest.TestCase):
         rows = read_csv(os.path.join(out, "sweep.csv"))
         self.assertEqual(len(rows), 4)
         for row in rows:
-            self.assertEqual((row["success"], row["behaviour"], row["outcome"]), ("1", "aggregation", "none"))
+            # Judged by a clean exit (any); the outcome is the plug-in's own experiment's.
+            self.assertEqual((row["success"], row["behaviour"]), ("1", "aggregation"))
+            self.assertIn(row["outcome"], ("gathered", "scattered"))
             self.assertIn(f"--plugin-dir {AGGREGATION_DIR}", row["command"])
         with open(os.path.join(out, "sweep.json")) as f:
             res = json.load(f)
