@@ -6,6 +6,7 @@
 // Exit codes: 0 the run ended (or SIGINT/SIGTERM); 1 a failure (DDS, the port); 2 bad flags.
 #include <CLI/CLI.hpp>
 #include <deque>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -31,10 +32,22 @@ constexpr std::size_t kMaxEventsKept = 20000;  // the newest, for pages that ope
 // (world_server/viewer_control.hpp kSilence).
 constexpr dds_duration_t kHelloEvery = DDS_MSECS(250);
 
+// The page's files: an installed viewer's share/swarmform/web beside its bin/ (cmake --install), else the
+// source tree's viewer/web it was built from.
+std::string default_web_root() {
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const std::filesystem::path installed = exe.parent_path().parent_path() / "share" / "swarmform" / "web";
+    if (std::filesystem::is_regular_file(installed / "index.html", ec)) return installed.string();
+  }
+  return SWARMFORM_VIEWER_WEB_ROOT;
+}
+
 struct Options {
   std::uint16_t port = 8765;
   std::string host = "127.0.0.1";
-  std::string web_root = SWARMFORM_VIEWER_WEB_ROOT;
+  std::string web_root = default_web_root();
   std::string run_dir;
   std::string replay;
   std::uint32_t domain = 0;
@@ -237,8 +250,10 @@ int main(int argc, char** argv) {
       "swarm_viewer: the browser view of a swarmform run (live over DDS, or --replay a run directory)"};
   app.add_option("--port", o.port, "TCP port of the page and the WebSocket (default 8765; 0: any free one)");
   app.add_option("--host", o.host, "address to listen on (default 127.0.0.1: this machine only)");
-  app.add_option("--web-root", o.web_root,
-                 "folder of the page's files (default: viewer/web of the source tree)");
+  app.add_option(
+      "--web-root", o.web_root,
+      "folder of the page's files (default: share/swarmform/web beside an installed viewer's bin/, else "
+      "viewer/web of the source tree)");
   app.add_option("--run-dir", o.run_dir,
                  "live: the run directory (the page loads world.json, events from it)");
   app.add_option("--replay", o.replay, "RUN_DIR: serve the page over this recording (no DDS)");

@@ -11,7 +11,7 @@ import sys
 import time
 from typing import IO, Any, Callable, NoReturn, Optional, Sequence
 
-from . import exit_codes, expect, faults, hosts, launcher, security
+from . import exit_codes, expect, faults, hosts, launcher, places, security
 
 DEFAULT_SCENARIO = os.path.join("scenarios", "paper.yaml")
 
@@ -454,11 +454,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         if args.hosts and args.in_process:
             parser.error("--hosts and --in-process exclude each other (an in-process run has no network)")
         if args.command == "demo" or args.scenario is None:
-            args.scenario = DEFAULT_SCENARIO
+            args.scenario = places.default_scenario()
             if not os.path.isfile(args.scenario):
-                args.scenario = os.path.join(launcher.ROOT, DEFAULT_SCENARIO)
-            if not os.path.isfile(args.scenario):
-                parser.error(f"the default scenario {DEFAULT_SCENARIO} is missing")
+                parser.error(f"the default scenario {args.scenario} is missing")
         if args.secure and args.in_process:
             parser.error("--secure secures DDS and --in-process runs without it: choose one")
         if args.secure and args.domain is not None and args.domain > security.MAX_SECURE_DOMAIN:
@@ -482,8 +480,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             print(f"The numbers: scripts/swarm report {where}")
         return code
     if args.command == "kill":
-        run_dir = args.run or os.path.join(os.environ.get("SWARM_RUNS_DIR") or
-                                           os.path.join(launcher.ROOT, "runs"), "latest")
+        run_dir = args.run or os.path.join(places.runs_root(), "latest")
         try:
             pid = launcher.kill(args.id, run_dir)
         except launcher.LaunchError as e:

@@ -5,8 +5,9 @@ import json
 import os
 from typing import Any, Dict, List
 
-TABLE_PATH = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
-                          "common", "exit_codes.json")
+from . import places
+
+TABLE_PATH = os.path.join(places.data_root(), "common", "exit_codes.json")
 
 
 def _load() -> Dict[str, Any]:

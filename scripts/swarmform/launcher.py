@@ -50,11 +50,11 @@ from . import exit_codes
 from . import faults
 from . import hosts as hosts_mod
 from . import jsonfile
+from . import places
 from . import security
 from . import world_status
 from .world_status import Event
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 # The connect deadline (--connect-timeout), when not given: world_server's default_connect_timeout
 # (world_server/server.hpp), which the launcher passes on so that both wait the same time.
 CONNECT_TIMEOUT_BASE_S = 30.0
@@ -83,16 +83,12 @@ class LaunchError(Exception):
         self.code = code
 
 
-def build_dir() -> str:
-    return os.environ.get("BUILD_DIR") or os.path.join(ROOT, "build")
-
-
 def executable(kind: str) -> str:
-    rel = {"world": "world_server/world_server", "agent": "robot_agent/robot_agent",
-           "inprocess": "harness/swarm_inprocess", "viewer": "viewer/swarm_viewer"}[kind]
-    path = os.path.join(build_dir(), rel)
+    name = {"world": "world_server", "agent": "robot_agent", "inprocess": "swarm_inprocess",
+            "viewer": "swarm_viewer"}[kind]
+    path = places.program(name)
     if not os.access(path, os.X_OK):
-        raise LaunchError(f"{path} not found: build it first (scripts/build), or set BUILD_DIR")
+        raise LaunchError(f"{path} not found: {places.missing_program_hint()}")
     return path
 
 
@@ -237,7 +233,7 @@ def make_run_dir(out: Optional[str]) -> str:
     if out:
         os.makedirs(out, exist_ok=True)
         return os.path.abspath(out)
-    runs = os.environ.get("SWARM_RUNS_DIR") or os.path.join(ROOT, "runs")
+    runs = places.runs_root()
     os.makedirs(runs, exist_ok=True)
     stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y%m%d-%H%M%S")
     name, n = stamp, 1

@@ -38,7 +38,7 @@ import tempfile
 import time
 from typing import IO, Any, Callable, Iterable, Optional, Sequence, Union
 
-from . import expect, launcher, summary_keys, sweep_fields
+from . import expect, launcher, places, summary_keys, sweep_fields
 
 ParamValues = list[tuple[str, float]]  # a --param's values: (as written, as a number)
 Combo = dict[str, tuple[str, float]]  # one run's parameters: NAME -> (text, value)
@@ -854,17 +854,6 @@ def run_record(r: Run) -> dict[str, Any]:
     return rec
 
 
-def git_commit() -> Optional[str]:
-    try:
-        head = subprocess.run(["git", "-C", launcher.ROOT, "rev-parse", "--short=12", "HEAD"], capture_output=True,
-                              text=True, timeout=10).stdout.strip()
-        dirty = subprocess.run(["git", "-C", launcher.ROOT, "status", "--porcelain", "--untracked-files=no"],
-                               capture_output=True, text=True, timeout=10).stdout.strip()
-        return (head + ("-dirty" if dirty else "")) or None
-    except (OSError, subprocess.SubprocessError):
-        return None
-
-
 def results(runs: Sequence[Run], opts: argparse.Namespace, grid: dict[str, Any], started: str, wall: float,
             interrupted: bool, worst_n: int) -> dict[str, Any]:
     finished = [r for r in runs if r.reason != "not run" and r.reason != "interrupted"]
@@ -893,7 +882,7 @@ def results(runs: Sequence[Run], opts: argparse.Namespace, grid: dict[str, Any],
     overall = group_stats(finished, behaviour_keys)
     return {
         "format": "swarmform-sweep", "version": 1,
-        "commit": git_commit(), "cwd": os.getcwd(), "started_utc": started, "wall_seconds": round(wall, 1),
+        "commit": places.commit(), "cwd": os.getcwd(), "started_utc": started, "wall_seconds": round(wall, 1),
         "interrupted": interrupted, "planned_runs": len(runs),
         "grid": grid,
         "judging": {"expect": outcome_word(opts), "expressions": [e.text for e in expressions(opts)],
@@ -969,7 +958,7 @@ def print_table(res: dict[str, Any], out: Callable[[str], None] = print) -> None
 # ------------------------------------------------------------------------------------------------- the sweep
 
 def default_out_dir() -> str:
-    runs = os.environ.get("SWARM_RUNS_DIR") or os.path.join(launcher.ROOT, "runs")
+    runs = places.runs_root()
     stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y%m%d-%H%M%S")
     path, n = os.path.join(runs, f"sweep-{stamp}"), 1
     while os.path.exists(path):
@@ -980,7 +969,7 @@ def default_out_dir() -> str:
 
 def plan(opts: argparse.Namespace, exe: str) -> tuple[list[Run], dict[str, Any]]:
     """The runs of the grid, after probing every (scenario, shape, robots) once. Raises SweepError."""
-    scenarios = expand_files(opts.scenario or [os.path.join("scenarios", "paper.yaml")], "scenario")
+    scenarios = expand_files(opts.scenario or [places.default_scenario()], "scenario")
     shapes: list[Optional[str]] = list(expand_files(opts.shape, "shape")) if opts.shape else []
     if opts.shapes_dir:
         if not os.path.isdir(opts.shapes_dir):
