@@ -321,7 +321,7 @@ def _checked(fn: Callable[[str], Any]) -> Callable[[str], Any]:
 
 
 def _add_sweep_parser(sub: Any) -> None:
-    from . import sweep, sweep_fields  # no matplotlib
+    from . import sweep, sweep_fields, sweep_journal  # no matplotlib
     p = sub.add_parser("sweep", help="a grid of in-process runs, judged; sweep.csv and sweep.json",
                        formatter_class=argparse.RawDescriptionHelpFormatter, description=sweep.HELP,
                        epilog=sweep.EXAMPLES)
@@ -388,6 +388,16 @@ def _add_sweep_parser(sub: Any) -> None:
     r.add_argument("--worst", type=_int_at_least(0), default=20, metavar="K",
                    help="worst runs listed in sweep.json (default %(default)s)")
     r.add_argument("--quiet", action="store_true", help="no progress line")
+    m = p.add_argument_group("slices, resuming and merging (sweep_args.json and runs.jsonl in the output folder)")
+    m.add_argument("--shard", type=_checked(sweep_journal.parse_shard), metavar="K/N",
+                   help="run only the K-th of N slices of the grid (every N-th run from the K-th): for a batch "
+                        "system's job array; join the N folders with --merge")
+    m.add_argument("--resume", metavar="DIR",
+                   help="go on with the sweep in DIR (stopped by Ctrl-C, a crash or a lost machine): its grid "
+                        "from DIR/sweep_args.json, the runs DIR/runs.jsonl lacks; no grid flag with it")
+    m.add_argument("--merge", nargs="+", metavar="DIR",
+                   help="join the N folders of one sweep's --shard K/N slices into one sweep (into --out), the "
+                        "same sweep.csv and sweep.json as the unsliced sweep; runs nothing but the probes")
 
 
 class _DrawingProgress:
@@ -440,6 +450,15 @@ def render_pictures(run_dir: str, ticks: Sequence[int] = (), out_dir: Optional[s
     folder = os.path.dirname(written[0]) if written else out_dir
     print(f"pictures: {len(written)} files in {folder}/")
     return exit_codes.OK
+
+
+def parse_sweep_args(argv: Sequence[str]) -> argparse.Namespace:
+    """`swarm sweep ARGV`'s options as main() gives them to sweep.sweep (a sweep's saved command line, read back
+    by --resume and --merge). Exits 2 on a bad flag, as the parser does."""
+    args = make_parser().parse_args(["sweep", *argv])
+    args.seeds = [s for chunk in (args.seeds or []) for s in chunk] or None
+    args.argv = list(argv)
+    return args
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
@@ -499,6 +518,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             return exit_codes.OK
         from . import sweep
         args.seeds = [s for chunk in (args.seeds or []) for s in chunk] or None
+        given = list(argv if argv is not None else sys.argv[1:])
+        args.argv = given[given.index("sweep") + 1:]  # the sweep's own flags: sweep_args.json
         return sweep.sweep(args)
     if args.command == "report":
         from . import report, recording

@@ -38,7 +38,7 @@ import tempfile
 import time
 from typing import IO, Any, Callable, Iterable, Optional, Sequence, Union
 
-from . import expect, launcher, places, summary_keys, sweep_fields
+from . import expect, launcher, places, summary_keys, sweep_fields, sweep_journal
 
 ParamValues = list[tuple[str, float]]  # a --param's values: (as written, as a number)
 Combo = dict[str, tuple[str, float]]  # one run's parameters: NAME -> (text, value)
@@ -114,6 +114,11 @@ optional thresholds: --max-shape-error on shape_error_at_goal (success, arrived)
 A run that never ends is cut at max_ticks by the harness and fails by its outcome; a run that crashes, exits
 non-zero, prints no summary or outlives --timeout (SIGKILLed) fails with that reason.
 
+Slices and resuming (docs/sweeps.md): --shard K/N runs every N-th run of the grid from the K-th (a batch system's
+job array); --merge DIR... joins all N slice folders of one grid into the sweep they were cut from (into --out;
+nothing is run again); --resume DIR goes on with a stopped sweep, running only what DIR/runs.jsonl lacks. Each
+sweep folder keeps sweep_args.json (its grid's flags) for them.
+
 With no grid flag: scenarios/paper.yaml x seeds 1-10, no kills, --expect success.
 
 Exit codes: 0 every run succeeded; 1 at least one run failed (or could not start); 2 bad input (a flag, a
@@ -135,6 +140,9 @@ examples:
   scripts/swarm sweep --set comm_range=2,3 --set occlusion=false,true --seeds 1-5
   scripts/swarm sweep --scenario examples/behaviours/aggregation/aggregation.yaml --param stop_distance=0.3,0.5 \\
       --expect 'states_at_end.gathered >= 6' --seeds 1-10
+  scripts/swarm sweep --seeds 1-30 --shard 3/8 --out runs/study/slice-3         # slice 3 of 8 (a job array's task)
+  scripts/swarm sweep --merge runs/study/slice-* --out runs/study/all             # the 8 slices as one sweep
+  scripts/swarm sweep --resume runs/study/slice-3                                # after a stop: only what is missing
 """
 
 
@@ -645,7 +653,7 @@ def execute(runs: Sequence[Run], jobs: int, timeout: float, progress: Progress, 
                 run.exit_code = p.returncode
                 _finish(run, out, err, over, opts)
                 if journal is not None:
-                    journal.write(json.dumps(run_record(run)) + "\n")
+                    journal.write(json.dumps(journal_record(run)) + "\n")
                     journal.flush()
                 del active[p]
                 done += 1
@@ -670,7 +678,7 @@ def execute(runs: Sequence[Run], jobs: int, timeout: float, progress: Progress, 
             if run.summary is None:
                 run.reason, run.severity = "interrupted", 9
             elif journal is not None:
-                journal.write(json.dumps(run_record(run)) + "\n")
+                journal.write(json.dumps(journal_record(run)) + "\n")
         for name in os.listdir(tmp):
             os.unlink(os.path.join(tmp, name))
         os.rmdir(tmp)
@@ -852,6 +860,22 @@ def run_record(r: Run) -> dict[str, Any]:
     rec["command"] = command_text(r.cmd)
     rec["record_command"] = record_command(r.cmd, r.index)
     return rec
+
+
+def journal_record(r: Run) -> dict[str, Any]:
+    """runs.jsonl's line: the run's record, and what it takes to count it again unrun (sweep_journal.py)."""
+    return {**run_record(r), "severity": r.severity, "full_summary": r.summary}
+
+
+def restore(run: Run, rec: dict[str, Any]) -> None:
+    """A run of the plan, as its journal record says it ended. Raises SweepError if the record is of another
+    command (the grid, the build's path or a file name changed since)."""
+    if rec["command"] != command_text(run.cmd):
+        raise SweepError(f"run {run.index} of the grid is now `{command_text(run.cmd)}` but the journal has "
+                         f"`{rec['command']}`: not the same grid (or not run from the same folder)")
+    run.success, run.reason, run.exit_code = bool(rec.get("success")), str(rec.get("reason", "")), rec.get("exit_code")
+    run.wall, run.severity = rec.get("wall_seconds"), int(rec.get("severity", 9))
+    run.summary = rec["full_summary"] if isinstance(rec["full_summary"], dict) else None
 
 
 def results(runs: Sequence[Run], opts: argparse.Namespace, grid: dict[str, Any], started: str, wall: float,
@@ -1075,6 +1099,105 @@ def _relative_exe() -> str:
     return rel if not rel.startswith("..") else exe
 
 
+def _grid_flags_given(opts: argparse.Namespace) -> list[str]:
+    """The grid's flags set on this command line (--resume and --merge take the grid from the folders)."""
+    from . import cli  # the parser's defaults; cli imports this module lazily
+    defaults = cli.parse_sweep_args([])
+    return sorted(f"--{k.replace('_', '-')}" for k, v in vars(opts).items()
+                  if k not in ("resume", "merge", "jobs", "quiet", "out", "argv", "command")
+                  and v != getattr(defaults, k, None))
+
+
+def _saved_opts(sweep_dir: str) -> tuple[argparse.Namespace, dict[str, Any]]:
+    """The options a sweep folder was started with. Raises SweepError."""
+    from . import cli
+    try:
+        saved = sweep_journal.load_args(sweep_dir)
+    except sweep_journal.JournalError as e:
+        raise SweepError(str(e)) from None
+    try:
+        return cli.parse_sweep_args(saved["argv"]), saved
+    except SystemExit:
+        raise SweepError(f"{sweep_dir}/{sweep_journal.ARGS_FILE}: its command line no longer parses "
+                         "(written by another version of swarm?)") from None
+
+
+def _restored(runs: Sequence[Run], sweep_dir: str) -> int:
+    """Fills the runs that sweep_dir's journal finished; returns how many. Raises SweepError."""
+    try:
+        records = sweep_journal.finished_runs(sweep_dir)
+    except sweep_journal.JournalError as e:
+        raise SweepError(str(e)) from None
+    n = 0
+    for run in runs:
+        if run.index in records:
+            restore(run, records[run.index])
+            n += 1
+    return n
+
+
+def _write(out_dir: str, runs: Sequence[Run], res: dict[str, Any], grid: dict[str, Any]) -> int:
+    write_csv(os.path.join(out_dir, "sweep.csv"), [r for r in runs if r.reason not in ("not run", "interrupted")],
+              list(grid["params"]), grid["field_columns"])
+    with open(os.path.join(out_dir, "sweep.json"), "w") as f:
+        json.dump(res, f, indent=1)
+        f.write("\n")
+    print_table(res)
+    print(f"sweep.csv and sweep.json in {out_dir}")
+    return EXIT_OK if res["overall"]["failed"] == 0 else EXIT_FAILED
+
+
+def _slice_wall(sweep_dir: str) -> float:
+    try:
+        with open(os.path.join(sweep_dir, "sweep.json"), "rb") as f:
+            return float(json.loads(f.read().decode("utf-8")).get("wall_seconds") or 0.0)
+    except (OSError, UnicodeDecodeError, ValueError, TypeError, AttributeError):
+        return 0.0  # a slice that never finished writing: its runs are in its journal all the same
+
+
+def merge(opts: argparse.Namespace, exe: str) -> int:
+    """`swarm sweep --merge DIR...`: the slices of one grid (--shard K/N, all N of them) as the one sweep."""
+    dirs: list[str] = opts.merge
+    given = _grid_flags_given(opts)
+    if given:
+        raise SweepError(f"--merge takes the grid from the slices' {sweep_journal.ARGS_FILE}: give no "
+                         f"{', '.join(given)}")
+    first, saved0 = _saved_opts(dirs[0])
+    n = saved0["shard"][1] if saved0["shard"] else 0
+    seen: dict[int, str] = {}
+    for d in dirs:
+        o, saved = _saved_opts(d)
+        if saved["argv"] != saved0["argv"] or saved["commit"] != saved0["commit"]:
+            raise SweepError(f"{d} is a slice of another sweep than {dirs[0]} (grid {shlex.join(saved['argv'])} "
+                             f"at commit {saved['commit']}, against {shlex.join(saved0['argv'])} at "
+                             f"{saved0['commit']})")
+        if not saved["shard"] or saved["shard"][1] != n:
+            raise SweepError(f"{d}: not a slice K/{n} (--shard {saved['shard'] or 'none'})")
+        k = saved["shard"][0]
+        if k in seen:
+            raise SweepError(f"{d} and {seen[k]} are both slice {k}/{n}")
+        seen[k] = d
+    missing = [str(k) for k in range(1, n + 1) if k not in seen]
+    if missing:
+        raise SweepError(f"slice(s) {', '.join(missing)} of {n} not given: every slice is needed")
+    first.jobs, first.quiet = opts.jobs, opts.quiet
+    runs, grid = plan(first, exe)
+    for k, d in seen.items():
+        _restored([r for r in runs if sweep_journal.in_shard(r.index, (k, n))], d)
+    unfinished = [r.index for r in runs if r.reason == "not run"]
+    if unfinished:
+        raise SweepError(f"{len(unfinished)} run(s) of the grid are in no slice's journal (first: index "
+                         f"{unfinished[0]}): finish their slices with --resume first")
+    out_dir = opts.out or default_out_dir()
+    os.makedirs(out_dir, exist_ok=True)
+    started = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+    res = results(runs, first, grid, started, 0.0, False, first.worst)
+    res["wall_seconds"] = max((_slice_wall(d) for d in dirs), default=None)  # the slowest slice's
+    res["merged_from"] = [os.path.abspath(seen[k]) for k in sorted(seen)]
+    res["commit"] = saved0["commit"]
+    return _write(out_dir, runs, res, grid)
+
+
 def sweep(opts: argparse.Namespace) -> int:
     """`swarm sweep`. Returns the exit code."""
     try:
@@ -1083,39 +1206,56 @@ def sweep(opts: argparse.Namespace) -> int:
         print(f"swarm sweep: {e}", file=sys.stderr)
         return EXIT_FAILED
     try:
+        if opts.merge:
+            return merge(opts, exe)
+        shard: Optional[tuple[int, int]] = opts.shard
+        if opts.resume:
+            given = _grid_flags_given(opts)
+            if given:
+                raise SweepError(f"--resume takes the grid from {opts.resume}/{sweep_journal.ARGS_FILE}: give no "
+                                 f"{', '.join(given)}")
+            resumed, saved = _saved_opts(opts.resume)
+            resumed.jobs, resumed.quiet, resumed.out, resumed.resume = opts.jobs, opts.quiet, opts.resume, opts.resume
+            shard = tuple(saved["shard"]) if saved["shard"] else None  # type: ignore[assignment]
+            opts = resumed
         runs, grid = plan(opts, exe)
+        planned = len(runs)
+        runs = [r for r in runs if sweep_journal.in_shard(r.index, shard)]
+        out_dir = opts.out or default_out_dir()
+        os.makedirs(out_dir, exist_ok=True)
+        finished = _restored(runs, out_dir) if opts.resume else 0
     except SweepError as e:
         print(f"swarm sweep: {e}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    out_dir = opts.out or default_out_dir()
-    os.makedirs(out_dir, exist_ok=True)
+    if not opts.resume:
+        sweep_journal.save_args(out_dir, getattr(opts, "argv", []), shard, places.commit(), planned)
+    todo = [r for r in runs if r.reason == "not run"]
     jobs = opts.jobs or os.cpu_count() or 1
-    progress = Progress(len(runs), quiet=opts.quiet)
+    progress = Progress(len(todo), quiet=opts.quiet)
     progress.line(f"sweep: {len(runs)} runs ({len(grid['scenarios'])} scenario(s) x {len(grid['shapes'])} shape(s)"
                   f" x {len(grid['robots'])} robot count(s) x {grid['seed_count']} seed(s) x "
                   f"{len(grid['kills'])} kill schedule(s)"
                   + (f" x {grid['param_combinations']} parameter combination(s)" if grid["params"] else "")
                   + (f" x {grid['field_combinations']} field combination(s)" if grid["fields"] else "")
+                  + (f"; slice {shard[0]}/{shard[1]} of {planned}" if shard else "")
+                  + (f"; {finished} finished before, {len(todo)} to run" if opts.resume else "")
                   + f"), {jobs} at a time; results in {out_dir}")
     stop = launcher.StopFlag()
     started = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
     t0 = time.monotonic()
     try:
-        with open(os.path.join(out_dir, "runs.jsonl"), "w") as journal:
-            execute(runs, jobs, opts.timeout, progress, stop, opts, journal)
+        with open(os.path.join(out_dir, sweep_journal.JOURNAL_FILE), "a" if opts.resume else "w") as journal:
+            execute(todo, jobs, opts.timeout, progress, stop, opts, journal)
     finally:
         stop.restore()
     progress.end()
     interrupted = bool(stop)
     res = results(runs, opts, grid, started, time.monotonic() - t0, interrupted, opts.worst)
-    write_csv(os.path.join(out_dir, "sweep.csv"), [r for r in runs if r.reason not in ("not run", "interrupted")],
-              list(grid["params"]), grid["field_columns"])
-    with open(os.path.join(out_dir, "sweep.json"), "w") as f:
-        json.dump(res, f, indent=1)
-        f.write("\n")
-    print_table(res)
-    print(f"sweep.csv and sweep.json in {out_dir}")
+    if shard:
+        res["shard"] = {"k": shard[0], "n": shard[1], "grid_runs": planned}
+    code = _write(out_dir, runs, res, grid)
     if interrupted:
-        print(f"swarm sweep: interrupted after {res['overall']['runs']} of {len(runs)} runs", file=sys.stderr)
+        print(f"swarm sweep: interrupted after {res['overall']['runs']} of {len(runs)} runs; go on with "
+              f"`swarm sweep --resume {out_dir}`", file=sys.stderr)
         return EXIT_INTERRUPTED
-    return EXIT_OK if res["overall"]["failed"] == 0 else EXIT_FAILED
+    return code
