@@ -1,4 +1,4 @@
-"""The command line of `scripts/swarm`: run, demo, kill, replay, report, sweep. Bad flags: a clear message, exit 2.
+"""The command line of `scripts/swarm`: run, demo, kill, replay, report, sweep, plot. Bad flags: a clear message, exit 2.
 
 matplotlib is imported only by the commands that draw, so `--help`, `kill` and `report` answer at once.
 """
@@ -29,6 +29,7 @@ commands:
   sweep    a grid of in-process runs (scenarios x shapes x seeds x kill schedules x --param values x loss, bursts,
            noise and --set scenario fields) on every core:
            sweep.csv, sweep.json (success rates, worst cases with the command that reproduces each)
+  plot     a sweep's figures: success over two grid axes, a metric's median and 95 % CI, failures by reason
 
 A run directory (default runs/<UTC time>/, runs/latest points to the newest) holds the recording (world.json,
 robots.csv, events.jsonl; docs/recording-format.md), summary.json, logs/ and pictures/.
@@ -47,7 +48,8 @@ examples:
   scripts/swarm report runs/latest
   scripts/swarm report runs/a runs/b --csv > runs.csv
   scripts/swarm run --no-pictures --expect 'outcome == arrived' --expect 'collisions_robot_robot == 0'
-  scripts/swarm sweep --kills none random:2 --seeds 1-20
+  scripts/swarm sweep --kills none random:2 --seeds 1-20 --plot
+  scripts/swarm plot runs/sweep-20261206-120000 --metric shape_error_at_goal
 
 `scripts/swarm <command> --help` tells more. Exit codes: {codes} (`swarm run --help` lists its own).
 Environment: BUILD_DIR (default build/) holds the executables; SWARM_NO_BUILD=1 skips the build step;
@@ -236,7 +238,7 @@ def _add_run_flags(p: argparse.ArgumentParser, demo: bool = False) -> None:
 
 def make_parser() -> Parser:
     top = Parser(prog="swarm", description=MAIN_HELP, formatter_class=argparse.RawDescriptionHelpFormatter,
-                 usage="swarm {run,demo,kill,replay,view,report,sweep} [options]   (swarm <command> --help)")
+                 usage="swarm {run,demo,kill,replay,view,report,sweep,plot} [options]   (swarm <command> --help)")
     sub = top.add_subparsers(dest="command", metavar="command", parser_class=Parser, prog="swarm")
 
     run = sub.add_parser("run", help="run a swarm", formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -296,6 +298,18 @@ def make_parser() -> Parser:
                           "of ids or {id, tick} as '3 7' / '3@120 7@900', as sweep.csv; per-tick series left out)")
 
     _add_sweep_parser(sub)
+    plot = sub.add_parser("plot", help="a sweep's figures (PNG and SVG)",
+                          description="Draws SWEEP_DIR's figures into SWEEP_DIR/figures/ (docs/sweeps.md "
+                                      "\"Figures\"): success.png/.svg (the success rate over the grid's two axes with "
+                                      "the most values, a heat map), metric.png/.svg (a metric's median and 95 % "
+                                      "confidence interval over the runs at each value of the grid's first numeric "
+                                      "axis, a line per shape), failures.png/.svg (failed runs by reason). Titled "
+                                      "with the grid and the commit.")
+    plot.add_argument("sweep_dir", metavar="SWEEP_DIR")
+    plot.add_argument("--metric", metavar="KEY",
+                      help="a sweep.csv column (default: goal_tick when runs arrived, else the behaviour's first "
+                           "metric, else ticks)")
+    plot.add_argument("--out", metavar="DIR", help="write the figures here instead of SWEEP_DIR/figures")
     return top
 
 
@@ -388,6 +402,9 @@ def _add_sweep_parser(sub: Any) -> None:
     r.add_argument("--worst", type=_int_at_least(0), default=20, metavar="K",
                    help="worst runs listed in sweep.json (default %(default)s)")
     r.add_argument("--quiet", action="store_true", help="no progress line")
+    r.add_argument("--plot", action="store_true",
+                   help="draw the sweep's figures at the end (as `swarm plot OUT_DIR`: docs/sweeps.md \"Figures\")")
+    r.add_argument("--plot-metric", metavar="KEY", help="with --plot: the metric figure's column (swarm plot --metric)")
     m = p.add_argument_group("slices, resuming and merging (sweep_args.json and runs.jsonl in the output folder)")
     m.add_argument("--shard", type=_checked(sweep_journal.parse_shard), metavar="K/N",
                    help="run only the K-th of N slices of the grid (every N-th run from the K-th): for a batch "
@@ -449,6 +466,17 @@ def render_pictures(run_dir: str, ticks: Sequence[int] = (), out_dir: Optional[s
         return exit_codes.BAD_INPUT if isinstance(e, pictures.PictureError) else exit_codes.FAILED
     folder = os.path.dirname(written[0]) if written else out_dir
     print(f"pictures: {len(written)} files in {folder}/")
+    return exit_codes.OK
+
+
+def _plot(sweep_dir: str, metric: Optional[str], out: Optional[str]) -> int:
+    from . import sweep_plots
+    try:
+        written = sweep_plots.plot(sweep_dir, metric, out)
+    except sweep_plots.PlotError as e:
+        print(f"swarm plot: {e}", file=sys.stderr)
+        return exit_codes.BAD_INPUT
+    print(f"figures: {len(written)} files in {os.path.dirname(written[0])}/")
     return exit_codes.OK
 
 
@@ -520,7 +548,11 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         args.seeds = [s for chunk in (args.seeds or []) for s in chunk] or None
         given = list(argv if argv is not None else sys.argv[1:])
         args.argv = given[given.index("sweep") + 1:]  # the sweep's own flags: sweep_args.json
-        return sweep.sweep(args)
+        code = sweep.sweep(args)
+        out_dir = args.resume or args.out or getattr(args, "written_to", None)
+        if args.plot and code in (exit_codes.OK, exit_codes.FAILED) and out_dir:
+            code = _plot(out_dir, args.plot_metric, None) or code
+        return code
     if args.command == "report":
         from . import report, recording
         try:
@@ -535,5 +567,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             print(f"swarm report: {e}", file=sys.stderr)
             return exit_codes.FAILED
         return exit_codes.OK
+    if args.command == "plot":
+        return _plot(args.sweep_dir, args.metric, args.out)
     parser.error(f"unknown command {args.command}")
     return exit_codes.BAD_INPUT

@@ -1190,6 +1190,7 @@ def merge(opts: argparse.Namespace, exe: str) -> int:
                          f"{unfinished[0]}): finish their slices with --resume first")
     out_dir = opts.out or default_out_dir()
     os.makedirs(out_dir, exist_ok=True)
+    opts.written_to = out_dir  # for --plot
     started = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
     res = results(runs, first, grid, started, 0.0, False, first.worst)
     res["wall_seconds"] = max((_slice_wall(d) for d in dirs), default=None)  # the slowest slice's
@@ -1223,6 +1224,7 @@ def sweep(opts: argparse.Namespace) -> int:
         runs = [r for r in runs if sweep_journal.in_shard(r.index, shard)]
         out_dir = opts.out or default_out_dir()
         os.makedirs(out_dir, exist_ok=True)
+        opts.written_to = out_dir  # for --plot
         finished = _restored(runs, out_dir) if opts.resume else 0
     except SweepError as e:
         print(f"swarm sweep: {e}", file=sys.stderr)
