@@ -402,6 +402,9 @@ def _add_sweep_parser(sub: Any) -> None:
     r.add_argument("--worst", type=_int_at_least(0), default=20, metavar="K",
                    help="worst runs listed in sweep.json (default %(default)s)")
     r.add_argument("--quiet", action="store_true", help="no progress line")
+    r.add_argument("--cluster", metavar="tcp://HOST:PORT",
+                   help="run the runs on a Dask distributed scheduler's workers (each in a checkout of this commit, "
+                        "built; docs/sweeps.md \"On a cluster\") instead of this machine's cores; the same results")
     r.add_argument("--plot", action="store_true",
                    help="draw the sweep's figures at the end (as `swarm plot OUT_DIR`: docs/sweeps.md \"Figures\")")
     r.add_argument("--plot-metric", metavar="KEY", help="with --plot: the metric figure's column (swarm plot --metric)")

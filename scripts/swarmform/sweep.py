@@ -23,6 +23,7 @@ import csv
 import ctypes
 import datetime
 import glob
+import io
 import itertools
 import json
 import math
@@ -38,7 +39,7 @@ import tempfile
 import time
 from typing import IO, Any, Callable, Iterable, Optional, Sequence, Union
 
-from . import expect, launcher, places, summary_keys, sweep_fields, sweep_journal
+from . import expect, launcher, places, summary_keys, sweep_cluster, sweep_fields, sweep_journal
 
 ParamValues = list[tuple[str, float]]  # a --param's values: (as written, as a number)
 Combo = dict[str, tuple[str, float]]  # one run's parameters: NAME -> (text, value)
@@ -346,6 +347,7 @@ class Run:
         self.success = False
         self.reason = "not run"
         self.severity = 9  # for the worst-case order: 0 ok .. 4 crash/timeout
+        self.retries = 0  # --cluster: how many times a dying worker made the scheduler start it again
 
 
 def command_text(cmd: Sequence[str]) -> str:
@@ -685,6 +687,22 @@ def execute(runs: Sequence[Run], jobs: int, timeout: float, progress: Progress, 
     return done, failed
 
 
+def execute_on_cluster(client: Any, runs: Sequence[Run], opts: argparse.Namespace, progress: Progress,
+                       stop: launcher.StopFlag, journal: IO[str]) -> dict[str, Any]:
+    """execute()'s work on a Dask cluster's workers (sweep_cluster.py), judged and journalled here alike."""
+    def done(run: Run, result: dict[str, Any]) -> None:
+        if "lost" in result:
+            run.reason, run.severity, run.success = f"lost its workers: {result['lost']}", 4, False
+        else:
+            run.wall, run.exit_code = result["wall"], result["exit_code"]
+            if result["timed_out"]:
+                run.reason = f"timeout: still running after {opts.timeout:g} s (SIGKILLed)"
+            _finish(run, io.StringIO(result["stdout"]), io.StringIO(result["stderr"]), result["timed_out"], opts)
+        journal.write(json.dumps(journal_record(run)) + "\n")
+        journal.flush()
+    return sweep_cluster.execute(client, runs, opts.timeout, done, stop, progress)
+
+
 def _killpg(p: "subprocess.Popen[bytes]", sig: int = signal.SIGKILL) -> None:
     try:
         os.killpg(p.pid, sig)
@@ -848,7 +866,7 @@ def run_record(r: Run) -> dict[str, Any]:
            "shape": r.shape_name, "robots": r.robots, "seed": r.seed, "kills": r.schedule.text,
            "kill_flags": r.kill_flags, "params": {n: v for n, (_, v) in r.params.items()},
            "fields": dict(r.fields),
-           "exit_code": r.exit_code,
+           "exit_code": r.exit_code, "retries": r.retries,
            "wall_seconds": None if r.wall is None else round(r.wall, 3)}
     for k in ("outcome", "ticks", "formation_tick", "motion_start_tick", "goal_tick", "shape_error_at_formation",
               "shape_error_at_goal", "peak_distortion", "collisions_robot_robot", "collisions_robot_obstacle",
@@ -874,7 +892,7 @@ def restore(run: Run, rec: dict[str, Any]) -> None:
         raise SweepError(f"run {run.index} of the grid is now `{command_text(run.cmd)}` but the journal has "
                          f"`{rec['command']}`: not the same grid (or not run from the same folder)")
     run.success, run.reason, run.exit_code = bool(rec.get("success")), str(rec.get("reason", "")), rec.get("exit_code")
-    run.wall, run.severity = rec.get("wall_seconds"), int(rec.get("severity", 9))
+    run.wall, run.severity, run.retries = rec.get("wall_seconds"), int(rec.get("severity", 9)), int(rec.get("retries", 0))
     run.summary = rec["full_summary"] if isinstance(rec["full_summary"], dict) else None
 
 
@@ -1104,7 +1122,8 @@ def _grid_flags_given(opts: argparse.Namespace) -> list[str]:
     from . import cli  # the parser's defaults; cli imports this module lazily
     defaults = cli.parse_sweep_args([])
     return sorted(f"--{k.replace('_', '-')}" for k, v in vars(opts).items()
-                  if k not in ("resume", "merge", "jobs", "quiet", "out", "argv", "command")
+                  if k not in ("resume", "merge", "jobs", "quiet", "out", "argv", "command", "cluster", "plot",
+                               "plot_metric")
                   and v != getattr(defaults, k, None))
 
 
@@ -1229,6 +1248,14 @@ def sweep(opts: argparse.Namespace) -> int:
     except SweepError as e:
         print(f"swarm sweep: {e}", file=sys.stderr)
         return EXIT_BAD_INPUT
+    client = None
+    if getattr(opts, "cluster", None):
+        try:
+            sweep_cluster.relative_cwd()
+            client = sweep_cluster.connect(opts.cluster)
+        except sweep_cluster.ClusterError as e:
+            print(f"swarm sweep: {e}", file=sys.stderr)
+            return EXIT_FAILED
     if not opts.resume:
         sweep_journal.save_args(out_dir, getattr(opts, "argv", []), shard, places.commit(), planned)
     todo = [r for r in runs if r.reason == "not run"]
@@ -1241,18 +1268,27 @@ def sweep(opts: argparse.Namespace) -> int:
                   + (f" x {grid['field_combinations']} field combination(s)" if grid["fields"] else "")
                   + (f"; slice {shard[0]}/{shard[1]} of {planned}" if shard else "")
                   + (f"; {finished} finished before, {len(todo)} to run" if opts.resume else "")
-                  + f"), {jobs} at a time; results in {out_dir}")
+                  + (f"), on the workers of {opts.cluster}" if client is not None else f"), {jobs} at a time")
+                  + f"; results in {out_dir}")
     stop = launcher.StopFlag()
     started = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
     t0 = time.monotonic()
+    cluster: Optional[dict[str, Any]] = None
     try:
         with open(os.path.join(out_dir, sweep_journal.JOURNAL_FILE), "a" if opts.resume else "w") as journal:
-            execute(todo, jobs, opts.timeout, progress, stop, opts, journal)
+            if client is not None:
+                cluster = execute_on_cluster(client, todo, opts, progress, stop, journal)
+            else:
+                execute(todo, jobs, opts.timeout, progress, stop, opts, journal)
     finally:
         stop.restore()
+        if client is not None:
+            client.close()
     progress.end()
     interrupted = bool(stop)
     res = results(runs, opts, grid, started, time.monotonic() - t0, interrupted, opts.worst)
+    if cluster is not None:
+        res["cluster"] = cluster
     if shard:
         res["shard"] = {"k": shard[0], "n": shard[1], "grid_runs": planned}
     code = _write(out_dir, runs, res, grid)

@@ -14,7 +14,8 @@ from typing import Any, Optional
 ARGS_FILE = "sweep_args.json"
 JOURNAL_FILE = "runs.jsonl"
 # Options of the command line that say how or where a sweep runs, not which runs it holds.
-NOT_GRID = {"--out": 1, "--jobs": 1, "-j": 1, "--quiet": 0, "--shard": 1, "--resume": 1}
+NOT_GRID = {"--out": 1, "--jobs": 1, "-j": 1, "--quiet": 0, "--shard": 1, "--resume": 1, "--cluster": 1,
+            "--plot": 0, "--plot-metric": 1}
 
 
 class JournalError(Exception):
