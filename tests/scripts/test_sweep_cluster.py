@@ -2,7 +2,9 @@
 dask-scheduler and dask-worker, on 127.0.0.1), running the stand-in harness (fake_sweep_build/; seeds 100 and
 up take 0.5 s each). The cluster's sweep equals the local one; a worker SIGKILLed mid-sweep loses no run (the
 scheduler starts its runs again elsewhere, and the sweep records it); a worker of another commit is refused
-with both commits named. Every process started here is killed by its pid at the end."""
+with both commits named. As root, the same across machines: the scheduler and the sweep in one network
+namespace, each worker in one of its own (`swarm run --hosts`'s namespaces and switch, hosts.py), removed at
+the end. Every process started here is killed by its pid at the end."""
 
 import csv
 import json
@@ -15,6 +17,7 @@ import time
 import unittest
 
 import helpers
+from swarmform import hosts as hosts_mod
 
 FAKE = os.path.join(helpers.HERE, "fake_sweep_build")
 SCENARIO = os.path.join("data", "walk4.yaml")  # relative: the runs' commands are, on every worker
@@ -42,6 +45,9 @@ class ClusterTest(unittest.TestCase):
     def setUp(self):
         self.dir = tempfile.mkdtemp(prefix="swarm-cluster-")
         self.procs = []
+        self.hosts = None
+        if self._testMethodName.endswith("on_hosts_of_their_own"):
+            return  # its scheduler lives in a namespace
         self.address = f"tcp://127.0.0.1:{helpers.free_port()}"
         self.start(["dask-scheduler", "--host", "127.0.0.1", "--port", self.address.rsplit(":", 1)[1],
                     "--dashboard-address", ":0", "--no-show"], "scheduler")
@@ -51,6 +57,8 @@ class ClusterTest(unittest.TestCase):
             if p.poll() is None:
                 p.kill()
             p.wait(timeout=30)
+        if self.hosts is not None:
+            self.hosts.remove()
         shutil.rmtree(self.dir)
 
     def start(self, argv, name, env=None):
@@ -68,10 +76,11 @@ class ClusterTest(unittest.TestCase):
         return self.start(["dask-worker", self.address, "--no-nanny", "--nthreads", "1", "--name", name,
                            "--dashboard-address", ":0"], name, env)
 
-    def wait_for_workers(self, n):
+    def wait_for_workers(self, n, wrap=()):
         code = (f"from distributed import Client\nc = Client({self.address!r}, timeout=30)\n"
                 f"c.wait_for_workers({n}, timeout=30)\nc.close()\n")
-        r = subprocess.run(["/usr/bin/python3", "-c", code], capture_output=True, text=True, timeout=DEADLINE_S)
+        r = subprocess.run([*wrap, "/usr/bin/python3", "-c", code], capture_output=True, text=True,
+                           timeout=DEADLINE_S)
         self.assertEqual(r.returncode, 0, r.stderr[-2000:])
 
     def sweep(self, out, *args):
@@ -115,6 +124,37 @@ class ClusterTest(unittest.TestCase):
         self.assertEqual(r.returncode, 1, r.stdout + r.stderr)
         self.assertIn("refused, not this build (commit ", r.stderr)
         self.assertIn("(commit 0123456789ab", r.stderr)
+
+    def test_workers_on_hosts_of_their_own(self):
+        try:
+            hosts_mod.check_can_make_hosts()
+            if hosts_mod.in_named_namespace():
+                raise hosts_mod.HostsError("inside a named network namespace")
+        except hosts_mod.HostsError as e:
+            self.skipTest(f"no network namespaces here ({e}): the other tests cover one host")
+        self.hosts = hosts_mod.Hosts(2)
+        self.hosts.create()
+        here, _ = self.hosts.world_wrap()
+        self.address = f"tcp://{hosts_mod.WORLD_ADDRESS}:8786"  # the world's host is this test's own
+        self.start([*here, "dask-scheduler", "--host", hosts_mod.WORLD_ADDRESS, "--port", "8786",
+                    "--dashboard-address", ":0", "--no-show"], "scheduler")
+        for h in (0, 1):
+            there, _ = self.hosts.agent_wrap(h)
+            self.start([*there, "dask-worker", self.address, "--no-nanny", "--nthreads", "1", "--name", f"h{h}",
+                        "--dashboard-address", ":0"], f"h{h}")
+        self.wait_for_workers(2, here)
+        local, remote = os.path.join(self.dir, "local"), os.path.join(self.dir, "remote")
+        seeds = ("--seeds", "100-107,1-3")
+        self.assertEqual(self.sweep(local, *seeds, "--jobs", "2").returncode, 0)
+        env = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=FAKE)
+        r = subprocess.run([*here, helpers.SWARM, "sweep", "--scenario", SCENARIO, "--expect", "any", "--quiet",
+                            "--out", remote, *seeds, "--cluster", self.address], capture_output=True, text=True,
+                           env=env, cwd=helpers.HERE, timeout=DEADLINE_S)
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        self.assertEqual(rows_of(remote), rows_of(local))
+        self.assertEqual(judged(remote), judged(local))
+        with open(os.path.join(remote, "sweep.json")) as f:
+            self.assertEqual(json.load(f)["cluster"]["workers"], 2)
 
     def test_no_scheduler_is_a_clear_error(self):
         r = self.sweep(os.path.join(self.dir, "s"), "--seeds", "1", "--cluster",
