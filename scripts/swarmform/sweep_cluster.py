@@ -6,7 +6,8 @@ scheduler and the workers.
 Each worker runs from a checkout of the same commit, built, with its scripts/ on PYTHONPATH (so that it imports
 this module): a run is the same relative command (`build/harness/swarm_inprocess --scenario ...`) started in the
 worker's checkout at the place this sweep was started from within ours. Before any run every worker says its
-checkout's commit and whether it has the harness; one of another commit (or none) is refused, both named.
+checkout's commit, the commit its build was made from and whether it has the harness; one that differs from
+this machine's (or has no harness) is refused, both named.
 
 A worker that dies mid-run loses nothing: the scheduler gives its running tasks to another worker (at most its
 `distributed.scheduler.allowed-failures` times, default 3, then the run fails as "lost N workers"). How many
@@ -26,10 +27,24 @@ class ClusterError(Exception):
     pass
 
 
+def build_commit() -> Optional[str]:
+    """The commit the build was made from (its generated build-info header, as summary.json's provenance), or
+    None without one."""
+    try:
+        with open(os.path.join(places.build_dir(), "generated", "swarmform_build_info.hpp"), "rb") as f:
+            for line in f.read().decode("utf-8", "replace").splitlines():
+                if line.startswith("#define SWARMFORM_GIT_COMMIT "):
+                    return line.split('"')[1] if '"' in line else None
+    except OSError:
+        pass
+    return None
+
+
 def worker_identity() -> dict[str, Any]:
-    """Run on each worker: its checkout's commit and whether its harness is built."""
+    """Run on each worker: its checkout's and its build's commits, and whether its harness is built."""
     exe = places.program("swarm_inprocess")
-    return {"commit": places.commit(), "root": places.SOURCE_ROOT, "harness": os.access(exe, os.X_OK)}
+    return {"commit": places.commit(), "build": build_commit(), "root": places.SOURCE_ROOT,
+            "harness": os.access(exe, os.X_OK)}
 
 
 def run_on_worker(cmd: Sequence[str], rel_cwd: str, timeout: float) -> dict[str, Any]:
@@ -87,12 +102,13 @@ def connect(address: str, connect_timeout: float = 15.0) -> Any:
     if not ids:
         client.close()
         raise ClusterError(f"--cluster {address}: the scheduler has no worker")
-    mine = places.commit()
-    bad = [f"{w} (commit {i['commit']}{'' if i['harness'] else ', no build/harness/swarm_inprocess'})"
-           for w, i in sorted(ids.items()) if i["commit"] != mine or not i["harness"]]
+    mine, my_build = places.commit(), build_commit()
+    bad = [f"{w} (commit {i['commit']}, build of {i['build']}{'' if i['harness'] else ', no harness built'})"
+           for w, i in sorted(ids.items()) if (i["commit"], i["build"]) != (mine, my_build) or not i["harness"]]
     if bad:
         client.close()
-        raise ClusterError(f"--cluster {address}: refused, not this build (commit {mine}): {', '.join(bad)}")
+        raise ClusterError(f"--cluster {address}: refused, not this build (commit {mine}, build of {my_build}): "
+                           f"{', '.join(bad)}")
     return client
 
 

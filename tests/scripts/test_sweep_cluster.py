@@ -123,7 +123,7 @@ class ClusterTest(unittest.TestCase):
         r = self.sweep(os.path.join(self.dir, "s"), "--seeds", "1", "--cluster", self.address)
         self.assertEqual(r.returncode, 1, r.stdout + r.stderr)
         self.assertIn("refused, not this build (commit ", r.stderr)
-        self.assertIn("(commit 0123456789ab", r.stderr)
+        self.assertIn("(commit 0123456789ab, build of", r.stderr)
 
     def test_workers_on_hosts_of_their_own(self):
         try:
