@@ -1235,7 +1235,9 @@ def sweep(opts: argparse.Namespace) -> int:
                 raise SweepError(f"--resume takes the grid from {opts.resume}/{sweep_journal.ARGS_FILE}: give no "
                                  f"{', '.join(given)}")
             resumed, saved = _saved_opts(opts.resume)
-            resumed.jobs, resumed.quiet, resumed.out, resumed.resume = opts.jobs, opts.quiet, opts.resume, opts.resume
+            for how in ("jobs", "quiet", "cluster", "resume"):  # how it runs now, not which runs
+                setattr(resumed, how, getattr(opts, how))
+            resumed.out = opts.resume
             shard = tuple(saved["shard"]) if saved["shard"] else None  # type: ignore[assignment]
             opts = resumed
         runs, grid = plan(opts, exe)

@@ -89,7 +89,7 @@ def connect(address: str, connect_timeout: float = 15.0) -> Any:
     except ImportError:
         raise ClusterError("--cluster needs Dask's distributed (Debian: apt install python3-distributed)") from None
     try:
-        client = Client(address, timeout=connect_timeout, set_as_default=False)
+        client = Client(address, timeout=connect_timeout)  # the default client: distributed.wait needs one
     except (OSError, TimeoutError) as e:
         raise ClusterError(f"--cluster {address}: no Dask scheduler answered within {connect_timeout:g} s ({e})") \
             from None
@@ -115,8 +115,9 @@ def connect(address: str, connect_timeout: float = 15.0) -> Any:
 def execute(client: Any, runs: Sequence[Any], timeout: float, on_done: Callable[[Any, dict[str, Any]], None],
             stop: Any, progress: Any) -> dict[str, Any]:
     """Submits every run; calls on_done(run, result) as each comes back (result as run_on_worker's, or
-    {"lost": N} for a run that killed N workers); returns the cluster's figures for sweep.json."""
-    from distributed import as_completed
+    {"lost": why} for a run that killed the scheduler's allowed-failures workers); returns the cluster's figures
+    for sweep.json. Looks at `stop` (Ctrl-C) twice a second: what is still queued or running is cancelled."""
+    from distributed import wait
     rel = relative_cwd()
     futures = {}
     for run in runs:
@@ -124,24 +125,28 @@ def execute(client: Any, runs: Sequence[Any], timeout: float, on_done: Callable[
         futures[client.submit(run_on_worker, run.cmd, rel, timeout, key=key, pure=False)] = run
     done = failed = 0
     workers: dict[str, int] = {}
+    pending = set(futures)
     try:
-        for fut in as_completed(list(futures), loop=client.loop):
-            run = futures[fut]
+        while pending and not stop:
             try:
-                result = fut.result()
-            except Exception as e:  # KilledWorker: it took the scheduler's allowed-failures workers with it
-                result = {"lost": str(e)}
-            run.retries = _suspicious_of(client, fut.key)
-            on_done(run, result)
-            if "worker" in result:
-                workers[result["worker"]] = workers.get(result["worker"], 0) + 1
-            done += 1
-            failed += 0 if run.success else 1
-            progress.show(done, failed, len(runs) - done, force=done == len(runs) or progress.tty)
-            if stop:
-                break
+                finished, pending = wait(pending, timeout=0.5, return_when="FIRST_COMPLETED")
+            except TimeoutError:
+                continue
+            for fut in finished:
+                run = futures[fut]
+                try:
+                    result = fut.result()
+                except Exception as e:  # KilledWorker: it took allowed-failures workers with it
+                    result = {"lost": str(e)}
+                run.retries = _suspicious_of(client, fut.key)
+                on_done(run, result)
+                if "worker" in result:
+                    workers[result["worker"]] = workers.get(result["worker"], 0) + 1
+                done += 1
+                failed += 0 if run.success else 1
+                progress.show(done, failed, len(pending), force=done == len(runs) or progress.tty)
     finally:
-        client.cancel(list(futures))
+        client.cancel(list(pending))
     return {"address": client.scheduler.address, "workers": len(workers), "runs_per_worker": sorted(workers.values()),
             "runs_started_again": sum(getattr(r, "retries", 0) for r in runs)}
 
