@@ -86,7 +86,7 @@ class InstalledLauncherTest(unittest.TestCase):
     def test_a_sweep_names_the_installed_commit_and_the_report_reads_a_run(self):
         out = os.path.join(self.user, "sweep")
         r = self.swarm("sweep", "--scenario", self.scenario, "--seeds", "1-2", "--max-ticks", "200", "--jobs", "2",
-                       "--quiet", "--out", out)
+                       "--quiet", "--out", out, "--plot")
         self.assertIn(r.returncode, (0, 1), r.stdout + r.stderr)  # judged by the plug-in's own outcome
         with open(os.path.join(out, "sweep.json"), encoding="utf-8") as f:
             sweep = json.load(f)
@@ -95,6 +95,7 @@ class InstalledLauncherTest(unittest.TestCase):
         commit = sweep["commit"]
         self.assertTrue(commit and f'SWARM_INSTALLED_COMMIT="{commit}"' in wrapper, commit)
         self.assertEqual((sweep["planned_runs"], sweep["overall"]["runs"]), (2, 2))
+        self.assertEqual(len(os.listdir(os.path.join(out, "figures"))), 6, "--plot: three figures, PNG and SVG")
         run_dir = os.path.join(self.user, "report-run")
         self.assertEqual(self.swarm("run", "--in-process", "--scenario", self.scenario, "--out", run_dir,
                                     "--max-ticks", "50", "--no-animation").returncode, 0)
