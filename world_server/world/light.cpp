@@ -37,13 +37,22 @@ bool LightSensors::hidden(std::size_t self, const std::vector<Pose2D>& poses, co
     const double f = ray_static(me.x, me.y, dx / len, dy / len, st) / len;
     if (below(f, kStaticHeight)) return true;
   }
+  // Robots near the segment: small grid queries at points kProbeStep apart along it, each wide enough that
+  // every body the segment crosses is within one (its centre lies within R of a point of the segment, which
+  // lies within half a step of a probe). One query round the midpoint would hold every robot within half the
+  // segment's length: O(N) a light at large N. A robot met by two probes is tested twice (the same answer).
+  constexpr double kProbeStep = 0.5;  // m
+  const int probes = static_cast<int>(std::ceil(len / kProbeStep));
   bool blocked = false;
-  // Robots near the segment: a grid query round its midpoint, wide enough to hold every body it crosses.
-  grid.for_each_near(me.x + dx / 2.0, me.y + dy / 2.0, len / 2.0 + kRobotRadius, [&](std::uint32_t j) {
-    if (blocked || j == self) return;
-    const double f = entry_circle(me.x, me.y, dx, dy, len, poses[j].x, poses[j].y, kRobotRadius);
-    if (below(f, kRobotHeight)) blocked = true;
-  });
+  for (int k = 0; k <= probes && !blocked; ++k) {
+    const double f = std::min(1.0, k * kProbeStep / len);
+    grid.for_each_near(
+        me.x + f * dx, me.y + f * dy, kProbeStep / 2.0 + kRobotRadius + 1e-9, [&](std::uint32_t j) {
+          if (blocked || j == self) return;
+          const double entry = entry_circle(me.x, me.y, dx, dy, len, poses[j].x, poses[j].y, kRobotRadius);
+          if (below(entry, kRobotHeight)) blocked = true;
+        });
+  }
   return blocked;
 }
 
