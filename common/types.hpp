@@ -58,6 +58,18 @@ inline constexpr std::size_t kProximityCount = 8;  // infrared ring
 inline constexpr std::size_t kLightCount = 8;      // light sensors on the same ring
 inline constexpr std::size_t kGroundCount = 4;     // ground sensors underneath
 inline constexpr std::size_t kLedCount = 3;
+// The infrared ring's sensor k faces kProximityAngles[k] in the robot frame (counter-clockwise from the
+// heading): 0, 45, ..., 180, -135, -90, -45 degrees (ARGoS kheperaiv_entity.cpp: a ring of 8 from angle 0).
+// A reading is 0 (nothing within 0.12 m of the sensor) to 1 (a body closer than 0.04 m):
+// world_server/world/proximity.hpp.
+inline constexpr std::array<double, kProximityCount> kProximityAngles = {0.0,
+                                                                         0.7853981633974483,
+                                                                         1.5707963267948966,
+                                                                         2.356194490192345,
+                                                                         3.141592653589793,
+                                                                         -2.356194490192345,
+                                                                         -1.5707963267948966,
+                                                                         -0.7853981633974483};
 
 // One lidar ray: where it points and what it measured.
 struct LidarRay {

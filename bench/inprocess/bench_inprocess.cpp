@@ -1,6 +1,7 @@
 // P3 (BENCHMARKS.md): the world library with N robots and N controllers in one process, timed.
 //
-//   bench_inprocess [--scenario bench/inprocess/field.yaml] [--robots 1000] [--behaviour paper|random_walk]
+//   bench_inprocess [--scenario bench/inprocess/field.yaml] [--robots 1000] [--behaviour
+//   paper|random_walk|...]
 //                   [--ticks 100] [--warmup 10] [--samples 3] [--seed 1]
 //
 // Each sample builds a fresh in-process harness (harness: the same World, controllers and
@@ -132,8 +133,8 @@ int main(int argc, char** argv) {
   app.add_option("--robots", robots, "robots (random placement at the default density)")
       ->check(CLI::Range(std::size_t{1}, std::size_t{100000}))
       ->capture_default_str();
-  app.add_option("--behaviour", behaviour, "controller: paper or random_walk")
-      ->check(CLI::IsMember({"paper", "random_walk"}))
+  app.add_option("--behaviour", behaviour, "controller: paper, random_walk, diffusion or phototaxis")
+      ->check(CLI::IsMember({"paper", "random_walk", "diffusion", "phototaxis"}))
       ->capture_default_str();
   app.add_option("--ticks", ticks, "timed ticks per sample")
       ->check(CLI::Range(1, 1000000))

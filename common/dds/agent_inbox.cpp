@@ -11,6 +11,7 @@
 
 #include "common/dds/internal/endpoint_kit.hpp"
 #include "common/dds/internal/idl.hpp"
+#include "common/dds/internal/optional_sensors.hpp"
 #include "common/dds/internal/topics.hpp"
 #include "common/dds/matching.hpp"
 #include "common/dds/qos.hpp"
@@ -129,6 +130,7 @@ struct AgentInbox::Impl {
       p.tick = s.tick;
       p.pose = Pose2D{s.x, s.y, s.theta};
       std::copy(std::begin(s.ultrasonic), std::end(s.ultrasonic), p.ultrasonic.begin());
+      internal::take_optional_sensors(s, p);
     }
     return n;
   }

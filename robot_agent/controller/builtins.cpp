@@ -3,9 +3,11 @@
 
 #include <array>
 
+#include "robot_agent/controller/diffusion.hpp"
 #include "robot_agent/controller/paper_controller.hpp"
 #include "robot_agent/controller/paper_experiment.hpp"
 #include "robot_agent/controller/paper_params.hpp"
+#include "robot_agent/controller/phototaxis.hpp"
 #include "robot_agent/controller/random_walk.hpp"
 #include "robot_agent/controller/robot_state.hpp"
 
@@ -43,6 +45,12 @@ std::unique_ptr<Controller> make_paper() {
 }
 std::unique_ptr<Controller> make_walk() {
   return std::make_unique<RandomWalk>();
+}
+std::unique_ptr<Controller> make_diffusion() {
+  return std::make_unique<Diffusion>();
+}
+std::unique_ptr<Controller> make_phototaxis() {
+  return std::make_unique<Phototaxis>();
 }
 
 const Descriptor kPaper{
@@ -83,6 +91,39 @@ const Descriptor kWalk{
     .experiment = {},
 };
 
+const Descriptor kDiffusion{
+    .api_version = behaviour::kApiVersion,
+    .name = "diffusion",
+    .summary =
+        "drive straight, turn on the spot away from what the infrared proximity ring sees ahead, "
+        "slow down on a dark floor (ground sensors)",
+    .params = kNoParams,
+    .states = kWalkStates,
+    .telemetry = {},
+    .needs_shape = false,
+    .needs_goal = false,
+    .shape_rules = {},
+    .make = &make_diffusion,
+    .sensors = behaviour::kProximity | behaviour::kGround,
+    .experiment = {},
+};
+
+const Descriptor kPhototaxis{
+    .api_version = behaviour::kApiVersion,
+    .name = "phototaxis",
+    .summary =
+        "steer towards the light, turn away from what the infrared ring sees ahead, stop on a low battery",
+    .params = kNoParams,
+    .states = kWalkStates,
+    .telemetry = {},
+    .needs_shape = false,
+    .needs_goal = false,
+    .shape_rules = {},
+    .make = &make_phototaxis,
+    .sensors = behaviour::kLight | behaviour::kProximity | behaviour::kBattery,
+    .experiment = {},
+};
+
 }  // namespace
 
 const Descriptor& paper_descriptor() {
@@ -95,6 +136,8 @@ const Descriptor& random_walk_descriptor() {
 void add_builtins(behaviour::Registry& registry) {
   registry.add(kPaper);
   registry.add(kWalk);
+  registry.add(kDiffusion);
+  registry.add(kPhototaxis);
 }
 
 behaviour::Registry& builtin_registry() {

@@ -94,13 +94,18 @@ std::string encode_perception(const Perception& perception) {
     messages.push_back(
         {{"sender", m.sender}, {"range", m.range}, {"bearing", m.bearing}, {"data", to_hex(m.data)}});
   }
-  const json out = {
+  json out = {
       {"type", "perception"},
       {"tick", perception.tick},
       {"pose", {{"x", perception.pose.x}, {"y", perception.pose.y}, {"theta", perception.pose.theta}}},
       {"ultrasonic", perception.ultrasonic},
       {"messages", std::move(messages)},
   };
+  // The optional sensors only when equipped (the behaviour declared them): absent otherwise.
+  if (perception.proximity) out["proximity"] = *perception.proximity;
+  if (perception.light) out["light"] = *perception.light;
+  if (perception.ground) out["ground"] = *perception.ground;
+  if (perception.battery) out["battery"] = *perception.battery;
   return out.dump();
 }
 

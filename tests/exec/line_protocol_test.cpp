@@ -48,6 +48,22 @@ TEST(LineProtocol, PerceptionIsExactAndPayloadsAreHex) {
   EXPECT_EQ(j["messages"][0]["data"], "00abff");
 }
 
+TEST(LineProtocol, OptionalSensorsTravelOnlyWhenEquippedAndExactly) {
+  Perception p;
+  const json bare = json::parse(encode_perception(p));
+  for (const char* key : {"proximity", "light", "ground", "battery"}) EXPECT_FALSE(bare.contains(key)) << key;
+  p.proximity = std::array<double, kProximityCount>{1.0, 0.0, 1.0 / 3.0, 0.5, 0.0, 0.0, 0.0, 0.25};
+  p.light = std::array<double, kLightCount>{0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 2.0 / 7.0};
+  p.ground = std::array<double, kGroundCount>{0.0, 1.0, 0.5, 1.0 / 9.0};
+  p.battery = 0.123456789012345;
+  const json j = json::parse(encode_perception(p));
+  EXPECT_EQ(j["proximity"].get<std::vector<double>>(),
+            std::vector<double>(p.proximity->begin(), p.proximity->end()));
+  EXPECT_EQ(j["light"][7].get<double>(), 2.0 / 7.0);
+  EXPECT_EQ(j["ground"][3].get<double>(), 1.0 / 9.0);
+  EXPECT_EQ(j["battery"].get<double>(), 0.123456789012345);
+}
+
 TEST(LineProtocol, CommandIsRead) {
   const Command c = parse_command(
       R"({"type":"command","tick":9,"left":0.05,"right":-0.02,"message":"0aFF","state":2,"events":["hi 1"]})",

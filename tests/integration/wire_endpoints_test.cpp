@@ -82,6 +82,47 @@ TEST(WireEndpoints, PacketWriterSaysWhenItsRobotsReaderIsMatched) {
   EXPECT_FALSE(channels.reader_matched(1));
 }
 
+// The optional sensors cross the wire bit for bit when equipped and come back empty when not (the agent's
+// behaviour must not read zeros as readings).
+TEST(WireEndpoints, OptionalSensorsArriveBitForBitAndOnlyWhenEquipped) {
+  const dds::Participant participant(world_on_loopback());
+  dds::RobotChannels channels(participant, 1, /*realtime=*/false);
+  dds::Waiter waiter(participant);
+  dds::AgentInbox inbox(participant, 0, waiter, /*realtime=*/false);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (!channels.reader_matched(0) && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ASSERT_TRUE(channels.reader_matched(0));
+  auto receive = [&](const Perception& sent) {
+    channels.write_packet(0, dds::PacketStatus::Run, sent);
+    dds::SensorSample got;
+    std::uint64_t foreign = 0;
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+    while (!inbox.take_packet(got, foreign) && std::chrono::steady_clock::now() < until) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    EXPECT_EQ(got.perception.tick, sent.tick);
+    return got.perception;
+  };
+  Perception p;
+  p.tick = 1;
+  p.proximity = std::array<double, kProximityCount>{1.0, 0.0, 1.0 / 3.0, 0.5, 0.0, 0.0, 1e-300, 0.25};
+  p.ground = std::array<double, kGroundCount>{0.0, 1.0, 0.5, 1.0 / 9.0};
+  p.battery = 0.0;  // empty, but equipped
+  const Perception full = receive(p);
+  EXPECT_EQ(full.proximity, p.proximity);
+  EXPECT_EQ(full.ground, p.ground);
+  EXPECT_FALSE(full.light.has_value());
+  EXPECT_EQ(full.battery, std::optional<double>(0.0));
+  Perception bare;
+  bare.tick = 2;
+  const Perception none = receive(bare);
+  EXPECT_FALSE(none.proximity.has_value());
+  EXPECT_FALSE(none.ground.has_value());
+  EXPECT_FALSE(none.battery.has_value());
+}
+
 TEST(WireEndpoints, ClaimsForIdsOutsideTheRunKeepAtMostEightChannels) {
   const dds::Participant participant(world_on_loopback());
   dds::RobotChannels channels(participant, 2, /*realtime=*/false);

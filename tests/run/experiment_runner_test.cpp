@@ -190,9 +190,12 @@ TEST(ExperimentRunner, TheRegistryRefusesAnInconsistentDeclaration) {
   EXPECT_NE(behaviour::check_experiment(d).find("metric 'Ticks Seen' is not a lower_case name"),
             std::string::npos);
   d = kUnjudged;
-  d.sensors = behaviour::kProximity | behaviour::kGround;
+  // The modelled sensors are taken; the lidar is not modelled yet and is refused, named.
+  d.sensors = behaviour::kProximity | behaviour::kGround | behaviour::kLight | behaviour::kBattery;
+  EXPECT_EQ(behaviour::check_sensors(d), "");
+  d.sensors = behaviour::kProximity | behaviour::kLidar;
   EXPECT_EQ(behaviour::check_sensors(d),
-            "behaviour 'unjudged' declares sensor proximity, ground, which this world does not model yet "
+            "behaviour 'unjudged' declares sensor lidar, which this world does not model yet "
             "(docs/behaviour-api.md, \"Sensors and actuators\")");
   EXPECT_THROW(registry.add(d), std::logic_error);
 }

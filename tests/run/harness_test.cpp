@@ -108,6 +108,31 @@ TEST(Harness, RunWritesEveryFileAndTheKilledRobotsDeath) {
 
 // record_every K thins robots.csv to ticks 0, K, 2K... (the same rows as the full recording's), and
 // nothing else: every event, the same trajectory_sha256, world.json says K.
+// A battery that runs out is an event at its tick, once per robot, and the robot stays alive (no death).
+TEST(Harness, AnEmptyBatteryIsAnEventNotADeath) {
+  const auto dir = fresh_dir("battery");
+  std::string text = kScenario;
+  text.replace(text.find("SHAPES"), 6, std::string(SWARMFORM_REPO_DIR) + "/shapes");
+  text.replace(text.find("kills: [{id: 2, tick: 40}]"), 26,
+               "battery: {capacity: 1, idle: 0.625}");  // 1/16 J a tick
+  const auto s =
+      world::parse_scenario_text(text, "<harness_test>", {}, swarmform::controller::builtin_registry());
+  {
+    Harness h(s, {dir.string()});
+    h.run();
+    h.finish(1.0);
+  }
+  int empties = 0;
+  for (const auto& e : world::read_events_jsonl((dir / "events.jsonl").string())) {
+    EXPECT_NE(e["kind"], "death");
+    if (e["kind"] != "battery_empty") continue;
+    ++empties;
+    EXPECT_EQ(e["tick"], 16) << e.dump();
+  }
+  EXPECT_EQ(empties, 8);
+  EXPECT_EQ(world::read_json_file((dir / "summary.json").string())["alive_at_end"], 8);
+}
+
 TEST(Harness, RecordEveryFiveWritesAFifthOfTheRowsAndTheSameHash) {
   const auto full_dir = fresh_dir("every1");
   const auto thin_dir = fresh_dir("every5");

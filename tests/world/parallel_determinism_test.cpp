@@ -36,17 +36,37 @@ occlusion: true
 noise: {range: 0.02, bearing: 0.05, ultrasonic: 0.01}
 )";
 
-world::Scenario scenario() {
-  std::string text = kScenario;
+// The optional sensors on the pool: 200 robots of each built-in that declares them, with every sensor's
+// noise, among obstacles, a floor and lights.
+constexpr const char* kSensorsScenario = R"(
+behaviour: BEHAVIOUR
+arena: {centre: [0.0, 0.0], width: 16.0, height: 16.0, walls: true}
+obstacles: [{type: box, centre: [1.0, 1.0], size: [0.6, 0.6]}, {type: cylinder, centre: [-2, 0], radius: 0.3}]
+robots: {count: 200, region: {centre: [0.0, 0.0], width: 11.0, height: 11.0}}
+seed: 12
+max_ticks: 1000
+lights: [{position: [3, 3], height: 0.2, intensity: 2}, {position: [-4, -3], height: 0.1, intensity: 3}]
+floor: {grey: 0.8, regions: [{type: circle, centre: [0, 0], radius: 2, grey: 0.1}]}
+battery: {capacity: 5, idle: 0.05, moving: 10}
+noise: {proximity: 0.05, light: 0.05, ground: 0.05, ultrasonic: 0.01}
+)";
+
+world::Scenario scenario(const char* yaml = kScenario, const std::string& behaviour = "") {
+  std::string text = yaml;
+  if (const auto at = text.find("BEHAVIOUR"); at != std::string::npos) text.replace(at, 9, behaviour);
+  if (text.find("SHAPES") == std::string::npos) {
+    return world::parse_scenario_text(text, "<parallel_determinism_test>", {},
+                                      swarmform::controller::builtin_registry());
+  }
   text.replace(text.find("SHAPES"), 6, std::string(SWARMFORM_REPO_DIR) + "/shapes");
   return world::parse_scenario_text(text, "<parallel_determinism_test>", {},
                                     swarmform::controller::builtin_registry());
 }
 
 // Every bit of what the world shows the robots, tick after tick, as raw bytes.
-std::vector<unsigned char> trace(std::size_t workers, int ticks) {
+std::vector<unsigned char> trace(std::size_t workers, int ticks, const world::Scenario& s = scenario()) {
   parallel::set_worker_count(workers);
-  harness::Harness h(scenario());
+  harness::Harness h(s);
   std::vector<unsigned char> out;
   auto put = [&out](const void* p, std::size_t n) {
     const auto* b = static_cast<const unsigned char*>(p);
@@ -71,6 +91,16 @@ TEST(ParallelDeterminism, OneAndTwoWorkersGiveTheSameRunBitForBit) {
   EXPECT_EQ(0, std::memcmp(serial.data(), two.data(), serial.size()));
   // And a second 2-worker run replays the first (no state left in the pool).
   EXPECT_EQ(two, trace(2, 40));
+}
+
+TEST(ParallelDeterminism, OptionalSensorsGiveTheSameRunBitForBitOnAnyWorkerCount) {
+  for (const char* behaviour : {"diffusion", "phototaxis"}) {
+    const world::Scenario s = scenario(kSensorsScenario, behaviour);
+    const auto serial = trace(1, 40, s);
+    const auto two = trace(2, 40, s);
+    ASSERT_EQ(serial.size(), two.size()) << behaviour;
+    EXPECT_EQ(0, std::memcmp(serial.data(), two.data(), serial.size())) << behaviour;
+  }
 }
 
 TEST(ParallelFor, EveryIndexOnceAndExceptionsReachTheCaller) {

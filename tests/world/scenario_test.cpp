@@ -295,6 +295,49 @@ TEST(Scenario, RejectsUnknownKeys) {
       "obstacles[0].radius: unknown key");
 }
 
+TEST(Scenario, ProximityNoiseIsReadAndChecked) {
+  EXPECT_DOUBLE_EQ(parse("shape: triangle.txt\nnoise: {proximity: 0.1}\n").proximity_noise, 0.1);
+  EXPECT_DOUBLE_EQ(parse("shape: triangle.txt\n").proximity_noise, 0.0);
+  expect_rejected("shape: triangle.txt\nnoise:\n  proximity: 1.5\n", 3, "noise.proximity");
+  expect_rejected("shape: triangle.txt\nnoise:\n  proximity: -0.1\n", 3, "noise.proximity");
+}
+
+TEST(Scenario, LightsAndSensorNoiseAreReadAndChecked) {
+  const Scenario s = parse(
+      "shape: triangle.txt\nlights:\n  - {position: [2, 1], height: 0.5, intensity: 2}\n"
+      "noise: {light: 0.1, ground: 0.2}\n");
+  ASSERT_EQ(s.lights.size(), 1u);
+  EXPECT_DOUBLE_EQ(s.lights[0].position.y, 1.0);
+  EXPECT_DOUBLE_EQ(s.lights[0].height, 0.5);
+  EXPECT_DOUBLE_EQ(s.lights[0].intensity, 2.0);
+  EXPECT_DOUBLE_EQ(s.light_noise, 0.1);
+  EXPECT_DOUBLE_EQ(s.ground_noise, 0.2);
+  expect_rejected("shape: triangle.txt\nlights:\n  - {position: [2, 1], height: 0.5}\n", 3,
+                  "missing 'intensity'");
+  expect_rejected("shape: triangle.txt\nlights:\n  - {position: [2, 1], height: 0.5, intensity: 0}\n", 3,
+                  "lights[0].intensity");
+  expect_rejected("shape: triangle.txt\nlights:\n  - {position: [2, 1], height: -1, intensity: 1}\n", 3,
+                  "lights[0].height");
+  expect_rejected("shape: triangle.txt\nlights: {position: [2, 1]}\n", 2, "a list of light sources");
+  expect_rejected("shape: triangle.txt\nnoise:\n  light: 2\n", 3, "noise.light");
+}
+
+TEST(Scenario, BatteryIsReadAndChecked) {
+  const Scenario s =
+      parse("shape: triangle.txt\nbattery: {capacity: 100, idle: 0.5, moving: 20, start: 0.8}\n");
+  ASSERT_TRUE(s.battery.has_value());
+  EXPECT_DOUBLE_EQ(s.battery->capacity, 100.0);
+  EXPECT_DOUBLE_EQ(s.battery->idle, 0.5);
+  EXPECT_DOUBLE_EQ(s.battery->moving, 20.0);
+  EXPECT_DOUBLE_EQ(s.battery->start, 0.8);
+  EXPECT_FALSE(parse("shape: triangle.txt\n").battery.has_value());
+  expect_rejected("shape: triangle.txt\nbattery: {idle: 0.5}\n", 2, "missing 'capacity'");
+  expect_rejected("shape: triangle.txt\nbattery:\n  capacity: 1\n  start: 0\n", 4, "battery.start");
+  expect_rejected("shape: triangle.txt\nbattery:\n  capacity: 1\n  idle: -1\n", 4, "battery.idle");
+  expect_rejected("shape: triangle.txt\nbattery:\n  capacity: 1\n  volts: 7\n", 4,
+                  "battery.volts: unknown key");
+}
+
 TEST(Scenario, RejectsWrongTypes) {
   expect_rejected("shape: triangle.txt\ncomm_range: far\n", 2, "comm_range: expected a finite number");
   expect_rejected("shape: triangle.txt\noccurrence: 1\n", 2, "unknown key");
@@ -457,10 +500,10 @@ TEST(Scenario, ABehaviourOverrideKeepsOnlyTheParametersItHas) {
 }
 
 TEST(Scenario, AnUnknownBehaviourListsTheRegisteredOnes) {
-  expect_rejected(
-      "shape: triangle.txt\nbehaviour: dance\n", 2,
-      "behaviour: unknown behaviour 'dance' (built in: paper, random_walk; a plug-in is named by its "
-      "library");
+  expect_rejected("shape: triangle.txt\nbehaviour: dance\n", 2,
+                  "behaviour: unknown behaviour 'dance' (built in: diffusion, paper, phototaxis, "
+                  "random_walk; a plug-in is named by its "
+                  "library");
   // A plug-in not found names every folder searched and how to add one.
   expect_rejected(
       "shape: triangle.txt\nbehaviour: {plugin: libnothing.so}\n", 2,

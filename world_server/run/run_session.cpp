@@ -86,6 +86,11 @@ struct RunSession::Impl {
     for (const auto& e : events.observe(tick, robots, track_graph, components)) emit(e);
     // What the controllers said happened (label taken/lost/freed, barrier, leader elected, parent...).
     for (const auto& e : controller_events(tick, robots)) emit(e);
+    // A battery that ran out this tick (world.hpp RobotTruth::battery_empty_tick): its robot's wheels stop.
+    for (const auto& r : robots) {
+      if (r.battery_empty_tick == tick)
+        emit(make_event(tick, "battery_empty", static_cast<std::int64_t>(r.id)));
+    }
     if (track_graph) tracker.note_components(components);
     experiment.observe(tracker.metrics());
     // x, y, theta of every robot in id order, each as its 8-byte little-endian bit pattern; one update a

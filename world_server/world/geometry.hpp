@@ -16,6 +16,9 @@
 namespace swarmform::world {
 
 inline constexpr double kNoHit = std::numeric_limits<double>::infinity();
+// The height of walls and obstacles (their Bullet bodies, and what the light sensors' occlusion test sees):
+// far taller than a robot.
+inline constexpr double kStaticHeight = 0.5;  // m
 
 // Wraps an angle to (-pi, pi] (the convention of common/types.hpp). Angles a few turns out (sums and
 // differences of wrapped angles) take the cheap path.

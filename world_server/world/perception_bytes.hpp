@@ -1,5 +1,6 @@
 // One definition of "the same perception", for run digests and determinism tests: every field the world
-// computes for a robot (pose, ultrasonic ranges, and each reading with its bytes), fed in a fixed order to
+// computes for a robot (pose, ultrasonic ranges, each reading with its bytes, then the optional sensors that
+// are equipped: a perception without them gives the bytes it always gave), fed in a fixed order to
 // `put(const void* bytes, std::size_t count)`.
 #pragma once
 
@@ -19,6 +20,10 @@ void put_perception_bytes(const Perception& p, Put&& put) {
     put(&m.bearing, sizeof m.bearing);
     put(m.data.data(), m.data.size());
   }
+  if (p.proximity) put(p.proximity->data(), sizeof(double) * p.proximity->size());
+  if (p.light) put(p.light->data(), sizeof(double) * p.light->size());
+  if (p.ground) put(p.ground->data(), sizeof(double) * p.ground->size());
+  if (p.battery) put(&*p.battery, sizeof(double));
 }
 
 }  // namespace swarmform::world

@@ -24,8 +24,7 @@
 namespace swarmform::world {
 namespace {
 
-constexpr double kTouching = 0.0005;   // m: a manifold point this close (or penetrating) is a contact
-constexpr double kStaticHeight = 0.5;  // m: walls and obstacles, far taller than a robot
+constexpr double kTouching = 0.0005;  // m: a manifold point this close (or penetrating) is a contact
 constexpr std::uint64_t kStaticFlag = 1ULL << 63;
 
 double yaw_of(const btTransform& t) {

@@ -50,5 +50,9 @@ inline constexpr std::uint64_t kSaltPlacement = 1;
 inline constexpr std::uint64_t kSaltMedium = 2;
 inline constexpr std::uint64_t kSaltUltrasonic = 3;
 inline constexpr std::uint64_t kSaltBurstLoss = 4;  // hashed per draw (burst_loss.hpp), not a stream
+inline constexpr std::uint64_t kSaltProximity = 5;
+inline constexpr std::uint64_t kSaltGround = 6;
+inline constexpr std::uint64_t kSaltLight = 7;
+inline constexpr std::uint64_t kSaltBattery = 8;
 
 }  // namespace swarmform::world

@@ -4,9 +4,12 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <sstream>
 
@@ -207,6 +210,97 @@ RobotsSection parse_robots(const Source& src, MapReader& top) {
   return r;
 }
 
+// A grey level: `grey: 0..1` or `colour: [r, g, b]` (0..255 each, made grey as ARGoS does), not both.
+double parse_grey(const Source& src, MapReader& m, double fallback) {
+  const bool has_grey = m.has("grey"), has_colour = m.has("colour");
+  if (has_grey && has_colour) yaml::fail(src, m.node(), m.path(), "give 'grey' or 'colour', not both");
+  if (has_colour) {
+    auto c = *m.get("colour");
+    if (!c.IsSequence() || c.size() != 3)
+      yaml::fail(src, c, m.field("colour"), "expected [r, g, b], each an integer 0..255");
+    std::array<std::uint8_t, 3> rgb{};
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::string path = m.field("colour") + "[" + std::to_string(k) + "]";
+      const std::int64_t v = yaml::to_integer(src, c[k], path);
+      if (v < 0 || v > 255)
+        yaml::fail(src, c[k], path, "expected an integer 0..255, got " + std::to_string(v));
+      rgb[k] = static_cast<std::uint8_t>(v);
+    }
+    return grey_of(rgb[0], rgb[1], rgb[2]);
+  }
+  return m.number("grey", fallback, 0.0, 1.0);
+}
+
+FloorRegion parse_floor_region(const Source& src, const YAML::Node& node, const std::string& path) {
+  MapReader m(src, node, path);
+  FloorRegion r;
+  auto type = m.get("type");
+  if (!type) yaml::fail(src, node, path, "missing 'type' (circle or rectangle)");
+  const std::string t = yaml::to_string(src, *type, m.field("type"));
+  auto centre = m.get("centre");
+  if (!centre) yaml::fail(src, node, path, "missing 'centre' ([x, y], m)");
+  r.centre = point(src, *centre, m.field("centre"));
+  if (!m.has("grey") && !m.has("colour")) yaml::fail(src, node, path, "missing 'grey' (0..1) or 'colour'");
+  r.grey = parse_grey(src, m, 0.0);
+  if (t == "circle") {
+    r.kind = FloorRegion::Kind::Circle;
+    auto radius = m.get("radius");
+    if (!radius) yaml::fail(src, node, path, "missing 'radius' (m)");
+    r.radius = yaml::check_positive(src, *radius, m.field("radius"),
+                                    yaml::to_number(src, *radius, m.field("radius")), kMaxLength);
+    m.finish({"type", "centre", "radius", "grey", "colour"});
+  } else if (t == "rectangle") {
+    r.kind = FloorRegion::Kind::Rectangle;
+    auto size = m.get("size");
+    if (!size) yaml::fail(src, node, path, "missing 'size' ([width along x, depth along y], m)");
+    const Vec2 sz = yaml::to_vec2(src, *size, m.field("size"));
+    yaml::check_positive(src, *size, m.field("size") + "[0]", sz.x, kMaxLength);
+    yaml::check_positive(src, *size, m.field("size") + "[1]", sz.y, kMaxLength);
+    r.half_extents = Vec2{sz.x / 2.0, sz.y / 2.0};
+    r.yaw = m.number("yaw", 0.0, -2.0 * std::numbers::pi, 2.0 * std::numbers::pi);
+    m.finish({"type", "centre", "size", "yaw", "grey", "colour"});
+  } else {
+    yaml::fail(src, *type, m.field("type"), "expected circle or rectangle, got '" + t + "'");
+  }
+  return r;
+}
+
+// floor: {grey, colour, image, regions}. The image is read relative to the scenario's folder and must have
+// the arena's proportions (square pixels, within 1 %): it is stretched over the arena's rectangle.
+void parse_floor(const Source& src, MapReader& top, const fs::path& base, Scenario& s) {
+  auto node = top.get("floor");
+  if (!node) return;
+  MapReader m(src, *node, "floor");
+  s.floor.grey = parse_grey(src, m, s.floor.grey);
+  if (auto img = m.get("image")) {
+    const std::string name = yaml::to_string(src, *img, m.field("image"));
+    const fs::path file = fs::path(name).is_absolute() ? fs::path(name) : base / name;
+    FloorImage image;
+    try {
+      image = load_floor_image(file.string());
+    } catch (const std::runtime_error& e) {
+      yaml::fail(src, *img, m.field("image"), file.string() + ": " + e.what());
+    }
+    const double px = s.arena_width / image.width, py = s.arena_height / image.height;
+    if (std::abs(px / py - 1.0) > 0.01) {
+      std::ostringstream what;
+      what << file.string() << " is " << image.width << " x " << image.height << " pixels, but the arena is "
+           << s.arena_width << " x " << s.arena_height
+           << " m: the image is stretched over the arena, so it must have the arena's proportions (square "
+              "pixels)";
+      yaml::fail(src, *img, m.field("image"), what.str());
+    }
+    s.floor.image = std::make_shared<const FloorImage>(std::move(image));
+  }
+  if (auto regions = m.get("regions")) {
+    if (!regions->IsSequence()) yaml::fail(src, *regions, m.field("regions"), "expected a list of regions");
+    for (std::size_t i = 0; i < regions->size(); ++i)
+      s.floor.regions.push_back(
+          parse_floor_region(src, (*regions)[i], m.field("regions") + "[" + std::to_string(i) + "]"));
+  }
+  m.finish({"grey", "colour", "image", "regions"});
+}
+
 void parse_noise(const Source& src, MapReader& top, Scenario& s) {
   auto node = top.get("noise");
   if (!node) return;
@@ -214,7 +308,46 @@ void parse_noise(const Source& src, MapReader& top, Scenario& s) {
   s.range_noise_sd = m.number("range", s.range_noise_sd, 0.0, 10.0);
   s.bearing_noise_sd = m.number("bearing", s.bearing_noise_sd, 0.0, std::numbers::pi);
   s.ultrasonic_noise_sd = m.number("ultrasonic", s.ultrasonic_noise_sd, 0.0, 2.0);
-  m.finish({"range", "bearing", "ultrasonic"});
+  s.proximity_noise = m.number("proximity", s.proximity_noise, 0.0, 1.0);
+  s.ground_noise = m.number("ground", s.ground_noise, 0.0, 1.0);
+  s.light_noise = m.number("light", s.light_noise, 0.0, 1.0);
+  m.finish({"range", "bearing", "ultrasonic", "proximity", "ground", "light"});
+}
+
+// battery: {capacity: J, idle: W, moving: J/m, start: fraction}; capacity required.
+void parse_battery(const Source& src, MapReader& top, Scenario& s) {
+  auto node = top.get("battery");
+  if (!node) return;
+  MapReader m(src, *node, "battery");
+  if (!m.has("capacity")) yaml::fail(src, *node, "battery", "missing 'capacity' (J)");
+  BatterySpec b;
+  b.capacity = m.positive("capacity", 1.0, 1e9);
+  b.idle = m.number("idle", 0.0, 0.0, 1e6);
+  b.moving = m.number("moving", 0.0, 0.0, 1e6);
+  b.start = m.positive("start", 1.0, 1.0);
+  m.finish({"capacity", "idle", "moving", "start"});
+  s.battery = b;
+}
+
+// lights: [{position: [x, y], height: H, intensity: I}], every field required.
+void parse_lights(const Source& src, MapReader& top, Scenario& s) {
+  auto node = top.get("lights");
+  if (!node || node->IsNull()) return;
+  if (!node->IsSequence()) yaml::fail(src, *node, "lights", "expected a list of light sources");
+  for (std::size_t i = 0; i < node->size(); ++i) {
+    const std::string path = "lights[" + std::to_string(i) + "]";
+    const YAML::Node& n = (*node)[i];
+    MapReader m(src, n, path);
+    LightSource l;
+    for (const char* key : {"position", "height", "intensity"}) {
+      if (!m.has(key)) yaml::fail(src, n, path, std::string("missing '") + key + "'");
+    }
+    l.position = point(src, *m.get("position"), m.field("position"));
+    l.height = m.number("height", 0.0, 0.0, kMaxLength);
+    l.intensity = m.positive("intensity", 1.0, 1e6);
+    m.finish({"position", "height", "intensity"});
+    s.lights.push_back(l);
+  }
 }
 
 // packet_loss: RATE (each copy lost independently) or {rate: RATE, mean_burst: B} (bursts of B ticks on
@@ -594,6 +727,8 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
   const RobotsSection robots = parse_robots(src, top);
   s.comm_range = top.positive("comm_range", s.comm_range, kMaxLength);
   parse_noise(src, top, s);
+  parse_lights(src, top, s);
+  parse_battery(src, top, s);
   parse_packet_loss(src, top, s);
   s.occlusion = top.boolean("occlusion", s.occlusion);
   if (auto n = top.get("mode")) s.mode = parse_mode(src, *n, "mode");
@@ -617,6 +752,7 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
   s.mission.max_message_bytes =
       static_cast<std::uint32_t>(top.integer("max_message_bytes", s.mission.max_message_bytes, 1, 65536));
   const fs::path base = base_folder(origin);
+  parse_floor(src, top, base, s);
   parse_behaviour(src, top, ov, base, registry, s);
   auto shape_node = top.get("shape");
   if (auto d = top.get("description")) yaml::to_string(src, *d, "description");  // for people; not used
@@ -631,7 +767,8 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
               "goal",         "shape",
               "grid_spacing", "max_speed",
               "behaviour",    "max_message_bytes",
-              "controller"});
+              "controller",   "floor",
+              "lights",       "battery"});
 
   // Overrides (before placement, so --robots and --seed take effect).
   if (ov.seed) s.seed = *ov.seed;

@@ -12,8 +12,10 @@
 #include "behaviour/registry.hpp"
 #include "common/mission.hpp"
 #include "common/types.hpp"
+#include "world_server/world/battery.hpp"
 #include "world_server/world/faults.hpp"
 #include "world_server/world/field_overrides.hpp"
+#include "world_server/world/floor.hpp"
 
 namespace swarmform::world {
 
@@ -25,6 +27,13 @@ struct Obstacle {
   double yaw = 0.0;     // rad (boxes)
   Vec2 half_extents;    // m (boxes): half width along the box's x, half depth along its y
   double radius = 0.0;  // m (cylinders)
+};
+
+// A light source for the light sensors (light.hpp).
+struct LightSource {
+  Vec2 position;           // m, arena frame
+  double height = 0.0;     // m above the floor
+  double intensity = 1.0;  // ARGoS's reference intensity: a reading is exp(-2 d / I) at d m
 };
 
 enum class Mode { Lockstep, Realtime };
@@ -55,6 +64,12 @@ struct Scenario {
   double range_noise_sd = 0.0;          // m, Gaussian noise on a received message's range
   double bearing_noise_sd = 0.0;        // rad, on its bearing
   double ultrasonic_noise_sd = 0.0;     // m, on each ultrasonic reading
+  double proximity_noise = 0.0;         // in [0,1]: uniform +-this on each infrared reading (proximity.hpp)
+  double ground_noise = 0.0;            // in [0,1]: uniform +-this on each ground reading (ground.hpp)
+  double light_noise = 0.0;             // in [0,1]: uniform +-this on each light reading (light.hpp)
+  std::vector<LightSource> lights;      // what the light sensors see (light.hpp)
+  std::optional<BatterySpec> battery;   // none: the robots' batteries never run down (battery.hpp)
+  Floor floor;                          // what the ground sensors read (floor.hpp); plain white by default
   double packet_loss = 0.0;             // probability in [0,1) that one copy of a message is lost
   double packet_loss_mean_burst = 0.0;  // ticks: > 0, the loss comes in bursts (Gilbert-Elliott, per
                                         // directed link); 0, independently per copy

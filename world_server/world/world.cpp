@@ -9,7 +9,9 @@
 //                 perception's messages are copied in when it is first read (perception()), or straight
 //                 into the caller's buffer (copy_perception()), from `sent` (the outboxes of tick t)
 //     5. sense    pose and ultrasonics of every live robot (a failed sensor reads its maximum); with
-//                 defer_perceptions(), a robot's ultrasonics are read when its perception is first read
+//                 defer_perceptions(), a robot's ultrasonics are read when its perception is first read;
+//                 then the optional sensors the behaviour declares (Descriptor::sensors), never deferred:
+//                 the others stay empty and cost nothing
 //     6. tick t+1
 // Scheduled world faults (faults.hpp) act on the tick they are active at: a wheel on the command of tick t
 // (step 1 of the step from t), loss and range on the perceptions of tick t (step 4 of the step to t), a
@@ -19,9 +21,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "world_server/world/battery.hpp"
 #include "world_server/world/geometry.hpp"
+#include "world_server/world/ground.hpp"
+#include "world_server/world/light.hpp"
 #include "world_server/world/medium.hpp"
 #include "world_server/world/physics.hpp"
+#include "world_server/world/proximity.hpp"
 #include "world_server/world/spatial_grid.hpp"
 #include "world_server/world/ultrasonic.hpp"
 
@@ -29,6 +35,10 @@ namespace swarmform::world {
 namespace {
 
 constexpr double kGridCell = 1.0;  // m: a compromise between the medium's 3 m and the sonar's 2.1 m queries
+
+std::uint32_t declared_sensors(const Scenario& s) {
+  return s.behaviour != nullptr ? s.behaviour->sensors : 0;
+}
 
 MediumParams medium_params(const Scenario& s) {
   MediumParams p;
@@ -66,6 +76,12 @@ struct World::Impl {
   Physics physics;
   Medium medium;
   Ultrasonic ultrasonic;
+  Proximity proximity;
+  Ground ground;
+  LightSensors light;
+  std::optional<Batteries> batteries;  // the scenario's battery model, if any
+  std::vector<Pose2D> before_step;     // the poses before the physics step (battery drain)
+  const std::uint32_t sensors;         // the behaviour's declared optional sensors (behaviour::Sensor bits)
   SpatialGrid grid;
   Tick tick = 0;
 
@@ -82,6 +98,9 @@ struct World::Impl {
   std::vector<std::vector<RabReading>> read_spare;  // per robot: readings perception() parked for reuse
   std::vector<Perception> perceptions;
   std::vector<UltrasonicReading> sonar;
+  std::vector<ProximityReading> infrared;
+  std::vector<GroundReading> floor_readings;
+  std::vector<LightReading> light_readings;
   std::vector<RobotTruth> truth;
   ContactCounts contacts;
   std::vector<Fault> faults;   // the scenario's world faults (ultrasonic, wheel, loss, range)
@@ -91,7 +110,12 @@ struct World::Impl {
       : scenario(s),
         physics(scenario),
         medium(medium_params(scenario), static_obstacles(scenario), scenario.seed),
-        ultrasonic(static_obstacles(scenario), scenario.ultrasonic_noise_sd, scenario.seed) {
+        ultrasonic(static_obstacles(scenario), scenario.ultrasonic_noise_sd, scenario.seed),
+        proximity(static_obstacles(scenario), scenario.proximity_noise, scenario.seed),
+        ground(scenario.floor, scenario.arena_centre, scenario.arena_width, scenario.arena_height,
+               scenario.ground_noise, scenario.seed),
+        light(scenario.lights, static_obstacles(scenario), scenario.light_noise, scenario.seed),
+        sensors(declared_sensors(scenario)) {
     const std::size_t n = scenario.robots.size();
     alive.assign(n, 1);
     outboxes.resize(n);
@@ -103,6 +127,10 @@ struct World::Impl {
     perceptions.resize(n);
     truth.resize(n);
     for (std::size_t i = 0; i < n; ++i) truth[i].id = static_cast<RobotId>(i);
+    if (scenario.battery) {
+      batteries.emplace(*scenario.battery, n, scenario.tick_rate);
+      for (std::size_t i = 0; i < n; ++i) truth[i].battery = batteries->level(i);
+    }
     for (const Fault& f : scenario.faults) {
       if (f.in_world()) faults.push_back(f);
     }
@@ -146,6 +174,55 @@ struct World::Impl {
     sonar_faults(id, tick, out);
   }
 
+  // Each live robot's battery pays for the tick that just ran (idle and motion, from before_step to now); one
+  // that runs out stops its wheels.
+  void drain_batteries() {
+    if (!batteries) return;
+    for (std::size_t i = 0; i < poses.size(); ++i) {
+      if (!alive[i]) continue;
+      if (batteries->drain(i, before_step[i], poses[i])) {
+        physics.set_wheels(static_cast<RobotId>(i), 0.0, 0.0);
+        truth[i].battery_empty_tick = tick;
+      }
+      truth[i].battery = batteries->level(i);
+    }
+  }
+
+  // The optional sensors the behaviour declared, for every live robot (step 5).
+  void sense_optional() {
+    if (sensors & behaviour::kBattery) {
+      for (std::size_t i = 0; i < poses.size(); ++i) {
+        if (alive[i]) perceptions[i].battery = truth[i].battery;
+      }
+    }
+    if (sensors & behaviour::kProximity) {
+      proximity.sense_all(poses, alive, grid, infrared);
+      for (std::size_t i = 0; i < poses.size(); ++i) {
+        if (alive[i]) perceptions[i].proximity = infrared[i];
+      }
+    }
+    if (sensors & behaviour::kLight) {
+      light.sense_all(poses, alive, grid, light_readings);
+      for (std::size_t i = 0; i < poses.size(); ++i) {
+        if (alive[i]) perceptions[i].light = light_readings[i];
+      }
+    }
+    if (sensors & behaviour::kGround) {
+      ground.sense_all(poses, alive, floor_readings);
+      for (std::size_t i = 0; i < poses.size(); ++i) {
+        if (alive[i]) perceptions[i].ground = floor_readings[i];
+      }
+    }
+  }
+
+  // A revived robot's optional sensors, noiseless as its ultrasonics (sense_now).
+  void sense_optional_now(RobotId id, Perception& p) const {
+    if (sensors & behaviour::kProximity) p.proximity = proximity.read(id, poses, grid);
+    if (sensors & behaviour::kGround) p.ground = ground.read(poses[id]);
+    if (sensors & behaviour::kLight) p.light = light.read(id, poses, grid);
+    if (sensors & behaviour::kBattery) p.battery = truth[id].battery;
+  }
+
   // Steps 3-5 of the tick: truth, grid, (medium), sensors.
   void refresh(bool with_medium) {
     physics.read_poses(poses);
@@ -153,6 +230,7 @@ struct World::Impl {
       truth[i].pose = poses[i];
       truth[i].alive = alive[i] != 0;
     }
+    if (with_medium) drain_batteries();
     grid.build(poses, kGridCell);
     if (with_medium) {
       // The messages of this tick become `sent` (a swap: no copy), and the outboxes are free for the next.
@@ -172,6 +250,7 @@ struct World::Impl {
           bytes_pending[i] = !perceptions[i].messages.empty();
       }
     }
+    sense_optional();
     // Deferred only without noise: the noise is drawn in id order over every live robot, in sense_all.
     const bool sonar_deferred = defer && !ultrasonic.noisy();
     if (sonar_deferred) {
@@ -230,6 +309,11 @@ const Perception& World::copy_perception(RobotId id, PerceptionCopy& copy) const
   Perception& dst = copy.perception;
   dst.tick = src.tick;
   dst.pose = src.pose;
+  dst.proximity = src.proximity;
+  dst.light = src.light;
+  dst.ground = src.ground;
+  dst.lidar = src.lidar;
+  dst.battery = src.battery;
   if (m.sonar_pending[id]) {
     m.sense_now(id, dst.ultrasonic);
   } else {
@@ -285,6 +369,7 @@ CommandVerdict World::apply_command(RobotId id, const Command& command) {
     right = std::clamp(right, -limit, limit);
     verdict = CommandVerdict::Clamped;
   }
+  if (m.batteries && m.batteries->empty(id)) left = right = 0.0;  // out of charge: the wheels stay still
   m.physics.set_wheels(id, left, right);
   Outbox& out = m.outboxes[id];
   out.has_message = false;
@@ -306,6 +391,7 @@ void World::step() {
   for (const Fault& f : m.faults) {
     if (f.kind == FaultKind::Wheel && f.active_at(m.tick)) m.physics.stop_wheel(*f.robot, f.part);
   }
+  if (m.batteries) m.before_step = m.poses;
   m.physics.tick_forward();  // acts with the wheel speeds set by apply_command (or kept from before)
   m.contacts.robot_robot = m.physics.onsets_robot_robot();
   m.contacts.robot_obstacle = m.physics.onsets_robot_obstacle();
@@ -341,6 +427,7 @@ void World::revive(RobotId id) {
   m.inbox_pending[id] = 0;
   m.sense_now(id, p.ultrasonic);
   m.sonar_pending[id] = 0;
+  m.sense_optional_now(id, p);
 }
 
 }  // namespace swarmform::world

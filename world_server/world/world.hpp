@@ -33,6 +33,10 @@ struct RobotTruth {
   // The last tick whose command carried a message (a broadcast), if any. The metrics leave out a live robot
   // that has said nothing for a while: nobody can hear it, so it cannot take part in a decentralised shape.
   std::optional<Tick> last_broadcast_tick;
+  // Its battery's charge, 0..1 (1 when the scenario has no battery), and the tick it ran out, if it did
+  // (from then on its wheels stay stopped; the recorder logs a battery_empty event at that tick).
+  double battery = 1.0;
+  std::optional<Tick> battery_empty_tick;
 };
 
 // What the world did with a command (anything but Ok is logged as an event by the caller's recorder).

@@ -1,0 +1,34 @@
+// A built-in that reads the Khepera IV's optional sensors (mission.behaviour = "diffusion"), after ARGoS's
+// classic diffusion example: drive straight at the speed limit; when the infrared ring
+// (Perception::proximity) sees something ahead, turn on the spot away from the side that sees more; drive
+// slower on a dark floor (the ground sensors' mean grey g: speed limit x (0.25 + 0.75 g)). It declares both
+// sensors, so the world computes them; it broadcasts its id (a RobotMessage in state Idle) like the random
+// walk. It has no randomness: what it does depends on its readings alone, so a wrong or missing reading on
+// any path (the wire, the --exec protocol) changes the run's trajectory.
+#pragma once
+
+#include <array>
+
+#include "behaviour/controller.hpp"
+
+namespace swarmform::controller {
+
+// Which way to turn on the spot away from what the front half of the infrared ring sees above `threshold`:
+// +1 counter-clockwise (left), -1 clockwise, 0 nothing ahead. The side that sees more is turned away from.
+int ir_avoid_turn(const std::array<double, kProximityCount>& proximity, double threshold);
+
+class Diffusion final : public Controller {
+ public:
+  // A front-half proximity reading above this turns the robot (4.14 exp(-33 d) - 0.085 = 0.1: d ~ 0.11 m).
+  static constexpr double kTurnThreshold = 0.1;
+
+  void init(const Mission& mission, RobotId self) override;
+  Command step(const Perception& perception) override;
+  void reset() override {}
+
+ private:
+  Mission mission_;
+  RobotId self_ = 0;
+};
+
+}  // namespace swarmform::controller

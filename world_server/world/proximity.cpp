@@ -1,0 +1,76 @@
+#include "world_server/world/proximity.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "world_server/world/parallel_for.hpp"
+
+namespace swarmform::world {
+namespace {
+
+// A robot whose centre is farther than this from the reading robot's centre cannot be hit by any ray.
+constexpr double kRobotReach = kRobotRadius + kProximityRange + kRobotRadius;
+
+}  // namespace
+
+double proximity_value(double d) {
+  if (d < kProximitySaturation) return 1.0;
+  if (d > kProximityRange) return 0.0;  // kNoHit too
+  return std::clamp(4.14 * std::exp(-33.0 * d) - 0.085, 0.0, 1.0);
+}
+
+Proximity::Proximity(const std::vector<Obstacle>& statics, double noise_level, std::uint64_t seed)
+    : noise_level_(noise_level), rng_(seed, kSaltProximity) {
+  for (const Obstacle& o : statics) statics_.push_back(make_static_shape(o));
+}
+
+ProximityReading Proximity::read(std::size_t self, const std::vector<Pose2D>& poses,
+                                 const SpatialGrid& grid) const {
+  const Pose2D& me = poses[self];
+  std::array<double, kProximityCount> nearest;
+  nearest.fill(kNoHit);
+  std::array<double, kProximityCount> ox, oy, dx, dy;  // each sensor's position and direction, arena frame
+  for (std::size_t k = 0; k < kProximityCount; ++k) {
+    const double a = me.theta + kProximityAngles[k];
+    dx[k] = std::cos(a);
+    dy[k] = std::sin(a);
+    ox[k] = me.x + kRobotRadius * dx[k];
+    oy[k] = me.y + kRobotRadius * dy[k];
+  }
+  grid.for_each_near(me.x, me.y, kRobotReach, [&](std::uint32_t j) {
+    if (j == self) return;
+    for (std::size_t k = 0; k < kProximityCount; ++k) {
+      const double t = ray_circle(ox[k], oy[k], dx[k], dy[k], poses[j].x, poses[j].y, kRobotRadius);
+      nearest[k] = std::min(nearest[k], t);
+    }
+  });
+  for (const StaticShape& st : statics_) {
+    const double cx = me.x - st.cx, cy = me.y - st.cy, far = kRobotRadius + kProximityRange + st.bound + 1e-6;
+    if (cx * cx + cy * cy > far * far) continue;
+    for (std::size_t k = 0; k < kProximityCount; ++k)
+      nearest[k] = std::min(nearest[k], ray_static(ox[k], oy[k], dx[k], dy[k], st));
+  }
+  ProximityReading out;
+  for (std::size_t k = 0; k < kProximityCount; ++k) out[k] = proximity_value(nearest[k]);
+  return out;
+}
+
+void Proximity::sense_all(const std::vector<Pose2D>& poses, const std::vector<char>& alive,
+                          const SpatialGrid& grid, std::vector<ProximityReading>& out) {
+  out.resize(poses.size());
+  parallel::for_range(
+      poses.size(),
+      [&](std::size_t begin, std::size_t end, std::size_t) {
+        for (std::size_t i = begin; i < end; ++i) {
+          if (alive[i]) out[i] = read(i, poses, grid);
+        }
+      },
+      parallel::kMinRobotsPerWorker);
+  if (noise_level_ <= 0.0) return;
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    if (!alive[i]) continue;
+    for (double& v : out[i]) v = std::clamp(v + rng_.uniform(-noise_level_, noise_level_), 0.0, 1.0);
+  }
+}
+
+}  // namespace swarmform::world
