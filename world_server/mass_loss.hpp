@@ -21,21 +21,26 @@ class MassLoss {
   // Deaths within one lease of a group's first belong to it: agents stopped together lapse within one assert
   // period of each other.
   static constexpr dds_duration_t kWindow = dds::kLivelinessLease;
+  // A loss noticed right after the world's own stall (a loaded host) is only suspected, and recorded dead up
+  // to StallGuard::kGrace later, with the time it was noticed: a group stays open that much longer, or one
+  // host event whose lapses straddle a stall of the world's is split in two.
+  static constexpr dds_duration_t kLate = dds::kLivelinessLease;
 
   struct Group {
     Tick tick = 0;         // the first death's tick
-    dds_time_t first = 0;  // the first and last deaths' times
+    dds_time_t first = 0;  // the earliest and latest losses' times
     dds_time_t last = 0;
     std::vector<RobotId> robots;
     std::size_t processes_present =
         0;  // of `robots`, processes seen still there when they were taken for dead
   };
 
-  // `id`'s liveliness lapsed and it was taken for dead at `now` (tick `tick`); `process_present`: its process
-  // was still there. Returns a group this death closed (the next one began), if it was a mass loss.
-  std::optional<Group> died(RobotId id, Tick tick, dds_time_t now, bool process_present);
-  // The open group, once `now` is past its window, if it was a mass loss (two robots or more). At the end of
-  // the run pass the largest time there is.
+  // `id`'s liveliness lapsed, noticed at `lost_at` (awake time; a suspected loss's suspicion), and it was
+  // taken for dead at tick `tick`; `process_present`: its process was still there. Returns a group this death
+  // closed (the next one began), if it was a mass loss.
+  std::optional<Group> died(RobotId id, Tick tick, dds_time_t lost_at, bool process_present);
+  // The open group, once `now` is past its window and kLate, if it was a mass loss (two robots or more). At
+  // the end of the run pass the largest time there is.
   std::optional<Group> close(dds_time_t now);
   // The mass losses closed so far.
   const std::vector<Group>& groups() const { return closed_; }

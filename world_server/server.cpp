@@ -687,6 +687,9 @@ void Server::check_stragglers() {
 }
 
 void Server::on_dead(dds::PublicationHandle writer, bool running, const char* why) {
+  // A suspect whose grace ran out went when it was suspected (MassLoss groups it by that).
+  const dds_time_t lost_at = stalls_.take_lost_at(writer).value_or(stalls_.awake());
+  static_assert(StallGuard::kGrace <= MassLoss::kLate);
   stragglers_.remove(writer);
   guard_.forget(writer);
   const auto id = registry_.lose(writer);
@@ -713,7 +716,7 @@ void Server::on_dead(dds::PublicationHandle writer, bool running, const char* wh
   if (!why) {  // its liveliness lapsed (not an exit the world saw): it may be one of many lost together
     const auto pid = agent_pid(*id);
     const bool present = pid && process_state(*pid) == ProcessState::Present;
-    if (const auto g = mass_.died(*id, world_.tick(), stalls_.awake(), present)) report_mass_loss(*g);
+    if (const auto g = mass_.died(*id, world_.tick(), lost_at, present)) report_mass_loss(*g);
   }
 }
 

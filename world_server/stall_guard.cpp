@@ -29,10 +29,19 @@ void StallGuard::died(dds::PublicationHandle writer) {
   lately_.erase(it);
 }
 
+std::optional<dds_time_t> StallGuard::take_lost_at(dds::PublicationHandle writer) {
+  const auto it = expired_lost_at_.find(writer);
+  if (it == expired_lost_at_.end()) return std::nullopt;
+  const dds_time_t t = it->second;
+  expired_lost_at_.erase(it);
+  return t;
+}
+
 void StallGuard::expired(std::vector<dds::PublicationHandle>& out) {
   for (auto it = suspects_.begin(); it != suspects_.end();) {
     if (clock_.awake() - it->second.since >= kGrace) {
       out.push_back(it->first);
+      expired_lost_at_[it->first] = it->second.since;
       it = suspects_.erase(it);
     } else {
       ++it;

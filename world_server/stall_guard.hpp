@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
@@ -56,6 +57,9 @@ class StallGuard {
   bool suspected(dds::PublicationHandle writer) const { return suspects_.count(writer) != 0; }
   // Suspects lost for kGrace of awake time: they are deaths now (removed from the suspects).
   void expired(std::vector<dds::PublicationHandle>& out);
+  // The awake time an expired suspect's loss was noticed, once (for MassLoss: when it went, not when the
+  // grace ran out); nullopt for a writer that did not expire from suspicion.
+  std::optional<dds_time_t> take_lost_at(dds::PublicationHandle writer);
   // The world recorded `writer`'s owner dead. If it was suspected lately, it is one of the losses that were
   // deaths, and a sample that cleared it did not hold: an agent that exits while the world is stopped is
   // often heard again (its last samples wait in the socket) before its going is seen, and counting that as
@@ -76,6 +80,7 @@ class StallGuard {
     bool gone = false;
   };
   std::unordered_map<dds::PublicationHandle, Suspect> suspects_;
+  std::unordered_map<dds::PublicationHandle, dds_time_t> expired_lost_at_;  // until take_lost_at
   // Writers suspected within kRecent of awake time (cleared or not): the awake time of their last
   // suspicion and how often a sample or their liveliness cleared them. A death of one of them is a loss of
   // the stall (died); older ones are forgotten (a death long after is another story).
