@@ -4,6 +4,8 @@
 #include <cmath>
 #include <utility>
 
+#include "world_server/world/sensor_noise.hpp"
+
 namespace swarmform::world {
 
 Ground::Ground(Floor floor, Vec2 arena_centre, double width, double height, double noise_level,
@@ -33,8 +35,7 @@ void Ground::sense_all(const std::vector<Pose2D>& poses, const std::vector<char>
   for (std::size_t i = 0; i < poses.size(); ++i) {
     if (!alive[i]) continue;
     out[i] = read(poses[i]);
-    if (noise_level_ <= 0.0) continue;
-    for (double& v : out[i]) v = std::clamp(v + rng_.uniform(-noise_level_, noise_level_), 0.0, 1.0);
+    if (noise_level_ > 0.0) add_uniform_noise(out[i], rng_, noise_level_);
   }
 }
 

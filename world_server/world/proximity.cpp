@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "world_server/world/parallel_for.hpp"
+#include "world_server/world/sensor_noise.hpp"
 
 namespace swarmform::world {
 namespace {
@@ -57,20 +57,9 @@ ProximityReading Proximity::read(std::size_t self, const std::vector<Pose2D>& po
 
 void Proximity::sense_all(const std::vector<Pose2D>& poses, const std::vector<char>& alive,
                           const SpatialGrid& grid, std::vector<ProximityReading>& out) {
-  out.resize(poses.size());
-  parallel::for_range(
-      poses.size(),
-      [&](std::size_t begin, std::size_t end, std::size_t) {
-        for (std::size_t i = begin; i < end; ++i) {
-          if (alive[i]) out[i] = read(i, poses, grid);
-        }
-      },
-      parallel::kMinRobotsPerWorker);
-  if (noise_level_ <= 0.0) return;
-  for (std::size_t i = 0; i < poses.size(); ++i) {
-    if (!alive[i]) continue;
-    for (double& v : out[i]) v = std::clamp(v + rng_.uniform(-noise_level_, noise_level_), 0.0, 1.0);
-  }
+  // Every vector is one per robot: poses.size() == alive.size().
+  read_all(
+      alive, out, [&](std::size_t i) { return read(i, poses, grid); }, rng_, noise_level_);
 }
 
 }  // namespace swarmform::world
