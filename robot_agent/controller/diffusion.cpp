@@ -44,11 +44,7 @@ Command Diffusion::step(const Perception& perception) {
       cmd.right_speed = turn * v;
     }
   }
-  RobotMessage msg;
-  msg.sender = self_;
-  msg.state = RobotState::Idle;
-  msg.pose = perception.pose;
-  cmd.message = encode_message(msg);
+  cmd.message = encode_idle_beacon(self_, perception.pose);
   cmd.telemetry.state = static_cast<std::int32_t>(RobotState::Idle);
   return cmd;
 }

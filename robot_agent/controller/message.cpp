@@ -98,6 +98,14 @@ constexpr std::uint8_t kMaxStateValue = static_cast<std::uint8_t>(RobotState::Ar
 
 }  // namespace
 
+std::vector<std::uint8_t> encode_idle_beacon(RobotId self, const Pose2D& pose) {
+  RobotMessage msg;
+  msg.sender = self;
+  msg.state = RobotState::Idle;
+  msg.pose = pose;
+  return encode_message(msg);
+}
+
 std::vector<std::uint8_t> encode_message(const RobotMessage& m) {
   std::vector<std::uint8_t> out;
   const std::size_t n_free = std::min(m.free_labels.size(), kMaxFreeLabels);

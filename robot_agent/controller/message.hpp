@@ -76,6 +76,9 @@ struct RobotMessage : MessageBody {
 // Encodes `m`. Counts over their bounds are truncated (free labels, entries, motion bytes): encode never
 // produces what decode would refuse.
 std::vector<std::uint8_t> encode_message(const RobotMessage& m);
+// What a robot outside any formation says every tick (the built-in walkers): its id, Idle and its pose, so
+// that it is heard and drawn among its neighbours.
+std::vector<std::uint8_t> encode_idle_beacon(RobotId self, const Pose2D& pose);
 std::optional<RobotMessage> decode_message(std::span<const std::uint8_t> bytes);
 // The same into an existing message, reusing its vectors' capacity (no allocation once they have grown):
 // true when `bytes` is a valid message; on false `m` holds garbage. When `skip_entries_digest` is not 0 and

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "robot_agent/controller/diffusion.hpp"
 #include "robot_agent/controller/message.hpp"
@@ -39,16 +40,12 @@ Command Phototaxis::step(const Perception& perception) {
       // Turn rate proportional to the bearing; forward speed falls off as the light gets to the side.
       const double bearing = std::atan2(y, x);
       const double forward = v * std::max(0.0, std::cos(bearing));
-      const double turn = std::clamp(bearing / (3.141592653589793 / 2.0), -1.0, 1.0) * v;
+      const double turn = std::clamp(bearing / (std::numbers::pi / 2.0), -1.0, 1.0) * v;
       cmd.left_speed = std::clamp(forward - turn, -v, v);
       cmd.right_speed = std::clamp(forward + turn, -v, v);
     }
   }
-  RobotMessage msg;
-  msg.sender = self_;
-  msg.state = RobotState::Idle;
-  msg.pose = perception.pose;
-  cmd.message = encode_message(msg);
+  cmd.message = encode_idle_beacon(self_, perception.pose);
   cmd.telemetry.state = static_cast<std::int32_t>(RobotState::Idle);
   return cmd;
 }

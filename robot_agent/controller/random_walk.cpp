@@ -70,11 +70,7 @@ Command RandomWalk::step(const Perception& perception) {
   cmd.left_speed = wheels.left;
   cmd.right_speed = wheels.right;
 
-  RobotMessage msg;
-  msg.sender = self_;
-  msg.state = RobotState::Idle;
-  msg.pose = perception.pose;
-  cmd.message = encode_message(msg);
+  cmd.message = encode_idle_beacon(self_, perception.pose);
   cmd.telemetry.state = static_cast<std::int32_t>(RobotState::Idle);
   return cmd;
 }

@@ -106,6 +106,16 @@ void parse_arena(const Source& src, MapReader& top, Scenario& s) {
   m.finish({"centre", "width", "height", "walls", "wall_thickness"});
 }
 
+// A box's or a rectangle's required `size: [width along x, depth along y]`, as half extents.
+Vec2 half_size(const Source& src, const YAML::Node& node, const std::string& path, MapReader& m) {
+  auto size = m.get("size");
+  if (!size) yaml::fail(src, node, path, "missing 'size' ([width along x, depth along y], m)");
+  const Vec2 sz = yaml::to_vec2(src, *size, m.field("size"));
+  yaml::check_positive(src, *size, m.field("size") + "[0]", sz.x, kMaxLength);
+  yaml::check_positive(src, *size, m.field("size") + "[1]", sz.y, kMaxLength);
+  return Vec2{sz.x / 2.0, sz.y / 2.0};
+}
+
 Obstacle parse_obstacle(const Source& src, const YAML::Node& node, const std::string& path) {
   MapReader m(src, node, path);
   Obstacle o;
@@ -118,12 +128,7 @@ Obstacle parse_obstacle(const Source& src, const YAML::Node& node, const std::st
   o.centre = point(src, *centre, m.field("centre"));
   if (t == "box") {
     o.kind = Obstacle::Kind::Box;
-    auto size = m.get("size");
-    if (!size) yaml::fail(src, node, path, "missing 'size' ([width along x, depth along y], m)");
-    const Vec2 sz = yaml::to_vec2(src, *size, m.field("size"));
-    yaml::check_positive(src, *size, m.field("size") + "[0]", sz.x, kMaxLength);
-    yaml::check_positive(src, *size, m.field("size") + "[1]", sz.y, kMaxLength);
-    o.half_extents = Vec2{sz.x / 2.0, sz.y / 2.0};
+    o.half_extents = half_size(src, node, path, m);
     o.yaw = m.number("yaw", 0.0, -2.0 * std::numbers::pi, 2.0 * std::numbers::pi);
     m.finish({"type", "name", "centre", "size", "yaw"});
   } else if (t == "cylinder") {
@@ -251,12 +256,7 @@ FloorRegion parse_floor_region(const Source& src, const YAML::Node& node, const 
     m.finish({"type", "centre", "radius", "grey", "colour"});
   } else if (t == "rectangle") {
     r.kind = FloorRegion::Kind::Rectangle;
-    auto size = m.get("size");
-    if (!size) yaml::fail(src, node, path, "missing 'size' ([width along x, depth along y], m)");
-    const Vec2 sz = yaml::to_vec2(src, *size, m.field("size"));
-    yaml::check_positive(src, *size, m.field("size") + "[0]", sz.x, kMaxLength);
-    yaml::check_positive(src, *size, m.field("size") + "[1]", sz.y, kMaxLength);
-    r.half_extents = Vec2{sz.x / 2.0, sz.y / 2.0};
+    r.half_extents = half_size(src, node, path, m);
     r.yaw = m.number("yaw", 0.0, -2.0 * std::numbers::pi, 2.0 * std::numbers::pi);
     m.finish({"type", "centre", "size", "yaw", "grey", "colour"});
   } else {
