@@ -24,7 +24,7 @@ class MassLoss {
   // A loss noticed right after the world's own stall (a loaded host) is only suspected, and recorded dead up
   // to StallGuard::kGrace later, with the time it was noticed: a group stays open that much longer, or one
   // host event whose lapses straddle a stall of the world's is split in two.
-  static constexpr dds_duration_t kLate = dds::kLivelinessLease;
+  static constexpr dds_duration_t kLate = DDS_MSECS(1500);
 
   struct Group {
     Tick tick = 0;         // the first death's tick

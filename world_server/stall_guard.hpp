@@ -4,12 +4,16 @@
 // it all along: their datagrams wait in the socket. So a writer lost within kSuspectWindow of awake time
 // after the world's own stall, or of a sample refused as abuse (a flood), is only suspected; it becomes a
 // death if it stays lost for kGrace of awake time, and was never dead if its liveliness comes back before or
-// a sample of its comes in (the agent's next command or ALIVE sample). Otherwise a loss is a death at once (a
-// SIGKILL is seen in ~0.5 s). A writer that went away (deleted with its participant, or forgotten when its
-// participant's lease ran out) is suspected the same way (a forgotten one comes back under a new handle), but
-// nothing clears it any more: samples it wrote before it went may still be taken after its going was seen
-// (they reach the world by another socket and thread than discovery), and once they cleared the suspicion of
-// 566 agents that had exited while the world stalled among 1024: the world kept them alive to the end.
+// a sample of its comes in (the agent's next command or ALIVE sample). The grace outlasts the command
+// reader's budget window: the samples an agent kept sending through a 4 s stall of the world (~30 ALIVE
+// samples and claims) arrive at once, over its budget (common/dds/receive_budget.hpp), and the rest of that
+// window drops them unread; a grace of one lease ran out first and buried a live agent (CI, 2026-12-06).
+// Otherwise a loss is a death at once (a SIGKILL is seen in ~0.5 s). A writer that went away (deleted with
+// its participant, or forgotten when its participant's lease ran out) is suspected the same way (a forgotten
+// one comes back under a new handle), but nothing clears it any more: samples it wrote before it went may
+// still be taken after its going was seen (they reach the world by another socket and thread than discovery),
+// and once they cleared the suspicion of 566 agents that had exited while the world stalled among 1024: the
+// world kept them alive to the end.
 #pragma once
 
 #include <cstdint>
@@ -19,6 +23,7 @@
 
 #include "common/dds/identity.hpp"
 #include "common/dds/qos.hpp"
+#include "common/dds/receive_budget.hpp"
 #include "common/own_clock.hpp"
 
 namespace swarmform::server {
@@ -30,7 +35,9 @@ class StallGuard {
   static constexpr dds_duration_t kProbe = DDS_MSECS(100);
   static constexpr dds_duration_t kMaxGap = DDS_MSECS(250);
   static constexpr dds_duration_t kSuspectWindow = 2 * dds::kLivelinessLease;
-  static constexpr dds_duration_t kGrace = dds::kLivelinessLease;
+  // A budget window (at most a wall-clock second, and awake time runs no faster than the wall clock) and a
+  // lease: the agent's next assertion after its dropped burst comes in a window that admits it.
+  static constexpr dds_duration_t kGrace = dds::ReceiveBudget::kSecond + dds::kLivelinessLease;
 
   StallGuard() : clock_(kMaxGap) {}
 
