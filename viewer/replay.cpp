@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "common/dds/behaviour_view.hpp"
+#include "common/led_text.hpp"
 #include "viewer/foxglove.hpp"
 #include "viewer/robots_csv.hpp"
 #include "viewer/web_server.hpp"
@@ -234,6 +235,13 @@ class Session {
                 {"alive", r.alive},   {"state", r.state},
                 {"label", r.label},   {"parent", r.parent},
                 {"leader", r.leader}, {"net_force", r4(r.net_force)}};
+      if (!leds_off(r.leds)) {  // the lit LEDs: three "#rrggbb" (docs/recording-format.md), absent when off
+        std::string text;
+        append_led_text(text, r.leds);
+        json leds = json::array();
+        for (std::size_t at = 0; at < text.size(); at += 8) leds.push_back(text.substr(at, 7));
+        j["leds"] = std::move(leds);
+      }
       for (std::size_t k = 0; k < extra.size() && k < r.extra.size(); ++k) {
         if (std::isfinite(r.extra[k])) j[extra[k]] = r.extra[k];
       }
