@@ -21,16 +21,21 @@ inline bool leds_off(const std::array<Rgb, kLedCount>& leds) {
   return true;
 }
 
+// "#rrggbb" (lowercase): one colour, as the recording writes every colour (LEDs, world.json's floor).
+inline void append_rgb_hex(std::string& out, Rgb c) {
+  constexpr char kDigits[] = "0123456789abcdef";
+  out.push_back('#');
+  for (std::uint8_t v : {c.r, c.g, c.b}) {
+    out.push_back(kDigits[v >> 4]);
+    out.push_back(kDigits[v & 0xF]);
+  }
+}
+
 inline void append_led_text(std::string& out, const std::array<Rgb, kLedCount>& leds) {
   if (leds_off(leds)) return;
-  constexpr char kDigits[] = "0123456789abcdef";
   for (std::size_t k = 0; k < kLedCount; ++k) {
     if (k > 0) out.push_back(' ');
-    out.push_back('#');
-    for (std::uint8_t v : {leds[k].r, leds[k].g, leds[k].b}) {
-      out.push_back(kDigits[v >> 4]);
-      out.push_back(kDigits[v & 0xF]);
-    }
+    append_rgb_hex(out, leds[k]);
   }
 }
 

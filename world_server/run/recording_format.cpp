@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "behaviour/descriptor_check.hpp"
+#include "common/led_text.hpp"
 
 namespace swarmform::world {
 
@@ -41,12 +42,8 @@ ojson obstacle_json(const Obstacle& o) {
 // "#rrggbb", or null when the scenario gave a grey rather than a colour.
 ojson colour_json(const std::optional<Rgb>& c) {
   if (!c) return nullptr;
-  constexpr char kDigits[] = "0123456789abcdef";
-  std::string text = "#";
-  for (std::uint8_t v : {c->r, c->g, c->b}) {
-    text.push_back(kDigits[v >> 4]);
-    text.push_back(kDigits[v & 0xF]);
-  }
+  std::string text;
+  append_rgb_hex(text, *c);
   return text;
 }
 
