@@ -454,7 +454,9 @@ def _leds_column(path: str, rows: list[tuple[int, str]], index: int) -> np.ndarr
     `#rrggbb #rrggbb #rrggbb`). A field of another form is a RecordingError naming its line."""
     out = np.zeros((len(rows), 3 * LED_COUNT), dtype=np.float64)
     for i, (no, text) in enumerate(rows):
-        parts = text.split(",")
+        if "#" not in text:  # all off (most rows of most runs): nothing else in a row has a '#'
+            continue
+        parts = text.split(",", index + 1)
         field = parts[index].strip() if index < len(parts) else ""
         if not field:
             continue
