@@ -11,8 +11,8 @@
 #include <sstream>
 
 #include "common/dds/behaviour_view.hpp"
-#include "common/led_text.hpp"
 #include "viewer/foxglove.hpp"
+#include "viewer/frame_json.hpp"
 #include "viewer/robots_csv.hpp"
 #include "viewer/web_server.hpp"
 
@@ -227,6 +227,7 @@ class Session {
       o.parent = r.parent;
       o.leader = r.leader;
       o.net_force = r.net_force;
+      o.leds = r.leds;
       frame_.alive += r.alive ? 1 : 0;
       frame_.robots.push_back(o);
       // The page's robot: what robots.csv holds (no readings, neighbours heard or command: not recorded).
@@ -235,13 +236,7 @@ class Session {
                 {"alive", r.alive},   {"state", r.state},
                 {"label", r.label},   {"parent", r.parent},
                 {"leader", r.leader}, {"net_force", r4(r.net_force)}};
-      if (!leds_off(r.leds)) {  // the lit LEDs: three "#rrggbb" (docs/recording-format.md), absent when off
-        std::string text;
-        append_led_text(text, r.leds);
-        json leds = json::array();
-        for (std::size_t at = 0; at < text.size(); at += 8) leds.push_back(text.substr(at, 7));
-        j["leds"] = std::move(leds);
-      }
+      if (json leds = leds_json(r.leds); !leds.is_null()) j["leds"] = std::move(leds);
       for (std::size_t k = 0; k < extra.size() && k < r.extra.size(); ++k) {
         if (std::isfinite(r.extra[k])) j[extra[k]] = r.extra[k];
       }

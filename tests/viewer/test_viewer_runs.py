@@ -328,7 +328,8 @@ class KheperaReplayTest(unittest.TestCase):
             got, d = vh.drawn_near(img, px, py, want)
             self.assertLessEqual(d, 12, f"{what} at ({px:.1f}, {py:.1f}): drawn {got}, want {want}")
         # Robot 0's LED 0 ahead of its centre (heading 0), LED 1 of robot 1 is off: its body's colour there.
-        rr, scale = b.eval("Math.max(4, sfViewer.world.robot_radius * sfViewer.view.scale)"), b.eval("sfViewer.view.scale")
+        scale = b.eval("sfViewer.view.scale")
+        rr = b.eval("Math.max(4, sfViewer.world.robot_radius * sfViewer.view.scale)")
         r0 = [r for r in robots if r["id"] == 0][0]
         px, py = vh.check_projection(self, b, r0["x"] + 0.55 * rr / scale, r0["y"])
         got, d = vh.drawn_near(img, px, py, (0, 255, 0))
