@@ -37,7 +37,7 @@ struct StateSpec {
 };
 
 struct TelemetryColumn {
-  std::string_view name;  // robots.csv column (after the fixed ones); lower_case, no commas
+  std::string_view name;  // robots.csv column (after its own); lower_case, unique, none of its own names
   std::string_view doc;   // meaning and unit
 };
 

@@ -59,6 +59,24 @@ std::string check_experiment(const Descriptor& d) {
   return {};
 }
 
+std::string check_telemetry(const Descriptor& d) {
+  // robots.csv's own columns (docs/recording-format.md): a telemetry column of the same name would make the
+  // file ambiguous to every reader.
+  constexpr std::array<std::string_view, 12> kRecorded = {
+      "tick", "id", "x", "y", "theta", "alive", "state", "label", "parent", "leader", "net_force", "leds"};
+  const std::string where = "behaviour '" + std::string(d.name) + "': telemetry column '";
+  for (std::size_t i = 0; i < d.telemetry.size(); ++i) {
+    const std::string_view name = d.telemetry[i].name;
+    if (!lower_case_name(name)) return where + std::string(name) + "' is not a lower_case name";
+    if (std::find(kRecorded.begin(), kRecorded.end(), name) != kRecorded.end())
+      return where + std::string(name) + "' is one of robots.csv's own columns";
+    for (std::size_t j = 0; j < i; ++j) {
+      if (d.telemetry[j].name == name) return where + std::string(name) + "' twice";
+    }
+  }
+  return {};
+}
+
 std::string sensor_names(std::uint32_t sensors) {
   std::string s;
   for (std::uint32_t bit = 0; bit < 32; ++bit) {

@@ -17,6 +17,9 @@ inline constexpr std::uint32_t kModelledSensors = kProximity | kGround | kLight 
 // Empty when d's experiment declaration is consistent (outcomes given with a make, success among them, "none"
 // not used, metric names lower_case and unique); otherwise what is wrong, naming the behaviour.
 std::string check_experiment(const Descriptor& d);
+// Empty when d's telemetry columns can head robots.csv's columns: lower_case, unique, and none named as a
+// column the recording writes itself (tick, id, ..., net_force, leds); otherwise what is wrong.
+std::string check_telemetry(const Descriptor& d);
 // Empty when every sensor d declares is modelled; otherwise which are not.
 std::string check_sensors(const Descriptor& d);
 // "proximity, ground": the names of the Sensor bits set in `sensors` (unknown bits as "bit N").

@@ -1,6 +1,9 @@
 #include "viewer/frame_json.hpp"
 
 #include <cmath>
+#include <string>
+
+#include "common/led_text.hpp"
 
 namespace swarmform::viewer {
 
@@ -13,6 +16,17 @@ double r4(double v) {
 
 }  // namespace
 
+nlohmann::json leds_json(const std::array<Rgb, kLedCount>& leds) {
+  if (leds_off(leds)) return nullptr;
+  nlohmann::json out = nlohmann::json::array();
+  for (const Rgb& c : leds) {
+    std::string text;
+    append_rgb_hex(text, c);
+    out.push_back(std::move(text));
+  }
+  return out;
+}
+
 nlohmann::json frame_json(const dds::ObserveFrameData& f) {
   nlohmann::json states = nlohmann::json::array();
   for (const auto& s : f.states)
@@ -21,21 +35,23 @@ nlohmann::json frame_json(const dds::ObserveFrameData& f) {
   for (const auto& r : f.robots) {
     nlohmann::json us = nlohmann::json::array();
     for (double u : r.ultrasonic) us.push_back(r4(u));
-    robots.push_back({{"id", r.id},
-                      {"x", r4(r.pose.x)},
-                      {"y", r4(r.pose.y)},
-                      {"theta", r4(r.pose.theta)},
-                      {"alive", r.alive},
-                      {"state", r.state},
-                      {"label", r.label},
-                      {"parent", r.parent},
-                      {"leader", r.leader},
-                      {"net_force", r4(r.net_force)},
-                      {"ultrasonic", us},
-                      {"heard", r.heard},
-                      {"left_speed", r4(r.left_speed)},
-                      {"right_speed", r4(r.right_speed)},
-                      {"message_bytes", r.message_bytes}});
+    nlohmann::json robot = {{"id", r.id},
+                            {"x", r4(r.pose.x)},
+                            {"y", r4(r.pose.y)},
+                            {"theta", r4(r.pose.theta)},
+                            {"alive", r.alive},
+                            {"state", r.state},
+                            {"label", r.label},
+                            {"parent", r.parent},
+                            {"leader", r.leader},
+                            {"net_force", r4(r.net_force)},
+                            {"ultrasonic", us},
+                            {"heard", r.heard},
+                            {"left_speed", r4(r.left_speed)},
+                            {"right_speed", r4(r.right_speed)},
+                            {"message_bytes", r.message_bytes}};
+    if (nlohmann::json leds = leds_json(r.leds); !leds.is_null()) robot["leds"] = std::move(leds);
+    robots.push_back(std::move(robot));
   }
   return {{"type", "frame"},
           {"tick", f.tick},

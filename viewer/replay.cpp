@@ -12,6 +12,7 @@
 
 #include "common/dds/behaviour_view.hpp"
 #include "viewer/foxglove.hpp"
+#include "viewer/frame_json.hpp"
 #include "viewer/robots_csv.hpp"
 #include "viewer/web_server.hpp"
 
@@ -226,6 +227,7 @@ class Session {
       o.parent = r.parent;
       o.leader = r.leader;
       o.net_force = r.net_force;
+      o.leds = r.leds;
       frame_.alive += r.alive ? 1 : 0;
       frame_.robots.push_back(o);
       // The page's robot: what robots.csv holds (no readings, neighbours heard or command: not recorded).
@@ -234,6 +236,7 @@ class Session {
                 {"alive", r.alive},   {"state", r.state},
                 {"label", r.label},   {"parent", r.parent},
                 {"leader", r.leader}, {"net_force", r4(r.net_force)}};
+      if (json leds = leds_json(r.leds); !leds.is_null()) j["leds"] = std::move(leds);
       for (std::size_t k = 0; k < extra.size() && k < r.extra.size(); ++k) {
         if (std::isfinite(r.extra[k])) j[extra[k]] = r.extra[k];
       }

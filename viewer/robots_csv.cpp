@@ -12,6 +12,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "common/led_text.hpp"
+
 namespace swarmform::viewer {
 
 namespace {
@@ -92,7 +94,10 @@ RobotsCsv::RobotsCsv(std::string path, std::size_t max_rows) : path_(std::move(p
     for (std::size_t i = 0; i < names.size(); ++i) {
       bool is_fixed = false;
       for (std::size_t f : fixed_) is_fixed = is_fixed || f == i;
-      if (!is_fixed) {
+      if (is_fixed) continue;
+      if (names[i] == "leds") {
+        leds_ = i;
+      } else {
         extra_.push_back(i);
         extra_names_.push_back(names[i]);
       }
@@ -156,6 +161,12 @@ bool RobotsCsv::parse(const std::string& line, RecordedRow& row, std::uint64_t& 
       !integer(at(kParent), row.parent) || !flag(at(kLeader), row.leader) ||
       !real(at(kNetForce), row.net_force)) {
     return false;
+  }
+  row.leds = {};
+  if (leds_) {
+    const auto leds = parse_led_text(f[*leds_]);
+    if (!leds) return false;
+    row.leds = *leds;
   }
   row.extra.assign(extra_.size(), std::nan(""));
   for (std::size_t k = 0; k < extra_.size(); ++k) {

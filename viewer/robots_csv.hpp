@@ -9,10 +9,13 @@
 // stopped while writing) is not part of the data.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "common/types.hpp"
 
 namespace swarmform::viewer {
 
@@ -23,7 +26,8 @@ struct RecordedRow {
   std::int32_t state = 0, label = -1, parent = -1;
   bool leader = false;
   double net_force = 0;
-  std::vector<double> extra;  // the behaviour's telemetry columns (extra_columns()), NaN where empty
+  std::array<Rgb, kLedCount> leds{};  // all off in a recording older than the `leds` column
+  std::vector<double> extra;          // the behaviour's telemetry columns (extra_columns()), NaN where empty
 };
 
 struct RecordedTick {
@@ -78,6 +82,7 @@ class RobotsCsv {
   // Index in a row of each fixed column (ROBOT_COLUMNS order: tick id x y theta alive state label parent
   // leader net_force), then of the extra ones.
   std::vector<std::size_t> fixed_;
+  std::optional<std::size_t> leds_;  // the `leds` column, when the recording has it
   std::vector<std::size_t> extra_;
   std::vector<std::string> extra_names_;
   std::uint64_t data_start_ = 0;  // the first row's offset

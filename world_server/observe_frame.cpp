@@ -25,6 +25,7 @@ void build_frame(const world::World& world, const LatestCommand& latest, const w
     r.parent = t.telemetry.parent;
     r.leader = t.telemetry.leader;
     r.net_force = t.telemetry.net_force;
+    r.leds = t.leds;
     r.heard.clear();
     r.ultrasonic.fill(0.0);
     if (t.alive) {

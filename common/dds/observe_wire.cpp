@@ -55,6 +55,11 @@ void ObserveWriter::publish(const ObserveFrameData& f) {
     o.left_speed = r.left_speed;
     o.right_speed = r.right_speed;
     o.message_bytes = r.message_bytes;
+    for (std::size_t k = 0; k < kLedCount; ++k) {
+      o.leds[3 * k] = r.leds[k].r;
+      o.leds[3 * k + 1] = r.leds[k].g;
+      o.leds[3 * k + 2] = r.leds[k].b;
+    }
   }
   auto& states = impl_->states;
   states.resize(f.states.size());
@@ -144,6 +149,8 @@ bool ObserveReader::take(std::uint64_t run_nonce, ObserveFrameData& out) {
     r.left_speed = o.left_speed;
     r.right_speed = o.right_speed;
     r.message_bytes = o.message_bytes;
+    for (std::size_t k = 0; k < kLedCount; ++k)
+      r.leds[k] = {o.leds[3 * k], o.leds[3 * k + 1], o.leds[3 * k + 2]};
   }
   return true;
 }

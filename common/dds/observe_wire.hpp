@@ -29,7 +29,8 @@ struct ObservedRobotRow {
   std::vector<std::uint32_t> heard;                   // senders heard this tick
   double left_speed = 0.0;                            // m/s, its last command
   double right_speed = 0.0;
-  std::uint32_t message_bytes = 0;  // its last broadcast's size
+  std::uint32_t message_bytes = 0;    // its last broadcast's size
+  std::array<Rgb, kLedCount> leds{};  // its LEDs as last commanded (all off: none lit)
 };
 
 // One state of the current behaviour: its value in Telemetry::state, its name and its colour ("#rrggbb").

@@ -133,7 +133,7 @@ def distortion_series(rec: Recording) -> tuple[np.ndarray, np.ndarray]:
 
 
 def view_bounds(rec: Recording, pad: float = 1.0) -> tuple[float, float, float, float]:
-    """(xmin, xmax, ymin, ymax) of what the pictures show: every robot's path, the goal and the obstacles,
+    """(xmin, xmax, ymin, ymax) of what the pictures show: every robot's path, the goal, the lights and the obstacles,
     padded and kept inside the arena -- the swarm is small in a large arena, and the paper's figures zoom."""
     w, t = rec.world, rec.track
     xs = [np.nanmin(t.x), np.nanmax(t.x)]
@@ -141,6 +141,9 @@ def view_bounds(rec: Recording, pad: float = 1.0) -> tuple[float, float, float, 
     if w.goal:
         xs += [w.goal[0] - w.goal[2], w.goal[0] + w.goal[2]]
         ys += [w.goal[1] - w.goal[2], w.goal[1] + w.goal[2]]
+    for light in w.lights:  # what a phototaxis heads for
+        xs.append(light.position[0])
+        ys.append(light.position[1])
     for ob in w.obstacles:
         r = ob.radius if ob.kind == "cylinder" else math.hypot(*ob.half_extents)
         xs += [ob.centre[0] - r, ob.centre[0] + r]

@@ -16,6 +16,8 @@ from typing import Any, Optional, Sequence
 import numpy as np
 
 ROBOT_COLUMNS = ("tick", "id", "x", "y", "theta", "alive", "state", "label", "parent", "leader", "net_force")
+LEDS_COLUMN = "leds"  # after the fixed columns, before the behaviour's (absent from an older recording)
+LED_COUNT = 3
 INT_COLUMNS = {"tick", "id", "alive", "state", "label", "parent", "leader"}
 STATE_NAMES = {0: "idle", 1: "searching", 2: "moving", 3: "reached", 4: "ready", 5: "motion", 6: "arrived"}
 # The paper's states' colours (robot_agent/controller/builtins.cpp), for a recording older than world.json's
@@ -66,6 +68,51 @@ class Shape:
 
 
 @dataclass
+class FloorRegion:
+    kind: str  # "circle" or "rectangle"
+    centre: tuple
+    grey: float  # 0 black .. 1 white: what the ground sensors read
+    colour: Optional[str] = None  # "#rrggbb" when the scenario gave a colour rather than a grey
+    radius: float = 0.0  # circles, m
+    half_extents: tuple = (0.0, 0.0)  # rectangles, m
+    yaw: float = 0.0  # rectangles, rad
+
+    def face(self) -> str:
+        """The colour to draw it in: the scenario's colour, else its grey."""
+        return self.colour or grey_hex(self.grey)
+
+
+@dataclass
+class Floor:
+    """What the ground sensors read: a base, an image stretched over the arena's rectangle, regions on top."""
+
+    grey: float = 1.0
+    colour: Optional[str] = None
+    image: Optional[str] = None  # the PNG's path, as the world resolved it
+    image_size: tuple = (0, 0)  # its pixels (width, height)
+    regions: list = field(default_factory=list)  # FloorRegion, in painting order
+
+    def plain(self) -> bool:
+        """White and nothing on it: nothing to draw."""
+        return self.image is None and not self.regions and self.grey >= 1.0 and self.colour is None
+
+    def face(self) -> str:
+        return self.colour or grey_hex(self.grey)
+
+
+@dataclass
+class Light:
+    position: tuple  # (x, y) m
+    height: float  # m above the floor
+    intensity: float  # ARGoS's reference intensity (docs/scenario-format.md)
+
+
+def grey_hex(grey: float) -> str:
+    v = int(min(max(grey, 0.0), 1.0) * 255 + 0.5)  # half up: 0.3 is #4d4d4d
+    return f"#{v:02x}{v:02x}{v:02x}"
+
+
+@dataclass
 class World:
     arena_centre: tuple = (0.0, 0.0)
     arena_width: float = 10.0
@@ -89,6 +136,10 @@ class World:
     telemetry: list = field(default_factory=list)
     needs_shape: bool = True
     needs_goal: bool = True
+    # The optional sensors' world (absent from a recording older than them: a plain floor, no lights, no battery).
+    floor: Floor = field(default_factory=Floor)
+    lights: list = field(default_factory=list)  # Light
+    battery: Optional[dict] = None  # {capacity, idle, moving, start}
 
 
 @dataclass
@@ -108,6 +159,9 @@ class Track:
     # The behaviour's telemetry columns (robots.csv after the fixed ones): name -> [T, N] floats, nan where a
     # robot had not reported them yet.
     extra: dict = field(default_factory=dict)
+    # The three LEDs: [T, N, 3 LEDs, 3 (r, g, b)] uint8, 0 (off) everywhere when robots.csv has no `leds`
+    # column (a recording older than it). None only for a Track built without them.
+    leds: Optional[np.ndarray] = None
 
     @property
     def robots(self) -> int:
@@ -234,7 +288,62 @@ def read_world(path: str) -> World:
     desc = doc.get("behaviour_descriptor")
     if isinstance(desc, dict):
         _read_behaviour(desc, path, w)
+    if doc.get("floor") is not None:
+        w.floor = _read_floor(doc["floor"], path)
+    for i, light in enumerate(doc.get("lights") or []):
+        if not isinstance(light, dict):
+            raise RecordingError(path, None, f"lights[{i}]: expected {{position, height, intensity}}")
+        w.lights.append(Light(_vec2(light.get("position"), path, f"lights[{i}].position"),
+                              _number(light, "height", path, f"lights[{i}]", 0.0),
+                              _number(light, "intensity", path, f"lights[{i}]")))
+    battery = doc.get("battery")
+    if battery is not None:
+        if not isinstance(battery, dict):
+            raise RecordingError(path, None, f"battery: expected {{capacity, idle, moving, start}}, got {battery!r}")
+        w.battery = {k: _number(battery, k, path, "battery", d)
+                     for k, d in (("capacity", None), ("idle", 0.0), ("moving", 0.0), ("start", 1.0))}
     return w
+
+
+def _colour(value: Any, path: str, what: str) -> Optional[str]:
+    if value is None:
+        return None
+    if isinstance(value, str) and len(value) == 7 and value[0] == "#":
+        try:
+            int(value[1:], 16)
+            return value.lower()
+        except ValueError:
+            pass
+    raise RecordingError(path, None, f"{what}: expected \"#rrggbb\" or null, got {value!r}")
+
+
+def _read_floor(doc: Any, path: str) -> Floor:
+    if not isinstance(doc, dict):
+        raise RecordingError(path, None, "floor: expected {grey, colour, image, regions}")
+    f = Floor(grey=_number(doc, "grey", path, "floor", 1.0), colour=_colour(doc.get("colour"), path, "floor.colour"))
+    image = doc.get("image")
+    if isinstance(image, dict) and isinstance(image.get("file"), str):
+        f.image = image["file"]
+        f.image_size = (int(_number(image, "width", path, "floor.image", 0)),
+                        int(_number(image, "height", path, "floor.image", 0)))
+    elif image is not None:
+        raise RecordingError(path, None, f"floor.image: expected {{file, width, height}} or null, got {image!r}")
+    for i, r in enumerate(doc.get("regions") or []):
+        what = f"floor.regions[{i}]"
+        if not isinstance(r, dict):
+            raise RecordingError(path, None, f"{what}: expected an object")
+        kind = str(r.get("kind", ""))
+        region = FloorRegion(kind, _vec2(r.get("centre"), path, f"{what}.centre"), _number(r, "grey", path, what),
+                             _colour(r.get("colour"), path, f"{what}.colour"))
+        if kind == "circle":
+            region.radius = _number(r, "radius", path, what)
+        elif kind == "rectangle":
+            region.half_extents = _vec2(r.get("half_extents"), path, f"{what}.half_extents")
+            region.yaw = _number(r, "yaw", path, what, 0.0)
+        else:
+            raise RecordingError(path, None, f"{what}.kind: expected 'circle' or 'rectangle', got {r.get('kind')!r}")
+        f.regions.append(region)
+    return f
 
 
 def _read_behaviour(desc: dict[str, Any], path: str, w: World) -> None:
@@ -331,10 +440,35 @@ def read_robots(path: str, expected_robots: int, warnings: list[str]) -> Track:
         sub = data[:, floats]
         sub[bad] = np.nan
         data[:, floats] = sub
-    extra_names = [n for n in names if n not in ROBOT_COLUMNS]
+    extra_names = [n for n in names if n not in ROBOT_COLUMNS and n != LEDS_COLUMN]
     if extra_names:
         data = np.column_stack([data, _extra_columns(rows, [names.index(n) for n in extra_names])])
-    return _to_track(path, data, line_numbers, expected_robots, warnings, extra_names)
+    leds = _leds_column(path, rows, names.index(LEDS_COLUMN)) if LEDS_COLUMN in names else None
+    if leds is not None:
+        data = np.column_stack([data, leds])
+    return _to_track(path, data, line_numbers, expected_robots, warnings, extra_names, leds is not None)
+
+
+def _leds_column(path: str, rows: list[tuple[int, str]], index: int) -> np.ndarray:
+    """[rows, 9]: each row's three LEDs' r, g, b (docs/recording-format.md: empty when all are off, else
+    `#rrggbb #rrggbb #rrggbb`). A field of another form is a RecordingError naming its line."""
+    out = np.zeros((len(rows), 3 * LED_COUNT), dtype=np.float64)
+    for i, (no, text) in enumerate(rows):
+        if "#" not in text:  # all off (most rows of most runs): nothing else in a row has a '#'
+            continue
+        parts = text.split(",", index + 1)
+        field = parts[index].strip() if index < len(parts) else ""
+        if not field:
+            continue
+        colours = field.split(" ")
+        try:
+            if len(colours) != LED_COUNT or any(len(c) != 7 or c[0] != "#" for c in colours):
+                raise ValueError(field)
+            out[i] = list(bytes.fromhex("".join(c[1:] for c in colours)))
+        except ValueError:
+            raise RecordingError(path, no, f"column 'leds': expected empty or '#rrggbb #rrggbb #rrggbb', got "
+                                 f"'{field[:40]}'") from None
+    return out
 
 
 def _extra_columns(rows: list[tuple[int, str]], indices: list[int]) -> np.ndarray:
@@ -402,7 +536,7 @@ def _describe_bad_row(text: str, names: list[str], col: dict[str, int]) -> str:
 
 
 def _to_track(path: str, data: np.ndarray, line_numbers: np.ndarray, expected_robots: int, warnings: list[str],
-              extra_names: Sequence[str] = ()) -> Track:
+              extra_names: Sequence[str] = (), has_leds: bool = False) -> Track:
     ticks_col = data[:, 0].astype(np.int64)
     ids = data[:, 1].astype(np.int64)
     back = np.nonzero(np.diff(ticks_col) < 0)[0]
@@ -448,10 +582,14 @@ def _to_track(path: str, data: np.ndarray, line_numbers: np.ndarray, expected_ro
         out = np.full(shape, np.nan)
         out[tick_index, ids] = data[:, len(ROBOT_COLUMNS) + k]
         extra[name] = out
+    leds = np.zeros(shape + (LED_COUNT, 3), dtype=np.uint8)
+    if has_leds:
+        first = len(ROBOT_COLUMNS) + len(extra_names)
+        leds[tick_index, ids] = data[:, first:first + 3 * LED_COUNT].reshape(-1, LED_COUNT, 3).astype(np.uint8)
     return Track(ticks=ticks, x=grid("x", np.float64), y=grid("y", np.float64), theta=grid("theta", np.float64),
                  alive=grid("alive", np.int64) != 0, state=grid("state", np.int64), label=grid("label", np.int64),
                  parent=grid("parent", np.int64), leader=grid("leader", np.int64) != 0,
-                 net_force=grid("net_force", np.float64), extra=extra)
+                 net_force=grid("net_force", np.float64), extra=extra, leds=leds)
 
 
 # --- events.jsonl -----------------------------------------------------------------------------------------

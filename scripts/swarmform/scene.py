@@ -1,5 +1,7 @@
 """The arena at one tick, as the paper's Figs. 4-9 show it: walls, obstacles, the goal, robots coloured by state,
-parent links, the leader marked, dead robots as grey crosses.
+parent links, the leader marked, dead robots as grey crosses; and what the Khepera IV's optional sensors and
+actuators meet: the floor under everything (its image, its regions), the light sources, each live robot's lit
+LEDs as three small dots on it.
 
 One Scene is built per figure: the static parts (arena, obstacles, goal, legend) are drawn once, and the few
 dynamic artists (robots, links, leader, title) are updated in place by `show(index)`. The animation reuses the
@@ -7,6 +9,8 @@ same Scene with blitting, so a frame costs only the dynamic artists.
 """
 
 import math
+import os
+import warnings
 from typing import Any, Optional, Sequence
 
 import matplotlib
@@ -20,13 +24,22 @@ from matplotlib.patches import Circle, Polygon, Rectangle  # noqa: E402
 
 from .geometry import view_bounds  # noqa: E402
 from .recording import STATE_COLOURS  # noqa: E402,F401  (the paper's; a recording carries its behaviour's)
-from .recording import Recording, World  # noqa: E402
+from .recording import Floor, FloorRegion, Recording, World  # noqa: E402
 
 Bounds = tuple[float, float, float, float]  # xmin, xmax, ymin, ymax (m)
 States = dict[int, tuple[str, str]]  # a behaviour's states: value -> (name, colour)
 UNKNOWN_COLOUR = "#000000"
 OBSTACLE_COLOUR = "#6d4c41"
 WALL_COLOUR = "#424242"
+LIGHT_COLOUR = "#ffd600"
+LIGHT_EDGE = "#e65100"
+REGION_EDGE = "#9e9e9e"  # so that a region the floor's own colour still shows where it is
+# Below everything else, in painting order (the grid lines are at 0.5, the other patches at 1).
+Z_FLOOR, Z_FLOOR_IMAGE, Z_REGIONS = 0.1, 0.2, 0.3
+Z_LIGHTS, Z_LEDS = 4.6, 4.5  # over the robots (4), under the leader's star (5)
+# Each LED is drawn at this fraction of the drawn robot's radius from its centre, 120 degrees apart, LED 0
+# ahead: the three tell the heading too.
+LED_OFFSET = 0.55
 
 
 # Arena figures (snapshots, trajectories) are 900 px wide and as tall as the view needs at equal scales
@@ -56,8 +69,69 @@ def state_colours(states: Sequence[Any], world_states: States) -> list[str]:
     return [world_states.get(int(s), ("", UNKNOWN_COLOUR))[1] for s in states]
 
 
+def _region_patch(r: FloorRegion) -> Any:
+    if r.kind == "circle":
+        return Circle(r.centre, r.radius)
+    hx, hy = r.half_extents
+    c, s = math.cos(r.yaw), math.sin(r.yaw)
+    return Polygon([(r.centre[0] + c * dx - s * dy, r.centre[1] + s * dx + c * dy)
+                    for dx, dy in ((-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy))], closed=True)
+
+
+def draw_floor(ax: Any, world: World) -> None:
+    """The floor as the ground sensors read it (recording.Floor), under everything: its base colour over the arena,
+    its image stretched over the arena's rectangle, its regions in painting order. A plain white floor draws
+    nothing; an image that cannot be read is left out with a warning."""
+    floor: Floor = world.floor
+    if floor.plain():
+        return
+    cx, cy = world.arena_centre
+    x0, y0 = cx - world.arena_width / 2, cy - world.arena_height / 2
+    if floor.grey < 1.0 or floor.colour is not None:
+        ax.add_patch(Rectangle((x0, y0), world.arena_width, world.arena_height, facecolor=floor.face(),
+                               edgecolor="none", zorder=Z_FLOOR))
+    if floor.image:
+        try:
+            pixels = plt.imread(floor.image) if os.path.isfile(floor.image) else None
+        except (OSError, ValueError, SyntaxError) as e:
+            warnings.warn(f"{floor.image}: the floor's image cannot be read ({e}); drawn without it")
+            pixels = None
+        if pixels is None and not os.path.isfile(floor.image):
+            warnings.warn(f"{floor.image}: the floor's image is missing; drawn without it")
+        if pixels is not None:
+            # The image's top row is the arena's +y edge (world_server/world/floor.hpp).
+            ax.imshow(pixels, extent=(x0, x0 + world.arena_width, y0, y0 + world.arena_height), origin="upper",
+                      cmap="gray" if pixels.ndim == 2 else None, vmin=0.0, vmax=1.0, interpolation="nearest",
+                      zorder=Z_FLOOR_IMAGE, aspect="auto")
+    for r in floor.regions:
+        patch = _region_patch(r)
+        patch.set_facecolor(r.face())
+        patch.set_edgecolor(REGION_EDGE)
+        patch.set_linewidth(0.5)
+        patch.set_zorder(Z_REGIONS)
+        ax.add_patch(patch)
+
+
+def draw_lights(ax: Any, world: World) -> None:
+    """Each light source as a sun marker at its position, with its intensity (and height) beside it."""
+    for light in world.lights:
+        x, y = light.position
+        ax.plot([x], [y], marker="*", markersize=16, markerfacecolor=LIGHT_COLOUR, markeredgecolor=LIGHT_EDGE,
+                markeredgewidth=1.0, linestyle="", zorder=Z_LIGHTS)
+        ax.annotate(f"light I={light.intensity:g}, h={light.height:g} m", (x, y), textcoords="offset points",
+                    xytext=(0, 9), ha="center", fontsize=7, color=LIGHT_EDGE, zorder=Z_LIGHTS)
+
+
+def led_positions(x: np.ndarray, y: np.ndarray, theta: np.ndarray, radius: float) -> np.ndarray:
+    """[N, 3, 2]: where each robot's three LEDs are drawn, `radius` the robot's drawn radius (m)."""
+    angles = theta[:, None] + np.array([0.0, 2 * math.pi / 3, -2 * math.pi / 3])[None, :]
+    r = LED_OFFSET * radius
+    return np.stack([x[:, None] + r * np.cos(angles), y[:, None] + r * np.sin(angles)], axis=-1)
+
+
 def draw_static(ax: Any, world: World, bounds: Bounds) -> None:
-    """Walls, obstacles and the goal; the axes set to `bounds` with equal scales, in metres."""
+    """The floor, walls, obstacles, the goal and the lights; the axes set to `bounds` with equal scales, in
+    metres."""
     x0, x1, y0, y1 = bounds
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)
@@ -66,6 +140,7 @@ def draw_static(ax: Any, world: World, bounds: Bounds) -> None:
     ax.set_ylabel("y (m)")
     ax.grid(True, color="#e0e0e0", linewidth=0.5)
     ax.set_axisbelow(True)
+    draw_floor(ax, world)
     cx, cy = world.arena_centre
     ax.add_patch(Rectangle((cx - world.arena_width / 2, cy - world.arena_height / 2), world.arena_width,
                            world.arena_height, fill=False, edgecolor=WALL_COLOUR,
@@ -85,12 +160,13 @@ def draw_static(ax: Any, world: World, bounds: Bounds) -> None:
         ax.plot([gx], [gy], marker="x", color="#2e7d32", markersize=8)
         ax.annotate("goal", (gx, gy + gr), textcoords="offset points", xytext=(0, 3), ha="center",
                     color="#2e7d32", fontsize=8)
+    draw_lights(ax, world)
 
 
 def legend_handles(states_present: set[int], world_states: States, leaders: bool = True,
-                   links: bool = True) -> list[Any]:
+                   links: bool = True, lights: bool = False, leds: bool = False) -> list[Any]:
     """The legend: the behaviour's states shown in this run, then leader and parent link only when the run's
-    telemetry has any (the paper's), and the dead."""
+    telemetry has any (the paper's), the dead, and the lights and LEDs when the run has any."""
     handles = [Line2D([], [], marker="o", linestyle="", markerfacecolor=world_states[s][1], markeredgecolor="black",
                       markersize=7, label=world_states[s][0]) for s in sorted(states_present) if s in world_states]
     if leaders:
@@ -99,6 +175,12 @@ def legend_handles(states_present: set[int], world_states: States, leaders: bool
     handles.append(Line2D([], [], marker="x", linestyle="", color="#757575", markersize=7, label="dead"))
     if links:
         handles.append(Line2D([], [], color="#455a64", linewidth=0.8, label="parent link"))
+    if lights:
+        handles.append(Line2D([], [], marker="*", linestyle="", markerfacecolor=LIGHT_COLOUR,
+                              markeredgecolor=LIGHT_EDGE, markersize=12, label="light"))
+    if leds:
+        handles.append(Line2D([], [], marker=".", linestyle="", color="#43a047", markersize=7,
+                              label="LEDs (lit)"))
     return handles
 
 
@@ -122,7 +204,8 @@ class Scene:
         if legend:
             present = set(int(s) for s in np.unique(rec.track.state))  # only the states this run shows
             handles = legend_handles(present, rec.world.states, bool(rec.track.leader.any()),
-                                     bool((rec.track.parent >= 0).any()))
+                                     bool((rec.track.parent >= 0).any()), bool(rec.world.lights),
+                                     rec.track.leds is not None and bool(rec.track.leds.any()))
             self.fig.legend(handles=handles, loc="center left",
                             bbox_to_anchor=(0.82, 0.5), fontsize=8, frameon=False)
         # Robots at true size, but never smaller than a few pixels (the arena is large, the robots small).
@@ -135,13 +218,17 @@ class Scene:
                                     zorder=4)
         self.leader = self.ax.scatter([], [], s=(diameter_pt * 2.6) ** 2, marker="*", facecolors="none",
                                       edgecolors="red", linewidths=1.2, zorder=5)
+        # The LEDs: dots a third of the drawn robot wide (never under 2.5 points), placed by the drawn radius.
+        self.drawn_radius = diameter_pt / 2 / ppm  # m
+        led_pt = max(diameter_pt * 0.34, 2.5)
+        self.leds = self.ax.scatter([], [], s=led_pt ** 2, edgecolors="black", linewidths=0.25, zorder=Z_LEDS)
         # The caption is a figure text just above the axes as drawn (after the equal-aspect shrink): an axes
         # title would be moved by matplotlib only during a full draw, which blitted frames never do.
         self.ax.apply_aspect()
         box = self.ax.get_position()
         self.title = self.fig.text((box.x0 + box.x1) / 2, box.y1 + 0.015, "", ha="center", va="bottom",
                                    fontsize=11)
-        self.dynamic = [self.links, self.robots, self.dead, self.leader, self.title]
+        self.dynamic = [self.links, self.robots, self.dead, self.leds, self.leader, self.title]
 
     def show(self, i: int, caption: Optional[str] = None) -> None:
         """Updates the dynamic artists to recorded tick index `i`."""
@@ -161,12 +248,28 @@ class Scene:
             if 0 <= p < n and p != k:
                 segments.append([(x[k], y[k]), (x[p], y[p])])
         self.links.set_segments(segments)
+        self._show_leds(i, live)
         if self.labels:
             self._label(live, x, y, t.theta[i])
         tick = int(t.ticks[i])
         seconds = tick / self.rec.world.tick_rate if self.rec.world.tick_rate > 0 else 0.0
         text = f"t = {tick} ({seconds:.1f} s)   alive {len(live)}/{n}"
         self.title.set_text(f"{text}: {caption}" if caption else text)
+
+    def _show_leds(self, i: int, live: np.ndarray) -> None:
+        """The lit LEDs of the live robots at tick index `i` (an LED that is off is not drawn)."""
+        t = self.rec.track
+        if t.leds is None or not live.size:
+            self.leds.set_offsets(np.empty((0, 2)))
+            return
+        colours = t.leds[i][live]  # [n, 3, 3]
+        lit = colours.any(axis=2)  # [n, 3]
+        if not lit.any():
+            self.leds.set_offsets(np.empty((0, 2)))
+            return
+        at = led_positions(t.x[i][live], t.y[i][live], t.theta[i][live], self.drawn_radius)
+        self.leds.set_offsets(at[lit])
+        self.leds.set_facecolors(colours[lit] / 255.0)
 
     def _label(self, live: np.ndarray, x: np.ndarray, y: np.ndarray, theta: np.ndarray) -> None:
         """Ids and headings of the live robots (replacing the previous tick's)."""

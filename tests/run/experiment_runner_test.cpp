@@ -198,6 +198,22 @@ TEST(ExperimentRunner, TheRegistryRefusesAnInconsistentDeclaration) {
             "behaviour 'unjudged' declares sensor lidar, which this world does not model yet "
             "(docs/behaviour-api.md, \"Sensors and actuators\")");
   EXPECT_THROW(registry.add(d), std::logic_error);
+  // A telemetry column named as one of robots.csv's own, twice, or not lower_case would make the file
+  // ambiguous: refused, named.
+  static constexpr std::array kLeds = {behaviour::TelemetryColumn{"leds", ""}};
+  static constexpr std::array kTwice = {behaviour::TelemetryColumn{"seen", ""},
+                                        behaviour::TelemetryColumn{"seen", ""}};
+  static constexpr std::array kFine = {behaviour::TelemetryColumn{"seen", ""},
+                                       behaviour::TelemetryColumn{"heard_2", ""}};
+  d = kUnjudged;
+  d.telemetry = kLeds;
+  EXPECT_EQ(behaviour::check_telemetry(d),
+            "behaviour 'unjudged': telemetry column 'leds' is one of robots.csv's own columns");
+  EXPECT_THROW(registry.add(d), std::logic_error);
+  d.telemetry = kTwice;
+  EXPECT_EQ(behaviour::check_telemetry(d), "behaviour 'unjudged': telemetry column 'seen' twice");
+  d.telemetry = kFine;
+  EXPECT_EQ(behaviour::check_telemetry(d), "");
 }
 
 }  // namespace

@@ -44,6 +44,11 @@ std::vector<RobotTruth> robots_at(Tick tick) {
     r.telemetry.parent = i == 0 ? -1 : 0;
     r.telemetry.leader = i == 0;
     r.telemetry.net_force = std::sqrt(2.0) * static_cast<double>(tick);
+    // Robot 1's LEDs change every tick (every byte value passes through one of them); the others' stay off.
+    if (i == 1) {
+      const auto v = static_cast<std::uint8_t>(tick * 37 % 256);
+      r.leds = {Rgb{v, 0, 255}, Rgb{}, Rgb{255, static_cast<std::uint8_t>(255 - v), 16}};
+    }
   }
   return robots;
 }
@@ -80,8 +85,18 @@ TEST(Recording, RobotsCsvAndEventsRoundTrip) {
       EXPECT_EQ(r.parent, expected[i].telemetry.parent);
       EXPECT_EQ(r.leader, expected[i].telemetry.leader);
       EXPECT_EQ(r.net_force, expected[i].telemetry.net_force);
+      EXPECT_EQ(r.leds, expected[i].leds) << "robot " << i << " tick " << t;
     }
   }
+  // The LEDs' column: empty for robots whose LEDs are all off, one #rrggbb a LED otherwise.
+  std::ifstream csv(dir / "robots.csv");
+  std::string header, row0, row1;
+  std::getline(csv, header);
+  std::getline(csv, row0);
+  std::getline(csv, row1);
+  EXPECT_EQ(header, std::string(kRobotsCsvHeader) + ",leds");
+  EXPECT_EQ(row0.back(), ',') << row0;
+  EXPECT_TRUE(row1.ends_with(",#0000ff #000000 #ffff10")) << row1;
   const auto events = read_events_jsonl((dir / "events.jsonl").string());
   ASSERT_EQ(events.size(), 2u);
   EXPECT_EQ(events[0]["tick"], 12);
@@ -140,6 +155,44 @@ TEST(Recording, TruncatedFilesAreReportedWithFileAndLine) {
   fs::remove_all(dir);
 }
 
+// A recording older than the `leds` column (with a behaviour's telemetry column after the fixed ones) reads
+// with every LED off; a bad `leds` field is named with its line.
+TEST(Recording, RobotsCsvWithoutTheLedsColumnStillReads) {
+  const auto dir = fresh_dir("no-leds");
+  fs::create_directories(dir);
+  const auto csv = (dir / "robots.csv").string();
+  {
+    std::ofstream out(csv);
+    out << kRobotsCsvHeader << ",neighbours\n0,0,1,2,3,1,0,-1,-1,0,0,\n1,0,1.5,2,3,1,4,2,-1,1,0.5,3\n";
+  }
+  const auto rows = read_robots_csv(csv);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[1].pose.x, 1.5);
+  EXPECT_EQ(rows[1].state, 4);
+  EXPECT_EQ(rows[1].net_force, 0.5);
+  for (const auto& r : rows) EXPECT_EQ(r.leds, (std::array<Rgb, kLedCount>{}));
+  {
+    std::ofstream out(csv);
+    out << kRobotsCsvHeader << ",leds,neighbours\n0,0,1,2,3,1,0,-1,-1,0,0,#FF8000 #000000 #000001,2\n"
+        << "1,0,1,2,3,1,0,-1,-1,0,0,#ff8000,2\n";
+  }
+  try {
+    read_robots_csv(csv);
+    FAIL() << "a bad leds field must be reported";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_NE(std::string(e.what()).find("bad leds '#ff8000'"), std::string::npos) << e.what();
+  }
+  {
+    std::ofstream out(csv);
+    out << kRobotsCsvHeader << ",leds,neighbours\n0,0,1,2,3,1,0,-1,-1,0,0,#FF8000 #000000 #000001,2\n";
+  }
+  const auto upper = read_robots_csv(csv);
+  ASSERT_EQ(upper.size(), 1u);
+  EXPECT_EQ(upper[0].leds, (std::array<Rgb, kLedCount>{Rgb{255, 128, 0}, Rgb{}, Rgb{0, 0, 1}}));
+  fs::remove_all(dir);
+}
+
 Scenario small_scenario() {
   Scenario s;
   s.source = "scenarios/test.yaml";
@@ -167,6 +220,45 @@ TEST(Recording, WorldJsonHasTheDocumentedFields) {
   EXPECT_EQ(j["obstacles"][1]["radius"], 0.3);
   EXPECT_EQ(j["goal"]["y"], 0.5);
   EXPECT_EQ(j["shape"]["cells"].size(), 4u);
+  // No optional sensors' world: a plain white floor, no lights, no battery.
+  EXPECT_EQ(j["floor"]["grey"], 1.0);
+  EXPECT_TRUE(j["floor"]["colour"].is_null());
+  EXPECT_TRUE(j["floor"]["image"].is_null());
+  EXPECT_TRUE(j["floor"]["regions"].empty());
+  EXPECT_TRUE(j["lights"].empty());
+  EXPECT_TRUE(j["battery"].is_null());
+}
+
+// The floor (base, regions in painting order, each with its colour when the scenario gave one), the lights
+// and the battery, as the scenario said them, for the pictures.
+TEST(Recording, WorldJsonCarriesTheFloorTheLightsAndTheBattery) {
+  Scenario s = small_scenario();
+  s.floor.grey = 0.5;
+  s.floor.regions.push_back({FloorRegion::Kind::Circle, {2.0, -1.0}, 0.5, {}, 0.0, 0.0, std::nullopt});
+  s.floor.regions.push_back(
+      {FloorRegion::Kind::Rectangle, {-2.0, 1.0}, 0.0, {0.5, 2.0}, 0.25, 0.299, Rgb{255, 0, 10}});
+  s.lights.push_back({{2.6, 0.3}, 0.3, 2.5});
+  s.battery = BatterySpec{100.0, 0.1, 20.0, 0.75};
+  const auto j = describe_world(s, "in-process");
+  const auto& f = j["floor"];
+  EXPECT_EQ(f["grey"], 0.5);
+  EXPECT_TRUE(f["image"].is_null());
+  ASSERT_EQ(f["regions"].size(), 2u);
+  EXPECT_EQ(f["regions"][0]["kind"], "circle");
+  EXPECT_EQ(f["regions"][0]["centre"][0], 2.0);
+  EXPECT_EQ(f["regions"][0]["radius"], 0.5);
+  EXPECT_EQ(f["regions"][0]["grey"], 0.0);
+  EXPECT_TRUE(f["regions"][0]["colour"].is_null());
+  EXPECT_EQ(f["regions"][1]["kind"], "rectangle");
+  EXPECT_EQ(f["regions"][1]["half_extents"][1], 2.0);
+  EXPECT_EQ(f["regions"][1]["yaw"], 0.25);
+  EXPECT_EQ(f["regions"][1]["colour"], "#ff000a");
+  ASSERT_EQ(j["lights"].size(), 1u);
+  EXPECT_EQ(j["lights"][0]["position"][0], 2.6);
+  EXPECT_EQ(j["lights"][0]["height"], 0.3);
+  EXPECT_EQ(j["lights"][0]["intensity"], 2.5);
+  EXPECT_EQ(j["battery"]["capacity"], 100.0);
+  EXPECT_EQ(j["battery"]["start"], 0.75);
 }
 
 // A lockstep run's summary inputs: `ticks` ticks in `wall_seconds`, the rest pointing at the caller's

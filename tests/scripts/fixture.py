@@ -110,3 +110,57 @@ def make_run(run_dir, ticks=80, robots=7, summary=True, distortion=False, death=
         with open(os.path.join(run_dir, "summary.json"), "w") as f:
             json.dump(doc, f, indent=1)
     return rows
+
+
+# --- a run of the Khepera IV's world: a floor, a light, a battery, LEDs --------------------------------------
+
+KHEPERA_TICKS, KHEPERA_ROBOTS = 20, 4
+BLUE_DISC = {"kind": "circle", "centre": [-1.5, 1.8], "radius": 0.5, "grey": 0.114, "colour": "#0000ff"}
+GREY_BAND = {"kind": "rectangle", "centre": [2.0, -1.0], "half_extents": [1.0, 0.3], "yaw": 0.2, "grey": 0.3,
+             "colour": None}
+LIGHT = {"position": [3.0, 1.8], "height": 0.3, "intensity": 2.5}
+BATTERY = {"capacity": 100.0, "idle": 0.1, "moving": 20.0, "start": 0.8}
+GREEN, RED, BLUE, OFF = "#00ff00", "#ff0000", "#0000ff", "#000000"
+
+
+def khepera_leds(tick, k):
+    """robots.csv's leds field of robot k at `tick`: robot 0 green from tick 5, robot 1 red-off-blue always,
+    robot 3 green (it dies at tick 10: a dead robot's LEDs are not drawn), robot 2 never lit."""
+    if k == 0:
+        return f"{GREEN} {GREEN} {GREEN}" if tick >= 5 else ""
+    if k == 1:
+        return f"{RED} {OFF} {BLUE}"
+    if k == 3:
+        return f"{GREEN} {OFF} {OFF}"
+    return ""
+
+
+def make_khepera_run(run_dir, floor_image=None, leds=True):
+    """Writes a run of 4 robots crossing an 8 m x 6 m arena whose world.json has a grey floor with a blue disc
+    and a grey band (and `floor_image`, a PNG path, when given), a light and batteries; robots.csv has the
+    `leds` column (khepera_leds) unless `leds` is False (a recording older than it). Returns world.json's
+    document."""
+    os.makedirs(run_dir, exist_ok=True)
+    floor = {"grey": 0.9, "colour": None, "regions": json.loads(json.dumps([BLUE_DISC, GREY_BAND])),
+             "image": None if floor_image is None else {"file": floor_image, "width": 8, "height": 6}}
+    doc = {"format": "swarmform-recording", "version": 1,
+           "arena": {"centre": [0.0, 0.0], "width": 8.0, "height": 6.0, "walls": True}, "obstacles": [],
+           "goal": None, "grid_spacing": 1.0, "comm_range": 3.0, "robots": KHEPERA_ROBOTS, "seed": 5,
+           "mode": "in-process", "tick_rate": 10.0, "robot_radius": 0.0704, "floor": floor, "lights": [LIGHT],
+           "battery": BATTERY, "shape": {"rows": 0, "cols": 0, "cells": []}, "behaviour": "phototaxis",
+           "behaviour_descriptor": {"name": "phototaxis", "needs_shape": False, "needs_goal": False,
+                                    "states": [{"value": 0, "name": "seeking", "colour": "#9e9e9e"}],
+                                    "telemetry": [{"name": "light", "doc": "strongest reading"}]}}
+    with open(os.path.join(run_dir, "world.json"), "w") as f:
+        json.dump(doc, f, indent=1)
+    with open(os.path.join(run_dir, "robots.csv"), "w") as f:
+        f.write(HEADER + (",leds" if leds else "") + ",light\n")
+        for t in range(KHEPERA_TICKS + 1):
+            for k in range(KHEPERA_ROBOTS):
+                x, y = -1.0 + 0.05 * t, -0.6 + 0.4 * k
+                alive = 0 if k == 3 and t > 10 else 1
+                led = ("," + khepera_leds(t, k)) if leds else ""
+                f.write(f"{t},{k},{x},{y},0.0,{alive},0,-1,-1,0,0{led},{0.01 * t}\n")
+    with open(os.path.join(run_dir, "events.jsonl"), "w") as f:
+        f.write(json.dumps({"tick": 10, "kind": "death", "id": 3}) + "\n")
+    return doc

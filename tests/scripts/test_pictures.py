@@ -12,7 +12,7 @@ import numpy as np
 
 import helpers
 import fixture
-from swarmform import animation, pictures, recording
+from swarmform import animation, pictures, recording, scene
 
 
 class PicturesTest(unittest.TestCase):
@@ -107,6 +107,131 @@ class PicturesTest(unittest.TestCase):
                 helpers.png_size(p)
         finally:
             shutil.rmtree(d)
+
+
+def rgb_at(scene, x, y):
+    """The drawn (r, g, b) of a Scene's figure at arena point (x, y)."""
+    scene.fig.canvas.draw()
+    image = np.asarray(scene.fig.canvas.buffer_rgba())
+    px, py = scene.ax.transData.transform((x, y))
+    return tuple(int(v) for v in image[image.shape[0] - 1 - int(round(py)), int(round(px)), :3])
+
+
+def png_rgb_at(path, scene, x, y):
+    """The (r, g, b) of a saved PNG at arena point (x, y), placed by a Scene of the same size (the same layout)."""
+    import matplotlib.pyplot as plt
+    image = plt.imread(path)
+    px, py = scene.ax.transData.transform((x, y))
+    return tuple(int(round(255 * v)) for v in image[image.shape[0] - 1 - int(round(py)), int(round(px)), :3])
+
+
+class KheperaPicturesTest(unittest.TestCase):
+    """The floor under everything (its regions and image), the light sources and each live robot's lit LEDs are
+    drawn in the snapshots, the trajectories and the animation's frames."""
+
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="swarm-pics-khepera-")
+
+    def tearDown(self):
+        shutil.rmtree(self.dir)
+
+    def scene(self, rec, tick=0):
+        view = scene.Scene(rec, pictures.picture_size(rec, "snapshot"), pictures.DPI)
+        self.addCleanup(view.close)
+        view.show(rec.track.index_of(tick))
+        return view
+
+    def assertColour(self, got, want, what, tolerance=12):
+        self.assertTrue(all(abs(g - w) <= tolerance for g, w in zip(got, want)), f"{what}: {got}, expected {want}")
+
+    def test_floor_regions_the_light_and_the_floor_are_drawn_in_their_colours(self):
+        fixture.make_khepera_run(self.dir)
+        rec = recording.load(self.dir)
+        view = self.scene(rec)
+        self.assertColour(rgb_at(view, -1.5, 1.8), (0, 0, 255), "the blue disc's centre")
+        self.assertColour(rgb_at(view, 2.3, -0.9), (77, 77, 77), "the grey band (grey 0.3)")
+        self.assertColour(rgb_at(view, 3.0, 1.8), (255, 214, 0), "the light")
+        self.assertColour(rgb_at(view, 3.5, 0.5), (230, 230, 230), "the floor's own grey 0.9")
+        legend = [t.get_text() for t in view.fig.legends[0].get_texts()]
+        self.assertIn("light", legend)
+        self.assertIn("LEDs (lit)", legend)
+        # The light's intensity is written beside it.
+        self.assertIn("light I=2.5, h=0.3 m", [t.get_text() for t in view.ax.texts])
+        # The same in the files the launcher writes: a snapshot and the trajectories.
+        written = pictures.render_all(rec, animate=False, log=lambda m: None)
+        snapshot = [p for p in written if p.endswith("snapshot_t00000.png")][0]
+        self.assertColour(png_rgb_at(snapshot, view, -1.5, 1.8), (0, 0, 255), "the blue disc in the snapshot")
+        self.assertColour(png_rgb_at(snapshot, view, 3.0, 1.8), (255, 214, 0), "the light in the snapshot")
+
+    def test_each_live_robots_lit_leds_are_three_dots_on_it(self):
+        fixture.make_khepera_run(self.dir)
+        rec = recording.load(self.dir)
+        view = self.scene(rec, 7)
+        t, i = rec.track, rec.track.index_of(7)
+
+        def dots():
+            return [tuple(int(round(255 * v)) for v in c[:3]) for c in view.leds.get_facecolors()]
+
+        # Tick 7: robot 0 three green, robot 1 red and blue (its middle LED is off), robot 3 one green.
+        self.assertEqual(len(view.leds.get_offsets()), 6)
+        self.assertEqual(sorted(dots()), sorted([(0, 255, 0)] * 4 + [(255, 0, 0), (0, 0, 255)]))
+        at = scene.led_positions(t.x[i], t.y[i], t.theta[i], view.drawn_radius)
+        self.assertIn(tuple(at[1, 0]), [tuple(o) for o in view.leds.get_offsets()])  # robot 1's LED 0 is drawn
+        self.assertNotIn(tuple(at[1, 1]), [tuple(o) for o in view.leds.get_offsets()])  # its LED 1 is off
+        for k in range(t.robots):  # on the robot's body as drawn
+            self.assertLess(float(np.hypot(*(at[k] - [t.x[i, k], t.y[i, k]]).T).max()), view.drawn_radius)
+        self.assertColour(rgb_at(view, *at[0, 0]), (0, 255, 0), "robot 0's LED 0")
+        self.assertColour(rgb_at(view, *at[1, 2]), (0, 0, 255), "robot 1's LED 2")
+        # Tick 2: robot 0 not lit yet. Tick 15: robot 3 is dead, its LEDs not drawn.
+        view.show(t.index_of(2))
+        self.assertEqual(len(view.leds.get_offsets()), 3)
+        view.show(t.index_of(15))
+        self.assertEqual(sorted(dots()), sorted([(0, 255, 0)] * 3 + [(255, 0, 0), (0, 0, 255)]))
+
+    def test_a_recording_without_leds_draws_no_dots(self):
+        fixture.make_khepera_run(self.dir, leds=False)
+        rec = recording.load(self.dir)
+        view = self.scene(rec, 7)
+        self.assertEqual(len(view.leds.get_offsets()), 0)
+        self.assertNotIn("LEDs (lit)", [t.get_text() for t in view.fig.legends[0].get_texts()])
+
+    def test_an_image_floor_is_drawn_stretched_over_the_arena(self):
+        import matplotlib.pyplot as plt
+        png = os.path.join(self.dir, "floor.png")
+        pixels = np.ones((6, 8, 3))
+        pixels[:, :4] = (1.0, 0.0, 0.0)  # the arena's west half red (x < 0), the east half white
+        plt.imsave(png, pixels)
+        fixture.make_khepera_run(self.dir, floor_image=png)
+        view = self.scene(recording.load(self.dir))
+        self.assertColour(rgb_at(view, -1.7, -1.3), (255, 0, 0), "the image's west half")
+        self.assertColour(rgb_at(view, 3.5, 0.5), (255, 255, 255), "the image's east half, over the floor's grey")
+        self.assertColour(rgb_at(view, -1.5, 1.8), (0, 0, 255), "a region over the image")
+
+    def test_a_missing_floor_image_is_a_warning_and_the_rest_is_drawn(self):
+        fixture.make_khepera_run(self.dir, floor_image=os.path.join(self.dir, "gone.png"))
+        rec = recording.load(self.dir)
+        with self.assertWarnsRegex(UserWarning, "gone.png: the floor's image is missing"):
+            view = self.scene(rec)
+        self.assertColour(rgb_at(view, -1.5, 1.8), (0, 0, 255), "the blue disc")
+
+    def test_the_animation_frames_show_the_floor_and_the_leds(self):
+        fixture.make_khepera_run(self.dir)
+        rec = recording.load(self.dir)
+        out = os.path.join(self.dir, "pictures")
+        os.makedirs(out)
+        animation.render(rec, out, log=lambda m: None)
+        w, h = animation.MP4_SIZE
+        view = scene.Scene(rec, animation.MP4_SIZE, 100)  # the animation's own layout
+        self.addCleanup(view.close)
+        frame = helpers.video_frame(os.path.join(out, "animation.mp4"), 7, w, h)
+        px, py = view.ax.transData.transform((-1.5, 1.8))
+        self.assertColour(tuple(int(v) for v in frame[h - 1 - int(round(py)), int(round(px)), :3]), (0, 0, 255),
+                          "the blue disc in frame 7", tolerance=40)
+        t = rec.track
+        at = scene.led_positions(t.x[7], t.y[7], t.theta[7], view.drawn_radius)
+        gx, gy = view.ax.transData.transform(at[0, 0])
+        g = frame[h - 1 - int(round(gy)), int(round(gx)), :3].astype(int)
+        self.assertTrue(g[1] > 150 and g[0] < 110 and g[2] < 110, f"robot 0's green LED in frame 7: {g}")
 
 
 class GifLimitTest(unittest.TestCase):

@@ -170,3 +170,83 @@ class RecordingTest(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class KheperaRecordingTest(unittest.TestCase):
+    """world.json's floor, lights and battery, and robots.csv's LEDs, read back; an older recording without them
+    still reads."""
+
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="swarm-rec-khepera-")
+
+    def tearDown(self):
+        shutil.rmtree(self.dir)
+
+    def test_world_json_gives_back_the_floor_the_lights_and_the_battery(self):
+        fixture.make_khepera_run(self.dir, floor_image="/x/floor.png")
+        w = recording.load(self.dir).world
+        self.assertEqual(w.floor.grey, 0.9)
+        self.assertIsNone(w.floor.colour)
+        self.assertEqual(w.floor.image, "/x/floor.png")
+        self.assertEqual(w.floor.image_size, (8, 6))
+        self.assertFalse(w.floor.plain())
+        disc, band = w.floor.regions
+        self.assertEqual((disc.kind, disc.centre, disc.radius, disc.colour), ("circle", (-1.5, 1.8), 0.5, "#0000ff"))
+        self.assertEqual(disc.face(), "#0000ff")
+        self.assertEqual((band.kind, band.centre, band.half_extents, band.yaw), ("rectangle", (2.0, -1.0),
+                                                                                 (1.0, 0.3), 0.2))
+        self.assertIsNone(band.colour)
+        self.assertEqual(band.face(), "#4d4d4d")  # its grey, 0.3
+        self.assertEqual(len(w.lights), 1)
+        self.assertEqual((w.lights[0].position, w.lights[0].height, w.lights[0].intensity), ((3.0, 1.8), 0.3, 2.5))
+        self.assertEqual(w.battery, fixture.BATTERY)
+
+    def test_a_world_json_without_them_is_a_plain_floor_no_light_no_battery(self):
+        fixture.make_run(self.dir, ticks=10, robots=3)
+        w = recording.load(self.dir).world
+        self.assertTrue(w.floor.plain())
+        self.assertEqual(w.lights, [])
+        self.assertIsNone(w.battery)
+
+    def test_a_bad_floor_region_names_it(self):
+        doc = fixture.make_khepera_run(self.dir)
+        doc["floor"]["regions"][1]["kind"] = "hexagon"
+        with open(os.path.join(self.dir, "world.json"), "w") as f:
+            json.dump(doc, f)
+        with self.assertRaises(recording.RecordingError) as cm:
+            recording.load(self.dir)
+        self.assertIn("floor.regions[1].kind: expected 'circle' or 'rectangle', got 'hexagon'", str(cm.exception))
+
+    def test_robots_csv_gives_back_each_robots_leds_at_each_tick(self):
+        fixture.make_khepera_run(self.dir)
+        t = recording.load(self.dir).track
+        self.assertEqual(t.leds.shape, (fixture.KHEPERA_TICKS + 1, fixture.KHEPERA_ROBOTS, 3, 3))
+        for tick in range(fixture.KHEPERA_TICKS + 1):
+            for k in range(fixture.KHEPERA_ROBOTS):
+                text = fixture.khepera_leds(tick, k)
+                want = [[0, 0, 0]] * 3 if not text else [list(bytes.fromhex(c[1:])) for c in text.split(" ")]
+                self.assertEqual(t.leds[tick, k].tolist(), want, (tick, k))
+        # The behaviour's own column is still its own, after the LEDs.
+        self.assertEqual(list(t.extra), ["light"])
+        self.assertAlmostEqual(t.extra["light"][7, 2], 0.07)
+
+    def test_robots_csv_without_the_leds_column_reads_with_every_led_off(self):
+        fixture.make_khepera_run(self.dir, leds=False)
+        t = recording.load(self.dir).track
+        self.assertEqual(t.leds.shape, (fixture.KHEPERA_TICKS + 1, fixture.KHEPERA_ROBOTS, 3, 3))
+        self.assertFalse(t.leds.any())
+        self.assertEqual(list(t.extra), ["light"])
+
+    def test_a_bad_leds_field_names_the_line(self):
+        fixture.make_khepera_run(self.dir)
+        path = os.path.join(self.dir, "robots.csv")
+        with open(path) as f:
+            lines = f.read().split("\n")
+        lines[6] = lines[6].replace("#ff0000 #000000 #0000ff", "#ff0000 #0000ff")
+        with open(path, "w") as f:
+            f.write("\n".join(lines))
+        with self.assertRaises(recording.RecordingError) as cm:
+            recording.load(self.dir)
+        self.assertEqual(cm.exception.line, 7)
+        self.assertIn("column 'leds': expected empty or '#rrggbb #rrggbb #rrggbb', got '#ff0000 #0000ff'",
+                      str(cm.exception))

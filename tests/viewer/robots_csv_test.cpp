@@ -152,6 +152,29 @@ TEST_F(RobotsCsvTest, TheBehavioursColumnsAndWordsForBooleans) {
   EXPECT_DOUBLE_EQ(r.rows[1].extra[1], 0.5);
 }
 
+// The LEDs' column is read into each row (off when empty) and is not one of the behaviour's columns; a row
+// whose LEDs cannot be read is a bad row.
+TEST_F(RobotsCsvTest, TheLedsColumnIsReadAndIsNotTelemetry) {
+  {
+    std::ofstream f(path_);
+    f << std::string(kHeader) << ",leds,neighbours\n"
+      << "0,0,1.5,2.5,0.1,1,3,-1,-1,0,0.25,,2\n"
+      << "0,1,1.5,2.5,0.1,1,3,-1,-1,0,0.25,#00ff00 #000000 #0a0b0c,\n"
+      << "1,0,1.5,2.5,0.1,1,3,-1,-1,0,0.25,#00ff00,2\n"
+      << "1,1,1.5,2.5,0.1,1,3,-1,-1,0,0.25,,2\n";
+  }
+  RobotsCsv csv(path_, 2);
+  ASSERT_EQ(csv.extra_columns(), (std::vector<std::string>{"neighbours"}));
+  const RecordedTick& r = csv.read(0);
+  ASSERT_EQ(r.rows.size(), 2u);
+  EXPECT_EQ(r.rows[0].leds, (std::array<Rgb, kLedCount>{}));
+  EXPECT_DOUBLE_EQ(r.rows[0].extra[0], 2.0);
+  EXPECT_EQ(r.rows[1].leds, (std::array<Rgb, kLedCount>{Rgb{0, 255, 0}, Rgb{}, Rgb{10, 11, 12}}));
+  EXPECT_TRUE(std::isnan(r.rows[1].extra[0]));
+  EXPECT_EQ(csv.read(1).rows.size(), 1u);
+  EXPECT_EQ(csv.bad_rows(), 1u);
+}
+
 TEST_F(RobotsCsvTest, BadFilesAreRefusedNamingWhat) {
   auto message = [&]() -> std::string {
     try {

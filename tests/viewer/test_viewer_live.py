@@ -2,7 +2,7 @@
 scripts/swarm, DDS test domain offset 62, one run at a time): in a headless Chromium the page draws the robots where
 robots.csv puts them in their state's colour, pause holds the tick, step 1 moves it by exactly one, a click on a
 robot opens its panel; a Foxglove client (foxglove.websocket.v1) gets the channels with their schemas, and poses
-that are robots.csv's."""
+that are robots.csv's; the aggregation example's frames carry its gathered robots' green LEDs."""
 
 import asyncio
 import json
@@ -23,6 +23,7 @@ import websockets  # Debian's python3-websockets (scripts/setup)
 import cdp
 
 SCENARIO = os.path.join(vh.ROOT, "scenarios", "paper.yaml")
+AGGREGATION_DIR = os.path.join(vh.BUILD_DIR, "examples", "behaviours", "aggregation")
 
 
 @unittest.skipUnless(vh.built("world", "agent", "viewer"), f"world_server/robot_agent/swarm_viewer not built in "
@@ -130,6 +131,51 @@ class LiveViewTest(unittest.TestCase):
                 wrong.append(f"robot {rid} at ({px:.1f}, {py:.1f}): drawn {got}, its state {r['state']} is {want}")
         self.assertEqual(wrong, [], "robots not drawn where robots.csv puts them (screenshot: page.png)")
 
+
+    @unittest.skipUnless(os.path.exists(os.path.join(AGGREGATION_DIR, "libaggregation.so")),
+                         f"the aggregation example is not built in {AGGREGATION_DIR}")
+    def test_live_frames_carry_the_robots_lit_leds(self):
+        """The aggregation example lights its LEDs green when gathered: every live frame's robot has `leds` all
+        green exactly when its state is gathered (both from its last command), and some are."""
+        out = os.path.join(self.dir, "leds")
+        port = vh.free_port()
+        scenario = os.path.join(vh.ROOT, "examples", "behaviours", "aggregation", "aggregation.yaml")
+        run = vh.SwarmRun("--scenario", scenario, "--plugin-dir", AGGREGATION_DIR, "--domain",
+                          str(vh.helpers.test_domain(62)), "--out", out, "--no-pictures", "--view-paused", "--view",
+                          str(port))
+        self.runs.append(run)
+        vh.wait_http(f"http://127.0.0.1:{port}/")
+        frames = asyncio.run(self.live_frames(port))
+        code, text = run.wait(timeout=120)
+        self.assertEqual(code, 0, text)
+        gathered = 2  # aggregation.cpp's kGathered
+        lit = 0
+        for f in frames:
+            for r in f["robots"]:
+                if not r["alive"]:
+                    continue
+                want = ["#00ff00"] * 3 if r["state"] == gathered else None
+                self.assertEqual(r.get("leds"), want, f"tick {f['tick']} robot {r['id']} state {r['state']}")
+                lit += want is not None
+        self.assertGreater(lit, 0, f"no gathered robot in {len(frames)} frames")
+
+    async def live_frames(self, port):
+        """Every frame of the run (paused at tick 0 until resumed here, then as fast as it goes)."""
+        frames = []
+        async with websockets.connect(f"ws://127.0.0.1:{port}/ws") as page:
+            await page.send(json.dumps({"cmd": "rate", "value": 60}))
+            await page.send(json.dumps({"cmd": "resume"}))
+            deadline = time.monotonic() + 90
+            while time.monotonic() < deadline:
+                try:
+                    m = json.loads(await asyncio.wait_for(page.recv(), 10))
+                except (asyncio.TimeoutError, websockets.exceptions.ConnectionClosed):
+                    break
+                if m.get("type") == "frame":
+                    frames.append(m)
+                    if m["finished"]:
+                        break
+        return frames
 
     def test_foxglove_channels_schemas_and_poses(self):
         out = os.path.join(self.dir, "fox")

@@ -276,5 +276,71 @@ class RecordedRunsTest(unittest.TestCase):
             self.assertIn(f"{bad}/{message}", out)
 
 
+@unittest.skipUnless(vh.built("viewer"), f"swarm_viewer not built in {vh.BUILD_DIR}")
+@unittest.skipIf(not os.path.exists(cdp.CHROMIUM), "chromium missing (scripts/setup installs it)")
+class KheperaReplayTest(unittest.TestCase):
+    """`swarm view` of a recording with a floor, a light and LEDs (tests/scripts/fixture.py, no DDS): the page draws
+    the floor's regions and the light from world.json and each live robot's lit LEDs from the frames."""
+
+    def setUp(self):
+        import fixture  # tests/scripts (viewer_helpers puts it on the path)
+        self.fixture = fixture
+        self.dir = tempfile.mkdtemp(prefix="sf-view-khepera-")
+        fixture.make_khepera_run(self.dir)
+        self.proc = None
+        self.browser = None
+
+    def tearDown(self):
+        if self.browser:
+            self.browser.close()
+        if self.proc:
+            try:
+                os.killpg(self.proc.pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+            self.proc.wait(timeout=10)
+        shutil.rmtree(self.dir)
+
+    def test_the_floor_the_light_and_the_leds_are_drawn(self):
+        port = vh.free_port()
+        env = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=vh.BUILD_DIR)
+        self.proc = subprocess.Popen([vh.SWARM, "view", self.dir, "--port", str(port)], stdin=subprocess.DEVNULL,
+                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env,
+                                     start_new_session=True)
+        url = f"http://127.0.0.1:{port}/"
+        vh.wait_http(url)
+        b = self.browser = cdp.Browser()
+        b.navigate(url)
+        b.wait_for("window.sfViewer && sfViewer.replay && sfViewer.frame", what="the recording loaded")
+        b.eval("(() => { const t = document.getElementById('timeline'); t.value = '7';"
+               " t.dispatchEvent(new Event('input')); })()")
+        b.wait_for("sfViewer.frame.tick === 7", what="tick 7")
+        robots = b.eval("sfViewer.frame.robots")
+        leds = {r["id"]: r.get("leds") for r in robots}
+        self.assertEqual(leds, {0: ["#00ff00"] * 3, 1: ["#ff0000", "#000000", "#0000ff"], 2: None,
+                                3: ["#00ff00", "#000000", "#000000"]})
+        img, _ = b.screenshot()
+        for (x, y), want, what in (((-1.5, 1.8), (0, 0, 255), "the blue disc"),
+                                   ((2.3, -0.9), (77, 77, 77), "the grey band"),
+                                   ((3.5, 0.5), (230, 230, 230), "the floor's grey 0.9"),
+                                   ((3.0, 1.8), (255, 214, 0), "the light")):
+            px, py = vh.check_projection(self, b, x, y)
+            got, d = vh.drawn_near(img, px, py, want)
+            self.assertLessEqual(d, 12, f"{what} at ({px:.1f}, {py:.1f}): drawn {got}, want {want}")
+        # Robot 0's LED 0 ahead of its centre (heading 0), LED 1 of robot 1 is off: its body's colour there.
+        scale = b.eval("sfViewer.view.scale")
+        rr = b.eval("Math.max(4, sfViewer.world.robot_radius * sfViewer.view.scale)")
+        r0 = [r for r in robots if r["id"] == 0][0]
+        px, py = vh.check_projection(self, b, r0["x"] + 0.55 * rr / scale, r0["y"])
+        got, d = vh.drawn_near(img, px, py, (0, 255, 0))
+        self.assertLessEqual(d, 24, f"robot 0's LED 0 at ({px:.1f}, {py:.1f}): drawn {got}")  # a small dot: smoothed
+        r1 = [r for r in robots if r["id"] == 1][0]
+        angle = 2 * math.pi / 3
+        px, py = vh.check_projection(self, b, r1["x"] + 0.55 * rr / scale * math.cos(angle),
+                                     r1["y"] + 0.55 * rr / scale * math.sin(angle))
+        got, d = vh.drawn_near(img, px, py, (158, 158, 158))  # the state's grey (#9e9e9e), no dot
+        self.assertLessEqual(d, 12, f"robot 1's LED 1 is off, yet drawn {got} at ({px:.1f}, {py:.1f})")
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -154,6 +154,10 @@ TEST_F(FloorFiles, ImageIsStretchedOverTheArenaAndRegionsLieOnIt) {
       "colour: [0, 255, 0]}\n");
   ASSERT_NE(s.floor.image, nullptr);
   EXPECT_EQ(s.floor.image->width, 2u);
+  // The region's colour is kept for pictures (the sensors read its grey).
+  ASSERT_EQ(s.floor.regions.size(), 1u);
+  EXPECT_EQ(s.floor.regions[0].colour, (Rgb{0, 255, 0}));
+  EXPECT_FALSE(s.floor.colour.has_value());
   auto at = [&](double x, double y) { return floor_grey(s.floor, s.arena_centre, 4.0, 4.0, x, y); };
   EXPECT_EQ(at(-1.0, 1.0), 0.0);
   EXPECT_EQ(at(1.0, 1.0), 1.0);

@@ -119,6 +119,7 @@ function draw() {
   if (!S.world || !S.view) return;
   const k = S.view.scale;
   const a = S.world.arena;
+  drawFloor(k);
   // Walls.
   if (a.walls) {
     const t = (a.wall_thickness || 0.1) * k;
@@ -157,6 +158,7 @@ function draw() {
     ctx.fillStyle = "#8e24aa";
     ctx.fillText("goal", gx + g.radius * k + 3, gy);
   }
+  drawLights();
   const f = S.frame;
   if (!f) return;
   const byId = new Map(f.robots.map((r) => [r.id, r]));
@@ -230,6 +232,7 @@ function draw() {
     ctx.lineWidth = 2;
     ctx.strokeStyle = "#263238";
     ctx.stroke();
+    if (r.alive && r.leds) drawLeds(x, y, r.theta, rr, r.leds);
     if (!r.alive) {
       ctx.strokeStyle = "#b71c1c";
       ctx.lineWidth = 2;
@@ -242,6 +245,77 @@ function draw() {
       ctx.stroke();
     }
   }
+}
+
+// The floor as the ground sensors read it (world.json `floor`, docs/recording-format.md), under everything: its
+// base over the arena, then its regions in painting order, each in the colour the scenario gave or its grey. A
+// plain white floor draws nothing. (A floor image is not drawn here: the server serves only the run's files.)
+function greyHex(g) {
+  const v = Math.round(Math.min(Math.max(g, 0), 1) * 255).toString(16).padStart(2, "0");
+  return "#" + v + v + v;
+}
+function drawFloor(k) {
+  const fl = S.world.floor;
+  if (!fl) return;
+  const a = S.world.arena;
+  if (fl.colour || (typeof fl.grey === "number" && fl.grey < 1)) {
+    const [x0, y0] = project(a.centre[0] - a.width / 2, a.centre[1] + a.height / 2);
+    ctx.fillStyle = fl.colour || greyHex(fl.grey);
+    ctx.fillRect(x0, y0, a.width * k, a.height * k);
+  }
+  for (const r of fl.regions || []) {
+    const [rx, ry] = project(r.centre[0], r.centre[1]);
+    ctx.beginPath();
+    if (r.kind === "circle") {
+      ctx.arc(rx, ry, r.radius * k, 0, 2 * Math.PI);
+    } else {
+      ctx.save();
+      ctx.translate(rx, ry);
+      ctx.rotate(-(r.yaw || 0));
+      ctx.rect(-r.half_extents[0] * k, -r.half_extents[1] * k, 2 * r.half_extents[0] * k, 2 * r.half_extents[1] * k);
+      ctx.restore();
+    }
+    ctx.fillStyle = r.colour || greyHex(r.grey);
+    ctx.fill();
+    ctx.lineWidth = 0.5;
+    ctx.strokeStyle = "#9e9e9e";
+    ctx.stroke();
+  }
+}
+
+// Each light source (world.json `lights`): a yellow disc, its intensity and height beside it.
+const LIGHT_COLOUR = "#ffd600";
+function drawLights() {
+  ctx.font = "11px system-ui, sans-serif";
+  for (const l of S.world.lights || []) {
+    const [lx, ly] = project(l.position[0], l.position[1]);
+    ctx.beginPath();
+    ctx.arc(lx, ly, 7, 0, 2 * Math.PI);
+    ctx.fillStyle = LIGHT_COLOUR;
+    ctx.fill();
+    ctx.lineWidth = 1.5;
+    ctx.strokeStyle = "#e65100";
+    ctx.stroke();
+    ctx.fillStyle = "#e65100";
+    ctx.fillText("light I=" + l.intensity + ", h=" + l.height + " m", lx + 10, ly - 8);
+  }
+}
+
+// A robot's lit LEDs (a frame's `leds`: three "#rrggbb", absent when all are off): dots on its body 120 degrees
+// apart, LED 0 ahead; an LED that is off ("#000000") is not drawn.
+function drawLeds(x, y, theta, rr, leds) {
+  const d = rr * 0.55, dot = Math.max(2, rr * 0.25);
+  leds.forEach((c, i) => {
+    if (c === "#000000") return;
+    const ang = theta + i * 2 * Math.PI / 3;
+    ctx.beginPath();
+    ctx.arc(x + d * Math.cos(ang), y - d * Math.sin(ang), dot, 0, 2 * Math.PI);
+    ctx.fillStyle = c;
+    ctx.fill();
+    ctx.lineWidth = 0.5;
+    ctx.strokeStyle = "#263238";
+    ctx.stroke();
+  });
 }
 
 // ---- status bar, legend, robot panel ---------------------------------------------------------------------

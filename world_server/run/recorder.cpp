@@ -1,5 +1,6 @@
 #include "world_server/run/recorder.hpp"
 
+#include "common/led_text.hpp"
 #include "world_server/run/end_reason.hpp"
 #include "world_server/run/recording_format.hpp"
 
@@ -60,7 +61,7 @@ RecordingWriter::RecordingWriter(const std::string& run_dir, std::vector<std::st
   robots_ = open(run_dir_ + "/robots.csv", "w", robots_buffer_);
   events_ = open(run_dir_ + "/events.jsonl", "w", events_buffer_);
   log_ = open(run_dir_ + "/world.log", "w", log_buffer_);
-  std::string header = kRobotsCsvHeader;
+  std::string header = std::string(kRobotsCsvHeader) + "," + kLedsColumn;
   for (const std::string& c : extra_columns) header += "," + c;
   write_all(robots_, header + "\n", run_dir_, "robots.csv");
   if (std::fflush(robots_) != 0) fail(run_dir_, "robots.csv", errno);
@@ -153,6 +154,8 @@ void RecordingWriter::write_rows(Tick tick, const std::vector<RobotTruth>& robot
     append_int(row_buffer_, r.telemetry.parent);
     row_buffer_.append(r.telemetry.leader ? ",1," : ",0,");
     append_double(row_buffer_, r.telemetry.net_force);
+    row_buffer_.push_back(',');
+    append_led_text(row_buffer_, r.leds);
     // The behaviour's columns: its values, or empty fields before it has said any (telemetry_check.hpp
     // lets through exactly extra_columns_ values or none).
     const auto& extra = r.telemetry.extra;

@@ -15,7 +15,11 @@
 
 namespace swarmform::world {
 
+// robots.csv's eleven fixed columns (docs/recording-format.md), in every version of the format; a recording
+// then has `leds` (kLedsColumn, since the LEDs were recorded: older ones lack it), then the behaviour's
+// telemetry columns.
 inline constexpr const char* kRobotsCsvHeader = "tick,id,x,y,theta,alive,state,label,parent,leader,net_force";
+inline constexpr const char* kLedsColumn = "leds";
 inline constexpr Tick kFlushEveryTicks = 10;
 // Room reserved for summary.json when the run directory is made (summary.json.tmp, allocated at once), so
 // that a disk that fills during the run still takes the run's outcome: the summary is written into that

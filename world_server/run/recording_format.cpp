@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 #include "behaviour/descriptor_check.hpp"
+#include "common/led_text.hpp"
 
 namespace swarmform::world {
 
@@ -34,6 +36,51 @@ ojson obstacle_json(const Obstacle& o) {
     j["centre"] = xy(o.centre);
     j["radius"] = o.radius;
   }
+  return j;
+}
+
+// "#rrggbb", or null when the scenario gave a grey rather than a colour.
+ojson colour_json(const std::optional<Rgb>& c) {
+  if (!c) return nullptr;
+  std::string text;
+  append_rgb_hex(text, *c);
+  return text;
+}
+
+// The floor as the ground sensors read it and pictures draw it: its grey (and colour), the image's path
+// (absolute, so a picture drawn from another folder finds it) and its pixel size, the regions in painting
+// order.
+ojson floor_json(const Floor& f) {
+  ojson j;
+  j["grey"] = f.grey;
+  j["colour"] = colour_json(f.colour);
+  if (f.image) {
+    std::error_code ec;
+    const std::filesystem::path abs = std::filesystem::absolute(f.image->file, ec);
+    j["image"] = {{"file", ec ? f.image->file : abs.lexically_normal().string()},
+                  {"width", f.image->width},
+                  {"height", f.image->height}};
+  } else {
+    j["image"] = nullptr;
+  }
+  ojson regions = ojson::array();
+  for (const FloorRegion& r : f.regions) {
+    ojson o;
+    if (r.kind == FloorRegion::Kind::Circle) {
+      o["kind"] = "circle";
+      o["centre"] = xy(r.centre);
+      o["radius"] = r.radius;
+    } else {
+      o["kind"] = "rectangle";
+      o["centre"] = xy(r.centre);
+      o["half_extents"] = xy(r.half_extents);
+      o["yaw"] = r.yaw;
+    }
+    o["grey"] = r.grey;
+    o["colour"] = colour_json(r.colour);
+    regions.push_back(std::move(o));
+  }
+  j["regions"] = std::move(regions);
   return j;
 }
 
@@ -176,6 +223,20 @@ ojson describe_world(const Scenario& scenario, const std::string& mode) {
                  {"bearing_noise_sd", scenario.bearing_noise_sd},
                  {"ultrasonic_noise_sd", scenario.ultrasonic_noise_sd},
                  {"occlusion", scenario.occlusion}};
+  // The optional sensors' world (docs/scenario-format.md): what the ground and light sensors read, the
+  // batteries.
+  j["floor"] = floor_json(scenario.floor);
+  ojson lights = ojson::array();
+  for (const LightSource& l : scenario.lights) {
+    lights.push_back({{"position", xy(l.position)}, {"height", l.height}, {"intensity", l.intensity}});
+  }
+  j["lights"] = std::move(lights);
+  if (scenario.battery) {
+    const BatterySpec& b = *scenario.battery;
+    j["battery"] = {{"capacity", b.capacity}, {"idle", b.idle}, {"moving", b.moving}, {"start", b.start}};
+  } else {
+    j["battery"] = nullptr;
+  }
   j["shape"] = {{"rows", m.shape.rows}, {"cols", m.shape.cols}, {"cells", m.shape.cells}};
   j["robot_radius"] = kRobotRadius;
   j["shape_file"] = scenario.shape_file;

@@ -16,8 +16,8 @@ namespace swarmform::world {
 
 inline constexpr int kRecordingVersion = 1;
 
-// world.json: the arena, obstacles, goal, shape and the run's settings. `mode`: "lockstep", "realtime",
-// "in-process".
+// world.json: the arena, obstacles, goal, floor, lights, battery, shape and the run's settings. `mode`:
+// "lockstep", "realtime", "in-process".
 nlohmann::ordered_json describe_world(const Scenario& scenario, const std::string& mode);
 
 // world.json's `behaviour_descriptor`: the behaviour's name, plug-in path, parameters (with the run's

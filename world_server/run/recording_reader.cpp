@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "common/input_error.hpp"
+#include "common/led_text.hpp"
 #include "world_server/run/recorder.hpp"
 
 namespace swarmform::world {
@@ -67,6 +68,10 @@ std::vector<RecordedRow> read_robots_csv(const std::string& path, bool allow_tru
     throw InputError(path, 1, std::string("expected the header '") + kRobotsCsvHeader + "'");
   }
   const std::size_t fields = 1 + static_cast<std::size_t>(std::count(lines[0].begin(), lines[0].end(), ','));
+  // The LEDs' column follows the fixed ones in a recording that has it (a telemetry column is never named
+  // so).
+  const std::string with_leds = fixed + "," + kLedsColumn;
+  const bool has_leds = lines[0] == with_leds || lines[0].rfind(with_leds + ",", 0) == 0;
   if (!complete) {
     if (!allow_truncated_tail) {
       throw InputError(path, static_cast<int>(lines.size()), "last line cut off (truncated recording)");
@@ -101,6 +106,14 @@ std::vector<RecordedRow> read_robots_csv(const std::string& path, bool allow_tru
     r.parent = parse_field<std::int32_t>(f[8], path, line, "parent");
     r.leader = parse_flag(f[9], path, line, "leader");
     r.net_force = parse_field<double>(f[10], path, line, "net_force");
+    if (has_leds) {
+      const auto leds = parse_led_text(f[11]);
+      if (!leds) {
+        throw InputError(path, line,
+                         "bad leds '" + std::string(f[11]) + "' (want empty or '#rrggbb #rrggbb #rrggbb')");
+      }
+      r.leds = *leds;
+    }
     rows.push_back(r);
   }
   return rows;

@@ -4,6 +4,7 @@
 // before (read_robots_csv's `allow_truncated_tail`).
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -23,9 +24,11 @@ struct RecordedRow {
   std::int32_t parent = -1;
   bool leader = false;
   double net_force = 0.0;
+  std::array<Rgb, kLedCount> leds{};  // all off in a recording older than its `leds` column
 };
 
-// robots.csv. With `allow_truncated_tail`, a last line without its newline is dropped instead of reported.
+// robots.csv, with or without the `leds` column (a recording older than it: every LED off). With
+// `allow_truncated_tail`, a last line without its newline is dropped instead of reported.
 std::vector<RecordedRow> read_robots_csv(const std::string& path, bool allow_truncated_tail = false);
 // events.jsonl, one object per line (each with at least tick, kind and id).
 std::vector<nlohmann::json> read_events_jsonl(const std::string& path);

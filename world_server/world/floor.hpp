@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,9 @@ struct FloorRegion {
   Vec2 half_extents;  // m (rectangles)
   double yaw = 0.0;   // rad (rectangles)
   double grey = 0.0;  // 0..1
+  // The colour the scenario gave, if it gave one rather than a grey: only for pictures (the sensors read
+  // `grey`).
+  std::optional<Rgb> colour;
 };
 
 // Pixels in rows from the top (+y edge of the arena) down, each a grey level 0..255.
@@ -32,6 +36,7 @@ struct FloorImage {
 
 struct Floor {
   double grey = 1.0;                        // outside the image and every region
+  std::optional<Rgb> colour;                // as FloorRegion::colour
   std::shared_ptr<const FloorImage> image;  // null: none (shared: a Scenario is copied)
   std::vector<FloorRegion> regions;         // painted over the image, later ones on top
 

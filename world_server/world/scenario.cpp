@@ -215,8 +215,9 @@ RobotsSection parse_robots(const Source& src, MapReader& top) {
   return r;
 }
 
-// A grey level: `grey: 0..1` or `colour: [r, g, b]` (0..255 each, made grey as ARGoS does), not both.
-double parse_grey(const Source& src, MapReader& m, double fallback) {
+// A grey level: `grey: 0..1` or `colour: [r, g, b]` (0..255 each, made grey as ARGoS does), not both; the
+// colour, when given, into `colour` (for pictures).
+double parse_grey(const Source& src, MapReader& m, double fallback, std::optional<Rgb>& colour) {
   const bool has_grey = m.has("grey"), has_colour = m.has("colour");
   if (has_grey && has_colour) yaml::fail(src, m.node(), m.path(), "give 'grey' or 'colour', not both");
   if (has_colour) {
@@ -231,6 +232,7 @@ double parse_grey(const Source& src, MapReader& m, double fallback) {
         yaml::fail(src, c[k], path, "expected an integer 0..255, got " + std::to_string(v));
       rgb[k] = static_cast<std::uint8_t>(v);
     }
+    colour = Rgb{rgb[0], rgb[1], rgb[2]};
     return grey_of(rgb[0], rgb[1], rgb[2]);
   }
   return m.number("grey", fallback, 0.0, 1.0);
@@ -246,7 +248,7 @@ FloorRegion parse_floor_region(const Source& src, const YAML::Node& node, const 
   if (!centre) yaml::fail(src, node, path, "missing 'centre' ([x, y], m)");
   r.centre = point(src, *centre, m.field("centre"));
   if (!m.has("grey") && !m.has("colour")) yaml::fail(src, node, path, "missing 'grey' (0..1) or 'colour'");
-  r.grey = parse_grey(src, m, 0.0);
+  r.grey = parse_grey(src, m, 0.0, r.colour);
   if (t == "circle") {
     r.kind = FloorRegion::Kind::Circle;
     auto radius = m.get("radius");
@@ -271,7 +273,7 @@ void parse_floor(const Source& src, MapReader& top, const fs::path& base, Scenar
   auto node = top.get("floor");
   if (!node) return;
   MapReader m(src, *node, "floor");
-  s.floor.grey = parse_grey(src, m, s.floor.grey);
+  s.floor.grey = parse_grey(src, m, s.floor.grey, s.floor.colour);
   if (auto img = m.get("image")) {
     const std::string name = yaml::to_string(src, *img, m.field("image"));
     const fs::path file = fs::path(name).is_absolute() ? fs::path(name) : base / name;

@@ -7,11 +7,14 @@
 // in-process. DDS domain offsets 48..51 (tests/support/test_domain.hpp).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "tests/support/process_fixture.hpp"
 #include "tests/support/test_domain.hpp"
@@ -68,6 +71,36 @@ class ExampleRuns : public swarmform::testing::ProcessFixture {
     EXPECT_TRUE(agents.wait_for(30.0).has_value());
   }
 
+  // robots.csv's (state, leds) of every row, in file order.
+  static std::vector<std::pair<std::string, std::string>> state_and_leds(const std::string& csv_path) {
+    std::ifstream csv(csv_path);
+    std::string line;
+    std::getline(csv, line);
+    const auto columns = split(line);
+    const auto at = [&](const std::string& name) {
+      return static_cast<std::size_t>(std::find(columns.begin(), columns.end(), name) - columns.begin());
+    };
+    const std::size_t state = at("state"), leds = at("leds");
+    EXPECT_LT(leds, columns.size()) << csv_path << ": no leds column in '" << line << "'";
+    std::vector<std::pair<std::string, std::string>> rows;
+    while (std::getline(csv, line)) {
+      const auto f = split(line);
+      if (f.size() != columns.size()) ADD_FAILURE() << csv_path << ": '" << line << "'";
+      if (f.size() == columns.size()) rows.emplace_back(f[state], f[leds]);
+    }
+    return rows;
+  }
+  static std::vector<std::string> split(const std::string& line) {
+    std::vector<std::string> out(1);
+    for (char c : line) {
+      if (c == ',')
+        out.emplace_back();
+      else
+        out.back().push_back(c);
+    }
+    return out;
+  }
+
   void same_trajectory(const Example& e) {
     const std::string dir = e.plugin_dir;
     ASSERT_EQ(inprocess({"--scenario", scenario(e.name), "--plugin-dir", dir, "--out", path("in")}, "in"), 0);
@@ -92,6 +125,16 @@ class ExampleRuns : public swarmform::testing::ProcessFixture {
       // The gathered robots' green LEDs reached the world's truth (multi-process: over the wire).
       EXPECT_EQ(m["green_at_end"], in["states_at_end"]["gathered"]);
       EXPECT_GT(m["green_at_end"].get<double>(), 0.0);
+      // ... and the recording: every row's LEDs are all green exactly when its state is gathered (both come
+      // from the same command), the same rows in both modes.
+      const auto in_leds = state_and_leds(path("in") + "/robots.csv");
+      EXPECT_EQ(in_leds, state_and_leds(path("multi") + "/robots.csv"));
+      std::size_t green = 0;
+      for (const auto& [state, leds] : in_leds) {
+        EXPECT_EQ(leds, state == "2" ? "#00ff00 #00ff00 #00ff00" : "") << "state " << state;
+        green += leds.empty() ? 0 : 1;
+      }
+      EXPECT_GT(green, 0u);
     } else {  // no experiment: nothing to judge
       EXPECT_EQ(in["outcome"], "none");
       EXPECT_TRUE(in["success"].is_null());
