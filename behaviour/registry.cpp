@@ -143,7 +143,8 @@ const Descriptor& Registry::load_descriptor(const std::string& path) {
 }
 
 std::string no_controller_message(std::string_view behaviour, const std::string& file) {
-  return "behaviour '" + std::string(behaviour) + "' is described by " + fs::path(file).filename().string() +
+  const std::string by = file.empty() ? std::string("a descriptor file") : fs::path(file).filename().string();
+  return "behaviour '" + std::string(behaviour) + "' is described by " + by +
          " and has no controller: its agents run it with robot_agent --exec / swarm run --exec";
 }
 
@@ -179,9 +180,7 @@ std::unique_ptr<controller::Controller> Registry::make(const Mission& mission, R
 std::unique_ptr<controller::Controller> make_controller(const Descriptor& d, const Mission& mission,
                                                         RobotId self) {
   if (d.make == nullptr) {
-    throw InputError("<mission>", 0,
-                     no_controller_message(d.name, mission.descriptor.empty() ? std::string(d.name) + ".json"
-                                                                              : mission.descriptor));
+    throw InputError("<mission>", 0, no_controller_message(d.name, mission.descriptor));
   }
   check_params(d, mission.params);
   if (d.needs_shape && mission.shape.label_count() == 0) {

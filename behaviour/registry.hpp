@@ -36,7 +36,7 @@ inline constexpr const char* kPluginPathVariable = "SWARMFORM_PLUGIN_PATH";
 
 // Why a behaviour described by a file cannot be run in-process: "behaviour 'x' is described by x.json and has
 // no controller: its agents run it with robot_agent --exec / swarm run --exec". `file`: the descriptor's path
-// (its name is said).
+// (its name is said), or empty when unknown ("a descriptor file").
 std::string no_controller_message(std::string_view behaviour, const std::string& file);
 
 // A controller of behaviour `d` for robot `self`: the mission's parameters checked against d's table, the

@@ -191,6 +191,18 @@ TEST_F(DescriptorFile, TheRegistryKeepsItAndRefusesItAController) {
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), says);
   }
+  // A mission that does not say which file (another behaviour's run, overridden): the message still says why.
+  Mission plain = m;
+  plain.descriptor.clear();
+  try {
+    (void)make_controller(d, plain, 0);
+    ADD_FAILURE() << "a controller was made for a described behaviour";
+  } catch (const InputError& e) {
+    EXPECT_NE(
+        std::string(e.what()).find("'gather_py' is described by a descriptor file and has no controller"),
+        std::string::npos)
+        << e.what();
+  }
   // An agent's registry never loads the file: the mission's descriptor alone gets it the same answer.
   Registry agent;
   controller::add_builtins(agent);
