@@ -127,7 +127,36 @@ const Descriptor& Registry::load_plugin(const std::string& path) {
   return *d;
 }
 
+const Descriptor& Registry::load_descriptor(const std::string& path) {
+  std::error_code ec;
+  const fs::path canonical = fs::canonical(path, ec);
+  if (ec) throw InputError(path, 0, "cannot read the behaviour's descriptor file: " + ec.message());
+  if (auto it = described_.find(canonical.string()); it != described_.end()) return it->second->descriptor();
+  std::unique_ptr<const DescribedBehaviour> b = load_descriptor_file(path);
+  const Descriptor& d = b->descriptor();
+  if (find(d.name) != nullptr) {
+    throw InputError(path, 0,
+                     "name: behaviour '" + std::string(d.name) +
+                         "' is already registered (a built-in, a plug-in or another descriptor file)");
+  }
+  by_name_.emplace(std::string(d.name), &d);
+  described_.emplace(canonical.string(), std::move(b));
+  return d;
+}
+
+std::string no_controller_message(std::string_view behaviour, const std::string& file) {
+  const std::string by = file.empty() ? std::string("a descriptor file") : fs::path(file).filename().string();
+  return "behaviour '" + std::string(behaviour) + "' is described by " + by +
+         " and has no controller: its agents run it with robot_agent --exec / swarm run --exec";
+}
+
 const Descriptor& Registry::resolve(const Mission& mission) {
+  if (!mission.descriptor.empty()) {
+    auto it = described_.find(mission.descriptor);
+    if (it == described_.end() || it->second->descriptor().name != mission.behaviour)
+      throw InputError("<mission>", 0, no_controller_message(mission.behaviour, mission.descriptor));
+    return it->second->descriptor();
+  }
   if (!mission.plugin.empty()) {
     const Descriptor& d = load_plugin(mission.plugin);
     if (d.name != mission.behaviour) {
@@ -152,6 +181,9 @@ std::unique_ptr<controller::Controller> Registry::make(const Mission& mission, R
 
 std::unique_ptr<controller::Controller> make_controller(const Descriptor& d, const Mission& mission,
                                                         RobotId self) {
+  if (d.make == nullptr) {
+    throw InputError("<mission>", 0, no_controller_message(d.name, mission.descriptor));
+  }
   check_params(d, mission.params);
   if (d.needs_shape && mission.shape.label_count() == 0) {
     throw InputError("<mission>", 0, "behaviour '" + std::string(d.name) + "' needs a shape");

@@ -16,7 +16,10 @@ struct Mission {
   // the canonical path of its shared library. An agent loads it only from its own plug-in folders
   // (behaviour/registry.hpp), never because the mission names it.
   std::string behaviour = "paper";
-  std::string plugin;         // empty: a built-in
+  std::string plugin;  // empty: a built-in
+  // For a behaviour described by a JSON file (behaviour/descriptor_file.hpp): its canonical path. Such a
+  // behaviour has no controller; an agent runs it only with --exec, and never reads the file.
+  std::string descriptor;
   ShapeMatrix shape;          // the label matrix (common/shape.hpp)
   double grid_spacing = 1.0;  // m between horizontally/vertically adjacent labels (paper Table II)
   // The goal, when the run has one: the scenario's `goal:`, or for a behaviour that goes somewhere

@@ -213,6 +213,12 @@ int main(int argc, char** argv) {
     behaviours.add_folders_from_environment();
     world::Scenario scenario = world::load_scenario(scenario_path, overrides, behaviours);
     world::check_param_flags(param_texts, scenario.mission, behaviours);
+    // A behaviour described by a file is a program its agents run (--exec): nothing here can run it.
+    if (scenario.behaviour->make == nullptr) {
+      throw InputError(
+          scenario_path, 0,
+          behaviour::no_controller_message(scenario.mission.behaviour, scenario.mission.descriptor));
+    }
 
     const bool default_out = out.empty();
     const std::string run_dir = no_record ? std::string() : (default_out ? default_run_dir() : out);

@@ -39,6 +39,7 @@ void MissionWriter::publish(const MissionAnnouncement& a) {
   s.robots = a.robots;
   s.behaviour = const_cast<char*>(m.behaviour.c_str());
   s.plugin = const_cast<char*>(m.plugin.c_str());
+  s.descriptor = const_cast<char*>(m.descriptor.c_str());
   s.rows = m.shape.rows;
   s.cols = m.shape.cols;
   s.cells._buffer = cells.data();
@@ -94,6 +95,7 @@ std::optional<MissionAnnouncement> MissionReader::take(std::optional<std::uint64
     Mission& m = a.mission;
     m.behaviour = str(s.behaviour);
     m.plugin = str(s.plugin);
+    m.descriptor = str(s.descriptor);
     m.shape.rows = s.rows;
     m.shape.cols = s.cols;
     m.shape.cells.assign(s.cells._buffer, s.cells._buffer + s.cells._length);

@@ -141,6 +141,18 @@ Command parse_command(const std::string& line, Tick tick, std::size_t max_messag
     }
     c.telemetry.state = static_cast<std::int32_t>(s->get<long long>());
   }
+  if (const auto x = j.find("telemetry"); x != j.end()) {
+    // The behaviour's descriptor's telemetry columns, in order (the world checks the count against them).
+    if (!x->is_array() || x->size() > kMaxTelemetry) {
+      throw ProtocolError("the command's \"telemetry\" is not a list of at most " +
+                          std::to_string(kMaxTelemetry) + " numbers");
+    }
+    for (const json& v : *x) {
+      if (!v.is_number())
+        throw ProtocolError("the command's \"telemetry\" holds something other than a number");
+      c.telemetry.extra.push_back(v.get<double>());
+    }
+  }
   if (const auto e = j.find("events"); e != j.end()) {
     if (!e->is_array() || e->size() > kMaxEvents) {
       throw ProtocolError("the command's \"events\" is not a list of at most " + std::to_string(kMaxEvents) +

@@ -18,6 +18,7 @@ inline constexpr int kProtocolVersion = 1;
 inline constexpr std::size_t kMaxLineBytes = 1 << 20;  // a longer line from the behaviour is garbage
 inline constexpr std::size_t kMaxEvents = 16;          // events a command may report in one tick
 inline constexpr std::size_t kMaxEventBytes = 200;     // each
+inline constexpr std::size_t kMaxTelemetry = 64;       // telemetry values a command may carry
 
 struct ProtocolError : std::runtime_error {
   using std::runtime_error::runtime_error;

@@ -136,17 +136,38 @@ def probe_flags(args: argparse.Namespace) -> list[str]:
     return out
 
 
-def check_expectations(args: argparse.Namespace, status: "Status") -> None:
+def described_keys(info: dict[str, Any]) -> set[str]:
+    """The behaviour-owned summary keys (summary_keys.behaviour_owned) of a behaviour described by a file, from
+    its descriptor as `world_server --check` printed it: params.NAME, states_at_end.NAME (and the count of robots
+    in an undeclared state, which the summary names `state N`), telemetry_mean_at_end.NAME."""
+    d = info.get("behaviour_descriptor") or {}
+    keys = {f"params.{p['name']}" for p in d.get("params", [])}
+    keys |= {f"states_at_end.{s['name']}" for s in d.get("states", [])}
+    keys |= {f"telemetry_mean_at_end.{t['name']}" for t in d.get("telemetry", [])}
+    for prefix in ("params", "states_at_end", "telemetry_mean_at_end"):
+        if any(k.startswith(prefix + ".") for k in keys):
+            keys.add(prefix)
+    return keys
+
+
+def check_expectations(args: argparse.Namespace, status: "Status", info: Optional[dict[str, Any]] = None) -> None:
     """--expect: every key checked against what the run's summary will hold, before the run starts: a one-tick
     in-process probe of the same scenario (summary_keys.py). An unknown key: LaunchError, exit 2. Under --exec the
     behaviour is the program's, not the scenario's: its parameters, states and telemetry are checked after the
-    run."""
+    run, unless a descriptor file declares them (`info`, world_server --check's JSON): then they are checked
+    against it, and the probe (which cannot run a behaviour without a controller) runs the world's generic keys
+    with the built-in random_walk."""
     from . import expect, summary_keys
     exps = getattr(args, "expect", None) or []
     if not exps:
         return
+    described = described_by(info) if info is not None else None
     exe = executable("inprocess")
-    cmd = [exe] + probe_flags(args) + ["--max-ticks", "1", "--no-record", "--quiet"]
+    flags = probe_flags(args)
+    if described is not None:
+        flags = [f for i in range(0, len(flags), 2) if flags[i] != "--param" for f in flags[i:i + 2]]
+        flags += ["--behaviour", "random_walk"]
+    cmd = [exe] + flags + ["--max-ticks", "1", "--no-record", "--quiet"]
     try:
         p = subprocess.run(cmd, capture_output=True, timeout=CHECK_TIMEOUT_S, encoding="utf-8",
                            errors="backslashreplace", preexec_fn=_die_with_parent)
@@ -158,11 +179,15 @@ def check_expectations(args: argparse.Namespace, status: "Status") -> None:
     if probe is None:
         raise LaunchError(p.stderr.strip() or f"{shlex.join(cmd)}: exit {p.returncode}, no summary",
                           p.returncode if p.returncode == EXIT_BAD_INPUT else EXIT_WORLD_FAILED)
+    declared = summary_keys.declared_keys(probe)
     skip = summary_keys.behaviour_owned if getattr(args, "exec", None) else (lambda key: False)
-    bad = expect.check_declared(exps, summary_keys.declared_keys(probe), skip)
+    if described is not None:  # the probe's own behaviour's keys are not the run's: the descriptor's are
+        declared = {k for k in declared if not summary_keys.behaviour_owned(k + ".")} | described_keys(info or {})
+        skip = lambda key: False  # noqa: E731
+    bad = expect.check_declared(exps, declared, skip)
     if bad:
         raise LaunchError("--expect " + "\nswarm: --expect ".join(bad) + "\n(nothing was run)", EXIT_BAD_INPUT)
-    if getattr(args, "exec", None) and any(skip(e.key) for e in exps):
+    if getattr(args, "exec", None) and described is None and any(skip(e.key) for e in exps):
         status.line("swarm: --expect: the --exec program's parameters, states and telemetry are checked after "
                     "the run")
 
@@ -206,6 +231,26 @@ def check_exec(cmd: Optional[str]) -> None:
     if not found:
         where = "no such executable file" if os.sep in program else "not found on PATH"
         raise LaunchError(f"--exec {cmd!r}: {program}: {where}", EXIT_BAD_INPUT)
+
+
+def described_by(info: dict[str, Any]) -> Optional[str]:
+    """The descriptor file of the scenario's behaviour when a JSON file describes it (it then has no controller:
+    its agents run an --exec program; docs/agent-protocol.md), from `world_server --check`'s JSON; else None."""
+    d = info.get("behaviour_descriptor")
+    path = d.get("descriptor") if isinstance(d, dict) else None
+    return path if isinstance(path, str) and path else None
+
+
+def refuse_without_exec(args: argparse.Namespace, info: dict[str, Any], in_process: bool = False) -> None:
+    """A behaviour described by a file runs only as `--exec` programs under robot agents: refused before
+    anything starts in an in-process run, or without --exec."""
+    path = described_by(info)
+    if path is None or (getattr(args, "exec", None) and not in_process):
+        return
+    name = info["behaviour_descriptor"].get("name", "?")
+    raise LaunchError(f"{args.scenario}: behaviour '{name}' is described by {os.path.basename(path)} and has no "
+                      "controller: its agents run it with robot_agent --exec / swarm run --exec"
+                      + ("; leave out --in-process" if in_process else ""), EXIT_BAD_INPUT)
 
 
 def check_scenario(world_exe: str, args: argparse.Namespace) -> dict[str, Any]:
@@ -707,7 +752,8 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
         check_exec(getattr(args, "exec", None))
         procs.agent_args = exec_args(args) + agent_plugin_flags(args)
         info = check_scenario(world_exe, args)
-        check_expectations(args, status)
+        refuse_without_exec(args, info)
+        check_expectations(args, status, info)
         if stop:
             return EXIT_INTERRUPTED
         n = info["robots"]
@@ -1056,7 +1102,8 @@ def _check_only(args: argparse.Namespace, status: Status) -> int:
     one line of what would run."""
     check_exec(getattr(args, "exec", None))
     info = check_scenario(executable("world"), args)
-    check_expectations(args, status)
+    refuse_without_exec(args, info, in_process=bool(getattr(args, "in_process", False)))
+    check_expectations(args, status, info)
     status.line(f"swarm: would run {info['robots']} robots, {info.get('mode', '?')} mode, up to "
                 f"{info.get('max_ticks')} ticks, seed {info.get('seed')} (--check: nothing started)")
     return 0
@@ -1069,6 +1116,7 @@ def _run_in_process(args: argparse.Namespace, stop: StopFlag, status: Status,
     if getattr(args, "exec", None):
         raise LaunchError("--exec runs each robot's behaviour as a child process of its robot_agent; an in-process "
                           "run has no agents: leave out --in-process", 2)
+    refuse_without_exec(args, check_scenario(executable("world"), args), in_process=True)
     exe = executable("inprocess")
     help_text = subprocess.run([exe, "--help"], capture_output=True, timeout=30, encoding="utf-8",
                                errors="backslashreplace").stdout

@@ -1,7 +1,10 @@
 """examples/agents/aggregation.py over `robot_agent --exec` in a real multi-process swarm (scripts/swarm run
 --exec): six Python behaviours gather, a killed agent takes its child with it, and a child that writes NaN makes
 its robot dead with a message naming the robot, while the rest of the swarm runs on; a child slower than the
-liveliness lease (but within its deadline) is not taken for dead. Every process this test
+liveliness lease (but within its deadline) is not taken for dead. The behaviour is described by
+aggregation.json (docs/agent-protocol.md, "The descriptor file"): its states are named in world.json, the
+summary and events.jsonl, its telemetry column is recorded, nothing it reports is dropped, and a parameter out of
+its bounds is refused with the scenario's file:line before anything starts. Every process this test
 starts is found by its command line (the run's own temporary folder) and must be gone at the end. DDS test
 domains 52 and 53 (53 reused in turn)."""
 
@@ -22,6 +25,8 @@ import helpers  # noqa: E402
 
 BUILD_DIR = os.environ.get("BUILD_DIR") or os.path.join(ROOT, "build")
 EXAMPLE = os.path.join(ROOT, "examples", "agents", "aggregation.py")
+DESCRIPTOR = os.path.join(ROOT, "examples", "agents", "aggregation.json")
+STATES = {0: "alone", 1: "gathering", 2: "spaced", 3: "avoiding"}
 SCENARIO = os.path.join(ROOT, "examples", "agents", "aggregation.yaml")
 
 # Robot 3 writes NaN at tick 20; every robot stands still otherwise.
@@ -80,16 +85,20 @@ class PythonAgentEndToEndTest(unittest.TestCase):
         # A copy in our folder, so that every child of this run is found by its command line.
         self.agent = os.path.join(self.dir, "aggregation.py")
         shutil.copy(EXAMPLE, self.agent)
+        shutil.copy(DESCRIPTOR, self.dir)  # beside the program: it reads its parameters' defaults there
 
     def tearDown(self):
         for pid in processes_mentioning(self.dir):  # only if an assertion failed first
             os.kill(pid, 9)
         shutil.rmtree(self.dir)
 
-    def swarm(self, *args, domain):
-        r = helpers.swarm("run", "--scenario", SCENARIO, "--no-pictures", "--domain", str(domain), "--out", self.out,
+    def swarm(self, *args, domain, scenario=SCENARIO, code=0):
+        r = helpers.swarm("run", "--scenario", scenario, "--no-pictures", "--domain", str(domain), "--out", self.out,
                           *args, build_dir=BUILD_DIR, timeout=300)
-        self.assertEqual(r.returncode, 0, f"stdout:\n{r.stdout}\nstderr:\n{r.stderr}")
+        self.assertEqual(r.returncode, code, f"stdout:\n{r.stdout}\nstderr:\n{r.stderr}")
+        if code != 0:
+            self.assertFalse(os.path.exists(self.out), "a refused run started")
+            return r, None
         self.assertEqual(processes_mentioning(self.dir), [], "a process of this run (an agent or a child) is left")
         with open(os.path.join(self.out, "summary.json")) as f:
             return r, json.load(f)
@@ -100,7 +109,9 @@ class PythonAgentEndToEndTest(unittest.TestCase):
                     if int(r["tick"]) == tick and (r["alive"] == "1" or not alive_only)]
 
     def test_six_python_agents_gather_and_a_killed_agent_takes_its_child_along(self):
+        # --expect names the descriptor's states and telemetry, checked against the file before the run.
         r, s = self.swarm("--exec", f"python3 {self.agent}", "--kill", "2@150", "--max-ticks", "500",
+                          "--expect", "telemetry_mean_at_end.neighbours > 0", "--expect", "states_at_end.alone >= 0",
                           domain=helpers.test_domain(52))
         self.assertEqual(s["robots"], 6)
         self.assertEqual([d["id"] for d in s["deaths"]], [2])
@@ -109,6 +120,64 @@ class PythonAgentEndToEndTest(unittest.TestCase):
         start, end = spread(self.positions(0)), spread(self.positions(500))
         self.assertLess(end, 0.5 * start, f"the five survivors gather: spread {start:.2f} m -> {end:.2f} m")
         self.assertNotIn("WARNING", r.stderr)  # a SIGKILL is not the agent's error
+        self.assert_the_descriptor_is_the_worlds(r, s)
+
+    def assert_the_descriptor_is_the_worlds(self, r, s):
+        """aggregation.json's states and telemetry are the run's: named, recorded, never dropped."""
+        with open(os.path.join(self.out, "world.json")) as f:
+            desc = json.load(f)["behaviour_descriptor"]
+        self.assertEqual(desc["name"], "aggregation_py")
+        self.assertEqual(desc["descriptor"], os.path.realpath(DESCRIPTOR))
+        self.assertEqual({st["value"]: st["name"] for st in desc["states"]}, STATES)
+        self.assertEqual({p["name"]: p["value"] for p in desc["params"]},
+                         {"spacing": 0.45, "gain": 1.5, "obstacle": 0.35})
+        self.assertEqual([t["name"] for t in desc["telemetry"]], ["neighbours"])
+        self.assertEqual(set(s["states_at_end"]), set(STATES.values()))
+        self.assertEqual(sum(s["states_at_end"].values()), s["alive_at_end"])
+        self.assertIn("neighbours", s["telemetry_mean_at_end"])
+        with open(os.path.join(self.out, "robots.csv")) as f:
+            rows = list(csv.DictReader(f))
+        reported = {int(row["state"]) for row in rows}
+        self.assertLessEqual(reported, set(STATES))
+        self.assertGreaterEqual(len(reported), 2, f"the robots report their states: {reported}")
+        self.assertTrue(any(row["neighbours"] and float(row["neighbours"]) > 0 for row in rows),
+                        "the telemetry column is recorded")
+        with open(os.path.join(self.out, "events.jsonl")) as f:
+            changes = [e for e in map(json.loads, f) if e.get("kind") == "state"]
+        self.assertTrue(changes, "no state change in events.jsonl")
+        for e in changes:
+            self.assertEqual((e["from_name"], e["to_name"]), (STATES[e["from"]], STATES[e["to"]]))
+        # Nothing the agents reported was dropped: no input_dropped count, no "out of range" anywhere.
+        self.assertEqual({k: v for k, v in (s.get("input_dropped") or {}).items() if v}, {})
+        logs = os.path.join(self.out, "logs")
+        for name in os.listdir(logs):
+            with open(os.path.join(logs, name), errors="replace") as f:
+                self.assertNotIn("out of range", f.read(), name)
+        self.assertNotIn("out of range", r.stderr)
+
+    def test_a_parameter_out_of_the_descriptors_bounds_is_refused_with_file_and_line(self):
+        bad = os.path.join(self.dir, "bad.yaml")
+        with open(SCENARIO) as f:
+            text = f.read()
+        self.assertIn("params: {spacing: 0.45, gain: 1.5}", text)
+        with open(bad, "w") as f:
+            f.write(text.replace("params: {spacing: 0.45, gain: 1.5}", "params: {spacing: 5, gain: 1.5}"))
+        line = next(i for i, t in enumerate(text.splitlines(), 1) if "params:" in t)
+        r, _ = self.swarm("--exec", f"python3 {self.agent}", domain=helpers.test_domain(53), scenario=bad, code=2)
+        self.assertIn(f"{bad}:{line}: behaviour.params.spacing: must be in [0.15, 3]", r.stderr)
+        # A key the descriptor does not declare is refused before the run, naming those it does.
+        r, _ = self.swarm("--exec", f"python3 {self.agent}", "--expect", "states_at_end.dancing >= 0",
+                          domain=helpers.test_domain(53), code=2)
+        self.assertIn("summary.json will have no key 'states_at_end.dancing' (under 'states_at_end': ", r.stderr)
+        for name in STATES.values():
+            self.assertIn(f"states_at_end.{name}", r.stderr)
+        # Without --exec, or in-process, the behaviour has no controller: refused before anything starts.
+        says = ("behaviour 'aggregation_py' is described by aggregation.json and has no controller: its agents run "
+                "it with robot_agent --exec / swarm run --exec")
+        r, _ = self.swarm(domain=helpers.test_domain(53), code=2)
+        self.assertIn(says, r.stderr)
+        r, _ = self.swarm("--in-process", domain=helpers.test_domain(53), code=2)
+        self.assertIn(says, r.stderr)
 
     def test_a_child_that_writes_nan_is_a_dead_robot_and_the_swarm_runs_on(self):
         faulty = os.path.join(self.dir, "faulty.py")

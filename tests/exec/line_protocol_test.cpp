@@ -73,6 +73,10 @@ TEST(LineProtocol, CommandIsRead) {
   EXPECT_EQ(c.message, (std::vector<std::uint8_t>{0x0a, 0xff}));
   EXPECT_EQ(c.telemetry.state, 2);
   EXPECT_EQ(c.telemetry.events, std::vector<std::string>{"hi 1"});
+  EXPECT_TRUE(c.telemetry.extra.empty());
+  EXPECT_EQ(parse_command(R"({"type":"command","tick":9,"left":0,"right":0,"telemetry":[2, 0.25]})", 9, 16)
+                .telemetry.extra,
+            (std::vector<double>{2.0, 0.25}));
   EXPECT_TRUE(parse_command(R"({"type":"command","tick":9,"left":0,"right":0})", 9, 16).message.empty());
 }
 
@@ -104,6 +108,8 @@ TEST(LineProtocol, BadCommandsAreRefusedSayingWhy) {
                  "max_message_bytes");
   expect_refused(R"({"type":"command","tick":9,"left":0,"right":0,"state":-1})", "state");
   expect_refused(R"({"type":"command","tick":9,"left":0,"right":0,"events":"x"})", "events");
+  expect_refused(R"({"type":"command","tick":9,"left":0,"right":0,"telemetry":3})", "telemetry");
+  expect_refused(R"({"type":"command","tick":9,"left":0,"right":0,"telemetry":["a"]})", "telemetry");
 }
 
 TEST(LineProtocol, HelloReplyChecksTheVersion) {

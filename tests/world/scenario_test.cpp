@@ -511,7 +511,62 @@ TEST(Scenario, AnUnknownBehaviourListsTheRegisteredOnes) {
           "/scenarios): the scenario's folder, each --plugin-dir DIR and SWARMFORM_PLUGIN_PATH; give "
           "the folder that holds it with --plugin-dir DIR");
   expect_rejected("behaviour: {}\nrobots: {count: 2}\n", 1,
-                  "behaviour: expected name: (a built-in) or plugin:");
+                  "behaviour: expected name: (a built-in), plugin: (a shared library) or descriptor: (a JSON "
+                  "file)");
+}
+
+// A behaviour described by a JSON file beside the scenario: its table checks the scenario's parameters with
+// file:line, its name and the file's canonical path go into the mission.
+TEST(Scenario, ADescriptorFileBehaviourChecksItsParametersWithFileAndLine) {
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("swarmform-described-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "gather.json")
+      << R"({"api_version": 4, "name": "gather_py", "params": [)"
+      << R"({"name": "spacing", "default": 0.45, "min": 0.1, "max": 2.0, "doc": "m"}],)"
+      << R"( "states": [{"value": 0, "name": "alone", "colour": "#888888"}]})";
+  const std::string origin = (dir / "gather.yaml").string();
+  behaviour::Registry registry;
+  controller::add_builtins(registry);
+  const Scenario s = parse_scenario_text(
+      "behaviour:\n  descriptor: gather.json\n  params: {spacing: 0.8}\nrobots: {count: 3}\n", origin, {},
+      registry);
+  ASSERT_NE(s.behaviour, nullptr);
+  EXPECT_EQ(s.behaviour->name, "gather_py");
+  EXPECT_EQ(s.behaviour->make, nullptr);
+  EXPECT_EQ(s.mission.behaviour, "gather_py");
+  EXPECT_EQ(s.mission.descriptor, std::filesystem::canonical(dir / "gather.json").string());
+  EXPECT_TRUE(s.mission.plugin.empty());
+  EXPECT_EQ(s.mission.params.at("spacing"), 0.8);
+  auto refused = [&](const std::string& text, const std::string& says) {
+    try {
+      (void)parse_scenario_text(text, origin, {}, registry);
+      ADD_FAILURE() << "accepted:\n" << text;
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()), says);
+    }
+  };
+  refused("robots: {count: 3}\nbehaviour:\n  descriptor: gather.json\n  params:\n    spacing: 5\n",
+          origin + ":5: behaviour.params.spacing: must be in [0.1, 2]");
+  refused(
+      "robots: {count: 3}\nbehaviour:\n  descriptor: gather.json\n  params: {radius: 1}\n",
+      origin + ":4: behaviour.params.radius: unknown parameter of behaviour 'gather_py' (known: spacing)");
+  refused(
+      "behaviour: {descriptor: none.json}\n",
+      origin + ":1: behaviour.descriptor: descriptor file 'none.json' not found in the folders searched (" +
+          dir.string() +
+          "): the scenario's folder, each --plugin-dir DIR and SWARMFORM_PLUGIN_PATH; give the folder that "
+          "holds it with --plugin-dir DIR");
+  refused("behaviour: {descriptor: gather.json, name: paper}\n",
+          origin +
+              ":1: behaviour: give one of name (a built-in), plugin (a library) or descriptor (a JSON "
+              "file), not two");
+  std::ofstream(dir / "old.json") << R"({"api_version": 1, "name": "old_py"})";
+  refused("behaviour: {descriptor: old.json}\n",
+          origin + ":1: behaviour.descriptor: " + (dir / "old.json").string() +
+              ": api_version: the file declares behaviour API version 1, this program has version 4 "
+              "(docs/behaviour-api.md lists what changed)");
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Scenario, AShapeAndAGoalOnlyWhenTheBehaviourNeedsThem) {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "behaviour/params.hpp"
 #include "common/input_error.hpp"
 
 namespace swarmform::world {
@@ -35,7 +36,14 @@ void check_param_flags(const std::vector<std::string>& texts, const Mission& mis
   std::string names;
   for (const std::string& text : texts) names += (names.empty() ? "" : " ") + text;
   try {
-    (void)behaviours.make(mission, 0);  // the behaviour's own check of every parameter
+    // The behaviour's own check of every parameter (its controller's init); a behaviour described by a file
+    // has no controller here: its table alone.
+    const behaviour::Descriptor& d = behaviours.resolve(mission);
+    if (d.make == nullptr) {
+      behaviour::check_params(d, mission.params);
+    } else {
+      (void)behaviour::make_controller(d, mission, 0);
+    }
   } catch (const InputError& e) {
     std::string why = e.what();
     if (const std::string prefix = e.file() + ": "; why.rfind(prefix, 0) == 0) why.erase(0, prefix.size());

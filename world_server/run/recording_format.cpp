@@ -136,6 +136,7 @@ ojson describe_behaviour(const Scenario& scenario) {
   const behaviour::Descriptor* d = scenario.behaviour;
   j["name"] = scenario.mission.behaviour;
   j["plugin"] = scenario.mission.plugin.empty() ? ojson(nullptr) : ojson(scenario.mission.plugin);
+  j["descriptor"] = scenario.mission.descriptor.empty() ? ojson(nullptr) : ojson(scenario.mission.descriptor);
   if (d == nullptr) return j;
   j["summary"] = std::string(d->summary);
   j["needs_shape"] = d->needs_shape;

@@ -451,18 +451,20 @@ int parse_goal(const Source& src, MapReader& top, Mission& mission) {
   return yaml::line_of(*node);
 }
 
-// A plug-in's path: as given when absolute; else under the scenario's folder, then under each plug-in folder
-// of the registry (the first that holds it). The registry then refuses any path outside its folders.
-// A plug-in's path as the scenario gives it: as is when absolute, else the first of the scenario's folder and
-// the registry's folders (--plugin-dir, SWARMFORM_PLUGIN_PATH) that holds it. Not found: InputError naming
-// every folder searched and how to add one.
+// A plug-in's (or descriptor file's) path as the scenario gives it: as is when absolute, else the first of
+// the scenario's folder and the registry's folders (--plugin-dir, SWARMFORM_PLUGIN_PATH) that holds it. Not
+// found: InputError naming every folder searched and how to add one. The registry then refuses a plug-in
+// outside its folders. `key`: "plugin" or "descriptor".
 std::string resolve_plugin(const Source& src, const YAML::Node& at, const std::string& given,
-                           const fs::path& base, const std::vector<fs::path>& folders) {
+                           const fs::path& base, const std::vector<fs::path>& folders,
+                           const std::string& key = "plugin") {
   std::error_code ec;
   const fs::path g(given);
+  const std::string path = "behaviour." + key;
+  const std::string what = key == "plugin" ? "plug-in '" + given + "'" : "descriptor file '" + given + "'";
   if (g.is_absolute()) {
     if (fs::exists(g, ec)) return g.string();
-    yaml::fail(src, at, "behaviour.plugin", "plug-in '" + given + "': no such file");
+    yaml::fail(src, at, path, what + ": no such file");
   }
   std::vector<fs::path> searched{fs::weakly_canonical(fs::absolute(base), ec)};
   for (const fs::path& f : folders) {
@@ -473,8 +475,8 @@ std::string resolve_plugin(const Source& src, const YAML::Node& at, const std::s
     if (fs::exists(f / g, ec)) return (f / g).string();
     list += (list.empty() ? "" : ", ") + f.string();
   }
-  yaml::fail(src, at, "behaviour.plugin",
-             "plug-in '" + given + "' not found in the folders searched (" + list +
+  yaml::fail(src, at, path,
+             what + " not found in the folders searched (" + list +
                  "): the scenario's folder, each --plugin-dir DIR and " + behaviour::kPluginPathVariable +
                  "; give the folder that holds it with --plugin-dir DIR");
 }
@@ -488,7 +490,8 @@ const behaviour::Descriptor& named_behaviour(const Source& src, const YAML::Node
   throw InputError(at ? src.file : "command line", 0, (at ? "" : "--behaviour: ") + why);
 }
 
-// behaviour: NAME | {name: NAME, params: {...}} | {plugin: PATH, params: {...}} (docs/scenario-format.md),
+// behaviour: NAME | {name: NAME, params: {...}} | {plugin: PATH, params: {...}} |
+// {descriptor: PATH, params: {...}} (docs/scenario-format.md),
 // and the older `controller:` section for the parameters. Every parameter is checked against the behaviour's
 // own table, with the line it is on.
 void parse_behaviour(const Source& src, MapReader& top, const ScenarioOverrides& ov, const fs::path& base,
@@ -501,9 +504,21 @@ void parse_behaviour(const Source& src, MapReader& top, const ScenarioOverrides&
     MapReader m(src, *node, "behaviour");
     auto name = m.get("name");
     auto plugin = m.get("plugin");
-    if (name && plugin)
-      yaml::fail(src, *node, "behaviour", "give name (a built-in) or plugin (a library), not both");
-    if (plugin) {
+    auto described = m.get("descriptor");
+    if ((name ? 1 : 0) + (plugin ? 1 : 0) + (described ? 1 : 0) > 1) {
+      yaml::fail(src, *node, "behaviour",
+                 "give one of name (a built-in), plugin (a library) or descriptor (a JSON file), not two");
+    }
+    if (described) {
+      const std::string given = yaml::to_string(src, *described, "behaviour.descriptor");
+      const std::string path = resolve_plugin(src, *described, given, base, registry.folders(), "descriptor");
+      try {
+        d = &registry.load_descriptor(path);
+      } catch (const InputError& e) {
+        yaml::fail(src, *described, "behaviour.descriptor", e.what());
+      }
+      s.mission.descriptor = fs::canonical(path).string();
+    } else if (plugin) {
       const std::string given = yaml::to_string(src, *plugin, "behaviour.plugin");
       const std::string path = resolve_plugin(src, *plugin, given, base, registry.folders());
       try {
@@ -515,11 +530,12 @@ void parse_behaviour(const Source& src, MapReader& top, const ScenarioOverrides&
     } else if (name) {
       d = &named_behaviour(src, &*name, yaml::to_string(src, *name, "behaviour.name"), registry);
     } else {
-      yaml::fail(src, *node, "behaviour", "expected name: (a built-in) or plugin: (a shared library)");
+      yaml::fail(src, *node, "behaviour",
+                 "expected name: (a built-in), plugin: (a shared library) or descriptor: (a JSON file)");
     }
     params_node = m.get("params");
     params_path = "behaviour.params";
-    m.finish({"name", "plugin", "params"});
+    m.finish({"name", "plugin", "descriptor", "params"});
   } else if (node) {
     d = &named_behaviour(src, &*node, yaml::to_string(src, *node, "behaviour"), registry);
   } else {
@@ -534,6 +550,7 @@ void parse_behaviour(const Source& src, MapReader& top, const ScenarioOverrides&
   if (ov.behaviour) {
     d = &named_behaviour(src, nullptr, *ov.behaviour, registry);
     s.mission.plugin.clear();
+    s.mission.descriptor.clear();
   }
   s.behaviour = d;
   s.mission.behaviour = std::string(d->name);

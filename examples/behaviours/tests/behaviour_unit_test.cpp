@@ -208,14 +208,14 @@ TEST(Registry, RefusesShapeRulesThatNameAParameterOrStateTheBehaviourLacks) {
   EXPECT_EQ(registry.find("shaper"), &d);
 }
 
-// A plug-in built against API version 2 is refused by a version-3 program, naming both.
+// A plug-in built against API version 2 is refused by a version-4 program, naming both.
 TEST(Registry, RefusesAPluginOfAnotherApiVersionNamingBoth) {
   behaviour::Registry registry({OLD_API_DIR});
   try {
     registry.load_plugin(std::string(OLD_API_DIR) + "/libold_api.so");
     FAIL() << "an API-2 plug-in was loaded";
   } catch (const behaviour::PluginError& e) {
-    EXPECT_NE(std::string(e.what()).find("built against behaviour API version 2, this program has version 3"),
+    EXPECT_NE(std::string(e.what()).find("built against behaviour API version 2, this program has version 4"),
               std::string::npos)
         << e.what();
   }
