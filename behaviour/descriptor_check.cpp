@@ -16,12 +16,6 @@ constexpr std::array<std::pair<std::uint32_t, std::string_view>, 5> kSensorNames
     {kBattery, "battery"},
 }};
 
-bool lower_case_name(std::string_view s) {
-  if (s.empty() || !(s[0] >= 'a' && s[0] <= 'z')) return false;
-  return std::all_of(s.begin(), s.end(),
-                     [](char c) { return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_'; });
-}
-
 std::string outcome_list(const ExperimentSpec& e) {
   std::string s;
   for (std::string_view o : e.outcomes) s += (s.empty() ? "" : ", ") + std::string(o);
@@ -29,6 +23,12 @@ std::string outcome_list(const ExperimentSpec& e) {
 }
 
 }  // namespace
+
+bool lower_case_name(std::string_view s) {
+  if (s.empty() || !(s[0] >= 'a' && s[0] <= 'z')) return false;
+  return std::all_of(s.begin(), s.end(),
+                     [](char c) { return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_'; });
+}
 
 std::string check_experiment(const Descriptor& d) {
   const ExperimentSpec& e = d.experiment;

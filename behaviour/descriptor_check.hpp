@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 
 #include "behaviour/descriptor.hpp"
 #include "behaviour/experiment.hpp"
@@ -16,6 +17,8 @@ inline constexpr std::uint32_t kModelledSensors = kProximity | kGround | kLight 
 
 // Empty when d's experiment declaration is consistent (outcomes given with a make, success among them, "none"
 // not used, metric names lower_case and unique); otherwise what is wrong, naming the behaviour.
+// a-z first, then a-z, 0-9 or _: the names a descriptor gives its metrics, parameters, states and columns.
+bool lower_case_name(std::string_view s);
 std::string check_experiment(const Descriptor& d);
 // Empty when d's telemetry columns can head robots.csv's columns: lower_case, unique, and none named as a
 // column the recording writes itself (tick, id, ..., net_force, leds); otherwise what is wrong.
