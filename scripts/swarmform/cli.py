@@ -402,6 +402,13 @@ def _add_sweep_parser(sub: Any) -> None:
     r.add_argument("--worst", type=_int_at_least(0), default=20, metavar="K",
                    help="worst runs listed in sweep.json (default %(default)s)")
     r.add_argument("--quiet", action="store_true", help="no progress line")
+    r.add_argument("--exec", metavar="CMD",
+                   help="run every run as `swarm run --exec CMD`: real processes, each robot's behaviour the program "
+                        "CMD over the line protocol (docs/agent-protocol.md), for a behaviour only such a program "
+                        "drives (a descriptor file's); each run in a free DDS domain of its own. Not with the "
+                        "scenario-field axes or --cluster (give each radio as a scenario file)")
+    r.add_argument("--exec-timeout", type=_float_at_least(0), metavar="S",
+                   help="with --exec: as `swarm run --exec-timeout`")
     r.add_argument("--cluster", metavar="tcp://HOST:PORT",
                    help="run the runs on a Dask distributed scheduler's workers (each in a checkout of this commit, "
                         "built; docs/sweeps.md \"On a cluster\") instead of this machine's cores; the same results")

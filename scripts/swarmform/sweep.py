@@ -31,6 +31,7 @@ import os
 import random
 import re
 import shlex
+import shutil
 import signal
 import statistics
 import subprocess
@@ -39,7 +40,7 @@ import tempfile
 import time
 from typing import IO, Any, Callable, Iterable, Optional, Sequence, Union
 
-from . import expect, launcher, places, summary_keys, sweep_cluster, sweep_fields, sweep_journal
+from . import expect, launcher, places, summary_keys, sweep_cluster, sweep_exec, sweep_fields, sweep_journal
 
 ParamValues = list[tuple[str, float]]  # a --param's values: (as written, as a number)
 Combo = dict[str, tuple[str, float]]  # one run's parameters: NAME -> (text, value)
@@ -57,7 +58,8 @@ BEHAVIOUR_COLUMNS_SHOWN = 6  # the table's columns of a behaviour's own numbers 
 Judging = Union[str, expect.Expectation]  # an --expect: an outcome word, or 'KEY OP VALUE'
 
 HELP = """\
-Runs a grid of in-process runs (build/harness/swarm_inprocess --no-record --quiet):
+Runs a grid of in-process runs (build/harness/swarm_inprocess --no-record --quiet; with --exec CMD, real
+processes: `swarm run --exec CMD`, for a behaviour only a program drives):
 every --scenario x every --shape x every --robots x every seed of --seeds x every --kills schedule x every
 combination of the --param values x every combination of the scenario-field values (--loss, --burst, --noise,
 --set), --jobs at a time, and writes into --out:
@@ -348,6 +350,7 @@ class Run:
         self.reason = "not run"
         self.severity = 9  # for the worst-case order: 0 ok .. 4 crash/timeout
         self.retries = 0  # --cluster: how many times a dying worker made the scheduler start it again
+        self.real_processes = False  # --exec: `swarm run` (sweep_exec.py), its summary read from its run directory
 
 
 def command_text(cmd: Sequence[str]) -> str:
@@ -419,6 +422,20 @@ def probe(exe: str, scenario: str, shape: Optional[str], robots: Optional[int], 
     if p.returncode != 0 or summary is None or not isinstance(summary.get("robots"), int):
         msg = p.stderr.strip() or p.stdout.strip()[:300] or f"exit {p.returncode}"
         raise SweepError(f"{msg}\n(the probe: {command_text(cmd)})")
+    return summary
+
+
+def probe_exec(opts: argparse.Namespace, scenario: str, shape: Optional[str], robots: Optional[int],
+               params: Optional[Combo] = None, plugin_dirs: Sequence[str] = ()) -> dict[str, Any]:
+    """probe() for --exec: one tick as real processes (sweep_exec.probe)."""
+    cmd = (sweep_exec.base_command(scenario, shape, robots, None, 1, plugin_dirs, opts.exec, opts.exec_timeout) +
+           param_flags(params or {}))
+    try:
+        summary, last = sweep_exec.probe(cmd, PROBE_TIMEOUT_S)
+    except subprocess.TimeoutExpired:
+        raise SweepError(f"{command_text(cmd)}: no answer within {PROBE_TIMEOUT_S:.0f} s") from None
+    if summary is None or not isinstance(summary.get("robots"), int):
+        raise SweepError(f"{last}\n(the probe: {command_text(cmd)})")
     return summary
 
 
@@ -631,7 +648,8 @@ def execute(runs: Sequence[Run], jobs: int, timeout: float, progress: Progress, 
                 err: IO[str] = open(os.path.join(tmp, f"{run.index}.err"), "w+", encoding="utf-8",
                                     errors="backslashreplace")
                 try:
-                    p = subprocess.Popen(run.cmd, stdin=subprocess.DEVNULL, stdout=out, stderr=err,
+                    argv = sweep_exec.argv(run.cmd, _run_dir(tmp, run)) if run.real_processes else run.cmd
+                    p = subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=out, stderr=err,
                                          process_group=0, preexec_fn=_die_with_parent)
                 except OSError as e:
                     run.reason, run.severity, run.exit_code = f"could not start: {e}", 4, None
@@ -653,7 +671,7 @@ def execute(runs: Sequence[Run], jobs: int, timeout: float, progress: Progress, 
                     run.reason = f"timeout: still running after {timeout:g} s (SIGKILLed)"
                 run.wall = time.monotonic() - started
                 run.exit_code = p.returncode
-                _finish(run, out, err, over, opts)
+                _finish(run, out, err, over, opts, _run_dir(tmp, run))
                 if journal is not None:
                     journal.write(json.dumps(journal_record(run)) + "\n")
                     journal.flush()
@@ -676,14 +694,12 @@ def execute(runs: Sequence[Run], jobs: int, timeout: float, progress: Progress, 
                 p.wait()
             run.wall = time.monotonic() - started
             run.exit_code = p.returncode
-            _finish(run, out, err, False, opts)
+            _finish(run, out, err, False, opts, _run_dir(tmp, run))
             if run.summary is None:
                 run.reason, run.severity = "interrupted", 9
             elif journal is not None:
                 journal.write(json.dumps(journal_record(run)) + "\n")
-        for name in os.listdir(tmp):
-            os.unlink(os.path.join(tmp, name))
-        os.rmdir(tmp)
+        shutil.rmtree(tmp, ignore_errors=True)
     return done, failed
 
 
@@ -713,13 +729,23 @@ def _killpg(p: "subprocess.Popen[bytes]", sig: int = signal.SIGKILL) -> None:
             pass
 
 
-def _finish(run: Run, out: IO[str], err: IO[str], timed_out: bool, opts: argparse.Namespace) -> None:
+def _run_dir(tmp: str, run: Run) -> str:
+    """An --exec run's run directory (sweep_exec.argv's --out), in the sweep's temporary folder."""
+    return os.path.join(tmp, f"{run.index}.run")
+
+
+def _finish(run: Run, out: IO[str], err: IO[str], timed_out: bool, opts: argparse.Namespace,
+            run_dir: Optional[str] = None) -> None:
     out.seek(0)
     err.seek(0)
     stdout, stderr = out.read(), err.read()
     out.close()
     err.close()
-    run.summary = None if timed_out else parse_summary(stdout)
+    if run.real_processes and run_dir is not None:
+        summary = sweep_exec.take_summary(run_dir)
+        run.summary = None if timed_out else summary
+    else:
+        run.summary = None if timed_out else parse_summary(stdout)
     if timed_out:
         run.success, run.severity = False, 4
         return
@@ -1045,17 +1071,30 @@ def plan(opts: argparse.Namespace, exe: str) -> tuple[list[Run], dict[str, Any]]
     for d in plugin_dirs:
         if not os.path.isdir(d):
             raise SweepError(f"--plugin-dir '{d}': no such folder")
+    program: Optional[str] = getattr(opts, "exec", None)
+    if program is not None:
+        given = [f for f in sweep_exec.REFUSED if getattr(opts, f[2:], None)]
+        if given:
+            raise SweepError(f"{', '.join(given)} with --exec: `swarm run` has no such flag (sweep_exec.py); give "
+                             "each radio as a scenario file instead")
+
+    def check(scenario: str, shape: Optional[str], robots: Optional[int], params: Optional[Combo] = None,
+              field_flags: Sequence[str] = ()) -> dict[str, Any]:
+        if program is not None:
+            return probe_exec(opts, scenario, shape, robots, params, plugin_dirs)
+        return probe(exe, scenario, shape, robots, params, plugin_dirs, field_flags)
+
     runs: list[Run] = []
     for scenario in scenarios:
         # Each value once per scenario (its behaviour decides): an unknown name or a value out of bounds is said
         # before anything long starts. The first shape and robot count stand for the rest.
         for name, values in params:
             for text, value in values:
-                probe(exe, scenario, shapes[0], robots_list[0], {name: (text, value)}, plugin_dirs)
+                check(scenario, shapes[0], robots_list[0], {name: (text, value)})
         # Each scenario-field value once per scenario (the loader checks it as it checks the file's fields).
         singles = {(f[i], f[i + 1]) for _, f in field_combos for i in range(0, len(f), 2)}
         for flag in sorted(singles):
-            probe(exe, scenario, shapes[0], robots_list[0], combos[0], plugin_dirs, flag)
+            check(scenario, shapes[0], robots_list[0], combos[0], flag)
         window_cap = opts.max_ticks or scenario_max_ticks(scenario)
         window = min(opts.kill_window, window_cap)
         for schedule in schedules:
@@ -1067,7 +1106,7 @@ def plan(opts: argparse.Namespace, exe: str) -> tuple[list[Run], dict[str, Any]]
             for robots in robots_list:
                 # With the grid's first parameters: they may decide whether the scenario loads (shape_heading
                 # turns the shape, and the loader checks that it fits).
-                info = probe(exe, scenario, shape, robots, combos[0], plugin_dirs, field_combos[0][1])
+                info = check(scenario, shape, robots, combos[0], field_combos[0][1])
                 # Every --expect key against what this scenario's behaviour declares, before any run.
                 bad = expect.check_declared(expressions(opts), summary_keys.declared_keys(info))
                 if bad:
@@ -1079,19 +1118,26 @@ def plan(opts: argparse.Namespace, exe: str) -> tuple[list[Run], dict[str, Any]]
                     for schedule in schedules:
                         for seed in seeds:
                             flags = schedule.flags(seed, n, window)
-                            cmd = base_command(exe, scenario, shape, robots, seed, opts.max_ticks, plugin_dirs)
+                            if program is not None:
+                                cmd = sweep_exec.base_command(scenario, shape, robots, seed, opts.max_ticks,
+                                                              plugin_dirs, program, opts.exec_timeout)
+                            else:
+                                cmd = base_command(exe, scenario, shape, robots, seed, opts.max_ticks, plugin_dirs)
                             for k in flags:
                                 cmd += ["--kill", k]
                             # A restart after the run's last tick would never happen (and is refused): left out.
                             for f in schedule.restart_flags(flags, window_cap):
                                 cmd += ["--fault", f]
-                            cmd += param_flags(combo) + field_flags + ["--no-record", "--quiet"]
+                            cmd += param_flags(combo) + field_flags
+                            if program is None:
+                                cmd += ["--no-record", "--quiet"]
                             runs.append(Run(len(runs), scenario, shape, shape_name, robots, n, seed, schedule,
                                             flags, opts.max_ticks, cmd, combo, field_labels))
+                            runs[-1].real_processes = program is not None
     grid = {"scenarios": scenarios, "shapes": [s or "(the scenario's)" for s in shapes],
             "robots": [r or "(the scenario's)" for r in robots_list], "seeds": _ranges(seeds),
             "seed_count": len(seeds), "kills": [s.text for s in schedules], "kill_window": opts.kill_window,
-            "max_ticks": opts.max_ticks, "plugin_dirs": plugin_dirs,
+            "max_ticks": opts.max_ticks, "plugin_dirs": plugin_dirs, "exec": program,
             "params": {name: [v for _, v in values] for name, values in params},
             "param_combinations": len(combos), "fields": fields.grid(), "field_combinations": len(field_combos),
             "field_columns": fields.columns()}

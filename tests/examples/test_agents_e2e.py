@@ -4,9 +4,10 @@ its robot dead with a message naming the robot, while the rest of the swarm runs
 liveliness lease (but within its deadline) is not taken for dead. The behaviour is described by
 aggregation.json (docs/agent-protocol.md, "The descriptor file"): its states are named in world.json, the
 summary and events.jsonl, its telemetry column is recorded, nothing it reports is dropped, and a parameter out of
-its bounds is refused with the scenario's file:line before anything starts. Every process this test
+its bounds is refused with the scenario's file:line before anything starts; `swarm sweep --exec` runs it over a
+grid and judges it on its own states. Every process this test
 starts is found by its command line (the run's own temporary folder) and must be gone at the end. DDS test
-domains 52 and 53 (53 reused in turn)."""
+domains 52 and 53 (53 reused in turn; the sweep's runs pick either through SWARM_DOMAINS)."""
 
 import csv
 import json
@@ -197,6 +198,37 @@ class PythonAgentEndToEndTest(unittest.TestCase):
             f.write(SLOW)
         r, s = self.swarm("--exec", f"python3 {slow}", "--max-ticks", "40", domain=helpers.test_domain(53))
         self.assertEqual((s["deaths"], s["rejoins"], s["alive_at_end"]), ([], [], 6), r.stderr)
+
+    def test_a_sweep_runs_the_python_behaviour_judged_on_its_own_states(self):
+        # `swarm sweep --exec`: each run as `swarm run --exec` in a free domain of this test's two (SWARM_DOMAINS).
+        sweep_dir = os.path.join(self.dir, "sweep")
+        domains = {"SWARM_DOMAINS": f"{helpers.test_domain(52)}-{helpers.test_domain(53)}"}
+        r = helpers.swarm("sweep", "--scenario", SCENARIO, "--exec", f"python3 {self.agent}", "--seeds", "4",
+                          "--kills", "none", "2@150", "--max-ticks", "300", "--expect", "states_at_end.alone <= 2",
+                          "--quiet", "--out", sweep_dir, env=domains, build_dir=BUILD_DIR, timeout=300)
+        self.assertEqual(r.returncode, 0, f"stdout:\n{r.stdout}\nstderr:\n{r.stderr}")
+        self.assertEqual(processes_mentioning(self.dir), [], "a process of the sweep (an agent or a child) is left")
+        with open(os.path.join(sweep_dir, "sweep.csv")) as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual([(row["kills"], row["success"]) for row in rows], [("none", "1"), ("2@150", "1")])
+        for row in rows:  # the behaviour's own states and telemetry are columns; the commands say how to rerun
+            self.assertEqual(sum(int(row[f"states_at_end.{name}"]) for name in STATES.values()),
+                             int(row["alive_at_end"]))
+            self.assertNotEqual(row["telemetry_mean_at_end.neighbours"], "")
+            self.assertTrue(row["command"].startswith("scripts/swarm run --scenario "), row["command"])
+            self.assertIn(f"--exec 'python3 {self.agent}'", row["command"])
+        self.assertEqual([row["alive_at_end"] for row in rows], ["6", "5"])  # the kill took
+        # A key the descriptor does not declare: refused by the probe, before any run; a field axis: refused.
+        r = helpers.swarm("sweep", "--scenario", SCENARIO, "--exec", f"python3 {self.agent}", "--seeds", "4",
+                          "--expect", "states_at_end.dancing >= 0", "--out", sweep_dir + "2", env=domains,
+                          build_dir=BUILD_DIR, timeout=300)
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn("summary.json will have no key 'states_at_end.dancing'", r.stderr)
+        self.assertIn("nothing was run", r.stderr)
+        r = helpers.swarm("sweep", "--scenario", SCENARIO, "--exec", f"python3 {self.agent}", "--loss", "0.1",
+                          "--out", sweep_dir + "3", build_dir=BUILD_DIR, timeout=60)
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn("--loss with --exec", r.stderr)
 
 
 if __name__ == "__main__":
