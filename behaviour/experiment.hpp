@@ -59,7 +59,7 @@ struct Truth {
   std::span<const RobotTruth> robots;        // every robot, id order
   std::span<const RobotId> died;             // detected dead since the last observe
   std::span<const RobotId> rejoined;         // back since the last observe
-  std::span<const ObstacleTruth> obstacles;  // walls excluded
+  std::span<const ObstacleTruth> obstacles;  // those present this tick (world events), walls excluded
   ArenaTruth arena;
   std::optional<Goal> goal;            // nullopt: the run has no goal
   std::optional<ShapeProgress> shape;  // set for a behaviour that needs a shape and a goal

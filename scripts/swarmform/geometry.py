@@ -144,10 +144,12 @@ def view_bounds(rec: Recording, pad: float = 1.0) -> tuple[float, float, float, 
     for light in w.lights:  # what a phototaxis heads for
         xs.append(light.position[0])
         ys.append(light.position[1])
-    for ob in w.obstacles:
+    places = [(ob, ob.centre) for ob in w.obstacles]
+    places += [(w.obstacles[ev.obstacle], ev.centre) for ev in w.world_events if ev.centre is not None]  # moved to
+    for ob, centre in places:
         r = ob.radius if ob.kind == "cylinder" else math.hypot(*ob.half_extents)
-        xs += [ob.centre[0] - r, ob.centre[0] + r]
-        ys += [ob.centre[1] - r, ob.centre[1] + r]
+        xs += [centre[0] - r, centre[0] + r]
+        ys += [centre[1] - r, centre[1] + r]
     ax0, ay0 = w.arena_centre[0] - w.arena_width / 2, w.arena_centre[1] - w.arena_height / 2
     ax1, ay1 = ax0 + w.arena_width, ay0 + w.arena_height
     m = 0.15  # keep the walls in view when the box reaches them

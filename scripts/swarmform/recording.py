@@ -7,6 +7,7 @@ what it had: a half-written last line of robots.csv or events.jsonl, or a last t
 dropped with a warning instead.
 """
 
+import dataclasses
 import json
 import math
 import os
@@ -47,6 +48,18 @@ class Obstacle:
     half_extents: tuple = (0.0, 0.0)  # boxes, m
     yaw: float = 0.0  # boxes, rad
     radius: float = 0.0  # cylinders, m
+    present: bool = True  # there at tick 0; world events change it
+
+
+@dataclass
+class WorldEvent:
+    """A scheduled world event (world.json's world_events; world_server/world/world_events.hpp): at `tick`, obstacle
+    `obstacle` (an index of World.obstacles) appears, disappears or moves to `centre` (and `yaw`, if given)."""
+    tick: int
+    obstacle: int
+    action: str  # "appear", "disappear" or "move"
+    centre: Optional[tuple] = None
+    yaw: Optional[float] = None
 
 
 @dataclass
@@ -118,7 +131,8 @@ class World:
     arena_width: float = 10.0
     arena_height: float = 10.0
     walls: bool = True
-    obstacles: list = field(default_factory=list)
+    obstacles: list = field(default_factory=list)  # as they stand at tick 0
+    world_events: list = field(default_factory=list)  # WorldEvent, by tick
     goal: Optional[tuple] = None  # (x, y, radius)
     grid_spacing: float = 1.0
     comm_range: float = 3.0
@@ -264,6 +278,9 @@ def read_world(path: str) -> World:
     w.walls = bool(arena.get("walls", True))
     for i, ob in enumerate(doc.get("obstacles") or []):
         w.obstacles.append(_read_obstacle(ob, path, f"obstacles[{i}]"))
+    for i, ev in enumerate(doc.get("world_events") or []):
+        w.world_events.append(_read_world_event(ev, path, f"world_events[{i}]", len(w.obstacles)))
+    w.world_events.sort(key=lambda e: e.tick)  # stable: the file's order within a tick
     goal = doc.get("goal")
     if isinstance(goal, dict):
         w.goal = (_number(goal, "x", path, "goal"), _number(goal, "y", path, "goal"),
@@ -370,12 +387,53 @@ def _read_obstacle(ob: Any, path: str, what: str) -> Obstacle:
     kind = str(ob.get("kind", "")).lower()
     centre = _vec2(ob.get("centre"), path, f"{what}.centre")
     name = str(ob.get("name", ""))
+    present = ob.get("present", True)
+    if not isinstance(present, bool):
+        raise RecordingError(path, None, f"{what}.present: expected true or false, got {present!r}")
     if kind == "box":
         he = _vec2(ob.get("half_extents"), path, f"{what}.half_extents")
-        return Obstacle("box", centre, name, half_extents=he, yaw=_number(ob, "yaw", path, what, 0.0))
+        return Obstacle("box", centre, name, half_extents=he, yaw=_number(ob, "yaw", path, what, 0.0),
+                        present=present)
     if kind == "cylinder":
-        return Obstacle("cylinder", centre, name, radius=_number(ob, "radius", path, what))
+        return Obstacle("cylinder", centre, name, radius=_number(ob, "radius", path, what), present=present)
     raise RecordingError(path, None, f"{what}.kind: expected 'box' or 'cylinder', got {ob.get('kind')!r}")
+
+
+def _read_world_event(ev: Any, path: str, what: str, obstacles: int) -> WorldEvent:
+    if not isinstance(ev, dict):
+        raise RecordingError(path, None, f"{what}: expected an object {{tick, obstacle, do[, centre, yaw]}}")
+    tick, index, action = ev.get("tick"), ev.get("obstacle"), ev.get("do")
+    if not isinstance(tick, int) or isinstance(tick, bool) or tick < 0:
+        raise RecordingError(path, None, f"{what}.tick: expected a tick, got {tick!r}")
+    if not isinstance(index, int) or isinstance(index, bool) or not 0 <= index < obstacles:
+        raise RecordingError(path, None, f"{what}.obstacle: expected an index of obstacles (0..{obstacles - 1}), "
+                                         f"got {index!r}")
+    if action not in ("appear", "disappear", "move"):
+        raise RecordingError(path, None, f"{what}.do: expected appear, disappear or move, got {action!r}")
+    if action != "move":
+        return WorldEvent(tick, index, action)
+    yaw = ev.get("yaw")
+    return WorldEvent(tick, index, action, _vec2(ev.get("centre"), path, f"{what}.centre"),
+                      None if yaw is None else _number(ev, "yaw", path, what))
+
+
+def obstacles_at(world: World, tick: int) -> list:
+    """The obstacles as they stand at `tick` (every one, `present` saying whether it is there): world.json's, with
+    its world events up to and including `tick` applied, as the world executed them."""
+    now = [dataclasses.replace(ob) for ob in world.obstacles]
+    for ev in world.world_events:
+        if ev.tick > tick:
+            break
+        ob = now[ev.obstacle]
+        if ev.action == "appear":
+            ob.present = True
+        elif ev.action == "disappear":
+            ob.present = False
+        else:
+            ob.centre = ev.centre
+            if ev.yaw is not None:
+                ob.yaw = ev.yaw
+    return now
 
 
 def _read_shape(sh: Any, path: str) -> Shape:

@@ -24,7 +24,7 @@ from matplotlib.patches import Circle, Polygon, Rectangle  # noqa: E402
 
 from .geometry import view_bounds  # noqa: E402
 from .recording import STATE_COLOURS  # noqa: E402,F401  (the paper's; a recording carries its behaviour's)
-from .recording import Floor, FloorRegion, Recording, World  # noqa: E402
+from .recording import Floor, FloorRegion, Obstacle, Recording, World, obstacles_at  # noqa: E402
 
 Bounds = tuple[float, float, float, float]  # xmin, xmax, ymin, ymax (m)
 States = dict[int, tuple[str, str]]  # a behaviour's states: value -> (name, colour)
@@ -129,9 +129,38 @@ def led_positions(x: np.ndarray, y: np.ndarray, theta: np.ndarray, radius: float
     return np.stack([x[:, None] + r * np.cos(angles), y[:, None] + r * np.sin(angles)], axis=-1)
 
 
-def draw_static(ax: Any, world: World, bounds: Bounds) -> None:
-    """The floor, walls, obstacles, the goal and the lights; the axes set to `bounds` with equal scales, in
-    metres."""
+def box_corners(ob: Obstacle) -> list[tuple[float, float]]:
+    hx, hy = ob.half_extents
+    c, s = math.cos(ob.yaw), math.sin(ob.yaw)
+    return [(ob.centre[0] + c * dx - s * dy, ob.centre[1] + s * dx + c * dy)
+            for dx, dy in ((-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy))]
+
+
+def obstacle_patch(ob: Obstacle, filled: bool = True) -> Any:
+    """An obstacle as drawn: filled where it stands; an outline, dashed, where it stood or will stand."""
+    style: dict[str, Any] = ({"facecolor": OBSTACLE_COLOUR, "edgecolor": "black", "alpha": 0.8} if filled else
+                             {"fill": False, "edgecolor": OBSTACLE_COLOUR, "linestyle": "--", "alpha": 0.8})
+    if ob.kind == "cylinder":
+        return Circle(ob.centre, ob.radius, **style)
+    return Polygon(box_corners(ob), closed=True, **style)
+
+
+def draw_obstacles(ax: Any, world: World) -> None:
+    """The obstacles of a whole run: each where it stands at the end, filled; with world events, every other place
+    it held (or its place while absent) as a dashed outline."""
+    end = obstacles_at(world, world.world_events[-1].tick) if world.world_events else world.obstacles
+    for k, ob in enumerate(end):
+        if ob.present:
+            ax.add_patch(obstacle_patch(ob))
+        held = [world.obstacles[k]] + [obstacles_at(world, e.tick)[k] for e in world.world_events if e.obstacle == k]
+        for past in held:
+            if (past.centre, past.yaw, past.present) != (ob.centre, ob.yaw, ob.present) or not ob.present:
+                ax.add_patch(obstacle_patch(past, filled=False))
+
+
+def draw_static(ax: Any, world: World, bounds: Bounds, obstacles: bool = True) -> None:
+    """The floor, walls, obstacles (unless the caller draws them as they stand: Scene), the goal and the lights;
+    the axes set to `bounds` with equal scales, in metres."""
     x0, x1, y0, y1 = bounds
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)
@@ -145,15 +174,8 @@ def draw_static(ax: Any, world: World, bounds: Bounds) -> None:
     ax.add_patch(Rectangle((cx - world.arena_width / 2, cy - world.arena_height / 2), world.arena_width,
                            world.arena_height, fill=False, edgecolor=WALL_COLOUR,
                            linewidth=3.0 if world.walls else 0.8, linestyle="-" if world.walls else "--"))
-    for ob in world.obstacles:
-        if ob.kind == "cylinder":
-            ax.add_patch(Circle(ob.centre, ob.radius, facecolor=OBSTACLE_COLOUR, edgecolor="black", alpha=0.8))
-        else:
-            hx, hy = ob.half_extents
-            c, s = math.cos(ob.yaw), math.sin(ob.yaw)
-            corners = [(ob.centre[0] + c * dx - s * dy, ob.centre[1] + s * dx + c * dy)
-                       for dx, dy in ((-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy))]
-            ax.add_patch(Polygon(corners, closed=True, facecolor=OBSTACLE_COLOUR, edgecolor="black", alpha=0.8))
+    if obstacles:
+        draw_obstacles(ax, world)
     if world.goal:
         gx, gy, gr = world.goal
         ax.add_patch(Circle((gx, gy), gr, facecolor="#c8e6c9", edgecolor="#2e7d32", linestyle="--", alpha=0.7))
@@ -200,7 +222,10 @@ class Scene:
         self.size_px = size_px or arena_figure_size(self.bounds, axes)
         self.fig = plt.figure(figsize=(self.size_px[0] / dpi, self.size_px[1] / dpi), dpi=dpi)
         self.ax = self.fig.add_axes(arena_axes_rect(self.size_px, axes))
-        draw_static(self.ax, rec.world, self.bounds)
+        # Obstacles that world events move, add or remove are drawn as they stand at the shown tick.
+        moving = bool(rec.world.world_events)
+        draw_static(self.ax, rec.world, self.bounds, obstacles=not moving)
+        self.obstacles = [self.ax.add_patch(obstacle_patch(ob)) for ob in rec.world.obstacles] if moving else []
         if legend:
             present = set(int(s) for s in np.unique(rec.track.state))  # only the states this run shows
             handles = legend_handles(present, rec.world.states, bool(rec.track.leader.any()),
@@ -228,7 +253,7 @@ class Scene:
         box = self.ax.get_position()
         self.title = self.fig.text((box.x0 + box.x1) / 2, box.y1 + 0.015, "", ha="center", va="bottom",
                                    fontsize=11)
-        self.dynamic = [self.links, self.robots, self.dead, self.leds, self.leader, self.title]
+        self.dynamic = [*self.obstacles, self.links, self.robots, self.dead, self.leds, self.leader, self.title]
 
     def show(self, i: int, caption: Optional[str] = None) -> None:
         """Updates the dynamic artists to recorded tick index `i`."""
@@ -249,6 +274,7 @@ class Scene:
                 segments.append([(x[k], y[k]), (x[p], y[p])])
         self.links.set_segments(segments)
         self._show_leds(i, live)
+        self._show_obstacles(int(t.ticks[i]))
         if self.labels:
             self._label(live, x, y, t.theta[i])
         tick = int(t.ticks[i])
@@ -270,6 +296,17 @@ class Scene:
         at = led_positions(t.x[i][live], t.y[i][live], t.theta[i][live], self.drawn_radius)
         self.leds.set_offsets(at[lit])
         self.leds.set_facecolors(colours[lit] / 255.0)
+
+    def _show_obstacles(self, tick: int) -> None:
+        """The obstacles world events move, add and remove, as they stand at `tick`."""
+        if not self.obstacles:
+            return
+        for patch, ob in zip(self.obstacles, obstacles_at(self.rec.world, tick)):
+            patch.set_visible(ob.present)
+            if isinstance(patch, Circle):
+                patch.set_center(ob.centre)
+            else:
+                patch.set_xy(box_corners(ob))
 
     def _label(self, live: np.ndarray, x: np.ndarray, y: np.ndarray, theta: np.ndarray) -> None:
         """Ids and headings of the live robots (replacing the previous tick's)."""

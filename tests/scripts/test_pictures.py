@@ -1,6 +1,7 @@
 """The pictures: every file, each a complete PNG of the documented size, the animation with the planned frame
 count, a GIF small enough for a README, and a long run rendered fast."""
 
+import json
 import os
 import resource
 import shutil
@@ -274,6 +275,58 @@ class SpeedTest(unittest.TestCase):
             self.assertEqual(len(written), 12)
         finally:
             shutil.rmtree(d)
+
+
+class WorldEventsPicturesTest(unittest.TestCase):
+    """Obstacles that world events add, move and remove are drawn as they stand at the tick shown; the trajectories
+    show where each stood as a dashed outline."""
+
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="swarm-pics-events-")
+        fixture.make_run(self.dir)
+        path = os.path.join(self.dir, "world.json")
+        with open(path) as f:
+            doc = json.load(f)
+        doc["obstacles"].append({"kind": "box", "name": "gate", "centre": [0.0, 4.0], "half_extents": [0.4, 0.4],
+                                 "yaw": 0.0, "present": False})
+        doc["world_events"] = [{"tick": 40, "obstacle": 2, "name": "gate", "do": "move", "centre": [2.0, 4.0],
+                                "yaw": None},
+                               {"tick": 20, "obstacle": 2, "name": "gate", "do": "appear"}]
+        with open(path, "w") as f:
+            json.dump(doc, f)
+
+    def tearDown(self):
+        shutil.rmtree(self.dir)
+
+    def test_an_obstacle_is_drawn_from_its_appearance_where_it_stands(self):
+        rec = recording.load(self.dir)
+        self.assertEqual([e.tick for e in rec.world.world_events], [20, 40])  # read in tick order
+        view = scene.Scene(rec, pictures.picture_size(rec, "snapshot"), pictures.DPI)
+        self.addCleanup(view.close)
+        # Points off the grid's lines: inside the gate where it first stands, and where it moves to.
+        first, moved = (0.3, 4.3), (2.3, 4.3)
+        view.show(rec.track.index_of(10))
+        box = rgb_at(view, 4.7, 1.3)  # inside the obstacle that is always there
+        background = rgb_at(view, -2.3, 4.3)
+        self.assertNotEqual(box, background)
+        self.assertEqual(rgb_at(view, *first), background, "absent before its appearance")
+        view.show(rec.track.index_of(30))
+        self.assertEqual(rgb_at(view, *first), box, "there from tick 20")
+        self.assertEqual(rgb_at(view, *moved), background)
+        view.show(rec.track.index_of(50))
+        self.assertEqual(rgb_at(view, *first), background, "moved away at tick 40")
+        self.assertEqual(rgb_at(view, *moved), box, "moved to (2, 4)")
+
+    def test_a_world_event_of_an_unknown_obstacle_is_named_in_the_recording(self):
+        path = os.path.join(self.dir, "world.json")
+        with open(path) as f:
+            doc = json.load(f)
+        doc["world_events"][0]["obstacle"] = 7
+        with open(path, "w") as f:
+            json.dump(doc, f)
+        with self.assertRaisesRegex(recording.RecordingError, r"world_events\[0\]\.obstacle: expected an index of "
+                                                              r"obstacles \(0\.\.2\), got 7"):
+            recording.load(self.dir)
 
 
 if __name__ == "__main__":

@@ -113,6 +113,24 @@ function stateName(v) { const s = S.states.get(v); return s ? s.name : "state " 
 
 // ---- drawing ---------------------------------------------------------------------------------------------
 
+// world.json's obstacles with its world_events up to `tick` applied (world_server/world/world_events.hpp), the
+// present ones only.
+function obstaclesAt(tick) {
+  const now = (S.world.obstacles || []).map((o) => Object.assign({}, o));
+  for (const e of S.world.world_events || []) {
+    if (e.tick > tick) break;
+    const o = now[e.obstacle];
+    if (!o) continue;
+    if (e.do === "appear") o.present = true;
+    else if (e.do === "disappear") o.present = false;
+    else if (e.do === "move") {
+      o.centre = e.centre;
+      if (typeof e.yaw === "number") o.yaw = e.yaw;
+    }
+  }
+  return now.filter((o) => o.present !== false);
+}
+
 function draw() {
   const w = canvas.clientWidth, h = canvas.clientHeight;
   ctx.clearRect(0, 0, w, h);
@@ -128,9 +146,9 @@ function draw() {
     ctx.lineWidth = t;
     ctx.strokeRect(x0 - t / 2, y0 - t / 2, a.width * k + t, a.height * k + t);
   }
-  // Obstacles.
+  // Obstacles, as they stand at the tick shown (world events move, add and remove them).
   ctx.fillStyle = "#6d4c41";
-  for (const o of S.world.obstacles || []) {
+  for (const o of obstaclesAt(S.frame ? S.frame.tick : 0)) {
     const [ox, oy] = project(o.centre[0], o.centre[1]);
     ctx.beginPath();
     if (o.kind === "cylinder") {

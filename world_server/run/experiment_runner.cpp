@@ -13,16 +13,6 @@ ExperimentRunner::ExperimentRunner(const World& world) : world_(world) {
   if (descriptor_ == nullptr || descriptor_->experiment.make == nullptr) return;
   verdict_.success = false;
   for (const auto& m : descriptor_->experiment.metrics) verdict_.metrics[std::string(m.name)] = nullptr;
-  for (const Obstacle& o : s.obstacles) {
-    experiment::ObstacleTruth t;
-    t.kind = o.kind == Obstacle::Kind::Box ? experiment::ObstacleTruth::Kind::Box
-                                           : experiment::ObstacleTruth::Kind::Cylinder;
-    t.centre = o.centre;
-    t.yaw = o.yaw;
-    t.half_extents = o.half_extents;
-    t.radius = o.radius;
-    obstacles_.push_back(t);
-  }
   arena_ = {s.arena_centre, s.arena_width, s.arena_height, s.walls};
   // The scenario's goal is the run's goal only for a behaviour that goes to one (the world checks it then).
   if (descriptor_->needs_goal) goal_ = experiment::Goal{s.mission.goal, s.mission.goal_radius};
@@ -53,6 +43,18 @@ void ExperimentRunner::observe(const Metrics& metrics) {
   robots_.resize(truth.size());
   for (std::size_t i = 0; i < truth.size(); ++i) {
     robots_[i] = {truth[i].id, truth[i].pose, truth[i].alive, &truth[i].telemetry, truth[i].leds};
+  }
+  obstacles_.clear();  // as they stand this tick (world events move, add and remove them)
+  for (const Obstacle& o : world_.obstacles()) {
+    if (!o.present) continue;
+    experiment::ObstacleTruth ot;
+    ot.kind = o.kind == Obstacle::Kind::Box ? experiment::ObstacleTruth::Kind::Box
+                                            : experiment::ObstacleTruth::Kind::Cylinder;
+    ot.centre = o.centre;
+    ot.yaw = o.yaw;
+    ot.half_extents = o.half_extents;
+    ot.radius = o.radius;
+    obstacles_.push_back(ot);
   }
   experiment::Truth t;
   t.tick = world_.tick();

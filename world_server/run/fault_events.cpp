@@ -16,6 +16,14 @@ void record_world_fault_events(RunSession& session, const std::vector<Fault>& fa
   }
 }
 
+void record_world_events(RunSession& session, const Scenario& scenario, Tick t) {
+  for (const WorldEvent& e : scenario.world_events) {
+    if (e.tick != t) continue;
+    session.record_event(-1, "obstacle_" + std::string(action_word(e.action)),
+                         describe_world_event(e, scenario.obstacles));
+  }
+}
+
 void record_process_fault_event(RunSession& session, const Fault& fault, bool start,
                                 const std::string& what) {
   session.record_event(id_of(fault), start ? "fault" : "fault_end", fault.text + ": " + what);

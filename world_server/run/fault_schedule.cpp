@@ -49,6 +49,7 @@ void FaultSchedule::at_round(Tick t, RunSession& session, FaultActions& actions)
     it = pending_restarts_.erase(it);
   }
   record_world_fault_events(session, scenario_.faults, t);
+  record_world_events(session, scenario_, t);
 }
 
 bool FaultSchedule::quiet_at(Tick t) const {
@@ -56,6 +57,9 @@ bool FaultSchedule::quiet_at(Tick t) const {
   if (!kills_.empty() && kills_.begin()->first <= t) return false;
   for (const Fault& f : scenario_.faults) {
     if (f.tick == t || f.end_tick() == t) return false;
+  }
+  for (const WorldEvent& e : scenario_.world_events) {
+    if (e.tick == t) return false;
   }
   return true;
 }

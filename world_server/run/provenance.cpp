@@ -29,8 +29,20 @@ ojson canonical(const Scenario& s) {
                          {"half_extents", xy(o.half_extents)},
                          {"yaw", o.yaw},
                          {"radius", o.radius}});
+    if (!o.present) obstacles.back()["present"] = false;
   }
   j["obstacles"] = std::move(obstacles);
+  if (!s.world_events.empty()) {  // only then: the hash of a scenario without any stays as it was
+    ojson events = ojson::array();
+    for (const WorldEvent& e : s.world_events) {
+      events.push_back({{"tick", e.tick},
+                        {"obstacle", e.obstacle},
+                        {"do", std::string(action_word(e.action))},
+                        {"centre", xy(e.centre)},
+                        {"yaw", e.yaw ? ojson(*e.yaw) : ojson(nullptr)}});
+    }
+    j["world_events"] = std::move(events);
+  }
   ojson robots = ojson::array();
   for (const Pose2D& p : s.robots) robots.push_back(ojson::array({p.x, p.y, p.theta}));
   j["robots"] = std::move(robots);

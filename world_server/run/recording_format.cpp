@@ -36,7 +36,26 @@ ojson obstacle_json(const Obstacle& o) {
     j["centre"] = xy(o.centre);
     j["radius"] = o.radius;
   }
+  if (!o.present) j["present"] = false;  // absent at tick 0 (world events)
   return j;
+}
+
+// The scenario's world events (world_events.hpp), by tick: what the pictures and the view replay.
+ojson world_events_json(const std::vector<WorldEvent>& events, const std::vector<Obstacle>& obstacles) {
+  ojson out = ojson::array();
+  for (const WorldEvent& e : events) {
+    ojson j;
+    j["tick"] = e.tick;
+    j["obstacle"] = e.obstacle;
+    j["name"] = obstacles[e.obstacle].name;
+    j["do"] = std::string(action_word(e.action));
+    if (e.action == WorldEvent::Action::Move) {
+      j["centre"] = xy(e.centre);
+      j["yaw"] = e.yaw ? ojson(*e.yaw) : ojson(nullptr);
+    }
+    out.push_back(std::move(j));
+  }
+  return out;
 }
 
 // "#rrggbb", or null when the scenario gave a grey rather than a colour.
@@ -212,6 +231,8 @@ ojson describe_world(const Scenario& scenario, const std::string& mode) {
   ojson obstacles = ojson::array();
   for (const auto& o : scenario.obstacles) obstacles.push_back(obstacle_json(o));
   j["obstacles"] = std::move(obstacles);
+  if (!scenario.world_events.empty())
+    j["world_events"] = world_events_json(scenario.world_events, scenario.obstacles);
   j["goal"] =
       m.has_goal ? ojson{{"x", m.goal.x}, {"y", m.goal.y}, {"radius", m.goal_radius}} : ojson(nullptr);
   j["grid_spacing"] = m.grid_spacing;

@@ -2,9 +2,10 @@
 
 namespace swarmform::world {
 
-std::vector<Obstacle> static_obstacles(const Scenario& s) {
-  std::vector<Obstacle> out = s.obstacles;
-  if (!s.walls) return out;
+namespace {
+
+void add_walls(const Scenario& s, std::vector<Obstacle>& out) {
+  if (!s.walls) return;
   const double hw = s.arena_width / 2.0;
   const double hh = s.arena_height / 2.0;
   const double t = s.wall_thickness / 2.0;
@@ -21,6 +22,22 @@ std::vector<Obstacle> static_obstacles(const Scenario& s) {
   wall("wall south", 0.0, -hh - t, hw, t);
   wall("wall east", hw + t, 0.0, t, hh + 2.0 * t);
   wall("wall west", -hw - t, 0.0, t, hh + 2.0 * t);
+}
+
+}  // namespace
+
+std::vector<Obstacle> static_obstacles(const Scenario& s) {
+  std::vector<Obstacle> out = s.obstacles;
+  add_walls(s, out);
+  return out;
+}
+
+std::vector<Obstacle> present_statics(const Scenario& s, const std::vector<Obstacle>& obstacles) {
+  std::vector<Obstacle> out;
+  for (const Obstacle& o : obstacles) {
+    if (o.present) out.push_back(o);
+  }
+  add_walls(s, out);
   return out;
 }
 

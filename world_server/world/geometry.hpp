@@ -177,8 +177,12 @@ inline double point_clearance(double px, double py, const StaticShape& s) {
   return outside > 0.0 ? outside : std::max(lx, ly);
 }
 
-// The static bodies of a scenario: its obstacles, then (when walls are on) the four walls as boxes whose
-// inner faces are the arena's edges. Physics, sensors and the medium all use this one list, in this order.
+// The static bodies of a scenario: its obstacles (every one, present at tick 0 or not), then (when walls are
+// on) the four walls as boxes whose inner faces are the arena's edges. The physics adds a body for each, in
+// this order (world_events.hpp).
 std::vector<Obstacle> static_obstacles(const Scenario& scenario);
+// What the sensors, the medium and the placement see: the present ones of `obstacles` (the scenario's as they
+// stand), then the walls.
+std::vector<Obstacle> present_statics(const Scenario& scenario, const std::vector<Obstacle>& obstacles);
 
 }  // namespace swarmform::world

@@ -21,7 +21,7 @@ double entry_circle(double ax, double ay, double dx, double dy, double len, doub
 LightSensors::LightSensors(const std::vector<LightSource>& lights, const std::vector<Obstacle>& statics,
                            double noise_level, std::uint64_t seed)
     : lights_(lights), noise_level_(noise_level), rng_(seed, kSaltLight) {
-  for (const Obstacle& o : statics) statics_.push_back(make_static_shape(o));
+  set_statics(statics);
 }
 
 bool LightSensors::hidden(std::size_t self, const std::vector<Pose2D>& poses, const SpatialGrid& grid,
@@ -82,6 +82,11 @@ void LightSensors::sense_all(const std::vector<Pose2D>& poses, const std::vector
   // Every vector is one per robot: poses.size() == alive.size().
   read_all(
       alive, out, [&](std::size_t i) { return read(i, poses, grid); }, rng_, noise_level_);
+}
+
+void LightSensors::set_statics(const std::vector<Obstacle>& statics) {
+  statics_.clear();
+  for (const Obstacle& o : statics) statics_.push_back(make_static_shape(o));
 }
 
 }  // namespace swarmform::world

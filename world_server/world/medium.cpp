@@ -11,7 +11,7 @@ namespace swarmform::world {
 Medium::Medium(const MediumParams& params, const std::vector<Obstacle>& statics, std::uint64_t seed)
     : params_(params), rng_(seed, kSaltMedium) {
   if (params.loss_mean_burst > 0.0) burst_.emplace(params.packet_loss, params.loss_mean_burst, seed);
-  for (const Obstacle& o : statics) statics_.push_back(make_static_shape(o));
+  set_statics(statics);
 }
 
 bool Medium::occluded(const Pose2D& a, const Pose2D& b) const {
@@ -89,6 +89,11 @@ void Medium::gather(std::size_t r, const std::vector<Pose2D>& poses, const std::
   }
   resize_reusing(inbox, used, spare);
   if (with_bytes) fill_bytes(inbox, outboxes);
+}
+
+void Medium::set_statics(const std::vector<Obstacle>& statics) {
+  statics_.clear();
+  for (const Obstacle& o : statics) statics_.push_back(make_static_shape(o));
 }
 
 }  // namespace swarmform::world

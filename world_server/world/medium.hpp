@@ -121,6 +121,9 @@ class Medium {
               const std::vector<Outbox>& outboxes, const SpatialGrid& grid, std::vector<RabReading>& inbox,
               std::vector<RabReading>& spare, bool with_bytes, const MediumFaults* faults) const;
 
+  // The obstacles it sees from now on (present_statics: world events moved, added or removed some).
+  void set_statics(const std::vector<Obstacle>& statics);
+
  private:
   MediumParams params_;
   std::vector<StaticShape> statics_;

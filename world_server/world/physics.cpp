@@ -186,9 +186,21 @@ struct Physics::Impl {
   std::vector<std::uint64_t> touching, touching_prev;
   std::uint32_t onsets_rr = 0, onsets_ro = 0;
 
+  std::vector<char> static_in_world;  // per static body: in the dynamics world (an absent obstacle is not)
+
   ~Impl() {
     for (auto& b : robots) dyn.removeRigidBody(b.get());
-    for (auto& b : statics) dyn.removeRigidBody(b.get());
+    for (std::size_t k = 0; k < statics.size(); ++k) {
+      if (static_in_world[k]) dyn.removeRigidBody(statics[k].get());
+    }
+  }
+
+  static btTransform static_transform(const Obstacle& o) {
+    btTransform t;
+    t.setIdentity();
+    t.setOrigin(btVector3(o.centre.x, o.centre.y, kStaticHeight / 2.0));
+    t.setRotation(btQuaternion(btVector3(0, 0, 1), o.yaw));
+    return t;
   }
 
   void add_static(const Obstacle& o, int index) {
@@ -199,12 +211,8 @@ struct Physics::Impl {
     } else {
       shape = std::make_unique<btCylinderShapeZ>(btVector3(o.radius, o.radius, kStaticHeight / 2.0));
     }
-    btTransform t;
-    t.setIdentity();
-    t.setOrigin(btVector3(o.centre.x, o.centre.y, kStaticHeight / 2.0));
-    t.setRotation(btQuaternion(btVector3(0, 0, 1), o.yaw));
     btRigidBody::btRigidBodyConstructionInfo info(0.0, nullptr, shape.get());
-    info.m_startWorldTransform = t;
+    info.m_startWorldTransform = static_transform(o);
     info.m_friction = 0.0;
     info.m_restitution = 0.0;
     auto body = std::make_unique<btRigidBody>(info);
@@ -213,6 +221,7 @@ struct Physics::Impl {
     dyn.addRigidBody(body.get());
     static_shapes.push_back(std::move(shape));
     statics.push_back(std::move(body));
+    static_in_world.push_back(1);
   }
 
   void add_robot(const Pose2D& p, RobotId id) {
@@ -318,6 +327,9 @@ Physics::Physics(const Scenario& s) : impl_(std::make_unique<Impl>()) {
   m.substep_s = 1.0 / (s.tick_rate * static_cast<double>(s.substeps));
   const std::vector<Obstacle> obstacles = static_obstacles(s);
   for (std::size_t k = 0; k < obstacles.size(); ++k) m.add_static(obstacles[k], static_cast<int>(k));
+  for (std::size_t k = 0; k < obstacles.size(); ++k) {
+    if (!obstacles[k].present) set_obstacle(k, obstacles[k]);  // absent at tick 0: out of the world
+  }
   m.robots.reserve(s.robots.size());
   for (std::size_t i = 0; i < s.robots.size(); ++i) m.add_robot(s.robots[i], static_cast<RobotId>(i));
   m.wheels.assign(s.robots.size(), {});
@@ -393,6 +405,20 @@ std::uint32_t Physics::onsets_robot_robot() const {
 }
 std::uint32_t Physics::onsets_robot_obstacle() const {
   return impl_->onsets_ro;
+}
+
+void Physics::set_obstacle(std::size_t index, const Obstacle& o) {
+  Impl& m = *impl_;
+  btRigidBody& body = *m.statics.at(index);
+  body.setWorldTransform(Impl::static_transform(o));
+  if (o.present && !m.static_in_world[index]) {
+    m.dyn.addRigidBody(&body);
+    m.static_in_world[index] = 1;
+  } else if (!o.present && m.static_in_world[index]) {
+    m.dyn.removeRigidBody(&body);
+    m.static_in_world[index] = 0;
+  }
+  if (o.present) m.dyn.updateSingleAabb(&body);
 }
 
 }  // namespace swarmform::world

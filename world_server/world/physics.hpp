@@ -36,6 +36,10 @@ class Physics {
   void read_poses(std::vector<Pose2D>& out) const;
   Pose2D pose(RobotId id) const;
 
+  // Obstacle `index` of static_obstacles(scenario) as it now stands (world_events.hpp): moved to its centre
+  // and yaw, and out of the dynamics world while it is not present (its body is kept, in its place in order).
+  void set_obstacle(std::size_t index, const Obstacle& obstacle);
+
   // Dead: a static body where it stands (wheels zeroed). Alive again: a dynamic body, wheels zero.
   void set_dead(RobotId id, bool dead);
 

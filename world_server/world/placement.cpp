@@ -75,7 +75,8 @@ PlacementRegion default_region(std::size_t n) {
 std::optional<std::vector<Pose2D>> place_randomly(std::size_t n, const PlacementRegion& region,
                                                   const Scenario& scenario, std::uint64_t seed) {
   std::vector<StaticShape> statics;
-  for (const Obstacle& o : static_obstacles(scenario)) statics.push_back(make_static_shape(o));
+  for (const Obstacle& o : present_statics(scenario, scenario.obstacles))
+    statics.push_back(make_static_shape(o));
   Rng rng(seed, kSaltPlacement);
   const double link = kLinkFraction * scenario.comm_range;
   const double x_lo = region.centre.x - region.width / 2.0, x_hi = region.centre.x + region.width / 2.0;
@@ -127,7 +128,7 @@ std::string check_listed_pose(const std::vector<Pose2D>& poses, std::size_t k, c
     }
   }
   if (!inside_arena(p.x, p.y, scenario, 0.0)) return "robot " + std::to_string(k) + " is outside the arena";
-  const auto obstacles = static_obstacles(scenario);
+  const auto obstacles = present_statics(scenario, scenario.obstacles);
   for (const Obstacle& o : obstacles) {
     if (point_clearance(p.x, p.y, make_static_shape(o)) < kRobotRadius) {
       return "robot " + std::to_string(k) + " overlaps " +

@@ -21,7 +21,7 @@ double proximity_value(double d) {
 
 Proximity::Proximity(const std::vector<Obstacle>& statics, double noise_level, std::uint64_t seed)
     : noise_level_(noise_level), rng_(seed, kSaltProximity) {
-  for (const Obstacle& o : statics) statics_.push_back(make_static_shape(o));
+  set_statics(statics);
 }
 
 ProximityReading Proximity::read(std::size_t self, const std::vector<Pose2D>& poses,
@@ -60,6 +60,11 @@ void Proximity::sense_all(const std::vector<Pose2D>& poses, const std::vector<ch
   // Every vector is one per robot: poses.size() == alive.size().
   read_all(
       alive, out, [&](std::size_t i) { return read(i, poses, grid); }, rng_, noise_level_);
+}
+
+void Proximity::set_statics(const std::vector<Obstacle>& statics) {
+  statics_.clear();
+  for (const Obstacle& o : statics) statics_.push_back(make_static_shape(o));
 }
 
 }  // namespace swarmform::world

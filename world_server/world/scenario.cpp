@@ -130,14 +130,16 @@ Obstacle parse_obstacle(const Source& src, const YAML::Node& node, const std::st
     o.kind = Obstacle::Kind::Box;
     o.half_extents = half_size(src, node, path, m);
     o.yaw = m.number("yaw", 0.0, -2.0 * std::numbers::pi, 2.0 * std::numbers::pi);
-    m.finish({"type", "name", "centre", "size", "yaw"});
+    o.present = m.boolean("present", true);
+    m.finish({"type", "name", "centre", "size", "yaw", "present"});
   } else if (t == "cylinder") {
     o.kind = Obstacle::Kind::Cylinder;
     auto radius = m.get("radius");
     if (!radius) yaml::fail(src, node, path, "missing 'radius' (m)");
     o.radius = yaml::check_positive(src, *radius, m.field("radius"),
                                     yaml::to_number(src, *radius, m.field("radius")), kMaxLength);
-    m.finish({"type", "name", "centre", "radius"});
+    o.present = m.boolean("present", true);
+    m.finish({"type", "name", "centre", "radius", "present"});
   } else {
     yaml::fail(src, *type, m.field("type"), "expected box or cylinder, got '" + t + "'");
   }
@@ -765,6 +767,7 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
   std::vector<YAML::Node> fault_nodes;
   std::vector<std::string> fault_paths;
   parse_faults(src, top, s.faults, fault_nodes, fault_paths, s.kills, kill_nodes, kill_paths);
+  parse_world_events(src, top, s);
   const int goal_line = parse_goal(src, top, s.mission);
   s.mission.grid_spacing = top.positive("grid_spacing", s.mission.grid_spacing, 100.0);
   s.mission.max_speed = top.positive("max_speed", s.mission.max_speed, kMaxSpeedLimit);
@@ -787,7 +790,8 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
               "grid_spacing", "max_speed",
               "behaviour",    "max_message_bytes",
               "controller",   "floor",
-              "lights",       "battery"});
+              "lights",       "battery",
+              "events"});
 
   // Overrides (before placement, so --robots and --seed take effect).
   if (ov.seed) s.seed = *ov.seed;

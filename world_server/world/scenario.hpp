@@ -16,6 +16,7 @@
 #include "world_server/world/faults.hpp"
 #include "world_server/world/field_overrides.hpp"
 #include "world_server/world/floor.hpp"
+#include "world_server/world/world_events.hpp"
 
 namespace swarmform::world {
 
@@ -27,6 +28,7 @@ struct Obstacle {
   double yaw = 0.0;     // rad (boxes)
   Vec2 half_extents;    // m (boxes): half width along the box's x, half depth along its y
   double radius = 0.0;  // m (cylinders)
+  bool present = true;  // there at tick 0 (`present: false`: it starts absent); world events change it
 };
 
 // A light source for the light sensors (light.hpp).
@@ -52,8 +54,9 @@ struct Scenario {
   double arena_width = 20.0;   // m, along x
   double arena_height = 12.0;  // m, along y
   bool walls = true;
-  double wall_thickness = 0.1;  // m
-  std::vector<Obstacle> obstacles;
+  double wall_thickness = 0.1;           // m
+  std::vector<Obstacle> obstacles;       // as they stand at tick 0
+  std::vector<WorldEvent> world_events;  // `events:`, by tick (world_events.hpp)
 
   // Robots: ids 0..robots.size()-1, initial poses resolved (listed in the file, or random in a region from
   // the seed: never overlapping, communication graph connected).

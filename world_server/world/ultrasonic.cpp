@@ -17,7 +17,7 @@ const double kSinCone = std::sin(kConeHalfAngle);
 
 Ultrasonic::Ultrasonic(const std::vector<Obstacle>& statics, double noise_sd, std::uint64_t seed)
     : noise_sd_(noise_sd), rng_(seed, kSaltUltrasonic) {
-  for (const Obstacle& o : statics) statics_.push_back(make_static_shape(o));
+  set_statics(statics);
   for (std::size_t s = 0; s < kUltrasonicCount; ++s) {
     axis_cos_[s] = std::cos(kUltrasonicAngles[s]);
     axis_sin_[s] = std::sin(kUltrasonicAngles[s]);
@@ -134,6 +134,11 @@ void Ultrasonic::sense_all(const std::vector<Pose2D>& poses, const std::vector<c
       v = std::clamp(v + rng_.gaussian(noise_sd_), kUltrasonicMinRange, kUltrasonicMaxRange);
     }
   }
+}
+
+void Ultrasonic::set_statics(const std::vector<Obstacle>& statics) {
+  statics_.clear();
+  for (const Obstacle& o : statics) statics_.push_back(make_static_shape(o));
 }
 
 }  // namespace swarmform::world

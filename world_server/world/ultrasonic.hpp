@@ -41,6 +41,9 @@ class Ultrasonic {
   void sense_all(const std::vector<Pose2D>& poses, const std::vector<char>& alive, const SpatialGrid& grid,
                  std::vector<UltrasonicReading>& out);
 
+  // The obstacles it sees from now on (present_statics: world events moved, added or removed some).
+  void set_statics(const std::vector<Obstacle>& statics);
+
  private:
   std::vector<StaticShape> statics_;
   double noise_sd_;

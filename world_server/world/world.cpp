@@ -103,19 +103,23 @@ struct World::Impl {
   std::vector<LightReading> light_readings;
   std::vector<RobotTruth> truth;
   ContactCounts contacts;
-  std::vector<Fault> faults;   // the scenario's world faults (ultrasonic, wheel, loss, range)
-  MediumFaults medium_faults;  // this tick's loss and range faults, per robot
+  std::vector<Obstacle> obstacles;  // the scenario's, as they stand after this tick's world events
+  std::vector<Fault> faults;        // the scenario's world faults (ultrasonic, wheel, loss, range)
+  MediumFaults medium_faults;       // this tick's loss and range faults, per robot
 
   explicit Impl(const Scenario& s)
       : scenario(s),
         physics(scenario),
-        medium(medium_params(scenario), static_obstacles(scenario), scenario.seed),
-        ultrasonic(static_obstacles(scenario), scenario.ultrasonic_noise_sd, scenario.seed),
-        proximity(static_obstacles(scenario), scenario.proximity_noise, scenario.seed),
+        medium(medium_params(scenario), present_statics(scenario, scenario.obstacles), scenario.seed),
+        ultrasonic(present_statics(scenario, scenario.obstacles), scenario.ultrasonic_noise_sd,
+                   scenario.seed),
+        proximity(present_statics(scenario, scenario.obstacles), scenario.proximity_noise, scenario.seed),
         ground(scenario.floor, scenario.arena_centre, scenario.arena_width, scenario.arena_height,
                scenario.ground_noise, scenario.seed),
-        light(scenario.lights, static_obstacles(scenario), scenario.light_noise, scenario.seed),
-        sensors(declared_sensors(scenario)) {
+        light(scenario.lights, present_statics(scenario, scenario.obstacles), scenario.light_noise,
+              scenario.seed),
+        sensors(declared_sensors(scenario)),
+        obstacles(scenario.obstacles) {
     const std::size_t n = scenario.robots.size();
     alive.assign(n, 1);
     outboxes.resize(n);
@@ -221,6 +225,17 @@ struct World::Impl {
     if (sensors & behaviour::kGround) p.ground = ground.read(poses[id]);
     if (sensors & behaviour::kLight) p.light = light.read(id, poses, grid);
     if (sensors & behaviour::kBattery) p.battery = truth[id].battery;
+  }
+
+  // The world events of tick t: the physics' bodies, then what the sensors and the medium see.
+  void world_events_at(Tick t) {
+    if (apply_world_events(obstacles, scenario.world_events, t) == 0) return;
+    for (std::size_t k = 0; k < obstacles.size(); ++k) physics.set_obstacle(k, obstacles[k]);
+    const std::vector<Obstacle> statics = present_statics(scenario, obstacles);
+    medium.set_statics(statics);
+    ultrasonic.set_statics(statics);
+    proximity.set_statics(statics);
+    light.set_statics(statics);
   }
 
   // Steps 3-5 of the tick: truth, grid, (medium), sensors.
@@ -396,6 +411,7 @@ void World::step() {
   m.contacts.robot_robot = m.physics.onsets_robot_robot();
   m.contacts.robot_obstacle = m.physics.onsets_robot_obstacle();
   ++m.tick;
+  m.world_events_at(m.tick);
   m.refresh(/*with_medium=*/true);
 }
 
@@ -428,6 +444,10 @@ void World::revive(RobotId id) {
   m.sense_now(id, p.ultrasonic);
   m.sonar_pending[id] = 0;
   m.sense_optional_now(id, p);
+}
+
+const std::vector<Obstacle>& World::obstacles() const {
+  return impl_->obstacles;
 }
 
 }  // namespace swarmform::world

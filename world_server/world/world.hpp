@@ -101,7 +101,8 @@ class World {
   // A robot with no command this tick keeps its last wheel speeds and says nothing.
   CommandVerdict apply_command(RobotId id, const Command& command);
 
-  // Advances one tick: wheel speeds -> Bullet substeps -> medium -> sensors.
+  // Advances one tick: wheel speeds -> Bullet substeps -> the world events of the new tick
+  // (world_events.hpp) -> medium -> sensors.
   void step();
 
   // A dead robot stops, says nothing, hears nothing, and stays as a body that others' sensors see.
@@ -113,6 +114,8 @@ class World {
   const std::vector<RobotTruth>& robots() const;
   // Contacts that began during the last step.
   ContactCounts last_contacts() const;
+  // The scenario's obstacles as they stand at the current tick (each one's `present` says whether it is).
+  const std::vector<Obstacle>& obstacles() const;
 
  private:
   struct Impl;
