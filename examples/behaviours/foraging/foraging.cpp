@@ -1,9 +1,10 @@
 // foraging: robots search the arena for food areas marked dark on the floor, take an item when their ground
 // sensors find one, carry it home to the nest (a mid-grey area of the floor, with a light above it that the
-// carriers steer to) and drop it there, then leave the nest to search again. Searching is a random walk (legs
-// of random length and turn rate from the robot's own behaviour::RobotRandom); the infrared ring turns the
-// robot away from walls, obstacles and robots on the way. The LEDs say whether a robot carries: yellow with
-// an item, blue without.
+// carriers steer to) and drop it there, then search again. Where an obstacle hides the light, a carrier
+// steers to the last place it stood on the nest (its positioning sensor: every robot has been on the nest, it
+// starts there). Searching is a random walk (legs of random length and turn rate from the robot's own
+// behaviour::RobotRandom); the infrared ring turns the robot away from walls, obstacles and robots on the
+// way. The LEDs say whether a robot carries: yellow with an item, blue without.
 //
 // The ground sensors read 0 black .. 1 white: below `food_below` is food, between `nest_low` and `nest_high`
 // the nest, anything brighter the bare floor (the scenario's `floor:` paints them; a coloured region reads
@@ -34,6 +35,7 @@ constexpr std::array kParams = {
                          "a ground reading from this up to nest_high is the nest"},
     behaviour::ParamSpec{"nest_high", 0.75, 0.0, 1.0,
                          "a ground reading from nest_low up to this is the nest"},
+    behaviour::ParamSpec{"dark", 0.015, 0.0, 1.0, "every light reading below this: the light is hidden"},
     behaviour::ParamSpec{"avoid_reading", 0.1, 0.0, 1.0,
                          "turn away when a front infrared reading passes this (0.1: about 9 cm)"},
     behaviour::ParamSpec{
@@ -98,6 +100,8 @@ class Foraging final : public controller::Controller {
     nest_low_ = behaviour::param(mission, kDescriptor, "nest_low");
     nest_high_ = behaviour::param(mission, kDescriptor, "nest_high");
     avoid_ = behaviour::param(mission, kDescriptor, "avoid_reading");
+    dark_ = behaviour::param(mission, kDescriptor, "dark");
+    knows_nest_ = false;
     escape_ticks_ =
         static_cast<int>(behaviour::param(mission, kDescriptor, "escape_time") * mission.tick_rate);
     escape_left_ = 0;
@@ -110,6 +114,10 @@ class Foraging final : public controller::Controller {
     for (const double g : *p.ground) {
       on_food = on_food || g < food_below_;
       on_nest = on_nest || (g >= nest_low_ && g <= nest_high_);
+    }
+    if (on_nest) {
+      nest_ = {p.pose.x, p.pose.y};
+      knows_nest_ = true;
     }
     if (!carrying_ && on_food && !on_nest) {
       carrying_ = true;  // take an item
@@ -126,18 +134,17 @@ class Foraging final : public controller::Controller {
       lx += light[j] * std::cos(kProximityAngles[j]);
       ly += light[j] * std::sin(kProximityAngles[j]);
     }
-    const bool sees_light = light[k] > 0.0 && lx * lx + ly * ly > 1e-12;
-    const double bearing = std::atan2(ly, lx);
+    const bool sees_light = light[k] >= dark_ && lx * lx + ly * ly > 1e-12;
 
     double v = speed_;
     double w = wander();
-    if (carrying_ && sees_light) {  // home: to the light
+    if (carrying_ && (sees_light || knows_nest_)) {  // home: to the light, or to where the nest was
+      const double bearing =
+          sees_light ? std::atan2(ly, lx)
+                     : std::remainder(std::atan2(nest_.y - p.pose.y, nest_.x - p.pose.x) - p.pose.theta,
+                                      2.0 * std::numbers::pi);
       w = k_turn_ * bearing;
       v = speed_ * std::max(0.0, std::cos(bearing));
-    } else if (!carrying_ && on_nest && sees_light) {  // just dropped: leave the nest, away from the light
-      const double away = std::remainder(bearing + std::numbers::pi, 2.0 * std::numbers::pi);
-      w = k_turn_ * away;
-      v = speed_ * std::max(0.0, std::cos(away));
     }
     // The infrared ring's front half: turn away from the side with the nearer bodies, slow for one ahead.
     double ahead = 0.0, left_minus_right = 0.0;
@@ -201,10 +208,12 @@ class Foraging final : public controller::Controller {
   int leg_ticks_left_ = 0;
   double turn_rate_ = 0.0;  // rad/s, this leg's
   int escape_ticks_ = 15, escape_left_ = 0;
+  Vec2 nest_;  // the last place it stood on the nest
+  bool knows_nest_ = false;
   bool carrying_ = false;
   int delivered_ = 0;
   double max_speed_ = 0.1, speed_ = 0.1, k_turn_ = 3.0, food_below_ = 0.25, nest_low_ = 0.35,
-         nest_high_ = 0.75, avoid_ = 0.1;
+         nest_high_ = 0.75, avoid_ = 0.1, dark_ = 0.015;
 };
 
 // Deliveries from the robots' reported states, tick to tick.

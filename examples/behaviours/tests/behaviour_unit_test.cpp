@@ -194,7 +194,8 @@ TEST(Foraging, TakesAnItemOnFoodAndDropsItAtTheNest) {
   p.ground = std::array<double, kGroundCount>{0.1, 0.1, 0.1, 0.1};
   EXPECT_EQ(c->step(p).telemetry.state, 1);
   EXPECT_EQ(c->step(p).telemetry.extra[0], 0.0);  // nothing delivered yet
-  // The nest (mid grey): dropped, counted, and it turns away from the light to leave.
+  // The nest (mid grey), at (-1, 0): dropped and counted.
+  p.pose = {-1.0, 0.0, 0.0};
   p.ground = std::array<double, kGroundCount>{0.55, 0.55, 1.0, 1.0};
   const Command dropped = c->step(p);
   EXPECT_EQ(dropped.telemetry.state, 0);
@@ -202,9 +203,17 @@ TEST(Foraging, TakesAnItemOnFoodAndDropsItAtTheNest) {
   ASSERT_EQ(dropped.telemetry.extra.size(), 2u);
   EXPECT_EQ(dropped.telemetry.extra[0], 1.0);
   EXPECT_EQ(dropped.telemetry.extra[1], 0.55);
-  EXPECT_LT(turn(dropped), 0.0);  // the light on the left: away is to the right
   // Searching again over the nest, it takes nothing.
   EXPECT_EQ(c->step(p).telemetry.state, 0);
+  // Loaded again at (1, 1) facing +x with the light hidden (readings below `dark`): it steers to where it
+  // last stood on the nest, behind it on its right, not to the noise.
+  p.pose = {1.0, 1.0, 0.0};
+  p.ground = std::array<double, kGroundCount>{0.1, 1.0, 1.0, 1.0};
+  p.light = std::array<double, kLightCount>{0.0, 0.0, 0.01, 0.0, 0.0, 0.0, 0.0, 0.0};  // noise on the left
+  const Command hidden = c->step(p);
+  EXPECT_EQ(hidden.telemetry.state, 1);
+  EXPECT_NEAR(turn(hidden), -0.2, 1e-12);  // on the spot, clockwise, at full speed (bearing -2.68 rad)
+  EXPECT_NEAR(hidden.left_speed + hidden.right_speed, 0.0, 1e-12);
 }
 
 TEST(Avoidance, TurnsAwayFromANearBodyAndStopsForOneAhead) {
