@@ -8,8 +8,9 @@
 // Its experiment measures the run on the true poses and the obstacles' true geometry: contacts (a robot's
 // body touching a wall, an obstacle or another robot; each robot counts its own touches), the closest any
 // robot came to anything, and how far the robots travelled. The outcome is `avoided` when there were at most
-// `max_contacts` contacts and the robots travelled `min_travel` m each on average, `stalled` when they kept
-// clear by not moving, `collided` otherwise.
+// `max_contacts` contacts and the robots' mean path was at least `min_travel` of what max_speed allows over
+// the run (keeping clear by standing still is no success), `stalled` when it was shorter, `collided`
+// otherwise.
 #include <swarmform/behaviour.hpp>
 
 #include <algorithm>
@@ -29,8 +30,9 @@ constexpr std::array kParams = {
     behaviour::ParamSpec{"clear_reading", 0.05, 0.0, 1.0, "every front reading below this: the way is clear"},
     behaviour::ParamSpec{"max_contacts", 0.0, 0.0, 1e6,
                          "the experiment: at most this many contacts, else collided"},
-    behaviour::ParamSpec{"min_travel", 1.0, 0.0, 1e6,
-                         "the experiment: the robots' mean travel must reach this, m, else stalled"},
+    behaviour::ParamSpec{
+        "min_travel", 0.5, 0.0, 1.0,
+        "the experiment: the mean path over max_speed x the run's time must reach this, else stalled"},
 };
 enum State : std::int32_t { kCruising = 0, kAvoiding = 1 };
 constexpr std::array kStates = {
@@ -154,12 +156,15 @@ class AvoidanceExperiment final : public experiment::Experiment {
   void init(const Mission& mission, std::size_t robots) override {
     max_contacts_ = behaviour::param(mission, kDescriptor, "max_contacts");
     min_travel_ = behaviour::param(mission, kDescriptor, "min_travel");
+    max_speed_ = mission.max_speed;
+    tick_rate_ = mission.tick_rate;
     touching_.assign(robots, false);
     travelled_.assign(robots, 0.0);
     last_.assign(robots, Pose2D{});
   }
 
   void observe(const experiment::Truth& truth) override {
+    last_tick_ = truth.tick;
     for (const auto& r : truth.robots) {
       if (!r.alive || r.id >= touching_.size()) continue;
       if (truth.tick > 0) travelled_[r.id] += std::hypot(r.pose.x - last_[r.id].x, r.pose.y - last_[r.id].y);
@@ -180,9 +185,9 @@ class AvoidanceExperiment final : public experiment::Experiment {
     const double nan = std::numeric_limits<double>::quiet_NaN();  // nothing to measure from (no walls, alone)
     r.metrics = {static_cast<double>(contacts_),
                  std::isinf(min_clearance_) ? nan : std::max(min_clearance_, 0.0), mean};
-    r.outcome = static_cast<double>(contacts_) > max_contacts_ ? "collided"
-                : mean < min_travel_                           ? "stalled"
-                                                               : "avoided";
+    r.outcome = static_cast<double>(contacts_) > max_contacts_                                   ? "collided"
+                : mean < min_travel_ * max_speed_ * static_cast<double>(last_tick_) / tick_rate_ ? "stalled"
+                                                                                                 : "avoided";
     return r;
   }
 
@@ -215,7 +220,8 @@ class AvoidanceExperiment final : public experiment::Experiment {
     return gap - kRobotRadius;
   }
 
-  double max_contacts_ = 0.0, min_travel_ = 1.0;
+  double max_contacts_ = 0.0, min_travel_ = 0.5, max_speed_ = 0.1, tick_rate_ = 10.0;
+  Tick last_tick_ = 0;
   std::vector<bool> touching_;
   std::vector<double> travelled_;
   std::vector<Pose2D> last_;

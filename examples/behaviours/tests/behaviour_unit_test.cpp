@@ -249,7 +249,7 @@ TEST(AvoidanceExperiment, CountsTouchesOnTheTrueGeometry) {
   const behaviour::Descriptor& d = registry.load_plugin(std::string(AVOIDANCE_DIR) + "/libavoidance.so");
   ASSERT_NE(d.experiment.make, nullptr);
   Mission m = mission_of("avoidance", AVOIDANCE_DIR);
-  m.params = {{"min_travel", 0.1}};
+  m.params = {{"min_travel", 0.1}};  // 0.1 x 0.1 m/s x 0.3 s: not what decides here
   auto e = d.experiment.make();
   e->init(m, 1);
   const double yaw = std::numbers::pi / 4;
