@@ -166,7 +166,7 @@ class Foraging final : public controller::Controller {
       v = speed_;
     }
     Command c;
-    drive(v, w, c);
+    behaviour::drive(v, w, max_speed_, c);
     c.leds.fill(carrying_ ? kCarryingLed : kSearchingLed);
     c.telemetry.state = carrying_ ? kCarrying : kSearching;
     c.telemetry.extra = {static_cast<double>(delivered_),
@@ -186,20 +186,6 @@ class Foraging final : public controller::Controller {
     }
     --leg_ticks_left_;
     return turn_rate_;
-  }
-
-  // Linear speed v (m/s) and turn rate w (rad/s) to wheel speeds, scaled down together to the speed limit.
-  void drive(double v, double w, Command& c) const {
-    double l = v - w * kWheelSpacing / 2.0;
-    double r = v + w * kWheelSpacing / 2.0;
-    const double top = std::max(std::abs(l), std::abs(r));
-    if (top > max_speed_) {
-      l *= max_speed_ / top;
-      r *= max_speed_ / top;
-    }
-    // The scaling can land a rounding error above the limit, which the world would clamp and count.
-    c.left_speed = std::clamp(l, -max_speed_, max_speed_);
-    c.right_speed = std::clamp(r, -max_speed_, max_speed_);
   }
 
   Mission mission_;

@@ -140,7 +140,7 @@ class SeekLight final : public controller::Controller {
       v = speed_;
     }
     Command c;
-    drive(v, w, c);
+    behaviour::drive(v, w, max_speed_, c);
     const Rgb colour = state == kHoming ? Rgb{255, 200, 0} : state == kAvoiding ? Rgb{255, 0, 0} : Rgb{};
     c.leds.fill(colour);
     c.telemetry.state = state;
@@ -151,20 +151,6 @@ class SeekLight final : public controller::Controller {
   void reset() override { init(mission_, self_); }
 
  private:
-  // Linear speed v (m/s) and turn rate w (rad/s) to wheel speeds, scaled down together to the speed limit.
-  void drive(double v, double w, Command& c) const {
-    double l = v - w * kWheelSpacing / 2.0;
-    double r = v + w * kWheelSpacing / 2.0;
-    const double top = std::max(std::abs(l), std::abs(r));
-    if (top > max_speed_) {
-      l *= max_speed_ / top;
-      r *= max_speed_ / top;
-    }
-    // The scaling can land a rounding error above the limit, which the world would clamp and count.
-    c.left_speed = std::clamp(l, -max_speed_, max_speed_);
-    c.right_speed = std::clamp(r, -max_speed_, max_speed_);
-  }
-
   Mission mission_;
   RobotId self_ = 0;
   behaviour::RobotRandom rng_{0, 0};

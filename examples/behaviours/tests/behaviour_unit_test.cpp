@@ -14,6 +14,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "behaviour/drive.hpp"
 #include "behaviour/params.hpp"
 #include "behaviour/random.hpp"
 #include "behaviour/registry.hpp"
@@ -418,6 +419,20 @@ TEST(AggregationExperiment, CountsClustersAndJudgesGatheredOnTheTruth) {
   const auto dead_apart = run({{{0, 0}, {0.9, 0}, {1.8, 0}, {9, 9}}}, {true, true, true, false});
   EXPECT_EQ(dead_apart.outcome, "gathered");
   EXPECT_EQ(dead_apart.metrics[1], 3.0);
+}
+
+// behaviour::drive: a speed and turn rate to wheel speeds, scaled down together at the limit.
+TEST(Drive, KeepsTheTurnsRadiusAtTheSpeedLimit) {
+  Command c;
+  behaviour::drive(0.05, 0.5, 0.1, c);  // within the limit: v -+ w x half the wheel spacing
+  EXPECT_DOUBLE_EQ(c.left_speed, 0.05 - 0.5 * kWheelSpacing / 2.0);
+  EXPECT_DOUBLE_EQ(c.right_speed, 0.05 + 0.5 * kWheelSpacing / 2.0);
+  behaviour::drive(0.1, 1.0, 0.1, c);  // the right wheel would pass 0.1 m/s: both scaled by the same factor
+  EXPECT_DOUBLE_EQ(c.right_speed, 0.1);
+  EXPECT_NEAR(c.left_speed / c.right_speed, (0.1 - kWheelSpacing / 2.0) / (0.1 + kWheelSpacing / 2.0), 1e-12);
+  behaviour::drive(0.0, -10.0, 0.1, c);  // on the spot, clockwise, at full speed
+  EXPECT_DOUBLE_EQ(c.left_speed, 0.1);
+  EXPECT_DOUBLE_EQ(c.right_speed, -0.1);
 }
 
 // The per-robot generator is the documented splitmix64 stream (docs/behaviour-api.md), so an agent in
