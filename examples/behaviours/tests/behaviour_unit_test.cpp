@@ -1,8 +1,8 @@
 // The example behaviours' controllers, each loaded from its plug-in through the registry exactly as
 // robot_agent and swarm_inprocess load it, stepped on perceptions built here: each does what its rule says.
 // Also the registry's refusals: a plug-in outside the allowed folders, a mission naming another behaviour, a
-// plug-in of an older API version; the aggregation's experiment on truths built here; the per-robot
-// generator.
+// plug-in of an older API version; the aggregation's and the avoidance's experiments on truths built here;
+// the per-robot generator and behaviour::drive.
 #include <gtest/gtest.h>
 
 #include <algorithm>
