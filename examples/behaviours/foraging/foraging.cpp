@@ -146,7 +146,9 @@ class Foraging final : public controller::Controller {
       w = k_turn_ * bearing;
       v = speed_ * std::max(0.0, std::cos(bearing));
     }
-    // The infrared ring's front half: turn away from the side with the nearer bodies, slow for one ahead.
+    // The infrared ring's front half: past avoid_reading, turn away from the side the readings weigh on
+    // (right when even), faster and slower the nearer the nearest body (stopped at a reading of 0.5, about 6
+    // cm).
     double ahead = 0.0, left_minus_right = 0.0;
     for (std::size_t j = 0; j < kProximityCount; ++j) {
       if (std::cos(kProximityAngles[j]) < -1e-9) continue;  // behind

@@ -117,8 +117,9 @@ class SeekLight final : public controller::Controller {
       w = k_turn_ * bearing;
       v = speed_ * std::max(0.0, std::cos(bearing));  // turn first, then go
     }
-    // Braitenberg-style avoidance on the front half of the ring: each reading pushes the turn away from its
-    // side, and the nearest one ahead slows the robot down; straight ahead it turns to the freer side.
+    // The front half of the ring: its readings weighted by how far left (+) or right (-) each sensor faces
+    // say which side the bodies are on; past avoid_reading it turns away from that side (right when even),
+    // faster and slower the nearer the nearest body is (stopped at a reading of 0.5, about 6 cm).
     double ahead = 0.0, left_minus_right = 0.0;
     for (std::size_t j = 0; j < kProximityCount; ++j) {
       if (std::cos(kProximityAngles[j]) < -1e-9) continue;  // behind
