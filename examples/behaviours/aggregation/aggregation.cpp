@@ -116,7 +116,7 @@ class Aggregation final : public controller::Controller {
       v = 0.0;
       w = (left < right ? -1.0 : 1.0) * 2.0 * max_speed_ / kWheelSpacing;
     }
-    drive(v, w, c);
+    behaviour::drive(v, w, max_speed_, c);
     c.leds.fill(state == kGathered ? Rgb{0, 255, 0} : Rgb{});
     c.telemetry.state = state;
     c.telemetry.extra = {n, distance};
@@ -127,20 +127,6 @@ class Aggregation final : public controller::Controller {
   void reset() override { init(mission_, self_); }
 
  private:
-  // Linear speed v (m/s) and turn rate w (rad/s) to wheel speeds, scaled down together to the speed limit.
-  void drive(double v, double w, Command& c) const {
-    double l = v - w * kWheelSpacing / 2.0;
-    double r = v + w * kWheelSpacing / 2.0;
-    const double top = std::max(std::abs(l), std::abs(r));
-    if (top > max_speed_) {
-      l *= max_speed_ / top;
-      r *= max_speed_ / top;
-    }
-    // The scaling can land a rounding error above the limit, which the world would clamp and count.
-    c.left_speed = std::clamp(l, -max_speed_, max_speed_);
-    c.right_speed = std::clamp(r, -max_speed_, max_speed_);
-  }
-
   Mission mission_;
   RobotId self_ = 0;
   behaviour::RobotRandom rng_{0, 0};

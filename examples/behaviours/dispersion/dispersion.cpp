@@ -85,7 +85,7 @@ class Dispersion final : public controller::Controller {
       const double heading_error = ahead ? bearing : std::remainder(bearing + M_PI, 2.0 * M_PI);
       const double v =
           (ahead ? 1.0 : -1.0) * speed_ * std::min(1.0, 3.0 * push) * std::abs(std::cos(bearing));
-      drive(v, k_turn_ * heading_error, c);
+      behaviour::drive(v, k_turn_ * heading_error, max_speed_, c);
     }
     c.telemetry.state = settled ? kSettled : kSpreading;
     c.telemetry.extra = {nearest};
@@ -96,19 +96,6 @@ class Dispersion final : public controller::Controller {
   void reset() override {}
 
  private:
-  void drive(double v, double w, Command& c) const {
-    double l = v - w * kWheelSpacing / 2.0;
-    double r = v + w * kWheelSpacing / 2.0;
-    const double top = std::max(std::abs(l), std::abs(r));
-    if (top > max_speed_) {
-      l *= max_speed_ / top;
-      r *= max_speed_ / top;
-    }
-    // The scaling can land a rounding error above the limit, which the world would clamp and count.
-    c.left_speed = std::clamp(l, -max_speed_, max_speed_);
-    c.right_speed = std::clamp(r, -max_speed_, max_speed_);
-  }
-
   double max_speed_ = 0.1, speed_ = 0.1, spacing_ = 1.0, k_turn_ = 2.0, wall_ = 0.4, tolerance_ = 0.1;
 };
 

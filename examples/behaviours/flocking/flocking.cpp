@@ -117,7 +117,7 @@ class Flocking final : public controller::Controller {
     }
     const double bearing = std::atan2(fy, fx);
     Command c;
-    drive(max_speed_ * std::max(0.0, std::cos(bearing)), k_turn_ * bearing, c);
+    behaviour::drive(max_speed_ * std::max(0.0, std::cos(bearing)), k_turn_ * bearing, max_speed_, c);
     c.telemetry.state = n > 0 ? kFlocking : kAlone;
     c.telemetry.extra = {n, std::hypot(ox, oy) / (headings + 1)};
     c.message = encode(p.pose.theta);
@@ -127,19 +127,6 @@ class Flocking final : public controller::Controller {
   void reset() override {}
 
  private:
-  void drive(double v, double w, Command& c) const {
-    double l = v - w * kWheelSpacing / 2.0;
-    double r = v + w * kWheelSpacing / 2.0;
-    const double top = std::max(std::abs(l), std::abs(r));
-    if (top > max_speed_) {
-      l *= max_speed_ / top;
-      r *= max_speed_ / top;
-    }
-    // The scaling can land a rounding error above the limit, which the world would clamp and count.
-    c.left_speed = std::clamp(l, -max_speed_, max_speed_);
-    c.right_speed = std::clamp(r, -max_speed_, max_speed_);
-  }
-
   double max_speed_ = 0.1, separation_ = 0.5, w_sep_ = 1.5, w_align_ = 1.0, w_coh_ = 0.5, k_turn_ = 2.0,
          avoid_ = 0.4;
 };

@@ -1,10 +1,11 @@
 // The example behaviours in whole runs: swarm_inprocess, and world_server with robot_agent processes over DDS
 // (inside the caller's network namespace: tests/README.md). Each example's multi-process run has the
 // in-process run's trajectory_sha256 (both modes load the same plug-in through the registry; the aggregation
-// draws from its per-robot generator) and the same outcome and behaviour metrics (its experiment). A
+// and foraging draw from their per-robot generators) and the same outcome and behaviour metrics (its
+// experiment); the seek_light and avoidance examples run in-process only, judged by their experiments. A
 // parameter out of the plug-in's bounds is file:line; a plug-in outside the allowed folders is refused by the
 // world, the harness and the agent; a plug-in that fails is a dead robot multi-process and a clear end
-// in-process. DDS domain offsets 48..51 (tests/support/test_domain.hpp).
+// in-process. DDS domain offsets 29 (foraging) and 48..51 (tests/support/test_domain.hpp).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -101,9 +102,11 @@ class ExampleRuns : public swarmform::testing::ProcessFixture {
     return out;
   }
 
-  void same_trajectory(const Example& e) {
+  // The example in-process, then over DDS: the same trajectory and the same judgement. Returns the in-process
+  // summary; the runs are in path("in") and path("multi").
+  Json same_trajectory(const Example& e) {
     const std::string dir = e.plugin_dir;
-    ASSERT_EQ(inprocess({"--scenario", scenario(e.name), "--plugin-dir", dir, "--out", path("in")}, "in"), 0);
+    EXPECT_EQ(inprocess({"--scenario", scenario(e.name), "--plugin-dir", dir, "--out", path("in")}, "in"), 0);
     const Json in = summary("in");
     multiprocess(scenario(e.name), dir, in["robots"].get<int>(), test_domain(e.domain_offset), "multi");
     const Json multi = summary("multi");
@@ -114,49 +117,112 @@ class ExampleRuns : public swarmform::testing::ProcessFixture {
     EXPECT_EQ(in["outcome"], multi["outcome"]);
     EXPECT_EQ(in["success"], multi["success"]);
     EXPECT_EQ(in["behaviour_metrics"], multi["behaviour_metrics"]);
-    if (e.name == "aggregation") {  // its own experiment: the metrics its descriptor declares, an outcome
-      EXPECT_TRUE(in["outcome"] == "gathered" || in["outcome"] == "scattered") << in["outcome"];
-      EXPECT_EQ(in["success"], in["outcome"] == "gathered");
-      const Json& m = in["behaviour_metrics"];
-      EXPECT_GE(m["clusters"].get<double>(), 1.0);
-      EXPECT_LE(m["largest_cluster"].get<double>(), in["alive_at_end"].get<double>());
-      EXPECT_TRUE(m.contains("gathered_tick"));
-      EXPECT_TRUE(m["mean_distance_to_centroid"].is_number());
-      // The gathered robots' green LEDs reached the world's truth (multi-process: over the wire).
-      EXPECT_EQ(m["green_at_end"], in["states_at_end"]["gathered"]);
-      EXPECT_GT(m["green_at_end"].get<double>(), 0.0);
-      // ... and the recording: every row's LEDs are all green exactly when its state is gathered (both come
-      // from the same command), the same rows in both modes.
-      const auto in_leds = state_and_leds(path("in") + "/robots.csv");
-      EXPECT_EQ(in_leds, state_and_leds(path("multi") + "/robots.csv"));
-      std::size_t green = 0;
-      for (const auto& [state, leds] : in_leds) {
-        EXPECT_EQ(leds, state == "2" ? "#00ff00 #00ff00 #00ff00" : "") << "state " << state;
-        green += leds.empty() ? 0 : 1;
-      }
-      EXPECT_GT(green, 0u);
-    } else {  // no experiment: nothing to judge
-      EXPECT_EQ(in["outcome"], "none");
-      EXPECT_TRUE(in["success"].is_null());
-      EXPECT_TRUE(in["behaviour_metrics"].empty());
-    }
     EXPECT_FALSE(in["trajectory_sha256"].get<std::string>().empty());
     // The behaviour's telemetry columns are recorded after the fixed ones.
     std::ifstream csv(path("multi") + "/robots.csv");
     std::string header;
     std::getline(csv, header);
     EXPECT_NE(header.find("net_force,"), std::string::npos) << header;
+    return in;
+  }
+
+  // A behaviour without an experiment: nothing to judge.
+  static void not_judged(const Json& in) {
+    EXPECT_EQ(in["outcome"], "none");
+    EXPECT_TRUE(in["success"].is_null());
+    EXPECT_TRUE(in["behaviour_metrics"].empty());
+  }
+
+  // The example in-process alone (the cheap way: no DDS); returns its summary.
+  Json inprocess_run(const std::string& name, const std::string& dir) {
+    EXPECT_EQ(inprocess({"--scenario", scenario(name), "--plugin-dir", dir, "--out", path(name)}, name), 0);
+    return summary(name);
   }
 };
 
 TEST_F(ExampleRuns, AggregationInProcessAndMultiProcessHaveTheSameTrajectory) {
-  same_trajectory({"aggregation", AGGREGATION_DIR, 48});
+  const Json in = same_trajectory({"aggregation", AGGREGATION_DIR, 48});
+  // Its own experiment: the metrics its descriptor declares, an outcome.
+  EXPECT_TRUE(in["outcome"] == "gathered" || in["outcome"] == "scattered") << in["outcome"];
+  EXPECT_EQ(in["success"], in["outcome"] == "gathered");
+  const Json& m = in["behaviour_metrics"];
+  EXPECT_GE(m["clusters"].get<double>(), 1.0);
+  EXPECT_LE(m["largest_cluster"].get<double>(), in["alive_at_end"].get<double>());
+  EXPECT_TRUE(m.contains("gathered_tick"));
+  EXPECT_TRUE(m["mean_distance_to_centroid"].is_number());
+  // The gathered robots' green LEDs reached the world's truth (multi-process: over the wire).
+  EXPECT_EQ(m["green_at_end"], in["states_at_end"]["gathered"]);
+  EXPECT_GT(m["green_at_end"].get<double>(), 0.0);
+  // ... and the recording: every row's LEDs are all green exactly when its state is gathered (both come
+  // from the same command), the same rows in both modes.
+  const auto in_leds = state_and_leds(path("in") + "/robots.csv");
+  EXPECT_EQ(in_leds, state_and_leds(path("multi") + "/robots.csv"));
+  std::size_t green = 0;
+  for (const auto& [state, leds] : in_leds) {
+    EXPECT_EQ(leds, state == "2" ? "#00ff00 #00ff00 #00ff00" : "") << "state " << state;
+    green += leds.empty() ? 0 : 1;
+  }
+  EXPECT_GT(green, 0u);
 }
 TEST_F(ExampleRuns, DispersionInProcessAndMultiProcessHaveTheSameTrajectory) {
-  same_trajectory({"dispersion", DISPERSION_DIR, 49});
+  not_judged(same_trajectory({"dispersion", DISPERSION_DIR, 49}));
 }
 TEST_F(ExampleRuns, FlockingInProcessAndMultiProcessHaveTheSameTrajectory) {
-  same_trajectory({"flocking", FLOCKING_DIR, 50});
+  not_judged(same_trajectory({"flocking", FLOCKING_DIR, 50}));
+}
+
+// Foraging reads the ground, light and proximity sensors and sets its LEDs: over DDS as in-process, bit for
+// bit. Its experiment counts deliveries from the robots' states; the LEDs say carrying (yellow) or not
+// (blue).
+TEST_F(ExampleRuns, ForagingDeliversItemsInProcessAndMultiProcessAlike) {
+  const Json in = same_trajectory({"foraging", FORAGING_DIR, 29});
+  EXPECT_EQ(in["outcome"], "foraged");
+  EXPECT_EQ(in["success"], true);
+  const Json& m = in["behaviour_metrics"];
+  EXPECT_GE(m["items_delivered"].get<double>(), 4.0);  // the scenario's target_items
+  EXPECT_TRUE(m["first_delivery_tick"].is_number());
+  EXPECT_LE(m["carrying_at_end"].get<double>(), in["alive_at_end"].get<double>());
+  const auto in_leds = state_and_leds(path("in") + "/robots.csv");
+  EXPECT_EQ(in_leds, state_and_leds(path("multi") + "/robots.csv"));
+  std::size_t carrying = 0, unlit = 0;
+  for (const auto& [state, leds] : in_leds) {
+    if (leds.empty()) {  // tick 0's rows: no command yet
+      ++unlit;
+      continue;
+    }
+    EXPECT_EQ(leds, state == "1" ? "#ffc800 #ffc800 #ffc800" : "#0000ff #0000ff #0000ff")
+        << "state " << state;
+    carrying += state == "1" ? 1 : 0;
+  }
+  EXPECT_EQ(unlit, in["robots"].get<std::size_t>());
+  EXPECT_GT(carrying, 0u);
+}
+
+// SeekLight in-process: every robot gets within the goal's radius (under the light), and the experiment ends
+// the run there (done()), before max_ticks.
+TEST_F(ExampleRuns, SeekLightReachesTheLightAndEndsTheRun) {
+  const Json in = inprocess_run("seek_light", SEEK_LIGHT_DIR);
+  EXPECT_EQ(in["outcome"], "reached");
+  EXPECT_EQ(in["success"], true);
+  EXPECT_EQ(in["end_reason"], "completed");
+  const Json& m = in["behaviour_metrics"];
+  EXPECT_EQ(m["reached_at_end"], in["alive_at_end"]);
+  EXPECT_LT(m["all_reached_tick"].get<double>(), 1500.0);  // the scenario's max_ticks
+  EXPECT_LE(m["mean_distance_to_light"].get<double>(), 0.5);
+}
+
+// Avoidance in-process: the robots travel among the clutter without touching anything (the experiment's
+// contacts on the true geometry, and the world's own contact counts).
+TEST_F(ExampleRuns, AvoidanceKeepsClearOfTheClutter) {
+  const Json in = inprocess_run("avoidance", AVOIDANCE_DIR);
+  EXPECT_EQ(in["outcome"], "avoided");
+  EXPECT_EQ(in["success"], true);
+  const Json& m = in["behaviour_metrics"];
+  EXPECT_EQ(m["contacts"], 0.0);
+  EXPECT_GT(m["min_clearance"].get<double>(), 0.0);
+  EXPECT_GE(m["mean_distance_travelled"].get<double>(), 3.0);  // min_travel 0.5 of 0.1 m/s x 60 s
+  EXPECT_EQ(in["collisions_robot_obstacle"], 0);
+  EXPECT_EQ(in["collisions_robot_robot"], 0);
 }
 
 // A copy of an example's scenario with `replace` swapped for `with`, in the test's folder.

@@ -1,10 +1,11 @@
 // The example behaviours' controllers, each loaded from its plug-in through the registry exactly as
 // robot_agent and swarm_inprocess load it, stepped on perceptions built here: each does what its rule says.
 // Also the registry's refusals: a plug-in outside the allowed folders, a mission naming another behaviour, a
-// plug-in of an older API version; the aggregation's experiment on truths built here; the per-robot
-// generator.
+// plug-in of an older API version; the aggregation's and the avoidance's experiments on truths built here;
+// the per-robot generator and behaviour::drive.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -13,6 +14,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "behaviour/drive.hpp"
 #include "behaviour/params.hpp"
 #include "behaviour/random.hpp"
 #include "behaviour/registry.hpp"
@@ -122,6 +124,157 @@ TEST(Flocking, SeparatesFromANeighbourTooClose) {
   Perception p = quiet();
   p.messages = {heard(1, 0.2, 0.3, heading_bytes(0.0))};  // close, ahead-left
   EXPECT_LT(turn(c->step(p)), 0.0);                       // turns right, away
+}
+
+// The Khepera IV sensors the three sensor examples declare, equipped and quiet: no light, nothing near, a
+// white floor.
+Perception equipped() {
+  Perception p = quiet();
+  p.light = std::array<double, kLightCount>{};
+  p.proximity = std::array<double, kProximityCount>{};
+  p.ground = std::array<double, kGroundCount>{1.0, 1.0, 1.0, 1.0};
+  return p;
+}
+
+bool all_leds(const Command& c, Rgb colour) {
+  return std::all_of(c.leds.begin(), c.leds.end(), [&](const Rgb& l) { return l == colour; });
+}
+
+TEST(SeekLight, TurnsTowardsTheBrighterSideAndSearchesInTheDark) {
+  auto c = load("seek_light", SEEK_LIGHT_DIR);
+  Perception p = equipped();
+  p.light =
+      std::array<double, kLightCount>{0.1, 0.3, 0.5, 0.2, 0.0, 0.0, 0.0, 0.05};  // brightest at 90° left
+  const Command left = c->step(p);
+  EXPECT_GT(turn(left), 0.0);
+  EXPECT_EQ(left.telemetry.state, 1);  // homing
+  EXPECT_TRUE(all_leds(left, Rgb{255, 200, 0}));
+  ASSERT_EQ(left.telemetry.extra.size(), 2u);
+  EXPECT_EQ(left.telemetry.extra[0], 0.5);
+  EXPECT_GT(left.telemetry.extra[1], 1.0);  // the bearing: left, pulled towards the 45° sensor's 0.3
+  EXPECT_LT(left.telemetry.extra[1], std::numbers::pi / 2);
+  p.light =
+      std::array<double, kLightCount>{0.1, 0.05, 0.0, 0.0, 0.0, 0.2, 0.5, 0.3};  // brightest at 90° right
+  EXPECT_LT(turn(c->step(p)), 0.0);
+  p.light =
+      std::array<double, kLightCount>{0.6, 0.3, 0.0, 0.0, 0.0, 0.0, 0.0, 0.3};  // dead ahead: straight on
+  const Command ahead = c->step(p);
+  EXPECT_NEAR(turn(ahead), 0.0, 1e-12);
+  EXPECT_GT(ahead.left_speed, 0.0);
+  // Two lights, left and right, the right one brighter: towards it, not between them.
+  p.light = std::array<double, kLightCount>{0.0, 0.0, 0.4, 0.0, 0.0, 0.0, 0.45, 0.0};
+  EXPECT_LT(turn(c->step(p)), 0.0);
+  p.light = std::array<double, kLightCount>{};
+  const Command dark = c->step(p);
+  EXPECT_EQ(dark.telemetry.state, 0);  // searching
+  EXPECT_TRUE(all_leds(dark, Rgb{}));
+  // An obstacle close ahead-right beats the light on the right: it turns left, away.
+  p.light = std::array<double, kLightCount>{0.1, 0.0, 0.0, 0.0, 0.0, 0.2, 0.5, 0.3};
+  p.proximity = std::array<double, kProximityCount>{0.2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.6};
+  const Command avoid = c->step(p);
+  EXPECT_GT(turn(avoid), 0.0);
+  EXPECT_EQ(avoid.telemetry.state, 2);  // avoiding
+}
+
+TEST(Foraging, TakesAnItemOnFoodAndDropsItAtTheNest) {
+  auto c = load("foraging", FORAGING_DIR);
+  Perception p = equipped();
+  const Command bare = c->step(p);
+  EXPECT_EQ(bare.telemetry.state, 0);  // searching
+  EXPECT_TRUE(all_leds(bare, Rgb{0, 0, 255}));
+  p.ground = std::array<double, kGroundCount>{0.15, 1.0, 1.0, 1.0};  // the front-left sensor on food
+  const Command took = c->step(p);
+  EXPECT_EQ(took.telemetry.state, 1);  // carrying
+  EXPECT_TRUE(all_leds(took, Rgb{255, 200, 0}));
+  // Carrying, it steers to the light (on its left) and keeps the item over bare floor and more food.
+  p.ground = std::array<double, kGroundCount>{1.0, 1.0, 1.0, 1.0};
+  p.light = std::array<double, kLightCount>{0.0, 0.1, 0.3, 0.1, 0.0, 0.0, 0.0, 0.0};
+  const Command home = c->step(p);
+  EXPECT_EQ(home.telemetry.state, 1);
+  EXPECT_GT(turn(home), 0.0);
+  p.ground = std::array<double, kGroundCount>{0.1, 0.1, 0.1, 0.1};
+  EXPECT_EQ(c->step(p).telemetry.state, 1);
+  EXPECT_EQ(c->step(p).telemetry.extra[0], 0.0);  // nothing delivered yet
+  // The nest (mid grey), at (-1, 0): dropped and counted.
+  p.pose = {-1.0, 0.0, 0.0};
+  p.ground = std::array<double, kGroundCount>{0.55, 0.55, 1.0, 1.0};
+  const Command dropped = c->step(p);
+  EXPECT_EQ(dropped.telemetry.state, 0);
+  EXPECT_TRUE(all_leds(dropped, Rgb{0, 0, 255}));
+  ASSERT_EQ(dropped.telemetry.extra.size(), 2u);
+  EXPECT_EQ(dropped.telemetry.extra[0], 1.0);
+  EXPECT_EQ(dropped.telemetry.extra[1], 0.55);
+  // Searching again over the nest, it takes nothing.
+  EXPECT_EQ(c->step(p).telemetry.state, 0);
+  // Loaded again at (1, 1) facing +x with the light hidden (readings below `dark`): it steers to where it
+  // last stood on the nest, behind it on its right, not to the noise.
+  p.pose = {1.0, 1.0, 0.0};
+  p.ground = std::array<double, kGroundCount>{0.1, 1.0, 1.0, 1.0};
+  p.light = std::array<double, kLightCount>{0.0, 0.0, 0.01, 0.0, 0.0, 0.0, 0.0, 0.0};  // noise on the left
+  const Command hidden = c->step(p);
+  EXPECT_EQ(hidden.telemetry.state, 1);
+  EXPECT_NEAR(turn(hidden), -0.2, 1e-12);  // on the spot, clockwise, at full speed (bearing -2.68 rad)
+  EXPECT_NEAR(hidden.left_speed + hidden.right_speed, 0.0, 1e-12);
+}
+
+TEST(Avoidance, TurnsAwayFromANearBodyAndStopsForOneAhead) {
+  auto c = load("avoidance", AVOIDANCE_DIR, {{"k_avoid", 8.0}});
+  Perception p = equipped();
+  const Command clear = c->step(p);
+  EXPECT_EQ(clear.telemetry.state, 0);  // cruising
+  EXPECT_TRUE(all_leds(clear, Rgb{0, 255, 0}));
+  EXPECT_GT(clear.left_speed + clear.right_speed, 0.0);
+  p.proximity = std::array<double, kProximityCount>{0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.3, 0.5};  // on the right
+  const Command right = c->step(p);
+  EXPECT_GT(turn(right), 0.0);  // turns left, away
+  EXPECT_EQ(right.telemetry.state, 1);
+  EXPECT_TRUE(all_leds(right, Rgb{255, 0, 0}));
+  ASSERT_EQ(right.telemetry.extra.size(), 1u);
+  EXPECT_EQ(right.telemetry.extra[0], 0.5);
+  p.proximity = std::array<double, kProximityCount>{0.0, 0.5, 0.3, 0.0, 0.0, 0.0, 0.0, 0.0};  // on the left
+  EXPECT_LT(turn(c->step(p)), 0.0);
+  // Touching dead ahead: it backs off and turns (to a side of its own), never straight on.
+  p.proximity = std::array<double, kProximityCount>{1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  const Command ahead = c->step(p);
+  EXPECT_LT(ahead.left_speed + ahead.right_speed, 0.0);
+  EXPECT_NE(turn(ahead), 0.0);
+  // What is behind it is not in its way.
+  p.proximity = std::array<double, kProximityCount>{0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0};
+  EXPECT_EQ(c->step(p).telemetry.state, 0);
+}
+
+// The avoidance experiment's contacts on the truth's geometry: a robot touching a turned box counts once per
+// touch, and the gap is measured to the box's surface, not its centre.
+TEST(AvoidanceExperiment, CountsTouchesOnTheTrueGeometry) {
+  behaviour::Registry registry({AVOIDANCE_DIR});
+  const behaviour::Descriptor& d = registry.load_plugin(std::string(AVOIDANCE_DIR) + "/libavoidance.so");
+  ASSERT_NE(d.experiment.make, nullptr);
+  Mission m = mission_of("avoidance", AVOIDANCE_DIR);
+  m.params = {{"min_travel", 0.1}};  // 0.1 x 0.1 m/s x 0.3 s: not what decides here
+  auto e = d.experiment.make();
+  e->init(m, 1);
+  const double yaw = std::numbers::pi / 4;
+  const std::array box{
+      experiment::ObstacleTruth{experiment::ObstacleTruth::Kind::Box, {0.0, 0.0}, yaw, {0.5, 0.1}, 0.0}};
+  const Telemetry telemetry;
+  // Along the box's short axis (its local +y, turned by yaw): body edge 0.05 m from the face, touching, away.
+  const Vec2 normal{-std::sin(yaw), std::cos(yaw)};
+  const double away = 0.1 + kRobotRadius;  // half depth + body
+  Tick tick = 0;
+  for (const double gap : {0.05, 0.0, 0.3, 0.0005}) {
+    const std::array robots{experiment::RobotTruth{
+        0, {normal.x * (away + gap), normal.y * (away + gap), 0.0}, true, &telemetry, {}}};
+    experiment::Truth t;
+    t.tick = tick++;
+    t.robots = robots;
+    t.obstacles = box;
+    e->observe(t);
+  }
+  const auto r = e->conclude();
+  EXPECT_EQ(r.metrics[0], 2.0);  // two touches
+  EXPECT_NEAR(r.metrics[1], 0.0, 1e-9);
+  EXPECT_NEAR(r.metrics[2], 0.05 + 0.3 + 0.2995, 1e-9);  // the path from the first pose
+  EXPECT_EQ(r.outcome, "collided");
 }
 
 TEST(Registry, RefusesAPluginOutsideItsFolders) {
@@ -266,6 +419,20 @@ TEST(AggregationExperiment, CountsClustersAndJudgesGatheredOnTheTruth) {
   const auto dead_apart = run({{{0, 0}, {0.9, 0}, {1.8, 0}, {9, 9}}}, {true, true, true, false});
   EXPECT_EQ(dead_apart.outcome, "gathered");
   EXPECT_EQ(dead_apart.metrics[1], 3.0);
+}
+
+// behaviour::drive: a speed and turn rate to wheel speeds, scaled down together at the limit.
+TEST(Drive, KeepsTheTurnsRadiusAtTheSpeedLimit) {
+  Command c;
+  behaviour::drive(0.05, 0.5, 0.1, c);  // within the limit: v -+ w x half the wheel spacing
+  EXPECT_DOUBLE_EQ(c.left_speed, 0.05 - 0.5 * kWheelSpacing / 2.0);
+  EXPECT_DOUBLE_EQ(c.right_speed, 0.05 + 0.5 * kWheelSpacing / 2.0);
+  behaviour::drive(0.1, 1.0, 0.1, c);  // the right wheel would pass 0.1 m/s: both scaled by the same factor
+  EXPECT_DOUBLE_EQ(c.right_speed, 0.1);
+  EXPECT_NEAR(c.left_speed / c.right_speed, (0.1 - kWheelSpacing / 2.0) / (0.1 + kWheelSpacing / 2.0), 1e-12);
+  behaviour::drive(0.0, -10.0, 0.1, c);  // on the spot, clockwise, at full speed
+  EXPECT_DOUBLE_EQ(c.left_speed, 0.1);
+  EXPECT_DOUBLE_EQ(c.right_speed, -0.1);
 }
 
 // The per-robot generator is the documented splitmix64 stream (docs/behaviour-api.md), so an agent in

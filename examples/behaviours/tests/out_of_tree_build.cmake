@@ -17,7 +17,7 @@ function(run what)
 endfunction()
 
 run("cmake --install" ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${WORK_DIR}/prefix)
-foreach(name aggregation dispersion flocking)
+foreach(name aggregation avoidance dispersion flocking foraging seek_light)
   # A copy of the example's folder alone: nothing of the product's tree is in reach.
   file(COPY ${EXAMPLES_DIR}/${name} DESTINATION ${WORK_DIR}/src)
   run("configure ${name}" ${CMAKE_COMMAND} -S ${WORK_DIR}/src/${name} -B ${WORK_DIR}/build-${name}
