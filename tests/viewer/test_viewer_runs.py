@@ -286,7 +286,13 @@ class KheperaReplayTest(unittest.TestCase):
         import fixture  # tests/scripts (viewer_helpers puts it on the path)
         self.fixture = fixture
         self.dir = tempfile.mkdtemp(prefix="sf-view-khepera-")
-        fixture.make_khepera_run(self.dir)
+        doc = fixture.make_khepera_run(self.dir)
+        # A gate that a world event puts in place at tick 5 (docs/scenario-format.md, World events).
+        doc["obstacles"] = [{"kind": "box", "name": "gate", "centre": [-2.5, -2.0], "half_extents": [0.3, 0.3],
+                             "yaw": 0.0, "present": False}]
+        doc["world_events"] = [{"tick": 5, "obstacle": 0, "name": "gate", "do": "appear"}]
+        with open(os.path.join(self.dir, "world.json"), "w") as f:
+            json.dump(doc, f)
         self.proc = None
         self.browser = None
 
@@ -312,9 +318,19 @@ class KheperaReplayTest(unittest.TestCase):
         b = self.browser = cdp.Browser()
         b.navigate(url)
         b.wait_for("window.sfViewer && sfViewer.replay && sfViewer.frame", what="the recording loaded")
-        b.eval("(() => { const t = document.getElementById('timeline'); t.value = '7';"
-               " t.dispatchEvent(new Event('input')); })()")
-        b.wait_for("sfViewer.frame.tick === 7", what="tick 7")
+
+        def scrub(tick):
+            b.eval(f"(() => {{ const t = document.getElementById('timeline'); t.value = '{tick}';"
+                   " t.dispatchEvent(new Event('input')); })()")
+            b.wait_for(f"sfViewer.frame.tick === {tick}", what=f"tick {tick}")
+
+        # The gate is drawn from the tick of its world event on, not before.
+        gate, obstacle, floor = (-2.4, -2.1), (109, 76, 65), (230, 230, 230)
+        scrub(3)
+        img, _ = b.screenshot()
+        got, d = vh.drawn_near(img, *vh.check_projection(self, b, *gate), floor)
+        self.assertLessEqual(d, 12, f"the gate before tick 5: drawn {got}, want the floor")
+        scrub(7)
         robots = b.eval("sfViewer.frame.robots")
         leds = {r["id"]: r.get("leds") for r in robots}
         self.assertEqual(leds, {0: ["#00ff00"] * 3, 1: ["#ff0000", "#000000", "#0000ff"], 2: None,
@@ -323,7 +339,8 @@ class KheperaReplayTest(unittest.TestCase):
         for (x, y), want, what in (((-1.5, 1.8), (0, 0, 255), "the blue disc"),
                                    ((2.3, -0.9), (77, 77, 77), "the grey band"),
                                    ((3.5, 0.5), (230, 230, 230), "the floor's grey 0.9"),
-                                   ((3.0, 1.8), (255, 214, 0), "the light")):
+                                   ((3.0, 1.8), (255, 214, 0), "the light"),
+                                   (gate, obstacle, "the gate, there from tick 5")):
             px, py = vh.check_projection(self, b, x, y)
             got, d = vh.drawn_near(img, px, py, want)
             self.assertLessEqual(d, 12, f"{what} at ({px:.1f}, {py:.1f}): drawn {got}, want {want}")
