@@ -428,8 +428,8 @@ def probe(exe: str, scenario: str, shape: Optional[str], robots: Optional[int], 
 def probe_exec(opts: argparse.Namespace, scenario: str, shape: Optional[str], robots: Optional[int],
                params: Optional[Combo] = None, plugin_dirs: Sequence[str] = ()) -> dict[str, Any]:
     """probe() for --exec: one tick as real processes (sweep_exec.probe)."""
-    cmd = (sweep_exec.base_command(scenario, shape, robots, None, 1, plugin_dirs, opts.exec, opts.exec_timeout) +
-           param_flags(params or {}))
+    cmd = (sweep_exec.as_run(base_command("", scenario, shape, robots, None, 1, plugin_dirs), opts.exec,
+                             opts.exec_timeout) + param_flags(params or {}))
     try:
         summary, last = sweep_exec.probe(cmd, PROBE_TIMEOUT_S)
     except subprocess.TimeoutExpired:
@@ -1118,11 +1118,9 @@ def plan(opts: argparse.Namespace, exe: str) -> tuple[list[Run], dict[str, Any]]
                     for schedule in schedules:
                         for seed in seeds:
                             flags = schedule.flags(seed, n, window)
+                            cmd = base_command(exe, scenario, shape, robots, seed, opts.max_ticks, plugin_dirs)
                             if program is not None:
-                                cmd = sweep_exec.base_command(scenario, shape, robots, seed, opts.max_ticks,
-                                                              plugin_dirs, program, opts.exec_timeout)
-                            else:
-                                cmd = base_command(exe, scenario, shape, robots, seed, opts.max_ticks, plugin_dirs)
+                                cmd = sweep_exec.as_run(cmd, program, opts.exec_timeout)
                             for k in flags:
                                 cmd += ["--kill", k]
                             # A restart after the run's last tick would never happen (and is refused): left out.

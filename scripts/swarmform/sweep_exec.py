@@ -27,28 +27,17 @@ def launcher_word() -> str:
     return "swarm" if places.installed() else "scripts/swarm"
 
 
-def base_command(scenario: str, shape: Optional[str], robots: Optional[int], seed: Optional[int],
-                 max_ticks: Optional[int], plugin_dirs: Sequence[str], program: str,
-                 exec_timeout: Optional[float]) -> list[str]:
-    cmd = [launcher_word(), "run", "--scenario", scenario]
-    for d in plugin_dirs:  # the descriptor file is looked for as a plug-in is
-        cmd += ["--plugin-dir", d]
-    if shape:
-        cmd += ["--shape", shape]
-    if robots is not None:
-        cmd += ["--robots", str(robots)]
-    if seed is not None:
-        cmd += ["--seed", str(seed)]
-    if max_ticks is not None:
-        cmd += ["--max-ticks", str(max_ticks)]
-    cmd += ["--exec", program]
+def as_run(cmd: Sequence[str], program: str, exec_timeout: Optional[float]) -> list[str]:
+    """The in-process command `cmd` (sweep.base_command's: the harness, then its flags) as `swarm run --exec`: the
+    same flags, which `swarm run` takes alike, after the launcher's words."""
+    out = [launcher_word(), "run", *cmd[1:], "--exec", program]
     if exec_timeout is not None:
-        cmd += ["--exec-timeout", f"{exec_timeout:g}"]
-    return cmd + ["--no-pictures"]
+        out += ["--exec-timeout", f"{exec_timeout:g}"]
+    return out + ["--no-pictures"]
 
 
 def argv(cmd: Sequence[str], out_dir: str) -> list[str]:
-    """What runs for `cmd` (base_command's, with the run's flags): the launcher's package, writing into out_dir."""
+    """What runs for `cmd` (as_run's, with the run's flags): the launcher's package, writing into out_dir."""
     return [sys.executable, "-m", "swarmform", *cmd[1:], "--out", out_dir]
 
 
@@ -70,7 +59,7 @@ def take_summary(out_dir: str) -> Optional[dict[str, Any]]:
 
 
 def probe(cmd: Sequence[str], timeout: float) -> tuple[Optional[dict[str, Any]], str]:
-    """One tick of `cmd` (a base_command with --max-ticks 1) as real processes: (its summary, or None, and the
+    """One tick of `cmd` (an as_run command with --max-ticks 1) as real processes: (its summary, or None, and the
     last line it wrote on stderr). The scenario, the shape, the parameters and the descriptor file are checked as
     in any run; a program that does not start or answer fails it."""
     tmp = tempfile.mkdtemp(prefix="swarm-sweep-probe-")
