@@ -5,6 +5,8 @@
 #include <cmath>
 #include <utility>
 
+#include "behaviour/params.hpp"
+
 namespace swarmform::behaviour {
 namespace {
 
@@ -73,6 +75,55 @@ std::string check_telemetry(const Descriptor& d) {
     for (std::size_t j = 0; j < i; ++j) {
       if (d.telemetry[j].name == name) return where + std::string(name) + "' twice";
     }
+  }
+  return {};
+}
+
+bool colour_text(std::string_view s) {
+  return s.size() == 7 && s[0] == '#' && std::all_of(s.begin() + 1, s.end(), [](char c) {
+           return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F');
+         });
+}
+
+std::string check_param_table(const Descriptor& d) {
+  const std::string where = "behaviour '" + std::string(d.name) + "': parameter '";
+  for (std::size_t i = 0; i < d.params.size(); ++i) {
+    const ParamSpec& p = d.params[i];
+    const std::string name(p.name);
+    if (!lower_case_name(p.name)) return where + name + "' is not a lower_case name";
+    for (std::size_t j = 0; j < i; ++j) {
+      if (d.params[j].name == p.name) return where + name + "' twice";
+    }
+    if (!std::isfinite(p.min_value) || !std::isfinite(p.max_value) || !std::isfinite(p.default_value))
+      return where + name + "': min, max and default must be finite";
+    if (!(p.min_value <= p.default_value && p.default_value <= p.max_value))
+      return where + name + "': default " + std::to_string(p.default_value) + " is outside [min, max] = [" +
+             std::to_string(p.min_value) + ", " + std::to_string(p.max_value) + "]";
+  }
+  return {};
+}
+
+std::string check_states(const Descriptor& d) {
+  const std::string where = "behaviour '" + std::string(d.name) + "': state ";
+  for (std::size_t i = 0; i < d.states.size(); ++i) {
+    const StateSpec& st = d.states[i];
+    const std::string name(st.name);
+    if (st.value < 0) return where + "'" + name + "' has value " + std::to_string(st.value) + " (< 0)";
+    if (!lower_case_name(st.name)) return where + "'" + name + "' is not a lower_case name";
+    if (!colour_text(st.colour))
+      return where + "'" + name + "': colour '" + std::string(st.colour) + "' is not \"#rrggbb\"";
+    for (std::size_t j = 0; j < i; ++j) {
+      if (d.states[j].value == st.value) return where + "value " + std::to_string(st.value) + " twice";
+      if (d.states[j].name == st.name) return where + "'" + name + "' twice";
+    }
+  }
+  return {};
+}
+
+std::string check_descriptor(const Descriptor& d) {
+  for (auto check : {check_param_table, check_states, check_shape_rules, check_experiment, check_telemetry,
+                     check_sensors}) {
+    if (std::string why = check(d); !why.empty()) return why;
   }
   return {};
 }

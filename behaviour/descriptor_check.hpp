@@ -23,6 +23,17 @@ std::string check_experiment(const Descriptor& d);
 // Empty when d's telemetry columns can head robots.csv's columns: lower_case, unique, and none named as a
 // column the recording writes itself (tick, id, ..., net_force, leds); otherwise what is wrong.
 std::string check_telemetry(const Descriptor& d);
+// "#rrggbb" (hex digits of either case): a state's colour.
+bool colour_text(std::string_view s);
+// Empty when d's parameter table is well formed: lower_case and unique names, min <= default <= max, all
+// finite; otherwise what is wrong, naming the behaviour. A descriptor file's loader says the same with the
+// file's key path (descriptor_file.hpp); this holds every descriptor, a plug-in's and a built-in's, to it.
+std::string check_param_table(const Descriptor& d);
+// Empty when d's states are: values >= 0 and unique, names lower_case and unique, colours "#rrggbb".
+std::string check_states(const Descriptor& d);
+// Every check above and check_shape_rules (params.hpp), in that order: empty when d may be registered,
+// else the first thing wrong.
+std::string check_descriptor(const Descriptor& d);
 // Empty when every sensor d declares is modelled; otherwise which are not.
 std::string check_sensors(const Descriptor& d);
 // "proximity, ground": the names of the Sensor bits set in `sensors` (unknown bits as "bit N").

@@ -87,12 +87,6 @@ class Reader {
   std::string file_;
 };
 
-bool colour(std::string_view s) {
-  return s.size() == 7 && s[0] == '#' && std::all_of(s.begin() + 1, s.end(), [](char c) {
-           return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F');
-         });
-}
-
 std::string at_index(const std::string& key, std::size_t i) {
   return key + "[" + std::to_string(i) + "]";
 }
@@ -178,7 +172,7 @@ std::unique_ptr<const DescribedBehaviour> load_descriptor_file(const std::filesy
       if (!lower_case_name(sname))
         r.fail(at + ".name", "'" + sname + "' is not a lower_case name (a-z, 0-9, _)");
       const std::string c = r.text(list[i]["colour"], at + ".colour");
-      if (!colour(c)) r.fail(at + ".colour", "'" + c + "' is not a colour \"#rrggbb\"");
+      if (!colour_text(c)) r.fail(at + ".colour", "'" + c + "' is not a colour \"#rrggbb\"");
       for (const StateSpec& s : out->states_) {
         if (s.value == value)
           r.fail(at + ".value", std::to_string(value) + " is already state '" + std::string(s.name) + "'");
