@@ -8,8 +8,11 @@
 
 #include <filesystem>
 #include <fstream>
+#include <span>
+#include <stdexcept>
 #include <string>
 
+#include "behaviour/descriptor_check.hpp"
 #include "behaviour/params.hpp"
 #include "behaviour/registry.hpp"
 #include "common/input_error.hpp"
@@ -222,6 +225,44 @@ TEST_F(DescriptorFile, TheRegistryKeepsItAndRefusesItAController) {
               clash +
                   ": name: behaviour 'random_walk' is already registered (a built-in, a "
                   "plug-in or another descriptor file)");
+  }
+}
+
+// A descriptor made in code (a plug-in's, a built-in's) is held to what a file is: its parameter table and
+// its states are checked when it is registered, the first problem named with the behaviour.
+TEST(DescriptorChecks, APluginsParameterTableAndStatesAreCheckedAsAFilesAre) {
+  static constexpr ParamSpec kParams[] = {{"gain", 1.0, 0.0, 2.0, "1/s"}, {"spacing", 3.0, 0.1, 2.0, "m"}};
+  static constexpr StateSpec kStates[] = {{0, "alone", "#888888"}, {1, "near", "#2ca02c"}};
+  Descriptor d;
+  d.name = "code_made";
+  d.make = controller::builtin_registry().find("random_walk")->make;
+  d.params = kParams;
+  d.states = kStates;
+  EXPECT_EQ(check_descriptor(d),
+            "behaviour 'code_made': parameter 'spacing': default 3.000000 is outside [min, max] = [0.100000, "
+            "2.000000]");
+  Registry registry;
+  EXPECT_THROW(registry.add(d), std::logic_error);
+  d.params = std::span<const ParamSpec>(kParams, 1);
+  EXPECT_EQ(check_descriptor(d), "");
+  static constexpr ParamSpec kTwice[] = {{"gain", 1.0, 0.0, 2.0, ""}, {"gain", 1.0, 0.0, 2.0, ""}};
+  d.params = kTwice;
+  EXPECT_EQ(check_param_table(d), "behaviour 'code_made': parameter 'gain' twice");
+  d.params = std::span<const ParamSpec>(kParams, 1);
+  static constexpr StateSpec kBadColour[] = {{0, "alone", "grey"}};
+  d.states = kBadColour;
+  EXPECT_EQ(check_states(d), "behaviour 'code_made': state 'alone': colour 'grey' is not \"#rrggbb\"");
+  static constexpr StateSpec kSameValue[] = {{0, "alone", "#888888"}, {0, "near", "#2ca02c"}};
+  d.states = kSameValue;
+  EXPECT_EQ(check_states(d), "behaviour 'code_made': state value 0 twice");
+  static constexpr StateSpec kNegative[] = {{-1, "alone", "#888888"}};
+  d.states = kNegative;
+  EXPECT_EQ(check_states(d), "behaviour 'code_made': state 'alone' has value -1 (< 0)");
+  // Every built-in passes.
+  for (const char* name : {"paper", "random_walk"}) {
+    const Descriptor* b = controller::builtin_registry().find(name);
+    ASSERT_NE(b, nullptr) << name;
+    EXPECT_EQ(check_descriptor(*b), "") << name;
   }
 }
 
