@@ -110,17 +110,24 @@ TEST(WireEndpoints, OptionalSensorsArriveBitForBitAndOnlyWhenEquipped) {
   p.proximity = std::array<double, kProximityCount>{1.0, 0.0, 1.0 / 3.0, 0.5, 0.0, 0.0, 1e-300, 0.25};
   p.ground = std::array<double, kGroundCount>{0.0, 1.0, 0.5, 1.0 / 9.0};
   p.battery = 0.0;  // empty, but equipped
+  p.lidar = {LidarRay{-1.8325957145940461, 4.0}, LidarRay{0.0, 1.0 / 3.0}, LidarRay{1.0, 0.02}};
   const Perception full = receive(p);
   EXPECT_EQ(full.proximity, p.proximity);
   EXPECT_EQ(full.ground, p.ground);
   EXPECT_FALSE(full.light.has_value());
   EXPECT_EQ(full.battery, std::optional<double>(0.0));
+  ASSERT_EQ(full.lidar.size(), p.lidar.size());
+  for (std::size_t k = 0; k < p.lidar.size(); ++k) {
+    EXPECT_EQ(full.lidar[k].angle, p.lidar[k].angle);
+    EXPECT_EQ(full.lidar[k].range, p.lidar[k].range);
+  }
   Perception bare;
   bare.tick = 2;
   const Perception none = receive(bare);
   EXPECT_FALSE(none.proximity.has_value());
   EXPECT_FALSE(none.ground.has_value());
   EXPECT_FALSE(none.battery.has_value());
+  EXPECT_TRUE(none.lidar.empty());
 }
 
 TEST(WireEndpoints, ClaimsForIdsOutsideTheRunKeepAtMostEightChannels) {
