@@ -10,6 +10,8 @@
 
 #include "robot_agent/controller/builtins.hpp"
 #include "test_scenarios.hpp"
+#include "world_server/world/ray_fan.hpp"
+#include "world_server/world/rng.hpp"
 #include "world_server/world/world.hpp"
 
 namespace swarmform::world {
@@ -95,6 +97,34 @@ TEST(Lidar, RobotsAndCylindersAreSeenOwnBodyIsNotRangesAreClamped) {
                                  {Pose2D{0.0, 0.0, 0.0}, Pose2D{2.0 * kRobotRadius + 0.3, 0.0, 2.0}});
   EXPECT_EQ(c[6].range, 0.05);
   EXPECT_EQ(c[3].range, 0.25);
+}
+
+TEST(Lidar, TheFanFindsEachBodysRaysFromItsAngleAsTestingEveryRayDoes) {
+  // A crowd of robots and obstacles round a robot, many headings: the rays the fan's angular culling keeps
+  // give the very ranges that testing every ray gives.
+  Rng rng(7, 0);
+  std::vector<Obstacle> statics{box(1.5, 0.3, 0.4, 1.2, 0.7), cylinder(-1.0, -1.2, 0.3),
+                                box(0.0, 3.0, 6.0, 0.1)};
+  std::vector<StaticShape> shapes;
+  for (const Obstacle& o : statics) shapes.push_back(make_static_shape(o));
+  for (int trial = 0; trial < 40; ++trial) {
+    std::vector<Pose2D> poses{Pose2D{0.0, 0.0, rng.uniform(-pi, pi)}};
+    for (int j = 0; j < 30; ++j) poses.push_back(Pose2D{rng.uniform(-2.5, 2.5), rng.uniform(-2.5, 2.5), 0.0});
+    SpatialGrid grid;
+    grid.build(poses, 1.0);
+    const std::size_t n = trial % 2 == 0 ? 682 : 100;
+    const double fov = trial % 4 < 2 ? LidarSpec{}.fov : 2.0 * pi;
+    const double step = fov / static_cast<double>(n - 1);
+    std::vector<double> dx(n), dy(n), culled(n, kNoHit), every(n, kNoHit);
+    for (std::size_t k = 0; k < n; ++k) {
+      const double a = poses[0].theta - fov / 2.0 + step * static_cast<double>(k);
+      dx[k] = std::cos(a);
+      dy[k] = std::sin(a);
+    }
+    cast_ring_rays(0, poses, grid, shapes, 4.0, dx, dy, culled, FanAngles{poses[0].theta - fov / 2.0, step});
+    cast_ring_rays(0, poses, grid, shapes, 4.0, dx, dy, every);
+    for (std::size_t k = 0; k < n; ++k) ASSERT_EQ(culled[k], every[k]) << "trial " << trial << " ray " << k;
+  }
 }
 
 TEST(Lidar, NoiseIsUniformWithinTheLevelOnHitsOnlyAndFollowsTheSeed) {

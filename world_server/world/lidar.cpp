@@ -35,7 +35,9 @@ void Lidar::read(std::size_t self, const std::vector<Pose2D>& poses, const Spati
     dx[k] = c * cos_[k] - s * sin_[k];
     dy[k] = s * cos_[k] + c * sin_[k];
   }
-  cast_ring_rays(self, poses, grid, statics_, spec_.max_range, dx, dy, nearest);
+  const FanAngles fan{poses[self].theta + angle_.front(),
+                      n > 1 ? spec_.fov / static_cast<double>(n - 1) : 0.0};
+  cast_ring_rays(self, poses, grid, statics_, spec_.max_range, dx, dy, nearest, fan);
   out.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
     out[k].angle = angle_[k];

@@ -15,11 +15,23 @@
 
 namespace swarmform::world {
 
+// Ray k's arena-frame angle is first + k * step (mod 2 pi), when the caller knows it: a fan of many rays
+// then tests each body against the rays within its angular extent only. step 0: unknown, every ray is tested.
+struct FanAngles {
+  double first = 0.0;
+  double step = 0.0;
+};
+
+// From this many rays on, a body's rays are found from its angular extent (an atan2 and an asin a body)
+// rather than by testing every ray. Below, testing them all is cheaper. The result is the same either way:
+// only rays that cannot reach the body are skipped.
+inline constexpr std::size_t kFanCullRays = 16;
+
 // nearest[k] = min(nearest[k], distance along ray k to the nearest body) for bodies that may lie within
 // `range` of the ring (farther ones are skipped; a hit beyond range may still be reported: compare with it).
 // The caller fills nearest with kNoHit first. `self` is not seen. Thread-safe (reads only).
 void cast_ring_rays(std::size_t self, const std::vector<Pose2D>& poses, const SpatialGrid& grid,
                     const std::vector<StaticShape>& statics, double range, std::span<const double> dx,
-                    std::span<const double> dy, std::span<double> nearest);
+                    std::span<const double> dy, std::span<double> nearest, FanAngles fan = {});
 
 }  // namespace swarmform::world
