@@ -136,15 +136,18 @@ std::string floor_hex(const json& o) {
   return text;
 }
 
-// The floor (its base colour under the arena, then its regions in painting order, each a little higher so
-// that a later one lies on top) and the light sources, as world.json gives them.
+// The floor (its base colour under the arena unless plain white, then its regions in painting order, each a
+// little higher so that a later one lies on top) and the light sources, as world.json gives them.
 void floor_and_lights(const json& world, json& cubes, json& cylinders, json& spheres) {
   const json& f = world.value("floor", json());
   const json& a = world.value("arena", json::object());
   if (f.is_object() && a.contains("centre")) {
-    cubes.push_back({{"pose", pose(a["centre"][0], a["centre"][1], -0.006, 0)},
-                     {"size", {{"x", a.value("width", 0.0)}, {"y", a.value("height", 0.0)}, {"z", 0.002}}},
-                     {"color", rgba(floor_hex(f))}});
+    // A plain white floor draws nothing, as on the page and in the pictures.
+    const bool plain = num(f, "grey", 1.0) >= 1.0 && !(f.contains("colour") && f["colour"].is_string());
+    if (!plain)
+      cubes.push_back({{"pose", pose(a["centre"][0], a["centre"][1], -0.006, 0)},
+                       {"size", {{"x", a.value("width", 0.0)}, {"y", a.value("height", 0.0)}, {"z", 0.002}}},
+                       {"color", rgba(floor_hex(f))}});
     double z = -0.004;
     for (const json& r : f.value("regions", json::array())) {
       if (!r.is_object() || !r.contains("centre")) continue;

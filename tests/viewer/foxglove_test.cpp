@@ -60,6 +60,14 @@ TEST(Foxglove, SceneCarriesTheFloorItsRegionsAndTheLights) {
   EXPECT_DOUBLE_EQ(disc["color"]["r"].get<double>(), 0.0);
   // The region listed later lies above the one before it.
   EXPECT_GT(rect["pose"]["position"]["z"].get<double>(), disc["pose"]["position"]["z"].get<double>());
+  // A plain white floor has no base: the regions alone.
+  Foxglove white;
+  json world = kWorld;
+  world["floor"]["grey"] = 1.0;
+  white.set_world(world);
+  EXPECT_EQ(white.on_text(7, R"({"op":"subscribe","subscriptions":[{"id":1,"channelId":1}]})"), "");
+  const json plain = json::parse(white.messages(dds::ObserveFrameData{})[0].second.substr(13));
+  EXPECT_EQ(entity(plain, "arena")["cubes"].size(), 1U);
   ASSERT_EQ(arena["spheres"].size(), 1U);
   const json& light = arena["spheres"][0]["pose"]["position"];
   EXPECT_DOUBLE_EQ(light["x"].get<double>(), 1.5);
