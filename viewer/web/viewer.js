@@ -363,6 +363,16 @@ function panel() {
   }
   if (r.heard) rows.push(["heard", r.heard.length ? r.heard.join(" ") : "nobody"]);
   if (r.ultrasonic) rows.push(["ultrasonic (m)", r.ultrasonic.map((d) => d.toFixed(2)).join(" ")]);
+  // The optional sensors, when the robot's behaviour declares them (docs/behaviour-api.md).
+  for (const [key, label] of [["proximity", "proximity (0..1)"], ["light", "light (0..1)"],
+                              ["ground", "ground (0..1)"]]) {
+    if (r[key]) rows.push([label, r[key].map((v) => v.toFixed(2)).join(" ")]);
+  }
+  if (r.lidar) {
+    rows.push(["lidar", r.lidar.rays + " rays, nearest " + r.lidar.nearest_range.toFixed(2) + " m at " +
+                        (r.lidar.nearest_angle * 180 / Math.PI).toFixed(0) + "°"]);
+  }
+  if ("battery" in r) rows.push(["battery", (100 * r.battery).toFixed(0) + " %"]);
   if ("left_speed" in r) {
     rows.push(["last command", "L " + fmt(r.left_speed) + " R " + fmt(r.right_speed) + " m/s, " +
                                r.message_bytes + " B message"]);
