@@ -280,13 +280,21 @@ class RecordedRunsTest(unittest.TestCase):
 @unittest.skipIf(not os.path.exists(cdp.CHROMIUM), "chromium missing (scripts/setup installs it)")
 class KheperaReplayTest(unittest.TestCase):
     """`swarm view` of a recording with a floor, a light and LEDs (tests/scripts/fixture.py, no DDS): the page draws
-    the floor's regions and the light from world.json and each live robot's lit LEDs from the frames."""
+    the floor's image (the run folder's copy), its regions and the light from world.json and each live robot's lit
+    LEDs from the frames."""
 
     def setUp(self):
         import fixture  # tests/scripts (viewer_helpers puts it on the path)
         self.fixture = fixture
         self.dir = tempfile.mkdtemp(prefix="sf-view-khepera-")
-        fixture.make_khepera_run(self.dir)
+        # A floor image, the run folder's copy as world.json names it: the arena's west half red, the east half
+        # the floor's own grey.
+        import numpy as np
+        from matplotlib import pyplot as plt
+        pixels = np.full((6, 8, 3), 230 / 255)
+        pixels[:, :4] = (1.0, 0.0, 0.0)
+        plt.imsave(os.path.join(self.dir, "floor.png"), pixels)
+        fixture.make_khepera_run(self.dir, floor_image="floor.png")
         self.proc = None
         self.browser = None
 
@@ -315,12 +323,15 @@ class KheperaReplayTest(unittest.TestCase):
         b.eval("(() => { const t = document.getElementById('timeline'); t.value = '7';"
                " t.dispatchEvent(new Event('input')); })()")
         b.wait_for("sfViewer.frame.tick === 7", what="tick 7")
+        b.wait_for("sfViewer.floorImage && sfViewer.floorImage.complete && sfViewer.floorImage.naturalWidth === 8",
+                   what="the floor image served from the run folder")
         robots = b.eval("sfViewer.frame.robots")
         leds = {r["id"]: r.get("leds") for r in robots}
         self.assertEqual(leds, {0: ["#00ff00"] * 3, 1: ["#ff0000", "#000000", "#0000ff"], 2: None,
                                 3: ["#00ff00", "#000000", "#000000"]})
         img, _ = b.screenshot()
         for (x, y), want, what in (((-1.5, 1.8), (0, 0, 255), "the blue disc"),
+                                   ((-1.7, -1.3), (255, 0, 0), "the image's west half"),
                                    ((2.3, -0.9), (77, 77, 77), "the grey band"),
                                    ((3.5, 0.5), (230, 230, 230), "the floor's grey 0.9"),
                                    ((3.0, 1.8), (255, 214, 0), "the light")):
