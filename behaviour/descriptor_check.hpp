@@ -13,7 +13,7 @@ namespace swarmform::behaviour {
 
 // The Sensor bits this world models (Perception fields it fills). A behaviour that declares another is
 // refused: it would read "not equipped" where it expects readings.
-inline constexpr std::uint32_t kModelledSensors = kProximity | kGround | kLight | kBattery;
+inline constexpr std::uint32_t kModelledSensors = kProximity | kGround | kLight | kLidar | kBattery;
 
 // Empty when d's experiment declaration is consistent (outcomes given with a make, success among them, "none"
 // not used, metric names lower_case and unique); otherwise what is wrong, naming the behaviour.

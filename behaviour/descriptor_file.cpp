@@ -206,7 +206,7 @@ std::unique_ptr<const DescribedBehaviour> load_descriptor_file(const std::filesy
       const auto it = std::find_if(kSensorBits.begin(), kSensorBits.end(),
                                    [&](const auto& kv) { return kv.first == sensor; });
       if (it == kSensorBits.end())
-        r.fail(at, "unknown sensor '" + sensor + "' (known: proximity, light, ground, battery)");
+        r.fail(at, "unknown sensor '" + sensor + "' (known: proximity, light, ground, lidar, battery)");
       if ((d.sensors & it->second) != 0) r.fail(at, "'" + sensor + "' is already listed");
       d.sensors |= it->second;
     }

@@ -1,7 +1,10 @@
 #include "viewer/foxglove.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <numbers>
 
 namespace swarmform::viewer {
 
@@ -44,6 +47,8 @@ std::string scene_update_schema() {
                                 {"bottom_scale", number()},
                                 {"top_scale", number()},
                                 {"color", color_schema()}});
+  const json sphere =
+      object({{"pose", pose_schema()}, {"size", vector3_schema()}, {"color", color_schema()}});
   const json text = object({{"pose", pose_schema()},
                             {"billboard", {{"type", "boolean"}}},
                             {"font_size", number()},
@@ -59,6 +64,7 @@ std::string scene_update_schema() {
        {"metadata", array_of(object({{"key", {{"type", "string"}}}, {"value", {{"type", "string"}}}}))},
        {"cubes", array_of(cube)},
        {"cylinders", array_of(cylinder)},
+       {"spheres", array_of(sphere)},
        {"texts", array_of(text)}});
   json s = object({{"deletions", array_of(object({{"timestamp", time_schema()},
                                                   {"type", {{"type", "integer"}}},
@@ -118,6 +124,58 @@ bool hex_colour(const std::string& s) {
 }
 double num(const json& j, const char* key, double fallback) {
   return j.is_object() && j.contains(key) && j[key].is_number() ? j[key].get<double>() : fallback;
+}
+
+// A floor colour of world.json ("#rrggbb", or null with a grey level 0..1) as a hex colour.
+std::string floor_hex(const json& o) {
+  if (o.contains("colour") && o["colour"].is_string() && hex_colour(o["colour"].get<std::string>()))
+    return o["colour"].get<std::string>();
+  const int v = static_cast<int>(std::lround(std::clamp(num(o, "grey", 1.0), 0.0, 1.0) * 255.0));
+  char text[8];
+  std::snprintf(text, sizeof text, "#%02x%02x%02x", v, v, v);
+  return text;
+}
+
+// The floor (its base colour under the arena unless plain white, then its regions in painting order, each a
+// little higher so that a later one lies on top) and the light sources, as world.json gives them.
+void floor_and_lights(const json& world, json& cubes, json& cylinders, json& spheres) {
+  const json& f = world.value("floor", json());
+  const json& a = world.value("arena", json::object());
+  if (f.is_object() && a.contains("centre")) {
+    // A plain white floor draws nothing, as on the page and in the pictures.
+    const bool plain = num(f, "grey", 1.0) >= 1.0 && !(f.contains("colour") && f["colour"].is_string());
+    if (!plain)
+      cubes.push_back({{"pose", pose(a["centre"][0], a["centre"][1], -0.006, 0)},
+                       {"size", {{"x", a.value("width", 0.0)}, {"y", a.value("height", 0.0)}, {"z", 0.002}}},
+                       {"color", rgba(floor_hex(f))}});
+    double z = -0.004;
+    for (const json& r : f.value("regions", json::array())) {
+      if (!r.is_object() || !r.contains("centre")) continue;
+      const double x = r["centre"][0], y = r["centre"][1];
+      z += 0.0001;
+      if (r.value("kind", "") == "circle") {
+        const double d = 2 * num(r, "radius", 0.0);
+        cylinders.push_back({{"pose", pose(x, y, z, 0)},
+                             {"size", {{"x", d}, {"y", d}, {"z", 0.002}}},
+                             {"bottom_scale", 1.0},
+                             {"top_scale", 1.0},
+                             {"color", rgba(floor_hex(r))}});
+      } else if (r.contains("half_extents")) {
+        cubes.push_back({{"pose", pose(x, y, z, num(r, "yaw", 0.0))},
+                         {"size",
+                          {{"x", 2 * r["half_extents"][0].get<double>()},
+                           {"y", 2 * r["half_extents"][1].get<double>()},
+                           {"z", 0.002}}},
+                         {"color", rgba(floor_hex(r))}});
+      }
+    }
+  }
+  for (const json& l : world.value("lights", json::array())) {
+    if (!l.is_object() || !l.contains("position")) continue;
+    spheres.push_back({{"pose", pose(l["position"][0], l["position"][1], num(l, "height", 0.0), 0)},
+                       {"size", {{"x", 0.15}, {"y", 0.15}, {"z", 0.15}}},
+                       {"color", rgba("#ffd600")}});
+  }
 }
 
 void put_u32(std::string& out, std::uint32_t v) {
@@ -238,6 +296,8 @@ json Foxglove::scene(const dds::ObserveFrameData& f, bool with_arena) const {
                          {"color", rgba("#6d4c41")}});
       }
     }
+    json spheres = json::array();
+    floor_and_lights(world_, cubes, cylinders, spheres);
     if (world_.contains("goal") && world_["goal"].is_object()) {
       const json& g = world_["goal"];
       const double d = 2 * g.value("radius", 0.5);
@@ -255,10 +315,23 @@ json Foxglove::scene(const dds::ObserveFrameData& f, bool with_arena) const {
                         {"metadata", json::array()},
                         {"cubes", cubes},
                         {"cylinders", cylinders},
+                        {"spheres", spheres},
                         {"texts", json::array()}});
   }
-  json cylinders = json::array(), texts = json::array();
+  json cylinders = json::array(), texts = json::array(), leds = json::array();
   for (const auto& r : f.robots) {
+    // The lit LEDs on top, as the pictures draw them: at 0.55 of the radius from the centre, 120 degrees
+    // apart, LED 0 ahead (scripts/swarmform/scene.py led_positions).
+    for (std::size_t k = 0; k < kLedCount; ++k) {
+      const Rgb& c = r.leds[k];
+      if (c.r == 0 && c.g == 0 && c.b == 0) continue;
+      const double a = r.pose.theta + 2.0 * std::numbers::pi / 3.0 * (k == 0 ? 0.0 : k == 1 ? 1.0 : -1.0);
+      const double d = 0.5 * radius;
+      leds.push_back({{"pose", pose(r.pose.x + 0.55 * radius * std::cos(a),
+                                    r.pose.y + 0.55 * radius * std::sin(a), kRobotHeight + d / 2, 0)},
+                      {"size", {{"x", d}, {"y", d}, {"z", d}}},
+                      {"color", {{"r", c.r / 255.0}, {"g", c.g / 255.0}, {"b", c.b / 255.0}, {"a", 1.0}}}});
+    }
     const auto c = colours.find(r.state);
     const std::string colour = !r.alive ? "#bdbdbd" : c != colours.end() ? c->second : "#000000";
     cylinders.push_back({{"pose", pose(r.pose.x, r.pose.y, kRobotHeight / 2, r.pose.theta)},
@@ -281,6 +354,7 @@ json Foxglove::scene(const dds::ObserveFrameData& f, bool with_arena) const {
                       {"metadata", {{{"key", "tick"}, {"value", std::to_string(f.tick)}}}},
                       {"cubes", json::array()},
                       {"cylinders", cylinders},
+                      {"spheres", leds},
                       {"texts", texts}});
   return {{"deletions", json::array()}, {"entities", entities}};
 }

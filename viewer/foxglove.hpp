@@ -1,8 +1,9 @@
 // The Foxglove WebSocket protocol (`foxglove.websocket.v1`, github.com/foxglove/ws-protocol docs/spec.md) on
 // the viewer's socket, so Foxglove connects to ws://HOST:PORT with no plug-in. JSON encoding; three channels:
-//   /scene             foxglove.SceneUpdate   the arena (walls, obstacles, goal) and the robots as cylinders
-//   in
-//                                            their state's colour with their id as text
+//   /scene             foxglove.SceneUpdate   the arena (walls, obstacles, goal, the floor and its regions,
+//                                            the light sources as spheres) and the robots as cylinders in
+//                                            their state's colour with their id as text and their lit LEDs
+//                                            as small spheres on top
 //   /robots/poses      foxglove.PosesInFrame  every robot's pose (frame "arena", z = 0)
 //   /robots/telemetry  swarmform.RobotTelemetry  per robot: state (and its name), label, parent, leader, net
 //                                            force, last wheel speeds

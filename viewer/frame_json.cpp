@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "behaviour/descriptor.hpp"
 #include "common/led_text.hpp"
 
 namespace swarmform::viewer {
@@ -12,6 +13,31 @@ namespace {
 // Rounded to 0.1 mm / 1 mrad: the page draws pixels; 17 digits would triple the bytes on the socket.
 double r4(double v) {
   return std::isfinite(v) ? std::round(v * 1e4) / 1e4 : 0.0;
+}
+
+// The optional sensors' readings the robot's behaviour declared (dds::kObservedReadings), each under its
+// name: "proximity", "light", "ground" (lists), "lidar" ({rays, nearest_angle, nearest_range}), "battery".
+void add_readings(const dds::ObservedRobotRow& r, nlohmann::json& robot) {
+  static constexpr const char* kNames[] = {"proximity", "light", "ground", "lidar", "battery"};
+  std::size_t at = 0;
+  for (std::size_t s = 0; s < dds::kObservedReadings.size(); ++s) {
+    const auto [bit, count] = dds::kObservedReadings[s];
+    if ((r.equipped & bit) == 0) continue;
+    if (at + count > r.readings.size()) return;  // observe_wire.cpp checks the count: not reached
+    const double* v = r.readings.data() + at;
+    at += count;
+    if (bit == behaviour::kLidar) {
+      robot["lidar"] = {{"rays", static_cast<std::uint32_t>(v[0])},
+                        {"nearest_angle", r4(v[1])},
+                        {"nearest_range", r4(v[2])}};
+    } else if (bit == behaviour::kBattery) {
+      robot["battery"] = r4(v[0]);
+    } else {
+      nlohmann::json list = nlohmann::json::array();
+      for (std::size_t k = 0; k < count; ++k) list.push_back(r4(v[k]));
+      robot[kNames[s]] = std::move(list);
+    }
+  }
 }
 
 }  // namespace
@@ -51,6 +77,7 @@ nlohmann::json frame_json(const dds::ObserveFrameData& f) {
                             {"right_speed", r4(r.right_speed)},
                             {"message_bytes", r.message_bytes}};
     if (nlohmann::json leds = leds_json(r.leds); !leds.is_null()) robot["leds"] = std::move(leds);
+    add_readings(r, robot);
     robots.push_back(std::move(robot));
   }
   return {{"type", "frame"},

@@ -38,6 +38,7 @@ constexpr Served kServed[] = {
     {"/run/world.json", "world.json", "application/json", true},
     {"/run/events.jsonl", "events.jsonl", "application/x-ndjson", true},
     {"/run/summary.json", "summary.json", "application/json", true},
+    {"/run/floor.png", "floor.png", "image/png", true},  // the floor image's copy (world.json floor.image)
 };
 
 bool read_file(const std::string& path, std::string& out) {

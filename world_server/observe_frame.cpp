@@ -28,10 +28,13 @@ void build_frame(const world::World& world, const LatestCommand& latest, const w
     r.leds = t.leds;
     r.heard.clear();
     r.ultrasonic.fill(0.0);
+    r.equipped = 0;
+    r.readings.clear();
     if (t.alive) {
       // A live robot's perception of this tick was made when its packet went out: nothing is computed here.
       const Perception& p = world.perception(t.id);
       r.ultrasonic = p.ultrasonic;
+      dds::pack_observed_readings(p, r.equipped, r.readings);
       for (const RabReading& m : p.messages) r.heard.push_back(m.sender);
     }
     frame.alive += t.alive ? 1 : 0;

@@ -114,8 +114,11 @@ struct AgentInbox::Impl {
       // Decoded first: a malformed blob leaves `staged` as it was, and the sample is dropped like a foreign
       // one (in lockstep the world's round deadline covers the missing command). Said on stderr, as it means
       // a writer that does not speak this format.
-      const std::string bad = decode_readings(
-          std::span<const std::uint8_t>(s.readings._buffer, s.readings._length), staged.perception.messages);
+      std::string bad = internal::optional_sensors_problem(s);
+      if (bad.empty()) {
+        bad = decode_readings(std::span<const std::uint8_t>(s.readings._buffer, s.readings._length),
+                              staged.perception.messages);
+      }
       if (!bad.empty()) {
         std::cerr << "swarmform dds: dropped the packet of robot " << s.robot_id << " tick " << s.tick << ": "
                   << bad << "\n";

@@ -1,5 +1,6 @@
 #include "common/dds/observe_wire.hpp"
 
+#include <algorithm>
 #include <cstddef>
 
 #include "common/dds/internal/endpoint_kit.hpp"
@@ -60,6 +61,10 @@ void ObserveWriter::publish(const ObserveFrameData& f) {
       o.leds[3 * k + 1] = r.leds[k].g;
       o.leds[3 * k + 2] = r.leds[k].b;
     }
+    o.equipped = r.equipped;
+    o.readings._buffer = const_cast<double*>(r.readings.data());
+    o.readings._length = o.readings._maximum = static_cast<std::uint32_t>(r.readings.size());
+    o.readings._release = false;
   }
   auto& states = impl_->states;
   states.resize(f.states.size());
@@ -151,8 +156,34 @@ bool ObserveReader::take(std::uint64_t run_nonce, ObserveFrameData& out) {
     r.message_bytes = o.message_bytes;
     for (std::size_t k = 0; k < kLedCount; ++k)
       r.leds[k] = {o.leds[3 * k], o.leds[3 * k + 1], o.leds[3 * k + 2]};
+    // Readings that do not add up to what `equipped` says are left out rather than misread.
+    std::size_t want = 0;
+    for (const auto& [bit, count] : kObservedReadings) want += (o.equipped & bit) ? count : 0;
+    const bool whole = want == o.readings._length;
+    r.equipped = whole ? o.equipped : 0;
+    r.readings.assign(o.readings._buffer, o.readings._buffer + (whole ? o.readings._length : 0));
   }
   return true;
+}
+
+void pack_observed_readings(const Perception& p, std::uint32_t& equipped, std::vector<double>& readings) {
+  equipped = 0;
+  readings.clear();
+  auto put = [&](std::uint32_t bit, const auto& values) {
+    equipped |= bit;
+    readings.insert(readings.end(), values.begin(), values.end());
+  };
+  if (p.proximity) put(kObservedReadings[0].first, *p.proximity);
+  if (p.light) put(kObservedReadings[1].first, *p.light);
+  if (p.ground) put(kObservedReadings[2].first, *p.ground);
+  if (!p.lidar.empty()) {
+    const auto nearest =
+        std::min_element(p.lidar.begin(), p.lidar.end(),
+                         [](const LidarRay& a, const LidarRay& b) { return a.range < b.range; });
+    put(kObservedReadings[3].first,
+        std::array<double, 3>{static_cast<double>(p.lidar.size()), nearest->angle, nearest->range});
+  }
+  if (p.battery) put(kObservedReadings[4].first, std::array<double, 1>{*p.battery});
 }
 
 ControlWriter::ControlWriter(const Participant& participant)

@@ -60,13 +60,14 @@ struct RobotChannels::Impl {
   std::map<RobotId, RobotChannel> extra;  // claimants with an id outside the run (kMaxExtraChannels)
   std::deque<RobotId> extra_order;        // oldest first, for deleting
   std::vector<std::uint8_t> readings;     // the packed readings, reused for every packet
+  std::vector<double> lidar;              // the packed lidar values, reused for every packet
 };
 
 RobotChannels::RobotChannels(const Participant& participant, std::size_t robots, bool realtime)
     : RobotChannels(std::vector<const Participant*>{&participant}, robots, realtime) {}
 
 RobotChannels::RobotChannels(std::vector<const Participant*> faces, std::size_t robots, bool realtime)
-    : impl_(std::make_unique<Impl>(Impl{std::move(faces), pace_of(realtime), 0, {}, {}, {}, {}, {}})) {
+    : impl_(std::make_unique<Impl>(Impl{std::move(faces), pace_of(realtime), 0, {}, {}, {}, {}, {}, {}})) {
   if (impl_->faces.empty()) throw std::invalid_argument("RobotChannels: no participant");
   impl_->owners.resize(robots);
   impl_->robots.reserve(robots);
@@ -106,7 +107,7 @@ void RobotChannels::write_packet(RobotId id, PacketStatus status, const Percepti
   s.y = p.pose.y;
   s.theta = p.pose.theta;
   std::copy(p.ultrasonic.begin(), p.ultrasonic.end(), s.ultrasonic);
-  internal::put_optional_sensors(p, s);
+  internal::put_optional_sensors(p, s, impl_->lidar);
   s.readings = octets(impl_->readings);
   check(dds_write(impl_->robots.at(id).sensor.get(), &s), "dds_write(sensor)");
 }

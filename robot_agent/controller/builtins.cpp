@@ -95,8 +95,8 @@ const Descriptor kDiffusion{
     .api_version = behaviour::kApiVersion,
     .name = "diffusion",
     .summary =
-        "drive straight, turn on the spot away from what the infrared proximity ring sees ahead, "
-        "slow down on a dark floor (ground sensors)",
+        "drive straight, turn on the spot when the infrared proximity ring sees something ahead (towards "
+        "the side where the lidar sees more room), slow down on a dark floor (ground sensors)",
     .params = kNoParams,
     .states = kWalkStates,
     .telemetry = {},
@@ -104,7 +104,7 @@ const Descriptor kDiffusion{
     .needs_goal = false,
     .shape_rules = {},
     .make = &make_diffusion,
-    .sensors = behaviour::kProximity | behaviour::kGround,
+    .sensors = behaviour::kProximity | behaviour::kGround | behaviour::kLidar,
     .experiment = {},
 };
 

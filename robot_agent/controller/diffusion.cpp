@@ -23,6 +23,12 @@ int ir_avoid_turn(const std::array<double, kProximityCount>& proximity, double t
   return left_minus_right >= 0.0 ? -1 : 1;
 }
 
+int lidar_open_side(const std::vector<LidarRay>& scan) {
+  double left_minus_right = 0.0;  // each ray's range, signed by its side
+  for (const LidarRay& r : scan) left_minus_right += std::sin(r.angle) * r.range;
+  return left_minus_right > 0.0 ? 1 : left_minus_right < 0.0 ? -1 : 0;
+}
+
 void Diffusion::init(const Mission& mission, RobotId self) {
   mission_ = mission;
   self_ = self;
@@ -39,7 +45,8 @@ Command Diffusion::step(const Perception& perception) {
   cmd.left_speed = v;
   cmd.right_speed = v;
   if (perception.proximity) {
-    if (const int turn = ir_avoid_turn(*perception.proximity, kTurnThreshold); turn != 0) {
+    if (int turn = ir_avoid_turn(*perception.proximity, kTurnThreshold); turn != 0) {
+      if (const int open = lidar_open_side(perception.lidar); open != 0) turn = open;
       cmd.left_speed = -turn * v;
       cmd.right_speed = turn * v;
     }

@@ -106,6 +106,11 @@ std::string encode_perception(const Perception& perception) {
   if (perception.light) out["light"] = *perception.light;
   if (perception.ground) out["ground"] = *perception.ground;
   if (perception.battery) out["battery"] = *perception.battery;
+  if (!perception.lidar.empty()) {
+    json rays = json::array();
+    for (const LidarRay& r : perception.lidar) rays.push_back(json::array({r.angle, r.range}));
+    out["lidar"] = std::move(rays);
+  }
   return out.dump();
 }
 

@@ -101,7 +101,7 @@ class Floor:
 
     grey: float = 1.0
     colour: Optional[str] = None
-    image: Optional[str] = None  # the PNG's path, as the world resolved it
+    image: Optional[str] = None  # the PNG's path: the run folder's copy (world.json names it relative to the folder)
     image_size: tuple = (0, 0)  # its pixels (width, height)
     regions: list = field(default_factory=list)  # FloorRegion, in painting order
 
@@ -340,7 +340,8 @@ def _read_floor(doc: Any, path: str) -> Floor:
     f = Floor(grey=_number(doc, "grey", path, "floor", 1.0), colour=_colour(doc.get("colour"), path, "floor.colour"))
     image = doc.get("image")
     if isinstance(image, dict) and isinstance(image.get("file"), str):
-        f.image = image["file"]
+        # A name relative to the run folder (its copy of the image, so that a copied folder keeps it).
+        f.image = os.path.join(os.path.dirname(os.path.abspath(path)), image["file"])
         f.image_size = (int(_number(image, "width", path, "floor.image", 0)),
                         int(_number(image, "height", path, "floor.image", 0)))
     elif image is not None:

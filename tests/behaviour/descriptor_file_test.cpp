@@ -164,10 +164,7 @@ TEST_F(DescriptorFile, EachKindOfBadFileIsRefusedNamingTheKey) {
       good_with("\"telemetry\": [{", "\"telemetry\": [{\"name\": \"neighbours\", \"doc\": \"again\"}, {"),
       "telemetry[1].name: 'neighbours' is already a column");
   expect_refused(good_with("\"battery\"", "\"sonar\""),
-                 "sensors[1]: unknown sensor 'sonar' (known: proximity, light, ground, battery)");
-  expect_refused(good_with("\"battery\"", "\"lidar\""),
-                 "behaviour 'gather_py' declares sensor lidar, which this world does not model yet "
-                 "(docs/behaviour-api.md, \"Sensors and actuators\")");
+                 "sensors[1]: unknown sensor 'sonar' (known: proximity, light, ground, lidar, battery)");
   expect_refused(
       good_with("\"needs_goal\": true", "\"experiment\": {}"),
       "experiment: not supported: a behaviour described by a file has no experiment (its outcome is "

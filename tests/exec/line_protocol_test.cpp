@@ -51,17 +51,23 @@ TEST(LineProtocol, PerceptionIsExactAndPayloadsAreHex) {
 TEST(LineProtocol, OptionalSensorsTravelOnlyWhenEquippedAndExactly) {
   Perception p;
   const json bare = json::parse(encode_perception(p));
-  for (const char* key : {"proximity", "light", "ground", "battery"}) EXPECT_FALSE(bare.contains(key)) << key;
+  for (const char* key : {"proximity", "light", "ground", "battery", "lidar"})
+    EXPECT_FALSE(bare.contains(key)) << key;
   p.proximity = std::array<double, kProximityCount>{1.0, 0.0, 1.0 / 3.0, 0.5, 0.0, 0.0, 0.0, 0.25};
   p.light = std::array<double, kLightCount>{0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 2.0 / 7.0};
   p.ground = std::array<double, kGroundCount>{0.0, 1.0, 0.5, 1.0 / 9.0};
   p.battery = 0.123456789012345;
+  p.lidar = {LidarRay{-1.8325957145940461, 4.0}, LidarRay{0.1, 1.0 / 3.0}};
   const json j = json::parse(encode_perception(p));
   EXPECT_EQ(j["proximity"].get<std::vector<double>>(),
             std::vector<double>(p.proximity->begin(), p.proximity->end()));
   EXPECT_EQ(j["light"][7].get<double>(), 2.0 / 7.0);
   EXPECT_EQ(j["ground"][3].get<double>(), 1.0 / 9.0);
   EXPECT_EQ(j["battery"].get<double>(), 0.123456789012345);
+  ASSERT_EQ(j["lidar"].size(), 2U);
+  EXPECT_EQ(j["lidar"][0][0].get<double>(), -1.8325957145940461);
+  EXPECT_EQ(j["lidar"][0][1].get<double>(), 4.0);
+  EXPECT_EQ(j["lidar"][1][1].get<double>(), 1.0 / 3.0);
 }
 
 TEST(LineProtocol, CommandIsRead) {

@@ -18,11 +18,13 @@
 #include <memory>
 #include <thread>
 
+#include "behaviour/descriptor.hpp"
 #include "common/dds/agent_inbox.hpp"
 #include "common/dds/command_reader.hpp"
 #include "common/dds/command_writer.hpp"
 #include "common/dds/identity.hpp"
 #include "common/dds/matching.hpp"
+#include "common/dds/observe_wire.hpp"
 #include "common/dds/participant.hpp"
 #include "common/dds/robot_channels.hpp"
 #include "common/dds/waiter.hpp"
@@ -110,17 +112,58 @@ TEST(WireEndpoints, OptionalSensorsArriveBitForBitAndOnlyWhenEquipped) {
   p.proximity = std::array<double, kProximityCount>{1.0, 0.0, 1.0 / 3.0, 0.5, 0.0, 0.0, 1e-300, 0.25};
   p.ground = std::array<double, kGroundCount>{0.0, 1.0, 0.5, 1.0 / 9.0};
   p.battery = 0.0;  // empty, but equipped
+  p.lidar = {LidarRay{-1.8325957145940461, 4.0}, LidarRay{0.0, 1.0 / 3.0}, LidarRay{1.0, 0.02}};
   const Perception full = receive(p);
   EXPECT_EQ(full.proximity, p.proximity);
   EXPECT_EQ(full.ground, p.ground);
   EXPECT_FALSE(full.light.has_value());
   EXPECT_EQ(full.battery, std::optional<double>(0.0));
+  ASSERT_EQ(full.lidar.size(), p.lidar.size());
+  for (std::size_t k = 0; k < p.lidar.size(); ++k) {
+    EXPECT_EQ(full.lidar[k].angle, p.lidar[k].angle);
+    EXPECT_EQ(full.lidar[k].range, p.lidar[k].range);
+  }
   Perception bare;
   bare.tick = 2;
   const Perception none = receive(bare);
   EXPECT_FALSE(none.proximity.has_value());
   EXPECT_FALSE(none.ground.has_value());
   EXPECT_FALSE(none.battery.has_value());
+  EXPECT_TRUE(none.lidar.empty());
+}
+
+// A viewer's frame carries each robot's optional readings (the lidar as its nearest ray), only when equipped.
+TEST(WireEndpoints, ObserveFramesCarryTheOptionalReadingsTheBehaviourDeclared) {
+  const dds::Participant participant(world_on_loopback());
+  dds::ObserveWriter writer(participant, 77);
+  dds::ObserveReader reader(participant);
+  Perception p;
+  p.proximity = std::array<double, kProximityCount>{1.0, 0.0, 1.0 / 3.0, 0.5, 0.0, 0.0, 0.0, 0.25};
+  p.battery = 0.375;
+  p.lidar = {LidarRay{-1.0, 4.0}, LidarRay{0.5, 0.42}, LidarRay{1.0, 2.0}};
+  dds::ObserveFrameData frame;
+  frame.robots.resize(2);
+  dds::pack_observed_readings(p, frame.robots[0].equipped, frame.robots[0].readings);
+  dds::pack_observed_readings(Perception{}, frame.robots[1].equipped, frame.robots[1].readings);
+  EXPECT_EQ(frame.robots[0].equipped,
+            swarmform::behaviour::kProximity | swarmform::behaviour::kLidar | swarmform::behaviour::kBattery);
+  EXPECT_EQ(frame.robots[0].readings,
+            (std::vector<double>{1.0, 0.0, 1.0 / 3.0, 0.5, 0.0, 0.0, 0.0, 0.25, 3.0, 0.5, 0.42, 0.375}));
+  EXPECT_EQ(frame.robots[1].equipped, 0U);
+  dds::ObserveFrameData got;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  bool taken = false;
+  while (!taken && std::chrono::steady_clock::now() < deadline) {
+    writer.publish(frame);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    taken = reader.take(77, got);
+  }
+  ASSERT_TRUE(taken);
+  ASSERT_EQ(got.robots.size(), 2U);
+  EXPECT_EQ(got.robots[0].equipped, frame.robots[0].equipped);
+  EXPECT_EQ(got.robots[0].readings, frame.robots[0].readings);
+  EXPECT_EQ(got.robots[1].equipped, 0U);
+  EXPECT_TRUE(got.robots[1].readings.empty());
 }
 
 TEST(WireEndpoints, ClaimsForIdsOutsideTheRunKeepAtMostEightChannels) {

@@ -190,12 +190,13 @@ TEST(ExperimentRunner, TheRegistryRefusesAnInconsistentDeclaration) {
   EXPECT_NE(behaviour::check_experiment(d).find("metric 'Ticks Seen' is not a lower_case name"),
             std::string::npos);
   d = kUnjudged;
-  // The modelled sensors are taken; the lidar is not modelled yet and is refused, named.
-  d.sensors = behaviour::kProximity | behaviour::kGround | behaviour::kLight | behaviour::kBattery;
+  // The modelled sensors are taken; a bit no sensor has is refused, named.
+  d.sensors = behaviour::kProximity | behaviour::kGround | behaviour::kLight | behaviour::kLidar |
+              behaviour::kBattery;
   EXPECT_EQ(behaviour::check_sensors(d), "");
-  d.sensors = behaviour::kProximity | behaviour::kLidar;
+  d.sensors = behaviour::kProximity | (1U << 5);
   EXPECT_EQ(behaviour::check_sensors(d),
-            "behaviour 'unjudged' declares sensor lidar, which this world does not model yet "
+            "behaviour 'unjudged' declares sensor bit 5, which this world does not model yet "
             "(docs/behaviour-api.md, \"Sensors and actuators\")");
   EXPECT_THROW(registry.add(d), std::logic_error);
   // A telemetry column named as one of robots.csv's own, twice, or not lower_case would make the file

@@ -5,8 +5,10 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include <gtest/gtest.h>
+#include <png.h>
 
 #include "behaviour/registry.hpp"
 #include "harness/harness.hpp"
@@ -147,6 +149,47 @@ TEST(KheperaRecording, WorldJsonCarriesTheLightAndTheBatteryOfPhototaxis) {
             nlohmann::json({{"capacity", 100.0}, {"idle", 0.1}, {"moving", 20.0}, {"start", 1.0}}));
   EXPECT_TRUE(j["floor"]["regions"].empty());
   EXPECT_EQ(j["floor"]["grey"], 1.0);
+}
+
+TEST(KheperaRecording, TheFloorImageIsCopiedIntoTheRunFolderAndWorldJsonNamesTheCopy) {
+  const fs::path dir = fs::temp_directory_path() / ("swarmform-floor-copy-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "scenario");
+  std::vector<std::uint8_t> rgb(3u * 4u * 2u, 255);
+  rgb[0] = 0;  // one red-less pixel: not a plain white file
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  image.width = 4;
+  image.height = 2;
+  image.format = PNG_FORMAT_RGB;
+  const fs::path source = dir / "scenario" / "my_floor.png";
+  ASSERT_NE(png_image_write_to_file(&image, source.c_str(), 0, rgb.data(), 0, nullptr), 0);
+  const world::Scenario s = world::parse_scenario_text(R"(
+behaviour: random_walk
+arena: {centre: [0.0, 0.0], width: 4.0, height: 2.0, walls: true}
+robots: {count: 2, region: {centre: [0.0, 0.0], width: 1.0, height: 1.0}}
+floor: {image: my_floor.png}
+max_ticks: 5
+)",
+                                                       (dir / "scenario" / "s.yaml").string(), {},
+                                                       swarmform::controller::builtin_registry());
+  const fs::path run = dir / "run";
+  {
+    Harness h(s, {run.string()});
+    h.step();
+    h.finish(1.0);
+  }
+  const nlohmann::json j = world::read_json_file((run / "world.json").string());
+  EXPECT_EQ(j["floor"]["image"]["file"], "floor.png");
+  EXPECT_EQ(j["floor"]["image"]["source"], fs::absolute(source).lexically_normal().string());
+  EXPECT_EQ(j["floor"]["image"]["width"], 4);
+  auto bytes = [](const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+  };
+  EXPECT_EQ(bytes(run / "floor.png"), bytes(source));
+  EXPECT_FALSE(fs::exists(run / "floor.png.tmp"));
+  fs::remove_all(dir);
 }
 
 }  // namespace

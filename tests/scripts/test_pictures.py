@@ -202,8 +202,13 @@ class KheperaPicturesTest(unittest.TestCase):
         pixels = np.ones((6, 8, 3))
         pixels[:, :4] = (1.0, 0.0, 0.0)  # the arena's west half red (x < 0), the east half white
         plt.imsave(png, pixels)
-        fixture.make_khepera_run(self.dir, floor_image=png)
-        view = self.scene(recording.load(self.dir))
+        # world.json names the run folder's copy, relative to the folder: a copy of the folder elsewhere keeps it.
+        fixture.make_khepera_run(self.dir, floor_image="floor.png")
+        moved = self.dir + "-copied"
+        shutil.copytree(self.dir, moved)
+        self.addCleanup(shutil.rmtree, moved)
+        os.remove(png)
+        view = self.scene(recording.load(moved))
         self.assertColour(rgb_at(view, -1.7, -1.3), (255, 0, 0), "the image's west half")
         self.assertColour(rgb_at(view, 3.5, 0.5), (255, 255, 255), "the image's east half, over the floor's grey")
         self.assertColour(rgb_at(view, -1.5, 1.8), (0, 0, 255), "a region over the image")

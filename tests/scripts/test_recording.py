@@ -190,6 +190,9 @@ class KheperaRecordingTest(unittest.TestCase):
         self.assertEqual(w.floor.image, "/x/floor.png")
         self.assertEqual(w.floor.image_size, (8, 6))
         self.assertFalse(w.floor.plain())
+        # The name world.json writes now: the run folder's copy, relative to the folder.
+        fixture.make_khepera_run(self.dir, floor_image="floor.png")
+        self.assertEqual(recording.load(self.dir).world.floor.image, os.path.join(os.path.abspath(self.dir), "floor.png"))
         disc, band = w.floor.regions
         self.assertEqual((disc.kind, disc.centre, disc.radius, disc.colour), ("circle", (-1.5, 1.8), 0.5, "#0000ff"))
         self.assertEqual(disc.face(), "#0000ff")

@@ -104,6 +104,21 @@ class LiveViewTest(unittest.TestCase):
         self.assertIn("heard", heard)
         self.assertIn("ultrasonic", heard)
         self.assertIn("last command", heard)
+        # The optional sensors' rows: the paper's behaviour declares none, so the frame's robot is given the
+        # readings a frame carries for one that does (frame_json.cpp), and picked again in the same call (a
+        # paused run may send its frame again).
+        shown = b.eval(f"""(() => {{ const r = sfViewer.frame.robots.find(q => q.id === {rid});
+            r.proximity = [1, 0, 0, 0, 0, 0, 0, 0.25]; r.light = [0.5, 0, 0, 0, 0, 0, 0, 0.125];
+            r.ground = [0, 1, 1, 0.5]; r.lidar = {{rays: 682, nearest_angle: 0.5236, nearest_range: 0.42}};
+            r.battery = 0.37;
+            const c = document.getElementById('arena'), box = c.getBoundingClientRect();
+            const p = sfViewer.project(r.x, r.y);
+            for (const t of ['mousedown', 'mouseup'])
+              c.dispatchEvent(new MouseEvent(t, {{clientX: box.x + p[0], clientY: box.y + p[1], bubbles: true}}));
+            return document.getElementById('robot-fields').textContent; }})()""")
+        for row in ("proximity (0..1)1.00 0.00 0.00 0.00 0.00 0.00 0.00 0.25", "light (0..1)0.50",
+                    "ground (0..1)0.00 1.00 1.00 0.50", "lidar682 rays, nearest 0.42 m at 30°", "battery37 %"):
+            self.assertIn(row, shown)
         # Kill it from its panel (the path of --kill: at the next round), then let the run end; robots.csv then
         # holds the paused tick's rows.
         b.click_element("kill")

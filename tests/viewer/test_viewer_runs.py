@@ -280,15 +280,23 @@ class RecordedRunsTest(unittest.TestCase):
 @unittest.skipIf(not os.path.exists(cdp.CHROMIUM), "chromium missing (scripts/setup installs it)")
 class KheperaReplayTest(unittest.TestCase):
     """`swarm view` of a recording with a floor, a light and LEDs (tests/scripts/fixture.py, no DDS): the page draws
-    the floor's regions and the light from world.json and each live robot's lit LEDs from the frames."""
+    the floor's image (the run folder's copy), its regions and the light from world.json and each live robot's lit
+    LEDs from the frames."""
 
     def setUp(self):
         import fixture  # tests/scripts (viewer_helpers puts it on the path)
         self.fixture = fixture
         self.dir = tempfile.mkdtemp(prefix="sf-view-khepera-")
-        doc = fixture.make_khepera_run(self.dir)
+        # A floor image, the run folder's copy as world.json names it: the arena's west half red, the east half
+        # the floor's own grey.
+        import numpy as np
+        from matplotlib import pyplot as plt
+        pixels = np.full((6, 8, 3), 230 / 255)
+        pixels[:, :4] = (1.0, 0.0, 0.0)
+        plt.imsave(os.path.join(self.dir, "floor.png"), pixels)
+        doc = fixture.make_khepera_run(self.dir, floor_image="floor.png")
         # A gate that a world event puts in place at tick 5 (docs/scenario-format.md, World events).
-        doc["obstacles"] = [{"kind": "box", "name": "gate", "centre": [-2.5, -2.0], "half_extents": [0.3, 0.3],
+        doc["obstacles"] = [{"kind": "box", "name": "gate", "centre": [2.5, -2.3], "half_extents": [0.3, 0.3],
                              "yaw": 0.0, "present": False}]
         doc["world_events"] = [{"tick": 5, "obstacle": 0, "name": "gate", "do": "appear"}]
         with open(os.path.join(self.dir, "world.json"), "w") as f:
@@ -324,8 +332,10 @@ class KheperaReplayTest(unittest.TestCase):
                    " t.dispatchEvent(new Event('input')); })()")
             b.wait_for(f"sfViewer.frame.tick === {tick}", what=f"tick {tick}")
 
+        b.wait_for("sfViewer.floorImage && sfViewer.floorImage.complete && sfViewer.floorImage.naturalWidth === 8",
+                   what="the floor image served from the run folder")
         # The gate is drawn from the tick of its world event on, not before.
-        gate, obstacle, floor = (-2.4, -2.1), (109, 76, 65), (230, 230, 230)
+        gate, obstacle, floor = (2.6, -2.4), (109, 76, 65), (230, 230, 230)
         scrub(3)
         img, _ = b.screenshot()
         got, d = vh.drawn_near(img, *vh.check_projection(self, b, *gate), floor)
@@ -337,6 +347,7 @@ class KheperaReplayTest(unittest.TestCase):
                                 3: ["#00ff00", "#000000", "#000000"]})
         img, _ = b.screenshot()
         for (x, y), want, what in (((-1.5, 1.8), (0, 0, 255), "the blue disc"),
+                                   ((-1.7, -1.3), (255, 0, 0), "the image's west half"),
                                    ((2.3, -0.9), (77, 77, 77), "the grey band"),
                                    ((3.5, 0.5), (230, 230, 230), "the floor's grey 0.9"),
                                    ((3.0, 1.8), (255, 214, 0), "the light"),

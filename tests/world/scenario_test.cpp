@@ -338,6 +338,28 @@ TEST(Scenario, BatteryIsReadAndChecked) {
                   "battery.volts: unknown key");
 }
 
+TEST(Scenario, LidarIsReadAndChecked) {
+  const Scenario d = parse("shape: triangle.txt\n");
+  EXPECT_EQ(d.lidar.rays, 682u);  // ARGoS's fan when the scenario says nothing
+  EXPECT_EQ(d.lidar.max_range, 4.0);
+  const Scenario s = parse(
+      "shape: triangle.txt\nlidar: {rays: 36, fov: 3.0, min_range: 0.05, max_range: 2.5}\nnoise: {lidar: "
+      "0.01}\n");
+  EXPECT_EQ(s.lidar.rays, 36u);
+  EXPECT_DOUBLE_EQ(s.lidar.fov, 3.0);
+  EXPECT_DOUBLE_EQ(s.lidar.min_range, 0.05);
+  EXPECT_DOUBLE_EQ(s.lidar.max_range, 2.5);
+  EXPECT_DOUBLE_EQ(s.lidar_noise, 0.01);
+  expect_rejected("shape: triangle.txt\nlidar:\n  rays: 0\n", 3, "lidar.rays");
+  expect_rejected("shape: triangle.txt\nlidar:\n  fov: 7\n", 3, "lidar.fov");
+  expect_rejected("shape: triangle.txt\nlidar:\n  min_range: -1\n", 3, "lidar.min_range");
+  expect_rejected("shape: triangle.txt\nlidar:\n  min_range: 1\n  max_range: 0.5\n", 4,
+                  "lidar.max_range: min_range (1 m) must be below max_range (0.5 m)");
+  expect_rejected("shape: triangle.txt\nlidar:\n  min_range: 5\n", 3, "lidar.min_range: min_range (5 m)");
+  expect_rejected("shape: triangle.txt\nlidar:\n  range: 5\n", 3, "lidar.range: unknown key");
+  expect_rejected("shape: triangle.txt\nnoise:\n  lidar: 2\n", 3, "noise.lidar");
+}
+
 TEST(Scenario, RejectsWrongTypes) {
   expect_rejected("shape: triangle.txt\ncomm_range: far\n", 2, "comm_range: expected a finite number");
   expect_rejected("shape: triangle.txt\noccurrence: 1\n", 2, "unknown key");

@@ -13,6 +13,7 @@ const UNKNOWN_COLOUR = "#000000";
 const DEAD_COLOUR = "#bdbdbd";
 
 const S = {
+  floorImage: null,    // the floor image (world.json floor.image), once asked for
   mode: null,          // "live" | "replay"
   world: null,         // world.json
   frame: null,         // the frame drawn: {tick, robots: [...], ...}
@@ -267,7 +268,8 @@ function draw() {
 
 // The floor as the ground sensors read it (world.json `floor`, docs/recording-format.md), under everything: its
 // base over the arena, then its regions in painting order, each in the colour the scenario gave or its grey. A
-// plain white floor draws nothing. (A floor image is not drawn here: the server serves only the run's files.)
+// plain white floor draws nothing. The image (world.json floor.image: the run folder's copy, which the server
+// serves as /run/floor.png) is stretched over the arena between the base and the regions, once it has loaded.
 function greyHex(g) {
   const v = Math.round(Math.min(Math.max(g, 0), 1) * 255).toString(16).padStart(2, "0");
   return "#" + v + v + v;
@@ -280,6 +282,18 @@ function drawFloor(k) {
     const [x0, y0] = project(a.centre[0] - a.width / 2, a.centre[1] + a.height / 2);
     ctx.fillStyle = fl.colour || greyHex(fl.grey);
     ctx.fillRect(x0, y0, a.width * k, a.height * k);
+  }
+  if (fl.image && fl.image.file) {
+    if (!S.floorImage) {
+      S.floorImage = new Image();
+      S.floorImage.onload = () => draw();
+      S.floorImage.src = "/run/" + encodeURIComponent(fl.image.file);
+    }
+    if (S.floorImage.complete && S.floorImage.naturalWidth > 0) {
+      const [x0, y0] = project(a.centre[0] - a.width / 2, a.centre[1] + a.height / 2);
+      ctx.imageSmoothingEnabled = false;  // the floor's pixels, as the ground sensors read them
+      ctx.drawImage(S.floorImage, x0, y0, a.width * k, a.height * k);
+    }
   }
   for (const r of fl.regions || []) {
     const [rx, ry] = project(r.centre[0], r.centre[1]);
@@ -381,6 +395,16 @@ function panel() {
   }
   if (r.heard) rows.push(["heard", r.heard.length ? r.heard.join(" ") : "nobody"]);
   if (r.ultrasonic) rows.push(["ultrasonic (m)", r.ultrasonic.map((d) => d.toFixed(2)).join(" ")]);
+  // The optional sensors, when the robot's behaviour declares them (docs/behaviour-api.md).
+  for (const [key, label] of [["proximity", "proximity (0..1)"], ["light", "light (0..1)"],
+                              ["ground", "ground (0..1)"]]) {
+    if (r[key]) rows.push([label, r[key].map((v) => v.toFixed(2)).join(" ")]);
+  }
+  if (r.lidar) {
+    rows.push(["lidar", r.lidar.rays + " rays, nearest " + r.lidar.nearest_range.toFixed(2) + " m at " +
+                        (r.lidar.nearest_angle * 180 / Math.PI).toFixed(0) + "°"]);
+  }
+  if ("battery" in r) rows.push(["battery", (100 * r.battery).toFixed(0) + " %"]);
   if ("left_speed" in r) {
     rows.push(["last command", "L " + fmt(r.left_speed) + " R " + fmt(r.right_speed) + " m/s, " +
                                r.message_bytes + " B message"]);

@@ -134,6 +134,18 @@ void RecordingWriter::write_world(const nlohmann::ordered_json& world) {
   write_file_atomically("world.json", world.dump(2) + "\n");
 }
 
+void RecordingWriter::copy_in(const std::string& source, const std::string& name) {
+  const std::string path = run_dir_ + "/" + name;
+  std::error_code ec;
+  std::filesystem::copy_file(source, path + ".tmp", std::filesystem::copy_options::overwrite_existing, ec);
+  if (!ec) std::filesystem::rename(path + ".tmp", path, ec);
+  if (ec) {
+    std::error_code ignored;
+    std::filesystem::remove(path + ".tmp", ignored);
+    throw RecordingError(path + ": cannot copy " + source + " there: " + ec.message(), ec.value());
+  }
+}
+
 void RecordingWriter::write_rows(Tick tick, const std::vector<RobotTruth>& robots) {
   row_buffer_.clear();
   for (const auto& r : robots) {

@@ -39,6 +39,8 @@ class RecordingWriter {
   const std::string& run_dir() const { return run_dir_; }
 
   void write_world(const nlohmann::ordered_json& world);  // world.json, written whole at once
+  // A copy of `source` in the run folder as `name` (the floor image); throws RecordingError naming both.
+  void copy_in(const std::string& source, const std::string& name);
   // One row per robot (in id order) for this tick; flushes every kFlushEveryTicks ticks.
   void write_rows(Tick tick, const std::vector<RobotTruth>& robots);
   void write_event(const nlohmann::ordered_json& event);  // one line of events.jsonl

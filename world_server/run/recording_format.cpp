@@ -66,9 +66,9 @@ ojson colour_json(const std::optional<Rgb>& c) {
   return text;
 }
 
-// The floor as the ground sensors read it and pictures draw it: its grey (and colour), the image's path
-// (absolute, so a picture drawn from another folder finds it) and its pixel size, the regions in painting
-// order.
+// The floor as the ground sensors read it and pictures draw it: its grey (and colour), the image (the run
+// folder's copy, kFloorImageFile, so that a copied run folder keeps it; where it came from; its pixel size),
+// the regions in painting order.
 ojson floor_json(const Floor& f) {
   ojson j;
   j["grey"] = f.grey;
@@ -76,7 +76,8 @@ ojson floor_json(const Floor& f) {
   if (f.image) {
     std::error_code ec;
     const std::filesystem::path abs = std::filesystem::absolute(f.image->file, ec);
-    j["image"] = {{"file", ec ? f.image->file : abs.lexically_normal().string()},
+    j["image"] = {{"file", kFloorImageFile},
+                  {"source", ec ? f.image->file : abs.lexically_normal().string()},
                   {"width", f.image->width},
                   {"height", f.image->height}};
   } else {

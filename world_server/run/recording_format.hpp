@@ -20,6 +20,10 @@ inline constexpr int kRecordingVersion = 1;
 // "lockstep", "realtime", "in-process".
 nlohmann::ordered_json describe_world(const Scenario& scenario, const std::string& mode);
 
+// The floor image's copy in the run folder, as world.json names it (floor.image.file): a run folder copied
+// elsewhere keeps its floor (world_server/run/README.md).
+inline constexpr const char* kFloorImageFile = "floor.png";
+
 // world.json's `behaviour_descriptor`: the behaviour's name, plug-in path, parameters (with the run's
 // values), states and colours, telemetry columns, needs_shape and needs_goal (docs/recording-format.md).
 nlohmann::ordered_json describe_behaviour(const Scenario& scenario);

@@ -61,6 +61,7 @@ struct RunSession::Impl {
       auto description = describe_world(world.scenario(), options.mode);
       description["fragment_range"] = fragment_range;
       description["record_every"] = options.record_every;
+      if (world.scenario().floor.image) writer->copy_in(world.scenario().floor.image->file, kFloorImageFile);
       writer->write_world(description);
       writer->log(world.tick(), "run starts: " + std::to_string(world.robot_count()) + " robots, scenario " +
                                     world.scenario().source + ", mode " + options.mode);

@@ -24,6 +24,10 @@ void put_perception_bytes(const Perception& p, Put&& put) {
   if (p.light) put(p.light->data(), sizeof(double) * p.light->size());
   if (p.ground) put(p.ground->data(), sizeof(double) * p.ground->size());
   if (p.battery) put(&*p.battery, sizeof(double));
+  for (const LidarRay& r : p.lidar) {
+    put(&r.angle, sizeof r.angle);
+    put(&r.range, sizeof r.range);
+  }
 }
 
 }  // namespace swarmform::world

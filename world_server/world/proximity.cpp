@@ -3,15 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "world_server/world/ray_fan.hpp"
 #include "world_server/world/sensor_noise.hpp"
 
 namespace swarmform::world {
-namespace {
-
-// A robot whose centre is farther than this from the reading robot's centre cannot be hit by any ray.
-constexpr double kRobotReach = kRobotRadius + kProximityRange + kRobotRadius;
-
-}  // namespace
 
 double proximity_value(double d) {
   if (d < kProximitySaturation) return 1.0;
@@ -29,27 +24,13 @@ ProximityReading Proximity::read(std::size_t self, const std::vector<Pose2D>& po
   const Pose2D& me = poses[self];
   std::array<double, kProximityCount> nearest;
   nearest.fill(kNoHit);
-  std::array<double, kProximityCount> ox, oy, dx, dy;  // each sensor's position and direction, arena frame
+  std::array<double, kProximityCount> dx, dy;  // each sensor's direction, arena frame
   for (std::size_t k = 0; k < kProximityCount; ++k) {
     const double a = me.theta + kProximityAngles[k];
     dx[k] = std::cos(a);
     dy[k] = std::sin(a);
-    ox[k] = me.x + kRobotRadius * dx[k];
-    oy[k] = me.y + kRobotRadius * dy[k];
   }
-  grid.for_each_near(me.x, me.y, kRobotReach, [&](std::uint32_t j) {
-    if (j == self) return;
-    for (std::size_t k = 0; k < kProximityCount; ++k) {
-      const double t = ray_circle(ox[k], oy[k], dx[k], dy[k], poses[j].x, poses[j].y, kRobotRadius);
-      nearest[k] = std::min(nearest[k], t);
-    }
-  });
-  for (const StaticShape& st : statics_) {
-    const double cx = me.x - st.cx, cy = me.y - st.cy, far = kRobotRadius + kProximityRange + st.bound + 1e-6;
-    if (cx * cx + cy * cy > far * far) continue;
-    for (std::size_t k = 0; k < kProximityCount; ++k)
-      nearest[k] = std::min(nearest[k], ray_static(ox[k], oy[k], dx[k], dy[k], st));
-  }
+  cast_ring_rays(self, poses, grid, statics_, kProximityRange, dx, dy, nearest);
   ProximityReading out;
   for (std::size_t k = 0; k < kProximityCount; ++k) out[k] = proximity_value(nearest[k]);
   return out;

@@ -54,5 +54,6 @@ inline constexpr std::uint64_t kSaltProximity = 5;
 inline constexpr std::uint64_t kSaltGround = 6;
 inline constexpr std::uint64_t kSaltLight = 7;
 inline constexpr std::uint64_t kSaltBattery = 8;
+inline constexpr std::uint64_t kSaltLidar = 9;
 
 }  // namespace swarmform::world

@@ -315,7 +315,8 @@ void parse_noise(const Source& src, MapReader& top, Scenario& s) {
   s.proximity_noise = m.number("proximity", s.proximity_noise, 0.0, 1.0);
   s.ground_noise = m.number("ground", s.ground_noise, 0.0, 1.0);
   s.light_noise = m.number("light", s.light_noise, 0.0, 1.0);
-  m.finish({"range", "bearing", "ultrasonic", "proximity", "ground", "light"});
+  s.lidar_noise = m.number("lidar", s.lidar_noise, 0.0, 1.0);
+  m.finish({"range", "bearing", "ultrasonic", "proximity", "ground", "light", "lidar"});
 }
 
 // battery: {capacity: J, idle: W, moving: J/m, start: fraction}; capacity required.
@@ -331,6 +332,25 @@ void parse_battery(const Source& src, MapReader& top, Scenario& s) {
   b.start = m.positive("start", 1.0, 1.0);
   m.finish({"capacity", "idle", "moving", "start"});
   s.battery = b;
+}
+
+// lidar: {rays: N, fov: rad, min_range: m, max_range: m}; every field optional (ARGoS's fan, lidar.hpp).
+void parse_lidar(const Source& src, MapReader& top, Scenario& s) {
+  auto node = top.get("lidar");
+  if (!node) return;
+  MapReader m(src, *node, "lidar");
+  LidarSpec& l = s.lidar;
+  l.rays = static_cast<std::uint32_t>(m.integer("rays", l.rays, 1, 10000));
+  l.fov = m.positive("fov", l.fov, 2.0 * std::numbers::pi);
+  l.min_range = m.number("min_range", l.min_range, 0.0, kMaxLength);
+  l.max_range = m.positive("max_range", l.max_range, kMaxLength);
+  if (l.min_range >= l.max_range) {
+    const char* key = m.has("max_range") ? "max_range" : "min_range";
+    std::ostringstream what;
+    what << "min_range (" << l.min_range << " m) must be below max_range (" << l.max_range << " m)";
+    yaml::fail(src, *m.get(key), m.field(key), what.str());
+  }
+  m.finish({"rays", "fov", "min_range", "max_range"});
 }
 
 // lights: [{position: [x, y], height: H, intensity: I}], every field required.
@@ -750,6 +770,7 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
   parse_noise(src, top, s);
   parse_lights(src, top, s);
   parse_battery(src, top, s);
+  parse_lidar(src, top, s);
   parse_packet_loss(src, top, s);
   s.occlusion = top.boolean("occlusion", s.occlusion);
   if (auto n = top.get("mode")) s.mode = parse_mode(src, *n, "mode");
@@ -791,7 +812,7 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
               "behaviour",    "max_message_bytes",
               "controller",   "floor",
               "lights",       "battery",
-              "events"});
+              "lidar",        "events"});
 
   // Overrides (before placement, so --robots and --seed take effect).
   if (ov.seed) s.seed = *ov.seed;

@@ -16,6 +16,7 @@
 #include "world_server/world/faults.hpp"
 #include "world_server/world/field_overrides.hpp"
 #include "world_server/world/floor.hpp"
+#include "world_server/world/lidar_spec.hpp"
 #include "world_server/world/world_events.hpp"
 
 namespace swarmform::world {
@@ -70,6 +71,8 @@ struct Scenario {
   double proximity_noise = 0.0;         // in [0,1]: uniform +-this on each infrared reading (proximity.hpp)
   double ground_noise = 0.0;            // in [0,1]: uniform +-this on each ground reading (ground.hpp)
   double light_noise = 0.0;             // in [0,1]: uniform +-this on each light reading (light.hpp)
+  double lidar_noise = 0.0;             // m, in [0,1]: uniform +-this on each lidar ray that hit (lidar.hpp)
+  LidarSpec lidar;                      // the lidar's fan (lidar.hpp); ARGoS's by default
   std::vector<LightSource> lights;      // what the light sensors see (light.hpp)
   std::optional<BatterySpec> battery;   // none: the robots' batteries never run down (battery.hpp)
   Floor floor;                          // what the ground sensors read (floor.hpp); plain white by default

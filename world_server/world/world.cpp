@@ -24,6 +24,7 @@
 #include "world_server/world/battery.hpp"
 #include "world_server/world/geometry.hpp"
 #include "world_server/world/ground.hpp"
+#include "world_server/world/lidar.hpp"
 #include "world_server/world/light.hpp"
 #include "world_server/world/medium.hpp"
 #include "world_server/world/physics.hpp"
@@ -79,6 +80,7 @@ struct World::Impl {
   Proximity proximity;
   Ground ground;
   LightSensors light;
+  Lidar lidar;
   std::optional<Batteries> batteries;  // the scenario's battery model, if any
   std::vector<Pose2D> before_step;     // the poses before the physics step (battery drain)
   const std::uint32_t sensors;         // the behaviour's declared optional sensors (behaviour::Sensor bits)
@@ -101,6 +103,7 @@ struct World::Impl {
   std::vector<ProximityReading> infrared;
   std::vector<GroundReading> floor_readings;
   std::vector<LightReading> light_readings;
+  std::vector<LidarScan> scans;  // swapped with perceptions[i].lidar: two buffers a robot, no allocation
   std::vector<RobotTruth> truth;
   ContactCounts contacts;
   std::vector<Obstacle> obstacles;  // the scenario's, as they stand after this tick's world events
@@ -117,6 +120,8 @@ struct World::Impl {
         ground(scenario.floor, scenario.arena_centre, scenario.arena_width, scenario.arena_height,
                scenario.ground_noise, scenario.seed),
         light(scenario.lights, present_statics(scenario, scenario.obstacles), scenario.light_noise,
+              scenario.seed),
+        lidar(scenario.lidar, present_statics(scenario, scenario.obstacles), scenario.lidar_noise,
               scenario.seed),
         sensors(declared_sensors(scenario)),
         obstacles(scenario.obstacles) {
@@ -217,6 +222,12 @@ struct World::Impl {
         if (alive[i]) perceptions[i].ground = floor_readings[i];
       }
     }
+    if (sensors & behaviour::kLidar) {
+      lidar.sense_all(poses, alive, grid, scans);
+      for (std::size_t i = 0; i < poses.size(); ++i) {
+        if (alive[i]) std::swap(perceptions[i].lidar, scans[i]);
+      }
+    }
   }
 
   // A revived robot's optional sensors, noiseless as its ultrasonics (sense_now).
@@ -225,6 +236,7 @@ struct World::Impl {
     if (sensors & behaviour::kGround) p.ground = ground.read(poses[id]);
     if (sensors & behaviour::kLight) p.light = light.read(id, poses, grid);
     if (sensors & behaviour::kBattery) p.battery = truth[id].battery;
+    if (sensors & behaviour::kLidar) lidar.read(id, poses, grid, p.lidar);
   }
 
   // The world events of tick t: the physics' bodies, then what the sensors and the medium see.
@@ -236,6 +248,7 @@ struct World::Impl {
     ultrasonic.set_statics(statics);
     proximity.set_statics(statics);
     light.set_statics(statics);
+    lidar.set_statics(statics);
   }
 
   // Steps 3-5 of the tick: truth, grid, (medium), sensors.
