@@ -6,6 +6,8 @@
 // wait has a deadline.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -29,6 +31,24 @@ const std::string kWorld = WORLD_SERVER_EXE;
 const std::string kAgent = ROBOT_AGENT_EXE;
 const std::string kInProcess = SWARM_INPROCESS_EXE;
 const std::string kScenario = FACES_SCENARIO;
+
+// The lines of events.jsonl that would make a multi-process run differ from the in-process one.
+std::string late_or_dead_events(const std::string& events) {
+  std::string out;
+  std::size_t from = 0;
+  while (from < events.size()) {
+    const std::size_t end = std::min(events.find('\n', from), events.size());
+    const std::string line = events.substr(from, end - from);
+    for (const char* kind : {"\"command_late\"", "\"death\"", "\"agent_stalled\"", "\"rejoin\""}) {
+      if (line.find(kind) != std::string::npos) {
+        out += line + "\n";
+        break;
+      }
+    }
+    from = end + 1;
+  }
+  return out;
+}
 
 class Faces : public swarmform::testing::ProcessFixture {
  protected:
@@ -64,7 +84,9 @@ TEST_F(Faces, TwoFacesGiveTheInProcessTrajectoryBitForBitAndEachAgentOnlyItsOwnP
   ASSERT_EQ(in.wait_for(kRunDeadline), 0) << in.err();
   const std::string sha = dds["trajectory_sha256"];
   EXPECT_EQ(sha.size(), 64u);
-  EXPECT_EQ(sha, summary("inprocess")["trajectory_sha256"].get<std::string>());
+  EXPECT_EQ(sha, summary("inprocess")["trajectory_sha256"].get<std::string>())
+      << "the DDS run's events of late commands and deaths, if any:\n"
+      << late_or_dead_events(read_file(path("dds") + "/events.jsonl"));
 }
 
 }  // namespace
