@@ -37,13 +37,16 @@ void ExperimentRunner::fail(const std::string& what) {
   for (auto& [name, value] : verdict_.metrics.items()) value = nullptr;
 }
 
-void ExperimentRunner::observe(const Metrics& metrics) {
-  if (!experiment_) return;
-  const auto& truth = world_.robots();
-  robots_.resize(truth.size());
-  for (std::size_t i = 0; i < truth.size(); ++i) {
-    robots_[i] = {truth[i].id, truth[i].pose, truth[i].alive, &truth[i].telemetry, truth[i].leds};
+// The obstacles change only at world events: the truth's list is built again only after one.
+bool ExperimentRunner::obstacles_stale() const {
+  if (!obstacles_of_) return true;
+  for (const WorldEvent& e : world_.scenario().world_events) {
+    if (e.tick > *obstacles_of_ && e.tick <= world_.tick()) return true;
   }
+  return false;
+}
+
+void ExperimentRunner::refresh_obstacles() {
   obstacles_.clear();  // as they stand this tick (world events move, add and remove them)
   for (const Obstacle& o : world_.obstacles()) {
     if (!o.present) continue;
@@ -56,6 +59,17 @@ void ExperimentRunner::observe(const Metrics& metrics) {
     ot.radius = o.radius;
     obstacles_.push_back(ot);
   }
+  obstacles_of_ = world_.tick();
+}
+
+void ExperimentRunner::observe(const Metrics& metrics) {
+  if (!experiment_) return;
+  const auto& truth = world_.robots();
+  robots_.resize(truth.size());
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    robots_[i] = {truth[i].id, truth[i].pose, truth[i].alive, &truth[i].telemetry, truth[i].leds};
+  }
+  if (obstacles_stale()) refresh_obstacles();
   experiment::Truth t;
   t.tick = world_.tick();
   t.robots = robots_;

@@ -51,7 +51,10 @@ class ExperimentRunner {
   const behaviour::Descriptor* descriptor_ = nullptr;
   std::unique_ptr<experiment::Experiment> experiment_;
   std::vector<experiment::RobotTruth> robots_;
+  bool obstacles_stale() const;
+  void refresh_obstacles();
   std::vector<experiment::ObstacleTruth> obstacles_;
+  std::optional<Tick> obstacles_of_;  // the tick obstacles_ was built at (rebuilt only after a world event)
   std::vector<RobotId> died_, rejoined_;
   experiment::ArenaTruth arena_;
   std::optional<experiment::Goal> goal_;
