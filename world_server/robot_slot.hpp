@@ -27,9 +27,6 @@ struct RobotSlot {
   // late_commands).
   bool waiting = false;
   dds_time_t written_at = 0;
-  // Lockstep: missed a deadline and has not answered since, so rounds do not wait for it (it still gets its
-  // packets). Without this one silent agent would cost every round the whole deadline.
-  bool unresponsive = false;
 };
 
 }  // namespace swarmform::server

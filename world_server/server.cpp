@@ -11,6 +11,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <sstream>
 
 #include "common/id_ranges.hpp"
 #include "world_server/agent_process.hpp"
@@ -166,6 +167,11 @@ int Server::run_inner() {
   if (options_.warmup_ticks == 0) steady_start_ = start_;
   registry_.start_run();
   run_rounds();
+  if (stalled_out_) {
+    schedule_.finish(session_);
+    faults_.resume_all(&session_);  // a stalled agent must hear the end
+    return fail(world::EndReason::AgentsStalled, stalled_what_, kExitAgentsStalled);
+  }
   const dds_time_t end = dds_time();
   const double wall = to_s(end - start_);
   schedule_.finish(session_);
@@ -586,7 +592,6 @@ void Server::revive(RobotId id) {
   link_.robots.set_owner(id, r.owner_nonce, r.generation);
   session_.record_rejoin(id);
   r.fresh = false;
-  r.unresponsive = false;
   std::cout << "rejoin id=" << id << " tick=" << world_.tick() << std::endl;
 }
 
@@ -608,12 +613,6 @@ void Server::on_command(const dds::CommandSample& s) {
   const RobotId id = s.robot_id;
   RobotSlot& r = robots_[id];
   const Tick now = world_.tick();
-  if (r.unresponsive) {
-    // Any command from the owner, whatever its tick, shows it is back: the next round waits for it again.
-    r.unresponsive = false;
-    session_.record_event(id, "command_resumed",
-                          "a command for tick " + std::to_string(s.tick) + " after missed deadlines");
-  }
   if (scenario_.mode == world::Mode::Realtime && s.tick < now) {
     if (const auto late = late_.arrived(id, s.tick, s.sent_at, dds_time())) {
       char detail[256];
@@ -663,7 +662,7 @@ bool Server::straggles(dds::PublicationHandle writer, bool running) {
   // before (stall_guard.hpp).
   const auto pid = agent_pid(*id);
   if (!pid || faults_.stopped(*pid) || process_state(*pid) != ProcessState::Present) return false;
-  stragglers_.add(writer, *id, stalls_.awake());
+  stragglers_.add(writer, *id);
   session_.record_event(*id, "agent_stalled",
                         "liveliness lost at tick " + std::to_string(world_.tick()) +
                             " while its process (pid " + std::to_string(*pid) +
@@ -829,7 +828,7 @@ void Server::publish_packets() {
     const auto id = static_cast<RobotId>(i);
     RobotSlot& r = robots_[i];
     const bool live = world_.alive(id) && registry_.connected(id) && !schedule_.held(id);
-    r.waiting = live && !r.unresponsive;
+    r.waiting = live;
     waiting_count_ += r.waiting ? 1 : 0;
     if (!live) continue;
     if (!r.judged) {
@@ -873,58 +872,67 @@ bool Server::collect_lockstep() {
   const dds_time_t collect_start = dds_time();
   // In the world's awake time (stall_guard.hpp): the world's own pause makes no agent late.
   stalls_.observe(collect_start);
+  // In lockstep a live agent is never stepped without (world_server/README.md "In lockstep slowness is never
+  // death"): the round waits for every awaited command however long the host makes it take, and only a wait
+  // longer than lockstep_deadline ends the run (agents_stalled). Stepping on without a late agent made the
+  // trajectory a function of the host's load (a host cut off for 4 s: its 3 robots stepped without when the
+  // old 2 s deadline ran out before their lease did).
   const dds_duration_t allowed = seconds(scenario_.lockstep_deadline_s);
-  dds_time_t deadline = stalls_.awake() + allowed;
+  dds_time_t waited_since = stalls_.awake();
+  dds_time_t next_report = waited_since + kWaitReport;
   std::size_t came_back = stragglers_.came_back();
   for (;;) {
     pump(true);
     if (waiting_count_ == 0 || stopping()) break;
+    const dds_time_t awake = stalls_.awake();
     if (stragglers_.came_back() != came_back) {
-      // A straggler heard again has the whole deadline from now to answer: the packet it missed comes
-      // again first (DDS retransmits it), and a deadline that ran while it was waited for would pass it by
-      // the moment it is back (a host cut off for 4 s: every robot of it command_late, a changed trajectory).
+      // A straggler heard again has the whole wait from now on: the packet it missed comes again first.
       came_back = stragglers_.came_back();
-      deadline = std::max(deadline, stalls_.awake() + allowed);
+      waited_since = awake;
     }
-    if (stragglers_.overdue(stalls_.awake())) {
+    if (awake - waited_since >= allowed) {
       stalled_out_ = true;
       break;
     }
-    if (stalls_.awake() >= deadline) {
-      // The deadline passes by an agent that is alive but does not answer; a straggler (its liveliness lost,
-      // its process there) is waited for, within Stragglers::kLimit.
-      bool straggling = false;
-      for (std::size_t i = 0; i < robots_.size(); ++i) {
-        if (!robots_[i].waiting) continue;
-        if (stragglers_.holds(static_cast<RobotId>(i))) {
-          straggling = true;
-          continue;
-        }
-        robots_[i].waiting = false;
-        --waiting_count_;
-        robots_[i].unresponsive = true;
-        session_.record_event(static_cast<RobotId>(i), "command_late",
-                              "no command for tick " + std::to_string(world_.tick()) + " within the " +
-                                  "lockstep deadline; not waited for until it answers again");
-      }
-      if (!straggling) break;
+    if (awake >= next_report) {
+      std::cerr << "world_server: tick " << world_.tick() << ": waiting for " << awaited_text() << " ("
+                << to_s(awake - waited_since) << " s of lockstep_deadline " << scenario_.lockstep_deadline_s
+                << " s)\n";
+      next_report = awake + kWaitReport;
     }
     // Sleep until as many samples are in as commands are awaited (each awaited agent sends one), not at each
     // arrival: a round at N = 64 took the commands 8.9 times (dds::Waiter, "Counted arrivals").
     link_.waiter.need(waiting_count_);
-    wait_a_while(dds_time() + std::max<dds_duration_t>(0, deadline - stalls_.awake()) +
-                 (stalls_.awake() >= deadline ? StallGuard::kProbe : 0));
+    wait_a_while(dds_time() + std::min(waited_since + allowed, next_report) - awake);
   }
   link_.waiter.need(1);  // elsewhere every sample wakes the world
   profile_.collect += dds_time() - collect_start;
   if (stalled_out_) {
-    std::cerr << "world_server: " << stragglers_.size() << " agent(s) alive but silent for "
-              << Stragglers::kLimit / DDS_NSECS_IN_SEC << " s of the world's time at tick " << world_.tick()
-              << ": the run ends (agents_stalled)\n";
-    session_.set_end_reason(world::EndReason::AgentsStalled);
+    std::ostringstream what;
+    what << awaited_text() << " gave no command for tick " << world_.tick() << " in "
+         << scenario_.lockstep_deadline_s << " s (lockstep_deadline) of the world's awake time; "
+         << stragglers_.size() << " of them with their liveliness lost while their process was there";
+    stalled_what_ = what.str();
+    for (std::size_t i = 0; i < robots_.size(); ++i) {
+      if (robots_[i].waiting)
+        session_.record_event(static_cast<RobotId>(i), "command_waited_out",
+                              "no command for tick " + std::to_string(world_.tick()) +
+                                  " within lockstep_deadline; the run ends (agents_stalled)");
+    }
     return false;
   }
   return !stopping();
+}
+
+std::string Server::awaited_text() const {
+  std::string ids;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    if (!robots_[i].waiting) continue;
+    if (++n <= 16) ids += (ids.empty() ? "" : ", ") + std::to_string(i);
+  }
+  if (n > 16) ids += ", ... (" + std::to_string(n) + " in all)";
+  return (n == 1 ? "robot " : "robots ") + ids;
 }
 
 bool Server::collect_realtime() {

@@ -74,6 +74,7 @@ struct ServerOptions {
 
 // Exit codes of a run: common/exit_codes.json holds them all (and their meanings).
 using exit_codes::kExitAgentsMissing;
+using exit_codes::kExitAgentsStalled;
 using exit_codes::kExitOk;
 using exit_codes::kExitRecordingFailed;
 inline constexpr int kExitWorldFailed = exit_codes::kExitFailed;  // the world could not go on
@@ -142,6 +143,8 @@ class Server {
   // Brings a dead robot back for its (same or new) owner: a rejoin, its generation raised so that the agent
   // starts its controller afresh.
   void revive(RobotId id);
+  // The robots whose commands the round still awaits, for a line ("robots 1, 3, 5").
+  std::string awaited_text() const;
   // Waits until `deadline` at the latest, waking at least every StallGuard::kProbe.
   void wait_a_while(dds_time_t deadline);
   std::optional<pid_t> agent_pid(RobotId id);
@@ -190,6 +193,8 @@ class Server {
   // agent killed before the run is otherwise seen only when its participant's lease runs out).
   std::unordered_map<dds::PublicationHandle, dds_time_t> first_answer_due_;
   static constexpr dds_duration_t kFirstAnswerGrace = DDS_SECS(2);
+  // A round waiting this long says on stderr whom it waits for, and again at each further period.
+  static constexpr dds_duration_t kWaitReport = DDS_SECS(5);
   InputGuard guard_;
   world::TelemetryLimits telemetry_limits_;
   std::uint64_t telemetry_fields_dropped_ = 0;
@@ -200,7 +205,9 @@ class Server {
   std::vector<dds::ReceiveBudget::Drops> budget_drops_;
   // Liveliness lapses before an owner's first packet: counted, not losses.
   std::uint64_t unjudged_lapses_ = 0;
-  bool stalled_out_ = false;  // lockstep waited Stragglers::kLimit for stragglers: the run ends
+  // Lockstep waited lockstep_deadline for a round's commands: the run ends (agents_stalled), saying this.
+  bool stalled_out_ = false;
+  std::string stalled_what_;
   // Claims and commands taken after their writer went away: ignored, counted.
   std::uint64_t stale_samples_ = 0;
   std::vector<dds::RobotPoseRow> rows_;

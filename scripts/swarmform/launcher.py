@@ -73,6 +73,7 @@ EXIT_INTERRUPTED = exit_codes.INTERRUPTED
 EXIT_WORLD_FAILED = exit_codes.FAILED
 EXIT_BAD_INPUT = exit_codes.BAD_INPUT
 EXIT_AGENTS_MISSING = exit_codes.AGENTS_MISSING
+EXIT_AGENTS_STALLED = exit_codes.AGENTS_STALLED
 EXIT_RECORDING_FAILED = exit_codes.RECORDING_FAILED
 REPEATS_SHOWN = 3
 
@@ -887,7 +888,8 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
             if missing is not None:
                 status.line(f"swarm: {len(connecting.missing())} of {n} agents did not connect within {wait_s:g} s "
                             f"(--connect-timeout): {missing}")
-            return code if code in (EXIT_BAD_INPUT, EXIT_AGENTS_MISSING, EXIT_RECORDING_FAILED) else EXIT_WORLD_FAILED
+            passed_on = (EXIT_BAD_INPUT, EXIT_AGENTS_MISSING, EXIT_AGENTS_STALLED, EXIT_RECORDING_FAILED)
+            return code if code in passed_on else EXIT_WORLD_FAILED
         ticks = done["ticks"] if done else "?"
         status.line(f"swarm: {ticks} ticks in {time.monotonic() - started:.1f} s; run directory {run_dir}")
         stop.restore()  # Ctrl-C while drawing just stops the drawing

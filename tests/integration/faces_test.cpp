@@ -39,7 +39,7 @@ std::string late_or_dead_events(const std::string& events) {
   while (from < events.size()) {
     const std::size_t end = std::min(events.find('\n', from), events.size());
     const std::string line = events.substr(from, end - from);
-    for (const char* kind : {"\"command_late\"", "\"death\"", "\"agent_stalled\"", "\"rejoin\""}) {
+    for (const char* kind : {"\"command_waited_out\"", "\"death\"", "\"agent_stalled\"", "\"rejoin\""}) {
       if (line.find(kind) != std::string::npos) {
         out += line + "\n";
         break;

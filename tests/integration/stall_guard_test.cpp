@@ -144,20 +144,18 @@ TEST(AgentProcess, AStoppedProcessIsPresentAKilledOneIsGoneEvenBeforeItIsReaped)
   EXPECT_EQ(process_state(0), ProcessState::Gone);
 }
 
-TEST(Stragglers, AreWaitedForUntilTheyComeBackOrTheBoundPasses) {
+TEST(Stragglers, AreKeptUntilTheyComeBackAndCounted) {
   using swarmform::server::Stragglers;
   Stragglers s;
-  EXPECT_TRUE(s.add(11, 3, DDS_SECS(1)));
-  EXPECT_FALSE(s.add(11, 3, DDS_SECS(2)));  // already one: its wait started at its first loss
-  EXPECT_TRUE(s.add(12, 4, DDS_SECS(2)));
-  EXPECT_TRUE(s.holds(3));
-  EXPECT_FALSE(s.holds(5));
-  EXPECT_FALSE(s.overdue(DDS_SECS(1) + Stragglers::kLimit - 1));
-  EXPECT_TRUE(s.overdue(DDS_SECS(1) + Stragglers::kLimit));
+  EXPECT_TRUE(s.add(11, 3));
+  EXPECT_FALSE(s.add(11, 3));  // already one
+  EXPECT_TRUE(s.add(12, 4));
+  EXPECT_TRUE(s.contains(11));
+  EXPECT_FALSE(s.contains(13));
   EXPECT_EQ(s.remove(11), std::optional<swarmform::RobotId>(3));  // it came back
   EXPECT_FALSE(s.remove(11).has_value());
-  EXPECT_FALSE(s.overdue(DDS_SECS(1) + Stragglers::kLimit));  // the other one's wait began later
-  EXPECT_TRUE(s.overdue(DDS_SECS(2) + Stragglers::kLimit));
+  EXPECT_FALSE(s.contains(11));
+  EXPECT_EQ(s.size(), 1u);
   EXPECT_EQ(s.total(), 2u);
   EXPECT_TRUE(s.recheck_due(DDS_SECS(5)));
   EXPECT_FALSE(s.recheck_due(DDS_SECS(5) + Stragglers::kRecheck - 1));

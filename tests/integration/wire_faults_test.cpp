@@ -276,8 +276,10 @@ TEST_F(WireFaults, AgentStalledThreeSecondsInLockstepRejoinsWithAFreshController
 // the round, and whose world stays alive (its writers' 2 s lease holds, so it has no reason to re-claim).
 // Cyclone 0.10.2 brings a lost writer back only on a sample, never on a liveliness assertion, and the world
 // sends a dead robot none: without the ALIVE keep-alive the agent waited for a packet until the run ended.
-// Robot 2 is a live agent that never answers, so that the world waits out the lockstep deadline (10 s here)
-// in round 0 and nobody's packet could end the wait by chance.
+// Robot 2 is a live agent that never answers, so that the world waits in round 0 and nobody's packet could
+// end the wait by chance. The world never steps without a live agent in lockstep: once the lockstep deadline
+// (10 s here) has passed with robot 2 still silent, the run ends agents_stalled (exit 10), naming robot 2
+// alone, and every agent hears the end.
 TEST_F(WireFaults, AgentTakenForDeadWhileItsWorldWaitsRejoinsWithoutAPacket) {
   const int domain = swarmform::testing::test_domain(36);
   const std::string scenario = path("long-deadline.yaml");
@@ -316,11 +318,21 @@ TEST_F(WireFaults, AgentTakenForDeadWhileItsWorldWaitsRejoinsWithoutAPacket) {
   // Well within the round's 10 s: only the agent's own ALIVE sample can bring it back this soon.
   EXPECT_TRUE(eventually(5.0, [&] { return w.out().find("rejoin id=0 tick=0") != std::string::npos; }))
       << w.out();
-  EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_EQ(w.wait_for(kRunDeadline), swarmform::exit_codes::kExitAgentsStalled) << w.err();
+  EXPECT_NE(w.err().find("run ended (agents_stalled) at tick 0: robot 2 gave no command for tick 0 in 10 s"),
+            std::string::npos)
+      << w.err();
+  EXPECT_NE(w.err().find("world_server: tick 0: waiting for robot 2 ("), std::string::npos) << w.err();
   EXPECT_EQ(a0.wait_for(15.0), 0) << a0.err();
   EXPECT_EQ(a1.wait_for(15.0), 0) << a1.err();
   EXPECT_TRUE(silent.wait_for(15.0).has_value());
-  EXPECT_EQ(summary("waiting")["alive_at_end"], 3);
+  const Json s = summary("waiting");
+  EXPECT_EQ(s["alive_at_end"], 3);
+  EXPECT_EQ(s["ticks"], 0) << "no round was stepped without robot 2";
+  EXPECT_EQ(s["end_reason"], "agents_stalled");
+  EXPECT_TRUE(has_event("waiting", "command_waited_out", 2));
+  EXPECT_FALSE(has_event("waiting", "command_waited_out", 0));
+  EXPECT_FALSE(has_event("waiting", "command_waited_out", 1));
 }
 
 // Runs `name` (world flags `flags`) with agent 3 SIGSTOPped mid-run until the world has exited, then

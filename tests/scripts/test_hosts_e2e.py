@@ -204,8 +204,8 @@ class HostsEndToEndTest(unittest.TestCase):
         # waits (it steps no tick while they are cut), and once the link is back they answer the round they
         # were given and go on with their controllers: no death, no rejoin, and the trajectory of the same run
         # uncut. The cut is held past the world's 2 s writer lease (the agents see the world silent and
-        # re-claim) and past the 2 s lockstep_deadline, well under their 10 s --world-timeout, past which they
-        # would exit (and be recorded dead: docs/faults.md).
+        # re-claim), well under their 10 s --world-timeout, past which they would exit (and be recorded dead:
+        # docs/faults.md), and under the 30 s lockstep_deadline, past which the run would end.
         ticks = ["--max-ticks", "4000"]
         uncut = self.out("uncut")
         r = self.run_swarm(uncut, "--scenario", WALK, "--robots", "6", "--domain", str(helpers.test_domain(57)),
@@ -229,7 +229,7 @@ class HostsEndToEndTest(unittest.TestCase):
         self.assertEqual(p.returncode, 0, err)
         self.assert_nothing_left(out)
         ev = events(out)
-        self.assertEqual([e for e in ev if e["kind"] in ("death", "rejoin", "command_late")], [])
+        self.assertEqual([e for e in ev if e["kind"] in ("death", "rejoin", "command_waited_out")], [])
         stalled = {e["id"]: e["tick"] for e in ev if e["kind"] == "agent_stalled"}
         back = {e["id"]: e["tick"] for e in ev if e["kind"] == "liveliness_regained"}
         self.assertEqual(sorted(stalled), cut["agents"], "only the cut host's agents are waited for")

@@ -312,6 +312,17 @@ class LauncherTest(unittest.TestCase):
                       f"write: No space left on device; the outcome is in {out}/summary.json", r.stderr)
         self.assert_all_gone(agent_pids(out).values())
 
+    def test_a_lockstep_wait_run_out_is_passed_on_with_the_worlds_words_and_exit_10(self):
+        out = os.path.join(self.dir, "run")
+        r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "2", "--max-ticks", "40", "--out", out,
+                          "--no-pictures", env={"FAKE_WORLD_FAIL": "agents_stalled", "FAKE_AGENT_EXIT_S": "0.5"})
+        self.assertEqual(r.returncode, exit_codes.AGENTS_STALLED, r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
+        self.assertIn(f"swarm: the run ended (agents_stalled): world_server exit {exit_codes.AGENTS_STALLED} at tick "
+                      f"20: robot 1 gave no command for tick 20 in 30 s (lockstep_deadline)", r.stderr)
+        self.assertIn(f"the outcome is in {out}/summary.json", r.stderr)
+        self.assert_all_gone(agent_pids(out).values())
+
     def test_a_world_that_could_not_write_its_summary_is_said_with_the_file(self):
         out = os.path.join(self.dir, "run")
         r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "2", "--max-ticks", "40", "--out", out,

@@ -83,9 +83,9 @@ struct Scenario {
 
   // Time.
   Mode mode = Mode::Lockstep;
-  double tick_rate = 10.0;           // ticks per simulated (and, in realtime, wall) second
-  int substeps = 10;                 // physics substeps per tick
-  double lockstep_deadline_s = 2.0;  // lockstep waits at most this long for a live agent's command
+  double tick_rate = 10.0;            // ticks per simulated (and, in realtime, wall) second
+  int substeps = 10;                  // physics substeps per tick
+  double lockstep_deadline_s = 30.0;  // lockstep waits this long for a live agent's command, then ends
   std::uint64_t seed = 1;
   Tick max_ticks = 3000;
   std::vector<Kill> kills;  // the file's `kills`, kill faults and --kill
