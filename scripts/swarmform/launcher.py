@@ -708,12 +708,18 @@ def _follow(proc: "subprocess.Popen[bytes]", stop: StopFlag, status: Status, con
             if proc.poll() is not None:
                 break
             continue
-        # The world writes a moment's status line before its stdout line: read the status first.
-        for fd in sorted(ready, key=lambda f: f != status_fd):
+        # The world writes a moment's status line before its stdout line. So stdout is read first and the status
+        # channel after it, whether select saw it ready or not: every status line of the stdout lines read is
+        # then in hand before they are handled (reading the status first let a stdout line written after that
+        # read, its status line unread, through: a moment shown that the world said it printed).
+        taken: dict[int, bytes] = {}
+        for fd in sorted(bufs if out in ready else ready, key=lambda f: f == status_fd):
             try:
-                chunk = os.read(fd, 65536)
+                taken[fd] = os.read(fd, 65536)
             except BlockingIOError:
                 continue
+        for fd in sorted(taken, key=lambda f: f != status_fd):
+            chunk = taken[fd]
             if not chunk:  # closed: the world exited (or closed it); a last line without its newline counts
                 rest = bufs.pop(fd)
                 if rest:

@@ -2,6 +2,7 @@
 that keep their command-line contract: agents started and handed to the world by pid, agents.json, the run
 directory and runs/latest, `swarm kill`, failures passed on, and no process left behind -- Ctrl-C included."""
 
+import io
 import json
 import os
 import shutil
@@ -100,6 +101,47 @@ class LauncherTest(unittest.TestCase):
             self.assertNotIn(words, r.stderr)
         self.assertIn("DEMIALC", r.stderr)  # a claim's line is shown as it is
         self.assert_all_gone(agent_pids(out).values())
+
+    def test_a_moment_printed_while_the_launcher_handles_an_earlier_one_is_not_shown(self):
+        # The world writes each moment's status line, then its stdout line. Here the second moment is written while
+        # the launcher handles the first (as the agents start at `ready`): its stdout line must wait for its
+        # status line, however the reads fall. Reading the status channel before stdout let it through.
+        status_r, status_w = os.pipe()
+        out_r, out_w = os.pipe()
+
+        def say(line: str) -> None:
+            os.write(status_w, json.dumps({"v": 1, "event": "connected", "agents": 1, "line": line}).encode() + b"\n")
+            os.write(out_w, line.encode() + b"\n")
+
+        def on_event(ev) -> None:
+            if len(events) == 0:
+                say("the second moment")
+                os.close(status_w)
+                os.close(out_w)
+            events.append(ev)
+
+        class Never:
+            def __bool__(self) -> bool:
+                return False
+
+        class World:  # exits (as far as _follow can tell) 10 s on, should the pipes never close
+            stdout = os.fdopen(out_r, "rb", buffering=0)
+            ends = time.monotonic() + 10
+
+            def poll(self):
+                return 0 if time.monotonic() > self.ends else None
+
+        events: list = []
+        say("the first moment")
+        shown = io.StringIO()
+        try:
+            launcher._follow(World(), Never(), launcher.Status(shown), io.BytesIO(), 10, status_fd=status_r,
+                             on_event=on_event, bad=None)
+        finally:
+            World.stdout.close()
+            os.close(status_r)
+        self.assertEqual(len(events), 2)
+        self.assertEqual(shown.getvalue(), "")
 
     def test_lines_on_the_status_channel_that_are_not_events_are_said_once_and_counted(self):
         out = os.path.join(self.dir, "run")
