@@ -252,7 +252,41 @@ double Foxglove::seconds(std::uint64_t tick) const {
   return static_cast<double>(tick) / (rate > 0 ? rate : 10.0);
 }
 
-json Foxglove::scene(const dds::ObserveFrameData& f, bool with_arena) const {
+std::size_t events_up_to(const json& world, std::uint64_t tick) {
+  std::size_t n = 0;
+  for (const json& e : world.value("world_events", json::array())) {
+    if (!e.is_object() || e.value("tick", std::uint64_t{0}) > tick) break;  // world.json lists them by tick
+    ++n;
+  }
+  return n;
+}
+
+json obstacles_at(const json& world, std::uint64_t tick) {
+  json now = world.value("obstacles", json::array());
+  if (!now.is_array()) return json::array();
+  const json events = world.value("world_events", json::array());
+  const std::size_t applied = events_up_to(world, tick);
+  for (std::size_t i = 0; i < applied; ++i) {
+    const json& e = events[i];
+    const std::size_t k = e.value("obstacle", now.size());
+    if (k >= now.size() || !now[k].is_object()) continue;
+    json& o = now[k];
+    const std::string what = e.value("do", "");
+    if (what == "appear") o["present"] = true;
+    if (what == "disappear") o["present"] = false;
+    if (what == "move") {
+      if (e.contains("centre")) o["centre"] = e["centre"];
+      if (e.contains("yaw") && e["yaw"].is_number()) o["yaw"] = e["yaw"];
+    }
+  }
+  json present = json::array();
+  for (json& o : now) {
+    if (!o.is_object() || o.value("present", true)) present.push_back(std::move(o));
+  }
+  return present;
+}
+
+json Foxglove::scene(const dds::ObserveFrameData& f, bool with_arena, bool with_obstacles) const {
   const json stamp = time_of(seconds(f.tick));
   const double radius = num(world_, "robot_radius", kRobotRadius);
   std::map<std::int32_t, std::string> colours;
@@ -279,23 +313,6 @@ json Foxglove::scene(const dds::ObserveFrameData& f, bool with_arena) const {
                        {"size", {{"x", t}, {"y", h}, {"z", 0.2}}},
                        {"color", wall}});
     }
-    for (const json& o : world_.value("obstacles", json::array())) {
-      if (!o.is_object() || !o.contains("centre")) continue;
-      const double x = o["centre"][0], y = o["centre"][1];
-      if (o.value("kind", "") == "cylinder") {
-        const double d = 2 * o.value("radius", 0.1);
-        cylinders.push_back({{"pose", pose(x, y, 0.15, 0)},
-                             {"size", {{"x", d}, {"y", d}, {"z", 0.3}}},
-                             {"bottom_scale", 1.0},
-                             {"top_scale", 1.0},
-                             {"color", rgba("#6d4c41")}});
-      } else if (o.contains("half_extents")) {
-        const double hx = o["half_extents"][0], hy = o["half_extents"][1];
-        cubes.push_back({{"pose", pose(x, y, 0.15, o.value("yaw", 0.0))},
-                         {"size", {{"x", 2 * hx}, {"y", 2 * hy}, {"z", 0.3}}},
-                         {"color", rgba("#6d4c41")}});
-      }
-    }
     json spheres = json::array();
     floor_and_lights(world_, cubes, cylinders, spheres);
     if (world_.contains("goal") && world_["goal"].is_object()) {
@@ -316,6 +333,37 @@ json Foxglove::scene(const dds::ObserveFrameData& f, bool with_arena) const {
                         {"cubes", cubes},
                         {"cylinders", cylinders},
                         {"spheres", spheres},
+                        {"texts", json::array()}});
+  }
+  if (with_obstacles && world_.is_object()) {
+    // Their own entity, sent again whenever a world event has changed them (it replaces the one before).
+    json cubes = json::array(), cylinders = json::array();
+    for (const json& o : obstacles_at(world_, f.tick)) {
+      if (!o.is_object() || !o.contains("centre")) continue;
+      const double x = o["centre"][0], y = o["centre"][1];
+      if (o.value("kind", "") == "cylinder") {
+        const double d = 2 * o.value("radius", 0.1);
+        cylinders.push_back({{"pose", pose(x, y, 0.15, 0)},
+                             {"size", {{"x", d}, {"y", d}, {"z", 0.3}}},
+                             {"bottom_scale", 1.0},
+                             {"top_scale", 1.0},
+                             {"color", rgba("#6d4c41")}});
+      } else if (o.contains("half_extents")) {
+        const double hx = o["half_extents"][0], hy = o["half_extents"][1];
+        cubes.push_back({{"pose", pose(x, y, 0.15, o.value("yaw", 0.0))},
+                         {"size", {{"x", 2 * hx}, {"y", 2 * hy}, {"z", 0.3}}},
+                         {"color", rgba("#6d4c41")}});
+      }
+    }
+    entities.push_back({{"timestamp", stamp},
+                        {"frame_id", "arena"},
+                        {"id", "obstacles"},
+                        {"lifetime", {{"sec", 0}, {"nsec", 0}}},
+                        {"frame_locked", false},
+                        {"metadata", json::array()},
+                        {"cubes", cubes},
+                        {"cylinders", cylinders},
+                        {"spheres", json::array()},
                         {"texts", json::array()}});
   }
   json cylinders = json::array(), texts = json::array(), leds = json::array();
@@ -400,8 +448,11 @@ std::vector<std::pair<std::uint64_t, std::string>> Foxglove::messages(const dds:
       std::string payload;
       if (sub.channel == kScene) {
         const bool arena = !sub.arena_sent && world_.is_object();
-        payload = scene(f, arena).dump();
+        const std::size_t events = events_up_to(world_, f.tick);
+        const bool obstacles = world_.is_object() && (arena || events != sub.events_applied);
+        payload = scene(f, arena, obstacles).dump();
         sub.arena_sent = sub.arena_sent || arena;
+        if (obstacles) sub.events_applied = events;
       } else {
         std::string& c = cached[sub.channel];
         if (c.empty()) c = (sub.channel == kPoses ? poses(f) : telemetry(f)).dump();

@@ -21,6 +21,11 @@
 
 namespace swarmform::viewer {
 
+// world.json's world_events at or before `tick` (they are listed by tick), and its obstacles as they stand
+// then, the present ones only (world_server/world/world_events.hpp; viewer.js obstaclesAt draws the same).
+std::size_t events_up_to(const nlohmann::json& world, std::uint64_t tick);
+nlohmann::json obstacles_at(const nlohmann::json& world, std::uint64_t tick);
+
 class Foxglove {
  public:
   // `world`: world.json of the run (arena, obstacles, goal, tick_rate); may be null until it is read.
@@ -46,7 +51,8 @@ class Foxglove {
   static constexpr std::uint32_t kTelemetry = 3;
 
  private:
-  nlohmann::json scene(const dds::ObserveFrameData& frame, bool with_arena) const;
+  // `with_arena`: the static entities; `with_obstacles`: the obstacles as they stand at the frame's tick.
+  nlohmann::json scene(const dds::ObserveFrameData& frame, bool with_arena, bool with_obstacles) const;
   nlohmann::json poses(const dds::ObserveFrameData& frame) const;
   nlohmann::json telemetry(const dds::ObserveFrameData& frame) const;
   double seconds(std::uint64_t tick) const;
@@ -55,7 +61,8 @@ class Foxglove {
   bool recorded_ = false;
   struct Subscription {
     std::uint32_t channel = 0;
-    bool arena_sent = false;  // /scene: the static entities go once per subscription
+    bool arena_sent = false;         // /scene: the static entities go once per subscription
+    std::size_t events_applied = 0;  // the world events the obstacles last sent stood after
   };
   // client -> subscription id -> subscription
   std::map<std::uint64_t, std::map<std::uint32_t, Subscription>> subscriptions_;

@@ -95,5 +95,47 @@ TEST(Foxglove, SceneCarriesEachRobotsLitLedsInTheirColours) {
   EXPECT_DOUBLE_EQ(right["color"]["b"].get<double>(), 0.2);
 }
 
+TEST(Foxglove, ObstaclesAreSentAgainAsTheWorldEventsChangeThem) {
+  // A box there from the start that disappears at tick 5, a post absent until tick 8 and moved at tick 9.
+  json world = kWorld;
+  world["obstacles"] = json::parse(R"([
+    {"kind": "box", "centre": [1, 0], "half_extents": [0.2, 0.1], "yaw": 0.0},
+    {"kind": "cylinder", "centre": [-1, 0], "radius": 0.1, "present": false}])");
+  world["world_events"] = json::parse(R"([
+    {"tick": 5, "obstacle": 0, "do": "disappear"},
+    {"tick": 8, "obstacle": 1, "do": "appear"},
+    {"tick": 9, "obstacle": 1, "do": "move", "centre": [-1.5, 0.5], "yaw": null}])");
+  Foxglove fox;
+  fox.set_world(world);
+  ASSERT_EQ(fox.on_text(7, R"({"op":"subscribe","subscriptions":[{"id":1,"channelId":1}]})"), "");
+  const auto scene_at = [&](std::uint64_t tick) {
+    dds::ObserveFrameData frame;
+    frame.tick = tick;
+    const auto out = fox.messages(frame);
+    EXPECT_EQ(out.size(), 1U);
+    return json::parse(out[0].second.substr(13));
+  };
+  const auto has = [](const json& scene, const std::string& id) {
+    for (const json& e : scene["entities"]) {
+      if (e["id"] == id) return true;
+    }
+    return false;
+  };
+  const json first = scene_at(0);
+  EXPECT_EQ(entity(first, "obstacles")["cubes"].size(), 1U);
+  EXPECT_EQ(entity(first, "obstacles")["cylinders"].size(), 0U);
+  EXPECT_FALSE(has(scene_at(4), "obstacles")) << "nothing changed: not sent again";
+  const json gone = scene_at(5);
+  EXPECT_FALSE(has(gone, "arena"));
+  EXPECT_EQ(entity(gone, "obstacles")["cubes"].size(), 0U);
+  EXPECT_EQ(entity(scene_at(8), "obstacles")["cylinders"].size(), 1U);
+  const json moved = entity(scene_at(9), "obstacles");
+  ASSERT_EQ(moved["cylinders"].size(), 1U);
+  EXPECT_DOUBLE_EQ(moved["cylinders"][0]["pose"]["position"]["x"].get<double>(), -1.5);
+  EXPECT_DOUBLE_EQ(moved["cylinders"][0]["pose"]["position"]["y"].get<double>(), 0.5);
+  // A replay sought back before the events: the obstacles as they stood then.
+  EXPECT_EQ(entity(scene_at(2), "obstacles")["cubes"].size(), 1U);
+}
+
 }  // namespace
 }  // namespace swarmform::viewer
