@@ -7,6 +7,7 @@
 #include <random>
 
 #include "common/dds/qos.hpp"
+#include "common/process_state.hpp"
 
 namespace swarmform::agent {
 
@@ -14,6 +15,8 @@ namespace {
 
 // See next_packet and claim in the header.
 constexpr dds_duration_t kReclaimPeriod = DDS_SECS(1);
+// How often a silent world's process (LinkOptions::world_pid) is looked at.
+constexpr dds_duration_t kWorldProcessRecheck = DDS_MSECS(100);
 constexpr dds_duration_t kPreRunReclaimPeriod = DDS_SECS(5);
 constexpr dds_duration_t kQuietAfter = DDS_SECS(2);
 
@@ -154,6 +157,13 @@ WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out)
       idle_deadline = now + static_cast<dds_duration_t>(idle_timeout_s * 1e9);
       world_silent_since = DDS_NEVER;
     } else {
+      if (inbox_->world_seen() && options_.world_pid &&
+          process_state(*options_.world_pid) == ProcessState::Gone) {
+        // Once more round the loop first: a last packet (the END) may still wait in the reader.
+        if (world_process_gone_) return WaitResult::WorldGone;
+        world_process_gone_ = true;
+        continue;
+      }
       if (inbox_->world_seen()) {
         // Gone only if it stays silent for world_timeout_s of this agent's own awake time: an agent that was
         // itself stalled past the world's writer lease (2 s) finds that lease expired when it resumes, until
@@ -183,6 +193,7 @@ WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out)
     const dds_time_t assert_at = quiet(now) ? DDS_NEVER : commands_->keep_alive(now, by_sample);
     dds_time_t wake = std::min({now + DDS_SECS(1), reclaiming ? reclaim : DDS_NEVER, assert_at});
     if (!inbox_->world_seen()) wake = std::min(wake, idle_deadline);
+    if (alive == 0 && options_.world_pid) wake = std::min(wake, now + kWorldProcessRecheck);
     waiter_.wait_until(wake);
   }
 }
@@ -191,7 +202,9 @@ double AgentLink::world_silence_limit_s(double idle_timeout_s) const {
   // Before its first packet an agent waits for a world that is still admitting the others: with 1024 agents
   // on 2 cores the world's writers missed their 2 s lease again and again during its start-up, and the
   // agents admitted first gave up after 10 s, so the run never started. Then only the agent's own --timeout.
-  return packets_ == 0 ? std::max(options_.world_timeout_s, idle_timeout_s) : options_.world_timeout_s;
+  const double limit =
+      packets_ == 0 ? std::max(options_.world_timeout_s, idle_timeout_s) : options_.world_timeout_s;
+  return options_.world_pid ? std::max(limit, options_.world_stall_limit_s) : limit;
 }
 
 void AgentLink::keep_alive() {

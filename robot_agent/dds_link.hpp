@@ -3,6 +3,8 @@
 // ends on data, a signal, the world going away, or a deadline.
 #pragma once
 
+#include <sys/types.h>
+
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -31,6 +33,12 @@ struct LinkOptions {
   // How long, in this agent's own awake time, the world's writers may stay not alive before the world is
   // taken for gone (docs/wire.md: a stalled or swapped world is not a dead one).
   double world_timeout_s = 10.0;
+  // The world's process on this host (--world-pid; swarm run gives it): the world is gone as soon as that
+  // process is, and while it is there (stopped, starved: slow, not dead) its silence is waited out for up to
+  // world_stall_limit_s instead of world_timeout_s. A lockstep world starved for seconds (1024 agents on 2
+  // cores) or stopped past world_timeout_s otherwise lost the agents that timed it out first.
+  std::optional<pid_t> world_pid;
+  double world_stall_limit_s = 300.0;
   // This robot's token from whoever started the run (SWARMFORM_CLAIM_TOKEN): every claim carries the proof
   // it gives (common/dds/claim_proof.hpp). Without one the world takes the claim only where it needs none.
   std::optional<dds::ClaimToken> claim_token;
@@ -72,6 +80,8 @@ class AgentLink {
   WaitResult next_packet(double idle_timeout_s, dds::SensorSample& out);
   // How long the world may stay silent now before next_packet says WorldGone (s of this agent's time).
   double world_silence_limit_s(double idle_timeout_s) const;
+  // next_packet said WorldGone because the world's process (LinkOptions::world_pid) is gone.
+  bool world_process_gone() const { return world_process_gone_; }
   void send(Tick tick, const Command& command);
   // Renews this agent's liveliness if it is due (cheap otherwise): for a caller that is busy for longer than
   // the lease without sending, e.g. waiting on an --exec behaviour that is slow but not dead.
@@ -97,6 +107,7 @@ class AgentLink {
   dds::MissionReader mission_;
   std::optional<dds::AgentInbox> inbox_;        // made by wait_mission
   std::optional<dds::CommandWriter> commands_;  // made by wait_mission
+  bool world_process_gone_ = false;
   std::uint64_t packets_ = 0;
   std::uint64_t foreign_ = 0;
   std::uint64_t claim_nonce_ = 0;  // of the accepted claim, re-sent before the first packet

@@ -10,6 +10,8 @@
 // (R: samples refused as not of this world, run or wire version; S: controller restarts after a rejoin).
 // robot_agent --exec "CMD": the behaviour is the program CMD, one child process per robot, spoken to through
 // the line protocol of docs/agent-protocol.md (robot_agent/exec/); the DDS side stays here.
+#include <sys/types.h>
+
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -45,6 +47,8 @@ struct Options {
   std::string interface_address;
   double timeout_s = 60.0;
   double world_timeout_s = 10.0;
+  pid_t world_pid = 0;  // 0: not known
+  double world_stall_limit_s = 300.0;
   std::string run_nonce;
   std::uint32_t count = 1;
   std::string dds_config;                                 // --dds-config FILE
@@ -94,6 +98,8 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
   const swarmform::dds::DdsSettings settings = dds_settings(o);
   swarmform::agent::LinkOptions lo;
   lo.world_timeout_s = o.world_timeout_s;
+  if (o.world_pid > 0) lo.world_pid = o.world_pid;
+  lo.world_stall_limit_s = o.world_stall_limit_s;
   lo.claim_token = o.claim_token;
   if (!o.run_nonce.empty()) lo.run_nonce = std::stoull(o.run_nonce, nullptr, 16);  // checked in main
   AgentLink link(settings, o.id, signals, lo);
@@ -195,8 +201,12 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
       case WaitResult::Stopped:
         return stopped(kExitSignalBase + signals.signal());
       case WaitResult::WorldGone:
-        std::cerr << me << ": the world went away before announcing the end (silent for "
-                  << link.world_silence_limit_s(o.timeout_s) << " s of this agent's own time)\n";
+        if (link.world_process_gone())
+          std::cerr << me << ": the world went away before announcing the end (its process, pid "
+                    << o.world_pid << ", is gone)\n";
+        else
+          std::cerr << me << ": the world went away before announcing the end (silent for "
+                    << link.world_silence_limit_s(o.timeout_s) << " s of this agent's own time)\n";
         return stopped(kExitNoWorld);
       case WaitResult::Timeout:
         std::cerr << me << ": no packet and no world for " << o.timeout_s << " s\n";
@@ -299,6 +309,15 @@ int main(int argc, char** argv) {
   app.add_option("--world-timeout", o.world_timeout_s,
                  "seconds of this agent's own time the world may stay silent mid-run before it is taken for "
                  "gone (default 10; a stalled world is not a dead one; before the run, --timeout if longer)")
+      ->check(CLI::Range(0.5, 86400.0));
+  app.add_option("--world-pid", o.world_pid,
+                 "the world server's process on this host (swarm run gives it): the world is gone as soon as "
+                 "it is, and while it is there its silence is waited out for --world-stall-limit instead of "
+                 "--world-timeout")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--world-stall-limit", o.world_stall_limit_s,
+                 "with --world-pid: seconds of this agent's own time a world whose process is there may stay "
+                 "silent (default 300)")
       ->check(CLI::Range(0.5, 86400.0));
   app.add_option("--run-nonce", o.run_nonce,
                  "take only the mission of this run (16 hex digits, as given to world_server --run-nonce); "

@@ -14,7 +14,7 @@
 #include <sstream>
 
 #include "common/id_ranges.hpp"
-#include "world_server/agent_process.hpp"
+#include "common/process_state.hpp"
 #include "world_server/run/run_end.hpp"
 #include "world_server/wire_check.hpp"
 

@@ -840,6 +840,9 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
                 world = procs.start_world(cmd + ["--status-fd", str(status_w)], status_w)
             finally:
                 os.close(status_w)
+            # The agents look at the world's process while it is silent: gone is gone at once, there is slow
+            # (a world starved or stopped past their --world-timeout is waited out: docs/faults.md).
+            procs.agent_args += ["--world-pid", str(world.pid)]
             restarter = faults.Restarter(procs, agent_exe, domain, nonce, logs, write_agents, n)
 
             def idle() -> None:

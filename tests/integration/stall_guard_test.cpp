@@ -10,7 +10,7 @@
 
 #include "common/dds/refusal_log.hpp"
 #include "common/own_clock.hpp"
-#include "world_server/agent_process.hpp"
+#include "common/process_state.hpp"
 #include "world_server/stall_guard.hpp"
 #include "world_server/stragglers.hpp"
 
@@ -128,8 +128,8 @@ TEST(AgentProcess, AStoppedProcessIsPresentAKilledOneIsGoneEvenBeforeItIsReaped)
     ::pause();
     ::_exit(0);
   }
-  using swarmform::server::process_state;
-  using swarmform::server::ProcessState;
+  using swarmform::process_state;
+  using swarmform::ProcessState;
   EXPECT_EQ(process_state(child), ProcessState::Present);
   ASSERT_EQ(::kill(child, SIGSTOP), 0);
   int status = 0;

@@ -162,12 +162,16 @@ TEST_F(WireFaults, WorldStalledThreeSecondsInLockstepKillsNobodyAndChangesNothin
 }
 
 // An agent tolerates a silent world for --world-timeout seconds of its own time (default 10): with 1 s it
-// gives up during a 4 s stall of the world and says so; one with the default rides the stall out.
+// gives up during a 4 s stall of the world and says so; one with the default rides the stall out, and so
+// does one with 1 s that knows the world's process (--world-pid, as swarm run starts it): it is there, so
+// the world is slow, not gone.
 TEST_F(WireFaults, AgentGivesUpOnASilentWorldOnlyAfterItsWorldTimeout) {
   const int domain = swarmform::testing::test_domain(36);
-  Process& w = world(domain, "silent-world", {"--robots", "2", "--max-ticks", std::to_string(kLongRun)});
+  Process& w = world(domain, "silent-world", {"--robots", "3", "--max-ticks", std::to_string(kLongRun)});
   Process& impatient = agent(domain, 0, "silent-world", {"--world-timeout", "1"});
   Process& patient = agent(domain, 1, "silent-world");
+  Process& knowing =
+      agent(domain, 2, "silent-world", {"--world-timeout", "1", "--world-pid", std::to_string(w.pid())});
   ASSERT_TRUE(eventually(kRunDeadline, [&] { return ticking(w) || !w.running(); })) << w.out();
   ASSERT_TRUE(w.running());
   stall(w.pid(), std::chrono::milliseconds(4000));
@@ -177,10 +181,30 @@ TEST_F(WireFaults, AgentGivesUpOnASilentWorldOnlyAfterItsWorldTimeout) {
       << impatient.err();
   EXPECT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
   EXPECT_EQ(patient.wait_for(15.0), 0) << patient.err();
+  EXPECT_EQ(knowing.wait_for(15.0), 0) << knowing.err();
   const Json s = summary("silent-world");
-  EXPECT_EQ(s["alive_at_end"], 1) << w.err();
+  EXPECT_EQ(s["alive_at_end"], 2) << w.err();
   ASSERT_EQ(s["deaths"].size(), 1u) << s.dump();
   EXPECT_EQ(s["deaths"][0]["id"], 0);
+}
+
+// A world whose process is gone is gone at once for an agent that knows its pid, long before its
+// --world-timeout (60 s here) would say so; it names the pid.
+TEST_F(WireFaults, AnAgentThatKnowsTheWorldsPidEndsAsSoonAsTheWorldIsKilled) {
+  const int domain = swarmform::testing::test_domain(36);
+  Process& w = world(domain, "world-killed", {"--robots", "1", "--max-ticks", std::to_string(kLongRun)});
+  Process& a =
+      agent(domain, 0, "world-killed", {"--world-timeout", "60", "--world-pid", std::to_string(w.pid())});
+  ASSERT_TRUE(eventually(kRunDeadline, [&] { return ticking(w) || !w.running(); })) << w.out();
+  ASSERT_TRUE(w.running());
+  ASSERT_EQ(::kill(w.pid(), SIGKILL), 0);
+  EXPECT_EQ(w.wait_for(10.0), 128 + SIGKILL);
+  // Within its lease (2 s) and a look at /proc, not its 60 s world timeout.
+  EXPECT_EQ(a.wait_for(10.0), swarmform::exit_codes::kExitNoWorld) << a.err();
+  EXPECT_NE(a.err().find("the world went away before announcing the end (its process, pid " +
+                         std::to_string(w.pid()) + ", is gone)"),
+            std::string::npos)
+      << a.err();
 }
 
 // A world stopped past some agents' world timeout: those give up and exit (deaths), the others ride the stall

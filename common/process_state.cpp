@@ -1,9 +1,9 @@
-#include "world_server/agent_process.hpp"
+#include "common/process_state.hpp"
 
 #include <fstream>
 #include <string>
 
-namespace swarmform::server {
+namespace swarmform {
 
 ProcessState process_state(pid_t pid) {
   if (pid <= 0) return ProcessState::Gone;
@@ -17,4 +17,4 @@ ProcessState process_state(pid_t pid) {
   return state == 'Z' || state == 'X' || state == 'x' ? ProcessState::Gone : ProcessState::Present;
 }
 
-}  // namespace swarmform::server
+}  // namespace swarmform
