@@ -583,6 +583,12 @@ void Server::on_claim(const dds::CommandSample& s, bool running) {
   slot.judged = false;  // a new owner: quiet until its first packet
   link_.robots.set_owner(s.robot_id, s.nonce, slot.generation);
   if (r.outcome == ClaimOutcome::TakenOver && running && !world_.alive(s.robot_id)) revive(s.robot_id);
+  if (running && slot.waiting && scenario_.mode == world::Mode::Lockstep) {
+    // The round awaits this robot, and its packet went out with the previous owner's nonce, which the new
+    // owner skips as stale: it gets the round's packet again, as its own, or the round would wait for an
+    // answer nobody is going to give (a take-over before the run's first round).
+    link_.robots.write_packet(s.robot_id, dds::PacketStatus::Run, world_.perception(s.robot_id));
+  }
 }
 
 void Server::revive(RobotId id) {
