@@ -15,6 +15,8 @@ namespace {
 
 // See next_packet and claim in the header.
 constexpr dds_duration_t kReclaimPeriod = DDS_SECS(1);
+// The longest a silent world's re-claims are apart (next_packet).
+constexpr dds_duration_t kSilentReclaimCap = DDS_SECS(30);
 // How often a silent world's process (LinkOptions::world_pid) is looked at.
 constexpr dds_duration_t kWorldProcessRecheck = DDS_MSECS(100);
 constexpr dds_duration_t kPreRunReclaimPeriod = DDS_SECS(5);
@@ -125,7 +127,16 @@ WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out)
   // Quiet: waiting for the run (see the header). Not in the first seconds after the claim: an agent that
   // joins a running world (a rejoin) gets its first packet within a round and is judged meanwhile.
   const auto quiet = [this](dds_time_t now) { return packets_ == 0 && now - claimed_at_ >= kQuietAfter; };
+  // While the world is silent (its writers not alive) every sample written waits in its socket, or in this
+  // writer's history if the link is cut, and reaches it in one burst when it is back, where more than a
+  // writer's receive budget (24 a tick or second, common/dds/receive_budget.hpp) drops the rest, this round's
+  // command among them: a world stopped 12 s met 27 samples of each agent and waited for commands it had
+  // dropped. So the re-claims back off while it is silent (1, 2, 4, ... s, at most 30 s apart: 14 in 300 s),
+  // and the keep-alive is no sample then (below).
+  int silent_reclaims = 0;
   const auto reclaim_period = [&](dds_time_t now) {
+    if (silent_reclaims > 0)
+      return std::min<dds_duration_t>(kReclaimPeriod << (silent_reclaims - 1), kSilentReclaimCap);
     return quiet(now) ? kPreRunReclaimPeriod : kReclaimPeriod;
   };
   dds_time_t reclaim = dds_time() + reclaim_period(dds_time());
@@ -180,16 +191,20 @@ WaitResult AgentLink::next_packet(double idle_timeout_s, dds::SensorSample& out)
     const bool starved = mission_taken_.realtime && packets_ > 0 && now - last_packet_at_ >= starved_after;
     const bool reclaiming =
         !reclaim_refused && (packets_ == 0 || (alive == 0 && inbox_->world_seen()) || starved);
+    silent_reclaims = alive == 0 && inbox_->world_seen() ? std::max(silent_reclaims, 1) : 0;
     if (reclaiming && now >= reclaim) {
       send_claim(claim_nonce_);
       reclaim = now + reclaim_period(now);
+      if (silent_reclaims > 0) silent_reclaims = std::min(silent_reclaims + 1, 16);
     }
     // Wake at least once a second to re-check the world's liveliness against the idle deadline, and to keep
     // our own alive while the world sends nothing (a slow lockstep round; not while quiet).
     // No packet for a lease: the world may have taken us for dead meanwhile (its own stall, a cut link,
     // ours), and only a sample brings a lost writer back (CommandWriter::keep_alive), so the keep-alive is
-    // one. An assertion otherwise: nothing is lost, and it costs the world no sample to take.
-    const bool by_sample = packets_ > 0 && now - last_packet_at_ >= dds::kLivelinessLease;
+    // one. An assertion otherwise: nothing is lost, and it costs the world no sample to take. Not while the
+    // world's writers are not alive: the world cannot take it then, and a backlog of them would cost this
+    // round's command (above); the first keep-alive once they are back is a sample.
+    const bool by_sample = alive > 0 && packets_ > 0 && now - last_packet_at_ >= dds::kLivelinessLease;
     const dds_time_t assert_at = quiet(now) ? DDS_NEVER : commands_->keep_alive(now, by_sample);
     dds_time_t wake = std::min({now + DDS_SECS(1), reclaiming ? reclaim : DDS_NEVER, assert_at});
     if (!inbox_->world_seen()) wake = std::min(wake, idle_deadline);
