@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -135,7 +136,10 @@ class Session {
   int run() {
     WebServer::Handlers h;
     h.opened = [this](ClientId c, ClientKind k) { opened(c, k); };
-    h.closed = [this](ClientId c) { foxglove_.forget(c); };
+    h.closed = [this](ClientId c) {
+      foxglove_.forget(c);
+      selected_.erase(c);
+    };
     h.text = [this](ClientId c, ClientKind k, const std::string& text) { on_text(c, k, text); };
     h.every = [this] { return every(); };
     WebServer server({o_.host, o_.port, o_.web_root, o_.run_dir}, h, kPeriodMs);
@@ -205,6 +209,14 @@ class Session {
       show(tick_);
     } else if (cmd == "speed" && has_value && value > 0 && value <= 1000) {
       speed_ = value;
+    } else if (cmd == "select" && has_value) {
+      // The robot whose panel the page shows (-1: none): its readings go into the frames from now on.
+      if (value >= 0 && value < 4294967296.0) {
+        selected_[c] = static_cast<std::uint32_t>(value);
+      } else {
+        selected_.erase(c);
+      }
+      show(tick_);
     } else if (++bad_messages_ == 1 || bad_messages_ % 1000 == 0) {
       std::cerr << "swarm_viewer: ignored " << bad_messages_ << " page message(s) it does not know, e.g. "
                 << text.substr(0, 80) << "\n";
@@ -243,9 +255,10 @@ class Session {
     frame_.shape_error = formed ? shape_error_ : -1.0;
     json robots = json::array();
     const std::vector<std::string>& extra = csv_.extra_columns();
-    // The tick's readings (readings.csv has the rows of robots.csv's ticks), by robot id.
+    // The tick's readings (readings.csv has the rows of robots.csv's ticks) of the robots the pages show in
+    // their panels: nothing read while no page has one selected.
     const RecordedTick* sensed = nullptr;
-    if (readings_ != nullptr) {
+    if (readings_ != nullptr && !selected_.empty()) {
       sensed = &readings_->read(rec.tick);
       if (sensed->tick != rec.tick) sensed = nullptr;
     }
@@ -261,7 +274,7 @@ class Session {
       o.leader = r.leader;
       o.net_force = r.net_force;
       o.leds = r.leds;
-      if (sensed != nullptr) readings_of(*sensed, row, r.id, o);
+      if (sensed != nullptr && is_selected(r.id)) readings_of(*sensed, row, r.id, o);
       frame_.alive += r.alive ? 1 : 0;
       // The page's robot: what robots.csv and readings.csv hold (no ultrasonics, neighbours heard or command:
       // not recorded).
@@ -301,6 +314,13 @@ class Session {
     for (auto& [client, bytes] : foxglove_.messages(frame_)) server_->send_binary(client, bytes);
   }
 
+  bool is_selected(std::uint32_t id) const {
+    for (const auto& [client, robot] : selected_) {
+      if (robot == id) return true;
+    }
+    return false;
+  }
+
   // Robot `id`'s readings from `sensed` (its row at `hint` when the rows are in id order) into `o`: none when
   // it has no row, or an empty value (a dead robot's).
   void readings_of(const RecordedTick& sensed, std::size_t hint, std::uint32_t id, dds::ObservedRobotRow& o) {
@@ -322,6 +342,7 @@ class Session {
   RobotsCsv& csv_;
   RobotsCsv* readings_;    // null: the recording has no readings.csv (no sensors declared, or older)
   std::uint32_t sensors_;  // readings.csv's sensors (behaviour::Sensor bits)
+  std::map<ClientId, std::uint32_t> selected_;  // each page's selected robot, whose readings its frames carry
   dds::BehaviourView view_;
   Foxglove foxglove_;
   WebServer* server_ = nullptr;

@@ -49,6 +49,7 @@ function unproject(px, py) {
   return [v.cx + (px - canvas.clientWidth / 2) / v.scale, v.cy - (py - canvas.clientHeight / 2) / v.scale];
 }
 S.project = project;
+S.select = select;
 
 function resize() {
   const dpr = window.devicePixelRatio || 1;
@@ -99,7 +100,14 @@ function pick(px, py) {
     if (d < bestD) { bestD = d; best = r; }
   }
   const reach = Math.max(8, robotRadius() * S.view.scale * 1.5);
-  S.selected = best && bestD <= reach ? best.id : null;
+  select(best && bestD <= reach ? best.id : null);
+}
+
+// The robot whose panel is shown (null: none). A replay's frames carry the recorded readings of the selected
+// robot only: the server is told, and sends the frame again with them.
+function select(id) {
+  S.selected = id;
+  if (S.mode === "replay") send("select", id === null ? -1 : id);
   draw();
   panel();
 }
