@@ -129,8 +129,8 @@ int main(int argc, char** argv) {
   CLI::App app{
       "swarm_inprocess: one run of the swarm in a single process (the world with every robot's controller, "
       "no "
-      "DDS, no agent processes). Writes the run directory of `swarm run` (robots.csv, events.jsonl, "
-      "world.json, "
+      "DDS, no agent processes). Writes the run directory of `swarm run` (robots.csv, readings.csv "
+      "when the behaviour declares sensors, events.jsonl, world.json, "
       "world.log, summary.json; format in docs/recording-format.md) and prints summary.json on stdout."};
   std::string scenario_path = "scenarios/paper.yaml";
   std::string shape;

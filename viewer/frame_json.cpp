@@ -5,6 +5,7 @@
 
 #include "behaviour/descriptor.hpp"
 #include "common/led_text.hpp"
+#include "common/sensor_readings.hpp"
 
 namespace swarmform::viewer {
 
@@ -15,32 +16,28 @@ double r4(double v) {
   return std::isfinite(v) ? std::round(v * 1e4) / 1e4 : 0.0;
 }
 
-// The optional sensors' readings the robot's behaviour declared (dds::kObservedReadings), each under its
-// name: "proximity", "light", "ground" (lists), "lidar" ({rays, nearest_angle, nearest_range}), "battery".
-void add_readings(const dds::ObservedRobotRow& r, nlohmann::json& robot) {
-  static constexpr const char* kNames[] = {"proximity", "light", "ground", "lidar", "battery"};
+}  // namespace
+
+void add_readings(std::uint32_t equipped, const std::vector<double>& readings, nlohmann::json& robot) {
+  if (sensor_readings_count(equipped) != readings.size()) return;  // the wire and the replay check it first
   std::size_t at = 0;
-  for (std::size_t s = 0; s < dds::kObservedReadings.size(); ++s) {
-    const auto [bit, count] = dds::kObservedReadings[s];
-    if ((r.equipped & bit) == 0) continue;
-    if (at + count > r.readings.size()) return;  // observe_wire.cpp checks the count: not reached
-    const double* v = r.readings.data() + at;
-    at += count;
-    if (bit == behaviour::kLidar) {
-      robot["lidar"] = {{"rays", static_cast<std::uint32_t>(v[0])},
-                        {"nearest_angle", r4(v[1])},
-                        {"nearest_range", r4(v[2])}};
-    } else if (bit == behaviour::kBattery) {
-      robot["battery"] = r4(v[0]);
+  for (const SensorReadingsLayout& s : kSensorReadings) {
+    if ((equipped & s.bit) == 0) continue;
+    const double* v = readings.data() + at;
+    at += s.count;
+    if (s.bit == behaviour::kLidar) {
+      robot[s.name] = {{"rays", static_cast<std::uint32_t>(v[0])},
+                       {"nearest_angle", r4(v[1])},
+                       {"nearest_range", r4(v[2])}};
+    } else if (s.count == 1) {
+      robot[s.name] = r4(v[0]);
     } else {
       nlohmann::json list = nlohmann::json::array();
-      for (std::size_t k = 0; k < count; ++k) list.push_back(r4(v[k]));
-      robot[kNames[s]] = std::move(list);
+      for (std::size_t k = 0; k < s.count; ++k) list.push_back(r4(v[k]));
+      robot[s.name] = std::move(list);
     }
   }
 }
-
-}  // namespace
 
 nlohmann::json leds_json(const std::array<Rgb, kLedCount>& leds) {
   if (leds_off(leds)) return nullptr;
@@ -77,7 +74,7 @@ nlohmann::json frame_json(const dds::ObserveFrameData& f) {
                             {"right_speed", r4(r.right_speed)},
                             {"message_bytes", r.message_bytes}};
     if (nlohmann::json leds = leds_json(r.leds); !leds.is_null()) robot["leds"] = std::move(leds);
-    add_readings(r, robot);
+    add_readings(r.equipped, r.readings, robot);
     robots.push_back(std::move(robot));
   }
   return {{"type", "frame"},

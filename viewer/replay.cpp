@@ -5,12 +5,14 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 
 #include "common/dds/behaviour_view.hpp"
+#include "common/sensor_readings.hpp"
 #include "viewer/foxglove.hpp"
 #include "viewer/frame_json.hpp"
 #include "viewer/robots_csv.hpp"
@@ -93,10 +95,32 @@ double r4(double v) {
   return std::isfinite(v) ? std::round(v * 1e4) / 1e4 : 0.0;
 }
 
+// The sensors whose columns readings.csv's header holds, in the layout's order
+// (common/sensor_readings.hpp): nullopt when its columns are anything else.
+std::optional<std::uint32_t> sensors_of(const std::vector<std::string>& columns) {
+  std::uint32_t bits = 0;
+  std::size_t at = 0;
+  for (const SensorReadingsLayout& s : kSensorReadings) {
+    const std::vector<std::string> want = sensor_reading_columns(s.bit);
+    if (at + want.size() <= columns.size() && std::equal(want.begin(), want.end(), columns.begin() + at)) {
+      bits |= s.bit;
+      at += want.size();
+    }
+  }
+  if (at != columns.size() || bits == 0) return std::nullopt;
+  return bits;
+}
+
 class Session {
  public:
-  Session(const ReplayOptions& o, json world, std::optional<json> summary, RobotsCsv& csv)
-      : o_(o), world_(std::move(world)), csv_(csv), view_(behaviour_of(world_)) {
+  Session(const ReplayOptions& o, json world, std::optional<json> summary, RobotsCsv& csv,
+          RobotsCsv* readings, std::uint32_t sensors)
+      : o_(o),
+        world_(std::move(world)),
+        csv_(csv),
+        readings_(readings),
+        sensors_(sensors),
+        view_(behaviour_of(world_)) {
     tick_rate_ = world_.value("tick_rate", 10.0);
     if (summary && summary->is_object()) {
       if (is_number(*summary, "formation_tick"))
@@ -112,7 +136,10 @@ class Session {
   int run() {
     WebServer::Handlers h;
     h.opened = [this](ClientId c, ClientKind k) { opened(c, k); };
-    h.closed = [this](ClientId c) { foxglove_.forget(c); };
+    h.closed = [this](ClientId c) {
+      foxglove_.forget(c);
+      selected_.erase(c);
+    };
     h.text = [this](ClientId c, ClientKind k, const std::string& text) { on_text(c, k, text); };
     h.every = [this] { return every(); };
     WebServer server({o_.host, o_.port, o_.web_root, o_.run_dir}, h, kPeriodMs);
@@ -126,6 +153,9 @@ class Session {
     if (csv_.bad_rows() > 0)
       std::cerr << "swarm_viewer: " << csv_.bad_rows()
                 << " row(s) of robots.csv skipped; the first: " << csv_.first_problem() << "\n";
+    if (readings_ != nullptr && readings_->bad_rows() > 0)
+      std::cerr << "swarm_viewer: " << readings_->bad_rows()
+                << " row(s) of readings.csv skipped; the first: " << readings_->first_problem() << "\n";
     return 0;
   }
 
@@ -179,6 +209,14 @@ class Session {
       show(tick_);
     } else if (cmd == "speed" && has_value && value > 0 && value <= 1000) {
       speed_ = value;
+    } else if (cmd == "select" && has_value) {
+      // The robot whose panel the page shows (-1: none): its readings go into the frames from now on.
+      if (value >= 0 && value < 4294967296.0) {
+        selected_[c] = static_cast<std::uint32_t>(value);
+      } else {
+        selected_.erase(c);
+      }
+      show(tick_);
     } else if (++bad_messages_ == 1 || bad_messages_ % 1000 == 0) {
       std::cerr << "swarm_viewer: ignored " << bad_messages_ << " page message(s) it does not know, e.g. "
                 << text.substr(0, 80) << "\n";
@@ -217,7 +255,15 @@ class Session {
     frame_.shape_error = formed ? shape_error_ : -1.0;
     json robots = json::array();
     const std::vector<std::string>& extra = csv_.extra_columns();
-    for (const RecordedRow& r : rec.rows) {
+    // The tick's readings (readings.csv has the rows of robots.csv's ticks) of the robots the pages show in
+    // their panels: nothing read while no page has one selected.
+    const RecordedTick* sensed = nullptr;
+    if (readings_ != nullptr && !selected_.empty()) {
+      sensed = &readings_->read(rec.tick);
+      if (sensed->tick != rec.tick) sensed = nullptr;
+    }
+    for (std::size_t row = 0; row < rec.rows.size(); ++row) {
+      const RecordedRow& r = rec.rows[row];
       dds::ObservedRobotRow o;
       o.id = r.id;
       o.pose = {r.x, r.y, r.theta};
@@ -228,9 +274,10 @@ class Session {
       o.leader = r.leader;
       o.net_force = r.net_force;
       o.leds = r.leds;
+      if (sensed != nullptr && is_selected(r.id)) readings_of(*sensed, row, r.id, o);
       frame_.alive += r.alive ? 1 : 0;
-      frame_.robots.push_back(o);
-      // The page's robot: what robots.csv holds (no readings, neighbours heard or command: not recorded).
+      // The page's robot: what robots.csv and readings.csv hold (no ultrasonics, neighbours heard or command:
+      // not recorded).
       json j = {{"id", r.id},         {"x", r4(r.x)},
                 {"y", r4(r.y)},       {"theta", r4(r.theta)},
                 {"alive", r.alive},   {"state", r.state},
@@ -240,6 +287,8 @@ class Session {
       for (std::size_t k = 0; k < extra.size() && k < r.extra.size(); ++k) {
         if (std::isfinite(r.extra[k])) j[extra[k]] = r.extra[k];
       }
+      add_readings(o.equipped, o.readings, j);  // the live frames' code: the panel draws them the same
+      frame_.robots.push_back(std::move(o));
       robots.push_back(std::move(j));
     }
     json states = json::array();
@@ -265,9 +314,35 @@ class Session {
     for (auto& [client, bytes] : foxglove_.messages(frame_)) server_->send_binary(client, bytes);
   }
 
+  bool is_selected(std::uint32_t id) const {
+    for (const auto& [client, robot] : selected_) {
+      if (robot == id) return true;
+    }
+    return false;
+  }
+
+  // Robot `id`'s readings from `sensed` (its row at `hint` when the rows are in id order) into `o`: none when
+  // it has no row, or an empty value (a dead robot's).
+  void readings_of(const RecordedTick& sensed, std::size_t hint, std::uint32_t id, dds::ObservedRobotRow& o) {
+    const RecordedRow* s =
+        hint < sensed.rows.size() && sensed.rows[hint].id == id ? &sensed.rows[hint] : nullptr;
+    for (std::size_t k = 0; s == nullptr && k < sensed.rows.size(); ++k) {
+      if (sensed.rows[k].id == id) s = &sensed.rows[k];
+    }
+    if (s == nullptr || s->extra.size() != sensor_readings_count(sensors_)) return;
+    for (const double v : s->extra) {
+      if (std::isnan(v)) return;
+    }
+    o.equipped = sensors_;
+    o.readings = s->extra;
+  }
+
   const ReplayOptions& o_;
   json world_;
   RobotsCsv& csv_;
+  RobotsCsv* readings_;    // null: the recording has no readings.csv (no sensors declared, or older)
+  std::uint32_t sensors_;  // readings.csv's sensors (behaviour::Sensor bits)
+  std::map<ClientId, std::uint32_t> selected_;  // each page's selected robot, whose readings its frames carry
   dds::BehaviourView view_;
   Foxglove foxglove_;
   WebServer* server_ = nullptr;
@@ -311,7 +386,27 @@ int replay(const ReplayOptions& o) {
     std::cerr << "swarm_viewer: " << e.what() << "\n";
     return 2;
   }
-  Session session(o, *world, std::move(summary), *csv);
+  // readings.csv, when the behaviour declared sensors: a file that cannot be used is said and left out, the
+  // replay goes on without readings.
+  std::unique_ptr<RobotsCsv> readings;
+  std::uint32_t sensors = 0;
+  const std::string readings_path = o.run_dir + "/readings.csv";
+  if (std::ifstream(readings_path).good()) {
+    try {
+      readings = std::make_unique<RobotsCsv>(
+          readings_path, robots > 0 && robots <= kMaxRobots ? robots : kMaxRobots, RowsFile::Readings);
+      if (const auto bits = sensors_of(readings->extra_columns())) {
+        sensors = *bits;
+      } else {
+        std::cerr << "swarm_viewer: " << readings_path
+                  << ":1: the columns are not a sensor's (docs/recording-format.md): readings left out\n";
+        readings.reset();
+      }
+    } catch (const std::runtime_error& e) {
+      std::cerr << "swarm_viewer: " << e.what() << ": readings left out\n";
+    }
+  }
+  Session session(o, *world, std::move(summary), *csv, readings.get(), sensors);
   return session.run();
 }
 

@@ -64,7 +64,8 @@ bool flag(std::string_view s, bool& out) {
 
 }  // namespace
 
-RobotsCsv::RobotsCsv(std::string path, std::size_t max_rows) : path_(std::move(path)), max_rows_(max_rows) {
+RobotsCsv::RobotsCsv(std::string path, std::size_t max_rows, RowsFile kind)
+    : path_(std::move(path)), max_rows_(max_rows), kind_(kind) {
   fd_ = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd_ < 0) throw std::runtime_error(path_ + ": cannot open (" + std::strerror(errno) + ")");
   struct stat st {};
@@ -82,7 +83,9 @@ RobotsCsv::RobotsCsv(std::string path, std::size_t max_rows) : path_(std::move(p
     for (std::string_view n : split(std::string_view(head).substr(0, nl))) names.emplace_back(n);
     columns_ = names.size();
     std::string missing;
-    for (const char* f : kFixed) {
+    const std::size_t fixed_count = kind_ == RowsFile::Robots ? kFixed.size() : 2;  // tick, id
+    for (std::size_t k = 0; k < fixed_count; ++k) {
+      const char* f = kFixed[k];
       std::size_t i = 0;
       while (i < names.size() && names[i] != f) ++i;
       if (i == names.size()) missing += std::string(missing.empty() ? "" : ", ") + f;
@@ -95,7 +98,7 @@ RobotsCsv::RobotsCsv(std::string path, std::size_t max_rows) : path_(std::move(p
       bool is_fixed = false;
       for (std::size_t f : fixed_) is_fixed = is_fixed || f == i;
       if (is_fixed) continue;
-      if (names[i] == "leds") {
+      if (names[i] == "leds" && kind_ == RowsFile::Robots) {
         leds_ = i;
       } else {
         extra_.push_back(i);
@@ -155,6 +158,15 @@ bool RobotsCsv::parse(const std::string& line, RecordedRow& row, std::uint64_t& 
   const std::vector<std::string_view> f = split(line);
   if (f.size() != columns_) return false;
   const auto at = [&](Fixed c) { return f[fixed_[c]]; };
+  if (kind_ == RowsFile::Readings) {
+    if (!integer(at(kTick), tick) || !integer(at(kId), row.id)) return false;
+    row.extra.assign(extra_.size(), std::nan(""));
+    for (std::size_t k = 0; k < extra_.size(); ++k) {
+      // Empty: a dead robot's (docs/recording-format.md); anything else must be a number.
+      if (!f[extra_[k]].empty() && !real(f[extra_[k]], row.extra[k])) return false;
+    }
+    return true;
+  }
   if (!integer(at(kTick), tick) || !integer(at(kId), row.id) || !real(at(kX), row.x) ||
       !real(at(kY), row.y) || !real(at(kTheta), row.theta) || !flag(at(kAlive), row.alive) ||
       !integer(at(kState), row.state) || !integer(at(kLabel), row.label) ||

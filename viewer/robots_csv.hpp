@@ -1,4 +1,5 @@
-// A run's robots.csv (docs/recording-format.md) read a tick at a time, for the replay (`swarm view RUN_DIR`).
+// A run's robots.csv (docs/recording-format.md) read a tick at a time (or its readings.csv, whose rows are
+// keyed the same way: tick, id, then numbers), for the replay (`swarm view RUN_DIR`).
 // Opening reads the header, the first line and the file's tail: nothing else, whatever the file's size. A
 // tick's rows are found by a binary search over byte offsets (the rows are in tick order: the format says
 // so), about 2 * log2(size) short reads, and the next tick of the one just read costs nothing more: playing
@@ -35,11 +36,15 @@ struct RecordedTick {
   std::vector<RecordedRow> rows;  // in file order (robot id order as written)
 };
 
+// Which file of the run directory: robots.csv, or readings.csv (only `tick` and `id` fixed, every other
+// column a number or empty, in RecordedRow::extra: the sensors' readings, common/sensor_readings.hpp).
+enum class RowsFile { Robots, Readings };
+
 class RobotsCsv {
  public:
   // Throws std::runtime_error naming the file and what is wrong (missing, no header, a fixed column missing,
   // no complete row). `max_rows`: the rows one tick may hold (the world's robot count); more are counted bad.
-  RobotsCsv(std::string path, std::size_t max_rows);
+  RobotsCsv(std::string path, std::size_t max_rows, RowsFile kind = RowsFile::Robots);
   ~RobotsCsv();
   RobotsCsv(const RobotsCsv&) = delete;
   RobotsCsv& operator=(const RobotsCsv&) = delete;
@@ -78,6 +83,7 @@ class RobotsCsv {
   std::string path_;
   int fd_ = -1;
   std::size_t max_rows_;
+  RowsFile kind_;
   std::size_t columns_ = 0;
   // Index in a row of each fixed column (ROBOT_COLUMNS order: tick id x y theta alive state label parent
   // leader net_force), then of the extra ones.

@@ -1,5 +1,7 @@
 #include "world_server/observe_frame.hpp"
 
+#include "common/sensor_readings.hpp"
+
 namespace swarmform::server {
 
 void build_frame(const world::World& world, const LatestCommand& latest, const world::Metrics& metrics,
@@ -34,7 +36,7 @@ void build_frame(const world::World& world, const LatestCommand& latest, const w
       // A live robot's perception of this tick was made when its packet went out: nothing is computed here.
       const Perception& p = world.perception(t.id);
       r.ultrasonic = p.ultrasonic;
-      dds::pack_observed_readings(p, r.equipped, r.readings);
+      pack_sensor_readings(p, r.equipped, r.readings);
       for (const RabReading& m : p.messages) r.heard.push_back(m.sender);
     }
     frame.alive += t.alive ? 1 : 0;

@@ -1,6 +1,5 @@
 #include "common/dds/observe_wire.hpp"
 
-#include <algorithm>
 #include <cstddef>
 
 #include "common/dds/internal/endpoint_kit.hpp"
@@ -8,6 +7,7 @@
 #include "common/dds/internal/topics.hpp"
 #include "common/dds/matching.hpp"
 #include "common/dds/qos.hpp"
+#include "common/sensor_readings.hpp"
 
 namespace swarmform::dds {
 
@@ -157,33 +157,11 @@ bool ObserveReader::take(std::uint64_t run_nonce, ObserveFrameData& out) {
     for (std::size_t k = 0; k < kLedCount; ++k)
       r.leds[k] = {o.leds[3 * k], o.leds[3 * k + 1], o.leds[3 * k + 2]};
     // Readings that do not add up to what `equipped` says are left out rather than misread.
-    std::size_t want = 0;
-    for (const auto& [bit, count] : kObservedReadings) want += (o.equipped & bit) ? count : 0;
-    const bool whole = want == o.readings._length;
+    const bool whole = sensor_readings_count(o.equipped) == o.readings._length;
     r.equipped = whole ? o.equipped : 0;
     r.readings.assign(o.readings._buffer, o.readings._buffer + (whole ? o.readings._length : 0));
   }
   return true;
-}
-
-void pack_observed_readings(const Perception& p, std::uint32_t& equipped, std::vector<double>& readings) {
-  equipped = 0;
-  readings.clear();
-  auto put = [&](std::uint32_t bit, const auto& values) {
-    equipped |= bit;
-    readings.insert(readings.end(), values.begin(), values.end());
-  };
-  if (p.proximity) put(kObservedReadings[0].first, *p.proximity);
-  if (p.light) put(kObservedReadings[1].first, *p.light);
-  if (p.ground) put(kObservedReadings[2].first, *p.ground);
-  if (!p.lidar.empty()) {
-    const auto nearest =
-        std::min_element(p.lidar.begin(), p.lidar.end(),
-                         [](const LidarRay& a, const LidarRay& b) { return a.range < b.range; });
-    put(kObservedReadings[3].first,
-        std::array<double, 3>{static_cast<double>(p.lidar.size()), nearest->angle, nearest->range});
-  }
-  if (p.battery) put(kObservedReadings[4].first, std::array<double, 1>{*p.battery});
 }
 
 ControlWriter::ControlWriter(const Participant& participant)

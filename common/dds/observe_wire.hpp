@@ -32,25 +32,11 @@ struct ObservedRobotRow {
   double right_speed = 0.0;
   std::uint32_t message_bytes = 0;    // its last broadcast's size
   std::array<Rgb, kLedCount> leds{};  // its LEDs as last commanded (all off: none lit)
-  // The optional sensors its behaviour declared, this tick (pack_observed_readings): the Sensor bits present,
-  // then their readings in bit order.
+  // The optional sensors its behaviour declared, this tick (common/sensor_readings.hpp pack_sensor_readings):
+  // the Sensor bits present, then their readings in bit order.
   std::uint32_t equipped = 0;
   std::vector<double> readings;
 };
-
-// How many values of ObservedRobotRow::readings each optional sensor takes, in bit order (behaviour/
-// descriptor.hpp Sensor): proximity 8, light 8, ground 4, lidar 3 (its ray count, then the angle and the
-// range of its nearest ray: the whole scan would cost a frame up to 11 KB a robot), battery 1.
-inline constexpr std::array<std::pair<std::uint32_t, std::size_t>, 5> kObservedReadings = {{
-    {1U << 0, kProximityCount},
-    {1U << 1, kLightCount},
-    {1U << 2, kGroundCount},
-    {1U << 3, 3},
-    {1U << 4, 1},
-}};
-
-// A perception's optional sensors into `equipped` and `readings` (kObservedReadings), storage reused.
-void pack_observed_readings(const Perception& p, std::uint32_t& equipped, std::vector<double>& readings);
 
 // One state of the current behaviour: its value in Telemetry::state, its name and its colour ("#rrggbb").
 struct StateStyleRow {

@@ -5,7 +5,7 @@ Modules, one job each:
   places     where the programs, data, runs and commit are: the source tree, or an installed prefix
   launcher   starts the world and the robot agents, shows progress, cleans up every process
   hosts      --hosts K / --link: emulated hosts as network namespaces on a bridge, shaped links, their cleanup
-  recording  reads a run directory back (world.json, robots.csv, events.jsonl, summary.json)
+  recording  reads a run directory back (world.json, robots.csv, readings.csv, events.jsonl, summary.json)
   geometry   formation centre and shape error (rigid fit), from the recording
   scene      draws the arena and the robots at one tick (shared by the snapshots and the animation)
   pictures   the paper's figures (snapshots, trajectories, residual force, shape error)

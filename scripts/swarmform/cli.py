@@ -32,7 +32,8 @@ commands:
   plot     a sweep's figures: success over two grid axes, a metric's median and 95 % CI, failures by reason
 
 A run directory (default runs/<UTC time>/, runs/latest points to the newest) holds the recording (world.json,
-robots.csv, events.jsonl; docs/recording-format.md), summary.json, logs/ and pictures/.
+robots.csv, readings.csv when the behaviour declares sensors, events.jsonl; docs/recording-format.md),
+summary.json, logs/ and pictures/.
 
 examples:
   scripts/swarm demo

@@ -1,7 +1,8 @@
 """Reads a run directory back (format: docs/recording-format.md).
 
-A run directory holds world.json (the static scene), robots.csv (one row per robot per tick), events.jsonl (one
-JSON object per line) and summary.json (written at the end; missing when the run crashed). Everything that is
+A run directory holds world.json (the static scene), robots.csv (one row per robot per tick), readings.csv (the
+sensors' readings, when the behaviour declares sensors; read when asked: load(..., with_readings=True)),
+events.jsonl (one JSON object per line) and summary.json (written at the end; missing when the run crashed). Everything that is
 wrong with a file is reported as a RecordingError naming file:line, never as a traceback. A crashed run keeps
 what it had: a half-written last line of robots.csv or events.jsonl, or a last tick with missing rows, is
 dropped with a warning instead.
@@ -188,6 +189,20 @@ class Track:
 
 
 @dataclass
+class Readings:
+    """readings.csv (docs/recording-format.md) on the Track's ticks: values[t, id, k] is column k's reading
+    (columns: the sensors' columns, e.g. proximity0..proximity7, lidar_nearest_range, battery), nan where the file
+    has none (a dead robot's empty fields, or ticks after a cut-off file's last whole line)."""
+
+    columns: list
+    values: np.ndarray  # [T, N, C] float
+
+    def column(self, name: str) -> np.ndarray:
+        """[T, N] readings of one column."""
+        return self.values[:, :, self.columns.index(name)]
+
+
+@dataclass
 class Recording:
     run_dir: str
     world: World
@@ -195,10 +210,12 @@ class Recording:
     events: list
     summary: Optional[dict]
     warnings: list
+    readings: Optional[Readings] = None  # load(with_readings=True) of a run that has readings.csv
 
 
-def load(run_dir: str) -> Recording:
-    """Reads a whole run directory; raises RecordingError on anything wrong."""
+def load(run_dir: str, with_readings: bool = False) -> Recording:
+    """Reads a whole run directory (readings.csv too when `with_readings` and the run has one); raises
+    RecordingError on anything wrong."""
     if not os.path.isdir(run_dir):
         raise RecordingError(run_dir, None, "not a directory (expected a run directory with world.json, robots.csv)")
     warnings: list[str] = []
@@ -216,7 +233,11 @@ def load(run_dir: str) -> Recording:
             raise RecordingError(summary_path, 1, "expected a JSON object")
     else:
         warnings.append(f"{summary_path}: missing (the run did not finish); figures come from the recording alone")
-    return Recording(run_dir, world, track, events, summary, warnings)
+    readings_path = os.path.join(run_dir, "readings.csv")
+    readings = None
+    if with_readings and os.path.exists(readings_path):
+        readings = read_readings(readings_path, track, warnings)
+    return Recording(run_dir, world, track, events, summary, warnings, readings)
 
 
 # --- world.json -------------------------------------------------------------------------------------------
@@ -506,6 +527,62 @@ def read_robots(path: str, expected_robots: int, warnings: list[str]) -> Track:
     if leds is not None:
         data = np.column_stack([data, leds])
     return _to_track(path, data, line_numbers, expected_robots, warnings, extra_names, leds is not None)
+
+
+# --- readings.csv -----------------------------------------------------------------------------------------
+
+
+def read_readings(path: str, track: Track, warnings: list[str]) -> Readings:
+    """readings.csv on `track`'s ticks and robots. A row that cannot be read, or whose tick or id robots.csv does
+    not have, is a RecordingError naming its line; a half-written last line (a run that stopped while writing) is
+    dropped with a warning, and ticks the file does not reach stay nan, with a warning."""
+    numbered, truncated = _read_lines(path)
+    if not numbered:
+        raise RecordingError(path, 1, "empty: expected the header tick,id and the sensors' columns")
+    header_line, header = numbered[0]
+    names = [h.strip() for h in header.split(",")]
+    if names[:2] != ["tick", "id"] or len(names) < 3 or any(not n for n in names):
+        raise RecordingError(path, header_line, f"header: expected tick,id then the sensors' columns; got "
+                                                f"'{header[:80]}'")
+    columns = names[2:]
+    rows = numbered[1:]
+    if truncated and rows:  # the writer ends every line: one without its newline was cut off mid-way
+        warnings.append(f"{path}:{rows[-1][0]}: half-written last line dropped (the run stopped while writing)")
+        rows = rows[:-1]
+    robots = track.robots
+    values = np.full((len(track.ticks), robots, len(columns)), np.nan)
+    index = {int(t): i for i, t in enumerate(track.ticks)}
+    last = -1
+    for no, text in rows:
+        parts = text.split(",")
+        if len(parts) != len(names):
+            raise RecordingError(path, no, f"expected {len(names)} comma-separated fields, got {len(parts)}: "
+                                           f"'{text[:80]}'")
+        try:
+            tick, rid = int(parts[0]), int(parts[1])
+        except ValueError:
+            raise RecordingError(path, no, f"columns 'tick' and 'id': expected integers, got '{parts[0][:20]}', "
+                                           f"'{parts[1][:20]}'") from None
+        t = index.get(tick)
+        if t is None or t < last:
+            raise RecordingError(path, no, f"tick {tick}: not a tick of robots.csv, or out of order")
+        if not 0 <= rid < robots:
+            raise RecordingError(path, no, f"id {rid}: expected 0..{robots - 1}")
+        last = t
+        for k, field in enumerate(parts[2:]):
+            field = field.strip()
+            if not field:
+                continue  # a dead robot's
+            try:
+                values[t, rid, k] = float(field)
+            except ValueError:
+                raise RecordingError(path, no, f"column '{columns[k]}': expected a number or nothing, got "
+                                               f"'{field[:20]}'") from None
+    if last < len(track.ticks) - 1:
+        reached = int(track.ticks[last]) if last >= 0 else None
+        warnings.append(f"{path}: ends at tick {reached}, robots.csv at {int(track.ticks[-1])}: the later ticks "
+                        "have no readings")
+    return Readings(columns, values)
 
 
 def _leds_column(path: str, rows: list[tuple[int, str]], index: int) -> np.ndarray:

@@ -39,7 +39,8 @@ class BenchScript(unittest.TestCase):
 
     def test_runs_and_prints_the_table(self):
         self.assertEqual(self.proc.returncode, 0, self.proc.stderr)
-        for heading in ("P1 lockstep", "P2 scale", "P3 in-process", "P4 big shapes", "wrote "):
+        for heading in ("P1 lockstep", "P2 scale", "P3 in-process", "P4 big shapes", "Recording the readings",
+                        "wrote "):
             self.assertIn(heading, self.proc.stdout)
 
     def test_machine_and_targets_recorded(self):
@@ -111,6 +112,14 @@ class BenchScript(unittest.TestCase):
             self.assertEqual(c["robots"], c["labels"])
             self.assertTrue(positive(c["us_per_robot_tick"]) and positive(c["cpu_us_per_robot_tick"]))
         self.assertTrue(positive(p4["ratio_largest_to_smallest"]["cpu"]))
+
+    def test_recording_figures(self):
+        rows = self.doc["parts"]["recording"]["results"]
+        self.assertEqual([(r["behaviour"], r["sensors"]) for r in rows], [("diffusion", 15), ("phototaxis", 17)])
+        for r in rows:
+            self.assertTrue(all(positive(v) for v in r["us_per_robot_tick"].values()))
+            self.assertTrue(positive(r["ratio_recording"]) and positive(r["ratio_tick"]))
+            self.assertTrue(positive(r["bytes_per_robot_tick"]["readings_csv"]))
 
 
 if __name__ == "__main__":

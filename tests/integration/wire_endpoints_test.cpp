@@ -28,6 +28,7 @@
 #include "common/dds/participant.hpp"
 #include "common/dds/robot_channels.hpp"
 #include "common/dds/waiter.hpp"
+#include "common/sensor_readings.hpp"
 #include "tests/support/test_domain.hpp"
 
 namespace {
@@ -143,8 +144,8 @@ TEST(WireEndpoints, ObserveFramesCarryTheOptionalReadingsTheBehaviourDeclared) {
   p.lidar = {LidarRay{-1.0, 4.0}, LidarRay{0.5, 0.42}, LidarRay{1.0, 2.0}};
   dds::ObserveFrameData frame;
   frame.robots.resize(2);
-  dds::pack_observed_readings(p, frame.robots[0].equipped, frame.robots[0].readings);
-  dds::pack_observed_readings(Perception{}, frame.robots[1].equipped, frame.robots[1].readings);
+  pack_sensor_readings(p, frame.robots[0].equipped, frame.robots[0].readings);
+  pack_sensor_readings(Perception{}, frame.robots[1].equipped, frame.robots[1].readings);
   EXPECT_EQ(frame.robots[0].equipped,
             swarmform::behaviour::kProximity | swarmform::behaviour::kLidar | swarmform::behaviour::kBattery);
   EXPECT_EQ(frame.robots[0].readings,

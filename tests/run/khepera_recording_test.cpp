@@ -1,16 +1,22 @@
 // The Khepera IV's world in the recording, through the in-process harness (the same RunSession and recorder
 // as the DDS world): the LEDs a controller sets reach robots.csv at the tick they were lit and the reader
-// gives them back; world.json carries the sensor scenarios' floor, lights and battery as their files say.
+// gives them back; readings.csv holds the optional sensors' readings each robot was given; world.json
+// carries the sensor scenarios' floor, lights and battery as their files say.
 #include <unistd.h>
 
+#include <charconv>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
+#include <mutex>
+#include <sstream>
 
 #include <gtest/gtest.h>
 #include <png.h>
 
 #include "behaviour/registry.hpp"
+#include "common/sensor_readings.hpp"
 #include "harness/harness.hpp"
 #include "robot_agent/controller/builtins.hpp"
 #include "world_server/run/recording_reader.hpp"
@@ -97,6 +103,166 @@ max_ticks: 30
   EXPECT_EQ(line, "tick,id,x,y,theta,alive,state,label,parent,leader,net_force,leds");
   std::getline(csv, line);
   EXPECT_EQ(line.back(), ',') << line;
+  fs::remove_all(dir);
+}
+
+// What each Sensing robot was given, by (id, tick): its optional sensors' readings in the layout of
+// common/sensor_readings.hpp. Controllers run on the harness's pool: hence the lock.
+std::mutex g_sensed_mutex;
+std::map<std::pair<RobotId, Tick>, std::vector<double>> g_sensed;
+
+class Sensing final : public controller::Controller {
+ public:
+  void init(const Mission&, RobotId self) override { self_ = self; }
+  Command step(const Perception& p) override {
+    std::uint32_t equipped = 0;
+    std::vector<double> values;
+    pack_sensor_readings(p, equipped, values);
+    {
+      std::lock_guard<std::mutex> lock(g_sensed_mutex);
+      g_sensed[{self_, p.tick}] = values;
+    }
+    Command c;
+    c.left_speed = 0.05;
+    c.right_speed = 0.02 + 0.01 * self_;  // turning circles of different radii: the readings change
+    return c;
+  }
+  void reset() override {}
+
+ private:
+  RobotId self_ = 0;
+};
+
+std::unique_ptr<controller::Controller> make_sensing() {
+  return std::make_unique<Sensing>();
+}
+
+constexpr std::uint32_t kEverySensor =
+    behaviour::kProximity | behaviour::kLight | behaviour::kGround | behaviour::kLidar | behaviour::kBattery;
+
+const behaviour::Descriptor kSensing{
+    .name = "sensing",
+    .summary = "drives in circles reading every optional sensor",
+    .params = {},
+    .states = {},
+    .telemetry = {},
+    .needs_shape = false,
+    .needs_goal = false,
+    .shape_rules = {},
+    .make = &make_sensing,
+    .sensors = kEverySensor,
+    .experiment = {},
+};
+
+std::vector<std::string> fields_of(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream in(line);
+  for (std::string f; std::getline(in, f, ',');) out.push_back(f);
+  if (!line.empty() && line.back() == ',') out.emplace_back();
+  return out;
+}
+
+TEST(KheperaRecording, ReadingsCsvHoldsTheReadingsEachRobotWasGivenAtEveryRecordedTick) {
+  behaviour::Registry registry;
+  registry.add(kSensing);
+  const world::Scenario s = world::parse_scenario_text(R"(
+behaviour: sensing
+arena: {centre: [0.0, 0.0], width: 4.0, height: 4.0, walls: true}
+obstacles:
+  - {type: cylinder, name: post, centre: [0.8, 0.0], radius: 0.2}
+robots: {count: 4, region: {centre: [-0.5, 0.0], width: 1.5, height: 1.5}}
+lights:
+  - {position: [1.5, 1.0], height: 0.3, intensity: 2.0}
+battery: {capacity: 100.0, idle: 0.1, moving: 20.0}
+lidar: {rays: 16, fov: 3.6651914291880923, max_range: 2.0}
+noise: {proximity: 0.02, light: 0.01, ground: 0.02, lidar: 0.01}
+kills:
+  - {id: 2, tick: 7}
+seed: 3
+max_ticks: 20
+)",
+                                                       "<readings_recording_test>", {}, registry);
+  {
+    std::lock_guard<std::mutex> lock(g_sensed_mutex);
+    g_sensed.clear();
+  }
+  const fs::path dir = fs::temp_directory_path() / ("swarmform-readings-test-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  {
+    Harness h(s, {dir.string(), 0.0, /*record_every=*/2});
+    h.run();
+    h.finish(1.0);
+  }
+  std::ifstream csv(dir / "readings.csv");
+  ASSERT_TRUE(csv) << "no readings.csv";
+  std::string line;
+  std::getline(csv, line);
+  std::string header = "tick,id";
+  for (const std::string& c : sensor_reading_columns(kEverySensor)) header += "," + c;
+  EXPECT_EQ(line, header);
+  const std::size_t values = sensor_readings_count(kEverySensor);
+  ASSERT_EQ(values, 8u + 8u + 4u + 3u + 1u);
+  std::size_t rows = 0, compared = 0, dead = 0;
+  Tick previous_tick = 0;
+  while (std::getline(csv, line)) {
+    const std::vector<std::string> f = fields_of(line);
+    ASSERT_EQ(f.size(), 2 + values) << line;
+    const Tick tick = std::stoull(f[0]);
+    const auto id = static_cast<RobotId>(std::stoul(f[1]));
+    EXPECT_EQ(tick % 2, 0u) << line;  // --record-every 2, as robots.csv
+    EXPECT_EQ(id, rows % 4) << line;  // every robot, in id order
+    EXPECT_GE(tick, previous_tick);
+    previous_tick = tick;
+    ++rows;
+    if (id == 2 && tick > 7) {  // killed at the start of tick 7: its rows from tick 8 on are empty
+      for (std::size_t k = 2; k < f.size(); ++k) EXPECT_EQ(f[k], "") << line;
+      ++dead;
+      continue;
+    }
+    std::vector<double> recorded(values);
+    for (std::size_t k = 0; k < values; ++k) {
+      const std::string& v = f[2 + k];
+      const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), recorded[k]);
+      ASSERT_TRUE(ec == std::errc() && end == v.data() + v.size()) << "'" << v << "' in " << line;
+    }
+    EXPECT_EQ(recorded[20], 16.0) << line;  // the lidar's ray count
+    std::lock_guard<std::mutex> lock(g_sensed_mutex);
+    const auto given = g_sensed.find({id, tick});
+    if (given == g_sensed.end()) {
+      EXPECT_EQ(tick, 20u) << line;  // the last row: no controller stepped on it
+      continue;
+    }
+    // Bit for bit what the controller was given at that tick (shortest round-trip text).
+    EXPECT_EQ(recorded, given->second) << line;
+    ++compared;
+  }
+  EXPECT_EQ(rows, 11u * 4u);                      // ticks 0, 2, ..., 20
+  EXPECT_EQ(dead, 7u);                            // robot 2 at ticks 8..20
+  EXPECT_EQ(compared, 10u * 4u - 6u);             // ticks 0..18, robot 2's from tick 8 on left out
+  EXPECT_LT(g_sensed.rbegin()->second[23], 1.0);  // a battery that drains (robot 3, tick 19)
+  fs::remove_all(dir);
+}
+
+// A behaviour that declares no optional sensor records no readings.csv.
+TEST(KheperaRecording, NoSensorsNoReadingsCsv) {
+  behaviour::Registry registry;
+  registry.add(kBlinker);
+  const world::Scenario s = world::parse_scenario_text(R"(
+behaviour: blinker
+arena: {centre: [0.0, 0.0], width: 10.0, height: 10.0, walls: true}
+robots: {count: 2, region: {centre: [0.0, 0.0], width: 4.0, height: 4.0}}
+max_ticks: 3
+)",
+                                                       "<no_readings_test>", {}, registry);
+  const fs::path dir = fs::temp_directory_path() / ("swarmform-no-readings-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  {
+    Harness h(s, {dir.string()});
+    h.run();
+    h.finish(1.0);
+  }
+  EXPECT_TRUE(fs::exists(dir / "robots.csv"));
+  EXPECT_FALSE(fs::exists(dir / "readings.csv"));
   fs::remove_all(dir);
 }
 

@@ -135,11 +135,25 @@ def khepera_leds(tick, k):
     return ""
 
 
+READINGS_COLUMNS = ([f"proximity{k}" for k in range(8)] +
+                    ["lidar_rays", "lidar_nearest_angle", "lidar_nearest_range", "battery"])
+
+
+def khepera_readings(tick, k):
+    """readings.csv's values of robot k at `tick` (READINGS_COLUMNS), None for a dead robot (robot 3 after tick 10):
+    proximity sensor j reads 0.1 j + 0.01 k, the lidar's 682 rays see nearest 0.5 + 0.01 tick m at 30 degrees,
+    the battery 0.8 - 0.01 tick."""
+    if k == 3 and tick > 10:
+        return None
+    return [round(0.1 * j + 0.01 * k, 4) for j in range(8)] + [682, 0.5235987755982988, 0.5 + 0.01 * tick,
+                                                              0.8 - 0.01 * tick]
+
+
 def make_khepera_run(run_dir, floor_image=None, leds=True):
     """Writes a run of 4 robots crossing an 8 m x 6 m arena whose world.json has a grey floor with a blue disc
     and a grey band (and `floor_image`, a PNG path, when given), a light and batteries; robots.csv has the
-    `leds` column (khepera_leds) unless `leds` is False (a recording older than it). Returns world.json's
-    document."""
+    `leds` column (khepera_leds) unless `leds` is False (a recording older than it); readings.csv has the
+    proximity ring, the lidar and the battery (khepera_readings). Returns world.json's document."""
     os.makedirs(run_dir, exist_ok=True)
     floor = {"grey": 0.9, "colour": None, "regions": json.loads(json.dumps([BLUE_DISC, GREY_BAND])),
              "image": None if floor_image is None else {"file": floor_image, "width": 8, "height": 6}}
@@ -161,6 +175,13 @@ def make_khepera_run(run_dir, floor_image=None, leds=True):
                 alive = 0 if k == 3 and t > 10 else 1
                 led = ("," + khepera_leds(t, k)) if leds else ""
                 f.write(f"{t},{k},{x},{y},0.0,{alive},0,-1,-1,0,0{led},{0.01 * t}\n")
+    with open(os.path.join(run_dir, "readings.csv"), "w") as f:
+        f.write("tick,id," + ",".join(READINGS_COLUMNS) + "\n")
+        for t in range(KHEPERA_TICKS + 1):
+            for k in range(KHEPERA_ROBOTS):
+                values = khepera_readings(t, k)
+                cells = [""] * len(READINGS_COLUMNS) if values is None else [repr(v) for v in values]
+                f.write(f"{t},{k}," + ",".join(cells) + "\n")
     with open(os.path.join(run_dir, "events.jsonl"), "w") as f:
         f.write(json.dumps({"tick": 10, "kind": "death", "id": 3}) + "\n")
     return doc

@@ -253,3 +253,72 @@ class KheperaRecordingTest(unittest.TestCase):
         self.assertEqual(cm.exception.line, 7)
         self.assertIn("column 'leds': expected empty or '#rrggbb #rrggbb #rrggbb', got '#ff0000 #0000ff'",
                       str(cm.exception))
+
+    def test_readings_csv_gives_back_each_robots_readings_at_each_tick(self):
+        fixture.make_khepera_run(self.dir)
+        self.assertIsNone(recording.load(self.dir).readings)  # read only when asked
+        rec = recording.load(self.dir, with_readings=True)
+        r = rec.readings
+        self.assertEqual(r.columns, fixture.READINGS_COLUMNS)
+        self.assertEqual(r.values.shape, (fixture.KHEPERA_TICKS + 1, fixture.KHEPERA_ROBOTS, 12))
+        for tick in range(fixture.KHEPERA_TICKS + 1):
+            for k in range(fixture.KHEPERA_ROBOTS):
+                want = fixture.khepera_readings(tick, k)
+                if want is None:
+                    self.assertTrue(np.isnan(r.values[tick, k]).all(), (tick, k))  # dead: nothing sensed
+                else:
+                    self.assertEqual(r.values[tick, k].tolist(), want, (tick, k))
+        self.assertEqual(r.column("battery")[7, 2], 0.8 - 0.07)
+        self.assertFalse([w for w in rec.warnings if "readings.csv" in w], rec.warnings)
+
+    def test_a_truncated_readings_csv_keeps_its_whole_lines_and_says_where_it_was_cut(self):
+        fixture.make_khepera_run(self.dir)
+        path = os.path.join(self.dir, "readings.csv")
+        with open(path) as f:
+            lines = f.read().split("\n")
+        # Cut in the middle of tick 5's third row (line 1 + 5 * 4 + 3 = 24): the run stopped while writing.
+        with open(path, "w") as f:
+            f.write("\n".join(lines[:23]) + "\n" + lines[23][:30])
+        rec = recording.load(self.dir, with_readings=True)
+        self.assertTrue(any(w.startswith(f"{path}:24: half-written last line dropped") for w in rec.warnings),
+                        rec.warnings)
+        self.assertTrue(any(w.startswith(f"{path}: ends at tick 5, robots.csv at 20") for w in rec.warnings),
+                        rec.warnings)
+        self.assertEqual(rec.readings.values[5, 1].tolist(), fixture.khepera_readings(5, 1))
+        self.assertTrue(np.isnan(rec.readings.values[5, 2]).all())
+        self.assertTrue(np.isnan(rec.readings.values[6:]).all())
+
+    def test_a_damaged_readings_csv_names_the_file_and_the_line(self):
+        fixture.make_khepera_run(self.dir)
+        path = os.path.join(self.dir, "readings.csv")
+        with open(path) as f:
+            lines = f.read().split("\n")
+        # Line 9: tick 1, robot 3.
+        cases = [(lambda l: l.replace(",", ";", 3), "expected 14 comma-separated fields, got 11"),
+                 (lambda l: l.replace("0.5235987755982988", "north"),
+                  "column 'lidar_nearest_angle': expected a number or nothing, got 'north'"),
+                 (lambda l: "x" + l, "columns 'tick' and 'id': expected integers"),
+                 (lambda l: "25" + l[1:], "tick 25: not a tick of robots.csv, or out of order"),
+                 (lambda l: "0" + l[1:], "tick 0: not a tick of robots.csv, or out of order"),
+                 (lambda l: l.replace(",3,", ",7,", 1), "id 7: expected 0..3")]
+        for damage, what in cases:
+            broken = list(lines)
+            broken[8] = damage(broken[8])
+            with open(path, "w") as f:
+                f.write("\n".join(broken))
+            with self.assertRaises(recording.RecordingError) as cm:
+                recording.load(self.dir, with_readings=True)
+            self.assertEqual((cm.exception.path, cm.exception.line), (path, 9), str(cm.exception))
+            self.assertIn(what, str(cm.exception))
+        for header in ("tick,robot,proximity0", "tick,id"):
+            with open(path, "w") as f:
+                f.write("\n".join([header] + lines[1:]))
+            with self.assertRaises(recording.RecordingError) as cm:
+                recording.load(self.dir, with_readings=True)
+            self.assertEqual(str(cm.exception), f"{path}:1: header: expected tick,id then the sensors' columns; "
+                                                f"got '{header}'")
+        with open(path, "w") as f:
+            f.write("")
+        with self.assertRaises(recording.RecordingError) as cm:
+            recording.load(self.dir, with_readings=True)
+        self.assertEqual(str(cm.exception), f"{path}:1: empty: expected the header tick,id and the sensors' columns")

@@ -175,6 +175,31 @@ TEST_F(RobotsCsvTest, TheLedsColumnIsReadAndIsNotTelemetry) {
   EXPECT_EQ(csv.bad_rows(), 1u);
 }
 
+// readings.csv (docs/recording-format.md): tick and id, then numbers; a dead robot's fields are empty (NaN),
+// a field that is not a number makes its row unreadable; no robots.csv column is asked for.
+TEST_F(RobotsCsvTest, AReadingsFileGivesEachRowsNumbers) {
+  {
+    std::ofstream f(path_);
+    f << "tick,id,proximity0,lidar_rays,battery\n"
+      << "0,0,0.25,682,1\n0,1,,,\n"
+      << "5,0,0.5,682,0.75\n5,1,x,682,0.5\n";
+  }
+  EXPECT_THROW(RobotsCsv(path_, 2), std::runtime_error);  // not a robots.csv
+  RobotsCsv csv(path_, 2, RowsFile::Readings);
+  ASSERT_EQ(csv.extra_columns(), (std::vector<std::string>{"proximity0", "lidar_rays", "battery"}));
+  EXPECT_EQ(csv.last_tick(), 5u);
+  const RecordedTick& t0 = csv.read(3);  // the last recorded tick <= 3
+  ASSERT_EQ(t0.tick, 0u);
+  ASSERT_EQ(t0.rows.size(), 2u);
+  EXPECT_EQ(t0.rows[0].extra, (std::vector<double>{0.25, 682, 1}));
+  EXPECT_EQ(t0.rows[1].id, 1u);
+  for (double v : t0.rows[1].extra) EXPECT_TRUE(std::isnan(v));
+  const RecordedTick& t5 = csv.read(5);
+  ASSERT_EQ(t5.rows.size(), 1u);
+  EXPECT_EQ(t5.rows[0].extra, (std::vector<double>{0.5, 682, 0.75}));
+  EXPECT_EQ(csv.bad_rows(), 1u);
+}
+
 TEST_F(RobotsCsvTest, BadFilesAreRefusedNamingWhat) {
   auto message = [&]() -> std::string {
     try {

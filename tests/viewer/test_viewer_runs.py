@@ -279,9 +279,9 @@ class RecordedRunsTest(unittest.TestCase):
 @unittest.skipUnless(vh.built("viewer"), f"swarm_viewer not built in {vh.BUILD_DIR}")
 @unittest.skipIf(not os.path.exists(cdp.CHROMIUM), "chromium missing (scripts/setup installs it)")
 class KheperaReplayTest(unittest.TestCase):
-    """`swarm view` of a recording with a floor, a light and LEDs (tests/scripts/fixture.py, no DDS): the page draws
-    the floor's image (the run folder's copy), its regions and the light from world.json and each live robot's lit
-    LEDs from the frames."""
+    """`swarm view` of a recording with a floor, a light, LEDs and sensors' readings (tests/scripts/fixture.py, no
+    DDS): the page draws the floor's image (the run folder's copy), its regions and the light from world.json, each
+    live robot's lit LEDs from the frames, and the selected robot's readings (readings.csv) in its panel."""
 
     def setUp(self):
         import fixture  # tests/scripts (viewer_helpers puts it on the path)
@@ -368,6 +368,32 @@ class KheperaReplayTest(unittest.TestCase):
                                      r1["y"] + 0.55 * rr / scale * math.sin(angle))
         got, d = vh.drawn_near(img, px, py, (158, 158, 158))  # the state's grey (#9e9e9e), no dot
         self.assertLessEqual(d, 12, f"robot 1's LED 1 is off, yet drawn {got} at ({px:.1f}, {py:.1f})")
+        # readings.csv in the frames of the robot a page selects (and of no other), in the live frames' form
+        # (frame_json.hpp add_readings), and in its panel drawn by the live view's code; a dead robot (3, from
+        # tick 11) has none. The behaviour's telemetry column "light" (a number) is not taken for the light
+        # ring's readings.
+        sensed = {"proximity", "lidar", "battery"}
+        self.assertFalse([r["id"] for r in robots if sensed & set(r)], "readings before any robot was selected")
+        b.eval("sfViewer.select(1)")
+        b.wait_for("sfViewer.frame.robots.find((r) => r.id === 1).proximity", what="robot 1's readings")
+        robots = b.eval("sfViewer.frame.robots")
+        r1 = [r for r in robots if r["id"] == 1][0]
+        want = self.fixture.khepera_readings(7, 1)
+        self.assertEqual((r1["proximity"], r1["lidar"], r1["battery"]),
+                         (want[:8], {"rays": 682, "nearest_angle": 0.5236, "nearest_range": 0.57}, 0.73))
+        self.assertEqual([r["id"] for r in robots if sensed & set(r)], [1])
+        scrub(12)
+        fields = b.eval("document.getElementById('robot-fields').textContent")
+        for text in ("proximity (0..1)0.01 0.11 0.21 0.31 0.41 0.51 0.61 0.71",
+                     "lidar682 rays, nearest 0.62 m at 30°", "battery68 %", "light0.120"):
+            self.assertIn(text, fields)
+        b.eval("sfViewer.select(3)")
+        # The frame sent again for the new selection: robot 1's readings gone with it.
+        b.wait_for("!sfViewer.frame.robots.find((r) => r.id === 1).proximity", what="the frame after selecting 3")
+        self.assertEqual(b.eval("document.getElementById('panel-id').textContent"), "3")
+        r3 = [r for r in b.eval("sfViewer.frame.robots") if r["id"] == 3][0]
+        self.assertFalse(sensed & set(r3), r3)
+        self.assertNotIn("proximity", b.eval("document.getElementById('robot-fields').textContent"))
 
 
 if __name__ == "__main__":

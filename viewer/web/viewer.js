@@ -49,6 +49,7 @@ function unproject(px, py) {
   return [v.cx + (px - canvas.clientWidth / 2) / v.scale, v.cy - (py - canvas.clientHeight / 2) / v.scale];
 }
 S.project = project;
+S.select = select;
 
 function resize() {
   const dpr = window.devicePixelRatio || 1;
@@ -99,7 +100,14 @@ function pick(px, py) {
     if (d < bestD) { bestD = d; best = r; }
   }
   const reach = Math.max(8, robotRadius() * S.view.scale * 1.5);
-  S.selected = best && bestD <= reach ? best.id : null;
+  select(best && bestD <= reach ? best.id : null);
+}
+
+// The robot whose panel is shown (null: none). A replay's frames carry the recorded readings of the selected
+// robot only: the server is told, and sends the frame again with them.
+function select(id) {
+  S.selected = id;
+  if (S.mode === "replay") send("select", id === null ? -1 : id);
   draw();
   panel();
 }
@@ -395,12 +403,14 @@ function panel() {
   }
   if (r.heard) rows.push(["heard", r.heard.length ? r.heard.join(" ") : "nobody"]);
   if (r.ultrasonic) rows.push(["ultrasonic (m)", r.ultrasonic.map((d) => d.toFixed(2)).join(" ")]);
-  // The optional sensors, when the robot's behaviour declares them (docs/behaviour-api.md).
+  // The optional sensors, when the robot's behaviour declares them (docs/behaviour-api.md), live or recorded
+  // (readings.csv). Checked by form: a replay's robot also carries the behaviour's telemetry columns by name,
+  // and a behaviour may call one "light".
   for (const [key, label] of [["proximity", "proximity (0..1)"], ["light", "light (0..1)"],
                               ["ground", "ground (0..1)"]]) {
-    if (r[key]) rows.push([label, r[key].map((v) => v.toFixed(2)).join(" ")]);
+    if (Array.isArray(r[key])) rows.push([label, r[key].map((v) => v.toFixed(2)).join(" ")]);
   }
-  if (r.lidar) {
+  if (r.lidar && typeof r.lidar === "object") {
     rows.push(["lidar", r.lidar.rays + " rays, nearest " + r.lidar.nearest_range.toFixed(2) + " m at " +
                         (r.lidar.nearest_angle * 180 / Math.PI).toFixed(0) + "°"]);
   }

@@ -1,6 +1,7 @@
 #include "world_server/run/recorder.hpp"
 
 #include "common/led_text.hpp"
+#include "common/sensor_readings.hpp"
 #include "world_server/run/end_reason.hpp"
 #include "world_server/run/recording_format.hpp"
 
@@ -53,8 +54,9 @@ std::FILE* RecordingWriter::open(const std::string& path, const char* mode, std:
   return f;
 }
 
-RecordingWriter::RecordingWriter(const std::string& run_dir, std::vector<std::string> extra_columns)
-    : run_dir_(run_dir), extra_columns_(extra_columns.size()) {
+RecordingWriter::RecordingWriter(const std::string& run_dir, std::vector<std::string> extra_columns,
+                                 std::uint32_t sensors)
+    : run_dir_(run_dir), sensors_(sensors), extra_columns_(extra_columns.size()) {
   std::error_code ec;
   std::filesystem::create_directories(run_dir_, ec);
   if (ec) throw std::runtime_error(run_dir_ + ": cannot create the run directory: " + ec.message());
@@ -65,6 +67,13 @@ RecordingWriter::RecordingWriter(const std::string& run_dir, std::vector<std::st
   for (const std::string& c : extra_columns) header += "," + c;
   write_all(robots_, header + "\n", run_dir_, "robots.csv");
   if (std::fflush(robots_) != 0) fail(run_dir_, "robots.csv", errno);
+  if (sensors_ != 0) {
+    readings_ = open(run_dir_ + "/readings.csv", "w", readings_buffer_);
+    std::string names = kReadingsCsvHeader;
+    for (const std::string& c : sensor_reading_columns(sensors_)) names += "," + c;
+    write_all(readings_, names + "\n", run_dir_, "readings.csv");
+    if (std::fflush(readings_) != 0) fail(run_dir_, "readings.csv", errno);
+  }
   reserve_summary_room();
 }
 
@@ -106,7 +115,7 @@ RecordingWriter::~RecordingWriter() {
 }
 
 void RecordingWriter::close_streams() {
-  for (std::FILE** f : {&robots_, &events_, &log_}) {
+  for (std::FILE** f : {&robots_, &readings_, &events_, &log_}) {
     if (*f != nullptr) {
       std::fclose(*f);
       *f = nullptr;
@@ -181,6 +190,26 @@ void RecordingWriter::write_rows(Tick tick, const std::vector<RobotTruth>& robot
   if (++ticks_since_flush_ >= kFlushEveryTicks) flush();
 }
 
+void RecordingWriter::write_readings(Tick tick, const World& world) {
+  if (readings_ == nullptr) return;
+  row_buffer_.clear();
+  const std::size_t values = sensor_readings_count(sensors_);
+  for (const auto& r : world.robots()) {
+    append_int(row_buffer_, tick);
+    row_buffer_.push_back(',');
+    append_int(row_buffer_, r.id);
+    // A dead robot senses nothing: its perception keeps its last readings, which are not this tick's.
+    if (r.alive) pack_sensor_readings(world.optional_sensors(r.id), equipped_, sensor_values_);
+    const bool whole = r.alive && equipped_ == sensors_;
+    for (std::size_t k = 0; k < values; ++k) {
+      row_buffer_.push_back(',');
+      if (whole) append_double(row_buffer_, sensor_values_[k]);
+    }
+    row_buffer_.push_back('\n');
+  }
+  write_all(readings_, row_buffer_, run_dir_, "readings.csv");
+}
+
 void RecordingWriter::write_event(const nlohmann::ordered_json& event) {
   write_all(events_, event.dump() + "\n", run_dir_, "events.jsonl");
 }
@@ -192,7 +221,7 @@ void RecordingWriter::log(Tick tick, const std::string& text) {
 void RecordingWriter::flush() {
   ticks_since_flush_ = 0;
   const std::pair<std::FILE*, const char*> streams[] = {
-      {robots_, "robots.csv"}, {events_, "events.jsonl"}, {log_, "world.log"}};
+      {robots_, "robots.csv"}, {readings_, "readings.csv"}, {events_, "events.jsonl"}, {log_, "world.log"}};
   for (const auto& [f, name] : streams) {
     if (f != nullptr && std::fflush(f) != 0) fail(run_dir_, name, errno);
   }

@@ -1,7 +1,7 @@
-// Writes a run directory (docs/recording-format.md): world.json at the start, robots.csv and events.jsonl as
-// the run goes (flushed every kFlushEveryTicks recorded ticks, so a crashed run keeps what it had), a
-// human-readable world.log, and summary.json at the end. Plain file output only; what to write is decided by
-// RunSession.
+// Writes a run directory (docs/recording-format.md): world.json at the start, robots.csv, readings.csv and
+// events.jsonl as the run goes (flushed every kFlushEveryTicks recorded ticks, so a crashed run keeps what it
+// had), a human-readable world.log, and summary.json at the end. Plain file output only; what to write is
+// decided by RunSession.
 #pragma once
 
 #include <cstdio>
@@ -20,6 +20,8 @@ namespace swarmform::world {
 // telemetry columns.
 inline constexpr const char* kRobotsCsvHeader = "tick,id,x,y,theta,alive,state,label,parent,leader,net_force";
 inline constexpr const char* kLedsColumn = "leds";
+// readings.csv's first columns; then common/sensor_readings.hpp sensor_reading_columns.
+inline constexpr const char* kReadingsCsvHeader = "tick,id";
 inline constexpr Tick kFlushEveryTicks = 10;
 // Room reserved for summary.json when the run directory is made (summary.json.tmp, allocated at once), so
 // that a disk that fills during the run still takes the run's outcome: the summary is written into that
@@ -31,7 +33,10 @@ class RecordingWriter {
   // Creates `run_dir` (and parents) and opens the files; throws std::runtime_error naming the path on
   // failure.
   // `extra_columns`: the behaviour's telemetry columns (its descriptor's), written after the fixed ones.
-  explicit RecordingWriter(const std::string& run_dir, std::vector<std::string> extra_columns = {});
+  // `sensors`: the optional sensors the behaviour declares (behaviour::Sensor bits): readings.csv records
+  // them; 0: no readings.csv.
+  explicit RecordingWriter(const std::string& run_dir, std::vector<std::string> extra_columns = {},
+                           std::uint32_t sensors = 0);
   ~RecordingWriter();
   RecordingWriter(const RecordingWriter&) = delete;
   RecordingWriter& operator=(const RecordingWriter&) = delete;
@@ -43,6 +48,9 @@ class RecordingWriter {
   void copy_in(const std::string& source, const std::string& name);
   // One row per robot (in id order) for this tick; flushes every kFlushEveryTicks ticks.
   void write_rows(Tick tick, const std::vector<RobotTruth>& robots);
+  // readings.csv's rows of this tick: each robot's optional sensors (World::optional_sensors), empty values
+  // for a dead robot. Nothing without sensors. Flushed with robots.csv.
+  void write_readings(Tick tick, const World& world);
   void write_event(const nlohmann::ordered_json& event);  // one line of events.jsonl
   void log(Tick tick, const std::string& text);           // one line of world.log
   void flush();
@@ -63,12 +71,16 @@ class RecordingWriter {
 
   std::string run_dir_;
   std::FILE* robots_ = nullptr;
+  std::FILE* readings_ = nullptr;  // null: the behaviour declares no optional sensor
   std::FILE* events_ = nullptr;
   std::FILE* log_ = nullptr;
   // The streams' buffers: glibc's setvbuf ignores the size it is given with no buffer and keeps 4 KiB,
   // which wrote robots.csv in 4 KiB pieces, a system call a tick at N = 64, on the lockstep round's path.
-  std::unique_ptr<char[]> robots_buffer_, events_buffer_, log_buffer_;
+  std::unique_ptr<char[]> robots_buffer_, readings_buffer_, events_buffer_, log_buffer_;
   std::string row_buffer_;
+  std::uint32_t sensors_ = 0;
+  std::uint32_t equipped_ = 0;  // write_readings' scratch: one robot's sensors and values
+  std::vector<double> sensor_values_;
   std::size_t extra_columns_ = 0;
   Tick ticks_since_flush_ = 0;
 };

@@ -54,10 +54,12 @@ struct RunSession::Impl {
     if (options.record_every < 1) throw std::invalid_argument("RunOptions::record_every must be at least 1");
     if (!options.run_dir.empty()) {
       std::vector<std::string> columns;
+      std::uint32_t sensors = 0;
       if (const behaviour::Descriptor* d = world.scenario().behaviour) {
         for (const auto& c : d->telemetry) columns.emplace_back(c.name);
+        sensors = d->sensors;
       }
-      writer.emplace(options.run_dir, std::move(columns));
+      writer.emplace(options.run_dir, std::move(columns), sensors);
       auto description = describe_world(world.scenario(), options.mode);
       description["fragment_range"] = fragment_range;
       description["record_every"] = options.record_every;
@@ -105,7 +107,11 @@ struct RunSession::Impl {
       }
     }
     sha.update(pose_bytes.data(), pose_bytes.size());
-    if (writer && tick % options.record_every == 0) writer->write_rows(tick, robots);
+    if (writer && tick % options.record_every == 0) {
+      // readings.csv first: write_rows may flush, and the two files are flushed together.
+      writer->write_readings(tick, world);
+      writer->write_rows(tick, robots);
+    }
     recorded_once = true;
     last_recorded_tick = tick;
   }

@@ -331,6 +331,10 @@ const Perception& World::perception(RobotId id) const {
   return p;
 }
 
+const Perception& World::optional_sensors(RobotId id) const {
+  return impl_->perceptions.at(id);
+}
+
 const Perception& World::copy_perception(RobotId id, PerceptionCopy& copy) const {
   const Impl& m = *impl_;
   const Perception& src = m.perceptions.at(id);

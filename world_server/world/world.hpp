@@ -72,6 +72,12 @@ class World {
   // from several threads at once must be for different ids.
   const Perception& perception(RobotId id) const;
 
+  // The optional sensors' readings of robot `id` for the current tick (Perception's proximity, light,
+  // ground, lidar and battery: never deferred) in its perception, whose ultrasonics and messages may not be
+  // read yet (defer_perceptions). Computes nothing: the recorder reads it without pulling deferred work onto
+  // its thread or changing what a later perception() gives.
+  const Perception& optional_sensors(RobotId id) const;
+
   // A caller's reusable copy of perceptions: its readings keep their byte buffers from robot to robot, so
   // a copy allocates nothing once warm and its bytes stay in this thread's cache for the controller. One per
   // thread.
