@@ -405,7 +405,8 @@ def main():
             # left behind by a SIGKILLed benchmark gives up by itself after --timeout without its world.
             if a.launch == "each":
                 agents = [spawn([agent_exe, "--id", str(i), "--domain", str(a.domain), "--timeout",
-                                 str(timeout)], die_with_parent=False, stdout=subprocess.DEVNULL,
+                                 str(timeout), "--world-pid", str(world.pid)], die_with_parent=False,
+                                stdout=subprocess.DEVNULL,
                                 stderr=subprocess.DEVNULL)
                           for i in range(a.robots)]
                 agent_pids = [p.pid for p in agents]
@@ -414,7 +415,8 @@ def main():
                 block_err = os.path.join(tmp, "block.err")  # why an agent gave up, if one did
                 with open(block_out, "w") as out, open(block_err, "w") as err_file:
                     block = spawn([agent_exe, "--id", "0", "--count", str(a.robots), "--domain", str(a.domain),
-                                   "--timeout", str(timeout)], nice=a.agents_nice, stdout=out, stderr=err_file)
+                                   "--timeout", str(timeout), "--world-pid", str(world.pid)], nice=a.agents_nice,
+                                  stdout=out, stderr=err_file)
                 agent_pids = None
                 deadline = time.monotonic() + max(60.0, a.connect_timeout)  # forking 2048 took > 60 s
                 while agent_pids is None and block.poll() is None and time.monotonic() < deadline:
