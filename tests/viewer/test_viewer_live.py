@@ -215,13 +215,13 @@ class LiveViewTest(unittest.TestCase):
                 self.assertAlmostEqual(math.remainder(yaw - float(r["theta"]), 2 * math.pi), 0.0, places=9)
             checked += 1
         self.assertGreaterEqual(checked, 3, "too few pose messages to compare")
-        ids = [e["id"] for e in got["first_scene"]["entities"]]
-        self.assertEqual(ids, ["arena", "robots"])
-        robots = got["first_scene"]["entities"][1]
+        entities = {e["id"]: e for e in got["first_scene"]["entities"]}
+        self.assertEqual(list(entities), ["arena", "obstacles", "robots"])
+        robots = entities["robots"]
         self.assertEqual(len(robots["cylinders"]), 9)
         self.assertEqual(sorted(t["text"] for t in robots["texts"]), sorted(str(i) for i in range(9)))
-        arena = got["first_scene"]["entities"][0]
-        self.assertEqual(len(arena["cubes"]), 4 + 1, "four walls and the large box of paper.yaml")
+        self.assertEqual(len(entities["arena"]["cubes"]), 4, "four walls")
+        self.assertEqual(len(entities["obstacles"]["cubes"]), 1, "the large box of paper.yaml")
         self.assertGreaterEqual(len(got["telemetry"]), 3)
         self.assertEqual(len(got["telemetry"][0]["robots"]), 9)
         self.assertIn("state_name", got["telemetry"][0]["robots"][0])

@@ -197,10 +197,11 @@ class RecordedRunsTest(unittest.TestCase):
                 # The recording holds no neighbours heard or commands: left out, not sent as zeros.
                 self.assertNotIn("heard", r)
                 self.assertNotIn("left_speed", r)
-        ids = [e["id"] for e in got["first_scene"]["entities"]]
-        self.assertEqual(ids, ["arena", "robots"])
-        self.assertEqual(len(got["first_scene"]["entities"][1]["cylinders"]), 9)
-        self.assertEqual(len(got["first_scene"]["entities"][0]["cubes"]), 4 + 1, "four walls and paper.yaml's box")
+        entities = {e["id"]: e for e in got["first_scene"]["entities"]}
+        self.assertEqual(list(entities), ["arena", "obstacles", "robots"])
+        self.assertEqual(len(entities["robots"]["cylinders"]), 9)
+        self.assertEqual(len(entities["arena"]["cubes"]), 4, "four walls")
+        self.assertEqual(len(entities["obstacles"]["cubes"]), 1, "paper.yaml's box")
 
     async def foxglove_replay(self, port):
         got = {"seeks": [], "played": [], "telemetry": [], "first_scene": None}
