@@ -26,6 +26,20 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// A fresh run directory under the temporary folder, named for `name` and this process.
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("swarmform-" + name + "-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  return dir;
+}
+
+// Runs `s` to its end in-process into `dir` (every `record_every`-th tick recorded).
+void run_into(const world::Scenario& s, const fs::path& dir, Tick record_every = 1) {
+  Harness h(s, {dir.string(), 0.0, record_every});
+  h.run();
+  h.finish(1.0);
+}
+
 // What a blinker robot lights when it sees tick `tick`: every fourth tick nothing, else LED 0 by its id and
 // the tick, LED 1 off, LED 2 blue.
 std::array<Rgb, kLedCount> blink(RobotId self, Tick tick) {
@@ -78,13 +92,8 @@ seed: 4
 max_ticks: 30
 )",
                                                        "<leds_recording_test>", {}, registry);
-  const fs::path dir = fs::temp_directory_path() / ("swarmform-leds-test-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  {
-    Harness h(s, {dir.string()});
-    h.run();
-    h.finish(1.0);
-  }
+  const fs::path dir = fresh_dir("leds-test");
+  run_into(s, dir);
   const auto rows = world::read_robots_csv((dir / "robots.csv").string());
   ASSERT_EQ(rows.size(), 31u * 5u);
   std::size_t lit = 0;
@@ -186,13 +195,8 @@ max_ticks: 20
     std::lock_guard<std::mutex> lock(g_sensed_mutex);
     g_sensed.clear();
   }
-  const fs::path dir = fs::temp_directory_path() / ("swarmform-readings-test-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  {
-    Harness h(s, {dir.string(), 0.0, /*record_every=*/2});
-    h.run();
-    h.finish(1.0);
-  }
+  const fs::path dir = fresh_dir("readings-test");
+  run_into(s, dir, /*record_every=*/2);
   std::ifstream csv(dir / "readings.csv");
   ASSERT_TRUE(csv) << "no readings.csv";
   std::string line;
@@ -254,13 +258,8 @@ robots: {count: 2, region: {centre: [0.0, 0.0], width: 4.0, height: 4.0}}
 max_ticks: 3
 )",
                                                        "<no_readings_test>", {}, registry);
-  const fs::path dir = fs::temp_directory_path() / ("swarmform-no-readings-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  {
-    Harness h(s, {dir.string()});
-    h.run();
-    h.finish(1.0);
-  }
+  const fs::path dir = fresh_dir("no-readings");
+  run_into(s, dir);
   EXPECT_TRUE(fs::exists(dir / "robots.csv"));
   EXPECT_FALSE(fs::exists(dir / "readings.csv"));
   fs::remove_all(dir);
@@ -271,9 +270,7 @@ nlohmann::json world_json_of(const std::string& name) {
   const world::Scenario s =
       world::load_scenario(std::string(SWARMFORM_REPO_DIR) + "/scenarios/sensors/" + name + ".yaml", {},
                            swarmform::controller::builtin_registry());
-  const fs::path dir =
-      fs::temp_directory_path() / ("swarmform-khepera-" + name + "-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+  const fs::path dir = fresh_dir("khepera-" + name);
   {
     Harness h(s, {dir.string()});
     h.step();
@@ -318,8 +315,7 @@ TEST(KheperaRecording, WorldJsonCarriesTheLightAndTheBatteryOfPhototaxis) {
 }
 
 TEST(KheperaRecording, TheFloorImageIsCopiedIntoTheRunFolderAndWorldJsonNamesTheCopy) {
-  const fs::path dir = fs::temp_directory_path() / ("swarmform-floor-copy-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+  const fs::path dir = fresh_dir("floor-copy");
   fs::create_directories(dir / "scenario");
   std::vector<std::uint8_t> rgb(3u * 4u * 2u, 255);
   rgb[0] = 0;  // one red-less pixel: not a plain white file
