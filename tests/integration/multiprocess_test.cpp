@@ -416,6 +416,33 @@ TEST_F(MultiProcess, AgentKilledBeforeTheRunIsDeadOnceItMissesItsFirstPacket) {
   EXPECT_EQ(summary("killed")["alive_at_end"], 1) << w.err();
 }
 
+// The same lapse, but the agent is only stopped (starved, as 1024 agents starting on 2 cores are) and the
+// world knows its process (--agent-pids, as the launcher writes it): in lockstep it is a straggler, waited
+// for past the 2 s its first packet allows, not a death at tick 0; continued, it answers and the run ends
+// with both robots alive.
+TEST_F(MultiProcess, AgentStoppedBeforeItsFirstPacketIsWaitedForNotBuriedWhenTheWorldSeesItsProcess) {
+  const int domain = swarmform::testing::test_domain(8);
+  const std::string pids = path("stopped-first.pids.json");
+  auto [w, first] = world_and_agent0(domain, "stopped-first", {"--agent-pids", pids});
+  ASSERT_TRUE(agent0_claimed(w)) << w.err();
+  ASSERT_EQ(::kill(first.pid(), SIGSTOP), 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // three writer leases: the lapse is seen
+  Process& second = agent(domain, 1, "stopped-first");
+  std::ofstream(pids) << "{\"0\": " << first.pid() << ", \"1\": " << second.pid() << "}";
+  // The run starts; agent 0's first packet waits in its socket past the 2 s it is given.
+  const bool stalled = eventually(20.0, [&] { return has_event("stopped-first", "agent_stalled", 0); });
+  std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+  ASSERT_EQ(::kill(first.pid(), SIGCONT), 0);
+  ASSERT_EQ(w.wait_for(kRunDeadline), 0) << w.err();
+  EXPECT_TRUE(stalled) << w.err();
+  EXPECT_EQ(first.wait_for(10.0), 0) << first.err();
+  EXPECT_EQ(second.wait_for(10.0), 0) << second.err();
+  EXPECT_FALSE(has_event("stopped-first", "death_detected", 0)) << w.err();
+  const Json s = summary("stopped-first");
+  EXPECT_EQ(s["alive_at_end"], 2) << w.err();
+  EXPECT_EQ(s["ticks"], 30);
+}
+
 // An agent waiting for the run is quiet from 2 s after its claim (no liveliness assertions, a re-claim every
 // 5 s: robot_agent/dds_link.hpp), so its writer's lease lapses; the world does not judge it before its first
 // packet, so it keeps its id however long the others take to come.
@@ -652,9 +679,10 @@ TEST_F(Abuse, FloodOfCommandsAndClaimsFromAProcessThatOwnsNoIdLeavesTheLockstepR
   EXPECT_GT(dropped["commands_over_limit"].get<long>(), 0) << dropped.dump();
   EXPECT_GT(dropped["spoofed_commands"].get<long>(), 0) << dropped.dump();
   EXPECT_GT(dropped["out_of_range_ids"].get<long>(), 0) << dropped.dump();
-  // The rogue's claims are refused (counted) or, on a loaded host, all dropped with its writer's budget before
-  // they are decoded, where a claim cannot be told from a command (commands_over_limit, above): seen once.
-  // Logged once a second a writer and kind (at most 4 kinds from the rogue's writer), over the run's seconds.
+  // The rogue's claims are refused (counted) or, on a loaded host, all dropped with its writer's budget
+  // before they are decoded, where a claim cannot be told from a command (commands_over_limit, above): seen
+  // once. Logged once a second a writer and kind (at most 4 kinds from the rogue's writer), over the run's
+  // seconds.
   const double seconds = flooded.summary["wall_seconds"].get<double>() + 3.0;
   EXPECT_LE(flooded.event_lines, clean.event_lines + static_cast<std::size_t>(4 * seconds));
   EXPECT_LE(count_lines(flooded.err, "a claim of id"), static_cast<std::size_t>(2 * seconds)) << flooded.err;
