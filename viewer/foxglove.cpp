@@ -442,13 +442,13 @@ std::vector<std::pair<std::uint64_t, std::string>> Foxglove::messages(const dds:
   std::vector<std::pair<std::uint64_t, std::string>> out;
   std::string cached[4];
   const auto stamp = static_cast<std::uint64_t>(seconds(f.tick) * 1e9);
+  const std::size_t events = events_up_to(world_, f.tick);  // the same for every subscription
   for (auto& [client, subs] : subscriptions_) {
     if (only != 0 && client != only) continue;
     for (auto& [id, sub] : subs) {
       std::string payload;
       if (sub.channel == kScene) {
         const bool arena = !sub.arena_sent && world_.is_object();
-        const std::size_t events = events_up_to(world_, f.tick);
         const bool obstacles = world_.is_object() && (arena || events != sub.events_applied);
         payload = scene(f, arena, obstacles).dump();
         sub.arena_sent = sub.arena_sent || arena;

@@ -167,15 +167,11 @@ int Server::run_inner() {
   if (options_.warmup_ticks == 0) steady_start_ = start_;
   registry_.start_run();
   run_rounds();
-  if (stalled_out_) {
-    schedule_.finish(session_);
-    faults_.resume_all(&session_);  // a stalled agent must hear the end
-    return fail(world::EndReason::AgentsStalled, stalled_what_, kExitAgentsStalled);
-  }
   const dds_time_t end = dds_time();
   const double wall = to_s(end - start_);
   schedule_.finish(session_);
   faults_.resume_all(&session_);  // a stalled agent must hear the end
+  if (stalled_out_) return fail(world::EndReason::AgentsStalled, stalled_what_, kExitAgentsStalled);
   announce_end();
   progress(true);
   if (stopping()) session_.set_end_reason(world::EndReason::Interrupted);
