@@ -250,7 +250,8 @@ int main(int argc, char** argv) {
       "lockstep: hold tick 0 until the viewer says go (needs --viewer-token; runs anyway if no viewer "
       "binds within 30 s)");
   app.add_option("--connect-timeout", o.connect_timeout_s,
-                 "seconds to wait for every agent to claim its id; then exit 3 naming the missing ids "
+                 "seconds the start-up may stand still: the wait for every agent to claim its id ends when "
+                 "no claim (nor matched reader) came for this long; then exit 3 naming the missing ids "
                  "(default 30 + 0.025 x robots: 55.6 s for 1024)")
       ->check(CLI::PositiveNumber);
   app.add_option("--warmup-ticks", o.warmup_ticks,

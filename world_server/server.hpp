@@ -38,10 +38,10 @@
 
 namespace swarmform::server {
 
-// How long the world waits for every agent when --connect-timeout is not given: 30 s, plus 25 ms an agent
-// (1024 agents: 55.6 s). Start-up grows with N (each agent starts a DDS participant and discovers the world
-// on a shared machine), so a fixed wait is either too short at 2048 or needlessly long at 4; the launcher
-// (scripts/swarmform/launcher.py connect_timeout) mirrors this formula.
+// How long the world's start-up may stand still (no claim, no matched reader) when --connect-timeout is not
+// given: 30 s, plus 25 ms an agent (1024 agents: 55.6 s). Start-up grows with N (each agent starts a DDS
+// participant and discovers the world on a shared machine), so a fixed wait is either too short at 2048 or
+// needlessly long at 4; the launcher (scripts/swarmform/launcher.py connect_timeout) mirrors this formula.
 inline constexpr double kConnectTimeoutBaseS = 30.0;
 inline constexpr double kConnectTimeoutPerAgentS = 0.025;
 inline double default_connect_timeout(std::size_t robots) {
@@ -52,7 +52,7 @@ struct ServerOptions {
   std::string run_dir;
   Tick record_every = 1;                // robots.csv rows every K-th tick (world::RunOptions::record_every)
   dds::DdsSettings dds;                 // role World
-  double connect_timeout_s = 60.0;      // every agent must have claimed its id by then
+  double connect_timeout_s = 60.0;      // the start-up ends when no agent connected for this long
   std::map<RobotId, pid_t> agent_pids;  // for --kill and stalls: the world SIGKILLs / SIGSTOPs these
   Tick warmup_ticks = 100;              // left out of summary.json's steady_ticks_per_second
   std::uint64_t run_nonce = 0;          // this run's (docs/wire.md); 0: drawn at random

@@ -44,6 +44,7 @@ import sys
 import time
 from typing import IO, Any, Callable, Optional, Union
 
+from . import agent_start
 from . import claims
 from . import domains
 from . import exit_codes
@@ -547,16 +548,18 @@ def connect_timeout(robots: int, given: Optional[float] = None) -> float:
 
 class ConnectWatch:
     """The start-up deadline (a run must never wait for ever at "connecting 1023/1024"). It follows the
-    world's `claimed` and `connected` events from `ready` on; when the world has not said
-    `connected` by the world's own deadline plus a grace (CONNECT_GRACE_S), `check` raises a LaunchError (exit 3) naming the
-    ids never claimed and what became of their agents. `missing_text` says the same when the world timed out
-    itself (its exit 3)."""
+    world's `claimed`, `connecting` and `connected` events from `ready` on; as the world's own, its deadline counts
+    from the last step of the start-up (a claim, or more claimed or matched in a `connecting` event): slowness is
+    not a missing agent. When the world has not said `connected` by then plus a grace (CONNECT_GRACE_S), `check`
+    raises a LaunchError (exit 3) naming the ids never claimed and what became of their agents. `missing_text`
+    says the same when the world timed out itself (its exit 3)."""
 
     def __init__(self, procs: Processes, logs: str, robots: int, timeout_s: float) -> None:
         self.procs, self.logs, self.robots, self.timeout_s = procs, logs, robots, timeout_s
         self.claimed: set[int] = set()
         self.connected = False
-        self.since: Optional[float] = None
+        self.since: Optional[float] = None  # the start, then the last step of the start-up
+        self.steps = 0  # claimed + matched in the latest `connecting` event
         self.world_gave_up: Optional[float] = None  # when the world said it ended the wait (its exit follows)
 
     def start(self) -> None:
@@ -566,10 +569,18 @@ class ConnectWatch:
     def event(self, ev: Event) -> None:
         if ev.name == "claimed":
             self.claimed.add(ev["id"])
+            self.moved()
+        elif ev.name == "connecting" and ev["claimed"] + ev["matched"] > self.steps:
+            self.steps = ev["claimed"] + ev["matched"]
+            self.moved()
         elif ev.name == "connected":
             self.connected = True
         elif ev.name == "gave_up" and self.world_gave_up is None:  # the world ended the wait itself
             self.world_gave_up = time.monotonic()
+
+    def moved(self) -> None:
+        if self.since is not None:
+            self.since = time.monotonic()
 
     def missing(self) -> list[int]:
         return [rid for rid in range(self.robots) if rid not in self.claimed]
@@ -606,8 +617,8 @@ class ConnectWatch:
         elif time.monotonic() - self.since < self.timeout_s + grace:
             return
         missing = self.missing()
-        raise LaunchError(f"{len(missing)} of {self.robots} agents did not connect within {self.timeout_s:g} s "
-                          f"(--connect-timeout) and the world did not end the wait; stopped it. Missing ids: "
+        raise LaunchError(f"{len(missing)} of {self.robots} agents did not connect, none for {self.timeout_s:g} s "
+                          f"(--connect-timeout), and the world did not end the wait; stopped it. Missing ids: "
                           f"{self.missing_text() or 'none claimed missing: the world hangs'}", EXIT_AGENTS_MISSING)
 
 
@@ -640,14 +651,14 @@ def _last_line(logs: str, rid: int) -> str:
 
 
 def _follow(proc: "subprocess.Popen[bytes]", stop: StopFlag, status: Status, console_log: Union[IO[bytes], CopyLog],
-            max_ticks: Optional[int], prefix: str = "world", on_idle: Optional[Callable[[], object]] = None,
+            max_ticks: Optional[int], prefix: str = "world", on_idle: Optional[Callable[[], Optional[bool]]] = None,
             status_fd: Optional[int] = None, on_event: Optional[Callable[[Event], None]] = None,
             bad: Optional[world_status.BadLines] = None) -> Optional[Event]:
     """Reads the world's output (and its status channel, `status_fd`) until both close, the world exits, or a stop
     is asked; returns the `done` event or None. Every output line is logged; it is shown unless a status event
     said it printed it (`line`). `on_event(ev)` sees every other event (`progress` becomes the status line);
-    `on_idle()` runs every time round the loop (at least every 0.2 s). A status line that is not an event is
-    counted in `bad`, the first said."""
+    `on_idle()` runs every time round the loop (at least every 0.2 s; at once again when it returned True, busy).
+    A status line that is not an event is counted in `bad`, the first said."""
     assert proc.stdout is not None  # stdout=PIPE
     out = proc.stdout.fileno()
     bufs = {out: b""}
@@ -701,9 +712,8 @@ def _follow(proc: "subprocess.Popen[bytes]", stop: StopFlag, status: Status, con
 
     handlers = {out: on_output, status_fd: on_status}
     while bufs and not stop:
-        if on_idle:
-            on_idle()
-        ready, _, _ = select.select(list(bufs), [], [], 0.2)
+        busy = bool(on_idle()) if on_idle else False
+        ready, _, _ = select.select(list(bufs), [], [], 0.0 if busy else 0.2)
         if not ready:
             if proc.poll() is not None:
                 break
@@ -813,14 +823,17 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
             view.extra += hosts.viewer_flags()
             procs.placement = hosts.agent_wrap
 
+        def start_agent(rid: int) -> None:
+            if not stop and rid not in procs.agents:
+                procs.start_agent(agent_exe, rid, domain, os.path.join(logs, f"agent-{rid}.log"), nonce)
+
+        starter = agent_start.AgentStarter(n, start_agent, lambda: write_agents())
+
         def start_agents() -> None:  # at the world's `ready` event: its mission is out
             connecting.start()
             view.start()
-            for rid in range(n):
-                if stop or rid in procs.agents:
-                    continue
-                procs.start_agent(agent_exe, rid, domain, os.path.join(logs, f"agent-{rid}.log"), nonce)
-            write_agents()
+            starter.begin()
+            starter.step()
 
         def write_agents() -> None:  # the world reads it when a kill or a stall is due: replaced whole
             jsonfile.write_atomically(agents_json, {str(k): p.pid for k, p in procs.agents.items()})
@@ -845,10 +858,14 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
             procs.agent_args += ["--world-pid", str(world.pid)]
             restarter = faults.Restarter(procs, agent_exe, domain, nonce, logs, write_agents, n)
 
-            def idle() -> None:
+            def idle() -> bool:
+                if stop:
+                    starter.cancel()
+                starter.step()
                 watch.check()
                 view.check()
                 connecting.check()
+                return starter.pending  # busy: _follow does not sleep
 
             def on_event(ev: Event) -> None:
                 if ev.name == "ready":
@@ -895,7 +912,7 @@ def run(args: argparse.Namespace, render_pictures: Callable[[str], int]) -> int:
                        else f"{console_log.name} could not be written")
             status.line(f"swarm: {_world_failure(code, run_dir, ended[-1] if ended else None)}; {details}")
             if missing is not None:
-                status.line(f"swarm: {len(connecting.missing())} of {n} agents did not connect within {wait_s:g} s "
+                status.line(f"swarm: {len(connecting.missing())} of {n} agents did not connect, none for {wait_s:g} s "
                             f"(--connect-timeout): {missing}")
             passed_on = (EXIT_BAD_INPUT, EXIT_AGENTS_MISSING, EXIT_AGENTS_STALLED, EXIT_RECORDING_FAILED)
             return code if code in passed_on else EXIT_WORLD_FAILED

@@ -14,6 +14,7 @@ _STR = (str,)
 FIELDS: dict[str, dict[str, tuple[type, ...]]] = {
     "ready": {"domain": _INT, "run_nonce": _STR},
     "claimed": {"id": _INT, "pid": _INT},
+    "connecting": {"claimed": _INT, "matched": _INT, "robots": _INT},
     "connected": {"agents": _INT},
     "gave_up": {"robots": _INT, "missing": (list,), "timeout_s": (int, float)},
     "progress": {"tick": _INT, "alive": _INT, "robots": _INT, "tps": (int, float, type(None))},

@@ -282,8 +282,8 @@ class LauncherTest(unittest.TestCase):
         with open(os.path.join(out, "world_args.json")) as f:
             world_args = json.load(f)
         self.assertEqual(world_args[world_args.index("--connect-timeout") + 1], "1")
-        self.assertIn("1 of 3 agents missing after 1 s: 1", r.stderr)
-        self.assertIn("swarm: 1 of 3 agents did not connect within 1 s (--connect-timeout): 1 (agent exited with "
+        self.assertIn("1 of 3 agents missing, and none claimed its id in the last 1 s: 1", r.stderr)
+        self.assertIn("swarm: 1 of 3 agents did not connect, none for 1 s (--connect-timeout): 1 (agent exited with "
                       f"code {exit_codes.CODES['no_world']}: robot_agent 1: no world on DDS domain 0", r.stderr)
         self.assertNotIn("Traceback", r.stderr)
         self.assert_all_gone(agent_pids(out).values())
@@ -298,10 +298,34 @@ class LauncherTest(unittest.TestCase):
                           env={"FAKE_WORLD_UNCLAIMED": "2", "FAKE_WORLD_HANG": "1"})
         self.assertEqual(r.returncode, 3, r.stderr)
         self.assertLess(time.monotonic() - began, 30)
-        self.assertIn("1 of 3 agents did not connect within 1 s (--connect-timeout) and the world did not end the "
-                      "wait; stopped it. Missing ids: 2 (agent pid ", r.stderr)
+        self.assertIn("1 of 3 agents did not connect, none for 1 s (--connect-timeout), and the world did not end "
+                      "the wait; stopped it. Missing ids: 2 (agent pid ", r.stderr)
         self.assertIn("still running; logs/agent-2.log)", r.stderr)
         self.assertNotIn("Traceback", r.stderr)
+        self.assert_all_gone(agent_pids(out).values())
+
+    def test_the_world_is_read_while_the_agents_start(self):
+        # The agents start a slice at a time, and the launcher reads the world between slices: the world's
+        # status pipe (64 KB) holds it up only for a slice. 800 agents (a shell that sleeps: quick to start) and a
+        # world that writes 1 MB of status right after `ready`: it had written it when far fewer than all were
+        # started. A launcher that starts them all in one go reads 1 MB only after the 800th.
+        build = os.path.join(self.dir, "build")
+        for name, text in (("world_server", f'#!/bin/sh\nexec {helpers.FAKE_BUILD}/world_server/world_server "$@"\n'),
+                           ("robot_agent", "#!/bin/sh\nexec sleep 600\n")):
+            os.makedirs(os.path.join(build, name))
+            path = os.path.join(build, name, name)
+            with open(path, "w") as f:
+                f.write(text)
+            os.chmod(path, 0o755)
+        out = os.path.join(self.dir, "run")
+        r = helpers.swarm("run", "--scenario", self.scenario, "--robots", "800", "--max-ticks", "5", "--out", out,
+                          "--domain", "77", "--no-pictures", build_dir=build, timeout=300,
+                          env={"FAKE_WORLD_FLOOD": str(1 << 20),
+                               "PYTHONPATH": os.path.join(helpers.FAKE_BUILD, "python")})
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(os.path.join(out, "flood.json")) as f:
+            started = json.load(f)["agents_started"]
+        self.assertLess(started, 800)
         self.assert_all_gone(agent_pids(out).values())
 
     def test_the_connect_timeout_grows_with_the_robots_when_not_given(self):
