@@ -89,6 +89,9 @@ void AgentLink::send_claim(std::uint64_t nonce) {
 
 WaitResult AgentLink::claim(double timeout_s, dds::ClaimAnswer& out) {
   const dds_time_t deadline = after(timeout_s);
+  // With the world's pid the claim outlives timeout_s while that process is there (slow, not gone: 1024
+  // agents starting on a busy host), up to world_stall_limit_s; and ends as soon as it is gone.
+  const dds_time_t patient_until = options_.world_pid ? after(claim_wait_s(timeout_s)) : deadline;
   const std::uint64_t nonce = fresh_nonce();
   dds_time_t resend = 0;
   int attempts = 0;
@@ -105,7 +108,13 @@ WaitResult AgentLink::claim(double timeout_s, dds::ClaimAnswer& out) {
     (void)mission_.take(options_.run_nonce, mission_refusals_);  // a republished mission is not news here
     if (signals_.stop_requested()) return WaitResult::Stopped;
     const dds_time_t now = dds_time();
-    if (now >= deadline) return WaitResult::Timeout;
+    if (now >= deadline) {
+      if (now >= patient_until) return WaitResult::Timeout;
+      if (process_state(*options_.world_pid) == ProcessState::Gone) {
+        world_process_gone_ = true;
+        return WaitResult::WorldGone;
+      }
+    }
     if (now >= resend) {
       // Re-sent: a claim written before the world matched our writer is lost, and so is an answer written
       // before the world matched our reader (both volatile). The first answers come quickly, the endpoints
@@ -114,8 +123,13 @@ WaitResult AgentLink::claim(double timeout_s, dds::ClaimAnswer& out) {
       // 0.1 s four times, then 0.5, 1, 2, 2, ... s.
       resend = now + (++attempts < 5 ? DDS_MSECS(100) : DDS_MSECS(250) << std::min(attempts - 4, 3));
     }
-    waiter_.wait_until(std::min({deadline, resend, commands_->keep_alive(now)}));
+    const dds_time_t look = now >= deadline ? now + kWorldProcessRecheck : deadline;
+    waiter_.wait_until(std::min({look, patient_until, resend, commands_->keep_alive(now)}));
   }
+}
+
+double AgentLink::claim_wait_s(double timeout_s) const {
+  return options_.world_pid ? std::max(timeout_s, options_.world_stall_limit_s) : timeout_s;
 }
 
 std::uint64_t AgentLink::refused_samples() const {

@@ -57,7 +57,11 @@ class AgentLink {
   // Sends a claim until the world answers this attempt or `timeout_s` passes: again after 0.1 s four times
   // (the first are lost while the world matches our writer), then at doubling intervals up to 2 s (a world
   // busy admitting 1024 agents answers late, and a claim a second more only adds to its queue).
+  // With LinkOptions::world_pid it waits on past `timeout_s` while that process is there, up to
+  // claim_wait_s, and says WorldGone (world_process_gone) as soon as it is not.
   WaitResult claim(double timeout_s, dds::ClaimAnswer& out);
+  // The longest claim() waits for an answer (s).
+  double claim_wait_s(double timeout_s) const;
   // The next packet of this robot. While the world is alive this waits as long as it takes (the world may be
   // waiting for other agents); `idle_timeout_s` bounds the wait only while no world writer is alive.
   // From 2 s after its claim until the first packet it is quiet: the world does not judge its liveliness

@@ -171,9 +171,13 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
       break;
     case WaitResult::Stopped:
       return stopped(kExitSignalBase + signals.signal());
+    case WaitResult::WorldGone:
+      std::cerr << me << ": the world's process (pid " << o.world_pid
+                << ") exited before it answered the claim of id " << o.id << "\n";
+      return stopped(kExitNoWorld);
     default:
-      std::cerr << me << ": the world did not answer the claim of id " << o.id << " within " << o.timeout_s
-                << " s\n";
+      std::cerr << me << ": the world did not answer the claim of id " << o.id << " within "
+                << link.claim_wait_s(o.timeout_s) << " s\n";
       return stopped(kExitNoWorld);
   }
   if (!answer.accepted) {
@@ -312,8 +316,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.5, 86400.0));
   app.add_option("--world-pid", o.world_pid,
                  "the world server's process on this host (swarm run gives it): the world is gone as soon as "
-                 "it is, and while it is there its silence is waited out for --world-stall-limit instead of "
-                 "--world-timeout")
+                 "it is, and while it is there its silence (and an unanswered claim) is waited out for "
+                 "--world-stall-limit instead of --world-timeout (--timeout for the claim)")
       ->check(CLI::PositiveNumber);
   app.add_option("--world-stall-limit", o.world_stall_limit_s,
                  "with --world-pid: seconds of this agent's own time a world whose process is there may stay "

@@ -308,11 +308,52 @@ class StatusChannelTest(unittest.TestCase):
         self.assertTrue(eof, lines)
         self.assertEqual(self.world.returncode, 3, lines)
         evs = self.check_lines(lines, stdout)
-        self.assertEqual([e["event"] for e in evs], ["ready", "claimed", "gave_up"])
+        self.assertEqual([e["event"] for e in evs if e["event"] != "connecting"], ["ready", "claimed", "gave_up"])
         gave_up = evs[-1]
         self.assertEqual((gave_up["robots"], gave_up["claimed"], gave_up["missing"], gave_up["why"]),
                          (2, 1, [1], "not_claimed"))
         self.assertEqual(gave_up["timeout_s"], 3)
+
+    def test_an_agent_that_knows_the_worlds_pid_waits_for_its_claim_answer_while_the_world_is_held(self):
+        # The world's main thread held on its status pipe (full: nobody reads it, as when the launcher was busy
+        # starting 1024 agents) after its mission is out: the agent takes the mission and claims, and no answer
+        # comes for 6 s, past its --timeout of 2 s. Its world's process is there, so it waits; once the pipe is
+        # read the world answers and the run goes. (Before, it gave up at 2 s: "did not answer the claim".)
+        domain = helpers.test_domain(47)
+        r, w = os.pipe()
+        os.set_blocking(w, False)
+        try:
+            while True:
+                os.write(w, b"\n" * 4096)
+        except BlockingIOError:
+            pass
+        os.set_blocking(w, True)
+        nonce = "00000000000000cd"
+        try:
+            with open(os.path.join(self.dir, "stdout"), "wb") as out, open(os.path.join(self.dir, "stderr"),
+                                                                            "wb") as err:
+                self.world = subprocess.Popen(
+                    [os.path.join(BUILD_DIR, "world_server", "world_server"), "--scenario", SCENARIO, "--robots",
+                     "1", "--out", self.out, "--domain", str(domain), "--run-nonce", nonce, "--max-ticks", "30",
+                     "--connect-timeout", "60", "--status-fd", str(w)], stdin=subprocess.DEVNULL, stdout=out,
+                    stderr=err, pass_fds=(w,))
+        finally:
+            os.close(w)
+        try:
+            agent_err = os.path.join(self.dir, "agent.err")
+            with open(agent_err, "wb") as err:
+                self.agents[0] = subprocess.Popen(
+                    [os.path.join(BUILD_DIR, "robot_agent", "robot_agent"), "--id", "0", "--domain", str(domain),
+                     "--run-nonce", nonce, "--timeout", "2", "--world-pid", str(self.world.pid)],
+                    stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=err)
+            time.sleep(6.0)
+            self.assertIsNone(self.agents[0].poll(), open(agent_err).read())
+            lines, eof = _read_status(r, 120.0, lambda obj: None)  # the filler's empty lines, then the world's
+        finally:
+            os.close(r)
+        self.assertEqual(self.world.wait(timeout=60), 0, lines)
+        self.assertEqual(self.agents[0].wait(timeout=30), 0, open(agent_err).read())
+        self.assertIn("done", [obj.get("event") for _, obj in lines if isinstance(obj, dict)])
 
     def test_a_status_fd_that_is_not_open_for_writing_is_refused(self):
         for fd in ("1", "57"):
