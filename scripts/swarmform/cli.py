@@ -461,6 +461,11 @@ def render_pictures(run_dir: str, ticks: Sequence[int] = (), out_dir: Optional[s
           ("; --no-animation skips the video, --no-pictures all of it" if animate else ""), file=sys.stderr)
     try:
         progress("loading the recording")
+        # robots.csv's damage first, in `swarm view`'s and `swarm report`'s words (a corrupt row below stops the
+        # drawing at its line; the damage says every place and the ticks it touches).
+        from . import report as run_report
+        for line in run_report.damage_lines(run_dir):
+            print(f"swarm: warning: {line}", file=sys.stderr)
         rec = recording.load(run_dir)
         for w in rec.warnings:
             print(f"swarm: warning: {w}", file=sys.stderr)

@@ -1036,6 +1036,11 @@ def view(run_dir: str, port: int, host: str) -> int:
         return e.code
     p = subprocess.Popen([exe, "--replay", os.path.abspath(run_dir), "--port", str(port), "--host", host],
                          stdin=subprocess.DEVNULL, preexec_fn=_die_with_parent)
+
+    def stop(*_: object) -> None:
+        raise KeyboardInterrupt  # SIGTERM as Ctrl-C: the viewer is stopped and says what it skipped
+
+    signal.signal(signal.SIGTERM, stop)
     try:
         return p.wait()
     except KeyboardInterrupt:
