@@ -79,6 +79,7 @@ struct WebServer::Impl {
   void stop() {
     if (stopping) return;
     stopping = true;
+    if (handlers.stopping) handlers.stopping();
     if (timer) timer->cancel();
     if (signals) signals->cancel();
     websocketpp::lib::error_code ec;

@@ -194,6 +194,9 @@ def _add_run_flags(p: argparse.ArgumentParser, demo: bool = False) -> None:
                         "every interface, and anyone who reaches it can pause and kill)")
     p.add_argument("--view-paused", action="store_true",
                    help="--view, and the run (lockstep) waits at tick 0 until the page says go (resume or step)")
+    p.add_argument("--view-grace", type=_float_at_least(0.0), default=None, metavar="S",
+                   help="--view: seconds a paused run waits once its last page closed, then it resumes and says "
+                        "so (default 10)")
     p.add_argument("--ticks", type=_int_at_least(0), nargs="+", default=[], metavar="T",
                    help="also draw snapshots at these ticks")
     p.add_argument("--hosts", type=_hosts_count, metavar="K",
