@@ -2,7 +2,9 @@
 scripts/swarm, DDS test domain offset 62, one run at a time): in a headless Chromium the page draws the robots where
 robots.csv puts them in their state's colour, pause holds the tick, step 1 moves it by exactly one, a click on a
 robot opens its panel; a Foxglove client (foxglove.websocket.v1) gets the channels with their schemas, and poses
-that are robots.csv's; the aggregation example's frames carry its gathered robots' green LEDs."""
+that are robots.csv's; the aggregation example's frames carry its gathered robots' green LEDs. Controls say what they
+do: a kill while paused is shown at once, a page closed while paused resumes the run after the grace, a run's end
+(max_ticks) is shown as such, and a realtime run's controls are disabled saying why."""
 
 import asyncio
 import json
@@ -214,6 +216,29 @@ class LiveViewTest(unittest.TestCase):
         b.wait_for("sfViewer.closed", what="the viewer gone")
         self.assertEqual(b.eval("document.getElementById('run-state').textContent"),
                          "run ended: max_ticks reached at tick 40", "not 'disconnected' once the viewer is gone")
+
+    @unittest.skipIf(not os.path.exists(cdp.CHROMIUM), "chromium missing (scripts/setup installs it)")
+    def test_a_realtime_runs_controls_are_disabled_saying_why(self):
+        """A realtime run ticks on the clock: pause, resume, step and the speed cap cannot act, so they are disabled
+        with the reason in their tooltip; kill still acts."""
+        out = os.path.join(self.dir, "realtime")
+        port = vh.free_port()
+        run = self.start(out, "--mode", "realtime", "--view", str(port), "--max-ticks", "100",
+                         domain=vh.helpers.test_domain(62))
+        url = f"http://127.0.0.1:{port}/"
+        vh.wait_http(url)
+        b = self.browser = cdp.Browser()
+        b.navigate(url)
+        b.wait_for("window.sfViewer && sfViewer.frame && !sfViewer.frame.finished", what="a realtime frame")
+        self.assertFalse(b.eval("sfViewer.frame.controllable"))
+        for control in ("pause", "resume", "step1", "stepn", "speed-set"):
+            self.assertTrue(b.eval(f"document.getElementById('{control}').disabled"), control)
+            self.assertIn("disabled: a realtime run: its ticks follow the clock",
+                          b.eval(f"document.getElementById('{control}').title"))
+        b.eval("sfViewer.select(2)")
+        self.assertFalse(b.eval("document.getElementById('kill').disabled"), "kill acts in a realtime run")
+        code, text = run.wait(timeout=120)
+        self.assertEqual(code, 0, text)
 
     @unittest.skipUnless(os.path.exists(os.path.join(AGGREGATION_DIR, "libaggregation.so")),
                          f"the aggregation example is not built in {AGGREGATION_DIR}")
