@@ -168,6 +168,7 @@ class Session {
   void opened(ClientId c, ClientKind k) {
     if (k == ClientKind::Foxglove) {
       for (const std::string& m : foxglove_.hello()) server_->send_text(c, m);
+      for (const Damage& d : csv_.damage()) server_->send_text(c, foxglove_status(csv_, d));
       return;
     }
     json fields = view_.telemetry_fields;
@@ -267,6 +268,19 @@ class Session {
     return out;
   }
 
+  // Damage as a Foxglove status (a warning in its problems panel): Foxglove's users are told too.
+  static std::string foxglove_status(const RobotsCsv& f, const Damage& d) {
+    const std::string ticks = d.from_tick == d.to_tick
+                                  ? "tick " + std::to_string(d.from_tick)
+                                  : "ticks " + std::to_string(d.from_tick) + ".." + std::to_string(d.to_tick);
+    return json{{"op", "status"},
+                {"level", 1},
+                {"id", "damage-" + std::to_string(d.offset)},
+                {"message", "damaged recording: " + f.path() + " byte " + std::to_string(d.offset) + " (" +
+                                ticks + "): " + d.what}}
+        .dump();
+  }
+
   // Damage found since the last call, on stderr at once (`swarm view` shows the viewer's stderr; a viewer
   // stopped by a signal has said it already).
   void say_new_damage() {
@@ -279,6 +293,7 @@ class Session {
         std::cerr << "swarm_viewer: " << f->path() << " byte " << d.offset << " (tick " << d.from_tick
                   << (d.to_tick != d.from_tick ? ".." + std::to_string(d.to_tick) : std::string())
                   << "): " << d.what << std::endl;
+        if (server_ != nullptr) server_->broadcast_text(ClientKind::Foxglove, foxglove_status(*f, d));
       }
     }
   }

@@ -439,10 +439,17 @@ class DamagedReplayTest(unittest.TestCase):
                                          stdout=out, stderr=subprocess.STDOUT, env=env, start_new_session=True)
         url = f"http://127.0.0.1:{port}/"
         vh.wait_http(url)
+        self.port = port
         b = self.browser = cdp.Browser()
         b.navigate(url)
         b.wait_for("window.sfViewer && sfViewer.replay && sfViewer.frame", what="the recording loaded")
         return b
+
+    async def foxglove_statuses(self, port):
+        async with websockets.connect(f"ws://127.0.0.1:{port}/", subprotocols=["foxglove.websocket.v1"]) as fox:
+            ops = [json.loads(await asyncio.wait_for(fox.recv(), 10)) for _ in range(4)]
+        self.assertEqual([m["op"] for m in ops[:2]], ["serverInfo", "advertise"])
+        return ops[2:]
 
     def terminal_says(self, text, timeout=20):
         """`swarm view`'s output holds `text` while it still runs (not only once it exits)."""
@@ -485,6 +492,13 @@ class DamagedReplayTest(unittest.TestCase):
         self.assertIn(python[1].what, b.eval("document.getElementById('banner').textContent"))
         self.scrub(b, 44)
         self.assertTrue(b.eval("document.getElementById('banner').hidden"))
+        # A Foxglove client is told the damage found so far, as warnings (status level 1).
+        statuses = asyncio.run(self.foxglove_statuses(self.port))
+        self.assertEqual(statuses, [{"op": "status", "level": 1, "id": f"damage-{d.offset}",
+                                     "message": f"damaged recording: {self.csv} byte {d.offset} "
+                                                f"({'tick' if d.from_tick == d.to_tick else 'ticks'} {d.from_tick}"
+                                                f"{'' if d.from_tick == d.to_tick else f'..{d.to_tick}'}): {d.what}"}
+                                    for d in python])
         # SIGTERM on `swarm view`: the viewer is stopped and says what it skipped on the way out.
         os.killpg(self.proc.pid, signal.SIGTERM)
         self.proc.wait(timeout=20)
