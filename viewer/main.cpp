@@ -59,6 +59,7 @@ struct Options {
   std::string security_dir;  // --secure runs: the run's security directory (observer identity)
   double rate = 10.0;
   double linger_s = 2.0;
+  double page_grace_s = 10.0;
   bool quiet = false;
 };
 
@@ -134,6 +135,7 @@ int live(const Options& o) {
 
   swarmform::viewer::WebServer* server_ptr = nullptr;
   std::string last_frame;
+  std::string last_end;  // the "end" message, for a page that opens after it
   std::deque<json> events;
   EventTail tail(o.run_dir + "/events.jsonl");
   double rate = o.rate;
@@ -142,6 +144,25 @@ int live(const Options& o) {
   std::uint64_t bad_page_messages = 0;
   dds::ObserveFrameData frame;
   std::vector<json> fresh;
+  // The run's end as the page shows it: summary.json's end_reason (the world writes it as it ends), sent
+  // once.
+  bool said_end = false;
+  dds_time_t last_summary_check = 0;
+  auto say_end = [&]() {
+    if (said_end || server_ptr == nullptr) return;
+    const json s = read_json(o.run_dir + "/summary.json");
+    if (!s.is_object() || !s.contains("end_reason") || !s["end_reason"].is_string()) return;
+    said_end = true;
+    json end = {{"type", "end"}, {"end_reason", s["end_reason"]}};
+    end["tick"] = s.contains("ticks") && s["ticks"].is_number_unsigned() ? s["ticks"] : json(frame.tick);
+    server_ptr->broadcast_text(ClientKind::Page, end.dump());
+    last_end = end.dump();
+  };
+  // The last page closed while the run was paused: after --page-grace seconds with no page, the run resumes
+  // (a run never waits for ever for a page nobody looks at).
+  bool seen_page = false;
+  std::optional<dds_time_t> alone_since;
+  const auto grace = static_cast<dds_duration_t>(o.page_grace_s * 1e9);
 
   const json hello = {{"type", "hello"}, {"mode", "live"}};
   swarmform::viewer::Foxglove foxglove;
@@ -165,6 +186,7 @@ int live(const Options& o) {
       server_ptr->send_text(c, json{{"type", "events"}, {"events", all}}.dump());
     }
     if (!last_frame.empty()) server_ptr->send_text(c, last_frame);
+    if (!last_end.empty()) server_ptr->send_text(c, last_end);
   };
   h.text = [&](ClientId client, ClientKind k, const std::string& text) {
     if (k == ClientKind::Foxglove) {
@@ -227,9 +249,35 @@ int live(const Options& o) {
       for (auto& [client, bytes] : foxglove.messages(frame)) server_ptr->send_binary(client, bytes);
       if (frame.finished && !finished_at) finished_at = now;
     }
+    if (got_frame && !said_end && now - last_summary_check >= DDS_MSECS(200)) {
+      last_summary_check = now;
+      say_end();
+    }
+    if (server_ptr->clients(ClientKind::Page) > 0) {
+      seen_page = true;
+      alone_since.reset();
+    } else if (seen_page && got_frame && frame.paused && frame.controllable && !frame.finished) {
+      if (!alone_since) {
+        alone_since = now;
+        std::cerr << "swarm_viewer: the last page closed while the run is paused at tick " << frame.tick
+                  << "; it resumes in " << o.page_grace_s << " s unless a page opens (--page-grace)"
+                  << std::endl;
+      } else if (now - *alone_since >= grace) {
+        // count: the grace in ms, which the world prints (a Resume from the page has count 0).
+        send(dds::ControlKind::Resume,
+             std::max<std::uint64_t>(1, static_cast<std::uint64_t>(o.page_grace_s * 1e3)), 0);
+        std::cerr << "swarm_viewer: no page for " << o.page_grace_s << " s while paused: the run resumes"
+                  << std::endl;
+        alone_since.reset();
+        seen_page = false;
+      }
+    } else {
+      alone_since.reset();
+    }
     // The viewer ends with the run (after a moment, so pages get the last frame and events).
     return !finished_at || now - *finished_at < static_cast<dds_duration_t>(o.linger_s * 1e9);
   };
+  h.stopping = [&] { say_end(); };  // stopped by the launcher as the world exits: the end, if written
   swarmform::viewer::WebServer server({o.host, o.port, o.web_root, o.run_dir}, h, kPeriodMs);
   server_ptr = &server;
   if (!o.netns.empty()) swarmform::viewer::enter_network_namespace(o.netns);
@@ -277,6 +325,9 @@ int main(int argc, char** argv) {
   app.add_option("--linger", o.linger_s,
                  "live: seconds to keep serving after the run's last frame (default 2)")
       ->check(CLI::Range(0.0, 3600.0));
+  app.add_option("--page-grace", o.page_grace_s,
+                 "live: seconds a paused run waits once its last page closed, then it resumes (default 10)")
+      ->check(CLI::Range(0.0, 86400.0));
   app.footer("Exit codes: 0 the run ended or a signal; 1 a failure (DDS, the port); 2 bad flags.");
   try {
     app.parse(argc, argv);

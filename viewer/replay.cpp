@@ -1,6 +1,7 @@
 #include "viewer/replay.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -122,6 +123,7 @@ class Session {
         sensors_(sensors),
         view_(behaviour_of(world_)) {
     tick_rate_ = world_.value("tick_rate", 10.0);
+    finished_ = summary.has_value();
     if (summary && summary->is_object()) {
       if (is_number(*summary, "formation_tick"))
         formation_tick_ = (*summary)["formation_tick"].get<std::int64_t>();
@@ -147,6 +149,9 @@ class Session {
     std::cout << "viewer http://" << o_.host << ":" << server.port() << "/ replay of " << o_.run_dir
               << " (ticks " << csv_.first_tick() << ".." << csv_.last_tick() << ", robots.csv "
               << csv_.size_bytes() << " bytes)" << std::endl;
+    if (!finished_)
+      std::cerr << "swarm_viewer: " << o_.run_dir
+                << "/summary.json missing: the run did not finish (it was killed, or is still running)\n";
     show(tick_);
     server.run();
     server_ = nullptr;
@@ -163,6 +168,7 @@ class Session {
   void opened(ClientId c, ClientKind k) {
     if (k == ClientKind::Foxglove) {
       for (const std::string& m : foxglove_.hello()) server_->send_text(c, m);
+      for (const Damage& d : csv_.damage()) server_->send_text(c, foxglove_status(csv_, d));
       return;
     }
     json fields = view_.telemetry_fields;
@@ -176,7 +182,9 @@ class Session {
                         {"telemetry_fields", fields},
                         {"first_tick", csv_.first_tick()},
                         {"last_tick", csv_.last_tick()},
-                        {"tick_rate", tick_rate_}};
+                        {"tick_rate", tick_rate_},
+                        {"finished", finished_},
+                        {"damage", damage_json(false, 0)}};
     server_->send_text(c, hello.dump());
     if (!last_page_frame_.empty()) server_->send_text(c, last_page_frame_);
   }
@@ -240,10 +248,60 @@ class Session {
     return true;
   }
 
+  // The damage of robots.csv and readings.csv (robots_csv.hpp Damage) as the page's JSON: all of it, or
+  // (`at_tick`) what touches timeline tick `tick`.
+  json damage_json(bool at_tick, std::uint64_t tick) const {
+    json out = json::array();
+    const std::array<const RobotsCsv*, 2> files = {&csv_, readings_};
+    for (const RobotsCsv* f : files) {
+      if (f == nullptr) continue;
+      const std::string name = f == &csv_ ? "robots.csv" : "readings.csv";
+      for (const Damage& d : at_tick ? f->damage_at(tick) : f->damage()) {
+        out.push_back({{"file", name},
+                       {"offset", d.offset},
+                       {"from_tick", d.from_tick},
+                       {"to_tick", d.to_tick},
+                       {"at_open", d.at_open},
+                       {"what", d.what}});
+      }
+    }
+    return out;
+  }
+
+  // Damage as a Foxglove status (a warning in its problems panel): Foxglove's users are told too.
+  static std::string foxglove_status(const RobotsCsv& f, const Damage& d) {
+    const std::string ticks = d.from_tick == d.to_tick
+                                  ? "tick " + std::to_string(d.from_tick)
+                                  : "ticks " + std::to_string(d.from_tick) + ".." + std::to_string(d.to_tick);
+    return json{{"op", "status"},
+                {"level", 1},
+                {"id", "damage-" + std::to_string(d.offset)},
+                {"message", "damaged recording: " + f.path() + " byte " + std::to_string(d.offset) + " (" +
+                                ticks + "): " + d.what}}
+        .dump();
+  }
+
+  // Damage found since the last call, on stderr at once (`swarm view` shows the viewer's stderr; a viewer
+  // stopped by a signal has said it already).
+  void say_new_damage() {
+    const std::array<const RobotsCsv*, 2> files = {&csv_, readings_};
+    for (const RobotsCsv* f : files) {
+      if (f == nullptr) continue;
+      std::size_t& said = f == &csv_ ? said_robots_ : said_readings_;
+      for (; said < f->damage().size(); ++said) {
+        const Damage& d = f->damage()[said];
+        std::cerr << "swarm_viewer: " << f->path() << " byte " << d.offset << " (tick " << d.from_tick
+                  << (d.to_tick != d.from_tick ? ".." + std::to_string(d.to_tick) : std::string())
+                  << "): " << d.what << std::endl;
+        if (server_ != nullptr) server_->broadcast_text(ClientKind::Foxglove, foxglove_status(*f, d));
+      }
+    }
+  }
+
   // Tick `t` (the last recorded tick <= t) to every page and every Foxglove subscriber.
   void show(std::uint64_t t) {
     const RecordedTick& rec = csv_.read(t);
-    tick_ = std::max(t, rec.tick);
+    tick_ = std::min(std::max(t, rec.tick), csv_.last_tick());
     frame_ = dds::ObserveFrameData{};
     frame_.tick = rec.tick;
     frame_.paused = !playing_;
@@ -296,6 +354,8 @@ class Session {
       states.push_back({{"value", s.value}, {"name", s.name}, {"colour", s.colour}});
     const json page = {{"type", "frame"},
                        {"tick", rec.tick},
+                       {"at", tick_},
+                       {"damage", damage_json(true, tick_)},
                        {"finished", false},
                        {"paused", !playing_},
                        {"controllable", false},
@@ -309,6 +369,7 @@ class Session {
                        {"telemetry_fields", frame_.telemetry_fields},
                        {"robots", robots}};
     last_page_frame_ = page.dump();
+    say_new_damage();
     if (server_ == nullptr) return;
     server_->broadcast_text(ClientKind::Page, last_page_frame_);
     for (auto& [client, bytes] : foxglove_.messages(frame_)) server_->send_binary(client, bytes);
@@ -358,6 +419,8 @@ class Session {
   dds::ObserveFrameData frame_;
   std::string last_page_frame_;
   std::uint64_t bad_messages_ = 0;
+  bool finished_ = false;  // summary.json is there: the run ended (else it was killed, or still runs)
+  std::size_t said_robots_ = 0, said_readings_ = 0;  // damage said on stderr
 };
 
 }  // namespace
@@ -380,8 +443,10 @@ int replay(const ReplayOptions& o) {
   const std::uint64_t robots = n.is_array() ? n.size() : n.get<std::uint64_t>();
   std::unique_ptr<RobotsCsv> csv;
   try {
-    csv = std::make_unique<RobotsCsv>(o.run_dir + "/robots.csv",
-                                      robots > 0 && robots <= kMaxRobots ? robots : kMaxRobots);
+    // With world.json's robot count, every tick must hold a row of each robot: a tick short of one is damage.
+    const bool counted = robots > 0 && robots <= kMaxRobots;
+    csv = std::make_unique<RobotsCsv>(o.run_dir + "/robots.csv", counted ? robots : kMaxRobots,
+                                      RowsFile::Robots, counted);
   } catch (const std::runtime_error& e) {
     std::cerr << "swarm_viewer: " << e.what() << "\n";
     return 2;

@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <charconv>
@@ -62,10 +63,18 @@ bool flag(std::string_view s, bool& out) {
   return false;
 }
 
+// Damaged bytes as text a page and a terminal can show (the JSON of a frame must be UTF-8).
+std::string printable(std::string s) {
+  for (char& c : s) {
+    if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) > 0x7e) c = '?';
+  }
+  return s;
+}
+
 }  // namespace
 
-RobotsCsv::RobotsCsv(std::string path, std::size_t max_rows, RowsFile kind)
-    : path_(std::move(path)), max_rows_(max_rows), kind_(kind) {
+RobotsCsv::RobotsCsv(std::string path, std::size_t max_rows, RowsFile kind, bool every_tick_whole)
+    : path_(std::move(path)), max_rows_(max_rows), kind_(kind), every_tick_whole_(every_tick_whole) {
   fd_ = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd_ < 0) throw std::runtime_error(path_ + ": cannot open (" + std::strerror(errno) + ")");
   struct stat st {};
@@ -120,6 +129,8 @@ RobotsCsv::RobotsCsv(std::string path, std::size_t max_rows, RowsFile kind)
       throw std::runtime_error(path_ + ": the last row's tick " + std::to_string(last_tick_) +
                                " is before the first's " + std::to_string(first_tick_) +
                                ": rows must be in tick order");
+    check_tail(size);
+    opening_ = false;
   } catch (...) {
     ::close(fd_);
     throw;
@@ -142,6 +153,54 @@ std::string RobotsCsv::pread_some(std::uint64_t at, std::size_t n) {
     bytes_read_ += static_cast<std::uint64_t>(r);
   }
   out.resize(got);
+  return out;
+}
+
+void RobotsCsv::check_tail(std::uint64_t size) {
+  // A run that stopped while writing (killed, or the machine went down) leaves a half-written last line, or
+  // a last tick short of robots: the recording is shown up to its last whole tick, and says it ends early.
+  std::string what;
+  if (data_end_ < size) {
+    what = "a half-written last line at byte " + std::to_string(data_end_) + " (" +
+           std::to_string(size - data_end_) + " bytes)";
+  }
+  std::uint64_t at = data_end_;
+  if (every_tick_whole_ && last_tick_ > first_tick_) {
+    at = lower_bound(last_tick_);
+    load(at);
+    if (have_current_ && current_.rows.size() < max_rows_) {
+      const std::uint64_t cut = last_tick_;
+      Line before = line_before(at);
+      for (int i = 0; !before.ok && before.start > data_start_ && i < kMaxBadLinesSkipped; ++i)
+        before = line_before(before.start);
+      last_tick_ = before.ok ? before.tick : first_tick_;
+      what += std::string(what.empty() ? "" : "; ") + "the last tick " + std::to_string(cut) + " has " +
+              std::to_string(current_.rows.size()) + " of " + std::to_string(max_rows_) +
+              " robots' rows (from byte " + std::to_string(at) + ")";
+    } else {
+      at = data_end_;
+    }
+    current_.rows.clear();
+    have_current_ = false;
+  }
+  if (what.empty()) return;
+  note_damage({last_tick_, last_tick_, std::min(at, data_end_), true,
+               "ends early (the run stopped while writing): " + what + "; shown up to tick " +
+                   std::to_string(last_tick_)});
+}
+
+void RobotsCsv::note_damage(Damage d) {
+  for (const Damage& k : damage_) {
+    if (k.from_tick == d.from_tick && k.offset == d.offset) return;
+  }
+  damage_.push_back(std::move(d));
+}
+
+std::vector<Damage> RobotsCsv::damage_at(std::uint64_t tick) const {
+  std::vector<Damage> out;
+  for (const Damage& d : damage_) {
+    if (d.from_tick <= tick && tick <= d.to_tick) out.push_back(d);
+  }
   return out;
 }
 
@@ -273,12 +332,19 @@ void RobotsCsv::load(std::uint64_t start) {
   std::uint64_t read_to = start;
   bool first = true;
   std::uint64_t pos = start;
+  // What load() finds wrong on its way (damage, said by the caller's viewer): unreadable lines after the
+  // tick's first row, and the tick of the next readable one.
+  std::uint64_t bad_lines = 0, bad_from = 0, bad_to = 0;
+  std::string bad_first;
+  std::optional<std::uint64_t> next_tick;
+  bool too_long = false;
   while (pos < data_end_) {
     std::size_t in_buf = static_cast<std::size_t>(pos - buf_at);
     std::size_t nl = buf.find('\n', in_buf);
     if (nl == std::string::npos) {
       buf.erase(0, in_buf);
       buf_at = pos;
+      if (buf.size() > kMaxLine) too_long = true;
       if (read_to >= data_end_ || buf.size() > kMaxLine) break;
       const std::string more =
           pread_some(read_to, static_cast<std::size_t>(std::min<std::uint64_t>(kBlock, data_end_ - read_to)));
@@ -292,13 +358,19 @@ void RobotsCsv::load(std::uint64_t start) {
     std::uint64_t tick = 0;
     if (!parse(line, row, tick)) {
       problem(pos, "cannot be read: '" + line.substr(0, 80) + "'");
+      if (bad_lines++ == 0) {
+        bad_from = pos;
+        bad_first = printable(line.substr(0, 60));
+      }
       pos = buf_at + nl + 1;
+      bad_to = pos;
       continue;
     }
     if (first) {
       current_.tick = tick;
       first = false;
     } else if (tick != current_.tick) {
+      next_tick = tick;
       break;
     }
     if (current_.rows.size() < max_rows_) {
@@ -312,9 +384,59 @@ void RobotsCsv::load(std::uint64_t start) {
   have_current_ = !first;
   current_start_ = start;
   next_start_ = pos < data_end_ ? pos : data_end_;
+  if (have_current_ && !opening_)
+    note_load_damage(start, bad_lines, bad_from, bad_to, bad_first, next_tick,
+                     too_long ? std::optional<std::uint64_t>(pos) : std::nullopt);
+}
+
+void RobotsCsv::note_load_damage(std::uint64_t start, std::uint64_t bad_lines, std::uint64_t bad_from,
+                                 std::uint64_t bad_to, const std::string& bad_first,
+                                 std::optional<std::uint64_t> next_tick,
+                                 std::optional<std::uint64_t> too_long) {
+  const std::uint64_t t = current_.tick;
+  const bool short_of_robots = every_tick_whole_ && current_.rows.size() < max_rows_;
+  if (bad_lines == 0 && !short_of_robots && !too_long) return;
+  Damage d;
+  d.from_tick = d.to_tick = t;
+  d.offset = bad_lines > 0 ? bad_from : too_long ? *too_long : start;
+  std::string what;
+  if (bad_lines > 0) {
+    what = "bytes " + std::to_string(bad_from) + ".." + std::to_string(bad_to) + " cannot be read (" +
+           std::to_string(bad_lines) + " line(s), the first '" + bad_first + "')";
+    // The ticks between this one and the next readable one are lost in them (in a thinned recording some of
+    // those were never written): a seek there shows this tick, and this.
+    if (next_tick && *next_tick > t + 1) {
+      d.to_tick = *next_tick - 1;
+      what +=
+          "; no tick after " + std::to_string(t) + " can be read before tick " + std::to_string(*next_tick);
+    }
+  }
+  if (too_long) {
+    what += std::string(what.empty() ? "" : "; ") + "a line longer than " + std::to_string(kMaxLine) +
+            " bytes at byte " + std::to_string(*too_long) + ": nothing after it is read";
+  }
+  if (short_of_robots) {
+    std::vector<char> seen(max_rows_, 0);
+    for (const RecordedRow& r : current_.rows) {
+      if (r.id < max_rows_) seen[r.id] = 1;
+    }
+    std::string missing;
+    int listed = 0;
+    for (std::size_t id = 0; id < max_rows_ && listed < 10; ++id) {
+      if (seen[id]) continue;
+      if (listed++ > 0) missing += ' ';
+      missing += std::to_string(id);
+    }
+    if (max_rows_ - current_.rows.size() > 10) missing += " ...";
+    what += std::string(what.empty() ? "" : "; ") + "tick " + std::to_string(t) + " has " +
+            std::to_string(current_.rows.size()) + " of " + std::to_string(max_rows_) +
+            " robots' rows (missing: " + missing + ")";
+  }
+  note_damage({d.from_tick, d.to_tick, d.offset, false, what});
 }
 
 const RecordedTick& RobotsCsv::read(std::uint64_t tick) {
+  tick = std::min(tick, last_tick_);  // a last tick left out at open (check_tail) is never shown
   if (have_current_ && tick == current_.tick) return current_;
   if (have_current_ && tick > current_.tick) {
     // Playing forward: the next tick starts where this one ended.

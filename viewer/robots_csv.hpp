@@ -7,7 +7,9 @@
 //
 // What is wrong is said, never fatal after opening: a row that cannot be read is skipped and counted
 // (bad_rows(), with the first one's byte offset in first_problem()); a half-written last line (a run that
-// stopped while writing) is not part of the data.
+// stopped while writing) is not part of the data. Damage (damage()) is what a viewer must say: found at open
+// (the file's tail: a half-written last line, a last tick short of robots) or when a tick is read (unreadable
+// bytes after its rows, a tick short of robots, ticks lost in unreadable bytes); nothing is scanned for it.
 #pragma once
 
 #include <array>
@@ -40,11 +42,23 @@ struct RecordedTick {
 // column a number or empty, in RecordedRow::extra: the sensors' readings, common/sensor_readings.hpp).
 enum class RowsFile { Robots, Readings };
 
+// Something wrong with the file that a viewer must say where it is: the timeline ticks it touches (a seek
+// into [from_tick, to_tick] shows it), the byte where it is, and what.
+struct Damage {
+  std::uint64_t from_tick = 0, to_tick = 0;
+  std::uint64_t offset = 0;
+  bool at_open = false;  // found opening the file (its tail): said before anything is shown
+  std::string what;      // without the file's name (file_name() says it)
+};
+
 class RobotsCsv {
  public:
   // Throws std::runtime_error naming the file and what is wrong (missing, no header, a fixed column missing,
   // no complete row). `max_rows`: the rows one tick may hold (the world's robot count); more are counted bad.
-  RobotsCsv(std::string path, std::size_t max_rows, RowsFile kind = RowsFile::Robots);
+  // `every_tick_whole`: every tick must hold `max_rows` rows (robots.csv with world.json's robot count): a
+  // tick with fewer is damage, and a last tick with fewer (a run that stopped while writing it) is left out.
+  RobotsCsv(std::string path, std::size_t max_rows, RowsFile kind = RowsFile::Robots,
+            bool every_tick_whole = false);
   ~RobotsCsv();
   RobotsCsv(const RobotsCsv&) = delete;
   RobotsCsv& operator=(const RobotsCsv&) = delete;
@@ -56,6 +70,11 @@ class RobotsCsv {
 
   // The rows of the last recorded tick <= `tick` (the first recorded tick when `tick` is before it).
   const RecordedTick& read(std::uint64_t tick);
+
+  // The damage found so far, in the order found; damage_at(t): the damage whose ticks hold t.
+  const std::vector<Damage>& damage() const { return damage_; }
+  std::vector<Damage> damage_at(std::uint64_t tick) const;
+  const std::string& path() const { return path_; }
 
   std::uint64_t bad_rows() const { return bad_rows_; }
   const std::string& first_problem() const { return first_problem_; }
@@ -79,6 +98,11 @@ class RobotsCsv {
   bool parse(const std::string& line, RecordedRow& row, std::uint64_t& tick) const;
   bool parse_tick(const std::string& line, std::uint64_t& tick) const;
   void problem(std::uint64_t offset, const std::string& what);
+  void note_damage(Damage d);  // once per (tick, offset)
+  void check_tail(std::uint64_t size);
+  void note_load_damage(std::uint64_t start, std::uint64_t bad_lines, std::uint64_t bad_from,
+                        std::uint64_t bad_to, const std::string& bad_first,
+                        std::optional<std::uint64_t> next_tick, std::optional<std::uint64_t> too_long);
 
   std::string path_;
   int fd_ = -1;
@@ -99,6 +123,10 @@ class RobotsCsv {
   bool have_current_ = false;
   std::uint64_t current_start_ = 0;  // where current_'s rows start
   std::uint64_t next_start_ = 0;     // where the next tick's rows start (data_end_: none)
+
+  bool every_tick_whole_ = false;
+  bool opening_ = true;  // load() at open: the tail's check says what is short, not load()
+  std::vector<Damage> damage_;
 
   std::uint64_t bad_rows_ = 0;
   std::string first_problem_;

@@ -20,6 +20,7 @@ using Hdl = websocketpp::connection_hdl;
 
 constexpr const char* kFoxgloveSubprotocol = "foxglove.websocket.v1";
 constexpr std::size_t kMaxBuffered = std::size_t{8} << 20;  // bytes queued to one client
+constexpr std::chrono::milliseconds kCloseWait{500};        // stopping: how long clients have to close
 
 // What GET may fetch: the page's files from web_root and the small files of the recording from run_dir (not
 // robots.csv: a file is sent whole, and the replay reads robots.csv a tick at a time itself). Nothing else:
@@ -79,13 +80,21 @@ struct WebServer::Impl {
   void stop() {
     if (stopping) return;
     stopping = true;
+    if (handlers.stopping) handlers.stopping();
     if (timer) timer->cancel();
     if (signals) signals->cancel();
     websocketpp::lib::error_code ec;
     server.stop_listening(ec);
     for (auto& [hdl, c] : clients)
       server.close(hdl, websocketpp::close::status::going_away, "viewer ends", ec);
-    server.stop();
+    // The last messages (the run's end) and the close frames go out before the loop stops: it stops once
+    // every client has closed (the close handler), or after kCloseWait for one that does not answer.
+    if (clients.empty() || !timer) {
+      server.stop();
+      return;
+    }
+    timer->expires_after(kCloseWait);
+    timer->async_wait([this](const asio::error_code&) { server.stop(); });
   }
 
   void http(Hdl hdl) {
@@ -165,6 +174,7 @@ WebServer::WebServer(const WebServerOptions& options, Handlers handlers, int per
     m.by_id.erase(id);
     m.clients.erase(it);
     if (m.handlers.closed) m.handlers.closed(id);
+    if (m.stopping && m.clients.empty()) m.server.stop();
   });
   m.server.set_fail_handler([](Hdl) {});
   m.server.set_message_handler([&m](Hdl h, Server::message_ptr msg) {

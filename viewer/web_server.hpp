@@ -31,6 +31,9 @@ class WebServer {
     std::function<void(ClientId, const std::string&)> binary;            // a binary message
     // Called every `period_ms` on the server's thread; false ends run().
     std::function<bool()> every;
+    // Called once when the server stops (SIGINT/SIGTERM, stop(), `every` false), before the clients are
+    // closed: what it sends them is their last message.
+    std::function<void()> stopping;
   };
 
   // Binds the port (throws std::runtime_error naming host:port when it cannot).

@@ -816,6 +816,14 @@ bool Server::hold_for_viewer() {
   for (;;) {
     const dds_time_t now = dds_time();
     if (!viewer_->holding(now) && now >= earliest) return true;
+    // A kill asked while paused is done now, as the round would do it first thing (kills_and_faults): its
+    // death is seen and recorded at this tick, the tick the round about to run would record it at, and the
+    // page shows it without a step.
+    if (viewer_->holding(now)) {
+      for (const RobotId id : viewer_->take_kills()) {
+        if (id < robots_.size()) faults_.kill(id);
+      }
+    }
     // The page sees the pause at once, and keeps seeing frames (a pause changes nothing it draws).
     offer_frame(now, false);
     wait_a_while(viewer_->holding(now) ? now + DDS_MSECS(100) : earliest);

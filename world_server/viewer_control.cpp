@@ -91,6 +91,12 @@ void ViewerControl::apply(const dds::ControlSample& c) {
       changed_ = true;
       break;
     case dds::ControlKind::Resume:
+      // count > 0: the viewer's own resume, its last page closed while paused (the grace in ms); said here,
+      // on the world's console, which the launcher shows.
+      if (c.count > 0 && paused_) {
+        std::cerr << "world_server: the viewer's last page closed while paused; running on after "
+                  << static_cast<double>(c.count) / 1e3 << " s without a page" << std::endl;
+      }
       paused_ = false;
       steps_left_ = 0;
       changed_ = true;

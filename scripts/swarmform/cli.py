@@ -194,6 +194,9 @@ def _add_run_flags(p: argparse.ArgumentParser, demo: bool = False) -> None:
                         "every interface, and anyone who reaches it can pause and kill)")
     p.add_argument("--view-paused", action="store_true",
                    help="--view, and the run (lockstep) waits at tick 0 until the page says go (resume or step)")
+    p.add_argument("--view-grace", type=_float_at_least(0.0), default=None, metavar="S",
+                   help="--view: seconds a paused run waits once its last page closed, then it resumes and says "
+                        "so (default 10)")
     p.add_argument("--ticks", type=_int_at_least(0), nargs="+", default=[], metavar="T",
                    help="also draw snapshots at these ticks")
     p.add_argument("--hosts", type=_hosts_count, metavar="K",
@@ -461,6 +464,11 @@ def render_pictures(run_dir: str, ticks: Sequence[int] = (), out_dir: Optional[s
           ("; --no-animation skips the video, --no-pictures all of it" if animate else ""), file=sys.stderr)
     try:
         progress("loading the recording")
+        # robots.csv's damage first, in `swarm view`'s and `swarm report`'s words (a corrupt row below stops the
+        # drawing at its line; the damage says every place and the ticks it touches).
+        from . import report as run_report
+        for line in run_report.damage_lines(run_dir):
+            print(f"swarm: warning: {line}", file=sys.stderr)
         rec = recording.load(run_dir)
         for w in rec.warnings:
             print(f"swarm: warning: {w}", file=sys.stderr)

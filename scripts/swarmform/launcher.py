@@ -979,6 +979,7 @@ class _ViewerStart:
         self.port = getattr(args, "view", None)
         self.host = getattr(args, "view_host", "127.0.0.1")
         self.paused = bool(getattr(args, "view_paused", False))
+        self.grace: Optional[float] = getattr(args, "view_grace", None)
         self.run_dir, self.domain, self.nonce, self.logs = run_dir, domain, nonce, logs
         self.procs, self.status, self.said = procs, status, False
         self.token = secrets.token_hex(8) if self.port is not None else None
@@ -1000,6 +1001,8 @@ class _ViewerStart:
             return
         cmd = [self.exe, "--domain", str(self.domain), "--run-nonce", self.nonce, "--token", self.token,
                "--run-dir", self.run_dir, "--port", str(self.port), "--host", self.host] + self.extra
+        if self.grace is not None:
+            cmd += ["--page-grace", str(self.grace)]
         log = os.path.join(self.logs, "viewer.log")
         viewer = self.procs.start_viewer(cmd, log)
         port = self.port
@@ -1053,6 +1056,11 @@ def view(run_dir: str, port: int, host: str) -> int:
         return e.code
     p = subprocess.Popen([exe, "--replay", os.path.abspath(run_dir), "--port", str(port), "--host", host],
                          stdin=subprocess.DEVNULL, preexec_fn=_die_with_parent)
+
+    def stop(*_: object) -> None:
+        raise KeyboardInterrupt  # SIGTERM as Ctrl-C: the viewer is stopped and says what it skipped
+
+    signal.signal(signal.SIGTERM, stop)
     try:
         return p.wait()
     except KeyboardInterrupt:

@@ -8,7 +8,7 @@ import json
 import os
 from typing import IO, Any, Callable, Optional, Sequence
 
-from .recording import RecordingError, read_json, read_world
+from .recording import RecordingError, read_json, read_world, robots_damage
 
 # (group, [(key, label, kind)]); kind: tick, int, float, grid, m, s, tps, text, list
 LAYOUT = [
@@ -144,9 +144,30 @@ def machine_readable(run_dirs: Sequence[str], fmt: str, stream: IO[str]) -> None
         w.writerow([d] + [csv_cell(s.get(k)) or "" for k in keys])
 
 
+def damage_lines(run_dir: str) -> list[str]:
+    """robots.csv's damage (recording.robots_damage: what `swarm view` says, at the same lines and bytes), one line
+    each; none when the run directory has no robots.csv or no usable world.json to count the robots."""
+    path = os.path.join(run_dir, "robots.csv")
+    world_path = os.path.join(run_dir, "world.json")
+    if not os.path.isfile(path):
+        return []
+    try:
+        robots = read_world(world_path).robots if os.path.exists(world_path) else 0
+        return [f"damaged recording: {d}" for d in robots_damage(path, robots)]
+    except RecordingError as e:
+        return [f"damaged recording: {e}"]
+
+
 def report(run_dir: str, out: Callable[[str], None] = print) -> None:
-    """Prints the table; raises RecordingError when summary.json is missing or not valid."""
-    summary = load_summary(run_dir)
+    """Prints the table, then robots.csv's damage when it has any; raises RecordingError when summary.json is
+    missing or not valid (after saying the damage: a killed run's recording is cut, and has no summary)."""
+    damage = damage_lines(run_dir) if os.path.isdir(run_dir) else []
+    try:
+        summary = load_summary(run_dir)
+    except RecordingError:
+        for line in damage:
+            out(line)
+        raise
     tick_rate = None
     paper_metrics = True
     world_path = os.path.join(run_dir, "world.json")
@@ -158,4 +179,6 @@ def report(run_dir: str, out: Callable[[str], None] = print) -> None:
         except RecordingError:
             tick_rate = None  # the summary alone is still worth showing
     for line in table(summary, tick_rate, f"swarmform run {run_dir}", paper_metrics):
+        out(line)
+    for line in damage:
         out(line)

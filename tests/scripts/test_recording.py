@@ -1,5 +1,7 @@
 """The recording reader: round trip of a synthetic run, and every kind of damage reported as file:line."""
 
+import contextlib
+import io
 import json
 import os
 import shutil
@@ -322,3 +324,88 @@ class KheperaRecordingTest(unittest.TestCase):
         with self.assertRaises(recording.RecordingError) as cm:
             recording.load(self.dir, with_readings=True)
         self.assertEqual(str(cm.exception), f"{path}:1: empty: expected the header tick,id and the sensors' columns")
+
+
+class RobotsDamageTest(unittest.TestCase):
+    """robots.csv's damage as `swarm report` and `swarm replay` say it: the same places (line, byte), ticks and
+    words as `swarm view` (viewer/robots_csv.cpp; tests/viewer checks the viewer's side on the same damage)."""
+
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="swarm-damage-")
+        fixture.make_run(self.dir, ticks=40, robots=7, death=None)
+        self.csv = os.path.join(self.dir, "robots.csv")
+        with open(self.csv, "rb") as f:
+            self.text = f.read()
+
+    def tearDown(self):
+        shutil.rmtree(self.dir)
+
+    def write(self, data):
+        with open(self.csv, "wb") as f:
+            f.write(data)
+
+    def row_at(self, tick, rid):
+        """The byte offset and the line number (1: the header) of tick's row of robot rid."""
+        at = self.text.index(f"\n{tick},{rid},".encode()) + 1
+        return at, self.text[:at].count(b"\n") + 1
+
+    def said(self, run_dir):
+        """What `swarm report` prints and what `swarm replay` warns, as two lists of lines."""
+        from swarmform import cli, report
+        out = []
+        try:
+            report.report(run_dir, out.append)
+        except recording.RecordingError as e:
+            out.append(str(e))
+        err = io.StringIO()
+        with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+            cli.render_pictures(run_dir, animate=False, out_dir=os.path.join(self.dir, "pictures"))
+        return out, err.getvalue().splitlines()
+
+    def test_a_whole_recording_has_no_damage(self):
+        self.assertEqual(recording.robots_damage(self.csv, 7), [])
+
+    def test_corrupt_bytes_in_the_middle_name_line_byte_and_the_ticks_lost(self):
+        start, line = self.row_at(20, 3)
+        end_row, _ = self.row_at(23, 1)
+        cut_from, cut_to = start + 4, end_row + 5
+        after = self.text.index(b"\n", cut_to) + 1
+        self.write(self.text[:cut_from] + b"x" * (cut_to - cut_from) + self.text[cut_to:])
+        d = recording.robots_damage(self.csv, 7)
+        self.assertEqual(len(d), 2, [str(x) for x in d])
+        self.assertEqual((d[0].line, d[0].offset, d[0].from_tick, d[0].to_tick), (line, start, 20, 22))
+        self.assertEqual(d[0].what.split(" (1 line(s)")[0], f"bytes {start}..{after} cannot be read")
+        self.assertIn("; no tick after 20 can be read before tick 23; tick 20 has 3 of 7 robots' rows "
+                      "(missing: 3 4 5 6)", d[0].what)
+        self.assertEqual((d[1].from_tick, d[1].to_tick, d[1].offset), (23, 23, after))
+        self.assertIn("tick 23 has 5 of 7 robots' rows (missing: 0 1)", d[1].what)
+        self.assertEqual(str(d[0]).split(": ")[0], f"{self.csv}:{line} (byte {start}, ticks 20..22)")
+        report_lines, replay_lines = self.said(self.dir)
+        for x in d:
+            self.assertIn(f"damaged recording: {x}", report_lines)
+            self.assertIn(f"swarm: warning: damaged recording: {x}", replay_lines)
+
+    def test_a_missing_robot_is_named_with_its_tick(self):
+        at, line = self.row_at(12, 4)
+        nl = self.text.index(b"\n", at) + 1
+        self.write(self.text[:at] + self.text[nl:])
+        d = recording.robots_damage(self.csv, 7)
+        self.assertEqual([(x.line, x.from_tick, x.to_tick) for x in d], [(line - 4, 12, 12)])
+        self.assertIn("tick 12 has 6 of 7 robots' rows (missing: 4)", d[0].what)
+
+    def test_a_cut_recording_ends_at_its_last_whole_tick(self):
+        at, line = self.row_at(39, 3)
+        self.write(self.text[:at + 9])  # tick 39: robots 0..2 whole, robot 3 half-written
+        os.remove(os.path.join(self.dir, "summary.json"))  # a killed world writes none
+        d = recording.robots_damage(self.csv, 7)
+        first, first_line = self.row_at(39, 0)
+        self.assertEqual(len(d), 1, [str(x) for x in d])
+        self.assertTrue(d[0].at_open)
+        self.assertEqual((d[0].line, d[0].offset, d[0].from_tick), (first_line, first, 38))
+        self.assertEqual(d[0].what, f"ends early (the run stopped while writing): a half-written last line at byte "
+                                    f"{at} (9 bytes); the last tick 39 has 3 of 7 robots' rows (from byte {first}); "
+                                    "shown up to tick 38")
+        report_lines, replay_lines = self.said(self.dir)
+        self.assertIn(f"damaged recording: {d[0]}", report_lines)
+        self.assertIn("summary.json: missing", report_lines[-1])
+        self.assertIn(f"swarm: warning: damaged recording: {d[0]}", replay_lines)

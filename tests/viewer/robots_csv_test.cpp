@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 
@@ -123,6 +124,111 @@ TEST_F(RobotsCsvTest, AnUnreadableRowIsSkippedAndCountedWithItsOffset) {
   EXPECT_NE(csv.first_problem().find("robots.csv: the row at byte "), std::string::npos)
       << csv.first_problem();
   EXPECT_NE(csv.first_problem().find("oops"), std::string::npos) << csv.first_problem();
+}
+
+// The damage a viewer must say (robots_csv.hpp Damage): the tail of a killed run's file is found at open and
+// the recording ends at its last whole tick; damage in the middle is found reading the ticks it touches.
+TEST_F(RobotsCsvTest, ACutFileEndsAtItsLastWholeTickAndSaysSoAtOpen) {
+  write(0, 50, 1, 4, "51,0,51,0,0.051,1,2,0,-1,1,0.5\n51,1,51,1,0.051,1,2,1,-1,0,0.5\n51,2,51,2,0.0");
+  RobotsCsv csv(path_, 4, RowsFile::Robots, true);
+  EXPECT_EQ(csv.last_tick(), 50u);
+  ASSERT_EQ(csv.damage().size(), 1u);
+  const Damage& d = csv.damage()[0];
+  EXPECT_TRUE(d.at_open);
+  EXPECT_EQ(d.from_tick, 50u);
+  for (const char* part : {"ends early", "a half-written last line at byte ", "the last tick 51 has 2 of 4",
+                           "shown up to tick 50"}) {
+    EXPECT_NE(d.what.find(part), std::string::npos) << part << " not in: " << d.what;
+  }
+  expect_tick(csv.read(51), 50, 4);
+  expect_tick(csv.read(50), 50, 4);
+  EXPECT_EQ(csv.damage_at(50).size(), 1u);
+  EXPECT_TRUE(csv.damage_at(49).empty());
+  // Cut at a line's end inside a tick: the same without the half-written line.
+  write(0, 50, 1, 4, "51,0,51,0,0.051,1,2,0,-1,1,0.5\n");
+  RobotsCsv cut(path_, 4, RowsFile::Robots, true);
+  EXPECT_EQ(cut.last_tick(), 50u);
+  ASSERT_EQ(cut.damage().size(), 1u);
+  EXPECT_EQ(cut.damage()[0].what.find("half-written"), std::string::npos) << cut.damage()[0].what;
+  // A whole file: nothing said.
+  write(0, 50, 1, 4);
+  RobotsCsv whole(path_, 4, RowsFile::Robots, true);
+  EXPECT_EQ(whole.last_tick(), 50u);
+  EXPECT_TRUE(whole.damage().empty());
+}
+
+TEST_F(RobotsCsvTest, CorruptBytesInTheMiddleAreDamageAtTheTicksTheyTouch) {
+  write(0, 200, 1, 4);
+  std::string text;
+  {
+    std::ifstream f(path_, std::ios::binary);
+    text.assign(std::istreambuf_iterator<char>(f), {});
+  }
+  // Bytes overwritten from inside tick 100's row of robot 2 to inside tick 103's row of robot 1 (no newline
+  // among them): those two lines become one unreadable line, ticks 101 and 102 are lost.
+  const std::size_t at = text.find("\n100,2,") + 4, n = text.find("\n103,1,") + 5 - at;
+  const std::size_t bad_start = text.rfind('\n', at) + 1;
+  const std::size_t bad_end = text.find('\n', at + n) + 1;
+  const std::uint64_t a = 100, b = 103;
+  text.replace(at, n, std::string(n, 'x'));
+  {
+    std::ofstream f(path_, std::ios::binary | std::ios::trunc);
+    f << text;
+  }
+  RobotsCsv csv(path_, 4, RowsFile::Robots, true);
+  EXPECT_EQ(csv.last_tick(), 200u);
+  EXPECT_TRUE(csv.damage().empty()) << "nothing scanned at open: " << csv.damage()[0].what;
+  expect_tick(csv.read(a - 3), a - 3, 4);
+  EXPECT_TRUE(csv.damage_at(a - 3).empty());
+  // A seek into the lost ticks: the last readable tick before them, and the damage that says why.
+  const RecordedTick& r = csv.read(a + 1);
+  EXPECT_EQ(r.tick, a);
+  EXPECT_EQ(r.rows.size(), 2u);
+  const std::vector<Damage> here = csv.damage_at(a + 1);
+  ASSERT_EQ(here.size(), 1u);
+  EXPECT_EQ(here[0].offset, bad_start);
+  EXPECT_EQ(here[0].from_tick, a);
+  EXPECT_EQ(here[0].to_tick, b - 1);
+  for (const std::string& part :
+       {"bytes " + std::to_string(bad_start) + ".." + std::to_string(bad_end) + " cannot be read (1 line(s)",
+        "no tick after " + std::to_string(a) + " can be read before tick " + std::to_string(b),
+        "tick " + std::to_string(a) + " has "}) {
+    EXPECT_NE(here[0].what.find(part), std::string::npos) << part << " not in: " << here[0].what;
+  }
+  EXPECT_EQ(csv.damage_at(b - 1).size(), 1u);
+  // The first tick after them lost its first rows: said from that tick.
+  EXPECT_EQ(csv.read(b).tick, b);
+  const std::vector<Damage> after = csv.damage_at(b);
+  ASSERT_EQ(after.size(), 1u);
+  EXPECT_NE(after[0].what.find("tick " + std::to_string(b) + " has "), std::string::npos) << after[0].what;
+  EXPECT_TRUE(csv.damage_at(b + 1).empty());
+  expect_tick(csv.read(b + 1), b + 1, 4);
+  EXPECT_EQ(csv.damage().size(), 2u) << "each damage said once, however often read";
+  csv.read(a + 1);
+  EXPECT_EQ(csv.damage().size(), 2u);
+}
+
+TEST_F(RobotsCsvTest, ATickWithoutARobotSaysWhichIsMissing) {
+  write(0, 30, 1, 4);
+  std::string text;
+  {
+    std::ifstream f(path_, std::ios::binary);
+    text.assign(std::istreambuf_iterator<char>(f), {});
+  }
+  const std::string row = "\n12,2,";
+  const std::size_t at = text.find(row) + 1;
+  text.erase(at, text.find('\n', at) + 1 - at);
+  {
+    std::ofstream f(path_, std::ios::binary | std::ios::trunc);
+    f << text;
+  }
+  RobotsCsv csv(path_, 4, RowsFile::Robots, true);
+  EXPECT_EQ(csv.read(12).rows.size(), 3u);
+  const std::vector<Damage> d = csv.damage_at(12);
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_NE(d[0].what.find("tick 12 has 3 of 4 robots' rows (missing: 2)"), std::string::npos) << d[0].what;
+  EXPECT_TRUE(csv.damage_at(11).empty());
+  EXPECT_TRUE(csv.damage_at(13).empty());
 }
 
 TEST_F(RobotsCsvTest, MoreRowsThanRobotsAreCountedNotKept) {

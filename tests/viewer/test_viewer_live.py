@@ -2,7 +2,9 @@
 scripts/swarm, DDS test domain offset 62, one run at a time): in a headless Chromium the page draws the robots where
 robots.csv puts them in their state's colour, pause holds the tick, step 1 moves it by exactly one, a click on a
 robot opens its panel; a Foxglove client (foxglove.websocket.v1) gets the channels with their schemas, and poses
-that are robots.csv's; the aggregation example's frames carry its gathered robots' green LEDs."""
+that are robots.csv's; the aggregation example's frames carry its gathered robots' green LEDs. Controls say what they
+do: a kill while paused is shown at once, a page closed while paused resumes the run after the grace, a run's end
+(max_ticks) is shown as such, and a realtime run's controls are disabled saying why."""
 
 import asyncio
 import json
@@ -146,6 +148,97 @@ class LiveViewTest(unittest.TestCase):
                 wrong.append(f"robot {rid} at ({px:.1f}, {py:.1f}): drawn {got}, its state {r['state']} is {want}")
         self.assertEqual(wrong, [], "robots not drawn where robots.csv puts them (screenshot: page.png)")
 
+
+    @unittest.skipIf(not os.path.exists(cdp.CHROMIUM), "chromium missing (scripts/setup installs it)")
+    def test_a_kill_while_paused_is_shown_at_once_and_a_closed_page_resumes_the_run(self):
+        """Paused at tick 25, a kill from the page kills the agent now: the page shows it dead at tick 25 without a
+        step, its button disabled saying why, and the world records the death at tick 25. The page closed while
+        paused: after the grace (1 s here, --view-grace) the run resumes and both the viewer and the world say so."""
+        out = os.path.join(self.dir, "kill")
+        port = vh.free_port()
+        run = self.start(out, "--view-paused", "--view", str(port), "--view-grace", "1", "--max-ticks", "60",
+                         domain=vh.helpers.test_domain(62))
+        url = f"http://127.0.0.1:{port}/"
+        vh.wait_http(url)
+        b = self.browser = cdp.Browser()
+        b.navigate(url)
+        b.wait_for("window.sfViewer && sfViewer.frame && sfViewer.frame.paused && sfViewer.frame.tick === 0",
+                   what="a paused frame of tick 0")
+        b.eval("document.getElementById('stepn-count').value = '25'")
+        b.click_element("stepn")
+        b.wait_for("sfViewer.frame.tick === 25 && sfViewer.frame.paused", what="paused at tick 25")
+        b.eval("sfViewer.select(4)")
+        b.wait_for("!document.getElementById('kill').disabled", what="robot 4's kill button")
+        b.click_element("kill")
+        b.wait_for("sfViewer.frame.robots.find((r) => r.id === 4).alive === false", timeout=20,
+                   what="robot 4 dead while paused")
+        self.assertEqual(b.eval("[sfViewer.frame.tick, sfViewer.frame.paused]"), [25, True])
+        self.assertTrue(b.eval("document.getElementById('kill').disabled"))
+        self.assertIn("robot 4 is dead", b.eval("document.getElementById('kill').title"))
+        self.assertEqual(b.eval("document.getElementById('pause').title"), "disabled: the run is paused already")
+        # The last page goes: the run waits the grace, then runs to its end.
+        b.navigate("about:blank")
+        code, text = run.wait(timeout=120)
+        self.assertEqual(code, 0, text)
+        self.assertIn("world_server: the viewer's last page closed while paused; running on after 1 s", text)
+        with open(os.path.join(out, "logs", "viewer.log")) as f:
+            log = f.read()
+        self.assertIn("swarm_viewer: the last page closed while the run is paused at tick 25; it resumes in 1 s", log)
+        with open(os.path.join(out, "summary.json")) as f:
+            summary = json.load(f)
+        self.assertEqual(summary["end_reason"], "max_ticks")
+        self.assertEqual([(d["id"], d["tick"]) for d in summary["deaths"]], [(4, 25)])
+        # As a kill between ticks: tick 25's rows were written before the pause, the death shows from tick 26's.
+        self.assertEqual(vh.rows_at(out, 25)[4]["alive"], "1")
+        self.assertEqual(vh.rows_at(out, 26)[4]["alive"], "0")
+
+    @unittest.skipIf(not os.path.exists(cdp.CHROMIUM), "chromium missing (scripts/setup installs it)")
+    def test_a_run_that_reaches_max_ticks_is_shown_as_ended_so(self):
+        out = os.path.join(self.dir, "end")
+        port = vh.free_port()
+        run = self.start(out, "--view-paused", "--view", str(port), "--max-ticks", "40",
+                         domain=vh.helpers.test_domain(62))
+        url = f"http://127.0.0.1:{port}/"
+        vh.wait_http(url)
+        b = self.browser = cdp.Browser()
+        b.navigate(url)
+        b.wait_for("window.sfViewer && sfViewer.frame && sfViewer.frame.paused", what="a paused frame")
+        b.click_element("resume")
+        b.wait_for("sfViewer.end !== null", timeout=60, what="the run's end")
+        self.assertEqual(b.eval("document.getElementById('run-state').textContent"),
+                         "run ended: max_ticks reached at tick 40")
+        self.assertEqual(b.eval("document.getElementById('run-state').className"), "ended")
+        for control in ("pause", "resume", "step1", "kill"):
+            self.assertTrue(b.eval(f"document.getElementById('{control}').disabled"), control)
+        self.assertEqual(b.eval("document.getElementById('step1').title"), "disabled: the run has ended")
+        code, text = run.wait(timeout=60)
+        self.assertEqual(code, 0, text)
+        b.wait_for("sfViewer.closed", what="the viewer gone")
+        self.assertEqual(b.eval("document.getElementById('run-state').textContent"),
+                         "run ended: max_ticks reached at tick 40", "not 'disconnected' once the viewer is gone")
+
+    @unittest.skipIf(not os.path.exists(cdp.CHROMIUM), "chromium missing (scripts/setup installs it)")
+    def test_a_realtime_runs_controls_are_disabled_saying_why(self):
+        """A realtime run ticks on the clock: pause, resume, step and the speed cap cannot act, so they are disabled
+        with the reason in their tooltip; kill still acts."""
+        out = os.path.join(self.dir, "realtime")
+        port = vh.free_port()
+        run = self.start(out, "--mode", "realtime", "--view", str(port), "--max-ticks", "100",
+                         domain=vh.helpers.test_domain(62))
+        url = f"http://127.0.0.1:{port}/"
+        vh.wait_http(url)
+        b = self.browser = cdp.Browser()
+        b.navigate(url)
+        b.wait_for("window.sfViewer && sfViewer.frame && !sfViewer.frame.finished", what="a realtime frame")
+        self.assertFalse(b.eval("sfViewer.frame.controllable"))
+        for control in ("pause", "resume", "step1", "stepn", "speed-set"):
+            self.assertTrue(b.eval(f"document.getElementById('{control}').disabled"), control)
+            self.assertIn("disabled: a realtime run: its ticks follow the clock",
+                          b.eval(f"document.getElementById('{control}').title"))
+        b.eval("sfViewer.select(2)")
+        self.assertFalse(b.eval("document.getElementById('kill').disabled"), "kill acts in a realtime run")
+        code, text = run.wait(timeout=120)
+        self.assertEqual(code, 0, text)
 
     @unittest.skipUnless(os.path.exists(os.path.join(AGGREGATION_DIR, "libaggregation.so")),
                          f"the aggregation example is not built in {AGGREGATION_DIR}")

@@ -397,5 +397,133 @@ class KheperaReplayTest(unittest.TestCase):
         self.assertNotIn("proximity", b.eval("document.getElementById('robot-fields').textContent"))
 
 
+@unittest.skipUnless(vh.built("viewer"), f"swarm_viewer not built in {vh.BUILD_DIR}")
+@unittest.skipIf(not os.path.exists(cdp.CHROMIUM), "chromium missing (scripts/setup installs it)")
+class DamagedReplayTest(unittest.TestCase):
+    """`swarm view` of a damaged recording (tests/scripts/fixture.py, 7 robots, 80 ticks, no DDS): corrupt bytes in
+    the middle are a banner on the page at the ticks they touch (a seek into the lost ticks says it instead of
+    showing a frozen frame) and a line on the terminal at once; a recording cut by a killed world is shown up to its
+    last whole tick with a notice that it ends early. `swarm report` and `swarm replay` say the same damage
+    (recording.robots_damage: the same words, line and byte)."""
+
+    def setUp(self):
+        import fixture  # tests/scripts (viewer_helpers puts it on the path)
+        from swarmform import recording  # scripts/ (tests/scripts/helpers puts it on the path)
+        self.recording = recording
+        self.dir = tempfile.mkdtemp(prefix="sf-view-damage-")
+        fixture.make_run(self.dir, ticks=80, robots=7, death=None)
+        self.csv = os.path.join(self.dir, "robots.csv")
+        with open(self.csv, "rb") as f:
+            self.text = f.read()
+        self.proc = None
+        self.browser = None
+        self.log = os.path.join(tempfile.mkdtemp(prefix="sf-view-damage-log-"), "view.log")
+
+    def tearDown(self):
+        if self.browser:
+            self.browser.close()
+        if self.proc and self.proc.poll() is None:
+            os.killpg(self.proc.pid, signal.SIGKILL)
+            self.proc.wait(timeout=10)
+        shutil.rmtree(self.dir)
+        shutil.rmtree(os.path.dirname(self.log))
+
+    def row_at(self, tick, rid):
+        return self.text.index(f"\n{tick},{rid},".encode()) + 1
+
+    def view(self):
+        port = vh.free_port()
+        env = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=vh.BUILD_DIR)
+        with open(self.log, "wb") as out:
+            self.proc = subprocess.Popen([vh.SWARM, "view", self.dir, "--port", str(port)], stdin=subprocess.DEVNULL,
+                                         stdout=out, stderr=subprocess.STDOUT, env=env, start_new_session=True)
+        url = f"http://127.0.0.1:{port}/"
+        vh.wait_http(url)
+        self.port = port
+        b = self.browser = cdp.Browser()
+        b.navigate(url)
+        b.wait_for("window.sfViewer && sfViewer.replay && sfViewer.frame", what="the recording loaded")
+        return b
+
+    async def foxglove_statuses(self, port):
+        async with websockets.connect(f"ws://127.0.0.1:{port}/", subprotocols=["foxglove.websocket.v1"]) as fox:
+            ops = [json.loads(await asyncio.wait_for(fox.recv(), 10)) for _ in range(4)]
+        self.assertEqual([m["op"] for m in ops[:2]], ["serverInfo", "advertise"])
+        return ops[2:]
+
+    def terminal_says(self, text, timeout=20):
+        """`swarm view`'s output holds `text` while it still runs (not only once it exits)."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            self.assertIsNone(self.proc.poll(), "swarm view exited")
+            with open(self.log, errors="replace") as f:
+                if text in f.read():
+                    return
+            time.sleep(0.1)
+        with open(self.log, errors="replace") as f:
+            self.fail(f"{text!r} not on the terminal within {timeout} s: {f.read()}")
+
+    def scrub(self, b, tick):
+        b.eval(f"(() => {{ const t = document.getElementById('timeline'); t.value = '{tick}';"
+               " t.dispatchEvent(new Event('input')); })()")
+        b.wait_for(f"sfViewer.frame.at === {tick}", what=f"the timeline at tick {tick}")
+
+    def test_corrupt_bytes_in_the_middle_are_said_at_their_ticks(self):
+        start = self.row_at(40, 3)
+        cut_from, cut_to = start + 4, self.row_at(43, 1) + 5
+        with open(self.csv, "wb") as f:
+            f.write(self.text[:cut_from] + b"x" * (cut_to - cut_from) + self.text[cut_to:])
+        python = self.recording.robots_damage(self.csv, 7)
+        self.assertEqual([(d.from_tick, d.to_tick) for d in python], [(40, 42), (43, 43)])
+        b = self.view()
+        self.scrub(b, 10)
+        self.assertTrue(b.eval("document.getElementById('banner').hidden"), "a banner before the damage")
+        # Into the lost ticks: the last readable tick, and the banner that says why, naming file and byte.
+        self.scrub(b, 41)
+        self.assertEqual(b.eval("sfViewer.frame.tick"), 40)
+        self.assertFalse(b.eval("document.getElementById('banner').hidden"))
+        banner = b.eval("document.getElementById('banner').textContent")
+        self.assertIn("tick 41 cannot be read: showing tick 40, the last readable one before it", banner)
+        self.assertIn(f"damaged recording: robots.csv byte {start} (ticks 40..42): {python[0].what}", banner)
+        self.assertEqual(b.eval("sfViewer.frame.robots.length"), 3, "tick 40's readable rows")
+        self.terminal_says(f"{self.csv} byte {start} (tick 40..42): {python[0].what}")
+        # The tick after the damage lost its first rows: said from that tick, and no more after it.
+        self.scrub(b, 43)
+        self.assertIn(python[1].what, b.eval("document.getElementById('banner').textContent"))
+        self.scrub(b, 44)
+        self.assertTrue(b.eval("document.getElementById('banner').hidden"))
+        # A Foxglove client is told the damage found so far, as warnings (status level 1).
+        statuses = asyncio.run(self.foxglove_statuses(self.port))
+        self.assertEqual(statuses, [{"op": "status", "level": 1, "id": f"damage-{d.offset}",
+                                     "message": f"damaged recording: {self.csv} byte {d.offset} "
+                                                f"({'tick' if d.from_tick == d.to_tick else 'ticks'} {d.from_tick}"
+                                                f"{'' if d.from_tick == d.to_tick else f'..{d.to_tick}'}): {d.what}"}
+                                    for d in python])
+        # SIGTERM on `swarm view`: the viewer is stopped and says what it skipped on the way out.
+        os.killpg(self.proc.pid, signal.SIGTERM)
+        self.proc.wait(timeout=20)
+        with open(self.log, errors="replace") as f:
+            self.assertIn("row(s) of robots.csv skipped; the first: ", f.read())
+
+    def test_a_cut_recording_is_shown_to_its_last_whole_tick_and_says_it_ends_early(self):
+        at = self.row_at(79, 3)
+        with open(self.csv, "wb") as f:
+            f.write(self.text[:at + 9])  # a killed world: tick 79 has robots 0..2 and half of 3's row
+        os.remove(os.path.join(self.dir, "summary.json"))
+        python = self.recording.robots_damage(self.csv, 7)
+        self.assertEqual(len(python), 1)
+        self.assertTrue(python[0].at_open)
+        b = self.view()
+        self.assertEqual(b.eval("[sfViewer.replay.first, sfViewer.replay.last]"), [0, 78])
+        notice = b.eval("document.getElementById('notice').textContent")
+        self.assertFalse(b.eval("document.getElementById('notice').hidden"))
+        self.assertIn(f"recording ends early: robots.csv byte {python[0].offset} (tick 78): {python[0].what}", notice)
+        self.assertIn("the run did not finish (no summary.json): the recording ends at tick 78", notice)
+        self.terminal_says(f"{self.csv} byte {python[0].offset} (tick 78): {python[0].what}")
+        self.scrub(b, 78)
+        self.assertEqual(b.eval("sfViewer.frame.robots.length"), 7)
+        self.assertEqual(b.eval("sfViewer.frame.robots.filter((r) => r.alive).length"), 7)
+
+
 if __name__ == "__main__":
     unittest.main()

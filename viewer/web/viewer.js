@@ -25,6 +25,10 @@ const S = {
   tps: 0, lastTick: null, lastTickAt: 0,
   ws: null,
   replay: null,        // {first, last, ticks, playing, speed, tick, summary}
+  notices: [],         // what the page says all along (a recording that ends early, a run that did not finish)
+  end: null,           // live: the run's end {end_reason, tick} (the viewer's "end" message)
+  closed: false,       // the viewer's WebSocket closed
+  killSent: null,      // live: {id, tick} of a kill sent whose death no frame shows yet
 };
 window.sfViewer = S;  // for tests and the curious
 
@@ -370,9 +374,73 @@ function status() {
   $("shape-error").textContent = f.shape_error >= 0 ? f.shape_error.toFixed(3) : "–";
   const rs = $("run-state");
   rs.className = "";
-  if (f.finished) { rs.textContent = "run ended"; rs.className = "ended"; }
+  if (S.end) { rs.textContent = endText(S.end); rs.className = "ended"; }
+  else if (f.finished) { rs.textContent = "run ended at tick " + f.tick; rs.className = "ended"; }
+  else if (S.closed && S.mode === "live") { rs.textContent = "disconnected"; rs.className = "disconnected"; }
   else if (f.paused) { rs.textContent = "PAUSED"; rs.className = "paused"; }
   else rs.textContent = S.mode === "live" ? (f.speed_cap > 0 ? "running (≤ " + f.speed_cap + " ticks/s)" : "running") : "";
+}
+
+// The run's end as summary.json's end_reason says it (docs/recording-format.md), not as a lost connection.
+function endText(e) {
+  const at = e.tick != null ? " at tick " + e.tick : "";
+  switch (e.end_reason) {
+    case "completed": return "run completed" + at;
+    case "max_ticks": return "run ended: max_ticks reached" + at;
+    case "interrupted": return "run interrupted" + at;
+    case "agents_stalled": return "run stopped" + at + ": agents stalled";
+    default: return "run ended" + (e.end_reason ? " (" + e.end_reason + ")" : "") + at;
+  }
+}
+
+// Damage of the recording (viewer/README.md "Replay"): the banner says what touches the tick the timeline is
+// at; the notice what holds all along.
+function damageText(d) {
+  const ticks = d.from_tick === d.to_tick ? "tick " + d.from_tick : "ticks " + d.from_tick + ".." + d.to_tick;
+  return d.file + " byte " + d.offset + " (" + ticks + "): " + d.what;
+}
+function banners() {
+  const f = S.frame;
+  const lines = [];
+  for (const d of (f && f.damage) || []) if (!d.at_open) lines.push("damaged recording: " + damageText(d));
+  if (lines.length && typeof f.at === "number" && f.at !== f.tick)
+    lines.unshift("tick " + f.at + " cannot be read: showing tick " + f.tick + ", the last readable one before it");
+  $("banner").textContent = lines.join("\n");
+  $("banner").hidden = !lines.length;
+  $("notice").textContent = S.notices.join("\n");
+  $("notice").hidden = !S.notices.length;
+}
+
+// Every control says whether it can act, and why not in its tooltip: a disabled button is never clicked for
+// nothing.
+function setControl(id, why, what) {
+  const e = $(id);
+  e.disabled = !!why;
+  e.title = why ? "disabled: " + why : what;
+}
+function controls() {
+  const f = S.frame;
+  const over = S.end || (f && f.finished) ? "the run has ended"
+    : S.closed ? "the viewer is gone (the run is over, or the viewer was stopped)" : null;
+  const why = S.mode !== "live" ? "a recording (its timeline is below)" : over ? over
+    : !f ? "waiting for the world's first frame"
+    : !f.controllable ? "a realtime run: its ticks follow the clock (pause, step and the speed cap act in lockstep runs)"
+    : null;
+  const paused = !!(f && f.paused);
+  setControl("pause", why || (paused ? "the run is paused already" : null), "hold the tick (lockstep)");
+  setControl("resume", why || (!paused ? "the run is running" : null), "run on");
+  setControl("step1", why, "one tick, then paused");
+  setControl("stepn", why, "N ticks, then paused");
+  setControl("stepn-count", why, "N");
+  setControl("speed", why, "ticks per second at most, 0 none");
+  setControl("speed-set", why, "set the speed cap");
+  const r = f && S.selected !== null ? f.robots.find((q) => q.id === S.selected) : null;
+  const pending = S.killSent && r && S.killSent.id === r.id;
+  const kwhy = S.mode !== "live" ? "a recording: nothing to kill" : over ? over
+    : !r ? "no robot selected" : !r.alive ? "robot " + r.id + " is dead"
+    : pending ? "kill sent: waiting for the world to see its death" : null;
+  setControl("kill", kwhy, "SIGKILL its agent (as swarm kill); at once, also while paused");
+  $("kill-state").textContent = pending ? "kill sent at tick " + S.killSent.tick + "; waiting for its death" : "";
 }
 
 function legend() {
@@ -428,7 +496,7 @@ function panel() {
     tr.append(a, b);
     t.append(tr);
   }
-  $("kill").hidden = S.mode !== "live" || !r.alive;
+  controls();
   const ol = $("robot-events");
   ol.textContent = "";
   const upto = S.frame.tick;
@@ -460,9 +528,15 @@ function show(frame) {
   }
   S.lastTick = frame.tick;
   S.frame = frame;
+  if (S.killSent) {
+    const k = frame.robots.find((q) => q.id === S.killSent.id);
+    if (!k || !k.alive) S.killSent = null;
+  }
   draw();
   status();
   panel();
+  banners();
+  controls();
 }
 
 // ---- live ------------------------------------------------------------------------------------------------
@@ -475,7 +549,12 @@ $("resume").onclick = () => send("resume");
 $("step1").onclick = () => send("step", 1);
 $("stepn").onclick = () => send("step", Math.max(1, parseInt($("stepn-count").value, 10) || 1));
 $("speed-set").onclick = () => send("speed", Math.max(0, parseFloat($("speed").value) || 0));
-$("kill").onclick = () => { if (S.selected !== null) send("kill", S.selected); };
+$("kill").onclick = () => {
+  if (S.selected === null) return;
+  send("kill", S.selected);
+  S.killSent = { id: S.selected, tick: S.frame ? S.frame.tick : null };
+  controls();
+};
 
 async function loadWorld() {
   // Live, the world writes world.json as it starts: it may not be there, or not whole, for a moment.
@@ -504,23 +583,37 @@ function connect() {
     if (m.type === "hello") {
       S.mode = m.mode;
       $("mode").textContent = m.mode;
-      if (m.mode === "replay") { setDescription(m); startReplay(m); }
+      if (m.mode === "replay") {
+        setDescription(m);
+        S.notices = (m.damage || []).filter((d) => d.at_open).map((d) => "recording ends early: " + damageText(d));
+        if (m.finished === false)
+          S.notices.push("the run did not finish (no summary.json): the recording ends at tick " + m.last_tick);
+        banners();
+        startReplay(m);
+      }
+      controls();
     } else if (m.type === "frame") {
       if (m.states) setDescription(m);
       if (S.mode === "replay") replayFrame(m);
       show(m);
-      $("live-controls").style.opacity = m.controllable ? 1 : 0.5;
+    } else if (m.type === "end") {
+      S.end = m;
+      status();
+      controls();
     } else if (m.type === "events") {
       S.events.push(...m.events);
       panel();
     }
   };
   ws.onclose = () => {
+    S.closed = true;
     if (S.mode === "live") {
-      $("mode").textContent = "live (viewer closed: the run is over)";
-      $("run-state").textContent = S.frame && S.frame.finished ? "run ended" : "disconnected";
-      $("run-state").className = "ended";
+      const ended = S.end || (S.frame && S.frame.finished);
+      $("mode").textContent = ended ? "live (the run is over)" : "live (the viewer closed before the run's end)";
+      if (S.frame) status();
+      else { $("run-state").textContent = "disconnected"; $("run-state").className = "disconnected"; }
     }
+    controls();
   };
 }
 
@@ -574,7 +667,7 @@ function replayFrame(m) {
   if (!R) return;
   R.tick = m.tick;
   R.playing = !m.paused;
-  if (!R.dragging) $("timeline").value = m.tick;
+  if (!R.dragging) $("timeline").value = typeof m.at === "number" ? m.at : m.tick;
   $("play").textContent = R.playing ? "pause" : "play";
 }
 
