@@ -447,7 +447,12 @@ class LauncherTest(unittest.TestCase):
                               "--max-ticks", "100000", "--out", out, "--no-pictures"], env=env,
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         self.started.append(p)
-        self.assertTrue(wait_for(lambda: os.path.exists(os.path.join(out, "agents.json")), 20.0))
+        def all_started():  # agents.json is rewritten as each slice of agents starts
+            try:
+                return len(agent_pids(out)) == robots
+            except (OSError, ValueError):
+                return False
+        self.assertTrue(wait_for(all_started, 20.0))
         return p
 
     def test_ctrl_c_stops_everything_and_exits_130(self):
