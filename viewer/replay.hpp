@@ -14,6 +14,9 @@ struct ReplayOptions {
   std::string host = "127.0.0.1";
   std::uint16_t port = 8765;
   std::string web_root;
+  // `swarm export`: write every recorded tick's Foxglove messages on stdout (Session::export_lines) instead
+  // of serving.
+  bool export_lines = false;
 };
 
 // Serves until SIGINT/SIGTERM. Returns 0; 2 (with a message on stderr naming the file) when the run

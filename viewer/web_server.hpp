@@ -51,6 +51,9 @@ class WebServer {
   void broadcast_text(ClientKind kind, const std::string& text);
   std::size_t clients(ClientKind kind) const;
   std::uint16_t port() const;  // the bound port (for --port 0)
+  // The client may pause, step and kill: it sent no Origin (not a browser) or this server's own (the page's
+  // rule; a Foxglove client from another origin only reads).
+  bool may_drive(ClientId client) const;
 
  private:
   struct Impl;
