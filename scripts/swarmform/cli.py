@@ -289,6 +289,17 @@ def make_parser() -> Parser:
     view.add_argument("--host", default="127.0.0.1", metavar="ADDR",
                       help="address to listen on (default 127.0.0.1: this machine only)")
 
+    export = sub.add_parser("export", help="a recording as an MCAP file that Foxglove opens",
+                            description="Writes RUN_DIR's recording as FILE, an MCAP file (@mcap/core, npm; "
+                                        "scripts/setup installs it) with the live Foxglove server's channels and "
+                                        "schemas: /scene, /robots/poses, /tf, /robots/telemetry, /metrics "
+                                        "(viewer/README.md \"Foxglove\"). Log times: the run's start "
+                                        "(world.json's time) plus tick / tick_rate. Damage in robots.csv is said "
+                                        "as `swarm report` says it; the readable ticks are exported. Progress on "
+                                        "stderr every 2 s.")
+    export.add_argument("run_dir", metavar="RUN_DIR")
+    export.add_argument("--mcap", required=True, metavar="FILE", help="the MCAP file to write (replaced whole)")
+
     report = sub.add_parser("report", help="print a run's summary as a table, JSON or CSV",
                             description="Prints RUN_DIR/summary.json as a readable table; --json and --csv give it "
                                         "to programs. Several RUN_DIRs: one table each, a JSON list, or one CSV "
@@ -572,6 +583,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         if args.plot and code in (exit_codes.OK, exit_codes.FAILED) and out_dir:
             code = _plot(out_dir, args.plot_metric, None) or code
         return code
+    if args.command == "export":
+        from . import export
+        return export.export_mcap(args.run_dir, args.mcap)
     if args.command == "report":
         from . import report, recording
         try:
