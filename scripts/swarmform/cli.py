@@ -25,6 +25,7 @@ commands:
   kill     SIGKILL one agent of the running swarm (the swarm carries on)
   replay   draw the pictures again from a run directory's recording
   view     the browser view of a recording (timeline, play, jump to events); `run --view` shows a live run
+  export   a recording as an MCAP file Foxglove opens (--mcap FILE), the live Foxglove server's channels
   report   print a run's summary.json as a readable table (or --json, --csv)
   sweep    a grid of in-process runs (scenarios x shapes x seeds x kill schedules x --param values x loss, bursts,
            noise and --set scenario fields) on every core:
@@ -242,7 +243,7 @@ def _add_run_flags(p: argparse.ArgumentParser, demo: bool = False) -> None:
 
 def make_parser() -> Parser:
     top = Parser(prog="swarm", description=MAIN_HELP, formatter_class=argparse.RawDescriptionHelpFormatter,
-                 usage="swarm {run,demo,kill,replay,view,report,sweep,plot} [options]   (swarm <command> --help)")
+                 usage="swarm {run,demo,kill,replay,view,export,report,sweep,plot} [options]   (swarm <command> --help)")
     sub = top.add_subparsers(dest="command", metavar="command", parser_class=Parser, prog="swarm")
 
     run = sub.add_parser("run", help="run a swarm", formatter_class=argparse.RawDescriptionHelpFormatter,
