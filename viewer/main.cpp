@@ -62,6 +62,7 @@ struct Options {
   double rate = 10.0;
   double linger_s = 2.0;
   double page_grace_s = 10.0;
+  std::vector<std::string> control_origins;
   bool quiet = false;
 };
 
@@ -312,7 +313,8 @@ int live(const Options& o) {
     return !finished_at || now - *finished_at < static_cast<dds_duration_t>(o.linger_s * 1e9);
   };
   h.stopping = [&] { say_end(); };  // stopped by the launcher as the world exits: the end, if written
-  swarmform::viewer::WebServer server({o.host, o.port, o.web_root, o.run_dir}, h, kPeriodMs);
+  swarmform::viewer::WebServer server({o.host, o.port, o.web_root, o.run_dir, o.control_origins}, h,
+                                      kPeriodMs);
   server_ptr = &server;
   if (!o.netns.empty()) swarmform::viewer::enter_network_namespace(o.netns);
   participant.emplace(settings);
@@ -339,6 +341,10 @@ int main(int argc, char** argv) {
   app.add_option("--run-dir", o.run_dir,
                  "live: the run directory (the page loads world.json, events from it)");
   app.add_option("--replay", o.replay, "RUN_DIR: serve the page over this recording (no DDS)");
+  app.add_option("--control-origin", o.control_origins,
+                 "ORIGIN (repeatable): a Foxglove client from this browser origin may control the run over "
+                 "/control too, e.g. https://app.foxglove.dev (default: none; clients with no Origin or this "
+                 "server's may)");
   std::string export_dir;
   app.add_option("--export-frames", export_dir,
                  "RUN_DIR: write every recorded tick's Foxglove messages on stdout, one a line (swarm export "
@@ -374,8 +380,10 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : 2;
   }
   try {
-    if (!export_dir.empty()) return swarmform::viewer::replay({export_dir, o.host, o.port, o.web_root, true});
-    if (!o.replay.empty()) return swarmform::viewer::replay({o.replay, o.host, o.port, o.web_root});
+    if (!export_dir.empty())
+      return swarmform::viewer::replay({export_dir, o.host, o.port, o.web_root, {}, true});
+    if (!o.replay.empty())
+      return swarmform::viewer::replay({o.replay, o.host, o.port, o.web_root, o.control_origins});
     if (o.run_dir.empty() || o.run_nonce.empty() || o.token.empty()) {
       std::cerr
           << "swarm_viewer: a live view needs --run-dir, --run-nonce and --token (or --replay RUN_DIR)\n";

@@ -169,7 +169,7 @@ class Session {
       }
     };
     h.every = [this] { return every(); };
-    WebServer server({o_.host, o_.port, o_.web_root, o_.run_dir}, h, kPeriodMs);
+    WebServer server({o_.host, o_.port, o_.web_root, o_.run_dir, o_.control_origins}, h, kPeriodMs);
     server_ = &server;
     std::cout << "viewer http://" << o_.host << ":" << server.port() << "/ replay of " << o_.run_dir
               << " (ticks " << csv_.first_tick() << ".." << csv_.last_tick() << ", robots.csv "

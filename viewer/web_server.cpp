@@ -168,7 +168,10 @@ WebServer::WebServer(const WebServerOptions& options, Handlers handlers, int per
     m.clients[h] = {id, kind};
     // The page's rule for driving the run: no Origin (not a browser) or our own page's.
     const std::string origin = con->get_request_header("Origin");
-    if (origin.empty() || origin == "http://" + con->get_request_header("Host")) m.drivers.insert(id);
+    const auto& extra = m.options.control_origins;
+    if (origin.empty() || origin == "http://" + con->get_request_header("Host") ||
+        (kind == ClientKind::Foxglove && std::find(extra.begin(), extra.end(), origin) != extra.end()))
+      m.drivers.insert(id);
     m.by_id[id] = h;
     if (m.handlers.opened) m.handlers.opened(id, kind);
   });

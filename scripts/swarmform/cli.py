@@ -195,6 +195,9 @@ def _add_run_flags(p: argparse.ArgumentParser, demo: bool = False) -> None:
                         "every interface, and anyone who reaches it can pause and kill)")
     p.add_argument("--view-paused", action="store_true",
                    help="--view, and the run (lockstep) waits at tick 0 until the page says go (resume or step)")
+    p.add_argument("--view-control-origin", action="append", default=[], metavar="ORIGIN",
+                   help="--view: a Foxglove client from this browser origin (e.g. https://app.foxglove.dev) may "
+                        "pause, step and kill over /control too (repeatable; viewer/README.md \"Foxglove\")")
     p.add_argument("--view-grace", type=_float_at_least(0.0), default=None, metavar="S",
                    help="--view: seconds a paused run waits once its last page closed, then it resumes and says "
                         "so (default 10)")
@@ -289,6 +292,9 @@ def make_parser() -> Parser:
                       help=f"TCP port (default {DEFAULT_VIEW_PORT}; 0: any free one, printed)")
     view.add_argument("--host", default="127.0.0.1", metavar="ADDR",
                       help="address to listen on (default 127.0.0.1: this machine only)")
+    view.add_argument("--control-origin", action="append", default=[], metavar="ORIGIN",
+                      help="a Foxglove client from this browser origin (e.g. https://app.foxglove.dev) may play, "
+                           "pause and seek over /control too (repeatable)")
 
     export = sub.add_parser("export", help="a recording as an MCAP file that Foxglove opens",
                             description="Writes RUN_DIR's recording as FILE, an MCAP file (@mcap/core, npm; "
@@ -569,7 +575,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     if args.command == "view":
         if os.environ.get("SWARM_PARSE_ONLY") == "1":
             return exit_codes.OK
-        return launcher.view(args.run_dir, args.port, args.host)
+        return launcher.view(args.run_dir, args.port, args.host, args.control_origin)
     if args.command == "replay":
         return render_pictures(args.run_dir, args.ticks, args.out, not args.no_animation, args.labels)
     if args.command == "sweep":

@@ -291,7 +291,7 @@ class LiveViewTest(unittest.TestCase):
         port = vh.free_port()
         started = time.time()
         run = self.start(out, "--view-paused", "--view", str(port), "--max-ticks", "200",
-                         domain=vh.helpers.test_domain(62))
+                         "--view-control-origin", "https://app.foxglove.dev", domain=vh.helpers.test_domain(62))
         vh.wait_http(f"http://127.0.0.1:{port}/")
         got = asyncio.run(self.foxglove_session(port))
         code, text = run.wait(timeout=120)
@@ -374,8 +374,16 @@ class LiveViewTest(unittest.TestCase):
                 m = {"cmd": cmd} if value is None else {"cmd": cmd, "value": value}
                 await fox.send(b"\x01" + struct.pack("<I", 1) + json.dumps(m).encode())
 
-            # Foxglove's web app (another origin) reads but may not drive: refused, said as an error status.
+            # A Foxglove client from an origin the user named (--view-control-origin) may drive: its speed cap
+            # reaches the world's frames.
             async with websockets.connect(f"ws://127.0.0.1:{port}/", origin="https://app.foxglove.dev",
+                                          subprotocols=["foxglove.websocket.v1"]) as app:
+                await app.send(json.dumps({"op": "advertise", "channels": [
+                    {"id": 1, "topic": "/control", "encoding": "json"}]}))
+                await app.send(b"\x01" + struct.pack("<I", 1) + b'{"cmd": "speed", "value": 60}')
+                await self.page_frame(page, lambda f: f["speed_cap"] == 60)
+            # Any other origin reads but may not drive: refused, said as an error status.
+            async with websockets.connect(f"ws://127.0.0.1:{port}/", origin="https://evil.example",
                                           subprotocols=["foxglove.websocket.v1"]) as other:
                 self.assertEqual(json.loads(await asyncio.wait_for(other.recv(), 10))["op"], "serverInfo")
                 await other.send(json.dumps({"op": "advertise", "channels": [
@@ -384,7 +392,6 @@ class LiveViewTest(unittest.TestCase):
                 refusal = json.loads(await self.next_text(other))
                 self.assertEqual(refusal["level"], 2)
                 self.assertIn("Origin", refusal["message"])
-            await control("speed", 60)
             await control("resume")
             frame = await self.page_frame(page, lambda f: f["tick"] >= 20)
             await control("pause")
