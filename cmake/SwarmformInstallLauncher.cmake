@@ -1,7 +1,7 @@
 # The launcher in the installed package (docs/behaviour-api.md, "A plug-in in one file"): bin/swarm, the Python
 # package under share/swarmform/python, and the data it reads: the exit-code table, the default scenario with
 # its shapes, the viewer's page (viewer/CMakeLists.txt). A user with only the prefix and a plug-in runs,
-# kills, sweeps, views and judges as from the source tree.
+# kills, sweeps, views, exports and judges as from the source tree.
 set(_data ${CMAKE_INSTALL_DATADIR}/swarmform)
 # bin/swarm names the commit it was installed from (a sweep records it): made at install time, not configure
 # time, so that a build configured before the last commits still names the right one.
@@ -16,3 +16,9 @@ install(FILES ${SWARMFORM_ROOT}/common/exit_codes.json DESTINATION ${_data}/comm
 install(FILES ${SWARMFORM_ROOT}/scenarios/paper.yaml ${SWARMFORM_ROOT}/scenarios/README.md
         DESTINATION ${_data}/scenarios)
 install(DIRECTORY ${SWARMFORM_ROOT}/shapes DESTINATION ${_data})
+# swarm export --mcap's writer (scripts/mcap/README.md): its @mcap/core is installed beside it by `npm ci` on first
+# use (node_modules is not copied: it may hold a build machine's paths).
+install(FILES ${SWARMFORM_ROOT}/scripts/mcap/package.json ${SWARMFORM_ROOT}/scripts/mcap/package-lock.json
+              ${SWARMFORM_ROOT}/scripts/mcap/write.mjs ${SWARMFORM_ROOT}/scripts/mcap/read.mjs
+              ${SWARMFORM_ROOT}/scripts/mcap/README.md
+        DESTINATION ${_data}/scripts/mcap)

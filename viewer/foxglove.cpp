@@ -49,6 +49,21 @@ std::string scene_update_schema() {
                                 {"color", color_schema()}});
   const json sphere =
       object({{"pose", pose_schema()}, {"size", vector3_schema()}, {"color", color_schema()}});
+  const json arrow = object({{"pose", pose_schema()},
+                             {"shaft_length", number()},
+                             {"shaft_diameter", number()},
+                             {"head_length", number()},
+                             {"head_diameter", number()},
+                             {"color", color_schema()}});
+  // LinePrimitive: type 0 LINE_STRIP, 1 LINE_LOOP, 2 LINE_LIST (foxglove.LineType).
+  const json line = object({{"type", {{"type", "integer"}}},
+                            {"pose", pose_schema()},
+                            {"thickness", number()},
+                            {"scale_invariant", {{"type", "boolean"}}},
+                            {"points", array_of(vector3_schema())},
+                            {"color", color_schema()},
+                            {"colors", array_of(color_schema())},
+                            {"indices", array_of({{"type", "integer"}})}});
   const json text = object({{"pose", pose_schema()},
                             {"billboard", {{"type", "boolean"}}},
                             {"font_size", number()},
@@ -62,8 +77,10 @@ std::string scene_update_schema() {
        {"lifetime", object({{"sec", {{"type", "integer"}}}, {"nsec", {{"type", "integer"}}}})},
        {"frame_locked", {{"type", "boolean"}}},
        {"metadata", array_of(object({{"key", {{"type", "string"}}}, {"value", {{"type", "string"}}}}))},
+       {"arrows", array_of(arrow)},
        {"cubes", array_of(cube)},
        {"cylinders", array_of(cylinder)},
+       {"lines", array_of(line)},
        {"spheres", array_of(sphere)},
        {"texts", array_of(text)}});
   json s = object({{"deletions", array_of(object({{"timestamp", time_schema()},
@@ -75,9 +92,35 @@ std::string scene_update_schema() {
 }
 
 std::string poses_schema() {
-  json s = object(
-      {{"timestamp", time_schema()}, {"frame_id", {{"type", "string"}}}, {"poses", array_of(pose_schema())}});
+  json s = object({{"timestamp", time_schema()},
+                   {"frame_id", {{"type", "string"}}},
+                   {"poses", array_of(pose_schema())},
+                   {"tick", {{"type", "integer"}}}});
   s["title"] = "foxglove.PosesInFrame";
+  return s.dump();
+}
+
+std::string transforms_schema() {
+  const json transform = object({{"timestamp", time_schema()},
+                                 {"parent_frame_id", {{"type", "string"}}},
+                                 {"child_frame_id", {{"type", "string"}}},
+                                 {"translation", vector3_schema()},
+                                 {"rotation", pose_schema()["properties"]["orientation"]}});
+  json s = object({{"transforms", array_of(transform)}, {"tick", {{"type", "integer"}}}});
+  s["title"] = "foxglove.FrameTransforms";
+  return s.dump();
+}
+
+std::string metrics_schema() {
+  json s = object({{"timestamp", time_schema()},
+                   {"tick", {{"type", "integer"}}},
+                   {"alive", {{"type", "integer"}}},
+                   {"formation_tick", {{"type", "integer"}}},
+                   {"shape_error", number()},
+                   {"net_force_mean", number()},
+                   {"net_force_max", number()},
+                   {"net_force", array_of(number())}});
+  s["title"] = "swarmform.Metrics";
   return s.dump();
 }
 
@@ -101,15 +144,30 @@ std::string telemetry_schema() {
 
 // ---- values -----------------------------------------------------------------------------------------------
 
-json time_of(double s) {
-  const double whole = std::floor(std::max(0.0, s));
-  return {{"sec", static_cast<std::int64_t>(whole)}, {"nsec", static_cast<std::int64_t>((s - whole) * 1e9)}};
+json pose(double x, double y, double z, double yaw);
+json rgba(const std::string& hex, double a = 1.0);
+json time_of_ns(std::uint64_t ns) {
+  return {{"sec", ns / 1000000000U}, {"nsec", ns % 1000000000U}};
+}
+json point(double x, double y, double z) {
+  return {{"x", x}, {"y", y}, {"z", z}};
+}
+// A LinePrimitive in the arena's frame.
+json lines(int type, double thickness, json points, const json& colour) {
+  return {{"type", type},
+          {"pose", pose(0, 0, 0, 0)},
+          {"thickness", thickness},
+          {"scale_invariant", false},
+          {"points", std::move(points)},
+          {"color", colour},
+          {"colors", json::array()},
+          {"indices", json::array()}};
 }
 json pose(double x, double y, double z, double yaw) {
   return {{"position", {{"x", x}, {"y", y}, {"z", z}}},
           {"orientation", {{"x", 0.0}, {"y", 0.0}, {"z", std::sin(yaw / 2)}, {"w", std::cos(yaw / 2)}}}};
 }
-json rgba(const std::string& hex, double a = 1.0) {
+json rgba(const std::string& hex, double a) {
   unsigned r = 0, g = 0, b = 0;
   if (hex.size() == 7 && hex[0] == '#') {
     r = static_cast<unsigned>(std::stoul(hex.substr(1, 2), nullptr, 16));
@@ -190,8 +248,15 @@ void put_u64(std::string& out, std::uint64_t v) {
 std::vector<std::string> Foxglove::hello() const {
   const json info = {{"op", "serverInfo"},
                      {"name", "swarmform swarm_viewer"},
-                     {"capabilities", json::array()},
-                     {"metadata", {{"frame", "arena: x right, y up, metres; robots at z = 0"}}}};
+                     {"capabilities", {"clientPublish"}},
+                     {"supportedEncodings", {"json"}},
+                     {"metadata",
+                      {{"frame", "arena: x right, y up, metres; robots at z = 0; robot_<id> on /tf"},
+                       {"control",
+                        "advertise a client channel on topic /control (encoding json, schemaName "
+                        "swarmform.Control) and publish {\"cmd\": \"pause\" | \"resume\" | \"step\" | "
+                        "\"speed\" | \"kill\", \"value\": N} (live) or {\"cmd\": \"play\" | "
+                        "\"pause\" | \"seek\" | \"speed\", \"value\": X} (replay)"}}}};
   json channels = json::array();
   channels.push_back({{"id", kScene},
                       {"topic", "/scene"},
@@ -211,6 +276,18 @@ std::vector<std::string> Foxglove::hello() const {
                       {"schemaName", "swarmform.RobotTelemetry"},
                       {"schema", telemetry_schema()},
                       {"schemaEncoding", "jsonschema"}});
+  channels.push_back({{"id", kTransforms},
+                      {"topic", "/tf"},
+                      {"encoding", "json"},
+                      {"schemaName", "foxglove.FrameTransforms"},
+                      {"schema", transforms_schema()},
+                      {"schemaEncoding", "jsonschema"}});
+  channels.push_back({{"id", kMetrics},
+                      {"topic", "/metrics"},
+                      {"encoding", "json"},
+                      {"schemaName", "swarmform.Metrics"},
+                      {"schema", metrics_schema()},
+                      {"schemaEncoding", "jsonschema"}});
   return {info.dump(), json{{"op", "advertise"}, {"channels", channels}}.dump()};
 }
 
@@ -218,9 +295,6 @@ std::string Foxglove::on_text(std::uint64_t client, const std::string& text) {
   const json m = json::parse(text, nullptr, false);
   const std::string op =
       m.is_object() && m.contains("op") && m["op"].is_string() ? m["op"].get<std::string>() : "";
-  auto status = [](int level, const std::string& message) {
-    return json{{"op", "status"}, {"level", level}, {"message", message}}.dump();
-  };
   auto& mine = subscriptions_[client];
   if (op == "subscribe" && m.contains("subscriptions") && m["subscriptions"].is_array()) {
     for (const json& s : m["subscriptions"]) {
@@ -229,7 +303,7 @@ std::string Foxglove::on_text(std::uint64_t client, const std::string& text) {
         return status(2, "subscribe: each subscription needs an unsigned id and channelId");
       }
       const auto channel = s["channelId"].get<std::uint64_t>();
-      if (channel < kScene || channel > kTelemetry)
+      if (channel < kScene || channel > kChannels)
         return status(2, "subscribe: no channel " + std::to_string(channel));
       const auto id = static_cast<std::uint32_t>(s["id"].get<std::uint64_t>());
       if (mine.count(id) != 0)
@@ -244,7 +318,50 @@ std::string Foxglove::on_text(std::uint64_t client, const std::string& text) {
     }
     return "";
   }
+  if (op == "advertise" && m.contains("channels") && m["channels"].is_array()) {
+    // clientPublish: the one topic a client may publish is /control, JSON.
+    for (const json& c : m["channels"]) {
+      if (!c.is_object() || !c.contains("id") || !c["id"].is_number_unsigned())
+        return status(2, "advertise: each channel needs an unsigned id");
+      const std::string topic = c.value("topic", std::string());
+      const std::string encoding = c.value("encoding", std::string());
+      if (topic != "/control" || encoding != "json")
+        return status(2, "advertise: this server takes topic /control, encoding json only (got " + topic +
+                             ", " + encoding + ")");
+      auto& channels = control_channels_[client];
+      if (channels.size() >= 16) return status(2, "advertise: at most 16 client channels");
+      channels[static_cast<std::uint32_t>(c["id"].get<std::uint64_t>())] = topic;
+    }
+    return "";
+  }
+  if (op == "unadvertise" && m.contains("channelIds") && m["channelIds"].is_array()) {
+    for (const json& id : m["channelIds"]) {
+      if (id.is_number_unsigned())
+        control_channels_[client].erase(static_cast<std::uint32_t>(id.get<std::uint64_t>()));
+    }
+    return "";
+  }
   return status(1, "not supported by this server: " + text.substr(0, 60));
+}
+
+Foxglove::ClientMessage Foxglove::on_binary(std::uint64_t client, const std::string& bytes) const {
+  if (bytes.size() < 5 || bytes[0] != '\x01')
+    return {"", status(2, "binary message: expected Client Message Data (opcode 1, channel id, payload)")};
+  std::uint32_t channel = 0;
+  for (int i = 0; i < 4; ++i)
+    channel |= static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[1 + i])) << (8 * i);
+  const auto c = control_channels_.find(client);
+  if (c == control_channels_.end() || c->second.count(channel) == 0)
+    return {"", status(2, "client message on channel " + std::to_string(channel) + ", not advertised")};
+  return {bytes.substr(5), ""};
+}
+
+std::string Foxglove::status(int level, const std::string& message) {
+  return json{{"op", "status"}, {"level", level}, {"message", message}}.dump();
+}
+
+std::uint64_t Foxglove::log_ns(std::uint64_t tick) const {
+  return start_ns_ + static_cast<std::uint64_t>(std::llround(seconds(tick) * 1e9));
 }
 
 double Foxglove::seconds(std::uint64_t tick) const {
@@ -286,8 +403,9 @@ json obstacles_at(const json& world, std::uint64_t tick) {
   return present;
 }
 
-json Foxglove::scene(const dds::ObserveFrameData& f, bool with_arena, bool with_obstacles) const {
-  const json stamp = time_of(seconds(f.tick));
+json Foxglove::scene(const dds::ObserveFrameData& f, const json& stamp, bool with_arena,
+                     bool with_obstacles) const {
+  const json tick_meta = json::array({{{"key", "tick"}, {"value", std::to_string(f.tick)}}});
   const double radius = num(world_, "robot_radius", kRobotRadius);
   std::map<std::int32_t, std::string> colours;
   for (const auto& s : f.states) colours[s.value] = hex_colour(s.colour) ? s.colour : "#000000";
@@ -329,7 +447,7 @@ json Foxglove::scene(const dds::ObserveFrameData& f, bool with_arena, bool with_
                         {"id", "arena"},
                         {"lifetime", {{"sec", 0}, {"nsec", 0}}},
                         {"frame_locked", false},
-                        {"metadata", json::array()},
+                        {"metadata", tick_meta},
                         {"cubes", cubes},
                         {"cylinders", cylinders},
                         {"spheres", spheres},
@@ -360,13 +478,51 @@ json Foxglove::scene(const dds::ObserveFrameData& f, bool with_arena, bool with_
                         {"id", "obstacles"},
                         {"lifetime", {{"sec", 0}, {"nsec", 0}}},
                         {"frame_locked", false},
-                        {"metadata", json::array()},
+                        {"metadata", tick_meta},
                         {"cubes", cubes},
                         {"cylinders", cylinders},
                         {"spheres", json::array()},
                         {"texts", json::array()}});
   }
-  json cylinders = json::array(), texts = json::array(), leds = json::array();
+  json cylinders = json::array(), texts = json::array(), leds = json::array(), arrows = json::array();
+  json links = json::array(), rays = json::array(), rings = json::array();
+  std::map<std::uint32_t, const dds::ObservedRobotRow*> by_id;
+  for (const auto& r : f.robots) by_id[r.id] = &r;
+  for (const auto& r : f.robots) {
+    // Heading: an arrow from the centre to past the rim, on top of the body.
+    arrows.push_back({{"pose", pose(r.pose.x, r.pose.y, kRobotHeight + 0.005, r.pose.theta)},
+                      {"shaft_length", 1.1 * radius},
+                      {"shaft_diameter", 0.2 * radius},
+                      {"head_length", 0.5 * radius},
+                      {"head_diameter", 0.6 * radius},
+                      {"color", rgba(r.alive ? "#212121" : "#9e9e9e")}});
+    if (!r.alive) continue;
+    const auto p = r.parent >= 0 ? by_id.find(static_cast<std::uint32_t>(r.parent)) : by_id.end();
+    if (p != by_id.end()) {
+      links.push_back(point(r.pose.x, r.pose.y, 0.02));
+      links.push_back(point(p->second->pose.x, p->second->pose.y, 0.02));
+    }
+    if (!recorded_) {
+      // The ultrasonic rays (live frames only: robots.csv does not hold them), from the sensor on the rim to
+      // the reading's end.
+      for (std::size_t k = 0; k < kUltrasonicCount; ++k) {
+        const double a = r.pose.theta + kUltrasonicAngles[k];
+        const double c = std::cos(a), s = std::sin(a);
+        rays.push_back(point(r.pose.x + radius * c, r.pose.y + radius * s, 0.03));
+        rays.push_back(point(r.pose.x + (radius + r.ultrasonic[k]) * c,
+                             r.pose.y + (radius + r.ultrasonic[k]) * s, 0.03));
+      }
+    }
+    if (r.leader) {
+      json ring = json::array();
+      for (int k = 0; k < 32; ++k) {
+        const double a = 2.0 * std::numbers::pi * k / 32;
+        ring.push_back(
+            point(r.pose.x + 1.6 * radius * std::cos(a), r.pose.y + 1.6 * radius * std::sin(a), 0.01));
+      }
+      rings.push_back(lines(1, 0.015, std::move(ring), rgba("#ffb300")));
+    }
+  }
   for (const auto& r : f.robots) {
     // The lit LEDs on top, as the pictures draw them: at 0.55 of the radius from the centre, 120 degrees
     // apart, LED 0 ahead (scripts/swarmform/scene.py led_positions).
@@ -399,21 +555,78 @@ json Foxglove::scene(const dds::ObserveFrameData& f, bool with_arena, bool with_
                       {"id", "robots"},
                       {"lifetime", {{"sec", 0}, {"nsec", 0}}},
                       {"frame_locked", false},
-                      {"metadata", {{{"key", "tick"}, {"value", std::to_string(f.tick)}}}},
+                      {"metadata", tick_meta},
+                      {"arrows", arrows},
                       {"cubes", json::array()},
                       {"cylinders", cylinders},
                       {"spheres", leds},
                       {"texts", texts}});
+  // The lines, each their own entity (a layer that Foxglove's scene tree toggles).
+  auto line_entity = [&](const char* id, json primitives) {
+    entities.push_back({{"timestamp", stamp},
+                        {"frame_id", "arena"},
+                        {"id", id},
+                        {"lifetime", {{"sec", 0}, {"nsec", 0}}},
+                        {"frame_locked", false},
+                        {"metadata", tick_meta},
+                        {"lines", std::move(primitives)}});
+  };
+  line_entity("parent_links", json::array({lines(2, 0.01, std::move(links), rgba("#546e7a"))}));
+  if (!recorded_)
+    line_entity("ultrasonic_rays", json::array({lines(2, 0.005, std::move(rays), rgba("#e53935"))}));
+  line_entity("leader", std::move(rings));
+  // Every primitive list in every entity, empty or not: a reader need not know which an entity uses.
+  for (json& e : entities) {
+    for (const char* k : {"arrows", "cubes", "cylinders", "lines", "spheres", "texts"}) {
+      if (!e.contains(k)) e[k] = json::array();
+    }
+  }
   return {{"deletions", json::array()}, {"entities", entities}};
 }
 
-json Foxglove::poses(const dds::ObserveFrameData& f) const {
+json Foxglove::poses(const dds::ObserveFrameData& f, const json& stamp) const {
   json list = json::array();
   for (const auto& r : f.robots) list.push_back(pose(r.pose.x, r.pose.y, 0.0, r.pose.theta));
-  return {{"timestamp", time_of(seconds(f.tick))}, {"frame_id", "arena"}, {"poses", list}};
+  return {{"timestamp", stamp}, {"frame_id", "arena"}, {"poses", list}, {"tick", f.tick}};
 }
 
-json Foxglove::telemetry(const dds::ObserveFrameData& f) const {
+json Foxglove::transforms(const dds::ObserveFrameData& f, const json& stamp) const {
+  json list = json::array();
+  for (const auto& r : f.robots) {
+    const json p = pose(r.pose.x, r.pose.y, 0.0, r.pose.theta);
+    list.push_back({{"timestamp", stamp},
+                    {"parent_frame_id", "arena"},
+                    {"child_frame_id", "robot_" + std::to_string(r.id)},
+                    {"translation", p["position"]},
+                    {"rotation", p["orientation"]}});
+  }
+  return {{"transforms", list}, {"tick", f.tick}};
+}
+
+json Foxglove::metrics(const dds::ObserveFrameData& f, const json& stamp) const {
+  json forces = json::array();
+  double sum = 0.0, most = 0.0;
+  std::size_t alive = 0;
+  for (const auto& r : f.robots) {
+    forces.push_back(r.net_force);
+    if (!r.alive) continue;
+    ++alive;
+    sum += r.net_force;
+    most = std::max(most, r.net_force);
+  }
+  json m = {{"timestamp", stamp},
+            {"tick", f.tick},
+            {"alive", alive},
+            {"formation_tick", f.formation_tick},
+            {"net_force_mean", alive > 0 ? sum / static_cast<double>(alive) : 0.0},
+            {"net_force_max", most},
+            {"net_force", forces}};
+  // Left out until there is one: a Plot panel draws nothing rather than a -1.
+  if (f.shape_error >= 0) m["shape_error"] = f.shape_error;
+  return m;
+}
+
+json Foxglove::telemetry(const dds::ObserveFrameData& f, const json& stamp) const {
   std::map<std::int32_t, std::string> names;
   for (const auto& s : f.states) names[s.value] = s.name;
   json list = json::array();
@@ -434,14 +647,16 @@ json Foxglove::telemetry(const dds::ObserveFrameData& f) const {
     }
     list.push_back(std::move(robot));
   }
-  return {{"timestamp", time_of(seconds(f.tick))}, {"tick", f.tick}, {"robots", list}};
+  return {{"timestamp", stamp}, {"tick", f.tick}, {"robots", list}};
 }
 
 std::vector<std::pair<std::uint64_t, std::string>> Foxglove::messages(const dds::ObserveFrameData& f,
-                                                                      std::uint64_t only) {
+                                                                      std::uint64_t only,
+                                                                      std::uint64_t stamp_ns) {
   std::vector<std::pair<std::uint64_t, std::string>> out;
-  std::string cached[4];
-  const auto stamp = static_cast<std::uint64_t>(seconds(f.tick) * 1e9);
+  std::string cached[kChannels + 1];
+  const std::uint64_t stamp = stamp_ns != 0 ? stamp_ns : log_ns(f.tick);
+  const json when = time_of_ns(stamp);
   const std::size_t events = events_up_to(world_, f.tick);  // the same for every subscription
   for (auto& [client, subs] : subscriptions_) {
     if (only != 0 && client != only) continue;
@@ -450,12 +665,18 @@ std::vector<std::pair<std::uint64_t, std::string>> Foxglove::messages(const dds:
       if (sub.channel == kScene) {
         const bool arena = !sub.arena_sent && world_.is_object();
         const bool obstacles = world_.is_object() && (arena || events != sub.events_applied);
-        payload = scene(f, arena, obstacles).dump();
+        payload = scene(f, when, arena, obstacles).dump();
         sub.arena_sent = sub.arena_sent || arena;
         if (obstacles) sub.events_applied = events;
       } else {
         std::string& c = cached[sub.channel];
-        if (c.empty()) c = (sub.channel == kPoses ? poses(f) : telemetry(f)).dump();
+        if (c.empty()) {
+          c = (sub.channel == kPoses        ? poses(f, when)
+               : sub.channel == kTelemetry  ? telemetry(f, when)
+               : sub.channel == kTransforms ? transforms(f, when)
+                                            : metrics(f, when))
+                  .dump();
+        }
         payload = c;
       }
       std::string bytes;

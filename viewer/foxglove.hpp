@@ -1,14 +1,21 @@
 // The Foxglove WebSocket protocol (`foxglove.websocket.v1`, github.com/foxglove/ws-protocol docs/spec.md) on
-// the viewer's socket, so Foxglove connects to ws://HOST:PORT with no plug-in. JSON encoding; three channels:
+// the viewer's socket, so Foxglove connects to ws://HOST:PORT with no plug-in. JSON encoding; five channels:
 //   /scene             foxglove.SceneUpdate   the arena (walls, obstacles, goal, the floor and its regions,
-//                                            the light sources as spheres) and the robots as cylinders in
-//                                            their state's colour with their id as text and their lit LEDs
-//                                            as small spheres on top
+//                                            the light sources as spheres); the robots as cylinders in
+//                                            their state's colour with a heading arrow, their id as text and
+//                                            their lit LEDs as small spheres on top; the parent links, the
+//                                            ultrasonic rays (live) and the leader's ring as lines
 //   /robots/poses      foxglove.PosesInFrame  every robot's pose (frame "arena", z = 0)
+//   /tf                foxglove.FrameTransforms  arena -> robot_<id> for each robot
 //   /robots/telemetry  swarmform.RobotTelemetry  per robot: state (and its name), label, parent, leader, net
 //                                            force, last wheel speeds
-// The schemas are JSON Schema written here for the fields we send (schemaEncoding "jsonschema"). Message
-// timestamps are the run's simulated time (tick / tick_rate).
+//   /metrics           swarmform.Metrics      per tick numbers for the Plot panel: alive, shape error, net
+//                                            force (mean, max, each robot's)
+// The schemas are JSON Schema written here for the fields we send (schemaEncoding "jsonschema"). Every
+// message carries its tick (a `tick` field, or the entities' metadata). Log time: the wall time given by the
+// caller (live: when the frame arrived), else the run's start (set_start_ns) plus tick / tick_rate.
+// Capability `clientPublish`: a client advertises a channel on topic /control (encoding json) and publishes
+// the page's commands ({"cmd": "pause"} ...), which the caller routes as a page's (control_command).
 #pragma once
 
 #include <cstdint>
@@ -37,28 +44,55 @@ class Foxglove {
 
   // The server's first messages to a new client: serverInfo, advertise.
   std::vector<std::string> hello() const;
-  // A client's text message (subscribe / unsubscribe); returns a status message to send back, or "".
+  // The wall time (ns since 1970) the run started: a replay's log times are this plus tick / tick_rate.
+  void set_start_ns(std::uint64_t ns) { start_ns_ = ns; }
+  // A client's text message (subscribe / unsubscribe / advertise / unadvertise); returns a status message to
+  // send back, or "".
   std::string on_text(std::uint64_t client, const std::string& text);
-  void forget(std::uint64_t client) { subscriptions_.erase(client); }
+  // A client's binary message. A Client Message Data on its /control channel: `command` is its payload (the
+  // page's protocol); anything else: `status` says what is wrong.
+  struct ClientMessage {
+    std::string command;
+    std::string status;
+  };
+  ClientMessage on_binary(std::uint64_t client, const std::string& bytes) const;
+  void forget(std::uint64_t client) {
+    subscriptions_.erase(client);
+    control_channels_.erase(client);
+  }
+  // A status message (level 0 info, 1 warning, 2 error) as the protocol's JSON text.
+  static std::string status(int level, const std::string& message);
+  // Log time of `tick` in ns: the run's start plus tick / tick_rate.
+  std::uint64_t log_ns(std::uint64_t tick) const;
 
   // The binary Message Data messages of `frame` for every subscription (of `only` when it is not 0): (client,
-  // bytes).
+  // bytes). `stamp_ns`: the log time (0: log_ns(frame.tick)).
   std::vector<std::pair<std::uint64_t, std::string>> messages(const dds::ObserveFrameData& frame,
-                                                              std::uint64_t only = 0);
+                                                              std::uint64_t only = 0,
+                                                              std::uint64_t stamp_ns = 0);
 
   static constexpr std::uint32_t kScene = 1;
   static constexpr std::uint32_t kPoses = 2;
   static constexpr std::uint32_t kTelemetry = 3;
+  static constexpr std::uint32_t kTransforms = 4;
+  static constexpr std::uint32_t kMetrics = 5;
+  static constexpr std::uint32_t kChannels = 5;
 
  private:
   // `with_arena`: the static entities; `with_obstacles`: the obstacles as they stand at the frame's tick.
-  nlohmann::json scene(const dds::ObserveFrameData& frame, bool with_arena, bool with_obstacles) const;
-  nlohmann::json poses(const dds::ObserveFrameData& frame) const;
-  nlohmann::json telemetry(const dds::ObserveFrameData& frame) const;
+  nlohmann::json scene(const dds::ObserveFrameData& frame, const nlohmann::json& stamp, bool with_arena,
+                       bool with_obstacles) const;
+  nlohmann::json poses(const dds::ObserveFrameData& frame, const nlohmann::json& stamp) const;
+  nlohmann::json telemetry(const dds::ObserveFrameData& frame, const nlohmann::json& stamp) const;
+  nlohmann::json transforms(const dds::ObserveFrameData& frame, const nlohmann::json& stamp) const;
+  nlohmann::json metrics(const dds::ObserveFrameData& frame, const nlohmann::json& stamp) const;
   double seconds(std::uint64_t tick) const;
 
   nlohmann::json world_;
   bool recorded_ = false;
+  std::uint64_t start_ns_ = 0;
+  // client -> its advertised /control channel ids
+  std::map<std::uint64_t, std::map<std::uint32_t, std::string>> control_channels_;
   struct Subscription {
     std::uint32_t channel = 0;
     bool arena_sent = false;         // /scene: the static entities go once per subscription

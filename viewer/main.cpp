@@ -5,6 +5,7 @@
 //
 // Exit codes: 0 the run ended (or SIGINT/SIGTERM); 1 a failure (DDS, the port); 2 bad flags.
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <deque>
 #include <filesystem>
 #include <fstream>
@@ -23,6 +24,7 @@ namespace {
 
 using swarmform::viewer::ClientId;
 using swarmform::viewer::ClientKind;
+using swarmform::viewer::Foxglove;
 namespace dds = swarmform::dds;
 using nlohmann::json;
 
@@ -60,6 +62,7 @@ struct Options {
   double rate = 10.0;
   double linger_s = 2.0;
   double page_grace_s = 10.0;
+  std::vector<std::string> control_origins;
   bool quiet = false;
 };
 
@@ -188,17 +191,18 @@ int live(const Options& o) {
     if (!last_frame.empty()) server_ptr->send_text(c, last_frame);
     if (!last_end.empty()) server_ptr->send_text(c, last_end);
   };
-  h.text = [&](ClientId client, ClientKind k, const std::string& text) {
-    if (k == ClientKind::Foxglove) {
-      const std::string answer = foxglove.on_text(client, text);
-      if (!answer.empty()) server_ptr->send_text(client, answer);
-      return;
-    }
+  // A page's command, or a Foxglove client's on /control (the same commands, the same path): "" when sent,
+  // else why not.
+  auto command = [&](const std::string& text) -> std::string {
     const json m = json::parse(text, nullptr, false);
     const std::string cmd = m.is_object() ? m.value("cmd", std::string()) : std::string();
     const double value =
         m.is_object() && m.contains("value") && m["value"].is_number() ? m["value"].get<double>() : 0;
     const std::uint64_t n = value > 0 && value < 1e15 ? static_cast<std::uint64_t>(value) : 0;
+    const bool timeline = cmd == "pause" || cmd == "resume" || cmd == "step" || cmd == "speed";
+    if (timeline && got_frame && frame.finished) return "the run has ended";
+    if (timeline && got_frame && !frame.controllable)
+      return "a realtime run: its ticks follow the clock, " + cmd + " does nothing (kill still acts)";
     if (cmd == "pause") {
       send(dds::ControlKind::Pause, 0, 0);
     } else if (cmd == "resume") {
@@ -212,10 +216,36 @@ int live(const Options& o) {
     } else if (cmd == "rate" && value > 0) {
       rate = value;
       send(dds::ControlKind::Hello, 0, rate);
-    } else if (++bad_page_messages == 1 || bad_page_messages % 1000 == 0) {
-      std::cerr << "swarm_viewer: ignored " << bad_page_messages << " page message(s) it does not know, e.g. "
-                << text.substr(0, 80) << "\n";
+    } else {
+      if (++bad_page_messages == 1 || bad_page_messages % 1000 == 0) {
+        std::cerr << "swarm_viewer: ignored " << bad_page_messages
+                  << " page message(s) it does not know, e.g. " << text.substr(0, 80) << "\n";
+      }
+      return "not a command: " + text.substr(0, 80) +
+             " (want {\"cmd\": \"pause\" | \"resume\" | \"step\" | \"speed\" | \"kill\", \"value\": N})";
     }
+    return "";
+  };
+  h.text = [&](ClientId client, ClientKind k, const std::string& text) {
+    if (k == ClientKind::Foxglove) {
+      const std::string answer = foxglove.on_text(client, text);
+      if (!answer.empty()) server_ptr->send_text(client, answer);
+      return;
+    }
+    command(text);
+  };
+  h.binary = [&](ClientId client, const std::string& bytes) {
+    const auto got = foxglove.on_binary(client, bytes);
+    std::string problem = got.status;
+    if (problem.empty() && !server_ptr->may_drive(client)) {
+      problem = Foxglove::status(2,
+                                 "control refused: this connection's Origin is not this server's (read only; "
+                                 "Foxglove's desktop app, which sends none, may control)");
+    } else if (problem.empty()) {
+      const std::string why = command(got.command);
+      if (!why.empty()) problem = Foxglove::status(1, why);
+    }
+    if (!problem.empty()) server_ptr->send_text(client, problem);
   };
   h.every = [&]() -> bool {
     const dds_time_t now = dds_time();
@@ -246,7 +276,12 @@ int live(const Options& o) {
       last_frame = swarmform::viewer::frame_json(frame).dump();
       server_ptr->broadcast_text(ClientKind::Page, last_frame);
       read_world();
-      for (auto& [client, bytes] : foxglove.messages(frame)) server_ptr->send_binary(client, bytes);
+      // Log time: the wall time the frame arrived (the tick is in each message).
+      const auto wall = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                            std::chrono::system_clock::now().time_since_epoch())
+                            .count();
+      for (auto& [client, bytes] : foxglove.messages(frame, 0, static_cast<std::uint64_t>(wall)))
+        server_ptr->send_binary(client, bytes);
       if (frame.finished && !finished_at) finished_at = now;
     }
     if (got_frame && !said_end && now - last_summary_check >= DDS_MSECS(200)) {
@@ -278,7 +313,8 @@ int live(const Options& o) {
     return !finished_at || now - *finished_at < static_cast<dds_duration_t>(o.linger_s * 1e9);
   };
   h.stopping = [&] { say_end(); };  // stopped by the launcher as the world exits: the end, if written
-  swarmform::viewer::WebServer server({o.host, o.port, o.web_root, o.run_dir}, h, kPeriodMs);
+  swarmform::viewer::WebServer server({o.host, o.port, o.web_root, o.run_dir, o.control_origins}, h,
+                                      kPeriodMs);
   server_ptr = &server;
   if (!o.netns.empty()) swarmform::viewer::enter_network_namespace(o.netns);
   participant.emplace(settings);
@@ -305,6 +341,14 @@ int main(int argc, char** argv) {
   app.add_option("--run-dir", o.run_dir,
                  "live: the run directory (the page loads world.json, events from it)");
   app.add_option("--replay", o.replay, "RUN_DIR: serve the page over this recording (no DDS)");
+  app.add_option("--control-origin", o.control_origins,
+                 "ORIGIN (repeatable): a Foxglove client from this browser origin may control the run over "
+                 "/control too, e.g. https://app.foxglove.dev (default: none; clients with no Origin or this "
+                 "server's may)");
+  std::string export_dir;
+  app.add_option("--export-frames", export_dir,
+                 "RUN_DIR: write every recorded tick's Foxglove messages on stdout, one a line (swarm export "
+                 "--mcap reads them), and exit");
   app.add_option("--domain", o.domain, "live: the run's DDS domain id")->check(CLI::Range(0u, 232u));
   app.add_option("--world-host", o.world_host, "live: the world's address (default 127.0.0.1)");
   app.add_option("--interface", o.interface_address,
@@ -336,7 +380,10 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : 2;
   }
   try {
-    if (!o.replay.empty()) return swarmform::viewer::replay({o.replay, o.host, o.port, o.web_root});
+    if (!export_dir.empty())
+      return swarmform::viewer::replay({export_dir, o.host, o.port, o.web_root, {}, true});
+    if (!o.replay.empty())
+      return swarmform::viewer::replay({o.replay, o.host, o.port, o.web_root, o.control_origins});
     if (o.run_dir.empty() || o.run_nonce.empty() || o.token.empty()) {
       std::cerr
           << "swarm_viewer: a live view needs --run-dir, --run-nonce and --token (or --replay RUN_DIR)\n";

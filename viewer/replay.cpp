@@ -1,9 +1,11 @@
 #include "viewer/replay.hpp"
 
+#include <sys/stat.h>
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -129,9 +131,19 @@ class Session {
         formation_tick_ = (*summary)["formation_tick"].get<std::int64_t>();
       if (is_number(*summary, "shape_error_at_formation"))
         shape_error_ = (*summary)["shape_error_at_formation"].get<double>();
+      // The shape error of every tick from formation on ([[tick, error], ...]): Foxglove's /metrics plots it.
+      for (const json& d : summary->value("distortion", json::array())) {
+        if (d.is_array() && d.size() == 2 && d[0].is_number_unsigned() && d[1].is_number())
+          distortion_[d[0].get<std::uint64_t>()] = d[1].get<double>();
+      }
     }
     foxglove_.set_world(world_);
     foxglove_.set_recorded(true);
+    // The run's wall time: world.json is written as the run starts; its ticks follow at tick / tick_rate.
+    struct stat st {};
+    if (::stat((o.run_dir + "/world.json").c_str(), &st) == 0)
+      foxglove_.set_start_ns(static_cast<std::uint64_t>(st.st_mtim.tv_sec) * 1000000000U +
+                             static_cast<std::uint64_t>(st.st_mtim.tv_nsec));
     tick_ = csv_.first_tick();
   }
 
@@ -143,8 +155,21 @@ class Session {
       selected_.erase(c);
     };
     h.text = [this](ClientId c, ClientKind k, const std::string& text) { on_text(c, k, text); };
+    // A Foxglove client's /control messages are the page's commands (play, pause, seek, speed), by the
+    // page's rule on Origin.
+    h.binary = [this](ClientId c, const std::string& bytes) {
+      const auto got = foxglove_.on_binary(c, bytes);
+      if (!got.status.empty()) {
+        server_->send_text(c, got.status);
+      } else if (!server_->may_drive(c)) {
+        server_->send_text(
+            c, Foxglove::status(2, "control refused: this connection's Origin is not this server's"));
+      } else {
+        on_text(c, ClientKind::Page, got.command);
+      }
+    };
     h.every = [this] { return every(); };
-    WebServer server({o_.host, o_.port, o_.web_root, o_.run_dir}, h, kPeriodMs);
+    WebServer server({o_.host, o_.port, o_.web_root, o_.run_dir, o_.control_origins}, h, kPeriodMs);
     server_ = &server;
     std::cout << "viewer http://" << o_.host << ":" << server.port() << "/ replay of " << o_.run_dir
               << " (ticks " << csv_.first_tick() << ".." << csv_.last_tick() << ", robots.csv "
@@ -311,6 +336,7 @@ class Session {
     const bool formed = formation_tick_ >= 0 && static_cast<std::uint64_t>(formation_tick_) <= rec.tick;
     frame_.formation_tick = formed ? formation_tick_ : -1;
     frame_.shape_error = formed ? shape_error_ : -1.0;
+    if (const auto d = distortion_.find(rec.tick); d != distortion_.end()) frame_.shape_error = d->second;
     json robots = json::array();
     const std::vector<std::string>& extra = csv_.extra_columns();
     // The tick's readings (readings.csv has the rows of robots.csv's ticks) of the robots the pages show in
@@ -375,6 +401,58 @@ class Session {
     for (auto& [client, bytes] : foxglove_.messages(frame_)) server_->send_binary(client, bytes);
   }
 
+ public:
+  // `swarm export`: every recorded tick's Foxglove messages, as the live server sends them, on `out` for
+  // scripts/mcap/write.mjs: serverInfo and advertise (a line each), a line {"op": "range", ...}, then a line
+  // per message: CHANNEL LOG_TIME_NS TICK PAYLOAD. Damage is said on stderr as the replay says it.
+  int export_lines(std::ostream& out) {
+    // A pipe's writes in 1 MiB blocks, not stdio's 4 KiB: the writer at the other end wakes less often (3x
+    // faster end to end).
+    static std::vector<char> buffer(1 << 20);
+    std::setvbuf(stdout, buffer.data(), _IOFBF, buffer.size());
+    for (const std::string& m : foxglove_.hello()) out << m << '\n';
+    out << json{{"op", "range"},
+                {"first_tick", csv_.first_tick()},
+                {"last_tick", csv_.last_tick()},
+                {"tick_rate", tick_rate_},
+                {"start_ns", foxglove_.log_ns(0)}}
+               .dump()
+        << '\n';
+    json subs = json::array();
+    for (std::uint32_t c = Foxglove::kScene; c <= Foxglove::kChannels; ++c)
+      subs.push_back({{"id", c}, {"channelId", c}});  // subscription id = channel id
+    foxglove_.on_text(1, json{{"op", "subscribe"}, {"subscriptions", subs}}.dump());
+    std::optional<std::uint64_t> last;
+    for (std::uint64_t t = csv_.first_tick();; ++t) {
+      show(t);
+      if (!last || frame_.tick != *last) {  // a recording that skips ticks: each recorded tick once
+        last = frame_.tick;
+        for (const auto& [client, bytes] : foxglove_.messages(frame_)) {
+          std::uint32_t sub = 0;
+          std::uint64_t stamp = 0;
+          for (int i = 0; i < 4; ++i)
+            sub |= static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[1 + i])) << (8 * i);
+          for (int i = 0; i < 8; ++i)
+            stamp |= static_cast<std::uint64_t>(static_cast<unsigned char>(bytes[5 + i])) << (8 * i);
+          out << sub << ' ' << stamp << ' ' << frame_.tick << ' ';
+          out.write(bytes.data() + 13, static_cast<std::streamsize>(bytes.size() - 13));
+          out << '\n';
+        }
+      }
+      if (t >= csv_.last_tick()) break;
+    }
+    out.flush();
+    if (!out) {
+      std::cerr << "swarm_viewer: --export-frames: writing stdout failed\n";
+      return 1;
+    }
+    if (csv_.bad_rows() > 0)
+      std::cerr << "swarm_viewer: " << csv_.bad_rows()
+                << " row(s) of robots.csv skipped; the first: " << csv_.first_problem() << "\n";
+    return 0;
+  }
+
+ private:
   bool is_selected(std::uint32_t id) const {
     for (const auto& [client, robot] : selected_) {
       if (robot == id) return true;
@@ -410,6 +488,7 @@ class Session {
   double tick_rate_ = 10.0;
   std::int64_t formation_tick_ = -1;
   double shape_error_ = -1.0;
+  std::map<std::uint64_t, double> distortion_;  // summary.json's per tick shape error from formation on
 
   std::uint64_t tick_ = 0;  // the timeline's position (the tick shown is the last recorded one <= it)
   bool playing_ = false;
@@ -472,7 +551,7 @@ int replay(const ReplayOptions& o) {
     }
   }
   Session session(o, *world, std::move(summary), *csv, readings.get(), sensors);
-  return session.run();
+  return o.export_lines ? session.export_lines(std::cout) : session.run();
 }
 
 }  // namespace swarmform::viewer

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace swarmform::viewer {
 
@@ -14,6 +15,10 @@ struct ReplayOptions {
   std::string host = "127.0.0.1";
   std::uint16_t port = 8765;
   std::string web_root;
+  std::vector<std::string> control_origins;  // WebServerOptions::control_origins
+  // `swarm export`: write every recorded tick's Foxglove messages on stdout (Session::export_lines) instead
+  // of serving.
+  bool export_lines = false;
 };
 
 // Serves until SIGINT/SIGTERM. Returns 0; 2 (with a message on stderr naming the file) when the run

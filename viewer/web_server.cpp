@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <websocketpp/config/asio_no_tls.hpp>
@@ -62,6 +63,7 @@ struct WebServer::Impl {
   std::unique_ptr<asio::signal_set> signals;
   std::map<Hdl, std::pair<ClientId, ClientKind>, std::owner_less<Hdl>> clients;
   std::map<ClientId, Hdl> by_id;
+  std::set<ClientId> drivers;  // clients that may control the run (may_drive)
   ClientId next_id = 1;
   bool stopping = false;
 
@@ -125,7 +127,7 @@ struct WebServer::Impl {
     const auto& wanted = con->get_requested_subprotocols();
     if (std::find(wanted.begin(), wanted.end(), kFoxgloveSubprotocol) != wanted.end()) {
       con->select_subprotocol(kFoxgloveSubprotocol);
-      return true;  // Foxglove's channels only read: any origin (Foxglove's web app) may subscribe
+      return true;  // any origin (Foxglove's web app) may read; only may_drive() clients may control
     }
     // The page's protocol can pause and kill: a browser may open it only from our own page. WebSockets have
     // no same-origin rule, so without this any web site the user visits could drive ws://127.0.0.1:8765.
@@ -164,6 +166,12 @@ WebServer::WebServer(const WebServerOptions& options, Handlers handlers, int per
         con->get_subprotocol() == kFoxgloveSubprotocol ? ClientKind::Foxglove : ClientKind::Page;
     const ClientId id = m.next_id++;
     m.clients[h] = {id, kind};
+    // The page's rule for driving the run: no Origin (not a browser) or our own page's.
+    const std::string origin = con->get_request_header("Origin");
+    const auto& extra = m.options.control_origins;
+    if (origin.empty() || origin == "http://" + con->get_request_header("Host") ||
+        (kind == ClientKind::Foxglove && std::find(extra.begin(), extra.end(), origin) != extra.end()))
+      m.drivers.insert(id);
     m.by_id[id] = h;
     if (m.handlers.opened) m.handlers.opened(id, kind);
   });
@@ -172,6 +180,7 @@ WebServer::WebServer(const WebServerOptions& options, Handlers handlers, int per
     if (it == m.clients.end()) return;
     const ClientId id = it->second.first;
     m.by_id.erase(id);
+    m.drivers.erase(id);
     m.clients.erase(it);
     if (m.handlers.closed) m.handlers.closed(id);
     if (m.stopping && m.clients.empty()) m.server.stop();
@@ -216,6 +225,10 @@ void WebServer::run() {
 
 void WebServer::stop() {
   impl_->stop();
+}
+
+bool WebServer::may_drive(ClientId client) const {
+  return impl_->drivers.count(client) != 0;
 }
 
 void WebServer::send_text(ClientId client, const std::string& text) {

@@ -8,6 +8,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace swarmform::viewer {
 
@@ -20,6 +21,9 @@ struct WebServerOptions {
   std::uint16_t port = 8765;
   std::string web_root;  // the page's files (viewer/web)
   std::string run_dir;   // served under /run/ (world.json, events.jsonl, summary.json)
+  // Origins besides this server's whose Foxglove clients may control the run (--control-origin, e.g.
+  // https://app.foxglove.dev): the user's choice, as --host 0.0.0.0 is.
+  std::vector<std::string> control_origins;
 };
 
 class WebServer {
@@ -51,6 +55,9 @@ class WebServer {
   void broadcast_text(ClientKind kind, const std::string& text);
   std::size_t clients(ClientKind kind) const;
   std::uint16_t port() const;  // the bound port (for --port 0)
+  // The client may pause, step and kill: it sent no Origin (not a browser) or this server's own (the page's
+  // rule; a Foxglove client from another origin only reads).
+  bool may_drive(ClientId client) const;
 
  private:
   struct Impl;

@@ -25,6 +25,7 @@ commands:
   kill     SIGKILL one agent of the running swarm (the swarm carries on)
   replay   draw the pictures again from a run directory's recording
   view     the browser view of a recording (timeline, play, jump to events); `run --view` shows a live run
+  export   a recording as an MCAP file Foxglove opens (--mcap FILE), the live Foxglove server's channels
   report   print a run's summary.json as a readable table (or --json, --csv)
   sweep    a grid of in-process runs (scenarios x shapes x seeds x kill schedules x --param values x loss, bursts,
            noise and --set scenario fields) on every core:
@@ -194,6 +195,9 @@ def _add_run_flags(p: argparse.ArgumentParser, demo: bool = False) -> None:
                         "every interface, and anyone who reaches it can pause and kill)")
     p.add_argument("--view-paused", action="store_true",
                    help="--view, and the run (lockstep) waits at tick 0 until the page says go (resume or step)")
+    p.add_argument("--view-control-origin", action="append", default=[], metavar="ORIGIN",
+                   help="--view: a Foxglove client from this browser origin (e.g. https://app.foxglove.dev) may "
+                        "pause, step and kill over /control too (repeatable; viewer/README.md \"Foxglove\")")
     p.add_argument("--view-grace", type=_float_at_least(0.0), default=None, metavar="S",
                    help="--view: seconds a paused run waits once its last page closed, then it resumes and says "
                         "so (default 10)")
@@ -242,7 +246,7 @@ def _add_run_flags(p: argparse.ArgumentParser, demo: bool = False) -> None:
 
 def make_parser() -> Parser:
     top = Parser(prog="swarm", description=MAIN_HELP, formatter_class=argparse.RawDescriptionHelpFormatter,
-                 usage="swarm {run,demo,kill,replay,view,report,sweep,plot} [options]   (swarm <command> --help)")
+                 usage="swarm {run,demo,kill,replay,view,export,report,sweep,plot} [options]   (swarm <command> --help)")
     sub = top.add_subparsers(dest="command", metavar="command", parser_class=Parser, prog="swarm")
 
     run = sub.add_parser("run", help="run a swarm", formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -288,6 +292,20 @@ def make_parser() -> Parser:
                       help=f"TCP port (default {DEFAULT_VIEW_PORT}; 0: any free one, printed)")
     view.add_argument("--host", default="127.0.0.1", metavar="ADDR",
                       help="address to listen on (default 127.0.0.1: this machine only)")
+    view.add_argument("--control-origin", action="append", default=[], metavar="ORIGIN",
+                      help="a Foxglove client from this browser origin (e.g. https://app.foxglove.dev) may play, "
+                           "pause and seek over /control too (repeatable)")
+
+    export = sub.add_parser("export", help="a recording as an MCAP file that Foxglove opens",
+                            description="Writes RUN_DIR's recording as FILE, an MCAP file (@mcap/core, npm; "
+                                        "scripts/setup installs it) with the live Foxglove server's channels and "
+                                        "schemas: /scene, /robots/poses, /tf, /robots/telemetry, /metrics "
+                                        "(viewer/README.md \"Foxglove\"). Log times: the run's start "
+                                        "(world.json's time) plus tick / tick_rate. Damage in robots.csv is said "
+                                        "as `swarm report` says it; the readable ticks are exported. Progress on "
+                                        "stderr every 2 s.")
+    export.add_argument("run_dir", metavar="RUN_DIR")
+    export.add_argument("--mcap", required=True, metavar="FILE", help="the MCAP file to write (replaced whole)")
 
     report = sub.add_parser("report", help="print a run's summary as a table, JSON or CSV",
                             description="Prints RUN_DIR/summary.json as a readable table; --json and --csv give it "
@@ -557,7 +575,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     if args.command == "view":
         if os.environ.get("SWARM_PARSE_ONLY") == "1":
             return exit_codes.OK
-        return launcher.view(args.run_dir, args.port, args.host)
+        return launcher.view(args.run_dir, args.port, args.host, args.control_origin)
     if args.command == "replay":
         return render_pictures(args.run_dir, args.ticks, args.out, not args.no_animation, args.labels)
     if args.command == "sweep":
@@ -572,6 +590,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         if args.plot and code in (exit_codes.OK, exit_codes.FAILED) and out_dir:
             code = _plot(out_dir, args.plot_metric, None) or code
         return code
+    if args.command == "export":
+        from . import export
+        return export.export_mcap(args.run_dir, args.mcap)
     if args.command == "report":
         from . import report, recording
         try:

@@ -980,6 +980,7 @@ class _ViewerStart:
         self.host = getattr(args, "view_host", "127.0.0.1")
         self.paused = bool(getattr(args, "view_paused", False))
         self.grace: Optional[float] = getattr(args, "view_grace", None)
+        self.control_origins: list[str] = list(getattr(args, "view_control_origin", None) or [])
         self.run_dir, self.domain, self.nonce, self.logs = run_dir, domain, nonce, logs
         self.procs, self.status, self.said = procs, status, False
         self.token = secrets.token_hex(8) if self.port is not None else None
@@ -1003,6 +1004,8 @@ class _ViewerStart:
                "--run-dir", self.run_dir, "--port", str(self.port), "--host", self.host] + self.extra
         if self.grace is not None:
             cmd += ["--page-grace", str(self.grace)]
+        for origin in self.control_origins:
+            cmd += ["--control-origin", origin]
         log = os.path.join(self.logs, "viewer.log")
         viewer = self.procs.start_viewer(cmd, log)
         port = self.port
@@ -1044,7 +1047,7 @@ def _last_log_line(path: str) -> str:
     return lines[-1] if lines else "(empty log)"
 
 
-def view(run_dir: str, port: int, host: str) -> int:
+def view(run_dir: str, port: int, host: str, control_origins: Optional[list[str]] = None) -> int:
     """`swarm view RUN_DIR`: the viewer over a recording, until Ctrl-C."""
     if not os.path.isfile(os.path.join(run_dir, "world.json")):
         print(f"swarm view: {run_dir}/world.json: no such file (is {run_dir} a run directory?)", file=sys.stderr)
@@ -1054,7 +1057,8 @@ def view(run_dir: str, port: int, host: str) -> int:
     except LaunchError as e:
         print(f"swarm view: {e}", file=sys.stderr)
         return e.code
-    p = subprocess.Popen([exe, "--replay", os.path.abspath(run_dir), "--port", str(port), "--host", host],
+    origins = [a for o in control_origins or [] for a in ("--control-origin", o)]
+    p = subprocess.Popen([exe, "--replay", os.path.abspath(run_dir), "--port", str(port), "--host", host] + origins,
                          stdin=subprocess.DEVNULL, preexec_fn=_die_with_parent)
 
     def stop(*_: object) -> None:

@@ -27,12 +27,13 @@ class CliTest(unittest.TestCase):
         r = helpers.swarm("--help", env={"SWARM_NO_BUILD": "0"}, build_dir=os.path.join(self.dir, "nothing"))
         self.assertLess(time.monotonic() - start, 10.0)
         self.assertEqual(r.returncode, 0, r.stderr)
-        for word in ("run", "demo", "kill", "replay", "view", "report", "runs/latest", "--help"):
+        for word in ("run", "demo", "kill", "replay", "view", "export", "report", "runs/latest", "--help"):
             self.assertIn(word, r.stdout)
         for cmd, flags in (("run", ["--scenario", "--shape", "--robots", "--seed", "--mode", "--max-ticks", "--out",
                                     "--kill", "--domain", "--no-pictures", "--in-process", "--secure",
                                     "--no-animation", "--view", "--view-host", "--view-paused"]),
                            ("view", ["--port", "--host", "RUN_DIR"]),
+                           ("export", ["--mcap", "RUN_DIR"]),
                            ("demo", ["--robots"]), ("kill", ["--run"]), ("replay", ["--ticks"]), ("report", [])):
             r = helpers.swarm(cmd, "--help", env={"SWARM_NO_BUILD": "0"},
                               build_dir=os.path.join(self.dir, "nothing"))

@@ -1,10 +1,15 @@
-// What the Foxglove channel /scene sends (viewer/foxglove.hpp), read back from the bytes a client gets: the
-// floor and its regions, the light sources, and each robot's lit LEDs.
+// What the Foxglove channels send (viewer/foxglove.hpp), read back from the bytes a client gets: the floor
+// and its regions, the light sources, each robot's lit LEDs, heading, parent link, rays and the leader's
+// ring; the frame transforms, the metrics, log times and ticks; the clientPublish capability and its /control
+// channel.
 #include "viewer/foxglove.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <numbers>
 
 namespace swarmform::viewer {
 namespace {
@@ -135,6 +140,168 @@ TEST(Foxglove, ObstaclesAreSentAgainAsTheWorldEventsChangeThem) {
   EXPECT_DOUBLE_EQ(moved["cylinders"][0]["pose"]["position"]["y"].get<double>(), 0.5);
   // A replay sought back before the events: the obstacles as they stood then.
   EXPECT_EQ(entity(scene_at(2), "obstacles")["cubes"].size(), 1U);
+}
+
+// Every channel's Message Data for `frame` to a client subscribed to all five (subscription id = channel id):
+// channel -> (log time, payload).
+std::map<std::uint32_t, std::pair<std::uint64_t, json>> all_channels(Foxglove& fox,
+                                                                     const dds::ObserveFrameData& f,
+                                                                     std::uint64_t stamp = 0) {
+  std::map<std::uint32_t, std::pair<std::uint64_t, json>> out;
+  for (const auto& [client, bytes] : fox.messages(f, 0, stamp)) {
+    std::uint32_t sub = 0;
+    std::uint64_t ns = 0;
+    for (int i = 0; i < 4; ++i)
+      sub |= static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[1 + i])) << (8 * i);
+    for (int i = 0; i < 8; ++i)
+      ns |= static_cast<std::uint64_t>(static_cast<unsigned char>(bytes[5 + i])) << (8 * i);
+    out[sub] = {ns, json::parse(bytes.substr(13))};
+  }
+  return out;
+}
+
+void subscribe_all(Foxglove& fox) {
+  ASSERT_EQ(
+      fox.on_text(7, R"({"op":"subscribe","subscriptions":[{"id":1,"channelId":1},{"id":2,"channelId":2},
+      {"id":3,"channelId":3},{"id":4,"channelId":4},{"id":5,"channelId":5}]})"),
+      "");
+}
+
+dds::ObserveFrameData three_robots() {
+  // Robot 0 leads, facing +y; robot 1's parent is 0; robot 2 is dead (its parent 0 is not drawn).
+  dds::ObserveFrameData f;
+  f.tick = 25;
+  f.robots.resize(3);
+  for (std::uint32_t i = 0; i < 3; ++i) {
+    f.robots[i].id = i;
+    f.robots[i].pose = Pose2D{static_cast<double>(i), 1.0, 0.0};
+    f.robots[i].net_force = 0.5 * i;
+    f.robots[i].ultrasonic.fill(0.4);
+  }
+  f.robots[0].pose.theta = std::numbers::pi / 2;
+  f.robots[0].leader = true;
+  f.robots[1].parent = 0;
+  f.robots[2].parent = 0;
+  f.robots[2].alive = false;
+  f.shape_error = 0.07;
+  return f;
+}
+
+TEST(Foxglove, AdvertisesClientPublishAndTakesCommandsOnControlOnly) {
+  Foxglove fox;
+  fox.set_world(kWorld);
+  const auto hello = fox.hello();
+  const json info = json::parse(hello[0]);
+  EXPECT_EQ(info["capabilities"], json({"clientPublish"}));
+  EXPECT_EQ(info["supportedEncodings"], json({"json"}));
+  std::map<std::string, std::string> topics;
+  const json advertise = json::parse(hello[1]);
+  for (const json& c : advertise["channels"])
+    topics[c["topic"].get<std::string>()] = c["schemaName"].get<std::string>();
+  EXPECT_EQ(topics["/tf"], "foxglove.FrameTransforms");
+  EXPECT_EQ(topics["/metrics"], "swarmform.Metrics");
+  EXPECT_EQ(topics.size(), 5U);
+  // Another topic is refused; /control is taken, and its messages come back as the page's commands.
+  EXPECT_NE(fox.on_text(7, R"({"op":"advertise","channels":[{"id":3,"topic":"/other","encoding":"json"}]})"),
+            "");
+  ASSERT_EQ(fox.on_text(7, R"({"op":"advertise","channels":[{"id":4,"topic":"/control","encoding":"json",
+      "schemaName":"swarmform.Control"}]})"),
+            "");
+  const std::string pause = std::string("\x01\x04\x00\x00\x00", 5) + R"({"cmd":"pause"})";
+  const auto got = fox.on_binary(7, pause);
+  EXPECT_EQ(got.command, R"({"cmd":"pause"})");
+  EXPECT_EQ(got.status, "");
+  // Another client, or a channel not advertised: an error status, no command.
+  EXPECT_EQ(fox.on_binary(8, pause).command, "");
+  EXPECT_NE(fox.on_binary(8, pause).status, "");
+  const auto stray = fox.on_binary(7, std::string("\x01\x09\x00\x00\x00{}", 7));
+  EXPECT_EQ(stray.command, "");
+  EXPECT_NE(json::parse(stray.status)["level"], 0);
+  ASSERT_EQ(fox.on_text(7, R"({"op":"unadvertise","channelIds":[4]})"), "");
+  EXPECT_EQ(fox.on_binary(7, pause).command, "");
+}
+
+TEST(Foxglove, LogTimeIsTheRunsWallTimeAndEveryMessageCarriesItsTick) {
+  Foxglove fox;
+  json world = kWorld;
+  world["tick_rate"] = 10.0;
+  fox.set_world(world);
+  const std::uint64_t start = 1796630400ULL * 1000000000ULL;  // 2026-12-07 08:00 UTC
+  fox.set_start_ns(start);
+  subscribe_all(fox);
+  const auto got = all_channels(fox, three_robots());
+  ASSERT_EQ(got.size(), 5U);
+  for (const auto& [channel, message] : got) {
+    EXPECT_EQ(message.first, start + 2500000000ULL) << "channel " << channel << ": start + 25 / 10 s";
+  }
+  EXPECT_EQ(got.at(Foxglove::kPoses).second["tick"], 25);
+  EXPECT_EQ(got.at(Foxglove::kTelemetry).second["tick"], 25);
+  EXPECT_EQ(got.at(Foxglove::kTransforms).second["tick"], 25);
+  EXPECT_EQ(got.at(Foxglove::kMetrics).second["tick"], 25);
+  EXPECT_EQ(got.at(Foxglove::kPoses).second["timestamp"], json({{"sec", 1796630402}, {"nsec", 500000000}}));
+  for (const json& e : got.at(Foxglove::kScene).second["entities"]) {
+    EXPECT_EQ(e["metadata"][0], json({{"key", "tick"}, {"value", "25"}})) << e["id"];
+    EXPECT_EQ(e["timestamp"]["sec"], 1796630402);
+  }
+  // Live: the caller's wall time.
+  EXPECT_EQ(all_channels(fox, three_robots(), 42).at(Foxglove::kTransforms).first, 42U);
+}
+
+TEST(Foxglove, TransformsAndMetricsForThePlotPanel) {
+  Foxglove fox;
+  fox.set_world(kWorld);
+  subscribe_all(fox);
+  const auto got = all_channels(fox, three_robots());
+  const json& tf = got.at(Foxglove::kTransforms).second["transforms"];
+  ASSERT_EQ(tf.size(), 3U);
+  EXPECT_EQ(tf[1]["parent_frame_id"], "arena");
+  EXPECT_EQ(tf[1]["child_frame_id"], "robot_1");
+  EXPECT_DOUBLE_EQ(tf[1]["translation"]["x"].get<double>(), 1.0);
+  EXPECT_NEAR(tf[0]["rotation"]["z"].get<double>(), std::sin(std::numbers::pi / 4), 1e-12);
+  const json& m = got.at(Foxglove::kMetrics).second;
+  EXPECT_EQ(m["alive"], 2);
+  EXPECT_DOUBLE_EQ(m["shape_error"].get<double>(), 0.07);
+  EXPECT_DOUBLE_EQ(m["net_force_mean"].get<double>(), 0.25);  // the live ones: 0 and 0.5
+  EXPECT_DOUBLE_EQ(m["net_force_max"].get<double>(), 0.5);
+  EXPECT_EQ(m["net_force"], json({0.0, 0.5, 1.0}));
+  dds::ObserveFrameData before = three_robots();
+  before.shape_error = -1;
+  EXPECT_FALSE(all_channels(fox, before).at(Foxglove::kMetrics).second.contains("shape_error"))
+      << "no shape error yet: left out, not -1";
+}
+
+TEST(Foxglove, SceneDrawsHeadingParentLinksRaysAndTheLeader) {
+  Foxglove fox;
+  fox.set_world(kWorld);
+  subscribe_all(fox);
+  const json scene = all_channels(fox, three_robots()).at(Foxglove::kScene).second;
+  const json& arrows = entity(scene, "robots")["arrows"];
+  ASSERT_EQ(arrows.size(), 3U);
+  const json& q = arrows[0]["pose"]["orientation"];
+  EXPECT_NEAR(2 * std::atan2(q["z"].get<double>(), q["w"].get<double>()), std::numbers::pi / 2, 1e-12);
+  // One link: 1 -> 0 (the dead robot's is not drawn).
+  const json& links = entity(scene, "parent_links")["lines"][0];
+  EXPECT_EQ(links["type"], 2);
+  ASSERT_EQ(links["points"].size(), 2U);
+  EXPECT_DOUBLE_EQ(links["points"][0]["x"].get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(links["points"][1]["x"].get<double>(), 0.0);
+  // Five rays a live robot, from the rim to the reading: robot 0 faces +y, its middle ray goes up.
+  const json& rays = entity(scene, "ultrasonic_rays")["lines"][0]["points"];
+  ASSERT_EQ(rays.size(), 2U * 5 * 2);
+  EXPECT_NEAR(rays[4]["y"].get<double>(), 1.0 + 0.0704, 1e-9);
+  EXPECT_NEAR(rays[5]["y"].get<double>(), 1.0 + 0.0704 + 0.4, 1e-9);
+  // The leader's ring around robot 0 only.
+  const json& rings = entity(scene, "leader")["lines"];
+  ASSERT_EQ(rings.size(), 1U);
+  EXPECT_EQ(rings[0]["type"], 1);
+  EXPECT_NEAR(rings[0]["points"][0]["x"].get<double>(), 1.6 * 0.0704, 1e-9);
+  // A replay has no rays to draw (robots.csv does not hold them).
+  Foxglove replay;
+  replay.set_world(kWorld);
+  replay.set_recorded(true);
+  subscribe_all(replay);
+  for (const json& e : all_channels(replay, three_robots()).at(Foxglove::kScene).second["entities"])
+    EXPECT_NE(e["id"], "ultrasonic_rays");
 }
 
 }  // namespace

@@ -23,6 +23,7 @@ import websockets.exceptions  # noqa: F401 (websockets.exceptions below)
 import websockets  # Debian's python3-websockets (scripts/setup)
 
 import cdp
+import foxglove_schemas
 
 SCENARIO = os.path.join(vh.ROOT, "scenarios", "paper.yaml")
 AGGREGATION_DIR = os.path.join(vh.BUILD_DIR, "examples", "behaviours", "aggregation")
@@ -288,16 +289,18 @@ class LiveViewTest(unittest.TestCase):
     def test_foxglove_channels_schemas_and_poses(self):
         out = os.path.join(self.dir, "fox")
         port = vh.free_port()
+        started = time.time()
         run = self.start(out, "--view-paused", "--view", str(port), "--max-ticks", "200",
-                         domain=vh.helpers.test_domain(62))
+                         "--view-control-origin", "https://app.foxglove.dev", domain=vh.helpers.test_domain(62))
         vh.wait_http(f"http://127.0.0.1:{port}/")
         got = asyncio.run(self.foxglove_session(port))
         code, text = run.wait(timeout=120)
         self.assertEqual(code, 0, text)
-        rate = 10.0  # scenarios/paper.yaml's tick rate: the messages' timestamps are tick / rate
         checked = 0
-        for stamp, poses in got["poses"]:
-            tick = round(stamp * rate)
+        for stamp, tick, poses in got["poses"]:
+            # Log time: the wall time of the run (not 1970), the tick in the message.
+            self.assertGreaterEqual(stamp, started - 1)
+            self.assertLessEqual(stamp, time.time() + 1)
             rows = vh.rows_at(out, tick)
             self.assertEqual(len(poses), len(rows))
             for rid, p in enumerate(poses):
@@ -309,72 +312,147 @@ class LiveViewTest(unittest.TestCase):
             checked += 1
         self.assertGreaterEqual(checked, 3, "too few pose messages to compare")
         entities = {e["id"]: e for e in got["first_scene"]["entities"]}
-        self.assertEqual(list(entities), ["arena", "obstacles", "robots"])
+        self.assertEqual(list(entities), ["arena", "obstacles", "robots", "parent_links", "ultrasonic_rays", "leader"])
         robots = entities["robots"]
         self.assertEqual(len(robots["cylinders"]), 9)
+        self.assertEqual(len(robots["arrows"]), 9, "a heading arrow each")
+        self.assertEqual(len(entities["ultrasonic_rays"]["lines"][0]["points"]), 9 * 5 * 2, "five rays each")
         self.assertEqual(sorted(t["text"] for t in robots["texts"]), sorted(str(i) for i in range(9)))
         self.assertEqual(len(entities["arena"]["cubes"]), 4, "four walls")
         self.assertEqual(len(entities["obstacles"]["cubes"]), 1, "the large box of paper.yaml")
         self.assertGreaterEqual(len(got["telemetry"]), 3)
         self.assertEqual(len(got["telemetry"][0]["robots"]), 9)
         self.assertIn("state_name", got["telemetry"][0]["robots"][0])
+        tf = got["tf"][-1]
+        self.assertEqual([t["child_frame_id"] for t in tf["transforms"]], [f"robot_{i}" for i in range(9)])
+        self.assertEqual({t["parent_frame_id"] for t in tf["transforms"]}, {"arena"})
+        self.assertEqual(len(got["metrics"][-1]["net_force"]), 9)
+        # Paused over Foxglove's /control, the run held its tick; a step moved it by exactly one.
+        self.assertEqual(got["stepped"], got["paused_at"] + 1)
+        self.assertGreaterEqual(got["paused_at"], 20)
+        self.assertEqual(len(vh.rows_at(out, got["stepped"])), 9, "the stepped tick is recorded")
 
     async def foxglove_session(self, port):
-        got = {"poses": [], "telemetry": [], "first_scene": None}
+        got = {"poses": [], "telemetry": [], "tf": [], "metrics": [], "first_scene": None}
         # A browser on another site may not drive the run (the page's protocol); Foxglove's may read.
         with self.assertRaises(websockets.exceptions.InvalidStatusCode) as refused:
             async with websockets.connect(f"ws://127.0.0.1:{port}/ws", origin="http://evil.example"):
                 pass
         self.assertEqual(refused.exception.status_code, 403)
-        async with websockets.connect(f"ws://127.0.0.1:{port}/", origin="https://app.foxglove.dev",
-                                      subprotocols=["foxglove.websocket.v1"]) as other:
-            self.assertEqual(json.loads(await asyncio.wait_for(other.recv(), 10))["op"], "serverInfo")
         async with websockets.connect(f"ws://127.0.0.1:{port}/", subprotocols=["foxglove.websocket.v1"]) as fox, \
                 websockets.connect(f"ws://127.0.0.1:{port}/ws") as page:
             self.assertEqual(fox.subprotocol, "foxglove.websocket.v1")
             info = json.loads(await asyncio.wait_for(fox.recv(), 10))
             self.assertEqual(info["op"], "serverInfo")
+            self.assertIn("clientPublish", info["capabilities"])
+            self.assertIn("json", info["supportedEncodings"])
             adv = json.loads(await asyncio.wait_for(fox.recv(), 10))
             self.assertEqual(adv["op"], "advertise")
             channels = {c["topic"]: c for c in adv["channels"]}
             self.assertEqual({t: c["schemaName"] for t, c in channels.items()},
                              {"/scene": "foxglove.SceneUpdate", "/robots/poses": "foxglove.PosesInFrame",
-                              "/robots/telemetry": "swarmform.RobotTelemetry"})
+                              "/robots/telemetry": "swarmform.RobotTelemetry", "/tf": "foxglove.FrameTransforms",
+                              "/metrics": "swarmform.Metrics"})
             for c in channels.values():
                 self.assertEqual((c["encoding"], c["schemaEncoding"]), ("json", "jsonschema"))
                 schema = json.loads(c["schema"])
                 self.assertEqual(schema["type"], "object")
-            self.assertIn("poses", json.loads(channels["/robots/poses"]["schema"])["properties"])
-            self.assertIn("entities", json.loads(channels["/scene"]["schema"])["properties"])
-            subs = {10: channels["/scene"]["id"], 11: channels["/robots/poses"]["id"],
-                    12: channels["/robots/telemetry"]["id"]}
-            await fox.send(json.dumps({"op": "subscribe",
-                                       "subscriptions": [{"id": k, "channelId": v} for k, v in subs.items()]}))
+            names = {"/scene": "scene", "/robots/poses": "poses", "/robots/telemetry": "telemetry", "/tf": "tf",
+                     "/metrics": "metrics"}
+            by_sub = {10 + i: names[t] for i, t in enumerate(channels)}
+            await fox.send(json.dumps({"op": "subscribe", "subscriptions": [
+                {"id": 10 + i, "channelId": c["id"]} for i, c in enumerate(channels.values())]}))
             # A subscription to a channel that does not exist is answered with an error status.
             await fox.send(json.dumps({"op": "subscribe", "subscriptions": [{"id": 99, "channelId": 77}]}))
-            await page.send(json.dumps({"cmd": "speed", "value": 100}))
-            await page.send(json.dumps({"cmd": "resume"}))
-            status = None
+            status = json.loads(await self.next_text(fox))
+            self.assertEqual((status["op"], status["level"]), ("status", 2))
+            # clientPublish: a /control channel, the page's commands on it.
+            await fox.send(json.dumps({"op": "advertise", "channels": [
+                {"id": 1, "topic": "/control", "encoding": "json", "schemaName": "swarmform.Control"}]}))
+
+            async def control(cmd, value=None):
+                m = {"cmd": cmd} if value is None else {"cmd": cmd, "value": value}
+                await fox.send(b"\x01" + struct.pack("<I", 1) + json.dumps(m).encode())
+
+            # A Foxglove client from an origin the user named (--view-control-origin) may drive: its speed cap
+            # reaches the world's frames.
+            async with websockets.connect(f"ws://127.0.0.1:{port}/", origin="https://app.foxglove.dev",
+                                          subprotocols=["foxglove.websocket.v1"]) as app:
+                await app.send(json.dumps({"op": "advertise", "channels": [
+                    {"id": 1, "topic": "/control", "encoding": "json"}]}))
+                await app.send(b"\x01" + struct.pack("<I", 1) + b'{"cmd": "speed", "value": 60}')
+                await self.page_frame(page, lambda f: f["speed_cap"] == 60)
+            # Any other origin reads but may not drive: refused, said as an error status.
+            async with websockets.connect(f"ws://127.0.0.1:{port}/", origin="https://evil.example",
+                                          subprotocols=["foxglove.websocket.v1"]) as other:
+                self.assertEqual(json.loads(await asyncio.wait_for(other.recv(), 10))["op"], "serverInfo")
+                await other.send(json.dumps({"op": "advertise", "channels": [
+                    {"id": 1, "topic": "/control", "encoding": "json"}]}))
+                await other.send(b"\x01" + struct.pack("<I", 1) + b'{"cmd": "resume"}')
+                refusal = json.loads(await self.next_text(other))
+                self.assertEqual(refusal["level"], 2)
+                self.assertIn("Origin", refusal["message"])
+            await control("resume")
+            frame = await self.page_frame(page, lambda f: f["tick"] >= 20)
+            await control("pause")
+            frame = await self.page_frame(page, lambda f: f["paused"])
+            got["paused_at"] = frame["tick"]
+            await asyncio.sleep(1.0)  # held: the step below lands on the next tick, not further
+            await control("step", 1)
+            frame = await self.page_frame(page, lambda f: f["tick"] != got["paused_at"])
+            got["stepped"] = frame["tick"]
+            self.assertTrue(frame["paused"])
+            await control("speed", 0)
+            await control("resume")
             deadline = time.monotonic() + 60
-            while time.monotonic() < deadline and (len(got["poses"]) < 5 or status is None):
-                m = await asyncio.wait_for(fox.recv(), 30)
+            while time.monotonic() < deadline and (len(got["poses"]) < 5 or got["first_scene"] is None):
+                try:
+                    m = await asyncio.wait_for(fox.recv(), 10)
+                except (asyncio.TimeoutError, websockets.exceptions.ConnectionClosed):
+                    break
                 if isinstance(m, str):
-                    status = json.loads(m)
                     continue
                 self.assertEqual(m[0], 1, "Message Data opcode")
                 sub = struct.unpack_from("<I", m, 1)[0]
                 stamp = struct.unpack_from("<Q", m, 5)[0] / 1e9
                 payload = json.loads(m[13:])
-                if subs.get(sub) == channels["/robots/poses"]["id"]:
-                    got["poses"].append((stamp, payload["poses"]))
-                elif subs.get(sub) == channels["/robots/telemetry"]["id"]:
-                    got["telemetry"].append(payload)
-                elif got["first_scene"] is None:
-                    got["first_scene"] = payload
-            self.assertIsNotNone(status, "no status for the bad subscription")
-            self.assertEqual((status["op"], status["level"]), ("status", 2))
+                kind = by_sub[sub]
+                check_schema(self, channels, kind, payload)
+                if kind == "poses":
+                    got["poses"].append((stamp, payload["tick"], payload["poses"]))
+                elif kind == "scene":
+                    if got["first_scene"] is None:
+                        got["first_scene"] = payload
+                else:
+                    got[kind].append(payload)
         return got
 
+    async def next_text(self, ws):
+        """The next status message, past the binary Message Data and the server's other text."""
+        while True:
+            m = await asyncio.wait_for(ws.recv(), 30)
+            if isinstance(m, str) and json.loads(m).get("op") == "status":
+                return m
+
+    async def page_frame(self, page, want):
+        """The page socket's next frame that `want` accepts (30 s at most)."""
+        deadline = time.monotonic() + 30
+        while time.monotonic() < deadline:
+            m = json.loads(await asyncio.wait_for(page.recv(), 30))
+            if m.get("type") == "frame" and want(m):
+                return m
+        self.fail("no such frame within 30 s")
+
+
+def check_schema(test, channels, kind, payload):
+    """A message against Foxglove's published schema for its channel (foxglove_schemas.py), and against the schema
+    the server advertised for it."""
+    topic = {"scene": "/scene", "poses": "/robots/poses", "telemetry": "/robots/telemetry", "tf": "/tf",
+             "metrics": "/metrics"}[kind]
+    name = channels[topic]["schemaName"]
+    if name in foxglove_schemas.SCHEMAS:
+        foxglove_schemas.validate(payload, foxglove_schemas.SCHEMAS[name], f"{topic}")
+    foxglove_schemas.validate(payload, json.loads(channels[topic]["schema"]), f"{topic} (advertised)")
 
 if __name__ == "__main__":
     unittest.main()

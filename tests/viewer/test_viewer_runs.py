@@ -24,6 +24,10 @@ import websockets  # Debian's python3-websockets (scripts/setup)
 import cdp
 
 SCENARIO = os.path.join(vh.ROOT, "scenarios", "paper.yaml")
+LIVE_CHANNELS = {"/scene": "foxglove.SceneUpdate", "/robots/poses": "foxglove.PosesInFrame",
+                 "/robots/telemetry": "swarmform.RobotTelemetry", "/tf": "foxglove.FrameTransforms",
+                 "/metrics": "swarmform.Metrics"}
+MCAP_READER = os.path.join(vh.ROOT, "scripts", "mcap", "read.mjs")
 
 
 @unittest.skipUnless(vh.built("world", "agent", "viewer"), f"world_server/robot_agent/swarm_viewer not built in "
@@ -166,7 +170,9 @@ class RecordedRunsTest(unittest.TestCase):
         self.view(self.plain, port)
         vh.wait_http(f"http://127.0.0.1:{port}/")
         got = asyncio.run(self.foxglove_replay(port))
-        rate = 10.0  # scenarios/paper.yaml's tick rate: the messages' timestamps are tick / rate
+        rate = 10.0  # scenarios/paper.yaml's tick rate
+        # Log time: the run's wall time, world.json's (written as the run starts) plus tick / rate.
+        start = os.stat(os.path.join(self.plain, "world.json")).st_mtime_ns / 1e9
         # Each seek's poses are robots.csv's at that tick, to the last bit (the reader parses the same text).
         for tick, poses in got["seeks"]:
             rows = vh.rows_at(self.plain, tick)
@@ -187,7 +193,7 @@ class RecordedRunsTest(unittest.TestCase):
             rows = vh.rows_at(self.plain, tick)
             self.assertAlmostEqual(poses[4]["position"]["x"], float(rows[4]["x"]), places=9)
         for stamp, tel in got["telemetry"]:
-            self.assertEqual(round(stamp * rate), tel["tick"])
+            self.assertEqual(round((stamp - start) * rate), tel["tick"])
             self.assertEqual(len(tel["robots"]), 9)
             rows = vh.rows_at(self.plain, tel["tick"])
             for r in tel["robots"]:
@@ -198,10 +204,13 @@ class RecordedRunsTest(unittest.TestCase):
                 self.assertNotIn("heard", r)
                 self.assertNotIn("left_speed", r)
         entities = {e["id"]: e for e in got["first_scene"]["entities"]}
-        self.assertEqual(list(entities), ["arena", "obstacles", "robots"])
+        # No ultrasonic rays: robots.csv does not hold them.
+        self.assertEqual(list(entities), ["arena", "obstacles", "robots", "parent_links", "leader"])
         self.assertEqual(len(entities["robots"]["cylinders"]), 9)
         self.assertEqual(len(entities["arena"]["cubes"]), 4, "four walls")
         self.assertEqual(len(entities["obstacles"]["cubes"]), 1, "paper.yaml's box")
+        # Foxglove's /control took the page's replay commands: it sought to tick 250.
+        self.assertEqual(got["controlled"], 250)
 
     async def foxglove_replay(self, port):
         got = {"seeks": [], "played": [], "telemetry": [], "first_scene": None}
@@ -212,9 +221,7 @@ class RecordedRunsTest(unittest.TestCase):
             adv = json.loads(await asyncio.wait_for(fox.recv(), 10))
             self.assertEqual(adv["op"], "advertise")
             channels = {c["topic"]: c for c in adv["channels"]}
-            self.assertEqual({t: c["schemaName"] for t, c in channels.items()},
-                             {"/scene": "foxglove.SceneUpdate", "/robots/poses": "foxglove.PosesInFrame",
-                              "/robots/telemetry": "swarmform.RobotTelemetry"})
+            self.assertEqual({t: c["schemaName"] for t, c in channels.items()}, LIVE_CHANNELS)
             for c in channels.values():
                 self.assertEqual((c["encoding"], c["schemaEncoding"]), ("json", "jsonschema"))
                 self.assertEqual(json.loads(c["schema"])["type"], "object")
@@ -235,8 +242,8 @@ class RecordedRunsTest(unittest.TestCase):
                     sub = struct.unpack_from("<I", m, 1)[0]
                     stamp = struct.unpack_from("<Q", m, 5)[0] / 1e9
                     payload = json.loads(m[13:])
-                    if sub == 21 and (tick is None or round(stamp * 10) == tick):
-                        return round(stamp * 10), payload["poses"]
+                    if sub == 21 and (tick is None or payload["tick"] == tick):
+                        return payload["tick"], payload["poses"]
                     if sub == 22:
                         got["telemetry"].append((stamp, payload))
                     elif sub == 20 and got["first_scene"] is None:
@@ -253,7 +260,71 @@ class RecordedRunsTest(unittest.TestCase):
             while len(got["played"]) < 8:
                 got["played"].append(await poses_of(None))
             await page.send(json.dumps({"cmd": "pause"}))
+            # clientPublish: the same commands on Foxglove's /control channel.
+            await fox.send(json.dumps({"op": "advertise", "channels": [
+                {"id": 5, "topic": "/control", "encoding": "json"}]}))
+            await fox.send(b"\x01" + struct.pack("<I", 5) + b'{"cmd": "seek", "value": 250}')
+            got["controlled"] = (await poses_of(250))[0]
         return got
+
+    @unittest.skipUnless(shutil.which("node"), "node missing (scripts/setup installs nodejs)")
+    def test_mcap_export_reads_back_with_the_live_channels(self):
+        out = os.path.join(self.dir, "plain.mcap")
+        done = subprocess.run([vh.SWARM, "export", self.plain, "--mcap", out], capture_output=True, text=True,
+                              timeout=300, env=dict(os.environ, SWARM_NO_BUILD="1"))
+        self.assertEqual(done.returncode, 0, done.stderr)
+        self.assertIn("messages on 5 channels, ticks 0..300", done.stderr)
+        back = subprocess.run(["node", MCAP_READER, out], capture_output=True, text=True, timeout=120)
+        self.assertEqual(back.returncode, 0, back.stderr)
+        m = json.loads(back.stdout)
+        self.assertIn("@mcap/core", m["library"])
+        self.assertEqual({c["topic"]: c["schema_name"] for c in m["channels"]}, LIVE_CHANNELS)
+        for c in m["channels"]:
+            self.assertEqual((c["message_encoding"], c["schema_encoding"]), ("json", "jsonschema"), c["topic"])
+            self.assertEqual(c["count"], 301, f"{c['topic']}: one message a recorded tick, 0..300")
+        self.assertEqual(int(m["message_count"]), 5 * 301)
+        # First and last log times: the run's start (world.json's time) plus tick / tick_rate.
+        start = os.stat(os.path.join(self.plain, "world.json")).st_mtime_ns
+        self.assertEqual(int(m["message_start_time"]), start)
+        self.assertEqual(int(m["message_end_time"]), start + 30 * 10**9)
+        self.assertEqual(m["metadata"]["swarmform"]["last_tick"], "300")
+        # The messages are the live server's: poses of tick 300 are robots.csv's; the scene holds the arena.
+        poses = m["last"]["/robots/poses"]["payload"]
+        self.assertEqual(poses["tick"], 300)
+        rows = vh.rows_at(self.plain, 300)
+        for rid, p in enumerate(poses["poses"]):
+            self.assertAlmostEqual(p["position"]["x"], float(rows[rid]["x"]), places=9)
+        self.assertEqual([e["id"] for e in m["first"]["/scene"]["payload"]["entities"]][:3],
+                         ["arena", "obstacles", "robots"])
+        self.assertEqual(m["last"]["/tf"]["payload"]["transforms"][8]["child_frame_id"], "robot_8")
+        self.assertEqual(len(m["last"]["/metrics"]["payload"]["net_force"]), 9)
+
+    def test_mcap_export_says_what_is_wrong(self):
+        swarm = [vh.SWARM, "export"]
+        env = dict(os.environ, SWARM_NO_BUILD="1")
+        helped = subprocess.run(swarm + ["--help"], capture_output=True, text=True, timeout=60, env=env)
+        self.assertEqual(helped.returncode, 0)
+        self.assertIn("--mcap", helped.stdout)
+        out = os.path.join(self.dir, "x.mcap")
+        not_run = subprocess.run(swarm + [self.dir + "/nothing", "--mcap", out], capture_output=True, text=True,
+                                 timeout=60, env=env)
+        self.assertEqual(not_run.returncode, 2)
+        self.assertIn("not a directory (expected a run directory", not_run.stderr)
+        self.assertFalse(os.path.exists(out))
+        # A robots.csv with bytes overwritten mid-file: said as `swarm report` says it, the rest exported.
+        damaged = os.path.join(self.dir, "damaged")
+        shutil.copytree(self.plain, damaged)
+        path = os.path.join(damaged, "robots.csv")
+        size = os.path.getsize(path)
+        with open(path, "r+b") as f:
+            f.seek(size // 2)
+            f.write(b"\xff" * 300)
+        said = subprocess.run(swarm + [damaged, "--mcap", out], capture_output=True, text=True, errors="replace",
+                              timeout=300, env=env)
+        self.assertEqual(said.returncode, 0, said.stderr)
+        self.assertIn("swarm export: damaged recording: ", said.stderr)
+        self.assertIn("robots.csv", said.stderr)
+        self.assertTrue(os.path.exists(out))
 
     def test_replay_of_a_broken_run_directory_says_what(self):
         bad = os.path.join(self.dir, "bad")
