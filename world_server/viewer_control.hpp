@@ -72,7 +72,7 @@ class ViewerControl {
   std::uint64_t steps_left_ = 0;
   double speed_cap_ = 0.0;  // ticks a second
   dds_duration_t frame_period_ = DDS_MSECS(100);
-  dds_time_t last_frame_ = 0;
+  dds_time_t next_frame_ = 0;  // the next frame's slot (offer_frame)
   dds_time_t created_ = 0;
   dds_time_t last_check_ = 0;
   dds_time_t last_heard_ = 0;  // the bound viewer's last sample
