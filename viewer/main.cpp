@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 
@@ -28,6 +29,10 @@ using nlohmann::json;
 
 constexpr int kPeriodMs = 20;
 constexpr std::size_t kMaxEventsKept = 20000;  // the newest, for pages that open later
+// Frames a page has been sent and not yet said it drew ("drawn"): one being drawn, one on its way. A page
+// slower than the frames (256 robots on a busy host) gets the newest frame when it is ready, not a queue:
+// without this the socket buffers held seconds of frames and the page showed the world 5 s late.
+constexpr int kFramesInFlight = 2;
 // HELLO binds the viewer and is its heartbeat: the world takes a viewer silent for 2 s for gone
 // (world_server/viewer_control.hpp kSilence).
 constexpr dds_duration_t kHelloEvery = DDS_MSECS(250);
@@ -171,8 +176,31 @@ int live(const Options& o) {
     const json w = read_json(o.run_dir + "/world.json");
     if (w.is_object()) foxglove.set_world(w);
   };
+  // Each page's frames in flight, and whether a newer frame waits for it (kFramesInFlight).
+  // A client that never says "drawn" (a script on the page's protocol) gets every frame, as it always did.
+  struct PageFlow {
+    int in_flight = 0;
+    bool waiting = false;
+    bool acks = false;  // it said "drawn" once: it is paced from then on
+  };
+  std::map<ClientId, PageFlow> pages;
+  std::uint64_t frames_held = 0;  // frames a slow page skipped (said on stderr at the end)
+  auto frame_to_pages = [&] {
+    for (auto& [client, flow] : pages) {
+      if (flow.acks && flow.in_flight >= kFramesInFlight) {
+        if (flow.waiting) ++frames_held;
+        flow.waiting = true;
+        continue;
+      }
+      ++flow.in_flight;
+      server_ptr->send_text(client, last_frame);
+    }
+  };
   swarmform::viewer::WebServer::Handlers h;
-  h.closed = [&](ClientId c) { foxglove.forget(c); };
+  h.closed = [&](ClientId c) {
+    foxglove.forget(c);
+    pages.erase(c);
+  };
   h.opened = [&](ClientId c, ClientKind k) {
     if (k == ClientKind::Foxglove) {
       read_world();
@@ -185,7 +213,11 @@ int live(const Options& o) {
       for (const json& e : events) all.push_back(e);
       server_ptr->send_text(c, json{{"type", "events"}, {"events", all}}.dump());
     }
-    if (!last_frame.empty()) server_ptr->send_text(c, last_frame);
+    PageFlow& flow = pages[c];
+    if (!last_frame.empty()) {
+      ++flow.in_flight;
+      server_ptr->send_text(c, last_frame);
+    }
     if (!last_end.empty()) server_ptr->send_text(c, last_end);
   };
   h.text = [&](ClientId client, ClientKind k, const std::string& text) {
@@ -199,7 +231,19 @@ int live(const Options& o) {
     const double value =
         m.is_object() && m.contains("value") && m["value"].is_number() ? m["value"].get<double>() : 0;
     const std::uint64_t n = value > 0 && value < 1e15 ? static_cast<std::uint64_t>(value) : 0;
-    if (cmd == "pause") {
+    if (cmd == "drawn") {
+      // The page drew a frame: the next may go, the newest if one waited.
+      auto it = pages.find(client);
+      if (it == pages.end()) return;
+      PageFlow& flow = it->second;
+      flow.acks = true;
+      flow.in_flight = std::max(0, flow.in_flight - 1);
+      if (flow.waiting && !last_frame.empty()) {
+        flow.waiting = false;
+        ++flow.in_flight;
+        server_ptr->send_text(client, last_frame);
+      }
+    } else if (cmd == "pause") {
       send(dds::ControlKind::Pause, 0, 0);
     } else if (cmd == "resume") {
       send(dds::ControlKind::Resume, 0, 0);
@@ -244,7 +288,7 @@ int live(const Options& o) {
         pending.clear();
       }
       last_frame = swarmform::viewer::frame_json(frame).dump();
-      server_ptr->broadcast_text(ClientKind::Page, last_frame);
+      frame_to_pages();
       read_world();
       for (auto& [client, bytes] : foxglove.messages(frame)) server_ptr->send_binary(client, bytes);
       if (frame.finished && !finished_at) finished_at = now;
@@ -286,6 +330,10 @@ int live(const Options& o) {
   control.emplace(*participant);
   std::cout << "viewer http://" << o.host << ":" << server.port() << "/" << std::endl;
   server.run();
+  if (frames_held > 0) {
+    std::cerr << "swarm_viewer: " << frames_held
+              << " frame(s) not sent to a page still drawing an earlier one (it got the newest)" << std::endl;
+  }
   if (finished_at) std::cout << "viewer: the run ended" << std::endl;
   return 0;
 }

@@ -63,6 +63,7 @@ function unproject(px, py) {
   return [v.cx + (px - canvas.clientWidth / 2) / v.scale, v.cy - (py - canvas.clientHeight / 2) / v.scale];
 }
 S.project = project;
+S.draw = () => draw();  // the benchmark times it
 S.select = select;
 
 function resize() {
@@ -205,23 +206,35 @@ function drawScaleBar(k) {
 // back or a seek starts them again).
 function noteTrails(f) {
   const rate = (S.world && S.world.tick_rate) || 10;
-  const keep = S.trailSeconds * rate;
+  const keep = S.trailSeconds * rate, step = Math.max(1, Math.round(rate / 4));
   const jumped = S.mode === "replay" && !f.played;
   for (const r of f.robots) {
     let t = S.trails.get(r.id);
     if (!t || jumped || (t.length && f.tick < t[t.length - 1][0])) { t = []; S.trails.set(r.id, t); }
-    if (!t.length || t[t.length - 1][0] !== f.tick) t.push([f.tick, r.x, r.y]);
+    // A point every quarter second of run time at most (the newest replaces the last until then): a trail is a
+    // few dozen segments, which a software-rendered canvas strokes for 256 robots within a frame's time.
+    const last = t[t.length - 1];
+    if (t.length >= 2 && f.tick - t[t.length - 2][0] < step) { last[0] = f.tick; last[1] = r.x; last[2] = r.y; }
+    else if (!last || last[0] !== f.tick) t.push([f.tick, r.x, r.y]);
     while (t.length && t[0][0] < f.tick - keep) t.shift();
   }
 }
-function drawTrails() {
-  ctx.lineWidth = 1.5;
+function pale(hex) {
+  const m = /^#([0-9a-f]{6})$/i.exec(hex);
+  if (!m) return hex;
+  const v = parseInt(m[1], 16);
+  const mix = (c) => Math.round(c * 0.45 + 255 * 0.55);
+  return "rgb(" + mix(v >> 16) + "," + mix((v >> 8) & 255) + "," + mix(v & 255) + ")";
+}
+function drawTrails(byId) {
   let n = 0;
+  // A stroke a trail, opaque, in its robot's colour paled towards white: one translucent path of all the trails
+  // (it crosses itself everywhere) cost a software-rendered canvas 100-300 ms for 256 robots (measured).
+  ctx.lineWidth = 1;
   for (const [id, t] of S.trails) {
     if (t.length < 2) continue;
-    const r = S.frame.robots.find((q) => q.id === id);
-    ctx.strokeStyle = r ? stateColour(r) : DEAD_COLOUR;
-    ctx.globalAlpha = 0.45;
+    const r = byId.get(id);
+    ctx.strokeStyle = pale(r ? stateColour(r) : DEAD_COLOUR);
     ctx.beginPath();
     const [x0, y0] = project(t[0][1], t[0][2]);
     ctx.moveTo(x0, y0);
@@ -229,7 +242,6 @@ function drawTrails() {
     ctx.stroke();
     n++;
   }
-  ctx.globalAlpha = 1;
   S.drawn.trails = n;
 }
 
@@ -285,7 +297,7 @@ function draw() {
   const f = S.frame;
   if (!f) return;
   const byId = new Map(f.robots.map((r) => [r.id, r]));
-  if (S.layers.trails) drawTrails();
+  if (S.layers.trails) drawTrails(byId);
   // Parent links.
   if (S.layers.links) {
     ctx.strokeStyle = "rgba(38,50,56,0.45)";
@@ -376,22 +388,29 @@ function draw() {
     }
   }
   // Bodies: a disc in the state's colour, a heading notch from mid-radius to the rim; the dead grey and crossed.
+  // One path a colour, one for the outlines and one for the notches: 256 robots are a few fills and strokes,
+  // not a thousand (the page keeps up with 10 frames a second in a software-rendered Chromium).
+  const discs = new Map(), outlines = new Path2D(), notches = new Path2D();
   for (const r of f.robots) {
     const [x, y] = project(r.x, r.y);
-    ctx.beginPath();
-    ctx.arc(x, y, rr, 0, 2 * Math.PI);
-    ctx.fillStyle = stateColour(r);
-    ctx.fill();
-    ctx.lineWidth = 1;
-    ctx.strokeStyle = "#263238";
-    ctx.stroke();
+    const colour = stateColour(r);
+    let p = discs.get(colour);
+    if (!p) { p = new Path2D(); discs.set(colour, p); }
+    p.moveTo(x + rr, y); p.arc(x, y, rr, 0, 2 * Math.PI);
+    outlines.moveTo(x + rr, y); outlines.arc(x, y, rr, 0, 2 * Math.PI);
     const c = Math.cos(r.theta), s = Math.sin(r.theta);
-    ctx.beginPath();
-    ctx.moveTo(x + c * rr * 0.45, y - s * rr * 0.45);
-    ctx.lineTo(x + c * rr, y - s * rr);
-    ctx.lineWidth = 2;
-    ctx.strokeStyle = "#263238";
-    ctx.stroke();
+    notches.moveTo(x + c * rr * 0.45, y - s * rr * 0.45);
+    notches.lineTo(x + c * rr, y - s * rr);
+  }
+  for (const [colour, p] of discs) { ctx.fillStyle = colour; ctx.fill(p); }
+  ctx.strokeStyle = "#263238";
+  ctx.lineWidth = 1;
+  ctx.stroke(outlines);
+  ctx.lineWidth = 2;
+  ctx.stroke(notches);
+  for (const r of f.robots) {
+    if (r.alive && !r.leds) continue;
+    const [x, y] = project(r.x, r.y);
     if (r.alive && r.leds) drawLeds(x, y, r.theta, rr, r.leds);
     if (!r.alive) {
       ctx.strokeStyle = "#b71c1c";
@@ -849,6 +868,8 @@ function connect() {
       if (m.states) setDescription(m);
       if (S.mode === "replay") replayFrame(m);
       show(m);
+      // Live, the viewer sends the next frame once this one is drawn (viewer/main.cpp kFramesInFlight).
+      if (S.mode === "live") send("drawn", m.tick);
     } else if (m.type === "end") {
       S.end = m;
       status();
