@@ -150,18 +150,15 @@ std::vector<RobotId> ViewerControl::take_kills() {
 
 void ViewerControl::offer_frame(const world::World& world, const LatestCommand& latest,
                                 const world::Metrics& metrics, dds_time_t now, bool finished) {
-  // Due on a schedule, not "a period since the last one": at a tick rate equal to the frame rate (realtime,
-  // 10 ticks/s, 10 frames/s) a tick that came a millisecond early was skipped and the next frame went a
-  // period late (6 frames/s, gaps of 200 ms and more). A frame is due from half a period before its slot;
-  // slots follow each other by a period, and never start before the last frame (no burst after a pause).
-  if (!bound_ || (!finished && !changed_ && now < next_frame_ - frame_period_ / 2)) return;
+  // On a schedule (frame_schedule.hpp), not "a period since the last frame".
+  if (!bound_ || (!finished && !changed_ && !schedule_.due(now, frame_period_))) return;
   build_frame(world, latest, metrics, behaviour_, frame_);
   frame_.finished = finished;
   frame_.paused = lockstep_ && paused_ && steps_left_ == 0;
   frame_.controllable = lockstep_;
   frame_.speed_cap = speed_cap_;
   observe_.publish(frame_);
-  next_frame_ = std::max(next_frame_, now) + frame_period_;
+  schedule_.sent(now, frame_period_);
   changed_ = false;
 }
 
