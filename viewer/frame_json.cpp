@@ -79,6 +79,7 @@ nlohmann::json frame_json(const dds::ObserveFrameData& f) {
   }
   return {{"type", "frame"},
           {"tick", f.tick},
+          {"sent_ms", f.sent_at / 1000000},  // the world's write time, ms since the epoch (the page's lag)
           {"finished", f.finished},
           {"paused", f.paused},
           {"controllable", f.controllable},

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 
@@ -30,6 +31,10 @@ using nlohmann::json;
 
 constexpr int kPeriodMs = 20;
 constexpr std::size_t kMaxEventsKept = 20000;  // the newest, for pages that open later
+// Frames a page has been sent and not yet said it drew ("drawn"): one being drawn, one on its way. A page
+// slower than the frames (256 robots on a busy host) gets the newest frame when it is ready, not a queue:
+// without this the socket buffers held seconds of frames and the page showed the world 5 s late.
+constexpr int kFramesInFlight = 2;
 // HELLO binds the viewer and is its heartbeat: the world takes a viewer silent for 2 s for gone
 // (world_server/viewer_control.hpp kSilence).
 constexpr dds_duration_t kHelloEvery = DDS_MSECS(250);
@@ -174,8 +179,31 @@ int live(const Options& o) {
     const json w = read_json(o.run_dir + "/world.json");
     if (w.is_object()) foxglove.set_world(w);
   };
+  // Each page's frames in flight, and whether a newer frame waits for it (kFramesInFlight).
+  // A client that never says "drawn" (a script on the page's protocol) gets every frame, as it always did.
+  struct PageFlow {
+    int in_flight = 0;
+    bool waiting = false;
+    bool acks = false;  // it said "drawn" once: it is paced from then on
+  };
+  std::map<ClientId, PageFlow> pages;
+  std::uint64_t frames_held = 0;  // frames a slow page skipped (said on stderr at the end)
+  auto frame_to_pages = [&] {
+    for (auto& [client, flow] : pages) {
+      if (flow.acks && flow.in_flight >= kFramesInFlight) {
+        if (flow.waiting) ++frames_held;
+        flow.waiting = true;
+        continue;
+      }
+      ++flow.in_flight;
+      server_ptr->send_text(client, last_frame);
+    }
+  };
   swarmform::viewer::WebServer::Handlers h;
-  h.closed = [&](ClientId c) { foxglove.forget(c); };
+  h.closed = [&](ClientId c) {
+    foxglove.forget(c);
+    pages.erase(c);
+  };
   h.opened = [&](ClientId c, ClientKind k) {
     if (k == ClientKind::Foxglove) {
       read_world();
@@ -188,7 +216,11 @@ int live(const Options& o) {
       for (const json& e : events) all.push_back(e);
       server_ptr->send_text(c, json{{"type", "events"}, {"events", all}}.dump());
     }
-    if (!last_frame.empty()) server_ptr->send_text(c, last_frame);
+    PageFlow& flow = pages[c];
+    if (!last_frame.empty()) {
+      ++flow.in_flight;
+      server_ptr->send_text(c, last_frame);
+    }
     if (!last_end.empty()) server_ptr->send_text(c, last_end);
   };
   // A page's command, or a Foxglove client's on /control (the same commands, the same path): "" when sent,
@@ -232,6 +264,23 @@ int live(const Options& o) {
       if (!answer.empty()) server_ptr->send_text(client, answer);
       return;
     }
+    // The page drew a frame: the next may go, the newest if one waited (a page's own flow, not a command).
+    if (text.find("\"drawn\"") != std::string::npos) {
+      const json m = json::parse(text, nullptr, false);
+      if (m.is_object() && m.value("cmd", std::string()) == "drawn") {
+        auto it = pages.find(client);
+        if (it == pages.end()) return;
+        PageFlow& flow = it->second;
+        flow.acks = true;
+        flow.in_flight = std::max(0, flow.in_flight - 1);
+        if (flow.waiting && !last_frame.empty()) {
+          flow.waiting = false;
+          ++flow.in_flight;
+          server_ptr->send_text(client, last_frame);
+        }
+        return;
+      }
+    }
     command(text);
   };
   h.binary = [&](ClientId client, const std::string& bytes) {
@@ -274,7 +323,7 @@ int live(const Options& o) {
         pending.clear();
       }
       last_frame = swarmform::viewer::frame_json(frame).dump();
-      server_ptr->broadcast_text(ClientKind::Page, last_frame);
+      frame_to_pages();
       read_world();
       // Log time: the wall time the frame arrived (the tick is in each message).
       const auto wall = std::chrono::duration_cast<std::chrono::nanoseconds>(
@@ -322,6 +371,10 @@ int live(const Options& o) {
   control.emplace(*participant);
   std::cout << "viewer http://" << o.host << ":" << server.port() << "/" << std::endl;
   server.run();
+  if (frames_held > 0) {
+    std::cerr << "swarm_viewer: " << frames_held
+              << " frame(s) not sent to a page still drawing an earlier one (it got the newest)" << std::endl;
+  }
   if (finished_at) std::cout << "viewer: the run ended" << std::endl;
   return 0;
 }

@@ -269,7 +269,9 @@ class Session {
       next = csv_.last_tick();
       playing_ = false;
     }
+    played_ = true;
     show(next);
+    played_ = false;
     return true;
   }
 
@@ -387,6 +389,7 @@ class Session {
                        {"controllable", false},
                        {"speed_cap", 0.0},
                        {"replay_speed", speed_},
+                       {"played", played_},
                        {"alive", frame_.alive},
                        {"formation_tick", frame_.formation_tick},
                        {"shape_error", frame_.shape_error},
@@ -494,6 +497,9 @@ class Session {
   bool playing_ = false;
   double speed_ = 1.0;  // recorded seconds a second
   double carry_ = 0.0;  // ticks due but not yet shown
+  // The frame being sent is the timeline playing on (every()), not a seek, a play or a selection: the page
+  // measures ticks/s over these only (a jump is not a rate).
+  bool played_ = false;
   std::chrono::steady_clock::time_point last_;
   dds::ObserveFrameData frame_;
   std::string last_page_frame_;

@@ -150,14 +150,15 @@ std::vector<RobotId> ViewerControl::take_kills() {
 
 void ViewerControl::offer_frame(const world::World& world, const LatestCommand& latest,
                                 const world::Metrics& metrics, dds_time_t now, bool finished) {
-  if (!bound_ || (!finished && !changed_ && now - last_frame_ < frame_period_)) return;
+  // On a schedule (frame_schedule.hpp), not "a period since the last frame".
+  if (!bound_ || (!finished && !changed_ && !schedule_.due(now, frame_period_))) return;
   build_frame(world, latest, metrics, behaviour_, frame_);
   frame_.finished = finished;
   frame_.paused = lockstep_ && paused_ && steps_left_ == 0;
   frame_.controllable = lockstep_;
   frame_.speed_cap = speed_cap_;
   observe_.publish(frame_);
-  last_frame_ = now;
+  schedule_.sent(now, frame_period_);
   changed_ = false;
 }
 

@@ -17,6 +17,7 @@
 #include "common/dds/behaviour_view.hpp"
 #include "common/dds/observe_wire.hpp"
 #include "common/dds/refusal_log.hpp"
+#include "world_server/frame_schedule.hpp"
 #include "world_server/observe_frame.hpp"
 #include "world_server/run/metrics.hpp"
 #include "world_server/world/world.hpp"
@@ -72,7 +73,7 @@ class ViewerControl {
   std::uint64_t steps_left_ = 0;
   double speed_cap_ = 0.0;  // ticks a second
   dds_duration_t frame_period_ = DDS_MSECS(100);
-  dds_time_t last_frame_ = 0;
+  FrameSchedule schedule_;
   dds_time_t created_ = 0;
   dds_time_t last_check_ = 0;
   dds_time_t last_heard_ = 0;  // the bound viewer's last sample

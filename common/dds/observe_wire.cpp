@@ -107,6 +107,7 @@ bool ObserveReader::take(std::uint64_t run_nonce, ObserveFrameData& out) {
   const int n = check(dds_take(reader_.get(), ptrs, infos, 4, 4), "dds_take(observe)");
   Loan loan(reader_.get(), ptrs, n);
   const sfdds_ObserveFrame* newest = nullptr;
+  std::int64_t sent_at = 0;
   for (int i = 0; i < n; ++i) {
     if (!infos[i].valid_data) continue;
     const auto& s = *static_cast<const sfdds_ObserveFrame*>(ptrs[i]);
@@ -115,11 +116,13 @@ bool ObserveReader::take(std::uint64_t run_nonce, ObserveFrameData& out) {
       continue;
     }
     newest = &s;
+    sent_at = infos[i].source_timestamp;
   }
   if (newest == nullptr) return false;
   const sfdds_ObserveFrame& s = *newest;
   out.run_nonce = s.run_nonce;
   out.tick = s.tick;
+  out.sent_at = sent_at;
   out.finished = s.finished;
   out.paused = s.paused;
   out.controllable = s.controllable;

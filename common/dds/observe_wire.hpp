@@ -59,6 +59,9 @@ struct ObserveFrameData {
   std::vector<StateStyleRow> states;
   std::vector<std::string> telemetry_fields;
   std::vector<ObservedRobotRow> robots;
+  // Reader side: when the world wrote it (the sample's source timestamp, dds_time(): ns since the epoch), for
+  // the page's lag.
+  std::int64_t sent_at = 0;
 };
 
 class ObserveWriter {

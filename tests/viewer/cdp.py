@@ -108,6 +108,14 @@ class Browser:
                          f" return [r.x + r.width / 2, r.y + r.height / 2]; }})()")
         self.click(x, y)
 
+    def key(self, key):
+        """A key pressed and released on the page, as a user's (`key`: " ", "ArrowRight", "+", "-")."""
+        codes = {" ": ("Space", 32, " "), "ArrowRight": ("ArrowRight", 39, ""), "+": ("Equal", 187, "+"),
+                 "-": ("Minus", 189, "-")}
+        code, vk, text = codes[key]
+        self.call("Input.dispatchKeyEvent", type="keyDown", key=key, code=code, windowsVirtualKeyCode=vk, text=text)
+        self.call("Input.dispatchKeyEvent", type="keyUp", key=key, code=code, windowsVirtualKeyCode=vk)
+
     def screenshot(self):
         """The page as an RGB(A) array (rows, columns, channels), values 0..1."""
         from matplotlib import image  # Debian's python3-matplotlib (scripts/setup)

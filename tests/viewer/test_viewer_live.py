@@ -151,6 +151,70 @@ class LiveViewTest(unittest.TestCase):
 
 
     @unittest.skipIf(not os.path.exists(cdp.CHROMIUM), "chromium missing (scripts/setup installs it)")
+    def test_rays_from_the_rim_layers_keys_and_rates(self):
+        """A selected robot's ultrasonic rays run from its sensor on the rim to the hit point (radius + reading from
+        the centre); a layer switched off is not drawn; space, → and + / − act as the buttons; the status bar
+        shows frames/s and the lag, and ticks/s says "paused" while paused."""
+        out = os.path.join(self.dir, "keys")
+        port = vh.free_port()
+        self.start(out, "--view-paused", "--view", str(port), "--max-ticks", "2000",
+                   domain=vh.helpers.test_domain(62))
+        url = f"http://127.0.0.1:{port}/"
+        vh.wait_http(url)
+        b = self.browser = cdp.Browser()
+        b.navigate(url)
+        b.wait_for("window.sfViewer && sfViewer.frame && sfViewer.frame.paused", what="a paused frame")
+        # − from no cap: a cap below the rate (10 while nothing is measured); + from there: the next faster.
+        b.key("-")
+        b.wait_for("sfViewer.frame.speed_cap === 10", what="the cap the − key set")
+        b.key("+")
+        b.wait_for("sfViewer.frame.speed_cap === 20", what="the cap the + key set")
+        # space: go; the status bar then measures ticks, frames and the lag.
+        b.key(" ")
+        b.wait_for("!sfViewer.frame.paused && sfViewer.frame.tick >= 30", timeout=60, what="running after space")
+        b.wait_for("sfViewer.rates.now && sfViewer.rates.now.tps !== null", what="a measured tick rate")
+        tps = b.eval("sfViewer.rates.now.tps")
+        self.assertLess(tps, 20 * 1.5, "ticks/s over a cap of 20")
+        self.assertGreater(tps, 0)
+        self.assertRegex(b.eval("document.getElementById('fps').textContent"), r"^\d+\.\d$")
+        self.assertGreater(b.eval("sfViewer.rates.now.fps"), 0)
+        self.assertRegex(b.eval("document.getElementById('lag').textContent"), r"^\d+(\.\d)? \(\d+ ms\)$")
+        # space again: paused, and ticks/s says so (not a rate measured from frames of a held tick).
+        b.key(" ")
+        b.wait_for("sfViewer.frame.paused", what="paused by space")
+        b.wait_for("document.getElementById('tps').textContent === 'paused'", what="ticks/s: paused")
+        tick = b.eval("sfViewer.frame.tick")
+        b.key("ArrowRight")
+        b.wait_for(f"sfViewer.frame.tick === {tick + 1} && sfViewer.frame.paused", what="→: one step")
+        self.assertEqual(b.eval("sfViewer.lastKey.action"), "step1")
+        # Rays of robot 4, from the rim to the hit point.
+        b.eval("sfViewer.select(4)")
+        got = b.eval("""(() => { const r = sfViewer.frame.robots.find(q => q.id === 4);
+            return {x: r.x, y: r.y, theta: r.theta, us: r.ultrasonic, rays: sfViewer.drawn.rays,
+                    heard: sfViewer.drawn.heard, nheard: r.heard.length, radius: sfViewer.world.robot_radius}; })()""")
+        self.assertEqual(len(got["rays"]), 5)
+        angles = [-math.pi / 2, -math.pi / 4, 0, math.pi / 4, math.pi / 2]
+        for (x0, y0, x1, y1), d, a in zip(got["rays"], got["us"], angles):
+            self.assertAlmostEqual(math.hypot(x0 - got["x"], y0 - got["y"]), got["radius"], places=6,
+                                   msg="a ray starts on the rim")
+            self.assertAlmostEqual(math.hypot(x1 - got["x"], y1 - got["y"]), got["radius"] + d, places=6,
+                                   msg="a ray ends at radius + reading")
+            self.assertAlmostEqual(math.atan2(y0 - got["y"], x0 - got["x"]),
+                                   math.atan2(math.sin(got["theta"] + a), math.cos(got["theta"] + a)), places=6)
+        self.assertEqual(got["heard"], got["nheard"])
+        # Each layer off: not drawn; on again: drawn.
+        for layer, count in (("rays", "sfViewer.drawn.rays.length"), ("heard", "sfViewer.drawn.heard"),
+                             ("links", "sfViewer.drawn.links"), ("ids", "sfViewer.drawn.ids"),
+                             ("trails", "sfViewer.drawn.trails")):
+            before = b.eval(count)
+            if layer != "heard" or got["nheard"] > 0:
+                self.assertGreater(before, 0, f"{layer} drawn while on")
+            b.click_element(f"layer-{layer}")
+            self.assertEqual(b.eval(count), 0, f"{layer} drawn while off")
+            b.click_element(f"layer-{layer}")
+            self.assertEqual(b.eval(count), before, f"{layer} back on")
+
+    @unittest.skipIf(not os.path.exists(cdp.CHROMIUM), "chromium missing (scripts/setup installs it)")
     def test_a_kill_while_paused_is_shown_at_once_and_a_closed_page_resumes_the_run(self):
         """Paused at tick 25, a kill from the page kills the agent now: the page shows it dead at tick 25 without a
         step, its button disabled saying why, and the world records the death at tick 25. The page closed while
@@ -209,6 +273,7 @@ class LiveViewTest(unittest.TestCase):
         self.assertEqual(b.eval("document.getElementById('run-state').textContent"),
                          "run ended: max_ticks reached at tick 40")
         self.assertEqual(b.eval("document.getElementById('run-state').className"), "ended")
+        self.assertEqual(b.eval("document.getElementById('tps').textContent"), "ended", "ticks/s after the end")
         for control in ("pause", "resume", "step1", "kill"):
             self.assertTrue(b.eval(f"document.getElementById('{control}').disabled"), control)
         self.assertEqual(b.eval("document.getElementById('step1').title"), "disabled: the run has ended")

@@ -156,6 +156,64 @@ class RecordedRunsTest(unittest.TestCase):
         marks += sum(summary.get(k) is not None for k in ("formation_tick", "goal_tick"))
         self.assertEqual(b.eval("document.getElementById('jump').options.length"), 1 + marks)
 
+    @unittest.skipIf(not os.path.exists(cdp.CHROMIUM), "chromium missing (scripts/setup installs it)")
+    def test_replay_rates_take_no_jump_for_a_tick_rate_and_keys_drive_the_timeline(self):
+        """ticks/s counts the timeline playing, not its jumps: seeks while playing at 1x (10 ticks/s) never show
+        more than the recording's rate; paused it says so. Space plays and pauses, → moves one tick, + / − the
+        speed. Ids are drawn only where they fit; the scale bar and grid are on."""
+        port = vh.free_port()
+        self.view(self.plain, port)
+        url = f"http://127.0.0.1:{port}/"
+        vh.wait_http(url)
+        b = self.browser = cdp.Browser()
+        b.navigate(url)
+        b.wait_for("window.sfViewer && sfViewer.replay && sfViewer.frame", what="the recording loaded")
+        b.key(" ")
+        b.wait_for("!sfViewer.frame.paused && sfViewer.rates.now && sfViewer.rates.now.tps !== null", timeout=30,
+                   what="playing, a measured tick rate")
+        highest = 0.0
+        for target in (20, 250, 10, 200):
+            b.eval(f"(() => {{ const t = document.getElementById('timeline'); t.value = '{target}';"
+                   f" t.dispatchEvent(new Event('input')); }})()")
+            deadline = time.monotonic() + 1.0
+            while time.monotonic() < deadline:
+                tps = b.eval("sfViewer.rates.now.tps")
+                if tps is not None:
+                    highest = max(highest, tps)
+                time.sleep(0.05)
+        self.assertLess(highest, 10 * 1.5, "a seek counted as ticks (the recording plays 10 ticks/s at 1x)")
+        self.assertGreater(highest, 0)
+        self.assertRegex(b.eval("document.getElementById('fps').textContent"), r"^\d+\.\d$")
+        self.assertEqual(b.eval("document.getElementById('lag').textContent"), "0.0")
+        b.key(" ")
+        b.wait_for("sfViewer.frame.paused", what="paused by space")
+        b.wait_for("document.getElementById('tps').textContent === 'paused'", what="ticks/s: paused")
+        at = b.eval("sfViewer.frame.at")
+        b.key("ArrowRight")
+        b.wait_for(f"sfViewer.frame.at === {at + 1}", what="→: the next tick")
+        # + / −: the speed list's next and previous (the server's speed shows in the next frame: a step sends one).
+        b.key("+")
+        self.assertEqual(b.eval("document.getElementById('replay-speed').value"), "2")
+        b.key("ArrowRight")
+        b.wait_for("sfViewer.frame.replay_speed === 2", what="+: 2x")
+        b.key("-")
+        b.key("-")
+        self.assertEqual(b.eval("sfViewer.lastKey.action"), "speed 0.5")
+        b.key("ArrowRight")
+        b.wait_for("sfViewer.frame.replay_speed === 0.5", what="− −: 0.5x")
+        # Ids where they fit: all nine at "fit" in the paper's formation, fewer when zoomed out so far that the
+        # labels would print over each other.
+        b.eval("sfViewer.view.scale = 400; sfViewer.view.cx = sfViewer.frame.robots[0].x;"
+               " sfViewer.view.cy = sfViewer.frame.robots[0].y; sfViewer.select(null)")
+        self.assertEqual(b.eval("sfViewer.drawn.ids"), 9)
+        b.eval("sfViewer.view.scale = 2; sfViewer.select(null)")
+        self.assertLess(b.eval("sfViewer.drawn.ids"), 9)
+        self.assertGreaterEqual(b.eval("sfViewer.drawn.ids"), 1)
+        bar = b.eval("sfViewer.drawn.scaleBar")
+        self.assertGreaterEqual(bar["px"], 80)
+        self.assertAlmostEqual(bar["px"], bar["metres"] * 2, places=6)
+        self.assertGreater(b.eval("sfViewer.drawn.gridStep"), 0)
+
     def view(self, run_dir, port):
         """`swarm view RUN_DIR --port PORT` in the background (its own process group, killed in tearDown)."""
         env = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=vh.BUILD_DIR)

@@ -22,7 +22,17 @@ const S = {
   events: [],          // every event so far (live) or of the recording (replay)
   selected: null,      // robot id
   view: null,          // {cx, cy, scale}: world point at the canvas centre, pixels per metre
-  tps: 0, lastTick: null, lastTickAt: 0,
+  // Rates (status bar), over a sliding window of what reached the page: `frames` the arrival times of every
+  // frame, `ticks` [time, tick] of frames whose tick moved on for real (live: the world's ticks; replay: the
+  // timeline playing, not a seek); a jump back, a seek, a pause or the run's end empties `ticks`.
+  rates: { frames: [], ticks: [], lagMs: null, lagTicks: null, maxGapMs: 0, log: [] },
+  // Layers that can be toggled (the checkboxes, keys); `drawn` says what the last draw() drew (the tests
+  // read it): how many ids, parent links, heard lines, trails, and the rays as world segments [x0, y0, x1, y1].
+  layers: { ids: true, links: true, heard: true, rays: true, trails: true, grid: true },
+  drawn: { ids: 0, links: 0, heard: 0, rays: [], trails: 0, drawMs: 0 },
+  trailSeconds: 10,    // trails: the last N seconds of the run's time
+  trails: new Map(),   // robot id -> [[tick, x, y], ...]
+  lastKey: null,       // the last keyboard shortcut: {key, action} (action null: it could not act, and why)
   ws: null,
   replay: null,        // {first, last, ticks, playing, speed, tick, summary}
   notices: [],         // what the page says all along (a recording that ends early, a run that did not finish)
@@ -53,6 +63,7 @@ function unproject(px, py) {
   return [v.cx + (px - canvas.clientWidth / 2) / v.scale, v.cy - (py - canvas.clientHeight / 2) / v.scale];
 }
 S.project = project;
+S.draw = () => draw();  // the benchmark times it
 S.select = select;
 
 function resize() {
@@ -144,13 +155,106 @@ function obstaclesAt(tick) {
   return now.filter((o) => o.present !== false);
 }
 
+// The grid's and the scale bar's step: 1, 2 or 5 x 10^n metres, the smallest at least `px` pixels long.
+function niceStep(k, px) {
+  const want = px / k;
+  const p = Math.pow(10, Math.floor(Math.log10(want)));
+  for (const m of [1, 2, 5, 10]) if (m * p >= want) return m * p;
+  return 10 * p;
+}
+function metres(v) { return v >= 1 ? v + " m" : v >= 0.01 ? Math.round(v * 100) + " cm" : Math.round(v * 1000) + " mm"; }
+
+// A light grid over the arena (a line every niceStep, at least 40 px apart), under everything but the floor.
+function drawGrid(k) {
+  const a = S.world.arena;
+  const step = niceStep(k, 40);
+  const x0 = a.centre[0] - a.width / 2, x1 = a.centre[0] + a.width / 2;
+  const y0 = a.centre[1] - a.height / 2, y1 = a.centre[1] + a.height / 2;
+  ctx.strokeStyle = "rgba(96,125,139,0.18)";
+  ctx.lineWidth = 1;
+  ctx.beginPath();
+  for (let x = Math.ceil(x0 / step) * step; x <= x1 + 1e-9; x += step) {
+    const [px, pa] = project(x, y0), [, pb] = project(x, y1);
+    ctx.moveTo(px, pa); ctx.lineTo(px, pb);
+  }
+  for (let y = Math.ceil(y0 / step) * step; y <= y1 + 1e-9; y += step) {
+    const [pa, py] = project(x0, y), [pb] = project(x1, y);
+    ctx.moveTo(pa, py); ctx.lineTo(pb, py);
+  }
+  ctx.stroke();
+  S.drawn.gridStep = step;
+}
+
+// The scale bar, bottom left of the canvas: niceStep's length at least 80 px, its length in words.
+function drawScaleBar(k) {
+  const step = niceStep(k, 80), len = step * k;
+  const x = 12, y = canvas.clientHeight - 14;
+  ctx.fillStyle = "rgba(255,255,255,0.8)";
+  ctx.fillRect(x - 4, y - 16, len + 8, 24);
+  ctx.strokeStyle = "#263238";
+  ctx.lineWidth = 2;
+  ctx.beginPath();
+  ctx.moveTo(x, y - 5); ctx.lineTo(x, y); ctx.lineTo(x + len, y); ctx.lineTo(x + len, y - 5);
+  ctx.stroke();
+  ctx.fillStyle = "#263238";
+  ctx.font = "11px system-ui, sans-serif";
+  ctx.fillText(metres(step), x + 2, y - 4);
+  S.drawn.scaleBar = { metres: step, px: len };
+}
+
+// The trails: each robot's positions of the last S.trailSeconds of the run's time (frames as they came; a jump
+// back or a seek starts them again).
+function noteTrails(f) {
+  const rate = (S.world && S.world.tick_rate) || 10;
+  const keep = S.trailSeconds * rate, step = Math.max(1, Math.round(rate / 4));
+  const jumped = S.mode === "replay" && !f.played;
+  for (const r of f.robots) {
+    let t = S.trails.get(r.id);
+    if (!t || jumped || (t.length && f.tick < t[t.length - 1][0])) { t = []; S.trails.set(r.id, t); }
+    // A point every quarter second of run time at most (the newest replaces the last until then): a trail is a
+    // few dozen segments, which a software-rendered canvas strokes for 256 robots within a frame's time.
+    const last = t[t.length - 1];
+    if (t.length >= 2 && f.tick - t[t.length - 2][0] < step) { last[0] = f.tick; last[1] = r.x; last[2] = r.y; }
+    else if (!last || last[0] !== f.tick) t.push([f.tick, r.x, r.y]);
+    while (t.length && t[0][0] < f.tick - keep) t.shift();
+  }
+}
+function pale(hex) {
+  const m = /^#([0-9a-f]{6})$/i.exec(hex);
+  if (!m) return hex;
+  const v = parseInt(m[1], 16);
+  const mix = (c) => Math.round(c * 0.45 + 255 * 0.55);
+  return "rgb(" + mix(v >> 16) + "," + mix((v >> 8) & 255) + "," + mix(v & 255) + ")";
+}
+function drawTrails(byId) {
+  let n = 0;
+  // A stroke a trail, opaque, in its robot's colour paled towards white: one translucent path of all the trails
+  // (it crosses itself everywhere) cost a software-rendered canvas 100-300 ms for 256 robots (measured).
+  ctx.lineWidth = 1;
+  for (const [id, t] of S.trails) {
+    if (t.length < 2) continue;
+    const r = byId.get(id);
+    ctx.strokeStyle = pale(r ? stateColour(r) : DEAD_COLOUR);
+    ctx.beginPath();
+    const [x0, y0] = project(t[0][1], t[0][2]);
+    ctx.moveTo(x0, y0);
+    for (let i = 1; i < t.length; i++) { const [x, y] = project(t[i][1], t[i][2]); ctx.lineTo(x, y); }
+    ctx.stroke();
+    n++;
+  }
+  S.drawn.trails = n;
+}
+
 function draw() {
+  const t0 = performance.now();
   const w = canvas.clientWidth, h = canvas.clientHeight;
   ctx.clearRect(0, 0, w, h);
+  S.drawn = { ids: 0, links: 0, heard: 0, rays: [], trails: 0, drawMs: S.drawn.drawMs };
   if (!S.world || !S.view) return;
   const k = S.view.scale;
   const a = S.world.arena;
   drawFloor(k);
+  if (S.layers.grid) drawGrid(k);
   // Walls.
   if (a.walls) {
     const t = (a.wall_thickness || 0.1) * k;
@@ -193,33 +297,47 @@ function draw() {
   const f = S.frame;
   if (!f) return;
   const byId = new Map(f.robots.map((r) => [r.id, r]));
+  if (S.layers.trails) drawTrails(byId);
   // Parent links.
-  ctx.strokeStyle = "rgba(38,50,56,0.45)";
-  ctx.lineWidth = 1;
-  for (const r of f.robots) {
-    const p = r.parent >= 0 ? byId.get(r.parent) : null;
-    if (!p || !r.alive) continue;
-    const [x1, y1] = project(r.x, r.y), [x2, y2] = project(p.x, p.y);
-    ctx.beginPath(); ctx.moveTo(x1, y1); ctx.lineTo(x2, y2); ctx.stroke();
+  if (S.layers.links) {
+    ctx.strokeStyle = "rgba(38,50,56,0.45)";
+    ctx.lineWidth = 1;
+    for (const r of f.robots) {
+      const p = r.parent >= 0 ? byId.get(r.parent) : null;
+      if (!p || !r.alive) continue;
+      const [x1, y1] = project(r.x, r.y), [x2, y2] = project(p.x, p.y);
+      ctx.beginPath(); ctx.moveTo(x1, y1); ctx.lineTo(x2, y2); ctx.stroke();
+      S.drawn.links++;
+    }
   }
-  // The selected robot's neighbours heard and ultrasonic rays, under the bodies.
+  // The selected robot's neighbours heard, then its ultrasonic rays over them, under the bodies.
   const sel = S.selected !== null ? byId.get(S.selected) : null;
   if (sel) {
     const [sx, sy] = project(sel.x, sel.y);
-    ctx.strokeStyle = "rgba(30,136,229,0.8)";
-    ctx.lineWidth = 1.5;
-    for (const id of sel.heard || []) {
-      const n = byId.get(id);
-      if (!n) continue;
-      const [nx, ny] = project(n.x, n.y);
-      ctx.beginPath(); ctx.moveTo(sx, sy); ctx.lineTo(nx, ny); ctx.stroke();
+    if (S.layers.heard) {
+      ctx.strokeStyle = "rgba(30,136,229,0.5)";
+      ctx.lineWidth = 1;
+      for (const id of sel.heard || []) {
+        const n = byId.get(id);
+        if (!n) continue;
+        const [nx, ny] = project(n.x, n.y);
+        ctx.beginPath(); ctx.moveTo(sx, sy); ctx.lineTo(nx, ny); ctx.stroke();
+        S.drawn.heard++;
+      }
     }
-    if (sel.ultrasonic && sel.alive) {
-      ctx.strokeStyle = "rgba(229,57,53,0.8)";
+    // A reading is measured from the sensor on the body's rim (world_server/world/ultrasonic.hpp): the ray runs
+    // from there to the hit point, radius + reading from the centre.
+    if (S.layers.rays && sel.ultrasonic && sel.alive) {
+      const R = robotRadius();
+      ctx.strokeStyle = "rgba(229,57,53,0.9)";
+      ctx.lineWidth = 2;
       sel.ultrasonic.forEach((d, i) => {
-        const ang = sel.theta + ULTRASONIC_ANGLES[i];
-        const [ex, ey] = project(sel.x + d * Math.cos(ang), sel.y + d * Math.sin(ang));
-        ctx.beginPath(); ctx.moveTo(sx, sy); ctx.lineTo(ex, ey); ctx.stroke();
+        const ang = sel.theta + ULTRASONIC_ANGLES[i], c = Math.cos(ang), s = Math.sin(ang);
+        const seg = [sel.x + R * c, sel.y + R * s, sel.x + (R + d) * c, sel.y + (R + d) * s];
+        const [bx, by] = project(seg[0], seg[1]), [ex, ey] = project(seg[2], seg[3]);
+        ctx.beginPath(); ctx.moveTo(bx, by); ctx.lineTo(ex, ey); ctx.stroke();
+        ctx.beginPath(); ctx.arc(ex, ey, 2.5, 0, 2 * Math.PI); ctx.fillStyle = ctx.strokeStyle; ctx.fill();
+        S.drawn.rays.push(seg);
       });
     }
   }
@@ -227,6 +345,25 @@ function draw() {
   // state's colour and its heading notch, whatever its neighbours' rings and labels (the tests read its centre).
   const rr = Math.max(4, robotRadius() * k);
   ctx.font = "11px system-ui, sans-serif";
+  // Ids only where they fit: a label is drawn when its box overlaps no label drawn before it (the selected
+  // robot's first), so a crowd at "fit" shows some ids legibly rather than all of them over each other.
+  const placed = [];
+  const fits = (bx, by, bw, bh) => {
+    for (const q of placed) if (bx < q[0] + q[2] && q[0] < bx + bw && by < q[1] + q[3] && q[1] < by + bh) return false;
+    return true;
+  };
+  const order = sel ? [sel].concat(f.robots.filter((r) => r !== sel)) : f.robots;
+  if (S.layers.ids) {
+    for (const r of order) {
+      const [x, y] = project(r.x, r.y);
+      const label = String(r.id);
+      const bw = ctx.measureText(label).width + 2, bh = 12;
+      const bx = x + rr * 0.8 + 1, by = y - rr * 0.8 - 2 - 10;
+      if (!fits(bx, by, bw, bh)) continue;
+      placed.push([bx, by, bw, bh]);
+      r._label = [bx + 1, by + 10];
+    }
+  }
   for (const r of f.robots) {
     const [x, y] = project(r.x, r.y);
     if (r.leader && r.alive) {
@@ -243,26 +380,37 @@ function draw() {
       ctx.lineWidth = 2;
       ctx.stroke();
     }
-    ctx.fillStyle = "#263238";
-    ctx.fillText(String(r.id), x + rr * 0.8 + 2, y - rr * 0.8 - 2);
+    if (r._label) {
+      ctx.fillStyle = "#263238";
+      ctx.fillText(String(r.id), r._label[0], r._label[1]);
+      r._label = null;
+      S.drawn.ids++;
+    }
   }
   // Bodies: a disc in the state's colour, a heading notch from mid-radius to the rim; the dead grey and crossed.
+  // One path a colour, one for the outlines and one for the notches: 256 robots are a few fills and strokes,
+  // not a thousand (the page keeps up with 10 frames a second in a software-rendered Chromium).
+  const discs = new Map(), outlines = new Path2D(), notches = new Path2D();
   for (const r of f.robots) {
     const [x, y] = project(r.x, r.y);
-    ctx.beginPath();
-    ctx.arc(x, y, rr, 0, 2 * Math.PI);
-    ctx.fillStyle = stateColour(r);
-    ctx.fill();
-    ctx.lineWidth = 1;
-    ctx.strokeStyle = "#263238";
-    ctx.stroke();
+    const colour = stateColour(r);
+    let p = discs.get(colour);
+    if (!p) { p = new Path2D(); discs.set(colour, p); }
+    p.moveTo(x + rr, y); p.arc(x, y, rr, 0, 2 * Math.PI);
+    outlines.moveTo(x + rr, y); outlines.arc(x, y, rr, 0, 2 * Math.PI);
     const c = Math.cos(r.theta), s = Math.sin(r.theta);
-    ctx.beginPath();
-    ctx.moveTo(x + c * rr * 0.45, y - s * rr * 0.45);
-    ctx.lineTo(x + c * rr, y - s * rr);
-    ctx.lineWidth = 2;
-    ctx.strokeStyle = "#263238";
-    ctx.stroke();
+    notches.moveTo(x + c * rr * 0.45, y - s * rr * 0.45);
+    notches.lineTo(x + c * rr, y - s * rr);
+  }
+  for (const [colour, p] of discs) { ctx.fillStyle = colour; ctx.fill(p); }
+  ctx.strokeStyle = "#263238";
+  ctx.lineWidth = 1;
+  ctx.stroke(outlines);
+  ctx.lineWidth = 2;
+  ctx.stroke(notches);
+  for (const r of f.robots) {
+    if (r.alive && !r.leds) continue;
+    const [x, y] = project(r.x, r.y);
     if (r.alive && r.leds) drawLeds(x, y, r.theta, rr, r.leds);
     if (!r.alive) {
       ctx.strokeStyle = "#b71c1c";
@@ -276,6 +424,8 @@ function draw() {
       ctx.stroke();
     }
   }
+  drawScaleBar(k);
+  S.drawn.drawMs = performance.now() - t0;
 }
 
 // The floor as the ground sensors read it (world.json `floor`, docs/recording-format.md), under everything: its
@@ -368,7 +518,10 @@ function status() {
   const f = S.frame;
   if (!f) return;
   $("tick").textContent = f.tick;
-  $("tps").textContent = S.tps.toFixed(1);
+  const r = rates();
+  $("tps").textContent = r.tps;
+  $("fps").textContent = r.fps;
+  $("lag").textContent = r.lag;
   $("alive").textContent = f.alive + "/" + f.robots.length;
   $("formation").textContent = f.formation_tick >= 0 ? "tick " + f.formation_tick : "–";
   $("shape-error").textContent = f.shape_error >= 0 ? f.shape_error.toFixed(3) : "–";
@@ -516,17 +669,63 @@ function setDescription(m) {
   legend();
 }
 
-function show(frame) {
-  const now = performance.now();
-  if (S.lastTick !== null && frame.tick !== S.lastTick) {
-    const dt = (now - S.lastTickAt) / 1000;
-    if (dt > 0) S.tps = 0.7 * S.tps + 0.3 * ((frame.tick - S.lastTick) / dt);
-    S.lastTickAt = now;
-  } else if (S.lastTick === null || now - S.lastTickAt > 1500) {
-    if (S.lastTick !== null) S.tps = 0;
-    S.lastTickAt = now;
+// ---- rates ------------------------------------------------------------------------------------------------
+// Measured over a sliding window of what reached the page (S.rates): ticks/s from real ticks only, frames/s from
+// every frame, the lag as the world's tick minus the tick shown.
+const RATE_WINDOW_MS = 3000;
+
+function noteRates(f) {
+  const R = S.rates, now = performance.now();
+  if (R.frames.length) R.maxGapMs = Math.max(R.maxGapMs, now - R.frames[R.frames.length - 1]);
+  R.frames.push(now);
+  while (R.frames.length && now - R.frames[0] > RATE_WINDOW_MS) R.frames.shift();
+  if (R.log.length < 100000) R.log.push([now, f.tick]);  // every frame's arrival (the benchmark reads it)
+  // A tick counts when the run moved on by itself: live, any frame not paused; replay, the timeline playing
+  // (the server marks those `played`), not a seek, a play from the start or a selection.
+  const real = !f.paused && !f.finished && (S.mode !== "replay" || f.played === true);
+  const last = R.ticks.length ? R.ticks[R.ticks.length - 1] : null;
+  if (!real || (last && f.tick < last[1])) R.ticks = [];
+  else if (!last || f.tick !== last[1]) R.ticks.push([now, f.tick]);
+  while (R.ticks.length && now - R.ticks[0][0] > RATE_WINDOW_MS) R.ticks.shift();
+  // Live: the frame's age since the world wrote it (same host's clock), and the ticks the world made meanwhile
+  // at the measured rate. Replay: the timeline's tick minus the recorded tick shown (a damaged stretch).
+  if (S.mode === "replay") { R.lagMs = null; R.lagTicks = typeof f.at === "number" ? f.at - f.tick : 0; }
+  else if (typeof f.sent_ms === "number" && f.sent_ms > 0) {
+    R.lagMs = Math.max(0, Date.now() - f.sent_ms);
+    R.lagTicks = null;
   }
-  S.lastTick = frame.tick;
+}
+
+// What the status bar says: {tps, fps, lag} as text, and the numbers (S.rates.now) for the tests.
+function rates() {
+  const R = S.rates, now = performance.now(), f = S.frame;
+  const ended = !!(S.end || (f && f.finished) || (S.closed && S.mode === "live"));
+  const paused = !!(f && f.paused);
+  let tps = null;
+  const t = R.ticks;
+  if (t.length >= 2 && now - t[t.length - 1][0] < 2000 && t[t.length - 1][0] - t[0][0] >= 300)
+    tps = (t[t.length - 1][1] - t[0][1]) / ((t[t.length - 1][0] - t[0][0]) / 1000);
+  let fps = 0;
+  const fr = R.frames.filter((x) => now - x <= RATE_WINDOW_MS);
+  if (fr.length >= 2) fps = (fr.length - 1) / (Math.max(now - fr[0], fr[fr.length - 1] - fr[0]) / 1000);
+  if (ended) fps = 0;
+  let lagTicks = R.lagTicks;
+  if (S.mode === "live" && R.lagMs !== null) lagTicks = paused || ended ? 0 : tps !== null ? R.lagMs * tps / 1000 : null;
+  S.rates.now = { tps: tps, fps: fps, lagMs: R.lagMs, lagTicks: lagTicks, ended: ended, paused: paused };
+  return {
+    tps: ended ? "ended" : paused ? "paused" : tps === null ? "–" : tps.toFixed(1),
+    fps: fps.toFixed(1),
+    lag: lagTicks === null ? "–" : lagTicks.toFixed(lagTicks < 10 ? 1 : 0) +
+         (S.mode === "live" && R.lagMs !== null && !ended ? " (" + Math.round(R.lagMs) + " ms)" : ""),
+  };
+}
+setInterval(() => { if (S.frame) status(); }, 500);  // a window that stops moving says so
+
+function show(frame) {
+  noteRates(frame);
+  if (S.mode === "replay" && !frame.played && S.frame && frame.tick === S.frame.tick && S.frame.played !== undefined) {
+    // the same tick again (a selection, a pause): the trails stay
+  } else noteTrails(frame);
   S.frame = frame;
   if (S.killSent) {
     const k = frame.robots.find((q) => q.id === S.killSent.id);
@@ -555,6 +754,79 @@ $("kill").onclick = () => {
   S.killSent = { id: S.selected, tick: S.frame ? S.frame.tick : null };
   controls();
 };
+
+// ---- layers and keyboard shortcuts ----------------------------------------------------------------------------
+
+for (const name of Object.keys(S.layers)) {
+  const box = $("layer-" + name);
+  if (!box) continue;
+  box.checked = S.layers[name];
+  box.onchange = () => { S.layers[name] = box.checked; draw(); };
+}
+
+// Live speed caps the + and − keys step through (ticks/s; 0: none, the fastest).
+const LIVE_SPEEDS = [1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 0];
+function nextLiveSpeed(dir) {
+  const cap = S.frame ? S.frame.speed_cap : 0;
+  if (cap <= 0) {
+    if (dir > 0) return 0;
+    const tps = S.rates.now && S.rates.now.tps;
+    const below = LIVE_SPEEDS.filter((v) => v > 0 && (tps ? v < tps : v <= 10));
+    return below.length ? below[below.length - 1] : 1;
+  }
+  const i = LIVE_SPEEDS.findIndex((v) => v > 0 && v >= cap - 1e-9);
+  if (dir > 0) return i < 0 ? 0 : LIVE_SPEEDS[Math.min(i + (LIVE_SPEEDS[i] > cap + 1e-9 ? 0 : 1), LIVE_SPEEDS.length - 1)];
+  const lower = LIVE_SPEEDS.filter((v) => v > 0 && v < cap - 1e-9);
+  return lower.length ? lower[lower.length - 1] : LIVE_SPEEDS[0];
+}
+
+// A button's action if it can act; else its reason (the disabled button's tooltip).
+function press(id) {
+  const b = $(id);
+  if (b.disabled) return { action: null, why: b.title };
+  b.click();
+  return { action: id };
+}
+
+// space: pause / resume (replay: play / pause); →: one tick on (live: step 1); + / −: faster / slower (live: the
+// speed cap, through LIVE_SPEEDS; replay: the speed list). Not while typing in a field.
+document.addEventListener("keydown", (e) => {
+  const t = e.target, tag = t && t.tagName;
+  const typing = (tag === "INPUT" && t.type !== "checkbox") || tag === "SELECT" || tag === "TEXTAREA";
+  if (typing || e.ctrlKey || e.metaKey || e.altKey) return;
+  // A focused button or checkbox would take space as a click of its own as well.
+  if (tag === "BUTTON" || tag === "INPUT") t.blur();
+  let done = null;
+  const f = S.frame;
+  if (e.key === " ") {
+    if (S.mode === "replay") done = press("play");
+    else done = press(f && f.paused ? "resume" : "pause");
+  } else if (e.key === "ArrowRight") {
+    if (S.mode === "replay") {
+      const at = f ? (typeof f.at === "number" ? f.at : f.tick) : 0;
+      send("seek", at + 1);
+      done = { action: "seek " + (at + 1) };
+    } else done = press("step1");
+  } else if (e.key === "+" || e.key === "=" || e.key === "-" || e.key === "_") {
+    const dir = e.key === "+" || e.key === "=" ? 1 : -1;
+    if (S.mode === "replay") {
+      const sel = $("replay-speed");
+      const i = Math.min(Math.max(sel.selectedIndex + dir, 0), sel.options.length - 1);
+      sel.selectedIndex = i;
+      send("speed", parseFloat(sel.value));
+      done = { action: "speed " + sel.value };
+    } else if ($("speed-set").disabled) {
+      done = { action: null, why: $("speed-set").title };
+    } else {
+      const v = nextLiveSpeed(dir);
+      $("speed").value = v;
+      send("speed", v);
+      done = { action: "speed " + v };
+    }
+  } else return;
+  e.preventDefault();
+  S.lastKey = Object.assign({ key: e.key }, done);
+});
 
 async function loadWorld() {
   // Live, the world writes world.json as it starts: it may not be there, or not whole, for a moment.
@@ -596,6 +868,8 @@ function connect() {
       if (m.states) setDescription(m);
       if (S.mode === "replay") replayFrame(m);
       show(m);
+      // Live, the viewer sends the next frame once this one is drawn (viewer/main.cpp kFramesInFlight).
+      if (S.mode === "live") send("drawn", m.tick);
     } else if (m.type === "end") {
       S.end = m;
       status();
