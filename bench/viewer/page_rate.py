@@ -26,19 +26,7 @@ sys.path.insert(0, os.path.join(ROOT, "tests", "viewer"))
 sys.path.insert(0, os.path.join(ROOT, "tests", "scripts"))
 import cdp  # noqa: E402  (the tests' DevTools client)
 import helpers  # noqa: E402  (free_port, test_domain)
-
-
-def wait_http(url, timeout):
-    import urllib.request
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        try:
-            with urllib.request.urlopen(url, timeout=2) as r:
-                if r.status == 200:
-                    return
-        except OSError:
-            time.sleep(0.2)
-    raise SystemExit(f"{url}: no page within {timeout} s")
+from viewer_helpers import wait_http  # noqa: E402
 
 
 def measure(n, seconds, domain, build):
