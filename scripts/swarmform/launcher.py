@@ -27,7 +27,6 @@ launcher leaves no process behind (its --hosts namespaces are removed by the nex
 """
 
 import argparse
-import ctypes
 import datetime
 import errno
 import functools
@@ -46,6 +45,7 @@ from typing import IO, Any, Callable, Optional, Union
 
 from . import agent_start
 from . import claims
+from .child_death import die_with_parent
 from . import domains
 from . import exit_codes
 from . import faults
@@ -93,18 +93,6 @@ def executable(kind: str) -> str:
         raise LaunchError(f"{path} not found: {places.missing_program_hint()}")
     return path
 
-
-_libc: Optional[ctypes.CDLL] = None
-
-
-def _die_with_parent() -> None:
-    """In the child before exec: be SIGKILLed if the launcher dies (Linux prctl PR_SET_PDEATHSIG = 1)."""
-    global _libc
-    try:
-        _libc = _libc or ctypes.CDLL(None, use_errno=True)
-        _libc.prctl(1, signal.SIGKILL, 0, 0, 0)
-    except OSError:
-        pass
 
 
 def overrides(args: argparse.Namespace) -> list[str]:
@@ -172,7 +160,7 @@ def check_expectations(args: argparse.Namespace, status: "Status", info: Optiona
     cmd = [exe] + flags + ["--max-ticks", "1", "--no-record", "--quiet"]
     try:
         p = subprocess.run(cmd, capture_output=True, timeout=CHECK_TIMEOUT_S, encoding="utf-8",
-                           errors="backslashreplace", preexec_fn=_die_with_parent)
+                           errors="backslashreplace", preexec_fn=die_with_parent)
     except subprocess.TimeoutExpired:
         raise LaunchError(f"--expect: the probe {shlex.join(cmd)} did not answer within {CHECK_TIMEOUT_S} s") \
             from None
@@ -332,10 +320,10 @@ class Processes:
         group = next(iter(self.groups), 0)
         try:
             p = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
-                                 process_group=group, preexec_fn=_die_with_parent, env=env)
+                                 process_group=group, preexec_fn=die_with_parent, env=env)
         except (subprocess.SubprocessError, OSError):  # the group is gone (its members all died): a new one
             p = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
-                                 process_group=0, preexec_fn=_die_with_parent, env=env)
+                                 process_group=0, preexec_fn=die_with_parent, env=env)
         self.groups.add(os.getpgid(p.pid) if p.poll() is None else p.pid)
         self.agents[rid] = p
         return p
@@ -343,14 +331,14 @@ class Processes:
     def start_world(self, cmd: list[str], status_fd: int) -> "subprocess.Popen[bytes]":
         """The world, with `status_fd` (a pipe's write end, in `cmd` as --status-fd) its only inherited extra."""
         self.world = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                                      stderr=subprocess.STDOUT, process_group=0, preexec_fn=_die_with_parent,
+                                      stderr=subprocess.STDOUT, process_group=0, preexec_fn=die_with_parent,
                                       env=claims.world_env(self.run_secret), pass_fds=(status_fd,))
         return self.world
 
     def start_viewer(self, cmd: list[str], log_path: str) -> "subprocess.Popen[bytes]":
         """The viewer (--view): its own process group, its output to its log. Its death is said, never fatal."""
         self.viewer = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=self._log(log_path),
-                                       stderr=subprocess.STDOUT, process_group=0, preexec_fn=_die_with_parent)
+                                       stderr=subprocess.STDOUT, process_group=0, preexec_fn=die_with_parent)
         return self.viewer
 
     def stop_viewer(self, deadline_s: float = 3.0) -> None:
@@ -1059,7 +1047,7 @@ def view(run_dir: str, port: int, host: str, control_origins: Optional[list[str]
         return e.code
     origins = [a for o in control_origins or [] for a in ("--control-origin", o)]
     p = subprocess.Popen([exe, "--replay", os.path.abspath(run_dir), "--port", str(port), "--host", host] + origins,
-                         stdin=subprocess.DEVNULL, preexec_fn=_die_with_parent)
+                         stdin=subprocess.DEVNULL, preexec_fn=die_with_parent)
 
     def stop(*_: object) -> None:
         raise KeyboardInterrupt  # SIGTERM as Ctrl-C: the viewer is stopped and says what it skipped
@@ -1179,7 +1167,7 @@ def _run_in_process(args: argparse.Namespace, stop: StopFlag, status: Status,
     procs = Processes()
     with open(os.path.join(run_dir, "inprocess_console.log"), "ab") as console_log:
         world = procs.world = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=console_log,
-                                               stderr=subprocess.PIPE, process_group=0, preexec_fn=_die_with_parent)
+                                               stderr=subprocess.PIPE, process_group=0, preexec_fn=die_with_parent)
         assert world.stderr is not None  # stderr=PIPE
         world.stdout = world.stderr  # _follow reads .stdout
         try:

@@ -20,7 +20,6 @@ after 10 s (by process group); what finished, and what the interrupted runs repo
 
 import argparse
 import csv
-import ctypes
 import datetime
 import glob
 import io
@@ -40,6 +39,7 @@ import tempfile
 import time
 from typing import IO, Any, Callable, Iterable, Optional, Sequence, Union
 
+from .child_death import die_with_parent
 from . import expect, launcher, places, summary_keys, sweep_cluster, sweep_exec, sweep_fields, sweep_journal
 
 ParamValues = list[tuple[str, float]]  # a --param's values: (as written, as a number)
@@ -363,13 +363,6 @@ def record_command(cmd: Sequence[str], index: int) -> str:
     return command_text(out + ["--out", f"runs/sweep-repro-{index}"])
 
 
-def _die_with_parent() -> None:
-    try:
-        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL, 0, 0, 0)
-    except OSError:
-        pass
-
-
 def base_command(exe: str, scenario: str, shape: Optional[str], robots: Optional[int], seed: Optional[int],
                  max_ticks: Optional[int], plugin_dirs: Sequence[str] = ()) -> list[str]:
     cmd = [exe, "--scenario", scenario]
@@ -415,7 +408,7 @@ def probe(exe: str, scenario: str, shape: Optional[str], robots: Optional[int], 
     try:
         p = subprocess.run(cmd, capture_output=True, timeout=PROBE_TIMEOUT_S, encoding="utf-8",
                            errors="backslashreplace",
-                           preexec_fn=_die_with_parent)
+                           preexec_fn=die_with_parent)
     except subprocess.TimeoutExpired:
         raise SweepError(f"{command_text(cmd)}: no answer within {PROBE_TIMEOUT_S:.0f} s") from None
     summary = parse_summary(p.stdout)
@@ -650,7 +643,7 @@ def execute(runs: Sequence[Run], jobs: int, timeout: float, progress: Progress, 
                 try:
                     argv = sweep_exec.argv(run.cmd, _run_dir(tmp, run)) if run.real_processes else run.cmd
                     p = subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=out, stderr=err,
-                                         process_group=0, preexec_fn=_die_with_parent)
+                                         process_group=0, preexec_fn=die_with_parent)
                 except OSError as e:
                     run.reason, run.severity, run.exit_code = f"could not start: {e}", 4, None
                     out.close()

@@ -13,7 +13,7 @@ import time
 import unittest
 
 import helpers
-from swarmform import claims, exit_codes, jsonfile, launcher
+from swarmform import child_death, claims, exit_codes, jsonfile, launcher
 
 
 def agent_pids(run_dir):
@@ -533,6 +533,41 @@ class ExecFlagTest(unittest.TestCase):
         r = self.run_swarm("--exec", "python3 x.py", "--in-process")
         self.assertEqual(r.returncode, 2, r.stderr)
         self.assertIn("leave out --in-process", r.stderr)
+
+
+class ChildDeathTest(unittest.TestCase):
+    """Every process the launcher starts dies with it (PR_SET_PDEATHSIG), even one whose starter died between the
+    fork and the arming of the signal."""
+
+    def test_a_child_whose_starter_died_before_the_signal_was_armed_exits_at_once(self):
+        pid = os.fork()
+        if pid == 0:  # the child: its recorded starter is not its parent, as when the starter died meanwhile
+            child_death._spawner = 1
+            child_death.die_with_parent()
+            os._exit(0)
+        _, status = os.waitpid(pid, 0)
+        self.assertEqual(os.waitstatus_to_exitcode(status), child_death.EXIT_ORPHANED)
+
+    def test_a_child_goes_on_while_its_starter_lives_and_dies_with_it(self):
+        code = ("import subprocess, time\n"
+                "from swarmform.child_death import die_with_parent\n"
+                "p = subprocess.Popen(['sleep', '60'], preexec_fn=die_with_parent)\n"
+                "print(p.pid, flush=True)\n"
+                "time.sleep(60)\n")
+        starter = subprocess.Popen(["/usr/bin/python3", "-c", code], stdout=subprocess.PIPE, text=True,
+                                   env=dict(os.environ, PYTHONPATH=os.path.join(helpers.ROOT, "scripts")))
+        try:
+            child = int(starter.stdout.readline())
+            time.sleep(0.5)
+            self.assertTrue(helpers.pid_alive(child))
+            starter.kill()
+            starter.wait(timeout=30)
+            self.assertTrue(wait_for(lambda: not helpers.pid_alive(child), 5.0), f"sleep {child} outlived its starter")
+        finally:
+            if starter.poll() is None:
+                starter.kill()
+                starter.wait(timeout=30)
+            starter.stdout.close()
 
 
 if __name__ == "__main__":
