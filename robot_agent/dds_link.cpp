@@ -54,6 +54,8 @@ AgentLink::~AgentLink() {
 
 WaitResult AgentLink::wait_mission(double timeout_s, dds::MissionAnnouncement& out) {
   const dds_time_t deadline = after(timeout_s);
+  // As the claim's answer (below): past timeout_s only while the world's process is there.
+  const dds_time_t patient_until = options_.world_pid ? after(claim_wait_s(timeout_s)) : deadline;
   for (;;) {
     if (auto m = mission_.take(options_.run_nonce, mission_refusals_)) {
       out = std::move(*m);
@@ -72,8 +74,15 @@ WaitResult AgentLink::wait_mission(double timeout_s, dds::MissionAnnouncement& o
       return WaitResult::Ok;
     }
     if (signals_.stop_requested()) return WaitResult::Stopped;
-    if (dds_time() >= deadline) return WaitResult::Timeout;
-    waiter_.wait_until(deadline);
+    const dds_time_t now = dds_time();
+    if (now >= deadline) {
+      if (now >= patient_until) return WaitResult::Timeout;
+      if (process_state(*options_.world_pid) == ProcessState::Gone) {
+        world_process_gone_ = true;
+        return WaitResult::WorldGone;
+      }
+    }
+    waiter_.wait_until(std::min(now >= deadline ? now + kWorldProcessRecheck : deadline, patient_until));
   }
 }
 
@@ -90,7 +99,8 @@ void AgentLink::send_claim(std::uint64_t nonce) {
 WaitResult AgentLink::claim(double timeout_s, dds::ClaimAnswer& out) {
   const dds_time_t deadline = after(timeout_s);
   // With the world's pid the claim outlives timeout_s while that process is there (slow, not gone: 1024
-  // agents starting on a busy host), up to world_stall_limit_s; and ends as soon as it is gone.
+  // agents starting on a busy host, or discovery on a loaded one), up to world_stall_limit_s; and ends as
+  // soon as it is gone.
   const dds_time_t patient_until = options_.world_pid ? after(claim_wait_s(timeout_s)) : deadline;
   const std::uint64_t nonce = fresh_nonce();
   dds_time_t resend = 0;

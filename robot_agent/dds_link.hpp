@@ -53,6 +53,7 @@ class AgentLink {
 
   // Also creates the endpoints of the per-tick topics: their QoS follows the mission's pace (realtime: best
   // effort), so they cannot exist before it. claim(), next_packet() and send() need a mission first.
+  // With LinkOptions::world_pid, as claim(): past `timeout_s` while that process is there.
   WaitResult wait_mission(double timeout_s, dds::MissionAnnouncement& out);
   // Sends a claim until the world answers this attempt or `timeout_s` passes: again after 0.1 s four times
   // (the first are lost while the world matches our writer), then at doubling intervals up to 2 s (a world
@@ -60,7 +61,7 @@ class AgentLink {
   // With LinkOptions::world_pid it waits on past `timeout_s` while that process is there, up to
   // claim_wait_s, and says WorldGone (world_process_gone) as soon as it is not.
   WaitResult claim(double timeout_s, dds::ClaimAnswer& out);
-  // The longest claim() waits for an answer (s).
+  // The longest claim() waits for an answer, and wait_mission() for the mission (s).
   double claim_wait_s(double timeout_s) const;
   // The next packet of this robot. While the world is alive this waits as long as it takes (the world may be
   // waiting for other agents); `idle_timeout_s` bounds the wait only while no world writer is alive.

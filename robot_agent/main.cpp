@@ -118,9 +118,12 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
       break;
     case WaitResult::Stopped:
       return stopped(kExitSignalBase + signals.signal());
+    case WaitResult::WorldGone:
+      std::cerr << me << ": the world's process (pid " << o.world_pid << ") exited before its mission came\n";
+      return stopped(kExitNoWorld);
     default:
       std::cerr << me << ": no world on DDS domain " << o.domain << " (peer " << o.world_host << ") within "
-                << o.timeout_s << " s; is world_server running"
+                << link.claim_wait_s(o.timeout_s) << " s; is world_server running"
                 << (o.security_dir.empty()
                         ? std::string("?")
                         : " with DDS Security, from the same run's directory as --security-dir " +

@@ -347,13 +347,40 @@ class StatusChannelTest(unittest.TestCase):
                      "--run-nonce", nonce, "--timeout", "2", "--world-pid", str(self.world.pid)],
                     stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=err)
             time.sleep(6.0)
-            self.assertIsNone(self.agents[0].poll(), open(agent_err).read())
+            with open(agent_err) as f:
+                self.assertIsNone(self.agents[0].poll(), f.read())
             lines, eof = _read_status(r, 120.0, lambda obj: None)  # the filler's empty lines, then the world's
         finally:
             os.close(r)
         self.assertEqual(self.world.wait(timeout=60), 0, lines)
-        self.assertEqual(self.agents[0].wait(timeout=30), 0, open(agent_err).read())
+        with open(agent_err) as f:
+            self.assertEqual(self.agents[0].wait(timeout=30), 0, f.read())
         self.assertIn("done", [obj.get("event") for _, obj in lines if isinstance(obj, dict)])
+
+    def test_an_agent_that_knows_the_worlds_pid_waits_for_the_mission_while_the_world_is_stopped(self):
+        # The world stopped as it starts, before its mission is out (a host busy starting 1024 agents is slower
+        # still): an agent with --timeout 1 and the world's pid waits, takes the mission when the world runs, and
+        # the run completes. (Before, it said "no world on DDS domain ... within 1 s".)
+        domain = helpers.test_domain(47)
+        with open(os.path.join(self.dir, "stdout"), "wb") as out, open(os.path.join(self.dir, "stderr"), "wb") as err:
+            self.world = subprocess.Popen(
+                [os.path.join(BUILD_DIR, "world_server", "world_server"), "--scenario", SCENARIO, "--robots", "1",
+                 "--out", self.out, "--domain", str(domain), "--max-ticks", "30", "--connect-timeout", "60"],
+                stdin=subprocess.DEVNULL, stdout=out, stderr=err)
+        os.kill(self.world.pid, signal.SIGSTOP)
+        agent_err = os.path.join(self.dir, "agent.err")
+        with open(agent_err, "wb") as err:
+            self.agents[0] = subprocess.Popen(
+                [os.path.join(BUILD_DIR, "robot_agent", "robot_agent"), "--id", "0", "--domain", str(domain),
+                 "--timeout", "1", "--world-pid", str(self.world.pid)],
+                stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=err)
+        time.sleep(3.0)
+        still = self.agents[0].poll()
+        os.kill(self.world.pid, signal.SIGCONT)
+        with open(agent_err) as f:
+            self.assertIsNone(still, f.read())
+        self.assertEqual(self.world.wait(timeout=60), 0)
+        self.assertEqual(self.agents[0].wait(timeout=30), 0)
 
     def test_a_status_fd_that_is_not_open_for_writing_is_refused(self):
         for fd in ("1", "57"):
