@@ -75,13 +75,7 @@ WaitResult AgentLink::wait_mission(double timeout_s, dds::MissionAnnouncement& o
     }
     if (signals_.stop_requested()) return WaitResult::Stopped;
     const dds_time_t now = dds_time();
-    if (now >= deadline) {
-      if (now >= patient_until) return WaitResult::Timeout;
-      if (process_state(*options_.world_pid) == ProcessState::Gone) {
-        world_process_gone_ = true;
-        return WaitResult::WorldGone;
-      }
-    }
+    if (const auto over = start_wait_over(now, deadline, patient_until)) return *over;
     waiter_.wait_until(std::min(now >= deadline ? now + kWorldProcessRecheck : deadline, patient_until));
   }
 }
@@ -118,13 +112,7 @@ WaitResult AgentLink::claim(double timeout_s, dds::ClaimAnswer& out) {
     (void)mission_.take(options_.run_nonce, mission_refusals_);  // a republished mission is not news here
     if (signals_.stop_requested()) return WaitResult::Stopped;
     const dds_time_t now = dds_time();
-    if (now >= deadline) {
-      if (now >= patient_until) return WaitResult::Timeout;
-      if (process_state(*options_.world_pid) == ProcessState::Gone) {
-        world_process_gone_ = true;
-        return WaitResult::WorldGone;
-      }
-    }
+    if (const auto over = start_wait_over(now, deadline, patient_until)) return *over;
     if (now >= resend) {
       // Re-sent: a claim written before the world matched our writer is lost, and so is an answer written
       // before the world matched our reader (both volatile). The first answers come quickly, the endpoints
@@ -136,6 +124,17 @@ WaitResult AgentLink::claim(double timeout_s, dds::ClaimAnswer& out) {
     const dds_time_t look = now >= deadline ? now + kWorldProcessRecheck : deadline;
     waiter_.wait_until(std::min({look, patient_until, resend, commands_->keep_alive(now)}));
   }
+}
+
+std::optional<WaitResult> AgentLink::start_wait_over(dds_time_t now, dds_time_t deadline,
+                                                     dds_time_t patient_until) {
+  if (now < deadline) return std::nullopt;
+  if (now >= patient_until) return WaitResult::Timeout;
+  if (process_state(*options_.world_pid) == ProcessState::Gone) {
+    world_process_gone_ = true;
+    return WaitResult::WorldGone;
+  }
+  return std::nullopt;
 }
 
 double AgentLink::claim_wait_s(double timeout_s) const {

@@ -61,6 +61,9 @@ class AgentLink {
   // With LinkOptions::world_pid it waits on past `timeout_s` while that process is there, up to
   // claim_wait_s, and says WorldGone (world_process_gone) as soon as it is not.
   WaitResult claim(double timeout_s, dds::ClaimAnswer& out);
+  // The waits before the run (mission, claim answer) at `now`: Timeout past `patient_until`, WorldGone once
+  // past `deadline` (timeout_s) if the world's process is gone, else nullopt (wait on).
+  std::optional<WaitResult> start_wait_over(dds_time_t now, dds_time_t deadline, dds_time_t patient_until);
   // The longest claim() waits for an answer, and wait_mission() for the mission (s).
   double claim_wait_s(double timeout_s) const;
   // The next packet of this robot. While the world is alive this waits as long as it takes (the world may be
