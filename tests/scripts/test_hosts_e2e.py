@@ -233,13 +233,18 @@ class HostsEndToEndTest(unittest.TestCase):
         stalled = {e["id"]: e["tick"] for e in ev if e["kind"] == "agent_stalled"}
         back = {e["id"]: e["tick"] for e in ev if e["kind"] == "liveliness_regained"}
         self.assertEqual(sorted(stalled), cut["agents"], "only the cut host's agents are waited for")
-        for rid in cut["agents"]:  # the world stepped nothing while it waited for them
-            self.assertEqual(back.get(rid), stalled[rid], f"robot {rid}")
         s = summary(out)
         self.assertEqual(s["ticks"], 4000)
         self.assertEqual(s["alive_at_end"], 6)
         self.assertEqual(s["deaths"], [])
+        # Every tick was stepped with every robot's command: the trajectory of the uncut run.
         self.assertEqual(s["trajectory_sha256"], summary(uncut)["trajectory_sha256"])
+        for rid in cut["agents"]:
+            # The world stepped nothing while it waited for them, but the round the loss was noticed in may
+            # already have held their answer (sent before the cut, taken in the same pass as the loss): that
+            # round is stepped, and they are back in the next at the latest (2 runs in 5 under load).
+            self.assertIn(back.get(rid, -1) - stalled[rid], (0, 1),
+                          f"robot {rid}: {[e for e in ev if e.get('id') == rid]}")
         for rid in cut["agents"]:  # the same controller: never started afresh
             self.assertIn("restarts=0", self.log(out, rid))
 
