@@ -41,10 +41,7 @@ struct ArenaTruth {
   bool walls = false;
 };
 
-struct Goal {
-  Vec2 at;              // m, arena frame
-  double radius = 0.0;  // m
-};
+using Goal = swarmform::Goal;
 
 // The world's own measurement of a shape-forming behaviour that goes to a goal (summary.json's definitions of
 // formation_tick and goal_tick), so far.
@@ -61,7 +58,7 @@ struct Truth {
   std::span<const RobotId> rejoined;         // back since the last observe
   std::span<const ObstacleTruth> obstacles;  // those present this tick (world events), walls excluded
   ArenaTruth arena;
-  std::optional<Goal> goal;            // nullopt: the run has no goal
+  std::optional<Goal> goal;            // as it stands this tick; nullopt: the run has no goal
   std::optional<ShapeProgress> shape;  // set for a behaviour that needs a shape and a goal
 };
 

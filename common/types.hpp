@@ -22,6 +22,7 @@ using Tick = std::uint64_t;
 struct Vec2 {
   double x = 0.0;  // m
   double y = 0.0;  // m
+  friend bool operator==(const Vec2&, const Vec2&) = default;
 };
 
 struct Pose2D {
@@ -77,6 +78,13 @@ struct LidarRay {
   double range = 0.0;  // m
 };
 
+// A goal: a disc in the arena.
+struct Goal {
+  Vec2 at;              // m, arena frame
+  double radius = 0.0;  // m
+  friend bool operator==(const Goal&, const Goal&) = default;
+};
+
 struct Rgb {
   std::uint8_t r = 0, g = 0, b = 0;
   friend bool operator==(const Rgb&, const Rgb&) = default;
@@ -94,6 +102,10 @@ struct Perception {
   std::optional<std::array<double, kGroundCount>> ground;        // floor under the robot (Sensor::Ground)
   std::vector<LidarRay> lidar;                                   // (Sensor::Lidar)
   std::optional<double> battery;                                 // charge left, 0..1 (Sensor::Battery)
+  // The run's goal as it stands this tick: the mission's until a world event moves it
+  // (docs/scenario-format.md "World events"); nullopt when the run has none. Every robot is told, as the
+  // mission tells every robot.
+  std::optional<Goal> goal;
 };
 
 // What the controller reports about itself, for the recorder and the metrics only (never delivered to

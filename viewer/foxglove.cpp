@@ -369,13 +369,30 @@ double Foxglove::seconds(std::uint64_t tick) const {
   return static_cast<double>(tick) / (rate > 0 ? rate : 10.0);
 }
 
-std::size_t events_up_to(const json& world, std::uint64_t tick) {
+namespace {
+
+// How many of world.json's list `key` (by tick) are at or before `tick`.
+std::size_t listed_up_to(const json& world, const char* key, std::uint64_t tick) {
   std::size_t n = 0;
-  for (const json& e : world.value("world_events", json::array())) {
+  for (const json& e : world.value(key, json::array())) {
     if (!e.is_object() || e.value("tick", std::uint64_t{0}) > tick) break;  // world.json lists them by tick
     ++n;
   }
   return n;
+}
+
+}  // namespace
+
+std::size_t events_up_to(const json& world, std::uint64_t tick) {
+  return listed_up_to(world, "world_events", tick);
+}
+
+json goal_at(const json& world, std::uint64_t tick) {
+  json goal = world.value("goal", json());
+  if (!goal.is_object()) return json();
+  const std::size_t moved = listed_up_to(world, "goal_moves", tick);
+  if (moved > 0) goal = world["goal_moves"][moved - 1];
+  return goal;
 }
 
 json obstacles_at(const json& world, std::uint64_t tick) {
@@ -433,15 +450,6 @@ json Foxglove::scene(const dds::ObserveFrameData& f, const json& stamp, bool wit
     }
     json spheres = json::array();
     floor_and_lights(world_, cubes, cylinders, spheres);
-    if (world_.contains("goal") && world_["goal"].is_object()) {
-      const json& g = world_["goal"];
-      const double d = 2 * g.value("radius", 0.5);
-      cylinders.push_back({{"pose", pose(g.value("x", 0.0), g.value("y", 0.0), 0.005, 0)},
-                           {"size", {{"x", d}, {"y", d}, {"z", 0.01}}},
-                           {"bottom_scale", 1.0},
-                           {"top_scale", 1.0},
-                           {"color", rgba("#8e24aa", 0.35)}});
-    }
     entities.push_back({{"timestamp", stamp},
                         {"frame_id", "arena"},
                         {"id", "arena"},
@@ -454,8 +462,17 @@ json Foxglove::scene(const dds::ObserveFrameData& f, const json& stamp, bool wit
                         {"texts", json::array()}});
   }
   if (with_obstacles && world_.is_object()) {
-    // Their own entity, sent again whenever a world event has changed them (it replaces the one before).
+    // Their own entity with the goal, sent again whenever a world event has changed them or moved it (it
+    // replaces the one before).
     json cubes = json::array(), cylinders = json::array();
+    if (const json g = goal_at(world_, f.tick); g.is_object()) {
+      const double d = 2 * g.value("radius", 0.5);
+      cylinders.push_back({{"pose", pose(g.value("x", 0.0), g.value("y", 0.0), 0.005, 0)},
+                           {"size", {{"x", d}, {"y", d}, {"z", 0.01}}},
+                           {"bottom_scale", 1.0},
+                           {"top_scale", 1.0},
+                           {"color", rgba("#8e24aa", 0.35)}});
+    }
     for (const json& o : obstacles_at(world_, f.tick)) {
       if (!o.is_object() || !o.contains("centre")) continue;
       const double x = o["centre"][0], y = o["centre"][1];
@@ -657,7 +674,8 @@ std::vector<std::pair<std::uint64_t, std::string>> Foxglove::messages(const dds:
   std::string cached[kChannels + 1];
   const std::uint64_t stamp = stamp_ns != 0 ? stamp_ns : log_ns(f.tick);
   const json when = time_of_ns(stamp);
-  const std::size_t events = events_up_to(world_, f.tick);  // the same for every subscription
+  // The world events and goal moves so far: the same for every subscription.
+  const std::size_t events = events_up_to(world_, f.tick) + listed_up_to(world_, "goal_moves", f.tick);
   for (auto& [client, subs] : subscriptions_) {
     if (only != 0 && client != only) continue;
     for (auto& [id, sub] : subs) {

@@ -32,6 +32,9 @@ namespace swarmform::viewer {
 // then, the present ones only (world_server/world/world_events.hpp; viewer.js obstaclesAt draws the same).
 std::size_t events_up_to(const nlohmann::json& world, std::uint64_t tick);
 nlohmann::json obstacles_at(const nlohmann::json& world, std::uint64_t tick);
+// world.json's goal as it stands at `tick` ({x, y, radius}, moved by its goal_moves; viewer.js goalAt), or
+// null when the run has none.
+nlohmann::json goal_at(const nlohmann::json& world, std::uint64_t tick);
 
 class Foxglove {
  public:

@@ -12,6 +12,7 @@
 #include "common/dds/internal/endpoint_kit.hpp"
 #include "common/dds/internal/idl.hpp"
 #include "common/dds/internal/optional_sensors.hpp"
+#include "common/dds/internal/perception_goal.hpp"
 #include "common/dds/internal/topics.hpp"
 #include "common/dds/matching.hpp"
 #include "common/dds/qos.hpp"
@@ -115,6 +116,7 @@ struct AgentInbox::Impl {
       // one (in lockstep the world's round deadline covers the missing command). Said on stderr, as it means
       // a writer that does not speak this format.
       std::string bad = internal::optional_sensors_problem(s);
+      if (bad.empty()) bad = internal::goal_problem(s);
       if (bad.empty()) {
         bad = decode_readings(std::span<const std::uint8_t>(s.readings._buffer, s.readings._length),
                               staged.perception.messages);
@@ -134,6 +136,7 @@ struct AgentInbox::Impl {
       p.pose = Pose2D{s.x, s.y, s.theta};
       std::copy(std::begin(s.ultrasonic), std::end(s.ultrasonic), p.ultrasonic.begin());
       internal::take_optional_sensors(s, p);
+      internal::take_goal(s, p);
     }
     return n;
   }

@@ -11,6 +11,7 @@
 #include "common/dds/internal/endpoint_kit.hpp"
 #include "common/dds/internal/idl.hpp"
 #include "common/dds/internal/optional_sensors.hpp"
+#include "common/dds/internal/perception_goal.hpp"
 #include "common/dds/internal/topics.hpp"
 #include "common/dds/matching.hpp"
 #include "common/dds/readings_blob.hpp"
@@ -108,6 +109,7 @@ void RobotChannels::write_packet(RobotId id, PacketStatus status, const Percepti
   s.theta = p.pose.theta;
   std::copy(p.ultrasonic.begin(), p.ultrasonic.end(), s.ultrasonic);
   internal::put_optional_sensors(p, s, impl_->lidar);
+  internal::put_goal(p, s);
   s.readings = octets(impl_->readings);
   check(dds_write(impl_->robots.at(id).sensor.get(), &s), "dds_write(sensor)");
 }

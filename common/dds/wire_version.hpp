@@ -6,6 +6,6 @@
 
 namespace swarmform::dds {
 
-inline constexpr std::uint16_t kWireVersion = 10;
+inline constexpr std::uint16_t kWireVersion = 11;
 
 }  // namespace swarmform::dds

@@ -90,6 +90,12 @@ MotionStep PaperMotion::step(const FormationContext& ctx) {
   // The hook promises on_ready before the first step; a caller that skips it (or enters Ready again, a new
   // ready_tick) still gets a clean Ready phase.
   if (!started_ || ctx.ready_tick != ready_tick_) on_ready(ctx);
+  // The goal as it stands this tick (a world event may move it): the leader's eq. 3 pulls there, and an
+  // arrived leader whose target moved resumes (should_resume).
+  if (ctx.perception && ctx.perception->goal) {
+    p_.goal = ctx.perception->goal->at;
+    p_.goal_radius = ctx.perception->goal->radius;
+  }
   MotionStep out;
   for (const auto& [id, n] : ctx.neighbours->all()) {
     if (ctx.neighbours->fresh(n)) {

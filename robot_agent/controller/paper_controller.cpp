@@ -136,6 +136,12 @@ void PaperController::reset() {
 Command PaperController::step(const Perception& p) {
   events_.clear();
   tick_ = p.tick;
+  if (p.goal) {  // the goal as it stands this tick: the mission's until a world event moves it
+    mission_.goal = p.goal->at;
+    mission_.goal_radius = p.goal->radius;
+    params_.goal = p.goal->at;
+    params_.goal_radius = p.goal->radius;
+  }
 
   // Hear: neighbour table, stigmergy entries, the shape's origin.
   neighbours_.update(p, self_, stigmergy_.digest());

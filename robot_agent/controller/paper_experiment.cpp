@@ -11,7 +11,7 @@ class PaperExperiment final : public experiment::Experiment {
   void observe(const experiment::Truth& truth) override {
     if (!truth.shape) return;
     formed_ = formed_ || truth.shape->formation_tick.has_value();
-    arrived_ = arrived_ || truth.shape->goal_tick.has_value();
+    arrived_ = truth.shape->goal_tick.has_value();  // as it stands: a goal that moves undoes an arrival
   }
   experiment::Result conclude() override {
     experiment::Result r;

@@ -101,6 +101,11 @@ std::string encode_perception(const Perception& perception) {
       {"ultrasonic", perception.ultrasonic},
       {"messages", std::move(messages)},
   };
+  // The goal as it stands this tick (it moves by world events), when the run has one.
+  if (perception.goal) {
+    out["goal"] = {
+        {"x", perception.goal->at.x}, {"y", perception.goal->at.y}, {"radius", perception.goal->radius}};
+  }
   // The optional sensors only when equipped (the behaviour declared them): absent otherwise.
   if (perception.proximity) out["proximity"] = *perception.proximity;
   if (perception.light) out["light"] = *perception.light;

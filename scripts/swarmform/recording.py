@@ -134,7 +134,8 @@ class World:
     walls: bool = True
     obstacles: list = field(default_factory=list)  # as they stand at tick 0
     world_events: list = field(default_factory=list)  # WorldEvent, by tick
-    goal: Optional[tuple] = None  # (x, y, radius)
+    goal: Optional[tuple] = None  # (x, y, radius) at tick 0
+    goal_moves: list = field(default_factory=list)  # (tick, x, y, radius): where world events move it, by tick
     grid_spacing: float = 1.0
     comm_range: float = 3.0
     shape: Optional[Shape] = None
@@ -308,6 +309,16 @@ def read_world(path: str) -> World:
                   _number(goal, "radius", path, "goal", 0.5))
     elif goal is not None:
         raise RecordingError(path, None, f"goal: expected {{x, y, radius}}, got {goal!r}")
+    moves = doc.get("goal_moves") or []
+    if not isinstance(moves, list):
+        raise RecordingError(path, None, f"goal_moves: expected a list of {{tick, x, y, radius}}, got {moves!r}")
+    for i, m in enumerate(moves):
+        where = f"goal_moves[{i}]"
+        if not isinstance(m, dict):
+            raise RecordingError(path, None, f"{where}: expected {{tick, x, y, radius}}, got {m!r}")
+        w.goal_moves.append((int(_number(m, "tick", path, where)), _number(m, "x", path, where),
+                             _number(m, "y", path, where), _number(m, "radius", path, where)))
+    w.goal_moves.sort(key=lambda m: m[0])
     w.grid_spacing = _number(doc, "grid_spacing", path, "world", 1.0)
     w.comm_range = _number(doc, "comm_range", path, "world", 3.0)
     w.tick_rate = _number(doc, "tick_rate", path, "world", 10.0)

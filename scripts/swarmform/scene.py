@@ -177,11 +177,17 @@ def draw_static(ax: Any, world: World, bounds: Bounds, obstacles: bool = True) -
     if obstacles:
         draw_obstacles(ax, world)
     if world.goal:
-        gx, gy, gr = world.goal
-        ax.add_patch(Circle((gx, gy), gr, facecolor="#c8e6c9", edgecolor="#2e7d32", linestyle="--", alpha=0.7))
-        ax.plot([gx], [gy], marker="x", color="#2e7d32", markersize=8)
-        ax.annotate("goal", (gx, gy + gr), textcoords="offset points", xytext=(0, 3), ha="center",
-                    color="#2e7d32", fontsize=8)
+        # Where world events moved it: each goal it had, the last filled, the earlier ones hollow with the tick
+        # they stood until.
+        goals = [(None, *world.goal)] + list(world.goal_moves)
+        for k, (_, gx, gy, gr) in enumerate(goals):
+            last = k == len(goals) - 1
+            ax.add_patch(Circle((gx, gy), gr, facecolor="#c8e6c9" if last else "none", edgecolor="#2e7d32",
+                                linestyle="--", alpha=0.7))
+            ax.plot([gx], [gy], marker="x", color="#2e7d32", markersize=8)
+            label = "goal" if last else f"goal until tick {goals[k + 1][0]}"
+            ax.annotate(label, (gx, gy + gr), textcoords="offset points", xytext=(0, 3), ha="center",
+                        color="#2e7d32", fontsize=8)
     draw_lights(ax, world)
 
 

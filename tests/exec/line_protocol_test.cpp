@@ -48,6 +48,16 @@ TEST(LineProtocol, PerceptionIsExactAndPayloadsAreHex) {
   EXPECT_EQ(j["messages"][0]["data"], "00abff");
 }
 
+TEST(LineProtocol, TheGoalAsItStandsTravelsWhenTheRunHasOne) {
+  Perception p;
+  EXPECT_FALSE(json::parse(encode_perception(p)).contains("goal"));
+  p.goal = Goal{{-4.0, 2.0 / 3.0}, 1.5};
+  const json g = json::parse(encode_perception(p))["goal"];
+  EXPECT_EQ(g["x"].get<double>(), -4.0);
+  EXPECT_EQ(g["y"].get<double>(), 2.0 / 3.0);
+  EXPECT_EQ(g["radius"].get<double>(), 1.5);
+}
+
 TEST(LineProtocol, OptionalSensorsTravelOnlyWhenEquippedAndExactly) {
   Perception p;
   const json bare = json::parse(encode_perception(p));

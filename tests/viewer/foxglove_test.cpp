@@ -142,6 +142,37 @@ TEST(Foxglove, ObstaclesAreSentAgainAsTheWorldEventsChangeThem) {
   EXPECT_EQ(entity(scene_at(2), "obstacles")["cubes"].size(), 1U);
 }
 
+TEST(Foxglove, TheGoalIsDrawnWhereItStandsAndSentAgainWhenItMoves) {
+  json world = kWorld;
+  world["goal"] = json::parse(R"({"x": 1.0, "y": 0.0, "radius": 0.5})");
+  world["goal_moves"] = json::parse(R"([{"tick": 6, "x": -1.0, "y": 0.5, "radius": 0.25}])");
+  Foxglove fox;
+  fox.set_world(world);
+  ASSERT_EQ(fox.on_text(7, R"({"op":"subscribe","subscriptions":[{"id":1,"channelId":1}]})"), "");
+  const auto scene_at = [&](std::uint64_t tick) {
+    dds::ObserveFrameData frame;
+    frame.tick = tick;
+    const auto out = fox.messages(frame);
+    EXPECT_EQ(out.size(), 1U);
+    return json::parse(out[0].second.substr(13));
+  };
+  const auto goal_disc = [](const json& scene) {
+    const json& c = entity(scene, "obstacles")["cylinders"];
+    EXPECT_EQ(c.size(), 1U);  // the goal only: this world has no obstacle
+    return c.at(0);
+  };
+  const json first = goal_disc(scene_at(0));
+  EXPECT_DOUBLE_EQ(first["pose"]["position"]["x"].get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(first["size"]["x"].get<double>(), 1.0);
+  for (const json& e : scene_at(5)["entities"]) EXPECT_NE(e["id"], "obstacles") << "nothing moved: not sent";
+  const json moved = goal_disc(scene_at(6));
+  EXPECT_DOUBLE_EQ(moved["pose"]["position"]["x"].get<double>(), -1.0);
+  EXPECT_DOUBLE_EQ(moved["pose"]["position"]["y"].get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(moved["size"]["x"].get<double>(), 0.5);
+  EXPECT_EQ(goal_at(world, 3)["x"], 1.0);  // a replay sought back: where it stood then
+  EXPECT_TRUE(goal_at(kWorld, 3).is_null());
+}
+
 // Every channel's Message Data for `frame` to a client subscribed to all five (subscription id = channel id):
 // channel -> (log time, payload).
 std::map<std::uint32_t, std::pair<std::uint64_t, json>> all_channels(Foxglove& fox,

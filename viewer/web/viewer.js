@@ -155,6 +155,17 @@ function obstaclesAt(tick) {
   return now.filter((o) => o.present !== false);
 }
 
+// world.json's goal as it stands at `tick`: moved by each of its goal_moves at or before it
+// (world_server/world/goal_events.hpp); null when the run has none.
+function goalAt(tick) {
+  let g = S.world.goal;
+  for (const m of S.world.goal_moves || []) {
+    if (m.tick > tick) break;
+    g = m;
+  }
+  return g;
+}
+
 // The grid's and the scale bar's step: 1, 2 or 5 x 10^n metres, the smallest at least `px` pixels long.
 function niceStep(k, px) {
   const want = px / k;
@@ -279,8 +290,8 @@ function draw() {
     }
     ctx.fill();
   }
-  // Goal.
-  const g = S.world.goal;
+  // Goal, as it stands at the tick shown.
+  const g = goalAt(S.frame ? S.frame.tick : 0);
   if (g) {
     const [gx, gy] = project(g.x, g.y);
     ctx.setLineDash([6, 4]);

@@ -77,7 +77,7 @@ void ExperimentRunner::observe(const Metrics& metrics) {
   t.rejoined = rejoined_;
   t.obstacles = obstacles_;
   t.arena = arena_;
-  t.goal = goal_;
+  if (goal_) t.goal = world_.goal();  // as it stands this tick (goal_events.hpp)
   if (track_shape_) t.shape = experiment::ShapeProgress{metrics.formation_tick, metrics.goal_tick};
   try {
     experiment_->observe(t);

@@ -22,6 +22,9 @@ void record_world_events(RunSession& session, const Scenario& scenario, Tick t) 
     session.record_event(-1, "obstacle_" + std::string(action_word(e.action)),
                          describe_world_event(e, scenario.obstacles));
   }
+  for (const GoalEvent& e : scenario.goal_events) {
+    if (e.tick == t) session.record_event(-1, "goal_move", describe_goal_event(e));
+  }
 }
 
 void record_process_fault_event(RunSession& session, const Fault& fault, bool start,

@@ -61,6 +61,9 @@ bool FaultSchedule::quiet_at(Tick t) const {
   for (const WorldEvent& e : scenario_.world_events) {
     if (e.tick == t) return false;
   }
+  for (const GoalEvent& e : scenario_.goal_events) {
+    if (e.tick == t) return false;
+  }
   return true;
 }
 

@@ -29,6 +29,14 @@ MetricsTracker::MetricsTracker(const Mission& mission, const behaviour::Descript
   if (!has_mission_) metrics_.outcome = "none";
 }
 
+void MetricsTracker::goal_stands(const Goal& goal) {
+  if (goal.at == goal_ && goal.radius == goal_radius_) return;
+  goal_ = goal.at;
+  goal_radius_ = goal.radius;
+  metrics_.goal_tick.reset();
+  metrics_.shape_error_at_goal.reset();
+}
+
 bool MetricsTracker::in_motion_window(Tick tick) const {
   return metrics_.motion_start_tick && tick >= *metrics_.motion_start_tick &&
          (!metrics_.goal_tick || tick <= *metrics_.goal_tick);

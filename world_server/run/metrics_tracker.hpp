@@ -71,6 +71,9 @@ class MetricsTracker {
   MetricsTracker(const Mission& mission, const behaviour::Descriptor* behaviour);
 
   void observe(Tick tick, const std::vector<RobotTruth>& robots, ContactCounts contacts);
+  // The goal as it stands this tick, before observe: where a world event moved it (goal_events.hpp), an
+  // arrival at the goal where it stood is undone (goal_tick is the first arrival at its last place).
+  void goal_stands(const Goal& goal);
   // An event as written to events.jsonl ({"tick","kind","id",...}); deaths, rejoins, leader, fragment and
   // rejoin_graph are counted, anything else is ignored.
   void count_event(const nlohmann::ordered_json& event);

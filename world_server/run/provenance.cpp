@@ -43,6 +43,13 @@ ojson canonical(const Scenario& s) {
     }
     j["world_events"] = std::move(events);
   }
+  if (!s.goal_events.empty()) {  // only then, as the world events above
+    ojson moves = ojson::array();
+    for (const GoalEvent& e : s.goal_events) {
+      moves.push_back({{"tick", e.tick}, {"goal", xy(e.goal.at)}, {"radius", e.goal.radius}});
+    }
+    j["goal_moves"] = std::move(moves);
+  }
   ojson robots = ojson::array();
   for (const Pose2D& p : s.robots) robots.push_back(ojson::array({p.x, p.y, p.theta}));
   j["robots"] = std::move(robots);

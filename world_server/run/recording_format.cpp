@@ -236,6 +236,13 @@ ojson describe_world(const Scenario& scenario, const std::string& mode) {
     j["world_events"] = world_events_json(scenario.world_events, scenario.obstacles);
   j["goal"] =
       m.has_goal ? ojson{{"x", m.goal.x}, {"y", m.goal.y}, {"radius", m.goal_radius}} : ojson(nullptr);
+  if (!scenario.goal_events.empty()) {  // where the goal moves, by tick (goal_events.hpp)
+    ojson moves = ojson::array();
+    for (const GoalEvent& e : scenario.goal_events) {
+      moves.push_back({{"tick", e.tick}, {"x", e.goal.at.x}, {"y", e.goal.at.y}, {"radius", e.goal.radius}});
+    }
+    j["goal_moves"] = std::move(moves);
+  }
   j["grid_spacing"] = m.grid_spacing;
   j["comm_range"] = scenario.comm_range;
   // The radio and the sensors' noise (docs/scenario-format.md): mean_burst null is independent loss.

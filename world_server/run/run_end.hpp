@@ -16,13 +16,17 @@ namespace swarmform::world {
 inline constexpr Tick kTicksAfterGoal = 20;
 inline constexpr Tick kTicksAfterDone = 1;
 
-// `tick` is the tick just recorded (World::tick() after the step).
-inline bool run_complete(const Metrics& metrics, Tick tick, Tick max_ticks) {
-  return tick >= max_ticks || (metrics.goal_tick && tick >= *metrics.goal_tick + kTicksAfterGoal);
+// `tick` is the tick just recorded (World::tick() after the step). Only an arrival at or after the goal's
+// last move (`last_goal_move`, 0 when it never moves) ends the run: one before it was at a goal that then
+// moved (world_server asks before it records the move's tick, when goal_tick still holds that arrival).
+inline bool run_complete(const Metrics& metrics, Tick tick, Tick max_ticks, Tick last_goal_move = 0) {
+  return tick >= max_ticks || (metrics.goal_tick && *metrics.goal_tick >= last_goal_move &&
+                               tick >= *metrics.goal_tick + kTicksAfterGoal);
 }
 inline bool run_complete(const RunSession& session, Tick tick, Tick max_ticks) {
   const std::optional<Tick> done = session.experiment_done_at();
-  return run_complete(session.metrics(), tick, max_ticks) || (done && tick >= *done + kTicksAfterDone);
+  return run_complete(session.metrics(), tick, max_ticks, session.last_goal_move()) ||
+         (done && tick >= *done + kTicksAfterDone);
 }
 
 // The last line a front end prints when the run used up max_ticks without arriving (outcome and stuck

@@ -81,6 +81,7 @@ struct RunSession::Impl {
   void record() {
     const Tick tick = world.tick();
     const auto& robots = world.robots();
+    if (const auto& goal = world.goal()) tracker.goal_stands(*goal);  // where world events moved it
     tracker.observe(tick, robots, recorded_once ? world.last_contacts() : ContactCounts{});
     // The communication graph is watched from the formation tick on (before it, robots joining the shape
     // one by one would read as endless splits and rejoins).
@@ -184,6 +185,11 @@ void RunSession::record_event(std::int64_t id, const std::string& kind, const st
   Event e = make_event(impl_->world.tick(), kind, id);
   e["detail"] = detail;
   impl_->emit(e);
+}
+
+Tick RunSession::last_goal_move() const {
+  const auto& moves = impl_->world.scenario().goal_events;
+  return moves.empty() ? 0 : moves.back().tick;
 }
 
 std::optional<Tick> RunSession::experiment_done_at() const {

@@ -60,6 +60,9 @@ class RunSession {
   const Metrics& metrics() const;
   // The tick at which the behaviour's experiment said the run was done (run_end.hpp), if it has.
   std::optional<Tick> experiment_done_at() const;
+  // The tick of the scenario's last goal move (goal_events.hpp), 0 when the goal never moves: an arrival
+  // before it does not end the run.
+  Tick last_goal_move() const;
   // What the world's robot-to-place assignment has cost so far (metrics_tracker.hpp).
   const AssignmentStats& assignment_stats() const;
 

@@ -1,7 +1,8 @@
 // One definition of "the same perception", for run digests and determinism tests: every field the world
 // computes for a robot (pose, ultrasonic ranges, each reading with its bytes, then the optional sensors that
 // are equipped: a perception without them gives the bytes it always gave), fed in a fixed order to
-// `put(const void* bytes, std::size_t count)`.
+// `put(const void* bytes, std::size_t count)`. Not the goal: it is the scenario's at the tick (goal_at), the
+// same for every robot, and a run whose goal moves differs in its trajectory where a robot acts on it.
 #pragma once
 
 #include <cstddef>

@@ -867,6 +867,8 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
     throw InputError(origin, goal_line, what.str());
   }
 
+  check_goal_events(origin, s);
+
   resolve_robots(src, robots, ov, s);
   check_shape_fits(src, s, shape_node && !ov.shape_file ? yaml::line_of(*shape_node) : 0,
                    ov.shape_file.has_value());

@@ -16,6 +16,7 @@
 #include "world_server/world/faults.hpp"
 #include "world_server/world/field_overrides.hpp"
 #include "world_server/world/floor.hpp"
+#include "world_server/world/goal_events.hpp"
 #include "world_server/world/lidar_spec.hpp"
 #include "world_server/world/world_events.hpp"
 
@@ -57,7 +58,8 @@ struct Scenario {
   bool walls = true;
   double wall_thickness = 0.1;           // m
   std::vector<Obstacle> obstacles;       // as they stand at tick 0
-  std::vector<WorldEvent> world_events;  // `events:`, by tick (world_events.hpp)
+  std::vector<WorldEvent> world_events;  // `events:` that act on obstacles, by tick (world_events.hpp)
+  std::vector<GoalEvent> goal_events;    // `events:` that move the goal, by tick (goal_events.hpp)
 
   // Robots: ids 0..robots.size()-1, initial poses resolved (listed in the file, or random in a region from
   // the seed: never overlapping, communication graph connected).

@@ -107,6 +107,7 @@ struct World::Impl {
   std::vector<RobotTruth> truth;
   ContactCounts contacts;
   std::vector<Obstacle> obstacles;  // the scenario's, as they stand after this tick's world events
+  std::optional<Goal> goal;         // the run's, as it stands after this tick's goal moves
   std::vector<Fault> faults;        // the scenario's world faults (ultrasonic, wheel, loss, range)
   MediumFaults medium_faults;       // this tick's loss and range faults, per robot
 
@@ -124,7 +125,8 @@ struct World::Impl {
         lidar(scenario.lidar, present_statics(scenario, scenario.obstacles), scenario.lidar_noise,
               scenario.seed),
         sensors(declared_sensors(scenario)),
-        obstacles(scenario.obstacles) {
+        obstacles(scenario.obstacles),
+        goal(goal_at(scenario, 0)) {
     const std::size_t n = scenario.robots.size();
     alive.assign(n, 1);
     outboxes.resize(n);
@@ -241,6 +243,7 @@ struct World::Impl {
 
   // The world events of tick t: the physics' bodies, then what the sensors and the medium see.
   void world_events_at(Tick t) {
+    if (!scenario.goal_events.empty()) goal = goal_at(scenario, t);
     if (apply_world_events(obstacles, scenario.world_events, t) == 0) return;
     for (std::size_t k = 0; k < obstacles.size(); ++k) physics.set_obstacle(k, obstacles[k]);
     const std::vector<Obstacle> statics = present_statics(scenario, obstacles);
@@ -290,6 +293,7 @@ struct World::Impl {
       Perception& p = perceptions[i];
       p.tick = tick;
       p.pose = poses[i];
+      p.goal = goal;
       if (alive[i] && !sonar_deferred) p.ultrasonic = sonar[i];
     }
     if (sonar_deferred) return;  // sense_now applies the sensor faults at the read
@@ -346,6 +350,7 @@ const Perception& World::copy_perception(RobotId id, PerceptionCopy& copy) const
   dst.ground = src.ground;
   dst.lidar = src.lidar;
   dst.battery = src.battery;
+  dst.goal = src.goal;
   if (m.sonar_pending[id]) {
     m.sense_now(id, dst.ultrasonic);
   } else {
@@ -465,6 +470,10 @@ void World::revive(RobotId id) {
 
 const std::vector<Obstacle>& World::obstacles() const {
   return impl_->obstacles;
+}
+
+const std::optional<Goal>& World::goal() const {
+  return impl_->goal;
 }
 
 }  // namespace swarmform::world

@@ -122,6 +122,8 @@ class World {
   ContactCounts last_contacts() const;
   // The scenario's obstacles as they stand at the current tick (each one's `present` says whether it is).
   const std::vector<Obstacle>& obstacles() const;
+  // The run's goal as it stands at the current tick (goal_events.hpp); nullopt when the run has none.
+  const std::optional<Goal>& goal() const;
 
  private:
   struct Impl;

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <utility>
 
+#include "world_server/world/goal_events.hpp"
 #include "world_server/world/scenario.hpp"
 
 namespace swarmform::world {
@@ -73,13 +74,22 @@ void parse_world_events(const Source& src, MapReader& top, Scenario& s) {
   for (std::size_t i = 0; i < node->size(); ++i) {
     const YAML::Node item = (*node)[i];
     const std::string path = "events[" + std::to_string(i) + "]";
-    if (!item.IsMap()) yaml::fail(src, item, path, "expected a map {tick, obstacle, do[, centre, yaw]}");
+    if (!item.IsMap()) {
+      yaml::fail(src, item, path,
+                 "expected a map {tick, obstacle, do[, centre, yaw]} or {tick, goal[, radius]}");
+    }
     MapReader m(src, item, path);
+    if (m.has("goal")) {  // the goal moves (goal_events.hpp), checked once the goal is known
+      s.goal_events.push_back(parse_goal_event(src, m, s.max_ticks));
+      continue;
+    }
     WorldEvent e;
     if (!m.has("tick")) yaml::fail(src, item, path, "missing 'tick'");
     e.tick = static_cast<Tick>(m.integer("tick", 1, 1, static_cast<std::int64_t>(s.max_ticks)));
     auto name = m.get("obstacle");
-    if (!name) yaml::fail(src, item, path, "missing 'obstacle' (the name of one of `obstacles`)");
+    if (!name)
+      yaml::fail(src, item, path,
+                 "missing 'obstacle' (the name of one of `obstacles`) or 'goal' ([x, y]: the goal moves)");
     e.obstacle =
         obstacle_named(src, *name, m.field("obstacle"), yaml::to_string(src, *name, m.field("obstacle")), s);
     auto action = m.get("do");

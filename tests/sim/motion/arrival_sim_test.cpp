@@ -139,6 +139,37 @@ TEST_P(MotionGoalRadius, ShapeStopsInsideTheGoalRadius) {
 
 INSTANTIATE_TEST_SUITE_P(Radius, MotionGoalRadius, testing::Values(0.12, 0.5, 2.0));
 
+// The goal moves after the shape arrived (a world event, world_server/world/goal_events.hpp): every robot is
+// told in its perception, the arrived leader resumes (its target moved) and the shape arrives at the new
+// goal, judged by the same rule. Without the perception's goal the shape stays at the old goal for good.
+TEST(MotionGoalMoves, AShapeThatArrivedSetsOffForTheGoalWhereItMovedAndArrivesThere) {
+  auto s =
+      world::load_scenario(repo("scenarios/open_field.yaml"), {}, swarmform::controller::builtin_registry());
+  s.max_ticks = 3000;
+  const auto first = run_to_arrival(s);
+  ASSERT_TRUE(first.arrived.has_value());
+  const Tick move = *first.arrived + 50;
+  const Goal moved{{4.0, 3.0}, 0.5};  // 6.7 m back and aside, inside the walls
+  s.goal_events = {{move, moved, true, 0}};
+  s.max_ticks = move + 3000;
+  Mission at_the_new_goal = s.mission;
+  at_the_new_goal.goal = moved.at;
+  harness::Harness h(s);
+  ArrivalJudge judge(at_the_new_goal);
+  while (h.world().tick() < s.max_ticks) {
+    h.step();
+    if (h.world().tick() <= move) continue;
+    if (judge.observe(h.world().tick(), h.world().robots())) break;
+  }
+  ASSERT_TRUE(judge.arrived().has_value())
+      << "not arrived at the moved goal by tick " << s.max_ticks << ": error " << judge.error()
+      << ", centroid " << judge.to_goal() << " m from it";
+  std::printf(
+      "goal moved at tick %llu (arrived at the first at %llu): arrived at the new goal at tick %llu\n",
+      static_cast<unsigned long long>(move), static_cast<unsigned long long>(*first.arrived),
+      static_cast<unsigned long long>(*judge.arrived()));
+}
+
 // A 2 x 8 block (8 wide across the path) whose leader's line (its place's path to where the goal puts it)
 // runs into the paper's box: the leader was held at the box for good (an obstacle on the leader's line is a
 // local minimum of eq. 3 + eq. 6), its block standing still behind it. Preformed (preformed.hpp), so that the
