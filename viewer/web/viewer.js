@@ -877,8 +877,8 @@ function connect() {
       if (m.states) setDescription(m);
       if (S.mode === "replay") replayFrame(m);
       show(m);
-      // Live, the viewer sends the next frame once this one is drawn (viewer/main.cpp kFramesInFlight).
-      if (S.mode === "live") send("drawn", m.tick);
+      // The viewer sends the next frame once this one is drawn (viewer/page_flow.hpp), live and in replay.
+      send("drawn", m.tick);
     } else if (m.type === "end") {
       S.end = m;
       status();
