@@ -232,8 +232,15 @@ class RecordedRunsTest(unittest.TestCase):
         b.wait_for("window.sfViewer && sfViewer.replay && sfViewer.frame", what="the recording loaded")
         # Every frame the page gets, in order: [at, tick, played]; and a draw that takes 150 ms.
         b.eval("""(() => { sfViewer.got = []; const show = window.show, draw = window.draw;
-            window.show = function (f) { sfViewer.got.push([f.at, f.tick, f.played]); return show.apply(this, arguments); };
-            window.draw = function () { const t = performance.now() + 150; while (performance.now() < t); return draw.apply(this, arguments); };
+            window.show = function (f) {
+              sfViewer.got.push([f.at, f.tick, f.played]);
+              return show.apply(this, arguments);
+            };
+            window.draw = function () {
+              const t = performance.now() + 150;
+              while (performance.now() < t);
+              return draw.apply(this, arguments);
+            };
             send("speed", 5); send("play"); })()""")
         b.wait_for("sfViewer.got.some((g) => g[0] >= 60)", timeout=120, what="the timeline past tick 60")
         # Seek forward to 200 between two of the page's frames: every frame it had been sent is before 200.
