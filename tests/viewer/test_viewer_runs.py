@@ -242,14 +242,18 @@ class RecordedRunsTest(unittest.TestCase):
               return draw.apply(this, arguments);
             };
             send("speed", 5); send("play"); })()""")
-        b.wait_for("sfViewer.got.some((g) => g[0] >= 60)", timeout=120, what="the timeline past tick 60")
-        # Seek forward to 200 between two of the page's frames: every frame it had been sent is before 200.
-        before = b.eval("(() => { const n = sfViewer.got.length; send('seek', 200); return n; })()")
-        b.wait_for(f"sfViewer.got.slice({before}).some((g) => g[0] >= 200)", timeout=120,
+        b.wait_for("sfViewer.got.some((g) => g[0] >= 40)", timeout=120, what="the timeline past tick 40")
+        # Seek 100 ticks forward of the page's last frame, between two of its frames: every frame it had been
+        # sent is before that (the timeline is ahead of the page by the frames in flight, a few ticks).
+        before, target = b.eval("""(() => { const n = sfViewer.got.length, t = sfViewer.got[n - 1][0] + 100;
+            send('seek', t); return [n, t]; })()""")
+        self.assertLess(target, 300, "the recording's end")
+        b.wait_for(f"sfViewer.got.slice({before}).some((g) => g[0] >= {target})", timeout=120,
                    what="a frame at the seek's place")
         got = b.eval(f"sfViewer.got.slice({before})")
-        first = next(i for i, g in enumerate(got) if g[0] >= 200)
-        self.assertLessEqual(first, 2, f"frames before the seek's after it was asked (a backlog): {got[:first + 1]}")
+        first = next(i for i, g in enumerate(got) if g[0] >= target)
+        self.assertLessEqual(first, 2, f"frames [at, tick, played] before the seek's after it was asked (a "
+                                       f"backlog): {got[:3]} ... {got[first - 1:first + 1]}")
         self.assertIs(got[first][2], False, f"the first frame at the seek's place counted as played: {got[first]}")
 
     def view(self, run_dir, port):
