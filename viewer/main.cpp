@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 
@@ -18,6 +17,7 @@
 #include "viewer/foxglove.hpp"
 #include "viewer/frame_json.hpp"
 #include "viewer/netns.hpp"
+#include "viewer/page_flow.hpp"
 #include "viewer/replay.hpp"
 #include "viewer/web_server.hpp"
 
@@ -31,10 +31,6 @@ using nlohmann::json;
 
 constexpr int kPeriodMs = 20;
 constexpr std::size_t kMaxEventsKept = 20000;  // the newest, for pages that open later
-// Frames a page has been sent and not yet said it drew ("drawn"): one being drawn, one on its way. A page
-// slower than the frames (256 robots on a busy host) gets the newest frame when it is ready, not a queue:
-// without this the socket buffers held seconds of frames and the page showed the world 5 s late.
-constexpr int kFramesInFlight = 2;
 // HELLO binds the viewer and is its heartbeat: the world takes a viewer silent for 2 s for gone
 // (world_server/viewer_control.hpp kSilence).
 constexpr dds_duration_t kHelloEvery = DDS_MSECS(250);
@@ -179,30 +175,15 @@ int live(const Options& o) {
     const json w = read_json(o.run_dir + "/world.json");
     if (w.is_object()) foxglove.set_world(w);
   };
-  // Each page's frames in flight, and whether a newer frame waits for it (kFramesInFlight).
-  // A client that never says "drawn" (a script on the page's protocol) gets every frame, as it always did.
-  struct PageFlow {
-    int in_flight = 0;
-    bool waiting = false;
-    bool acks = false;  // it said "drawn" once: it is paced from then on
-  };
-  std::map<ClientId, PageFlow> pages;
-  std::uint64_t frames_held = 0;  // frames a slow page skipped (said on stderr at the end)
+  // Each page's frames in flight: the newest frame when it drew the last (page_flow.hpp).
+  swarmform::viewer::PageFlow pages;
   auto frame_to_pages = [&] {
-    for (auto& [client, flow] : pages) {
-      if (flow.acks && flow.in_flight >= kFramesInFlight) {
-        if (flow.waiting) ++frames_held;
-        flow.waiting = true;
-        continue;
-      }
-      ++flow.in_flight;
-      server_ptr->send_text(client, last_frame);
-    }
+    for (const auto& to : pages.offer(false)) server_ptr->send_text(to.client, last_frame);
   };
   swarmform::viewer::WebServer::Handlers h;
   h.closed = [&](ClientId c) {
     foxglove.forget(c);
-    pages.erase(c);
+    pages.closed(c);
   };
   h.opened = [&](ClientId c, ClientKind k) {
     if (k == ClientKind::Foxglove) {
@@ -216,11 +197,8 @@ int live(const Options& o) {
       for (const json& e : events) all.push_back(e);
       server_ptr->send_text(c, json{{"type", "events"}, {"events", all}}.dump());
     }
-    PageFlow& flow = pages[c];
-    if (!last_frame.empty()) {
-      ++flow.in_flight;
-      server_ptr->send_text(c, last_frame);
-    }
+    pages.opened(c, !last_frame.empty());
+    if (!last_frame.empty()) server_ptr->send_text(c, last_frame);
     if (!last_end.empty()) server_ptr->send_text(c, last_end);
   };
   // A page's command, or a Foxglove client's on /control (the same commands, the same path): "" when sent,
@@ -268,16 +246,8 @@ int live(const Options& o) {
     if (text.find("\"drawn\"") != std::string::npos) {
       const json m = json::parse(text, nullptr, false);
       if (m.is_object() && m.value("cmd", std::string()) == "drawn") {
-        auto it = pages.find(client);
-        if (it == pages.end()) return;
-        PageFlow& flow = it->second;
-        flow.acks = true;
-        flow.in_flight = std::max(0, flow.in_flight - 1);
-        if (flow.waiting && !last_frame.empty()) {
-          flow.waiting = false;
-          ++flow.in_flight;
-          server_ptr->send_text(client, last_frame);
-        }
+        bool jump = false;
+        if (pages.drawn(client, jump) && !last_frame.empty()) server_ptr->send_text(client, last_frame);
         return;
       }
     }
@@ -371,8 +341,8 @@ int live(const Options& o) {
   control.emplace(*participant);
   std::cout << "viewer http://" << o.host << ":" << server.port() << "/" << std::endl;
   server.run();
-  if (frames_held > 0) {
-    std::cerr << "swarm_viewer: " << frames_held
+  if (pages.skipped() > 0) {
+    std::cerr << "swarm_viewer: " << pages.skipped()
               << " frame(s) not sent to a page still drawing an earlier one (it got the newest)" << std::endl;
   }
   if (finished_at) std::cout << "viewer: the run ended" << std::endl;

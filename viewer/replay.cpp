@@ -18,6 +18,7 @@
 #include "common/sensor_readings.hpp"
 #include "viewer/foxglove.hpp"
 #include "viewer/frame_json.hpp"
+#include "viewer/page_flow.hpp"
 #include "viewer/robots_csv.hpp"
 #include "viewer/web_server.hpp"
 
@@ -153,6 +154,7 @@ class Session {
     h.closed = [this](ClientId c) {
       foxglove_.forget(c);
       selected_.erase(c);
+      flow_.closed(c);
     };
     h.text = [this](ClientId c, ClientKind k, const std::string& text) { on_text(c, k, text); };
     // A Foxglove client's /control messages are the page's commands (play, pause, seek, speed), by the
@@ -211,6 +213,7 @@ class Session {
                         {"finished", finished_},
                         {"damage", damage_json(false, 0)}};
     server_->send_text(c, hello.dump());
+    flow_.opened(c, !last_page_frame_.empty());
     if (!last_page_frame_.empty()) server_->send_text(c, last_page_frame_);
   }
 
@@ -226,6 +229,13 @@ class Session {
     const std::string cmd = m.is_object() ? m.value("cmd", std::string()) : std::string();
     const bool has_value = m.is_object() && m.contains("value") && m["value"].is_number();
     const double value = has_value ? m["value"].get<double>() : 0.0;
+    if (cmd == "drawn") {
+      // The page drew a frame: the newest goes now if one waited for it (page_flow.hpp).
+      bool jump = false;
+      if (flow_.drawn(c, jump) && !last_page_frame_.empty())
+        server_->send_text(c, jump && played_frame_ ? as_jump() : last_page_frame_);
+      return;
+    }
     if (cmd == "seek" && has_value && std::isfinite(value)) {
       const double t =
           std::clamp(value, static_cast<double>(csv_.first_tick()), static_cast<double>(csv_.last_tick()));
@@ -380,27 +390,30 @@ class Session {
     json states = json::array();
     for (const auto& s : frame_.states)
       states.push_back({{"value", s.value}, {"name", s.name}, {"colour", s.colour}});
-    const json page = {{"type", "frame"},
-                       {"tick", rec.tick},
-                       {"at", tick_},
-                       {"damage", damage_json(true, tick_)},
-                       {"finished", false},
-                       {"paused", !playing_},
-                       {"controllable", false},
-                       {"speed_cap", 0.0},
-                       {"replay_speed", speed_},
-                       {"played", played_},
-                       {"alive", frame_.alive},
-                       {"formation_tick", frame_.formation_tick},
-                       {"shape_error", frame_.shape_error},
-                       {"behaviour", frame_.behaviour},
-                       {"states", states},
-                       {"telemetry_fields", frame_.telemetry_fields},
-                       {"robots", robots}};
-    last_page_frame_ = page.dump();
+    page_ = {{"type", "frame"},
+             {"tick", rec.tick},
+             {"at", tick_},
+             {"damage", damage_json(true, tick_)},
+             {"finished", false},
+             {"paused", !playing_},
+             {"controllable", false},
+             {"speed_cap", 0.0},
+             {"replay_speed", speed_},
+             {"played", played_},
+             {"alive", frame_.alive},
+             {"formation_tick", frame_.formation_tick},
+             {"shape_error", frame_.shape_error},
+             {"behaviour", frame_.behaviour},
+             {"states", states},
+             {"telemetry_fields", frame_.telemetry_fields},
+             {"robots", robots}};
+    last_page_frame_ = page_.dump();
+    played_frame_ = played_;
     say_new_damage();
     if (server_ == nullptr) return;
-    server_->broadcast_text(ClientKind::Page, last_page_frame_);
+    // Paced as live: a page still drawing gets the newest frame when it has drawn (page_flow.hpp), so a
+    // replay played faster than a page draws shows the timeline's tick, not a backlog in the socket.
+    for (const PageFlow::Send& to : flow_.offer(!played_)) server_->send_text(to.client, last_page_frame_);
     for (auto& [client, bytes] : foxglove_.messages(frame_)) server_->send_binary(client, bytes);
   }
 
@@ -456,6 +469,14 @@ class Session {
   }
 
  private:
+  // The newest frame, made by the timeline playing on, as a jump: to a page that skipped a jump's frame.
+  std::string as_jump() {
+    page_["played"] = false;
+    std::string text = page_.dump();
+    page_["played"] = true;
+    return text;
+  }
+
   bool is_selected(std::uint32_t id) const {
     for (const auto& [client, robot] : selected_) {
       if (robot == id) return true;
@@ -502,7 +523,10 @@ class Session {
   bool played_ = false;
   std::chrono::steady_clock::time_point last_;
   dds::ObserveFrameData frame_;
+  json page_;  // the newest page frame, and its text:
   std::string last_page_frame_;
+  bool played_frame_ = false;  // it was made by the timeline playing on
+  PageFlow flow_;
   std::uint64_t bad_messages_ = 0;
   bool finished_ = false;  // summary.json is there: the run ended (else it was killed, or still runs)
   std::size_t said_robots_ = 0, said_readings_ = 0;  // damage said on stderr

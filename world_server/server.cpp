@@ -874,8 +874,11 @@ void Server::publish_packets() {
 }
 
 void Server::offer_viewer_frame() {
-  // While the agents compute this round: the frame is off the round's critical path in lockstep.
-  if (viewer_) offer_frame(dds_time(), false);
+  // While the agents compute this round: the frame is off the round's critical path in lockstep. Its slot
+  // (frame_schedule.hpp) is judged at the round's start, the tick's time (on the clock in realtime), not now:
+  // the round's packets went out in between, 20-120 ms for 256 robots on a busy host, and that wobble made
+  // frames look early or late to the schedule.
+  if (viewer_) offer_frame(round_start_, false);
 }
 
 void Server::end_publish() {

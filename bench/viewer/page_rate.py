@@ -7,7 +7,8 @@
 For each N: `scripts/swarm run --mode realtime --view` (N <= 9: scenarios/paper.yaml, the paper's 9 robots;
 more: bench/scale/realtime.yaml's random walkers, --robots N), a Chromium page on it, and over --seconds of the
 run's middle: the frames that reached the page a second (arrival times the page logs, window.sfViewer.rates.log),
-the distinct ticks a second they show, the longest gap between two frames, the page's draw time a frame and the lag
+the distinct ticks a second they show, the ticks of the window no frame showed (a frame the world did not offer, or
+one a newer replaced while the page drew), the longest gap between two frames, the page's draw time a frame and the lag
 (the frame's age since the world wrote it, ms) as the status bar shows it."""
 
 import argparse
@@ -85,6 +86,8 @@ def measure(n, seconds, domain, build):
     return {"robots": n, "seconds": round(span, 1), "frames_per_s": round((len(log) - 1) / span, 2),
             "ticks_per_s": round((log[-1][1] - log[0][1]) / span, 2),
             "distinct_ticks_shown": len({t for _, t in log}),
+            "ticks_not_shown": log[-1][1] - log[0][1] + 1 - len({t for _, t in log}),
+            "ticks_spanned": log[-1][1] - log[0][1] + 1,
             "max_gap_ms": round(max(gaps)), "p95_gap_ms": round(sorted(gaps)[int(0.95 * (len(gaps) - 1))]),
             "lag_ms_median": round(statistics.median(lags)) if lags else None,
             "draw_ms_median": round(statistics.median(draws), 2) if draws else None,
@@ -100,12 +103,14 @@ def main():
     p.add_argument("--build", default=os.environ.get("BUILD_DIR") or os.path.join(ROOT, "build"))
     a = p.parse_args()
     domain = a.domain if a.domain is not None else helpers.test_domain(27)
-    print("robots  frames/s  ticks/s  max gap ms  p95 gap ms  lag ms (median)  draw ms (median)  window s"
+    print("robots  frames/s  ticks/s  not shown  max gap ms  p95 gap ms  lag ms (median)  draw ms (median)  window s"
           "  | draw() alone ms, without trails, JSON.parse ms, frame KB")
     for n in [int(x) for x in a.robots.split(",")]:
         r = measure(n, a.seconds, domain, a.build)
-        print(f"{r['robots']:>6}  {r['frames_per_s']:>8}  {r['ticks_per_s']:>7}  {r['max_gap_ms']:>10}  "
-              f"{r['p95_gap_ms']:>10}  {str(r['lag_ms_median']):>15}  {str(r['draw_ms_median']):>16}  {r['seconds']:>8}"
+        not_shown = f"{r['ticks_not_shown']}/{r['ticks_spanned']}"
+        print(f"{r['robots']:>6}  {r['frames_per_s']:>8}  {r['ticks_per_s']:>7}  {not_shown:>9}  "
+              f"{r['max_gap_ms']:>10}  {r['p95_gap_ms']:>10}  {str(r['lag_ms_median']):>15}  "
+              f"{str(r['draw_ms_median']):>16}  {r['seconds']:>8}"
               f"  | {r['draw_loop_ms']}, {r['draw_loop_no_trails_ms']}, {r['parse_ms']}, {r['frame_kb']}", flush=True)
 
 

@@ -214,6 +214,48 @@ class RecordedRunsTest(unittest.TestCase):
         self.assertAlmostEqual(bar["px"], bar["metres"] * 2, places=6)
         self.assertGreater(b.eval("sfViewer.drawn.gridStep"), 0)
 
+    @unittest.skipIf(not os.path.exists(cdp.CHROMIUM), "chromium missing (scripts/setup installs it)")
+    def test_replay_sends_a_slow_page_the_newest_frame_not_a_backlog(self):
+        """A replay paces its frames as live does (viewer/page_flow.hpp): a page slower than the timeline gets
+        the newest frame once it has drawn the last, never a queue of frames in its socket. The page's draw is
+        slowed to 150 ms a frame while the recording plays at 5x (50 ticks/s, a frame every 20 ms): a seek is
+        shown after at most the two frames in flight when it was asked (a queue would show seconds of frames
+        first), and the first frame at the new place is a jump (`played` false), though the timeline playing on
+        replaced the seek's own frame while the page drew: the page's ticks/s must not count the seek's
+        distance as ticks played."""
+        port = vh.free_port()
+        self.view(self.plain, port)
+        url = f"http://127.0.0.1:{port}/"
+        vh.wait_http(url)
+        b = self.browser = cdp.Browser()
+        b.navigate(url)
+        b.wait_for("window.sfViewer && sfViewer.replay && sfViewer.frame", what="the recording loaded")
+        # Every frame the page gets, in order: [at, tick, played]; and a draw that takes 150 ms.
+        b.eval("""(() => { sfViewer.got = []; const show = window.show, draw = window.draw;
+            window.show = function (f) {
+              sfViewer.got.push([f.at, f.tick, f.played]);
+              return show.apply(this, arguments);
+            };
+            window.draw = function () {
+              const t = performance.now() + 150;
+              while (performance.now() < t);
+              return draw.apply(this, arguments);
+            };
+            send("speed", 5); send("play"); })()""")
+        b.wait_for("sfViewer.got.some((g) => g[0] >= 40)", timeout=120, what="the timeline past tick 40")
+        # Seek 100 ticks forward of the page's last frame, between two of its frames: every frame it had been
+        # sent is before that (the timeline is ahead of the page by the frames in flight, a few ticks).
+        before, target = b.eval("""(() => { const n = sfViewer.got.length, t = sfViewer.got[n - 1][0] + 100;
+            send('seek', t); return [n, t]; })()""")
+        self.assertLess(target, 300, "the recording's end")
+        b.wait_for(f"sfViewer.got.slice({before}).some((g) => g[0] >= {target})", timeout=120,
+                   what="a frame at the seek's place")
+        got = b.eval(f"sfViewer.got.slice({before})")
+        first = next(i for i, g in enumerate(got) if g[0] >= target)
+        self.assertLessEqual(first, 2, f"frames [at, tick, played] before the seek's after it was asked (a "
+                                       f"backlog): {got[:3]} ... {got[first - 1:first + 1]}")
+        self.assertIs(got[first][2], False, f"the first frame at the seek's place counted as played: {got[first]}")
+
     def view(self, run_dir, port):
         """`swarm view RUN_DIR --port PORT` in the background (its own process group, killed in tearDown)."""
         env = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=vh.BUILD_DIR)

@@ -33,6 +33,18 @@ TEST(FrameSchedule, TicksAtTheFrameRateEachMakeAFrameThoughSomeComeEarly) {
   EXPECT_EQ(frames_at(ticks).size(), ticks.size());
 }
 
+TEST(FrameSchedule, ALateFrameDoesNotMakeTheNextTickLookEarly) {
+  // Realtime at 10 ticks/s on a busy host: each third tick's frame 40 ms late, the tick after it 40 ms early
+  // (a round's packets took long, then short), so those two frames are 20 ms apart. Each is near its own
+  // slot: every tick is a frame. (Slots that restarted at the late frame took the early one for too soon.)
+  std::vector<std::int64_t> ticks;
+  for (std::int64_t k = 0; k < 99; ++k) {
+    const std::int64_t wobble = k % 3 == 1 ? 40 * kMs : k % 3 == 2 ? -40 * kMs : 0;
+    ticks.push_back(1000 * kMs + k * kPeriod + wobble);
+  }
+  EXPECT_EQ(frames_at(ticks).size(), ticks.size());
+}
+
 TEST(FrameSchedule, FastTicksMakeTheFrameRateAndNoMore) {
   // Lockstep uncapped: a tick every millisecond for 10 s: 100 frames, 100 ms apart.
   std::vector<std::int64_t> ticks;
