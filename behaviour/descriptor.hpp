@@ -20,7 +20,7 @@ namespace swarmform::behaviour {
 // Raised with any change to Descriptor, Controller, Experiment, Mission, Perception or Command: a plug-in
 // built against another version is refused with both numbers named, never run (docs/behaviour-api.md has the
 // list).
-inline constexpr std::uint32_t kApiVersion = 4;
+inline constexpr std::uint32_t kApiVersion = 5;
 
 struct ParamSpec {
   std::string_view name;  // as written in the scenario: `behaviour: {params: {name: value}}`

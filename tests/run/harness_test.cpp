@@ -227,14 +227,5 @@ TEST(Harness, StopsOnThePredicate) {
   EXPECT_EQ(h.world().tick(), 17u);
 }
 
-TEST(RunEnd, MaxTicksOrTwentyTicksAfterTheGoal) {
-  world::Metrics m;
-  EXPECT_FALSE(world::run_complete(m, 99, 100));
-  EXPECT_TRUE(world::run_complete(m, 100, 100));
-  m.goal_tick = 50;
-  EXPECT_FALSE(world::run_complete(m, 50 + world::kTicksAfterGoal - 1, 1000));
-  EXPECT_TRUE(world::run_complete(m, 50 + world::kTicksAfterGoal, 1000));
-}
-
 }  // namespace
 }  // namespace swarmform::harness
