@@ -234,7 +234,8 @@ TEST(ExperimentRunner, ItsSummaryFieldsAndFormationReachTheSummary) {
 }
 
 // The world measures no shape: a behaviour that needs a shape and a goal but brings no experiment gets no
-// formation_tick, shape error, distortion or stuck robots; the paper gets them all from its experiment.
+// formation_tick, shape error, distortion, stuck robots or live formation; the paper gets them all from its
+// experiment.
 TEST(ExperimentRunner, TheShapeKeysAreThePaperExperimentsNotTheWorlds) {
   const behaviour::Descriptor& paper = controller::paper_descriptor();
   behaviour::Descriptor shaped = kUnjudged;
@@ -247,6 +248,7 @@ TEST(ExperimentRunner, TheShapeKeysAreThePaperExperimentsNotTheWorlds) {
   const auto dir = std::filesystem::temp_directory_path() / "experiment_runner_test";
   std::filesystem::create_directories(dir);
   std::ofstream((dir / "line3.txt").string()) << "0 1 2\n";
+  experiment::Formation formation;  // the run's last, as world_server hands it to the viewer's frame
   const auto summary = [&](const std::string& behaviour) {
     behaviour::Registry registry;
     registry.add(paper);
@@ -272,6 +274,7 @@ max_ticks: 20
       world.step();
       session.record_tick();
     }
+    formation = session.formation();
     return Json::parse(session.finish(0.0));
   };
   const Json mine = summary("shaped");
@@ -281,14 +284,18 @@ max_ticks: 20
   }
   EXPECT_EQ(mine["outcome"], "none");
   EXPECT_EQ(mine["max_components"], 0);
+  EXPECT_FALSE(formation.tick);  // the view shows no formation either
   const Json p = summary("paper");
   EXPECT_EQ(p["formation_tick"], 10);
   EXPECT_LT(p["shape_error_at_formation"].get<double>(), 1e-9);
   EXPECT_TRUE(p["goal_tick"].is_null());
   EXPECT_EQ(p["outcome"], "formed_not_arrived");
   EXPECT_EQ(p["stuck_robots"], Json::array());
-  EXPECT_EQ(p["distortion"].size(), 11u);  // ticks 10..20
-  EXPECT_EQ(p["max_components"], 1);       // watched from the experiment's formation tick
+  EXPECT_EQ(p["distortion"].size(), 11u);              // ticks 10..20
+  EXPECT_EQ(p["max_components"], 1);                   // watched from the experiment's formation tick
+  EXPECT_EQ(formation.tick, std::optional<Tick>(10));  // the live view's formation line
+  ASSERT_TRUE(formation.error);
+  EXPECT_EQ(*formation.error, p["shape_error_at_formation"].get<double>());
 }
 
 TEST(ExperimentRunner, TheRegistryRefusesAnInconsistentDeclaration) {
