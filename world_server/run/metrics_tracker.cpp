@@ -1,6 +1,8 @@
+// The generic metrics (metrics_tracker.hpp).
 #include "world_server/run/metrics_tracker.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <string>
 
 namespace swarmform::world {
