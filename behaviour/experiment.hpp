@@ -6,9 +6,12 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
+#include <variant>
 #include <vector>
 
 #include "common/mission.hpp"
@@ -23,6 +26,7 @@ struct RobotTruth {
   bool alive = true;                  // false: dead (a body in the arena)
   const Telemetry* telemetry{};       // what its controller last reported; never null
   std::array<Rgb, kLedCount> leds{};  // its LEDs as last commanded
+  bool silent = false;  // alive but unheard: no message in its commands for 50 ticks (silent_robots)
 };
 
 struct ObstacleTruth {
@@ -43,13 +47,6 @@ struct ArenaTruth {
 
 using Goal = swarmform::Goal;
 
-// The world's own measurement of a shape-forming behaviour that goes to a goal (summary.json's definitions of
-// formation_tick and goal_tick), so far.
-struct ShapeProgress {
-  std::optional<Tick> formation_tick;
-  std::optional<Tick> goal_tick;
-};
-
 // One tick of the world. Spans and pointers refer to the world's data and are valid during observe() only.
 struct Truth {
   Tick tick = 0;                             // the tick just stepped (0: the start)
@@ -58,14 +55,36 @@ struct Truth {
   std::span<const RobotId> rejoined;         // back since the last observe
   std::span<const ObstacleTruth> obstacles;  // those present this tick (world events), walls excluded
   ArenaTruth arena;
-  std::optional<Goal> goal;            // as it stands this tick; nullopt: the run has no goal
-  std::optional<ShapeProgress> shape;  // set for a behaviour that needs a shape and a goal
+  std::optional<Goal> goal;  // as it stands this tick (world events move it); nullopt: the run has no goal
+};
+
+// A value of one of the experiment's own summary fields: null, an integer (a tick, a count), a number, a list
+// of integers (robot ids) or a series of (tick, number) pairs (written on one line at the end of
+// summary.json).
+using SeriesPoint = std::pair<Tick, double>;
+using FieldValue =
+    std::variant<std::monostate, std::int64_t, double, std::vector<std::int64_t>, std::vector<SeriesPoint>>;
+
+// A field the experiment adds to summary.json's top level, beside the world's generic ones (the paper's
+// formation_tick, shape_error_at_goal, stuck_robots...). Its key must be new: not one the world writes, not
+// given twice.
+struct SummaryField {
+  std::string key;
+  FieldValue value;
 };
 
 // What the experiment concludes.
 struct Result {
   std::vector<double> metrics;  // one per declared metric, in the declared order; NaN: not reached (null)
   std::string outcome;          // one of the declared outcomes
+  std::vector<SummaryField> summary;  // the experiment's own summary.json keys, in this order (may be empty)
+};
+
+// What the world shows live of a behaviour that forms something: the view's formation line, and the tick the
+// world starts watching the robots' communication graph (fragmentations, graph_rejoins, max_components).
+struct Formation {
+  std::optional<Tick> tick;     // the first tick it stood formed; nullopt: not (yet)
+  std::optional<double> error;  // its error then (the paper: shape error, grid units)
 };
 
 class Experiment {
@@ -80,6 +99,8 @@ class Experiment {
   // Asked after every observe (ARGoS's IsExperimentFinished): true ends the run at the next tick, with
   // end_reason completed (one tick later because world_server decides before it records the tick it steps).
   virtual bool done() const { return false; }
+  // Asked after every observe: the formation so far (the default: none, ever).
+  virtual Formation formation() const { return {}; }
 };
 
 }  // namespace swarmform::experiment

@@ -215,8 +215,8 @@ const world::Metrics& Harness::metrics() const {
   return impl_->session.metrics();
 }
 
-const world::AssignmentStats& Harness::assignment_stats() const {
-  return impl_->session.assignment_stats();
+const world::RunSession& Harness::session() const {
+  return impl_->session;
 }
 
 const controller::Controller& Harness::controller(RobotId id) const {

@@ -59,7 +59,9 @@ class Harness {
   const world::World& world() const;
   world::World& world();
   const world::Metrics& metrics() const;
-  const world::AssignmentStats& assignment_stats() const;
+  // The run's recording and judgement: its experiment (the behaviour's measures) and, after finish(), its
+  // verdict.
+  const world::RunSession& session() const;
   const controller::Controller& controller(RobotId id) const;
   // Writes summary.json and returns its text; `reason` overrides the end_reason RunSession derives
   // (completed or max_ticks). Throws world::RecordingError when summary.json cannot be written.

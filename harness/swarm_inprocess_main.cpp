@@ -291,19 +291,11 @@ int main(int argc, char** argv) {
     if (!quiet) {
       if (g_interrupted) std::cerr << "swarm_inprocess: interrupted; the run directory holds what was done\n";
       if (!run_dir.empty()) std::cerr << "swarm_inprocess: run directory " << run_dir << "\n";
-      const auto& cost = harness.assignment_stats();
-      std::fprintf(
-          stderr,
-          "swarm_inprocess: the world's assignment of robots to places: %llu evaluations, %llu Hungarian "
-          "solves, %llu ticks ruled out by the radial bound, %.3f s of %.3f s\n",
-          static_cast<unsigned long long>(cost.evaluations),
-          static_cast<unsigned long long>(cost.full_solves), static_cast<unsigned long long>(cost.ruled_out),
-          cost.seconds, wall);
     }
-    // Last, even with --quiet: a run that used up max_ticks without arriving says so.
-    const std::string why =
-        g_interrupted ? std::string()
-                      : world::max_ticks_line(harness.metrics(), harness.world().tick(), scenario.max_ticks);
+    // Last, even with --quiet: a run that used up max_ticks without its experiment's success says so.
+    const std::string why = g_interrupted ? std::string()
+                                          : world::max_ticks_line(harness.session().verdict(),
+                                                                  harness.world().tick(), scenario.max_ticks);
     if (!why.empty()) std::cerr << "swarm_inprocess: " << why << "\n";
     return g_interrupted ? kExitInterrupted : kExitOk;
   } catch (const world::RecordingError& e) {  // the run directory could not even be started

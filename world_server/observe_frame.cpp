@@ -4,16 +4,17 @@
 
 namespace swarmform::server {
 
-void build_frame(const world::World& world, const LatestCommand& latest, const world::Metrics& metrics,
-                 const dds::BehaviourView& behaviour, dds::ObserveFrameData& frame) {
+void build_frame(const world::World& world, const LatestCommand& latest,
+                 const experiment::Formation& formation, const dds::BehaviourView& behaviour,
+                 dds::ObserveFrameData& frame) {
   const auto& truth = world.robots();
   frame.tick = world.tick();
   frame.finished = false;
   frame.behaviour = behaviour.name;
   frame.states = behaviour.states;
   frame.telemetry_fields = behaviour.telemetry_fields;
-  frame.formation_tick = metrics.formation_tick ? static_cast<std::int64_t>(*metrics.formation_tick) : -1;
-  frame.shape_error = metrics.shape_error_at_formation.value_or(-1.0);
+  frame.formation_tick = formation.tick ? static_cast<std::int64_t>(*formation.tick) : -1;
+  frame.shape_error = formation.error.value_or(-1.0);
   frame.robots.resize(truth.size());
   frame.alive = 0;
   for (std::size_t i = 0; i < truth.size(); ++i) {

@@ -6,9 +6,9 @@
 
 #include <functional>
 
+#include "behaviour/experiment.hpp"
 #include "common/dds/behaviour_view.hpp"
 #include "common/dds/observe_wire.hpp"
-#include "world_server/run/metrics.hpp"
 #include "world_server/world/world.hpp"
 
 namespace swarmform::server {
@@ -16,8 +16,10 @@ namespace swarmform::server {
 // Each robot's last command taken, by id.
 using LatestCommand = std::function<const Command&(RobotId)>;
 
-// `frame`'s rows are reused.
-void build_frame(const world::World& world, const LatestCommand& latest, const world::Metrics& metrics,
-                 const dds::BehaviourView& behaviour, dds::ObserveFrameData& frame);
+// `frame`'s rows are reused. `formation`: the behaviour's experiment's (the frame's formation_tick and
+// shape_error; none without an experiment).
+void build_frame(const world::World& world, const LatestCommand& latest,
+                 const experiment::Formation& formation, const dds::BehaviourView& behaviour,
+                 dds::ObserveFrameData& frame);
 
 }  // namespace swarmform::server

@@ -244,10 +244,10 @@ int Server::run_inner() {
                           {"run_dir", options_.run_dir},
                           {"summary", options_.run_dir + "/summary.json"}},
                          "done ticks=" + std::to_string(world_.tick()) + " run_dir=" + options_.run_dir);
-  // Last: a run that used up max_ticks without arriving says so (not after a stop by signal).
+  // Last: a run that used up max_ticks without its experiment's success says so (not after a stop by signal).
   const std::string why = stopping()
                               ? std::string()
-                              : world::max_ticks_line(session_.metrics(), world_.tick(), scenario_.max_ticks);
+                              : world::max_ticks_line(session_.verdict(), world_.tick(), scenario_.max_ticks);
   if (!why.empty()) std::cout << "world_server: " << why << std::endl;
   return kExitOk;
 }
@@ -1018,9 +1018,9 @@ void Server::step_world() {
 }
 
 bool Server::record_or_defer() {
-  // Decided before the new tick is recorded: the record can set goal_tick or the experiment's done, which
-  // end the run only kTicksAfterGoal / kTicksAfterDone ticks later, so the answer is the same as after it.
-  static_assert(world::kTicksAfterGoal > 0 && world::kTicksAfterDone > 0);
+  // Decided before the new tick is recorded: the record can set the experiment's done, which ends the run
+  // only kTicksAfterDone ticks later, so the answer is the same as after it.
+  static_assert(world::kTicksAfterDone > 0);
   const bool complete = world::run_complete(session_, world_.tick(), scenario_.max_ticks);
   // Every agent waits for the step and the packets after it: the new tick's record (events, metrics, the
   // recording's rows) waits until the next round's packets are out when that round's start does not depend
@@ -1057,7 +1057,7 @@ bool Server::record_can_follow_packets() const {
 
 void Server::offer_frame(dds_time_t now, bool finished) {
   viewer_->offer_frame(
-      world_, [this](RobotId id) -> const Command& { return robots_[id].latest; }, session_.metrics(), now,
+      world_, [this](RobotId id) -> const Command& { return robots_[id].latest; }, session_.formation(), now,
       finished);
 }
 

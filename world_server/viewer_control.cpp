@@ -149,10 +149,10 @@ std::vector<RobotId> ViewerControl::take_kills() {
 }
 
 void ViewerControl::offer_frame(const world::World& world, const LatestCommand& latest,
-                                const world::Metrics& metrics, dds_time_t now, bool finished) {
+                                const experiment::Formation& formation, dds_time_t now, bool finished) {
   // On a schedule (frame_schedule.hpp), not "a period since the last frame".
   if (!bound_ || (!finished && !changed_ && !schedule_.due(now, frame_period_))) return;
-  build_frame(world, latest, metrics, behaviour_, frame_);
+  build_frame(world, latest, formation, behaviour_, frame_);
   frame_.finished = finished;
   frame_.paused = lockstep_ && paused_ && steps_left_ == 0;
   frame_.controllable = lockstep_;

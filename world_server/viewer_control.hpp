@@ -14,12 +14,12 @@
 #include <string>
 #include <vector>
 
+#include "behaviour/experiment.hpp"
 #include "common/dds/behaviour_view.hpp"
 #include "common/dds/observe_wire.hpp"
 #include "common/dds/refusal_log.hpp"
 #include "world_server/frame_schedule.hpp"
 #include "world_server/observe_frame.hpp"
-#include "world_server/run/metrics.hpp"
 #include "world_server/world/world.hpp"
 
 namespace swarmform::server {
@@ -48,8 +48,8 @@ class ViewerControl {
   bool bound() const { return bound_.has_value(); }
   // Publishes a frame (observe_frame.hpp) when one is due: a viewer is bound and its rate says so, or the
   // pause state changed (the page must see it at once), or `finished` (the run's last frame).
-  void offer_frame(const world::World& world, const LatestCommand& latest, const world::Metrics& metrics,
-                   dds_time_t now, bool finished = false);
+  void offer_frame(const world::World& world, const LatestCommand& latest,
+                   const experiment::Formation& formation, dds_time_t now, bool finished = false);
 
   static constexpr dds_duration_t kBindWait = DDS_SECS(30);
   // The viewer says HELLO every 250 ms; silent this long, it is gone (a SIGKILLed viewer's writer stays

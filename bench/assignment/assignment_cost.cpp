@@ -1,5 +1,5 @@
-// The cost of the world's assignment of robots to places (world_server/run/assignment.hpp), for the figures
-// in world_server/run/README.md. Square blocks of side x side labels with as many robots, each robot 3 cm
+// The cost of the assignment of robots to places (behaviour/shape_assignment.hpp), for the figures
+// in behaviour/README.md. Square blocks of side x side labels with as many robots, each robot 3 cm
 // (RMS) off its place, the block turned 0.3 rad; robots listed in a shuffled order.
 //   assignment_cost [--sides 10,20,32] [--repeat 20]
 // Prints, per size, in CPU ms: one tick's evaluation seeded by the right labels (the certificate; what every
@@ -20,7 +20,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "world_server/run/assignment.hpp"
+#include "behaviour/shape_assignment.hpp"
 
 namespace {
 
@@ -36,7 +36,8 @@ double seconds_per_call(int repeat, F&& f) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"assignment_cost: the time the world's robot-to-place assignment takes for square blocks"};
+  CLI::App app{
+      "assignment_cost: the time the shape measurement's robot-to-place assignment takes for square blocks"};
   std::vector<int> sides{10, 20, 32};
   int repeat = 20;
   app.add_option("--sides", sides, "block sides (labels = side^2)")->delimiter(',');
@@ -49,7 +50,7 @@ int main(int argc, char** argv) {
     ShapeMatrix shape{side, side, std::vector<int>(static_cast<std::size_t>(side * side))};
     std::iota(shape.cells.begin(), shape.cells.end(), 0);
     const std::size_t n = shape.cells.size();
-    const world::ShapeAssigner assigner(shape, 1.0, 1.5707963267948966);
+    const shape_metrics::ShapeAssigner assigner(shape, 1.0, 1.5707963267948966);
     std::mt19937 rng(1);
     std::normal_distribution<double> noise(0.0, 0.03 / std::sqrt(2.0));
     std::vector<std::size_t> order(n);
@@ -86,7 +87,7 @@ int main(int argc, char** argv) {
       }
     }
     const int slow = std::max(1, repeat / 4);
-    const double hung = seconds_per_call(slow, [&] { (void)world::hungarian(cost, n, n); });
+    const double hung = seconds_per_call(slow, [&] { (void)shape_metrics::hungarian(cost, n, n); });
     std::size_t solves = 0;
     double error = 0.0;
     const double no_guess = seconds_per_call(slow, [&] {
@@ -104,7 +105,7 @@ int main(int argc, char** argv) {
       const auto r = assigner.solve(scattered, labels, true);
       scattered_solves = r.full_solves;
     });
-    // What the tracker does instead before formation (metrics_tracker.cpp): the radial bound, which rules
+    // What the shape metrics do instead before formation (shape_metrics.cpp): the radial bound, which rules
     // the scattered robots out when it is above the formation error.
     double bound = 0.0;
     const double bound_s = seconds_per_call(repeat, [&] { bound = assigner.error_lower_bound(scattered); });

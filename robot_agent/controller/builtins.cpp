@@ -69,7 +69,8 @@ const Descriptor kPaper{
                     .motion_state = state(RobotState::Motion)},
     .make = &make_paper,
     .sensors = 0,
-    // The outcome is the experiment's; the formation and motion numbers are still the world's own keys.
+    // The experiment measures the shape (behaviour/shape_metrics.hpp): its outcome, and the formation and
+    // motion numbers as summary.json's own keys (Result::summary).
     .experiment = {.metrics = {},
                    .outcomes = kPaperOutcomes,
                    .success = kPaperSuccess,

@@ -1,8 +1,13 @@
 // A behaviour's experiment run by RunSession on a real World (no controllers: the test applies the commands):
 // it sees every tick from 0 with the truth and the deaths, and its metrics and outcome reach summary.json;
 // one that breaks its declaration or throws is named in the summary, never taken at its word; a behaviour
-// without one gets outcome none. Also the registry's refusal of inconsistent experiment declarations.
+// without one gets outcome none. Its own summary fields and its formation reach summary.json and the graph
+// watch; the world measures no shape of its own: the paper's shape keys are its experiment's. Also the
+// registry's refusal of inconsistent experiment declarations.
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -12,6 +17,7 @@
 
 #include "behaviour/descriptor_check.hpp"
 #include "behaviour/registry.hpp"
+#include "robot_agent/controller/builtins.hpp"
 #include "world_server/run/run_end.hpp"
 #include "world_server/run/run_session.hpp"
 #include "world_server/world/scenario.hpp"
@@ -23,7 +29,7 @@ namespace {
 using Json = nlohmann::json;
 
 // How the test experiment concludes.
-enum class Ending { Honest, UndeclaredOutcome, Throws, DoneAtSeven };
+enum class Ending { Honest, UndeclaredOutcome, Throws, DoneAtSeven, Fields, ClashingField };
 Ending g_ending = Ending::Honest;
 
 constexpr std::array kMetrics = {behaviour::MetricSpec{"ticks_seen", "observe calls"},
@@ -47,11 +53,24 @@ class CountingExperiment final : public experiment::Experiment {
     if (g_ending == Ending::Throws && ticks_ == 5) throw std::runtime_error("on purpose");
   }
   bool done() const override { return g_ending == Ending::DoneAtSeven && ticks_ > 7; }
+  // Formed from tick 5 on (observed ticks 0..4 before it), with an error of 0.25.
+  experiment::Formation formation() const override {
+    if (g_ending != Ending::Fields || ticks_ < 6) return {};
+    return {Tick{5}, 0.25};
+  }
   experiment::Result conclude() override {
     experiment::Result r;
     r.metrics = {static_cast<double>(ticks_), static_cast<double>(deaths_), first_x_,
                  std::numeric_limits<double>::quiet_NaN()};
     r.outcome = g_ending == Ending::UndeclaredOutcome ? "great" : deaths_ > 0 ? "saw_a_death" : "saw_none";
+    if (g_ending == Ending::Fields) {
+      r.summary = {{"trail", std::vector<experiment::SeriesPoint>{{1, 0.5}, {2, 0.25}}},
+                   {"first_tick", std::int64_t{3}},
+                   {"spread", 1.5},
+                   {"not_reached", std::monostate{}},
+                   {"lagging", std::vector<std::int64_t>{2, 3}}};
+    }
+    if (g_ending == Ending::ClashingField) r.summary = {{"ticks", std::int64_t{1}}};
     return r;
   }
 
@@ -99,9 +118,10 @@ const behaviour::Descriptor kUnjudged{
     .experiment = {},
 };
 
-// Up to 20 ticks (run_complete decides, as both front ends do) of 4 robots driving ahead; robot 1 dies at
-// tick 10. Returns summary.json's content.
-Json run(const std::string& behaviour) {
+// Up to 20 ticks (run_complete decides, as both front ends do) of 4 robots driving ahead, each reporting its
+// id as its label (so the communication graph has robots to watch); robot 1 dies at tick 10. Returns
+// summary.json's text. `extra`: more lines of the scenario.
+std::string run_text(const std::string& behaviour, const std::string& extra = "") {
   behaviour::Registry registry;
   registry.add(kJudged);
   registry.add(kUnjudged);
@@ -110,7 +130,7 @@ arena: {centre: [0.0, 0.0], width: 10.0, height: 10.0, walls: true}
 robots: {count: 4, region: {centre: [0.0, 0.0], width: 4.0, height: 4.0}}
 seed: 3
 max_ticks: 20
-)",
+)" + extra,
                                          "<experiment_runner_test>", {}, registry);
   World world(s);
   RunSession session(world, {});
@@ -121,11 +141,19 @@ max_ticks: 20
       world.kill(1);
       session.record_death(1);
     }
-    for (RobotId id = 0; id < 4; ++id) world.apply_command(id, ahead);
+    for (RobotId id = 0; id < 4; ++id) {
+      Command c = ahead;
+      c.telemetry.label = static_cast<std::int32_t>(id);
+      world.apply_command(id, c);
+    }
     world.step();
     session.record_tick();
   }
-  return Json::parse(session.finish(0.0));
+  return session.finish(0.0);
+}
+
+Json run(const std::string& behaviour, const std::string& extra = "") {
+  return Json::parse(run_text(behaviour, extra));
 }
 
 TEST(ExperimentRunner, SeesEveryTickAndTheDeathsAndItsResultReachesTheSummary) {
@@ -168,12 +196,117 @@ TEST(ExperimentRunner, AnExperimentThatSaysDoneEndsTheRunAtTheNextTick) {
   EXPECT_EQ(run("judged")["end_reason"], "max_ticks");
 }
 
+// Done before the goal's last move (goal_events.hpp) is done at a goal that will move: the run goes on, and
+// the experiment's done from the move's tick on ends it.
+TEST(ExperimentRunner, DoneBeforeTheGoalsLastMoveDoesNotEndTheRun) {
+  g_ending = Ending::DoneAtSeven;
+  const Json j =
+      run("judged", "goal: {x: 1.0, y: 1.0, radius: 0.5}\nevents: [{tick: 12, goal: [2.0, -2.0]}]\n");
+  g_ending = Ending::Honest;
+  EXPECT_EQ(j["ticks"], 13);
+  EXPECT_EQ(j["end_reason"], "completed");
+}
+
 TEST(ExperimentRunner, ABehaviourWithoutOneHasOutcomeNone) {
   const Json j = run("unjudged");
   EXPECT_EQ(j["outcome"], "none");
   EXPECT_TRUE(j["success"].is_null());
   EXPECT_TRUE(j["behaviour_metrics"].is_object());
   EXPECT_TRUE(j["behaviour_metrics"].empty());
+}
+
+// The experiment's own keys come after the world's generic metrics (after max_components), in its order, its
+// series last on one line; its formation switches the world's watch of the communication graph on.
+TEST(ExperimentRunner, ItsSummaryFieldsAndFormationReachTheSummary) {
+  g_ending = Ending::Fields;
+  Json j = run("judged");
+  EXPECT_EQ(j["first_tick"], 3);
+  EXPECT_EQ(j["spread"], 1.5);
+  EXPECT_TRUE(j.contains("not_reached") && j["not_reached"].is_null());
+  EXPECT_EQ(j["lagging"], Json::parse("[2, 3]"));
+  EXPECT_EQ(j["trail"], Json::parse("[[1, 0.5], [2, 0.25]]"));
+  EXPECT_GE(j["max_components"], 1);  // watched from tick 5
+  const auto ordered = nlohmann::ordered_json::parse(run_text("judged"));
+  std::vector<std::string> keys;
+  for (const auto& [key, value] : ordered.items()) keys.push_back(key);
+  const auto at = [&](const std::string& k) { return std::find(keys.begin(), keys.end(), k) - keys.begin(); };
+  EXPECT_EQ(at("first_tick"), at("max_components") + 1);
+  EXPECT_LT(at("lagging"), at("outcome"));
+  EXPECT_EQ(keys.back(), "trail");
+
+  g_ending = Ending::ClashingField;
+  j = run("judged");
+  g_ending = Ending::Honest;
+  EXPECT_EQ(j["outcome"], "experiment_failed");
+  EXPECT_EQ(j["experiment_error"],
+            "experiment of behaviour 'judged' returned summary field 'ticks', a key the world writes");
+  EXPECT_EQ(j["ticks"], 20);                        // the world's, not the experiment's
+  EXPECT_EQ(run("unjudged")["max_components"], 0);  // no experiment, no formation: the graph is never watched
+}
+
+// The world measures no shape: a behaviour that needs a shape and a goal but brings no experiment gets no
+// formation_tick, shape error, distortion, stuck robots or live formation; the paper gets them all from its
+// experiment.
+TEST(ExperimentRunner, TheShapeKeysAreThePaperExperimentsNotTheWorlds) {
+  const behaviour::Descriptor& paper = controller::paper_descriptor();
+  behaviour::Descriptor shaped = kUnjudged;
+  shaped.name = "shaped";
+  shaped.needs_shape = true;
+  shaped.needs_goal = true;
+  shaped.shape_rules = paper.shape_rules;
+  shaped.params = paper.params;
+  shaped.states = paper.states;
+  const auto dir = std::filesystem::temp_directory_path() / "experiment_runner_test";
+  std::filesystem::create_directories(dir);
+  std::ofstream((dir / "line3.txt").string()) << "0 1 2\n";
+  experiment::Formation formation;  // the run's last, as world_server hands it to the viewer's frame
+  const auto summary = [&](const std::string& behaviour) {
+    behaviour::Registry registry;
+    registry.add(paper);
+    registry.add(shaped);
+    // Three robots standing on the line's places, still: formed once at rest (10 ticks), far from the goal.
+    const Scenario s =
+        parse_scenario_text("behaviour: " + behaviour + "\nshape: " + (dir / "line3.txt").string() + R"(
+grid_spacing: 1.0
+arena: {centre: [0.0, 0.0], width: 20.0, height: 10.0, walls: true}
+robots: {poses: [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]}
+goal: {x: 8.0, y: 0.0, radius: 0.5}
+max_ticks: 20
+)",
+                            "<experiment_runner_test>", {}, registry);
+    World world(s);
+    RunSession session(world, {});
+    while (!run_complete(session, world.tick(), s.max_ticks)) {
+      for (RobotId id = 0; id < 3; ++id) {
+        Command still;  // each holds its place's label (the communication graph's robots)
+        still.telemetry.label = static_cast<std::int32_t>(id);
+        world.apply_command(id, still);
+      }
+      world.step();
+      session.record_tick();
+    }
+    formation = session.formation();
+    return Json::parse(session.finish(0.0));
+  };
+  const Json mine = summary("shaped");
+  for (const char* key : {"formation_tick", "shape_error_at_formation", "goal_tick", "shape_error_at_goal",
+                          "peak_distortion", "path_length", "arrived", "stuck_robots", "distortion"}) {
+    EXPECT_FALSE(mine.contains(key)) << key;
+  }
+  EXPECT_EQ(mine["outcome"], "none");
+  EXPECT_EQ(mine["max_components"], 0);
+  EXPECT_FALSE(formation.tick);  // the view shows no formation either
+  const Json p = summary("paper");
+  EXPECT_EQ(p["formation_tick"], 10);
+  EXPECT_LT(p["shape_error_at_formation"].get<double>(), 1e-9);
+  EXPECT_TRUE(p["goal_tick"].is_null());
+  EXPECT_EQ(p["outcome"], "formed_not_arrived");
+  EXPECT_EQ(p["stuck_robots"], Json::array());
+  EXPECT_EQ(p["distortion"].size(), 11u);              // ticks 10..20
+  EXPECT_EQ(p["max_components"], 1);                   // watched from the experiment's formation tick
+  EXPECT_EQ(formation.tick, std::optional<Tick>(10));  // the live view's formation line
+  ASSERT_TRUE(formation.error);
+  EXPECT_EQ(*formation.error, p["shape_error_at_formation"].get<double>());
 }
 
 TEST(ExperimentRunner, TheRegistryRefusesAnInconsistentDeclaration) {

@@ -227,19 +227,5 @@ TEST(Harness, StopsOnThePredicate) {
   EXPECT_EQ(h.world().tick(), 17u);
 }
 
-TEST(RunEnd, MaxTicksOrTwentyTicksAfterTheGoal) {
-  world::Metrics m;
-  EXPECT_FALSE(world::run_complete(m, 99, 100));
-  EXPECT_TRUE(world::run_complete(m, 100, 100));
-  m.goal_tick = 50;
-  EXPECT_FALSE(world::run_complete(m, 50 + world::kTicksAfterGoal - 1, 1000));
-  EXPECT_TRUE(world::run_complete(m, 50 + world::kTicksAfterGoal, 1000));
-  // The goal moves at tick 300: an arrival before it does not end the run, even asked at the move's tick
-  // before its record undoes the arrival (as world_server asks); one at or after it does.
-  EXPECT_FALSE(world::run_complete(m, 300, 1000, 300));
-  m.goal_tick = 300;
-  EXPECT_TRUE(world::run_complete(m, 300 + world::kTicksAfterGoal, 1000, 300));
-}
-
 }  // namespace
 }  // namespace swarmform::harness

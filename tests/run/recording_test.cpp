@@ -279,15 +279,29 @@ TEST(Recording, SummaryHasEveryKeyNullWhereNotReached) {
   const Scenario s = small_scenario();
   const auto robots = robots_at(3);
   Metrics m;
-  m.formation_tick = 40;
-  m.shape_error_at_formation = 0.05;
   m.deaths.push_back({2, 7});
   SummaryInputs in = lockstep_inputs(s, robots, m, 100, 2.0);
   in.trajectory_sha256 = std::string(64, 'a');
-  EXPECT_EQ(make_summary(in)["outcome"], "none");  // no experiment's verdict: nothing judged
+  EXPECT_EQ(make_summary(in)["outcome"], "none");             // no experiment's verdict: nothing judged
+  EXPECT_FALSE(make_summary(in).contains("formation_tick"));  // the world measures no shape of its own
+  // The paper's experiment's fields (behaviour/shape_metrics.hpp summary_fields), as ExperimentRunner
+  // converts them.
   ExperimentVerdict verdict;
   verdict.outcome = "not_formed";
   verdict.success = false;
+  verdict.fields = {{"formation_tick", 40},
+                    {"shape_error_at_formation", 0.05},
+                    {"motion_start_tick", nullptr},
+                    {"motion_ticks_minimum", nullptr},
+                    {"goal_tick", nullptr},
+                    {"shape_error_at_goal", nullptr},
+                    {"peak_distortion", nullptr},
+                    {"mean_distortion", nullptr},
+                    {"path_length", 0.0},
+                    {"arrived", 0},
+                    {"stuck_robots", nlohmann::ordered_json::array()},
+                    {"stuck_robot_count", 0}};
+  verdict.series = {{"distortion", nlohmann::ordered_json::array()}};
   in.verdict = &verdict;
   const auto j = make_summary(in);
   for (const char* key : {"robots",
@@ -332,7 +346,8 @@ TEST(Recording, SummaryHasEveryKeyNullWhereNotReached) {
   EXPECT_EQ(j["outcome"], "not_formed");
   EXPECT_TRUE(j["motion_ticks_minimum"].is_null());
   EXPECT_EQ(j["stuck_robot_count"], 0);
-  m.stuck_robots = {1, 4};
+  verdict.fields["stuck_robots"] = {1, 4};
+  verdict.fields["stuck_robot_count"] = 2;
   verdict.outcome = "formed_not_arrived";
   const auto k = make_summary(in);
   EXPECT_EQ(k["stuck_robots"], nlohmann::ordered_json::parse("[1, 4]"));
@@ -340,7 +355,7 @@ TEST(Recording, SummaryHasEveryKeyNullWhereNotReached) {
   EXPECT_EQ(k["outcome"], "formed_not_arrived");
 
   // The text form keeps the long distortion series on one line and parses back to the same document.
-  m.distortion = {{40, 0.05}, {41, 0.0625}};
+  verdict.series["distortion"] = nlohmann::ordered_json::parse("[[40, 0.05], [41, 0.0625]]");
   const auto with_series = make_summary(in);
   const std::string text = summary_text(with_series);
   EXPECT_EQ(nlohmann::ordered_json::parse(text), with_series);
@@ -368,10 +383,11 @@ TEST(Recording, SummaryRoomIsReservedAtTheStartAndTheOutcomeAloneAlwaysFitsIt) {
   const auto robots = robots_at(3);
   Metrics m;
   for (RobotId i = 0; i < 5000; ++i) m.deaths.push_back({i, 7});
-  for (Tick t = 0; t < 20000; ++t) m.distortion.push_back({t, 0.0625});
-  m.stuck_robots = std::vector<RobotId>(1000, 1);
   ExperimentVerdict verdict;
   verdict.outcome = "formed_not_arrived";
+  verdict.fields["stuck_robots"] = std::vector<RobotId>(1000, 1);
+  auto& series = verdict.series["distortion"] = nlohmann::ordered_json::array();
+  for (Tick t = 0; t < 20000; ++t) series.push_back({t, 0.0625});
   SummaryInputs in = lockstep_inputs(s, robots, m, 20000, 2.0);
   in.verdict = &verdict;
   in.trajectory_sha256 = std::string(64, 'a');

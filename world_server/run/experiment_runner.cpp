@@ -2,8 +2,12 @@
 
 #include <cmath>
 #include <exception>
+#include <set>
+#include <type_traits>
 
 #include "behaviour/descriptor_check.hpp"
+#include "world_server/run/metrics.hpp"
+#include "world_server/run/recording_format.hpp"
 
 namespace swarmform::world {
 
@@ -16,7 +20,7 @@ ExperimentRunner::ExperimentRunner(const World& world) : world_(world) {
   arena_ = {s.arena_centre, s.arena_width, s.arena_height, s.walls};
   // The scenario's goal is the run's goal only for a behaviour that goes to one (the world checks it then).
   if (descriptor_->needs_goal) goal_ = experiment::Goal{s.mission.goal, s.mission.goal_radius};
-  track_shape_ = descriptor_->needs_shape && descriptor_->needs_goal;
+  if (!s.goal_events.empty()) last_goal_move_ = s.goal_events.back().tick;
   try {
     experiment_ = descriptor_->experiment.make();
     if (!experiment_) {
@@ -35,7 +39,48 @@ void ExperimentRunner::fail(const std::string& what) {
   verdict_.success = false;
   verdict_.error = "experiment of behaviour '" + std::string(descriptor_->name) + "' " + what;
   for (auto& [name, value] : verdict_.metrics.items()) value = nullptr;
+  verdict_.fields = nlohmann::ordered_json::object();
+  verdict_.series = nlohmann::ordered_json::object();
+  formation_ = {};
 }
+
+namespace {
+
+nlohmann::ordered_json field_json(const experiment::FieldValue& value) {
+  return std::visit(
+      [](const auto& v) -> nlohmann::ordered_json {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, std::monostate>) {
+          return nullptr;
+        } else if constexpr (std::is_same_v<T, double>) {
+          return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
+        } else if constexpr (std::is_same_v<T, std::vector<experiment::SeriesPoint>>) {
+          nlohmann::ordered_json series = nlohmann::ordered_json::array();
+          for (const auto& [tick, x] : v) {
+            series.push_back(nlohmann::ordered_json::array(
+                {tick, std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(nullptr)}));
+          }
+          return series;
+        } else {
+          return v;
+        }
+      },
+      value);
+}
+
+// Why the experiment's summary fields cannot be written ("" if they can): a key empty, given twice or one
+// the world writes itself.
+std::string check_fields(const std::vector<experiment::SummaryField>& fields) {
+  std::set<std::string> seen;
+  for (const auto& f : fields) {
+    if (f.key.empty()) return "returned a summary field with an empty key";
+    if (is_world_summary_key(f.key)) return "returned summary field '" + f.key + "', a key the world writes";
+    if (!seen.insert(f.key).second) return "returned summary field '" + f.key + "' twice";
+  }
+  return {};
+}
+
+}  // namespace
 
 // The obstacles change only at world events: the truth's list is built again only after one.
 bool ExperimentRunner::obstacles_stale() const {
@@ -62,12 +107,13 @@ void ExperimentRunner::refresh_obstacles() {
   obstacles_of_ = world_.tick();
 }
 
-void ExperimentRunner::observe(const Metrics& metrics) {
+void ExperimentRunner::observe() {
   if (!experiment_) return;
   const auto& truth = world_.robots();
   robots_.resize(truth.size());
   for (std::size_t i = 0; i < truth.size(); ++i) {
-    robots_[i] = {truth[i].id, truth[i].pose, truth[i].alive, &truth[i].telemetry, truth[i].leds};
+    robots_[i] = {truth[i].id,         truth[i].pose, truth[i].alive,
+                  &truth[i].telemetry, truth[i].leds, is_silent(truth[i], world_.tick())};
   }
   if (obstacles_stale()) refresh_obstacles();
   experiment::Truth t;
@@ -78,10 +124,12 @@ void ExperimentRunner::observe(const Metrics& metrics) {
   t.obstacles = obstacles_;
   t.arena = arena_;
   if (goal_) t.goal = world_.goal();  // as it stands this tick (goal_events.hpp)
-  if (track_shape_) t.shape = experiment::ShapeProgress{metrics.formation_tick, metrics.goal_tick};
   try {
     experiment_->observe(t);
-    if (!done_at_ && experiment_->done()) done_at_ = t.tick;
+    formation_ = experiment_->formation();
+    // Not before the goal's last move (goal_events.hpp): an experiment done at a goal that will move cannot
+    // know it yet, and the run goes on to the goal where it moves.
+    if (!done_at_ && t.tick >= last_goal_move_ && experiment_->done()) done_at_ = t.tick;
   } catch (const std::exception& e) {
     fail("threw at tick " + std::to_string(t.tick) + ": " + e.what());
   }
@@ -105,6 +153,15 @@ const ExperimentVerdict& ExperimentRunner::conclude() {
   if (const std::string why = behaviour::check_result(*descriptor_, r); !why.empty()) {
     fail(why);
     return verdict_;
+  }
+  if (const std::string why = check_fields(r.summary); !why.empty()) {
+    fail(why);
+    return verdict_;
+  }
+  for (const auto& f : r.summary) {
+    auto& into = std::holds_alternative<std::vector<experiment::SeriesPoint>>(f.value) ? verdict_.series
+                                                                                       : verdict_.fields;
+    into[f.key] = field_json(f.value);
   }
   verdict_.outcome = r.outcome;
   verdict_.success = r.outcome == descriptor_->experiment.success;

@@ -14,7 +14,6 @@
 
 #include "behaviour/descriptor.hpp"
 #include "behaviour/experiment.hpp"
-#include "world_server/run/metrics.hpp"
 #include "world_server/world/world.hpp"
 
 namespace swarmform::world {
@@ -24,6 +23,10 @@ struct ExperimentVerdict {
   std::string outcome = "none";  // the experiment's, "none" without one, "experiment_failed"
   std::optional<bool> success;   // null without an experiment
   nlohmann::ordered_json metrics = nlohmann::ordered_json::object();  // behaviour_metrics
+  // The experiment's own top-level keys (Result::summary), in its order: `series` its series ([[tick,
+  // value]...]), `fields` the others. Empty without an experiment or when it failed.
+  nlohmann::ordered_json fields = nlohmann::ordered_json::object();
+  nlohmann::ordered_json series = nlohmann::ordered_json::object();
   std::string error;  // with experiment_failed: what went wrong
 };
 
@@ -33,14 +36,19 @@ class ExperimentRunner {
  public:
   explicit ExperimentRunner(const World& world);
   bool active() const { return experiment_ != nullptr; }
-  // The tick's truth (after World::step, or tick 0); `metrics` for the world's shape progress.
-  void observe(const Metrics& metrics);
+  // The tick's truth (after World::step, or tick 0).
+  void observe();
   void died(RobotId id) { died_.push_back(id); }
   void rejoined(RobotId id) { rejoined_.push_back(id); }
   // Once; later calls return the same verdict.
   const ExperimentVerdict& conclude();
   // The tick after whose observe the experiment first said it was done (Experiment::done), if it has.
   std::optional<Tick> done_at() const { return done_at_; }
+  // What the experiment said of its formation after the last observe (none without an experiment).
+  const experiment::Formation& formation() const { return formation_; }
+  // The experiment (null without one or once it failed), and the verdict as it stands (conclude's once run).
+  const experiment::Experiment* experiment() const { return experiment_.get(); }
+  const ExperimentVerdict& verdict() const { return verdict_; }
   // Set once the experiment failed (for world.log), else empty.
   const std::string& error() const { return verdict_.error; }
 
@@ -58,9 +66,10 @@ class ExperimentRunner {
   std::vector<RobotId> died_, rejoined_;
   experiment::ArenaTruth arena_;
   std::optional<experiment::Goal> goal_;
-  bool track_shape_ = false;
+  experiment::Formation formation_;
   bool concluded_ = false;
   std::optional<Tick> done_at_;
+  Tick last_goal_move_ = 0;  // the scenario's last goal move (goal_events.hpp), 0: none
   ExperimentVerdict verdict_;
 };
 

@@ -13,11 +13,6 @@ namespace {
 
 using ojson = nlohmann::ordered_json;
 
-template <typename T>
-ojson or_null(const std::optional<T>& v) {
-  return v ? ojson(*v) : ojson(nullptr);
-}
-
 ojson xy(Vec2 v) {
   return ojson::array({v.x, v.y});
 }
@@ -316,28 +311,19 @@ ojson make_summary(const SummaryInputs& in) {
   j["rejoins"] = deaths_json(m.rejoins);
   j["collisions_robot_robot"] = m.collisions_robot_robot;
   j["collisions_robot_obstacle"] = m.collisions_robot_obstacle;
-  j["formation_tick"] = or_null(m.formation_tick);
-  j["shape_error_at_formation"] = or_null(m.shape_error_at_formation);
-  j["motion_start_tick"] = or_null(m.motion_start_tick);
-  j["motion_ticks_minimum"] = or_null(m.motion_ticks_minimum);
-  j["goal_tick"] = or_null(m.goal_tick);
-  j["shape_error_at_goal"] = or_null(m.shape_error_at_goal);
-  j["peak_distortion"] = or_null(m.peak_distortion);
-  j["mean_distortion"] = or_null(m.mean_distortion);
   j["leader_changes"] = m.leader_changes;
   j["fragmentations"] = m.fragmentations;
   j["graph_rejoins"] = m.graph_rejoins;
   j["max_components"] = m.max_components;
-  j["path_length"] = m.path_length;
-  j["arrived"] = m.arrived;
   const ExperimentVerdict none;
   const ExperimentVerdict& verdict = in.verdict != nullptr ? *in.verdict : none;
+  // The experiment's own keys (the paper's formation and goal ticks, shape errors, stuck robots...), its
+  // series last (summary_text).
+  for (const auto& [key, value] : verdict.fields.items()) j[key] = value;
   j["outcome"] = verdict.outcome;
   j["success"] = verdict.success ? ojson(*verdict.success) : ojson(nullptr);
   j["behaviour_metrics"] = verdict.metrics;
   if (!verdict.error.empty()) j["experiment_error"] = verdict.error;
-  j["stuck_robots"] = m.stuck_robots;
-  j["stuck_robot_count"] = m.stuck_robots.size();
   j["silent_robots"] = m.silent_robots;
   j["command_verdicts"] = in.command_verdicts;
   behaviour_at_end(*in.scenario, *in.robots, j);
@@ -347,17 +333,19 @@ ojson make_summary(const SummaryInputs& in) {
   if (in.extra.is_object()) {
     for (const auto& [key, value] : in.extra.items()) j[key] = value;
   }
-  ojson series = ojson::array();
-  for (const auto& [tick, error] : m.distortion) series.push_back(ojson::array({tick, error}));
-  j["distortion"] = std::move(series);
+  for (const auto& [key, value] : verdict.series.items()) j[key] = value;
   return j;
 }
 
 ojson summary_outcome(const ojson& summary) {
   ojson out = ojson::object();
   ojson cut = ojson::object();
+  ojson left_out = ojson::array();
   for (const auto& [key, value] : summary.items()) {
-    if (key == "distortion") continue;
+    if (is_series(value)) {
+      left_out.push_back(key);
+      continue;
+    }
     if (value.is_array() && value.size() > kOutcomeListEntries) {
       cut[key] = value.size();
       out[key] = ojson(value.begin(), value.begin() + static_cast<std::ptrdiff_t>(kOutcomeListEntries));
@@ -366,23 +354,80 @@ ojson summary_outcome(const ojson& summary) {
     }
   }
   out["summary_cut"] = {{"why", "the disk was full: the whole summary did not fit the room reserved for it"},
-                        {"left_out", ojson::array({"distortion"})},
+                        {"left_out", std::move(left_out)},
                         {"lists_cut_to_" + std::to_string(kOutcomeListEntries) + "_entries", cut}};
   return out;
 }
 
 std::string summary_text(const ojson& summary) {
-  ojson head = summary;
-  const auto it = head.find("distortion");
-  if (it == head.end() || head.size() == 1) return summary.dump(2) + "\n";
-  const std::string series = it->dump();
-  head.erase(it);
+  ojson head = ojson::object();
+  std::vector<std::pair<std::string, std::string>> series;
+  for (const auto& [key, value] : summary.items()) {
+    if (is_series(value)) {
+      series.emplace_back(key, value.dump());
+    } else {
+      head[key] = value;
+    }
+  }
+  if (series.empty() || head.empty()) return summary.dump(2) + "\n";
   std::string text = head.dump(2);  // ends with "\n}"
   text.resize(text.size() - 2);
-  text.append(",\n  \"distortion\": ");
-  text.append(series);
+  for (const auto& [key, line] : series) {
+    text.append(",\n  ");
+    text.append(ojson(key).dump());
+    text.append(": ");
+    text.append(line);
+  }
   text.append("\n}\n");
   return text;
+}
+
+bool is_series(const ojson& value) {
+  if (!value.is_array() || value.empty()) return false;
+  return std::all_of(value.begin(), value.end(),
+                     [](const ojson& p) { return p.is_array() && p.size() == 2; });
+}
+
+bool is_world_summary_key(std::string_view key) {
+  // make_summary's own keys (and summary_outcome's summary_cut): an experiment's field may not take one.
+  static constexpr std::string_view kKeys[] = {"format",
+                                               "version",
+                                               "scenario",
+                                               "shape_file",
+                                               "behaviour",
+                                               "robots",
+                                               "labels",
+                                               "seed",
+                                               "mode",
+                                               "ticks",
+                                               "wall_seconds",
+                                               "ticks_per_second",
+                                               "robot_ticks_per_second",
+                                               "steady_from_tick",
+                                               "steady_ticks_per_second",
+                                               "alive_at_end",
+                                               "deaths",
+                                               "rejoins",
+                                               "collisions_robot_robot",
+                                               "collisions_robot_obstacle",
+                                               "leader_changes",
+                                               "fragmentations",
+                                               "graph_rejoins",
+                                               "max_components",
+                                               "outcome",
+                                               "success",
+                                               "behaviour_metrics",
+                                               "experiment_error",
+                                               "silent_robots",
+                                               "command_verdicts",
+                                               "params",
+                                               "states_at_end",
+                                               "telemetry_mean_at_end",
+                                               "trajectory_sha256",
+                                               "end_reason",
+                                               "provenance",
+                                               "summary_cut"};
+  return std::find(std::begin(kKeys), std::end(kKeys), key) != std::end(kKeys);
 }
 
 }  // namespace swarmform::world

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 
 #include <nlohmann/json.hpp>
 
@@ -52,13 +53,18 @@ struct SummaryInputs {
   nlohmann::ordered_json extra;
 };
 
-// summary.json: every metric, null where not reached; `distortion` is the (tick, shape error) series.
+// summary.json: the world's generic metrics, then the experiment's own fields (ExperimentVerdict::fields)
+// after max_components, its series last; null where not reached.
 nlohmann::ordered_json make_summary(const SummaryInputs& in);
-// The summary as text: indented, except the long `distortion` series, which goes on one line at the end.
+// A series: a non-empty array of [tick, value] pairs (the paper's `distortion`).
+bool is_series(const nlohmann::ordered_json& value);
+// A key make_summary writes itself (an experiment's field may not take it).
+bool is_world_summary_key(std::string_view key);
+// The summary as text: indented, except each long series, which goes on one line at the end.
 std::string summary_text(const nlohmann::ordered_json& summary);
-// The summary cut to the run's outcome, for a full disk: every field but the `distortion` series, each list
-// (deaths, stuck robots, ...) cut to its first kOutcomeListEntries, and `summary_cut` saying so with the
-// lists' full lengths. It fits the room reserved for summary.json (recorder.hpp) whatever the run.
+// The summary cut to the run's outcome, for a full disk: every field but the series, each list (deaths,
+// stuck robots, ...) cut to its first kOutcomeListEntries, and `summary_cut` saying so with the lists' full
+// lengths. It fits the room reserved for summary.json (recorder.hpp) whatever the run.
 inline constexpr std::size_t kOutcomeListEntries = 16;
 nlohmann::ordered_json summary_outcome(const nlohmann::ordered_json& summary);
 

@@ -1,6 +1,6 @@
 // RunSession: after each World::step, derive the events, update the metrics, hash the poses and (with a run
-// directory) write the recording. Metrics come first in record_tick because the formation tick they find
-// switches on the graph events of the same tick.
+// directory) write the recording. The experiment observes first in record_tick because the formation tick it
+// finds switches on the graph events of the same tick.
 #include "world_server/run/run_session.hpp"
 
 #include <bit>
@@ -46,7 +46,6 @@ struct RunSession::Impl {
   Impl(const World& w, RunOptions o)
       : world(w),
         options(std::move(o)),
-        tracker(w.scenario().mission, w.scenario().behaviour),
         experiment(w),
         fragment_range(options.fragment_range > 0.0 ? options.fragment_range : w.scenario().comm_range),
         events(fragment_range, w.scenario().behaviour ? w.scenario().behaviour->states
@@ -81,11 +80,12 @@ struct RunSession::Impl {
   void record() {
     const Tick tick = world.tick();
     const auto& robots = world.robots();
-    if (const auto& goal = world.goal()) tracker.goal_stands(*goal);  // where world events moved it
     tracker.observe(tick, robots, recorded_once ? world.last_contacts() : ContactCounts{});
-    // The communication graph is watched from the formation tick on (before it, robots joining the shape
-    // one by one would read as endless splits and rejoins).
-    const bool track_graph = tracker.metrics().formation_tick.has_value();
+    experiment.observe();
+    // The communication graph is watched from the tick the behaviour's experiment says it stood formed on
+    // (before it, robots joining a shape one by one would read as endless splits and rejoins); never for a
+    // behaviour without one.
+    const bool track_graph = experiment.formation().tick.has_value();
     std::size_t components = 0;
     for (const auto& e : events.observe(tick, robots, track_graph, components)) emit(e);
     // What the controllers said happened (label taken/lost/freed, barrier, leader elected, parent...).
@@ -96,7 +96,6 @@ struct RunSession::Impl {
         emit(make_event(tick, "battery_empty", static_cast<std::int64_t>(r.id)));
     }
     if (track_graph) tracker.note_components(components);
-    experiment.observe(tracker.metrics());
     // x, y, theta of every robot in id order, each as its 8-byte little-endian bit pattern; one update a
     // tick.
     pose_bytes.resize(robots.size() * 3 * sizeof(double));
@@ -187,11 +186,6 @@ void RunSession::record_event(std::int64_t id, const std::string& kind, const st
   impl_->emit(e);
 }
 
-Tick RunSession::last_goal_move() const {
-  const auto& moves = impl_->world.scenario().goal_events;
-  return moves.empty() ? 0 : moves.back().tick;
-}
-
 std::optional<Tick> RunSession::experiment_done_at() const {
   return impl_->experiment.done_at();
 }
@@ -200,8 +194,16 @@ const Metrics& RunSession::metrics() const {
   return impl_->tracker.metrics();
 }
 
-const AssignmentStats& RunSession::assignment_stats() const {
-  return impl_->tracker.assignment_stats();
+const experiment::Experiment* RunSession::experiment() const {
+  return impl_->experiment.experiment();
+}
+
+const experiment::Formation& RunSession::formation() const {
+  return impl_->experiment.formation();
+}
+
+const ExperimentVerdict& RunSession::verdict() const {
+  return impl_->experiment.verdict();
 }
 
 bool RunSession::summary_cut() const {
@@ -227,14 +229,11 @@ void RunSession::set_summary_field(const std::string& key, nlohmann::ordered_jso
 
 std::string RunSession::finish(double wall_seconds, const SteadyWindow& steady) {
   if (!impl_->finished) impl_->tracker.conclude();
-  const Metrics& metrics = impl_->tracker.metrics();
   const Tick tick = impl_->last_recorded_tick;
   const Tick max_ticks = impl_->world.scenario().max_ticks;
   EndReason reason = EndReason::Interrupted;
   if (impl_->end_reason) {
     reason = *impl_->end_reason;
-  } else if (metrics.goal_tick && tick >= *metrics.goal_tick + kTicksAfterGoal) {
-    reason = EndReason::Completed;
   } else if (const auto done = impl_->experiment.done_at(); done && tick >= *done + kTicksAfterDone) {
     reason = EndReason::Completed;
   } else if (tick >= max_ticks) {

@@ -12,6 +12,7 @@
 
 #include "common/types.hpp"
 #include "world_server/run/end_reason.hpp"
+#include "world_server/run/experiment_runner.hpp"
 #include "world_server/run/metrics.hpp"
 #include "world_server/run/metrics_tracker.hpp"
 #include "world_server/run/recording_format.hpp"
@@ -60,11 +61,12 @@ class RunSession {
   const Metrics& metrics() const;
   // The tick at which the behaviour's experiment said the run was done (run_end.hpp), if it has.
   std::optional<Tick> experiment_done_at() const;
-  // The tick of the scenario's last goal move (goal_events.hpp), 0 when the goal never moves: an arrival
-  // before it does not end the run.
-  Tick last_goal_move() const;
-  // What the world's robot-to-place assignment has cost so far (metrics_tracker.hpp).
-  const AssignmentStats& assignment_stats() const;
+  // The behaviour's experiment (its own measures: for a test that reads them), null without one or once it
+  // failed; what it says of its formation after the last tick (the view's formation line).
+  const experiment::Experiment* experiment() const;
+  const experiment::Formation& formation() const;
+  // The experiment's verdict: complete once finish() has run.
+  const ExperimentVerdict& verdict() const;
 
   // Why the run stopped, for summary.json's end_reason. Unset, finish() says completed when the run arrived
   // and settled (run_end.hpp), else max_ticks when it used them up, else interrupted.

@@ -15,6 +15,7 @@
 
 #include "harness/harness.hpp"
 #include "robot_agent/controller/builtins.hpp"
+#include "tests/sim/measured.hpp"
 #include "world_server/world/scenario.hpp"
 
 namespace swarmform::harness {
@@ -34,11 +35,11 @@ RejoinRun run_paper_with(const std::vector<std::string>& faults, RobotId robot) 
   ov.max_ticks = kMaxTicks;
   Harness h(world::load_scenario(kPaper, ov, controller::builtin_registry()));
   RejoinRun out;
-  while (h.world().tick() < kMaxTicks && !h.metrics().goal_tick) {
+  while (h.world().tick() < kMaxTicks && !measured(h).goal_tick) {
     h.step();
     for (const auto& e : h.world().robots()[robot].telemetry.events) out.events_of_robot.push_back(e);
   }
-  out.arrived = h.metrics().goal_tick.has_value();
+  out.arrived = measured(h).goal_tick.has_value();
   return out;
 }
 

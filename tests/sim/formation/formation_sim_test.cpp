@@ -20,6 +20,7 @@
 #include "harness/harness.hpp"
 #include "robot_agent/controller/builtins.hpp"
 #include "robot_agent/controller/robot_state.hpp"
+#include "tests/sim/measured.hpp"
 #include "world_server/world/scenario.hpp"
 
 namespace swarmform {
@@ -56,7 +57,7 @@ struct Outcome {
 
 Outcome run_to_formation(harness::Harness& h, Tick max_ticks) {
   Outcome o;
-  while (h.world().tick() < max_ticks && !h.metrics().formation_tick) {
+  while (h.world().tick() < max_ticks && !measured(h).formation_tick) {
     h.step();
     for (const auto& r : h.world().robots()) {
       for (const auto& e : r.telemetry.events) {
@@ -65,8 +66,8 @@ Outcome run_to_formation(harness::Harness& h, Tick max_ticks) {
       }
     }
   }
-  o.formation_tick = h.metrics().formation_tick;
-  o.shape_error = h.metrics().shape_error_at_formation;
+  o.formation_tick = measured(h).formation_tick;
+  o.shape_error = measured(h).shape_error_at_formation;
   o.robot_contacts = h.metrics().collisions_robot_robot;
   o.obstacle_contacts = h.metrics().collisions_robot_obstacle;
   return o;
@@ -308,12 +309,12 @@ bool speakers_ready(const harness::Harness& h) {
 // (which can come later: the robots stand in place before they know it), counting events of `kind`.
 Outcome run_counting(harness::Harness& h, Tick max_ticks, const std::string& kind, int& count) {
   Outcome o;
-  while (h.world().tick() < max_ticks && !(h.metrics().formation_tick && speakers_ready(h))) {
+  while (h.world().tick() < max_ticks && !(measured(h).formation_tick && speakers_ready(h))) {
     h.step();
     count += count_events(h, kind);
   }
-  o.formation_tick = h.metrics().formation_tick;
-  o.shape_error = h.metrics().shape_error_at_formation;
+  o.formation_tick = measured(h).formation_tick;
+  o.shape_error = measured(h).shape_error_at_formation;
   o.robot_contacts = h.metrics().collisions_robot_robot;
   o.obstacle_contacts = h.metrics().collisions_robot_obstacle;
   return o;
@@ -523,7 +524,7 @@ TEST(FormationSim, ATwelveByTwelveBlockFormsWithNoLiveHoldersLabelFreed) {
                                                 swarmform::controller::builtin_registry()));
   int live_frees = 0;
   Outcome o;
-  while (h.world().tick() < kMaxTicks && !h.metrics().formation_tick) {
+  while (h.world().tick() < kMaxTicks && !measured(h).formation_tick) {
     h.step();
     for (const auto& r : h.world().robots()) {
       for (const auto& e : r.telemetry.events) {
@@ -532,8 +533,8 @@ TEST(FormationSim, ATwelveByTwelveBlockFormsWithNoLiveHoldersLabelFreed) {
       }
     }
   }
-  o.formation_tick = h.metrics().formation_tick;
-  o.shape_error = h.metrics().shape_error_at_formation;
+  o.formation_tick = measured(h).formation_tick;
+  o.shape_error = measured(h).shape_error_at_formation;
   o.robot_contacts = h.metrics().collisions_robot_robot;
   o.frees = live_frees;
   report("block_12x12", 1, o);

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "robot_agent/controller/builtins.hpp"
+#include "tests/sim/measured.hpp"
 #include "tests/sim/motion/preformed.hpp"
 #include "tests/sim/motion/sim_checks.hpp"
 #include "world_server/world/scenario.hpp"
@@ -56,11 +57,12 @@ TEST(MotionFailures, KilledLeaderIsReplacedWithin50TicksAndTheSwarmArrives) {
   run.run(run.world.tick() + 60);
   EXPECT_EQ(tree_problem(run.world.robots()), "");
   run.run(scenario.max_ticks,
-          [](const PreformedRun& r) { return r.session.metrics().goal_tick.has_value(); });
+          [](const PreformedRun& r) { return measured(r.session).goal_tick.has_value(); });
   const auto& m = run.session.metrics();
-  ASSERT_TRUE(m.goal_tick.has_value()) << "the swarm did not reach the goal by tick " << run.world.tick();
-  std::printf("goal_tick %lu, arrived %u\n", static_cast<unsigned long>(*m.goal_tick), m.arrived);
-  EXPECT_EQ(m.arrived, scenario.robots.size() - 1);
+  const auto& sh = measured(run.session);
+  ASSERT_TRUE(sh.goal_tick.has_value()) << "the swarm did not reach the goal by tick " << run.world.tick();
+  std::printf("goal_tick %lu, arrived %u\n", static_cast<unsigned long>(*sh.goal_tick), sh.arrived);
+  EXPECT_EQ(sh.arrived, scenario.robots.size() - 1);
   EXPECT_EQ(m.collisions_robot_obstacle, 0u);  // the dead leader's body included
 }
 
@@ -98,10 +100,11 @@ TEST(MotionFailures, KilledParentsChildrenReParentAndArrive) {
               static_cast<unsigned long>(run.world.tick() - killed_at));
   EXPECT_EQ(tree_problem(run.world.robots()), "");
   run.run(scenario.max_ticks,
-          [](const PreformedRun& r) { return r.session.metrics().goal_tick.has_value(); });
+          [](const PreformedRun& r) { return measured(r.session).goal_tick.has_value(); });
   const auto& m = run.session.metrics();
-  ASSERT_TRUE(m.goal_tick.has_value()) << "the swarm did not reach the goal by tick " << run.world.tick();
-  EXPECT_EQ(m.arrived, scenario.robots.size() - 1);
+  const auto& sh = measured(run.session);
+  ASSERT_TRUE(sh.goal_tick.has_value()) << "the swarm did not reach the goal by tick " << run.world.tick();
+  EXPECT_EQ(sh.arrived, scenario.robots.size() - 1);
   EXPECT_EQ(m.collisions_robot_obstacle, 0u);
 }
 

@@ -12,6 +12,7 @@
 
 #include "harness/harness.hpp"
 #include "robot_agent/controller/builtins.hpp"
+#include "tests/sim/measured.hpp"
 #include "tests/sim/motion/sim_checks.hpp"
 #include "world_server/world/scenario.hpp"
 
@@ -81,16 +82,17 @@ TEST(MotionPaperRun, EveryRobotArrivesPastBothObstaclesAndTheShapeRecovers) {
     const std::size_t components = neighbour_components(robots, 1.5 * spacing);
     if (components > 1 && !rec.split_tick) rec.split_tick = t;
     if (components == 1 && rec.split_tick && !rec.reunite_tick) rec.reunite_tick = t;
-    const auto& m = h.metrics();
-    if (m.goal_tick && (all_arrived(robots) || t > *m.goal_tick + 400)) break;
+    const auto& sh = measured(h);
+    if (sh.goal_tick && (all_arrived(robots) || t > *sh.goal_tick + 400)) break;
   }
   const auto& m = h.metrics();
+  const auto& sh = measured(h);
   auto at = [&](std::optional<Tick> t) { return t ? static_cast<long>(*t) : -1L; };
   std::printf(
       "paper: formation %ld motion %ld goal %ld peak %.3f mean %.3f at_goal %.3f contacts obstacle %u robot "
       "%u\n",
-      at(m.formation_tick), at(m.motion_start_tick), at(m.goal_tick), m.peak_distortion.value_or(-1),
-      m.mean_distortion.value_or(-1), m.shape_error_at_goal.value_or(-1), m.collisions_robot_obstacle,
+      at(sh.formation_tick), at(sh.motion_start_tick), at(sh.goal_tick), sh.peak_distortion.value_or(-1),
+      sh.mean_distortion.value_or(-1), sh.shape_error_at_goal.value_or(-1), m.collisions_robot_obstacle,
       m.collisions_robot_robot);
   std::printf(
       "paper: box passed %ld, post passed %ld; graph split %ld reunited %ld; left reach %.2f -> min %.2f -> "
@@ -98,15 +100,15 @@ TEST(MotionPaperRun, EveryRobotArrivesPastBothObstaclesAndTheShapeRecovers) {
       at(rec.passed[0]), at(rec.passed[1]), at(rec.split_tick), at(rec.reunite_tick), rec.side_baseline,
       rec.side_min, rec.side_end);
 
-  ASSERT_TRUE(m.goal_tick.has_value()) << "the swarm did not reach the goal";
-  EXPECT_EQ(m.arrived, scenario.robots.size());
+  ASSERT_TRUE(sh.goal_tick.has_value()) << "the swarm did not reach the goal";
+  EXPECT_EQ(sh.arrived, scenario.robots.size());
   EXPECT_EQ(m.collisions_robot_obstacle, 0u);
   // After each obstacle, the distortion is back under 0.2 grid units within 200 ticks.
   for (std::size_t k = 0; k < scenario.obstacles.size(); ++k) {
     ASSERT_TRUE(rec.passed[k].has_value()) << scenario.obstacles[k].name << " never passed";
     std::optional<Tick> back;
     double at_pass = -1.0;
-    for (const auto& [tick, error] : m.distortion) {
+    for (const auto& [tick, error] : sh.distortion) {
       if (tick == *rec.passed[k]) at_pass = error;
       if (!back && tick >= *rec.passed[k] && error < 0.2) back = tick;
     }
@@ -131,13 +133,15 @@ TEST(MotionPaperRun, CorridorRunArrives) {
   harness::Harness h(scenario);
   h.run();
   const auto& m = h.metrics();
+  const auto& sh = measured(h);
   auto at = [&](std::optional<Tick> t) { return t ? static_cast<long>(*t) : -1L; };
   std::printf(
       "corridor: formation %ld goal %ld peak %.3f mean %.3f at_goal %.3f contacts obstacle %u robot %u\n",
-      at(m.formation_tick), at(m.goal_tick), m.peak_distortion.value_or(-1), m.mean_distortion.value_or(-1),
-      m.shape_error_at_goal.value_or(-1), m.collisions_robot_obstacle, m.collisions_robot_robot);
-  ASSERT_TRUE(m.goal_tick.has_value()) << "the corridor run did not reach the goal";
-  EXPECT_EQ(m.arrived, scenario.robots.size());
+      at(sh.formation_tick), at(sh.goal_tick), sh.peak_distortion.value_or(-1),
+      sh.mean_distortion.value_or(-1), sh.shape_error_at_goal.value_or(-1), m.collisions_robot_obstacle,
+      m.collisions_robot_robot);
+  ASSERT_TRUE(sh.goal_tick.has_value()) << "the corridor run did not reach the goal";
+  EXPECT_EQ(sh.arrived, scenario.robots.size());
   EXPECT_EQ(m.collisions_robot_obstacle, 0u);
 }
 

@@ -10,6 +10,7 @@
 
 #include "harness/harness.hpp"
 #include "robot_agent/controller/builtins.hpp"
+#include "tests/sim/measured.hpp"
 #include "world_server/world/scenario.hpp"
 
 namespace swarmform::sim_motion {
@@ -36,19 +37,20 @@ void expect_arrives(const Case& c) {
   if (c.shape != nullptr) o.shape_file = repo(c.shape);
   const auto scenario = world::load_scenario(repo(c.scenario), o, swarmform::controller::builtin_registry());
   harness::Harness h(scenario);
-  h.run([](const harness::Harness& run) { return run.metrics().goal_tick.has_value(); });
+  h.run([](const harness::Harness& run) { return measured(run).goal_tick.has_value(); });
   const auto& m = h.metrics();
+  const auto& sh = measured(h);
   std::string flags;  // the run's command-line flags, to reproduce it
   for (const auto& k : c.kills) flags += " --kill " + std::to_string(k.id) + "@" + std::to_string(k.tick);
   for (const auto& f : c.faults) flags += " --fault " + f;
   if (c.shape != nullptr) flags += std::string(" --shape ") + c.shape;
   std::printf("%s --seed %lu%s: goal_tick %ld, shape error at goal %.3f, outcome %s\n", c.scenario,
               static_cast<unsigned long>(c.seed), flags.c_str(),
-              m.goal_tick ? static_cast<long>(*m.goal_tick) : -1L, m.shape_error_at_goal.value_or(-1.0),
-              m.outcome.c_str());
-  ASSERT_TRUE(m.goal_tick.has_value())
+              sh.goal_tick ? static_cast<long>(*sh.goal_tick) : -1L, sh.shape_error_at_goal.value_or(-1.0),
+              sh.outcome.c_str());
+  ASSERT_TRUE(sh.goal_tick.has_value())
       << c.scenario << " seed " << c.seed << flags << ": not arrived by tick " << scenario.max_ticks;
-  EXPECT_LE(*m.shape_error_at_goal, 0.1);
+  EXPECT_LE(*sh.shape_error_at_goal, 0.1);
   EXPECT_EQ(m.collisions_robot_robot + m.collisions_robot_obstacle, 0u);
 }
 
@@ -118,7 +120,7 @@ TEST(MotionRobustness, ABlockedPlacesOffsetIsNotCarriedToTheGoal) {
   expect_arrives({"scenarios/spares.yaml", 66, {{11, 105}, {1, 1061}}});
 }
 
-// The world's judgement (world_server/run/metrics_tracker.cpp): an assignment that had taken a spare held
+// The paper experiment's judgement (behaviour/shape_metrics.cpp): an assignment that had taken a spare held
 // the rigid fit away from the shape, so a shape completed at the goal by a reserve was never judged formed.
 // A full solve also starts from the labels the robots report; the better fit wins.
 TEST(MotionRobustness, AShapeCompletedByASpareIsJudgedFormed) {

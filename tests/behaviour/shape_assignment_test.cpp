@@ -1,4 +1,4 @@
-// The world's assignment of robots to the shape's places (world_server/run/assignment.hpp): it finds the
+// The assignment of robots to the shape's places (behaviour/shape_assignment.hpp): it finds the
 // places from the positions, whatever labels the robots report; spares are left out; with fewer robots than
 // places every robot gets one; a mirror image is not fitted away; the Hungarian solve is optimal.
 #include <algorithm>
@@ -9,9 +9,9 @@
 
 #include <gtest/gtest.h>
 
-#include "world_server/run/assignment.hpp"
+#include "behaviour/shape_assignment.hpp"
 
-namespace swarmform::world {
+namespace swarmform::shape_metrics {
 namespace {
 
 constexpr double kHeading = std::numbers::pi / 2.0;  // shape frame = arena frame
@@ -298,4 +298,4 @@ TEST(Hungarian, TheOptimumDoesNotDependOnTheRowOrder) {
 }
 
 }  // namespace
-}  // namespace swarmform::world
+}  // namespace swarmform::shape_metrics

@@ -5,9 +5,9 @@
 
 #include <gtest/gtest.h>
 
-#include "world_server/run/metrics.hpp"
+#include "behaviour/shape_error.hpp"
 
-namespace swarmform::world {
+namespace swarmform::shape_metrics {
 namespace {
 
 // The paper's triangle (Fig. 1): 6 labels in 3 rows.
@@ -104,4 +104,4 @@ TEST(ShapeError, AMirroredFormationIsNotFittedByAReflection) {
 }
 
 }  // namespace
-}  // namespace swarmform::world
+}  // namespace swarmform::shape_metrics

@@ -27,7 +27,7 @@
 #include "common/shape.hpp"
 #include "common/types.hpp"
 
-namespace swarmform::world {
+namespace swarmform::shape_metrics {
 
 // Arena position of a shape-frame point p: R(angle) p + translation.
 struct RigidFit {
@@ -98,4 +98,4 @@ class ShapeAssigner {
 // row, minimising the total cost. O(rows^2 cols).
 std::vector<int> hungarian(const std::vector<double>& cost, std::size_t rows, std::size_t cols);
 
-}  // namespace swarmform::world
+}  // namespace swarmform::shape_metrics

@@ -1,11 +1,11 @@
-// The world's own assignment of robots to the shape's places (assignment.hpp says what and why).
-#include "world_server/run/assignment.hpp"
+// The assignment of robots to the shape's places (shape_assignment.hpp says what and why).
+#include "behaviour/shape_assignment.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
-namespace swarmform::world {
+namespace swarmform::shape_metrics {
 
 namespace {
 
@@ -401,4 +401,4 @@ std::vector<int> hungarian(const std::vector<double>& cost, std::size_t rows, st
   return out;
 }
 
-}  // namespace swarmform::world
+}  // namespace swarmform::shape_metrics
