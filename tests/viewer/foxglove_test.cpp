@@ -100,6 +100,15 @@ TEST(Foxglove, SceneCarriesEachRobotsLitLedsInTheirColours) {
   EXPECT_DOUBLE_EQ(right["color"]["b"].get<double>(), 0.2);
 }
 
+// The SceneUpdate a subscriber to /scene gets for an empty frame of `tick`.
+json scene_at(Foxglove& fox, std::uint64_t tick) {
+  dds::ObserveFrameData frame;
+  frame.tick = tick;
+  const auto out = fox.messages(frame);
+  EXPECT_EQ(out.size(), 1U);
+  return json::parse(out.at(0).second.substr(13));
+}
+
 TEST(Foxglove, ObstaclesAreSentAgainAsTheWorldEventsChangeThem) {
   // A box there from the start that disappears at tick 5, a post absent until tick 8 and moved at tick 9.
   json world = kWorld;
@@ -113,33 +122,26 @@ TEST(Foxglove, ObstaclesAreSentAgainAsTheWorldEventsChangeThem) {
   Foxglove fox;
   fox.set_world(world);
   ASSERT_EQ(fox.on_text(7, R"({"op":"subscribe","subscriptions":[{"id":1,"channelId":1}]})"), "");
-  const auto scene_at = [&](std::uint64_t tick) {
-    dds::ObserveFrameData frame;
-    frame.tick = tick;
-    const auto out = fox.messages(frame);
-    EXPECT_EQ(out.size(), 1U);
-    return json::parse(out[0].second.substr(13));
-  };
   const auto has = [](const json& scene, const std::string& id) {
     for (const json& e : scene["entities"]) {
       if (e["id"] == id) return true;
     }
     return false;
   };
-  const json first = scene_at(0);
+  const json first = scene_at(fox, 0);
   EXPECT_EQ(entity(first, "obstacles")["cubes"].size(), 1U);
   EXPECT_EQ(entity(first, "obstacles")["cylinders"].size(), 0U);
-  EXPECT_FALSE(has(scene_at(4), "obstacles")) << "nothing changed: not sent again";
-  const json gone = scene_at(5);
+  EXPECT_FALSE(has(scene_at(fox, 4), "obstacles")) << "nothing changed: not sent again";
+  const json gone = scene_at(fox, 5);
   EXPECT_FALSE(has(gone, "arena"));
   EXPECT_EQ(entity(gone, "obstacles")["cubes"].size(), 0U);
-  EXPECT_EQ(entity(scene_at(8), "obstacles")["cylinders"].size(), 1U);
-  const json moved = entity(scene_at(9), "obstacles");
+  EXPECT_EQ(entity(scene_at(fox, 8), "obstacles")["cylinders"].size(), 1U);
+  const json moved = entity(scene_at(fox, 9), "obstacles");
   ASSERT_EQ(moved["cylinders"].size(), 1U);
   EXPECT_DOUBLE_EQ(moved["cylinders"][0]["pose"]["position"]["x"].get<double>(), -1.5);
   EXPECT_DOUBLE_EQ(moved["cylinders"][0]["pose"]["position"]["y"].get<double>(), 0.5);
   // A replay sought back before the events: the obstacles as they stood then.
-  EXPECT_EQ(entity(scene_at(2), "obstacles")["cubes"].size(), 1U);
+  EXPECT_EQ(entity(scene_at(fox, 2), "obstacles")["cubes"].size(), 1U);
 }
 
 TEST(Foxglove, TheGoalIsDrawnWhereItStandsAndSentAgainWhenItMoves) {
@@ -149,23 +151,17 @@ TEST(Foxglove, TheGoalIsDrawnWhereItStandsAndSentAgainWhenItMoves) {
   Foxglove fox;
   fox.set_world(world);
   ASSERT_EQ(fox.on_text(7, R"({"op":"subscribe","subscriptions":[{"id":1,"channelId":1}]})"), "");
-  const auto scene_at = [&](std::uint64_t tick) {
-    dds::ObserveFrameData frame;
-    frame.tick = tick;
-    const auto out = fox.messages(frame);
-    EXPECT_EQ(out.size(), 1U);
-    return json::parse(out[0].second.substr(13));
-  };
   const auto goal_disc = [](const json& scene) {
     const json& c = entity(scene, "obstacles")["cylinders"];
     EXPECT_EQ(c.size(), 1U);  // the goal only: this world has no obstacle
     return c.at(0);
   };
-  const json first = goal_disc(scene_at(0));
+  const json first = goal_disc(scene_at(fox, 0));
   EXPECT_DOUBLE_EQ(first["pose"]["position"]["x"].get<double>(), 1.0);
   EXPECT_DOUBLE_EQ(first["size"]["x"].get<double>(), 1.0);
-  for (const json& e : scene_at(5)["entities"]) EXPECT_NE(e["id"], "obstacles") << "nothing moved: not sent";
-  const json moved = goal_disc(scene_at(6));
+  for (const json& e : scene_at(fox, 5)["entities"])
+    EXPECT_NE(e["id"], "obstacles") << "nothing moved: not sent";
+  const json moved = goal_disc(scene_at(fox, 6));
   EXPECT_DOUBLE_EQ(moved["pose"]["position"]["x"].get<double>(), -1.0);
   EXPECT_DOUBLE_EQ(moved["pose"]["position"]["y"].get<double>(), 0.5);
   EXPECT_DOUBLE_EQ(moved["size"]["x"].get<double>(), 0.5);
