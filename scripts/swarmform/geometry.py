@@ -138,9 +138,9 @@ def view_bounds(rec: Recording, pad: float = 1.0) -> tuple[float, float, float, 
     w, t = rec.world, rec.track
     xs = [np.nanmin(t.x), np.nanmax(t.x)]
     ys = [np.nanmin(t.y), np.nanmax(t.y)]
-    if w.goal:
-        xs += [w.goal[0] - w.goal[2], w.goal[0] + w.goal[2]]
-        ys += [w.goal[1] - w.goal[2], w.goal[1] + w.goal[2]]
+    for gx, gy, gr in ([w.goal] if w.goal else []) + [m[1:] for m in w.goal_moves]:  # every goal it has had
+        xs += [gx - gr, gx + gr]
+        ys += [gy - gr, gy + gr]
     for light in w.lights:  # what a phototaxis heads for
         xs.append(light.position[0])
         ys.append(light.position[1])

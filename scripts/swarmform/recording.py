@@ -450,6 +450,17 @@ def _read_world_event(ev: Any, path: str, what: str, obstacles: int) -> WorldEve
                       None if yaw is None else _number(ev, "yaw", path, what))
 
 
+def goal_at(world: World, tick: int) -> Optional[tuple]:
+    """The goal (x, y, radius) as it stands at `tick`: world.json's, moved by its goal_moves up to and including
+    `tick`; None when the run has none."""
+    goal = world.goal
+    for move in world.goal_moves:
+        if move[0] > tick:
+            break
+        goal = move[1:]
+    return goal
+
+
 def obstacles_at(world: World, tick: int) -> list:
     """The obstacles as they stand at `tick` (every one, `present` saying whether it is there): world.json's, with
     its world events up to and including `tick` applied, as the world executed them."""

@@ -24,7 +24,7 @@ from matplotlib.patches import Circle, Polygon, Rectangle  # noqa: E402
 
 from .geometry import view_bounds  # noqa: E402
 from .recording import STATE_COLOURS  # noqa: E402,F401  (the paper's; a recording carries its behaviour's)
-from .recording import Floor, FloorRegion, Obstacle, Recording, World, obstacles_at  # noqa: E402
+from .recording import Floor, FloorRegion, Obstacle, Recording, World, goal_at, obstacles_at  # noqa: E402
 
 Bounds = tuple[float, float, float, float]  # xmin, xmax, ymin, ymax (m)
 States = dict[int, tuple[str, str]]  # a behaviour's states: value -> (name, colour)
@@ -158,9 +158,9 @@ def draw_obstacles(ax: Any, world: World) -> None:
                 ax.add_patch(obstacle_patch(past, filled=False))
 
 
-def draw_static(ax: Any, world: World, bounds: Bounds, obstacles: bool = True) -> None:
-    """The floor, walls, obstacles (unless the caller draws them as they stand: Scene), the goal and the lights;
-    the axes set to `bounds` with equal scales, in metres."""
+def draw_static(ax: Any, world: World, bounds: Bounds, obstacles: bool = True, goal: bool = True) -> None:
+    """The floor, walls, obstacles and the goal (unless the caller draws them as they stand: Scene) and the
+    lights; the axes set to `bounds` with equal scales, in metres."""
     x0, x1, y0, y1 = bounds
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)
@@ -176,7 +176,7 @@ def draw_static(ax: Any, world: World, bounds: Bounds, obstacles: bool = True) -
                            linewidth=3.0 if world.walls else 0.8, linestyle="-" if world.walls else "--"))
     if obstacles:
         draw_obstacles(ax, world)
-    if world.goal:
+    if goal and world.goal:
         # Where world events moved it: each goal it had, the last filled, the earlier ones hollow with the tick
         # they stood until.
         goals = [(None, *world.goal)] + list(world.goal_moves)
@@ -230,8 +230,15 @@ class Scene:
         self.ax = self.fig.add_axes(arena_axes_rect(self.size_px, axes))
         # Obstacles that world events move, add or remove are drawn as they stand at the shown tick.
         moving = bool(rec.world.world_events)
-        draw_static(self.ax, rec.world, self.bounds, obstacles=not moving)
+        first_goal = rec.world.goal if rec.world.goal_moves else None  # so is a goal that world events move
+        draw_static(self.ax, rec.world, self.bounds, obstacles=not moving, goal=first_goal is None)
         self.obstacles = [self.ax.add_patch(obstacle_patch(ob)) for ob in rec.world.obstacles] if moving else []
+        self.goal: list[Any] = []
+        if first_goal is not None:
+            gx, gy, gr = first_goal
+            self.goal = [self.ax.add_patch(Circle((gx, gy), gr, facecolor="#c8e6c9", edgecolor="#2e7d32",
+                                                  linestyle="--", alpha=0.7)),
+                         self.ax.plot([gx], [gy], marker="x", color="#2e7d32", markersize=8)[0]]
         if legend:
             present = set(int(s) for s in np.unique(rec.track.state))  # only the states this run shows
             handles = legend_handles(present, rec.world.states, bool(rec.track.leader.any()),
@@ -259,7 +266,7 @@ class Scene:
         box = self.ax.get_position()
         self.title = self.fig.text((box.x0 + box.x1) / 2, box.y1 + 0.015, "", ha="center", va="bottom",
                                    fontsize=11)
-        self.dynamic = [*self.obstacles, self.links, self.robots, self.dead, self.leds, self.leader, self.title]
+        self.dynamic = [*self.obstacles, *self.goal, self.links, self.robots, self.dead, self.leds, self.leader, self.title]
 
     def show(self, i: int, caption: Optional[str] = None) -> None:
         """Updates the dynamic artists to recorded tick index `i`."""
@@ -281,6 +288,7 @@ class Scene:
         self.links.set_segments(segments)
         self._show_leds(i, live)
         self._show_obstacles(int(t.ticks[i]))
+        self._show_goal(int(t.ticks[i]))
         if self.labels:
             self._label(live, x, y, t.theta[i])
         tick = int(t.ticks[i])
@@ -313,6 +321,17 @@ class Scene:
                 patch.set_center(ob.centre)
             else:
                 patch.set_xy(box_corners(ob))
+
+    def _show_goal(self, tick: int) -> None:
+        """A goal that world events move, where it stands at `tick`."""
+        goal = goal_at(self.rec.world, tick)
+        if not self.goal or goal is None:
+            return
+        gx, gy, gr = goal
+        disc, mark = self.goal
+        disc.set_center((gx, gy))
+        disc.set_radius(gr)
+        mark.set_data([gx], [gy])
 
     def _label(self, live: np.ndarray, x: np.ndarray, y: np.ndarray, theta: np.ndarray) -> None:
         """Ids and headings of the live robots (replacing the previous tick's)."""

@@ -334,5 +334,39 @@ class WorldEventsPicturesTest(unittest.TestCase):
             recording.load(self.dir)
 
 
+class GoalMovesPicturesTest(unittest.TestCase):
+    """A goal that world events move (world.json's goal_moves) is drawn where it stands at the tick shown."""
+
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="swarm-pics-goal-")
+        fixture.make_run(self.dir)
+        path = os.path.join(self.dir, "world.json")
+        with open(path) as f:
+            doc = json.load(f)
+        self.first = (doc["goal"]["x"], doc["goal"]["y"])
+        doc["goal_moves"] = [{"tick": 30, "x": 11.0, "y": -4.0, "radius": 0.5}]
+        with open(path, "w") as f:
+            json.dump(doc, f)
+
+    def tearDown(self):
+        shutil.rmtree(self.dir)
+
+    def test_the_goal_is_drawn_where_it_stands_at_the_tick_shown(self):
+        rec = recording.load(self.dir)
+        self.assertEqual(recording.goal_at(rec.world, 29)[:2], self.first)
+        self.assertEqual(recording.goal_at(rec.world, 30), (11.0, -4.0, 0.5))
+        view = scene.Scene(rec, pictures.picture_size(rec, "snapshot"), pictures.DPI)
+        self.addCleanup(view.close)
+        # Points off the grid's lines, off the goals' marks: inside the first goal, inside the moved one.
+        first, moved = (self.first[0] + 0.27, self.first[1] - 0.23), (11.0 + 0.27, -4.0 + 0.13)
+        background = rgb_at(view, -3.3, 3.3)
+        view.show(rec.track.index_of(10))
+        self.assertNotEqual(rgb_at(view, *first), background, "the goal at first")
+        self.assertEqual(rgb_at(view, *moved), background)
+        view.show(rec.track.index_of(50))
+        self.assertEqual(rgb_at(view, *first), background, "moved away at tick 30")
+        self.assertNotEqual(rgb_at(view, *moved), background, "where it moved")
+
+
 if __name__ == "__main__":
     unittest.main()

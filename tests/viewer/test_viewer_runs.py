@@ -161,13 +161,7 @@ class RecordedRunsTest(unittest.TestCase):
         """ticks/s counts the timeline playing, not its jumps: seeks while playing at 1x (10 ticks/s) never show
         more than the recording's rate; paused it says so. Space plays and pauses, → moves one tick, + / − the
         speed. Ids are drawn only where they fit; the scale bar and grid are on."""
-        port = vh.free_port()
-        self.view(self.plain, port)
-        url = f"http://127.0.0.1:{port}/"
-        vh.wait_http(url)
-        b = self.browser = cdp.Browser()
-        b.navigate(url)
-        b.wait_for("window.sfViewer && sfViewer.replay && sfViewer.frame", what="the recording loaded")
+        b = self.open_replay_page()
         b.key(" ")
         b.wait_for("!sfViewer.frame.paused && sfViewer.rates.now && sfViewer.rates.now.tps !== null", timeout=30,
                    what="playing, a measured tick rate")
@@ -223,13 +217,7 @@ class RecordedRunsTest(unittest.TestCase):
         first), and the first frame at the new place is a jump (`played` false), though the timeline playing on
         replaced the seek's own frame while the page drew: the page's ticks/s must not count the seek's
         distance as ticks played."""
-        port = vh.free_port()
-        self.view(self.plain, port)
-        url = f"http://127.0.0.1:{port}/"
-        vh.wait_http(url)
-        b = self.browser = cdp.Browser()
-        b.navigate(url)
-        b.wait_for("window.sfViewer && sfViewer.replay && sfViewer.frame", what="the recording loaded")
+        b = self.open_replay_page()
         # Every frame the page gets, in order: [at, tick, played]; and a draw that takes 150 ms.
         b.eval("""(() => { sfViewer.got = []; const show = window.show, draw = window.draw;
             window.show = function (f) {
@@ -255,6 +243,17 @@ class RecordedRunsTest(unittest.TestCase):
         self.assertLessEqual(first, 2, f"frames [at, tick, played] before the seek's after it was asked (a "
                                        f"backlog): {got[:3]} ... {got[first - 1:first + 1]}")
         self.assertIs(got[first][2], False, f"the first frame at the seek's place counted as played: {got[first]}")
+
+    def open_replay_page(self):
+        """`swarm view` of the plain run and a headless Chromium page on it, the recording loaded."""
+        port = vh.free_port()
+        self.view(self.plain, port)
+        url = f"http://127.0.0.1:{port}/"
+        vh.wait_http(url)
+        b = self.browser = cdp.Browser()
+        b.navigate(url)
+        b.wait_for("window.sfViewer && sfViewer.replay && sfViewer.frame", what="the recording loaded")
+        return b
 
     def view(self, run_dir, port):
         """`swarm view RUN_DIR --port PORT` in the background (its own process group, killed in tearDown)."""
