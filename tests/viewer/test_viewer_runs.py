@@ -470,6 +470,9 @@ class KheperaReplayTest(unittest.TestCase):
         doc["obstacles"] = [{"kind": "box", "name": "gate", "centre": [2.5, -2.3], "half_extents": [0.3, 0.3],
                              "yaw": 0.0, "present": False}]
         doc["world_events"] = [{"tick": 5, "obstacle": 0, "name": "gate", "do": "appear"}]
+        # A goal that a world event moves at tick 6 (world.json's goal_moves).
+        doc["goal"] = {"x": -2.0, "y": 2.0, "radius": 0.4}
+        doc["goal_moves"] = [{"tick": 6, "x": 3.0, "y": 1.0, "radius": 0.3}]
         with open(os.path.join(self.dir, "world.json"), "w") as f:
             json.dump(doc, f)
         self.proc = None
@@ -511,7 +514,9 @@ class KheperaReplayTest(unittest.TestCase):
         img, _ = b.screenshot()
         got, d = vh.drawn_near(img, *vh.check_projection(self, b, *gate), floor)
         self.assertLessEqual(d, 12, f"the gate before tick 5: drawn {got}, want the floor")
+        self.assertEqual(b.eval("sfViewer.drawn.goal"), {"x": -2.0, "y": 2.0, "radius": 0.4}, "the goal at first")
         scrub(7)
+        self.assertEqual(b.eval("sfViewer.drawn.goal"), {"x": 3.0, "y": 1.0, "radius": 0.3}, "moved at tick 6")
         robots = b.eval("sfViewer.frame.robots")
         leds = {r["id"]: r.get("leds") for r in robots}
         self.assertEqual(leds, {0: ["#00ff00"] * 3, 1: ["#ff0000", "#000000", "#0000ff"], 2: None,

@@ -301,6 +301,7 @@ function draw() {
   }
   // Goal, as it stands at the tick shown.
   const g = goalAt(S.frame ? S.frame.tick : 0);
+  S.drawn.goal = g ? { x: g.x, y: g.y, radius: g.radius } : null;
   if (g) {
     const [gx, gy] = project(g.x, g.y);
     ctx.setLineDash([6, 4]);
