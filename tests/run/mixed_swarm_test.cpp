@@ -15,6 +15,7 @@
 #include "robot_agent/controller/paper_controller.hpp"
 #include "robot_agent/controller/random_walk.hpp"
 #include "world_server/run/recording_reader.hpp"
+#include "world_server/world/robot_groups.hpp"
 
 namespace swarmform::harness {
 namespace {
@@ -114,6 +115,38 @@ TEST(MixedSwarm, EachRobotRunsItsGroupsBehaviourAndEachGroupIsJudgedAndRecordedO
   }
   EXPECT_GT(state_events, 8);
   fs::remove_all(dir);
+}
+
+// A robot of another behaviour whose messages are in no format the paper knows: it stands still and
+// broadcasts bytes of every length and value (a plug-in's own encoding, as the paper's robots hear it).
+class ForeignTalker final : public controller::Controller {
+ public:
+  void init(const Mission&, RobotId self) override { self_ = self; }
+  Command step(const Perception& p) override {
+    Command c;
+    const std::size_t n = (p.tick * 7 + self_) % 64;
+    for (std::size_t k = 0; k < n; ++k)
+      c.message.push_back(static_cast<std::uint8_t>((p.tick * 31 + k * 17 + self_) & 0xff));
+    return c;
+  }
+  void reset() override {}
+
+ private:
+  RobotId self_ = 0;
+};
+
+TEST(MixedSwarm, ThePaperGroupFormsAndArrivesAmongRobotsSpeakingAnotherFormat) {
+  const world::Scenario scenario = mixed();
+  Harness h(scenario);
+  for (RobotId id = 8; id < 12; ++id) {
+    auto c = std::make_unique<ForeignTalker>();
+    c->init(world::mission_of(scenario, id), id);
+    h.set_controller(id, std::move(c));
+  }
+  h.run();
+  const nlohmann::json summary = nlohmann::json::parse(h.finish(1.0));
+  EXPECT_EQ(summary["groups"]["shapers"]["outcome"], "arrived") << summary["groups"]["shapers"].dump(2);
+  EXPECT_EQ(summary["groups"]["shapers"]["arrived"], 8);
 }
 
 TEST(MixedSwarm, AScenarioWithoutGroupsWritesNoGroupsKey) {
