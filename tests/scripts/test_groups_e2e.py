@@ -59,6 +59,19 @@ class MixedSwarmLauncherTest(unittest.TestCase):
         self.assertIn("(nothing was run)", r.stderr)
         self.assertFalse(os.path.exists(self.out))
 
+    def test_a_param_names_its_group(self):
+        r = self.swarm("--max-ticks", "5", "--param", "shapers.k_o=1.2", timeout=120)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(os.path.join(self.out, "summary.json")) as f:
+            self.assertEqual(json.load(f)["groups"]["shapers"]["params"]["k_o"], 1.2)
+        shutil.rmtree(self.out)
+        r = self.swarm("--max-ticks", "5", "--param", "movers.k_o=1.2", timeout=120)
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn("--param movers.k_o=1.2: behaviour 'random_walk' parameter 'k_o'", r.stderr)
+        r = self.swarm("--max-ticks", "5", "--param", "dancers.k_o=1.2", timeout=120)
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn("no robot group 'dancers' (groups: shapers, movers)", r.stderr)
+
     def test_robots_and_exec_are_refused_naming_the_groups(self):
         r = self.swarm("--robots", "20", timeout=120)
         self.assertEqual(r.returncode, 2, r.stderr)
