@@ -82,6 +82,21 @@ class MixedSwarmLauncherTest(unittest.TestCase):
         self.assertIn("this scenario's robots are groups of different behaviours (shapers, movers)", r.stderr)
         self.assertFalse(os.path.exists(self.out))
 
+    def test_a_group_described_by_a_file_is_refused_naming_the_group(self):
+        scenario = os.path.join(self.dir, "described.yaml")
+        descriptor = os.path.join(helpers.ROOT, "examples", "agents", "aggregation.json")
+        with open(scenario, "w") as f:
+            f.write("groups:\n"
+                    "  - {name: walkers, behaviour: random_walk, robots: {count: 3}}\n"
+                    f"  - name: talkers\n    behaviour: {{descriptor: {descriptor}}}\n"
+                    "    robots: {count: 3, region: {centre: [6.0, 0.0], width: 2.0, height: 2.0}}\n")
+        for mode in ([], ["--in-process"]):
+            r = helpers.swarm("run", "--scenario", scenario, "--no-pictures", "--out", self.out, *mode,
+                              build_dir=BUILD_DIR, timeout=120)
+            self.assertEqual(r.returncode, 2, f"{mode}: {r.stderr}")
+            self.assertIn("group 'talkers'", r.stderr)
+            self.assertFalse(os.path.exists(self.out))
+
 
 if __name__ == "__main__":
     unittest.main()
