@@ -82,10 +82,12 @@ void ShapeMetrics::observe(const experiment::Truth& truth) {
     measures_.goal_tick.reset();
     measures_.shape_error_at_goal.reset();
   }
-  if (rest_.size() < robots.size()) {
-    rest_.resize(robots.size());
-    stuck_.resize(robots.size());
-    assigned_label_.resize(robots.size(), -1);
+  // By id: in a mixed swarm a group's ids are global and need not start at 0 (truth.robots is in id order).
+  const std::size_t by_id = robots.empty() ? 0 : static_cast<std::size_t>(robots.back().id) + 1;
+  if (rest_.size() < by_id) {
+    rest_.resize(by_id);
+    stuck_.resize(by_id);
+    assigned_label_.resize(by_id, -1);
   }
   live_ids_.clear();
   live_positions_.clear();

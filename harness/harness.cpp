@@ -20,6 +20,7 @@
 #include "world_server/run/fault_schedule.hpp"
 #include "world_server/run/run_end.hpp"
 #include "world_server/world/parallel_for.hpp"
+#include "world_server/world/robot_groups.hpp"
 
 namespace swarmform::harness {
 
@@ -47,17 +48,20 @@ struct Harness::Impl : world::FaultActions {
     }
   }
 
-  // A controller of the scenario's behaviour (resolved through the registry when the scenario was loaded).
+  // A controller of the robot's behaviour (its group's, with groups; resolved through the registry when the
+  // scenario was loaded), told its group's mission.
   std::unique_ptr<controller::Controller> make(RobotId id) const {
-    if (scenario.behaviour == nullptr) throw std::logic_error("harness: the scenario has no behaviour");
-    return behaviour::make_controller(*scenario.behaviour, scenario.mission, id);
+    const behaviour::Descriptor* d = world::behaviour_of(scenario, id);
+    if (d == nullptr) throw std::logic_error("harness: the scenario has no behaviour");
+    return behaviour::make_controller(*d, world::mission_of(scenario, id), id);
   }
 
   BehaviourFailure failure(RobotId id, const std::string& what) const {
+    const Mission& mission = world::mission_of(scenario, id);
     std::ostringstream m;
-    m << "robot " << id << "'s behaviour '" << scenario.mission.behaviour << "'"
-      << (scenario.mission.plugin.empty() ? "" : " (plug-in " + scenario.mission.plugin + ")") << " at tick "
-      << world.tick() << ": " << what;
+    m << "robot " << id << "'s behaviour '" << mission.behaviour << "'"
+      << (mission.plugin.empty() ? "" : " (plug-in " + mission.plugin + ")") << " at tick " << world.tick()
+      << ": " << what;
     return BehaviourFailure(id, m.str());
   }
 

@@ -24,6 +24,7 @@
 #include "world_server/run/param_flags.hpp"
 #include "world_server/run/record_every_flag.hpp"
 #include "world_server/run/run_end.hpp"
+#include "world_server/world/robot_groups.hpp"
 
 namespace {
 
@@ -214,10 +215,12 @@ int main(int argc, char** argv) {
     world::Scenario scenario = world::load_scenario(scenario_path, overrides, behaviours);
     world::check_param_flags(param_texts, scenario.mission, behaviours);
     // A behaviour described by a file is a program its agents run (--exec): nothing here can run it.
-    if (scenario.behaviour->make == nullptr) {
-      throw InputError(
-          scenario_path, 0,
-          behaviour::no_controller_message(scenario.mission.behaviour, scenario.mission.descriptor));
+    for (std::size_t k = 0; k < world::group_count(scenario); ++k) {
+      const world::GroupView g = world::group_view(scenario, k);
+      if (g.behaviour->make != nullptr) continue;
+      throw InputError(scenario_path, 0,
+                       (g.name.empty() ? "" : "group '" + std::string(g.name) + "': ") +
+                           behaviour::no_controller_message(g.mission->behaviour, g.mission->descriptor));
     }
 
     const bool default_out = out.empty();

@@ -58,6 +58,7 @@ WaitResult AgentLink::wait_mission(double timeout_s, dds::MissionAnnouncement& o
   const dds_time_t patient_until = options_.world_pid ? after(claim_wait_s(timeout_s)) : deadline;
   for (;;) {
     if (auto m = mission_.take(options_.run_nonce, mission_refusals_)) {
+      dds::take_own_group(*m, self_);  // in a mixed swarm, this robot's group's behaviour and parameters
       out = std::move(*m);
       if (!inbox_) {
         // Bound to the world whose mission this is (docs/wire.md "Writer binding"): from now on packets,

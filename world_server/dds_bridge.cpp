@@ -113,6 +113,9 @@ WorldLink::WorldLink(const dds::DdsSettings& settings, std::size_t robot_count, 
 dds::MissionAnnouncement mission_of(const world::Scenario& scenario, std::uint64_t run_nonce) {
   dds::MissionAnnouncement a;
   a.mission = scenario.mission;
+  for (const world::RobotGroup& g : scenario.groups) {
+    a.groups.push_back({g.first_id, static_cast<std::uint32_t>(g.count), g.mission});
+  }
   a.robots = static_cast<std::uint32_t>(scenario.robots.size());
   a.run_nonce = run_nonce;
   a.realtime = scenario.mode == world::Mode::Realtime;

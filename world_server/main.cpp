@@ -129,6 +129,17 @@ int run(const Options& o) {
   const swarmform::world::Scenario scenario =
       swarmform::world::load_scenario(o.scenario, overrides_of(o), behaviours);
   swarmform::world::check_param_flags(o.params, scenario.mission, behaviours);
+  // A group described by a JSON file would need its own --exec program beside the other groups' controllers:
+  // one --exec runs every agent's behaviour, so a mixed swarm takes controllers only (docs/scenario-format.md
+  // "Groups").
+  for (const swarmform::world::RobotGroup& g : scenario.groups) {
+    if (g.behaviour->make != nullptr) continue;
+    throw swarmform::InputError(o.scenario, 0,
+                                "groups: group '" + g.name + "': behaviour '" + g.mission.behaviour +
+                                    "' is described by a file (" + g.mission.descriptor +
+                                    ") and has no controller; a mixed swarm runs built-in and plug-in "
+                                    "behaviours only (one --exec program cannot run beside other groups)");
+  }
   for (const auto& k : scenario.kills) {
     if (k.id >= scenario.robots.size()) {
       throw std::invalid_argument("--kill " + std::to_string(k.id) + "@" + std::to_string(k.tick) +
@@ -137,13 +148,14 @@ int run(const Options& o) {
     }
   }
   if (o.check) {
-    const nlohmann::ordered_json j = {
-        {"robots", scenario.robots.size()},
-        {"labels", scenario.mission.shape.label_count()},
-        {"mode", std::string(swarmform::world::to_string(scenario.mode))},
-        {"max_ticks", scenario.max_ticks},
-        {"seed", scenario.seed},
-        {"behaviour_descriptor", swarmform::world::describe_behaviour(scenario)}};
+    nlohmann::ordered_json j = {{"robots", scenario.robots.size()},
+                                {"labels", scenario.mission.shape.label_count()},
+                                {"mode", std::string(swarmform::world::to_string(scenario.mode))},
+                                {"max_ticks", scenario.max_ticks},
+                                {"seed", scenario.seed},
+                                {"behaviour_descriptor", swarmform::world::describe_behaviour(scenario)}};
+    // Each robot group's behaviour, for the launcher's check of --expect 'groups.NAME.KEY' before the run.
+    if (!scenario.groups.empty()) j["groups"] = swarmform::world::describe_groups(scenario);
     std::cout << j.dump() << std::endl;
     return kExitOk;
   }

@@ -17,6 +17,7 @@
 #include "common/process_state.hpp"
 #include "world_server/run/run_end.hpp"
 #include "world_server/wire_check.hpp"
+#include "world_server/world/robot_groups.hpp"
 
 namespace swarmform::server {
 
@@ -62,6 +63,14 @@ constexpr dds_duration_t kStatePeriod = DDS_MSECS(50);
 // connect_agents, once every claim is in but a packet writer has not matched its reader yet.
 constexpr dds_duration_t kMatchPoll = DDS_MSECS(5);
 
+// Each robot group's telemetry limits (a robot is held to its own behaviour's states and columns).
+std::vector<world::TelemetryLimits> group_telemetry_limits(const world::Scenario& scenario) {
+  std::vector<world::TelemetryLimits> limits;
+  for (std::size_t k = 0; k < world::group_count(scenario); ++k)
+    limits.push_back(world::telemetry_limits(scenario, k));
+  return limits;
+}
+
 }  // namespace
 
 Server::Server(const world::Scenario& scenario, ServerOptions options, dds::SignalWatch& signals)
@@ -79,7 +88,7 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
       refusals_("world_server", std::cerr),
       robots_(scenario.robots.size()),
       guard_(guard_limits(scenario)),
-      telemetry_limits_(world::telemetry_limits(scenario)),
+      telemetry_limits_(group_telemetry_limits(scenario)),
       late_(scenario.robots.size()),
       schedule_(scenario),
       status_(options_.status_fd),
@@ -451,7 +460,8 @@ void Server::report(const dds::CommandSample& s, Abuse what, const std::string& 
 
 void Server::check_telemetry_of(RobotId id) {
   const world::TelemetryDrops d =
-      world::check_telemetry(robots_[id].latest.telemetry, world_.robots()[id].telemetry, telemetry_limits_);
+      world::check_telemetry(robots_[id].latest.telemetry, world_.robots()[id].telemetry,
+                             telemetry_limits_[world::group_of(world_.scenario(), id)]);
   if (!d.any()) return;
   telemetry_fields_dropped_ += d.fields;
   telemetry_events_dropped_ += d.events;

@@ -196,7 +196,7 @@ class Server {
   // A round waiting this long says on stderr whom it waits for, and again at each further period.
   static constexpr dds_duration_t kWaitReport = DDS_SECS(5);
   InputGuard guard_;
-  world::TelemetryLimits telemetry_limits_;
+  std::vector<world::TelemetryLimits> telemetry_limits_;  // a robot group's each (one without groups)
   std::uint64_t telemetry_fields_dropped_ = 0;
   std::uint64_t telemetry_events_dropped_ = 0;
   std::size_t waiting_count_ = 0;

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "common/dds/entity.hpp"
 #include "common/dds/identity.hpp"
@@ -12,13 +13,26 @@
 
 namespace swarmform::dds {
 
-struct MissionAnnouncement {
+// A robot group of the run (docs/scenario-format.md "Groups"): robots first_id..first_id+count-1 are told
+// `mission` (the run's mission with the group's behaviour and parameters).
+struct MissionGroup {
+  RobotId first_id = 0;
+  std::uint32_t count = 0;
   Mission mission;
-  std::uint32_t robots = 0;     // robots in the run (ids 0..robots-1)
-  std::uint64_t run_nonce = 0;  // random per run (the launcher's --run-nonce, or the world's own draw)
+};
+
+struct MissionAnnouncement {
+  Mission mission;                   // with groups: the first group's until own_group() picks the robot's
+  std::vector<MissionGroup> groups;  // empty: every robot is told `mission`
+  std::uint32_t robots = 0;          // robots in the run (ids 0..robots-1)
+  std::uint64_t run_nonce = 0;       // random per run (the launcher's --run-nonce, or the world's own draw)
   bool realtime = false;   // the pace of sf_sensor / sf_command (qos.hpp): an agent creates them after this
   ParticipantKey world{};  // reader side: the participant of the writer it came from
 };
+
+// `a.mission` becomes robot `id`'s own group's (no change without groups, or for an id beyond the run's
+// robots).
+void take_own_group(MissionAnnouncement& a, RobotId id);
 
 class MissionWriter {
  public:

@@ -6,6 +6,6 @@
 
 namespace swarmform::dds {
 
-inline constexpr std::uint16_t kWireVersion = 11;
+inline constexpr std::uint16_t kWireVersion = 12;
 
 }  // namespace swarmform::dds

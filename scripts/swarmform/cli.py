@@ -118,14 +118,16 @@ def _kill_spec(text: str) -> str:
 
 
 def _param(text: str) -> str:
-    """`NAME=VALUE` (one value; `swarm sweep --param` takes several): the syntax here, the name and the bounds by
-    the behaviour's own table when the world loads the scenario (before anything starts)."""
+    """`NAME=VALUE` (one value; `swarm sweep --param` takes several), or `GROUP.NAME=VALUE` for a robot group's
+    (docs/scenario-format.md "Groups"): the syntax here, the group, the name and the bounds by the behaviour's own
+    table when the world loads the scenario (before anything starts)."""
     name, sep, value = text.partition("=")
     try:
         number = float(value)
     except ValueError:
         number = math.nan
-    if not sep or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name.strip()) or not math.isfinite(number):
+    if not sep or not re.fullmatch(r"(?:[a-z][a-z0-9_]*\.)?[A-Za-z_][A-Za-z0-9_]*", name.strip()) \
+            or not math.isfinite(number):
         raise argparse.ArgumentTypeError(f"expected NAME=VALUE with VALUE a finite number (e.g. radius=1.5), "
                                          f"got '{text}'")
     return f"{name.strip()}={value.strip()}"

@@ -233,7 +233,14 @@ def described_by(info: dict[str, Any]) -> Optional[str]:
 
 def refuse_without_exec(args: argparse.Namespace, info: dict[str, Any], in_process: bool = False) -> None:
     """A behaviour described by a file runs only as `--exec` programs under robot agents: refused before
-    anything starts in an in-process run, or without --exec."""
+    anything starts in an in-process run, or without --exec. A mixed swarm (robot groups) with --exec is refused:
+    one program would run every group's robots (docs/scenario-format.md "Groups")."""
+    groups = info.get("groups")
+    if groups and getattr(args, "exec", None):
+        names = ", ".join(str(g.get("name")) for g in groups)
+        raise LaunchError(f"{args.scenario}: --exec runs one program for every robot, and this scenario's robots are "
+                          f"groups of different behaviours ({names}); a mixed swarm runs built-in and plug-in "
+                          "behaviours only", EXIT_BAD_INPUT)
     path = described_by(info)
     if path is None or (getattr(args, "exec", None) and not in_process):
         return

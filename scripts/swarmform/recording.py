@@ -156,6 +156,27 @@ class World:
     floor: Floor = field(default_factory=Floor)
     lights: list = field(default_factory=list)  # Light
     battery: Optional[dict] = None  # {capacity, idle, moving, start}
+    # A mixed swarm's robot groups (world.json `groups`, docs/recording-format.md "Robot groups"), in id order;
+    # empty without: every robot has `states`.
+    groups: list = field(default_factory=list)  # RobotGroup
+
+    def states_of(self, robot: int) -> dict:
+        """The states {value: (name, colour)} of robot `robot`'s own behaviour (its group's)."""
+        for g in self.groups:
+            if g.first_id <= robot < g.first_id + g.count:
+                return g.states
+        return self.states
+
+
+@dataclass
+class RobotGroup:
+    """One group of a mixed swarm: its name, its ids first_id..first_id+count-1, its behaviour and states."""
+
+    name: str
+    first_id: int
+    count: int
+    behaviour: str
+    states: dict
 
 
 @dataclass
@@ -337,6 +358,7 @@ def read_world(path: str) -> World:
     desc = doc.get("behaviour_descriptor")
     if isinstance(desc, dict):
         _read_behaviour(desc, path, w)
+    w.groups = _read_groups(doc.get("groups"), path)
     if doc.get("floor") is not None:
         w.floor = _read_floor(doc["floor"], path)
     for i, light in enumerate(doc.get("lights") or []):
@@ -394,6 +416,25 @@ def _read_floor(doc: Any, path: str) -> Floor:
             raise RecordingError(path, None, f"{what}.kind: expected 'circle' or 'rectangle', got {r.get('kind')!r}")
         f.regions.append(region)
     return f
+
+
+def _read_groups(groups: Any, path: str) -> list[RobotGroup]:
+    """world.json's `groups` (a mixed swarm): each group's ids and its own behaviour's states."""
+    if groups is None:
+        return []
+    if not isinstance(groups, list):
+        raise RecordingError(path, None, "groups: expected a list of {name, first_id, count, behaviour_descriptor}")
+    out = []
+    for i, g in enumerate(groups):
+        ok = isinstance(g, dict) and all(isinstance(g.get(k), int) and not isinstance(g.get(k), bool) and g[k] >= 0
+                                         for k in ("first_id", "count"))
+        if not ok:
+            raise RecordingError(path, None, f"groups[{i}]: expected {{name, first_id, count, behaviour_descriptor}}")
+        desc = g.get("behaviour_descriptor") if isinstance(g.get("behaviour_descriptor"), dict) else {}
+        w = World()
+        _read_behaviour(desc, path, w)
+        out.append(RobotGroup(str(g.get("name", i)), g["first_id"], g["count"], str(desc.get("name", "?")), w.states))
+    return out
 
 
 def _read_behaviour(desc: dict[str, Any], path: str, w: World) -> None:

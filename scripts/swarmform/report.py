@@ -38,6 +38,7 @@ LAYOUT = [
     ("Behaviour at the end", [("params", "parameters", "means"),
                               ("states_at_end", "live robots by state", "counts"),
                               ("telemetry_mean_at_end", "telemetry (live mean)", "means")]),
+    ("Robot groups", [("groups", "per group", "groups")]),
     ("Reproducibility", [("trajectory_sha256", "trajectory sha256", "text")]),
 ]
 # The paper's metrics: shown only for a behaviour that forms a shape and goes to a goal (world.json's
@@ -69,6 +70,18 @@ def _fmt(value: Any, kind: str, summary: dict[str, Any], tick_rate: Optional[flo
     if kind == "means" and isinstance(value, dict):
         return ", ".join(f"{name} {v:.3g}" if isinstance(v, (int, float)) else f"{name} -"
                          for name, v in value.items()) or "none"
+    if kind == "groups" and isinstance(value, dict):  # a mixed swarm: a line a group (docs/recording-format.md)
+        out = []
+        for name, g in value.items():
+            if not isinstance(g, dict):
+                continue
+            first, count = g.get("first_id"), g.get("count")
+            ids = f"robots {first}..{first + count - 1}" if isinstance(first, int) and isinstance(count, int) \
+                else "robots ?"
+            states = _fmt(g.get("states_at_end"), "counts", summary, tick_rate)
+            out.append(f"{name}: {g.get('behaviour', '?')}, {ids}, outcome {g.get('outcome', '?')}; "
+                       f"live by state {states}")
+        return "\n" + "\n".join("    " + line for line in out) if out else "none"
     if kind == "list" and isinstance(value, list):
         if not value:
             return "none"

@@ -69,6 +69,42 @@ def state_colours(states: Sequence[Any], world_states: States) -> list[str]:
     return [world_states.get(int(s), ("", UNKNOWN_COLOUR))[1] for s in states]
 
 
+# A mixed swarm's robots are edged in their group's colour (the page's outlines: viewer/web/viewer.js).
+GROUP_EDGES = ["#263238", "#d81b60", "#ff6f00", "#00897b", "#5e35b1", "#6d4c41"]
+
+
+def robot_colours(world: Any, ids: Any, states: Sequence[Any]) -> list[str]:
+    """Each robot's fill by its own behaviour's states (its group's in a mixed swarm)."""
+    if not world.groups:
+        return state_colours(states, world.states)
+    return [world.states_of(int(k)).get(int(s), ("", UNKNOWN_COLOUR))[1] for k, s in zip(ids, states)]
+
+
+def robot_edges(world: Any, ids: Any) -> Any:
+    """Each robot's edge colour: its group's (black without groups)."""
+    if not world.groups:
+        return "black"
+    out = []
+    for k in ids:
+        g = next((j for j, grp in enumerate(world.groups) if grp.first_id <= int(k) < grp.first_id + grp.count), 0)
+        out.append(GROUP_EDGES[g % len(GROUP_EDGES)])
+    return out
+
+
+def group_handles(world: Any, states_present: dict[int, set[int]]) -> list[Any]:
+    """A mixed swarm's legend: per group, a ring in its edge colour with its name, then its states shown."""
+    handles = []
+    for j, g in enumerate(world.groups):
+        handles.append(Line2D([], [], marker="o", linestyle="", markerfacecolor="none", markeredgewidth=2,
+                              markeredgecolor=GROUP_EDGES[j % len(GROUP_EDGES)], markersize=8,
+                              label=f"{g.name}:"))
+        for s in sorted(states_present.get(j, set())):
+            if s in g.states:
+                handles.append(Line2D([], [], marker="o", linestyle="", markerfacecolor=g.states[s][1],
+                                      markeredgecolor="black", markersize=7, label=f"  {g.states[s][0]}"))
+    return handles
+
+
 def _region_patch(r: FloorRegion) -> Any:
     if r.kind == "circle":
         return Circle(r.centre, r.radius)
@@ -241,9 +277,12 @@ class Scene:
                          self.ax.plot([gx], [gy], marker="x", color="#2e7d32", markersize=8)[0]]
         if legend:
             present = set(int(s) for s in np.unique(rec.track.state))  # only the states this run shows
-            handles = legend_handles(present, rec.world.states, bool(rec.track.leader.any()),
-                                     bool((rec.track.parent >= 0).any()), bool(rec.world.lights),
-                                     rec.track.leds is not None and bool(rec.track.leds.any()))
+            by_group = {j: set(int(s) for s in np.unique(rec.track.state[:, g.first_id:g.first_id + g.count]))
+                        for j, g in enumerate(rec.world.groups)}
+            handles = legend_handles(set() if rec.world.groups else present, rec.world.states,
+                                     bool(rec.track.leader.any()), bool((rec.track.parent >= 0).any()),
+                                     bool(rec.world.lights), rec.track.leds is not None and bool(rec.track.leds.any()))
+            handles = group_handles(rec.world, by_group) + handles
             self.fig.legend(handles=handles, loc="center left",
                             bbox_to_anchor=(0.82, 0.5), fontsize=8, frameon=False)
         # Robots at true size, but never smaller than a few pixels (the arena is large, the robots small).
@@ -274,7 +313,10 @@ class Scene:
         x, y, alive = t.x[i], t.y[i], t.alive[i]
         live = np.nonzero(alive)[0]
         self.robots.set_offsets(np.column_stack([x[live], y[live]]) if live.size else np.empty((0, 2)))
-        self.robots.set_facecolors(state_colours(t.state[i][live], self.world_states))
+        self.robots.set_facecolors(robot_colours(self.rec.world, live, t.state[i][live]))
+        if self.rec.world.groups:
+            self.robots.set_edgecolors(robot_edges(self.rec.world, live))
+            self.robots.set_linewidths(1.2)
         deadi = np.nonzero(~alive)[0]
         self.dead.set_offsets(np.column_stack([x[deadi], y[deadi]]) if deadi.size else np.empty((0, 2)))
         lead = np.nonzero(alive & t.leader[i])[0]

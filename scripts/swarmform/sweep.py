@@ -250,7 +250,7 @@ def _restart_delay(text: str, digits: Optional[str]) -> int:
     return after
 
 
-_PARAM_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+_PARAM_NAME = re.compile(r"^(?:[a-z][a-z0-9_]*\.)?[A-Za-z_][A-Za-z0-9_]*$")  # GROUP.NAME: a robot group's
 
 
 def parse_param(text: str) -> tuple[str, ParamValues]:

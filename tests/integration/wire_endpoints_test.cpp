@@ -10,12 +10,18 @@
 //   a writer sent one, drops that writer's samples for instances not known inside the run before storing
 //   them; it keeps at most a writer's budget of samples a window, the rest dropped before they are decoded
 //   or stored (dds::ReceiveBudget);
+// - a mixed swarm's mission carries its robot groups, each agent takes its own group's behaviour and
+//   parameters, and groups that do not tile the run's ids are refused (docs/wire.md, version 12);
 // - a waiter counting a reader's arrivals sleeps until as many samples are in as it said it needs (so the
 //   world wakes once in a lockstep round, not at each of its 64 commands).
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <map>
 #include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
 #include <thread>
 
 #include "behaviour/descriptor.hpp"
@@ -24,10 +30,13 @@
 #include "common/dds/command_writer.hpp"
 #include "common/dds/identity.hpp"
 #include "common/dds/matching.hpp"
+#include "common/dds/mission_endpoints.hpp"
 #include "common/dds/observe_wire.hpp"
 #include "common/dds/participant.hpp"
+#include "common/dds/refusal_log.hpp"
 #include "common/dds/robot_channels.hpp"
 #include "common/dds/waiter.hpp"
+#include "common/input_error.hpp"
 #include "common/sensor_readings.hpp"
 #include "tests/support/test_domain.hpp"
 
@@ -332,6 +341,86 @@ TEST(WireEndpoints, ACountingWaiterSleepsUntilAsManySamplesAsItNeedsAreIn) {
   EXPECT_FALSE(waiter.wait_until(in_ms(200))) << "woke with nothing pending after a drain";
   writer.step(4, 0, c);
   EXPECT_TRUE(waiter.wait_until(in_ms(5000))) << "needing one, a sample did not wake it";
+}
+
+// The mission of run `nonce` once it is in (5 s at most).
+std::optional<dds::MissionAnnouncement> take_mission(dds::MissionReader& reader, std::uint64_t nonce) {
+  std::ostringstream said;
+  dds::RefusalLog refusals("test", said);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (auto m = reader.take(nonce, refusals)) return m;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return std::nullopt;
+}
+
+dds::MissionAnnouncement mixed_announcement(std::uint64_t nonce) {
+  dds::MissionAnnouncement a;
+  a.run_nonce = nonce;
+  a.robots = 12;
+  a.mission.behaviour = "paper";
+  a.mission.params = {{"shape_heading", 0.0}};
+  Mission walkers = a.mission;
+  walkers.behaviour = "random_walk";
+  walkers.params = {{"k_turn", 2.0}};
+  a.groups = {{0, 8, a.mission}, {8, 4, walkers}};
+  return a;
+}
+
+TEST(WireEndpoints, AMixedSwarmsMissionCarriesItsGroupsAndEachAgentTakesItsOwn) {
+  const dds::Participant participant(world_on_loopback());
+  dds::MissionWriter writer(participant);
+  dds::MissionReader reader(participant);
+  writer.publish(mixed_announcement(77));
+  auto a = take_mission(reader, 77);
+  ASSERT_TRUE(a.has_value());
+  ASSERT_EQ(a->groups.size(), 2u);
+  EXPECT_EQ(a->groups[1].first_id, 8u);
+  EXPECT_EQ(a->groups[1].count, 4u);
+  dds::MissionAnnouncement agent9 = *a, agent3 = *a;
+  dds::take_own_group(agent9, 9);
+  EXPECT_EQ(agent9.mission.behaviour, "random_walk");
+  EXPECT_EQ(agent9.mission.params, (std::map<std::string, double>{{"k_turn", 2.0}}));
+  dds::take_own_group(agent3, 3);
+  EXPECT_EQ(agent3.mission.behaviour, "paper");
+  EXPECT_EQ(agent3.mission.params, (std::map<std::string, double>{{"shape_heading", 0.0}}));
+  // A run without groups: the mission as it is, for every id.
+  dds::MissionAnnouncement plain = mixed_announcement(78);
+  plain.groups.clear();
+  writer.publish(plain);
+  auto p = take_mission(reader, 78);
+  ASSERT_TRUE(p.has_value());
+  EXPECT_TRUE(p->groups.empty());
+  dds::take_own_group(*p, 11);
+  EXPECT_EQ(p->mission.behaviour, "paper");
+}
+
+TEST(WireEndpoints, AMissionWhoseGroupsDoNotTileTheRunIsRefused) {
+  const dds::Participant participant(world_on_loopback());
+  dds::MissionWriter writer(participant);
+  dds::MissionReader reader(participant);
+  dds::MissionAnnouncement gap = mixed_announcement(90);
+  gap.groups[1].first_id = 9;  // id 8 in no group
+  writer.publish(gap);
+  try {
+    take_mission(reader, 90);
+    ADD_FAILURE() << "a mission with a gap between its groups was taken";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("robot group 1 starts at id 9 with 4 robots; expected id 8"),
+              std::string::npos)
+        << e.what();
+  }
+  dds::MissionAnnouncement short_of = mixed_announcement(91);
+  short_of.robots = 20;
+  writer.publish(short_of);
+  try {
+    take_mission(reader, 91);
+    ADD_FAILURE() << "a mission whose groups hold fewer robots than the run was taken";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("the robot groups hold 12 robots, the run 20"), std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

@@ -86,6 +86,24 @@ class CliTest(unittest.TestCase):
         for group in ("Run", "Outcome", "Formation and motion", "Faults", "Collisions (contact onsets)", "Reproducibility"):
             self.assertIn(group, lines)
 
+    def test_report_gives_a_mixed_swarms_groups_a_line_each(self):
+        fixture.make_run(self.dir, ticks=40)
+        path = os.path.join(self.dir, "summary.json")
+        with open(path) as f:
+            summary = json.load(f)
+        summary["groups"] = {"shapers": {"behaviour": "paper", "first_id": 0, "count": 5, "outcome": "arrived",
+                                         "states_at_end": {"arrived": 5}},
+                             "movers": {"behaviour": "random_walk", "first_id": 5, "count": 2, "outcome": "none",
+                                        "states_at_end": {"walking": 2}}}
+        with open(path, "w") as f:
+            json.dump(summary, f)
+        r = helpers.swarm("report", self.dir)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        lines = r.stdout.splitlines()
+        self.assertIn("Robot groups", lines)
+        self.assertIn("    shapers: paper, robots 0..4, outcome arrived; live by state arrived 5", lines)
+        self.assertIn("    movers: random_walk, robots 5..6, outcome none; live by state walking 2", lines)
+
     def test_report_json_and_csv(self):
         fixture.make_run(self.dir, ticks=40, distortion=True)
         r = helpers.swarm("report", self.dir, "--json")

@@ -282,6 +282,45 @@ class SpeedTest(unittest.TestCase):
             shutil.rmtree(d)
 
 
+class GroupsPicturesTest(unittest.TestCase):
+    """A mixed swarm (world.json `groups`): each robot filled by its own group's state colours and edged in its
+    group's colour, and the legend has a line per group."""
+
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="swarm-pics-groups-")
+        fixture.make_run(self.dir, robots=7, death=(0, 1000))
+        path = os.path.join(self.dir, "world.json")
+        with open(path) as f:
+            doc = json.load(f)
+        states = [{"value": v, "name": f"paper{v}", "colour": "#00ff00"} for v in range(7)]
+        walking = [{"value": v, "name": f"walk{v}", "colour": "#0000ff"} for v in range(7)]
+        doc["groups"] = [{"name": "shapers", "first_id": 0, "count": 4, "behaviour_descriptor": {"name": "paper",
+                                                                                                "states": states}},
+                         {"name": "movers", "first_id": 4, "count": 3,
+                          "behaviour_descriptor": {"name": "random_walk", "states": walking}}]
+        with open(path, "w") as f:
+            json.dump(doc, f)
+
+    def tearDown(self):
+        shutil.rmtree(self.dir)
+
+    def test_each_robot_has_its_groups_colours_and_the_legend_a_line_per_group(self):
+        rec = recording.load(self.dir)
+        self.assertEqual([(g.name, g.first_id, g.count) for g in rec.world.groups], [("shapers", 0, 4), ("movers", 4, 3)])
+        view = scene.Scene(rec, pictures.picture_size(rec, "snapshot"), pictures.DPI)
+        self.addCleanup(view.close)
+        view.show(rec.track.index_of(10))
+        fills = [tuple(np.round(c[:3], 3)) for c in view.robots.get_facecolors()]
+        self.assertEqual(fills, [(0.0, 1.0, 0.0)] * 4 + [(0.0, 0.0, 1.0)] * 3)
+        edges = [tuple(np.round(c[:3], 3)) for c in view.robots.get_edgecolors()]
+        self.assertEqual(len(set(edges[:4])), 1)
+        self.assertEqual(len(set(edges[4:])), 1)
+        self.assertNotEqual(edges[0], edges[4])
+        labels = [t.get_text() for t in view.fig.legends[0].get_texts()]
+        self.assertIn("shapers:", labels)
+        self.assertIn("movers:", labels)
+
+
 class WorldEventsPicturesTest(unittest.TestCase):
     """Obstacles that world events add, move and remove are drawn as they stand at the tick shown; the trajectories
     show where each stood as a dashed outline."""

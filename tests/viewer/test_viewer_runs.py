@@ -574,6 +574,74 @@ class KheperaReplayTest(unittest.TestCase):
 
 @unittest.skipUnless(vh.built("viewer"), f"swarm_viewer not built in {vh.BUILD_DIR}")
 @unittest.skipIf(not os.path.exists(cdp.CHROMIUM), "chromium missing (scripts/setup installs it)")
+class GroupsReplayTest(unittest.TestCase):
+    """`swarm view` of a mixed swarm's recording (world.json `groups`; tests/scripts/fixture.py, no DDS): each robot
+    is filled by its own group's state colours and outlined in its group's colour, and the legend has a line per
+    group naming its behaviour and ids."""
+
+    def setUp(self):
+        import fixture  # tests/scripts (viewer_helpers puts it on the path)
+        self.dir = tempfile.mkdtemp(prefix="sf-view-groups-")
+        fixture.make_run(self.dir, ticks=30, robots=7)
+        path = os.path.join(self.dir, "world.json")
+        with open(path) as f:
+            doc = json.load(f)
+        green = [{"value": v, "name": f"paper{v}", "colour": "#00ff00"} for v in range(7)]
+        blue = [{"value": v, "name": f"walk{v}", "colour": "#0000ff"} for v in range(7)]
+        doc["groups"] = [{"name": "shapers", "first_id": 0, "count": 4,
+                          "behaviour_descriptor": {"name": "paper", "states": green}},
+                         {"name": "movers", "first_id": 4, "count": 3,
+                          "behaviour_descriptor": {"name": "random_walk", "states": blue}}]
+        with open(path, "w") as f:
+            json.dump(doc, f)
+        self.proc = None
+        self.browser = None
+
+    def tearDown(self):
+        if self.browser:
+            self.browser.close()
+        if self.proc:
+            try:
+                os.killpg(self.proc.pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+            self.proc.wait(timeout=10)
+        shutil.rmtree(self.dir)
+
+    def test_each_robot_is_drawn_in_its_groups_colours_with_a_legend_line_per_group(self):
+        port = vh.free_port()
+        env = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=vh.BUILD_DIR)
+        self.proc = subprocess.Popen([vh.SWARM, "view", self.dir, "--port", str(port)], stdin=subprocess.DEVNULL,
+                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env,
+                                     start_new_session=True)
+        url = f"http://127.0.0.1:{port}/"
+        vh.wait_http(url)
+        b = self.browser = cdp.Browser()
+        b.navigate(url)
+        b.wait_for("window.sfViewer && sfViewer.replay && sfViewer.frame && sfViewer.drawn.groups"
+                   " && sfViewer.drawn.groups.movers", what="the recording drawn")
+        drawn = b.eval("sfViewer.drawn.groups")
+        self.assertEqual(sorted(drawn), ["movers", "shapers"])
+        shapers = {d["id"]: (d["fill"], d["outline"]) for d in drawn["shapers"]}
+        movers = {d["id"]: (d["fill"], d["outline"]) for d in drawn["movers"]}
+        self.assertEqual(sorted(shapers), [0, 1, 2, 3])
+        self.assertEqual(sorted(movers), [4, 5, 6])
+        self.assertEqual({f for f, _ in shapers.values()}, {"#00ff00"})
+        self.assertEqual({f for f, _ in movers.values()}, {"#0000ff"})
+        outlines = {o for _, o in shapers.values()} | {o for _, o in movers.values()}
+        self.assertEqual(len(outlines), 2, "one outline colour a group")
+        legend = b.eval("document.getElementById('legend').textContent")
+        self.assertIn("shapers (paper, 0..3)", legend)
+        self.assertIn("movers (random_walk, 4..6)", legend)
+        self.assertIn("walk0", legend)
+        # A selected robot's panel names its group and its state by its own behaviour's names.
+        b.eval("sfViewer.select(5)")
+        b.wait_for("document.getElementById('panel-id').textContent === '5 (group movers)'", what="robot 5's panel")
+        self.assertIn("walk", b.eval("document.getElementById('robot-fields').textContent"))
+
+
+@unittest.skipUnless(vh.built("viewer"), f"swarm_viewer not built in {vh.BUILD_DIR}")
+@unittest.skipIf(not os.path.exists(cdp.CHROMIUM), "chromium missing (scripts/setup installs it)")
 class DamagedReplayTest(unittest.TestCase):
     """`swarm view` of a damaged recording (tests/scripts/fixture.py, 7 robots, 80 ticks, no DDS): corrupt bytes in
     the middle are a banner on the page at the ticks they touch (a seek into the lost ticks says it instead of

@@ -18,6 +18,7 @@ const S = {
   world: null,         // world.json
   frame: null,         // the frame drawn: {tick, robots: [...], ...}
   states: new Map(),   // state value -> {name, colour}
+  groups: [],          // a mixed swarm's robot groups (world.json `groups`): {name, behaviour, first, count, states, outline}
   fields: [],          // telemetry fields a robot's panel lists
   events: [],          // every event so far (live) or of the recording (replay)
   selected: null,      // robot id
@@ -137,12 +138,30 @@ function select(id) {
 }
 
 function robotRadius() { return (S.world && S.world.robot_radius) || 0.0704; }
+// A mixed swarm (docs/recording-format.md "Robot groups"): each robot is coloured by its own group's states and
+// outlined in its group's colour; without groups every robot has the run's states and the one outline.
+const GROUP_OUTLINES = ["#263238", "#d81b60", "#ff6f00", "#00897b", "#5e35b1", "#6d4c41"];
+function groupOf(id) {
+  for (const g of S.groups) if (id >= g.first && id < g.first + g.count) return g;
+  return null;
+}
+function statesOf(id) { const g = groupOf(id); return g ? g.states : S.states; }
 function stateColour(r) {
   if (!r.alive) return DEAD_COLOUR;
-  const s = S.states.get(r.state);
+  const s = statesOf(r.id).get(r.state);
   return s ? s.colour : UNKNOWN_COLOUR;
 }
-function stateName(v) { const s = S.states.get(v); return s ? s.name : "state " + v; }
+function stateName(v, id) { const s = (id === undefined ? S.states : statesOf(id)).get(v); return s ? s.name : "state " + v; }
+function setGroups(w) {
+  const list = Array.isArray(w.groups) ? w.groups : [];
+  S.groups = list.map((g, k) => {
+    const d = (g && g.behaviour_descriptor) || {};
+    return { name: String(g.name), behaviour: String(d.name || "?"), first: Number(g.first_id), count: Number(g.count),
+             states: new Map((d.states || []).map((s) => [s.value, { name: s.name, colour: s.colour }])),
+             outline: GROUP_OUTLINES[k % GROUP_OUTLINES.length] };
+  });
+  legend();
+}
 
 // ---- drawing ---------------------------------------------------------------------------------------------
 
@@ -411,22 +430,31 @@ function draw() {
   // Bodies: a disc in the state's colour, a heading notch from mid-radius to the rim; the dead grey and crossed.
   // One path a colour, one for the outlines and one for the notches: 256 robots are a few fills and strokes,
   // not a thousand (the page keeps up with 10 frames a second in a software-rendered Chromium).
-  const discs = new Map(), outlines = new Path2D(), notches = new Path2D();
+  // A mixed swarm's robots are outlined in their group's colour (GROUP_OUTLINES), one path a group.
+  const discs = new Map(), outlines = new Map(), notches = new Path2D();
+  S.drawn.groups = {};
   for (const r of f.robots) {
     const [x, y] = project(r.x, r.y);
     const colour = stateColour(r);
     let p = discs.get(colour);
     if (!p) { p = new Path2D(); discs.set(colour, p); }
     p.moveTo(x + rr, y); p.arc(x, y, rr, 0, 2 * Math.PI);
-    outlines.moveTo(x + rr, y); outlines.arc(x, y, rr, 0, 2 * Math.PI);
+    const g = groupOf(r.id);
+    const ring = g ? g.outline : GROUP_OUTLINES[0];
+    if (g) S.drawn.groups[g.name] = (S.drawn.groups[g.name] || []).concat([{ id: r.id, fill: colour, outline: ring }]);
+    let o = outlines.get(ring);
+    if (!o) { o = new Path2D(); outlines.set(ring, o); }
+    o.moveTo(x + rr, y); o.arc(x, y, rr, 0, 2 * Math.PI);
     const c = Math.cos(r.theta), s = Math.sin(r.theta);
     notches.moveTo(x + c * rr * 0.45, y - s * rr * 0.45);
     notches.lineTo(x + c * rr, y - s * rr);
   }
   for (const [colour, p] of discs) { ctx.fillStyle = colour; ctx.fill(p); }
-  ctx.strokeStyle = "#263238";
-  ctx.lineWidth = 1;
-  ctx.stroke(outlines);
+  for (const [ring, o] of outlines) {
+    ctx.strokeStyle = ring;
+    ctx.lineWidth = ring === GROUP_OUTLINES[0] ? 1 : 2.5;
+    ctx.stroke(o);
+  }
   ctx.lineWidth = 2;
   ctx.stroke(notches);
   for (const r of f.robots) {
@@ -620,12 +648,25 @@ function controls() {
 function legend() {
   const l = $("legend");
   l.textContent = "";
-  for (const [v, s] of S.states) {
-    const span = document.createElement("span");
-    const dot = document.createElement("i");
-    dot.style.background = s.colour;
-    span.append(dot, s.name);
-    l.append(span);
+  const line = (into, states) => {
+    for (const [v, s] of states) {
+      const span = document.createElement("span");
+      const dot = document.createElement("i");
+      dot.style.background = s.colour;
+      span.append(dot, s.name);
+      into.append(span);
+    }
+  };
+  if (!S.groups.length) { line(l, S.states); return; }
+  // One line a group: its outline, name, behaviour and ids, then its own states.
+  for (const g of S.groups) {
+    const div = document.createElement("div");
+    div.className = "group";
+    const ring = document.createElement("b");
+    ring.style.borderColor = g.outline;
+    div.append(ring, g.name + " (" + g.behaviour + ", " + g.first + ".." + (g.first + g.count - 1) + "): ");
+    line(div, g.states);
+    l.append(div);
   }
 }
 
@@ -636,12 +677,12 @@ function panel() {
   $("robot").hidden = !r;
   $("nothing-selected").hidden = !!r;
   if (!r) return;
-  $("panel-id").textContent = r.id;
+  $("panel-id").textContent = r.id + (groupOf(r.id) ? " (group " + groupOf(r.id).name + ")" : "");
   const rows = [["alive", r.alive ? "yes" : "dead"], ["x, y", fmt(r.x) + ", " + fmt(r.y)],
                 ["heading", (r.theta * 180 / Math.PI).toFixed(1) + "°"]];
   for (const f of S.fields) {
     if (!(f in r)) continue;
-    rows.push([f, f === "state" ? stateName(r.state) + " (" + r.state + ")" : fmt(r[f])]);
+    rows.push([f, f === "state" ? stateName(r.state, r.id) + " (" + r.state + ")" : fmt(r[f])]);
   }
   if (r.heard) rows.push(["heard", r.heard.length ? r.heard.join(" ") : "nobody"]);
   if (r.ultrasonic) rows.push(["ultrasonic (m)", r.ultrasonic.map((d) => d.toFixed(2)).join(" ")]);
@@ -686,6 +727,7 @@ function panel() {
 
 function setDescription(m) {
   S.states = new Map((m.states || []).map((s) => [s.value, { name: s.name, colour: s.colour }]));
+  // A mixed swarm's telemetry columns are the union of its groups' (robots.csv); each robot shows those it has.
   S.fields = m.telemetry_fields || [];
   legend();
 }
@@ -864,6 +906,7 @@ async function loadWorld() {
     await new Promise((res) => setTimeout(res, 200));
   }
   if (!S.world) { $("mode").textContent = why; return; }
+  setGroups(S.world);
   fit();
   resize();
 }

@@ -3,17 +3,22 @@
 #include <cmath>
 #include <exception>
 #include <set>
+#include <span>
 #include <type_traits>
 
 #include "behaviour/descriptor_check.hpp"
 #include "world_server/run/metrics.hpp"
 #include "world_server/run/recording_format.hpp"
+#include "world_server/world/robot_groups.hpp"
 
 namespace swarmform::world {
 
-ExperimentRunner::ExperimentRunner(const World& world) : world_(world) {
+ExperimentRunner::ExperimentRunner(const World& world, std::size_t group) : world_(world) {
   const Scenario& s = world.scenario();
-  descriptor_ = s.behaviour;
+  const GroupView g = group_view(s, group);
+  descriptor_ = g.behaviour;
+  first_ = g.first_id;
+  count_ = g.count;
   if (descriptor_ == nullptr || descriptor_->experiment.make == nullptr) return;
   verdict_.success = false;
   for (const auto& m : descriptor_->experiment.metrics) verdict_.metrics[std::string(m.name)] = nullptr;
@@ -27,7 +32,7 @@ ExperimentRunner::ExperimentRunner(const World& world) : world_(world) {
       fail("made no experiment");
       return;
     }
-    experiment_->init(s.mission, world.robot_count());
+    experiment_->init(*g.mission, g.count);
   } catch (const std::exception& e) {
     fail(std::string("threw in init: ") + e.what());
   }
@@ -109,7 +114,8 @@ void ExperimentRunner::refresh_obstacles() {
 
 void ExperimentRunner::observe() {
   if (!experiment_) return;
-  const auto& truth = world_.robots();
+  const auto& all = world_.robots();
+  const std::span<const RobotTruth> truth(all.data() + first_, count_);
   robots_.resize(truth.size());
   for (std::size_t i = 0; i < truth.size(); ++i) {
     robots_[i] = {truth[i].id,         truth[i].pose, truth[i].alive,

@@ -34,12 +34,21 @@ inline constexpr const char* kExperimentFailed = "experiment_failed";
 
 class ExperimentRunner {
  public:
-  explicit ExperimentRunner(const World& world);
+  // The experiment of robot group `group`'s behaviour (robot_groups.hpp; 0 without groups: every robot's),
+  // shown the truth of that group's robots only (their global ids, in id order).
+  explicit ExperimentRunner(const World& world, std::size_t group = 0);
   bool active() const { return experiment_ != nullptr; }
   // The tick's truth (after World::step, or tick 0).
   void observe();
-  void died(RobotId id) { died_.push_back(id); }
-  void rejoined(RobotId id) { rejoined_.push_back(id); }
+  void died(RobotId id) {
+    if (mine(id)) died_.push_back(id);
+  }
+  void rejoined(RobotId id) {
+    if (mine(id)) rejoined_.push_back(id);
+  }
+  // Whether the behaviour has an experiment (even one that failed since): a run with groups ends early only
+  // when each of these is done.
+  bool judges() const { return descriptor_ != nullptr && descriptor_->experiment.make != nullptr; }
   // Once; later calls return the same verdict.
   const ExperimentVerdict& conclude();
   // The tick after whose observe the experiment first said it was done (Experiment::done), if it has.
@@ -54,9 +63,12 @@ class ExperimentRunner {
 
  private:
   void fail(const std::string& what);
+  bool mine(RobotId id) const { return id >= first_ && id - first_ < count_; }
 
   const World& world_;
   const behaviour::Descriptor* descriptor_ = nullptr;
+  RobotId first_ = 0;  // the group's robots: first_..first_+count_-1
+  std::size_t count_ = 0;
   std::unique_ptr<experiment::Experiment> experiment_;
   std::vector<experiment::RobotTruth> robots_;
   bool obstacles_stale() const;

@@ -55,8 +55,11 @@ std::FILE* RecordingWriter::open(const std::string& path, const char* mode, std:
 }
 
 RecordingWriter::RecordingWriter(const std::string& run_dir, std::vector<std::string> extra_columns,
-                                 std::uint32_t sensors)
-    : run_dir_(run_dir), sensors_(sensors), extra_columns_(extra_columns.size()) {
+                                 std::uint32_t sensors, std::vector<std::vector<int>> column_of_robot)
+    : run_dir_(run_dir),
+      sensors_(sensors),
+      extra_columns_(extra_columns.size()),
+      column_of_robot_(std::move(column_of_robot)) {
   std::error_code ec;
   std::filesystem::create_directories(run_dir_, ec);
   if (ec) throw std::runtime_error(run_dir_ + ": cannot create the run directory: " + ec.message());
@@ -180,9 +183,17 @@ void RecordingWriter::write_rows(Tick tick, const std::vector<RobotTruth>& robot
     // The behaviour's columns: its values, or empty fields before it has said any (telemetry_check.hpp
     // lets through exactly extra_columns_ values or none).
     const auto& extra = r.telemetry.extra;
-    for (std::size_t k = 0; k < extra_columns_; ++k) {
-      row_buffer_.push_back(',');
-      if (k < extra.size()) append_double(row_buffer_, extra[k]);
+    if (r.id < column_of_robot_.size()) {  // robot groups: its own behaviour's columns, the others empty
+      for (const int at : column_of_robot_[r.id]) {
+        row_buffer_.push_back(',');
+        if (at >= 0 && static_cast<std::size_t>(at) < extra.size())
+          append_double(row_buffer_, extra[static_cast<std::size_t>(at)]);
+      }
+    } else {
+      for (std::size_t k = 0; k < extra_columns_; ++k) {
+        row_buffer_.push_back(',');
+        if (k < extra.size()) append_double(row_buffer_, extra[k]);
+      }
     }
     row_buffer_.push_back('\n');
   }

@@ -35,8 +35,10 @@ class RecordingWriter {
   // `extra_columns`: the behaviour's telemetry columns (its descriptor's), written after the fixed ones.
   // `sensors`: the optional sensors the behaviour declares (behaviour::Sensor bits): readings.csv records
   // them; 0: no readings.csv.
+  // `column_of_robot` (robot groups, telemetry_columns.hpp): for robot id, the index into its telemetry.extra
+  // of each extra column, -1 for none (left empty); empty: column k is extra[k] for every robot.
   explicit RecordingWriter(const std::string& run_dir, std::vector<std::string> extra_columns = {},
-                           std::uint32_t sensors = 0);
+                           std::uint32_t sensors = 0, std::vector<std::vector<int>> column_of_robot = {});
   ~RecordingWriter();
   RecordingWriter(const RecordingWriter&) = delete;
   RecordingWriter& operator=(const RecordingWriter&) = delete;
@@ -82,6 +84,7 @@ class RecordingWriter {
   std::uint32_t equipped_ = 0;  // write_readings' scratch: one robot's sensors and values
   std::vector<double> sensor_values_;
   std::size_t extra_columns_ = 0;
+  std::vector<std::vector<int>> column_of_robot_;
   Tick ticks_since_flush_ = 0;
 };
 

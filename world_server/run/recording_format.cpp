@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <span>
 
 #include "behaviour/descriptor_check.hpp"
 #include "common/led_text.hpp"
+#include "world_server/world/robot_groups.hpp"
 
 namespace swarmform::world {
 
@@ -107,15 +109,18 @@ ojson deaths_json(const std::vector<DeathRecord>& records) {
 
 // The live robots' states by the behaviour's names, and the mean of each of its telemetry columns over the
 // live robots that reported them: what a run of any behaviour ended with (the report's "Behaviour" group).
-void behaviour_at_end(const Scenario& scenario, const std::vector<RobotTruth>& robots, ojson& j) {
-  const behaviour::Descriptor* d = scenario.behaviour;
+// With robot groups, of one group's robots by its own behaviour's names.
+void behaviour_at_end(const GroupView& g, const std::vector<RobotTruth>& all, ojson& j) {
+  const behaviour::Descriptor* d = g.behaviour;
   if (d == nullptr) return;
+  const std::span<const RobotTruth> robots(all.data() + g.first_id,
+                                           std::min(g.count, all.size() - g.first_id));
   // The behaviour's parameters as the run had them (the scenario's, a --param's, or the default), so that a
   // sweep's rows and an --expect can name them (params.NAME).
   ojson params = ojson::object();
   for (const auto& p : d->params) {
-    const auto it = scenario.mission.params.find(std::string(p.name));
-    params[std::string(p.name)] = it != scenario.mission.params.end() ? it->second : p.default_value;
+    const auto it = g.mission->params.find(std::string(p.name));
+    params[std::string(p.name)] = it != g.mission->params.end() ? it->second : p.default_value;
   }
   j["params"] = std::move(params);
   ojson states = ojson::object();
@@ -144,14 +149,42 @@ void behaviour_at_end(const Scenario& scenario, const std::vector<RobotTruth>& r
   j["telemetry_mean_at_end"] = std::move(means);
 }
 
+// summary.json's `groups`: each group's behaviour, ids, verdict and ending states, by group name.
+ojson groups_summary(const Scenario& scenario, const std::vector<const ExperimentVerdict*>& verdicts,
+                     const std::vector<RobotTruth>& robots) {
+  ojson out = ojson::object();
+  for (std::size_t k = 0; k < scenario.groups.size() && k < verdicts.size(); ++k) {
+    const GroupView g = group_view(scenario, k);
+    const ExperimentVerdict& v = *verdicts[k];
+    ojson j;
+    j["behaviour"] = g.mission->behaviour;
+    j["first_id"] = g.first_id;
+    j["count"] = g.count;
+    j["outcome"] = v.outcome;
+    j["success"] = v.success ? ojson(*v.success) : ojson(nullptr);
+    j["behaviour_metrics"] = v.metrics;
+    for (const auto& [key, value] : v.fields.items()) j[key] = value;
+    if (!v.error.empty()) j["experiment_error"] = v.error;
+    behaviour_at_end(g, robots, j);
+    out[std::string(g.name)] = std::move(j);
+  }
+  return out;
+}
+
 }  // namespace
 
 ojson describe_behaviour(const Scenario& scenario) {
+  return describe_behaviour(scenario, 0);
+}
+
+ojson describe_behaviour(const Scenario& scenario, std::size_t group) {
   ojson j;
-  const behaviour::Descriptor* d = scenario.behaviour;
-  j["name"] = scenario.mission.behaviour;
-  j["plugin"] = scenario.mission.plugin.empty() ? ojson(nullptr) : ojson(scenario.mission.plugin);
-  j["descriptor"] = scenario.mission.descriptor.empty() ? ojson(nullptr) : ojson(scenario.mission.descriptor);
+  const GroupView g = group_view(scenario, group);
+  const behaviour::Descriptor* d = g.behaviour;
+  const Mission& mission = *g.mission;
+  j["name"] = mission.behaviour;
+  j["plugin"] = mission.plugin.empty() ? ojson(nullptr) : ojson(mission.plugin);
+  j["descriptor"] = mission.descriptor.empty() ? ojson(nullptr) : ojson(mission.descriptor);
   if (d == nullptr) return j;
   j["summary"] = std::string(d->summary);
   j["needs_shape"] = d->needs_shape;
@@ -165,9 +198,9 @@ ojson describe_behaviour(const Scenario& scenario) {
        rules.motion_state == behaviour::ShapeRules::kNoState ? ojson(nullptr) : ojson(rules.motion_state)}};
   ojson params = ojson::array();
   for (const auto& p : d->params) {
-    auto it = scenario.mission.params.find(std::string(p.name));
+    auto it = mission.params.find(std::string(p.name));
     params.push_back({{"name", std::string(p.name)},
-                      {"value", it != scenario.mission.params.end() ? it->second : p.default_value},
+                      {"value", it != mission.params.end() ? it->second : p.default_value},
                       {"default", p.default_value},
                       {"min", p.min_value},
                       {"max", p.max_value},
@@ -207,6 +240,19 @@ ojson describe_behaviour(const Scenario& scenario) {
                        {"success", std::string(e.success)}};
   }
   return j;
+}
+
+ojson describe_groups(const Scenario& scenario) {
+  if (scenario.groups.empty()) return nullptr;
+  ojson list = ojson::array();
+  for (std::size_t k = 0; k < scenario.groups.size(); ++k) {
+    const RobotGroup& g = scenario.groups[k];
+    list.push_back({{"name", g.name},
+                    {"first_id", g.first_id},
+                    {"count", g.count},
+                    {"behaviour_descriptor", describe_behaviour(scenario, k)}});
+  }
+  return list;
 }
 
 ojson describe_world(const Scenario& scenario, const std::string& mode) {
@@ -266,7 +312,8 @@ ojson describe_world(const Scenario& scenario, const std::string& mode) {
   j["robot_radius"] = kRobotRadius;
   j["shape_file"] = scenario.shape_file;
   j["behaviour"] = m.behaviour;
-  j["behaviour_descriptor"] = describe_behaviour(scenario);
+  j["behaviour_descriptor"] = describe_behaviour(scenario);  // the first group's, with groups
+  if (!scenario.groups.empty()) j["groups"] = describe_groups(scenario);
   j["max_speed"] = m.max_speed;
   j["max_ticks"] = scenario.max_ticks;
   ojson kills = ojson::array();
@@ -326,7 +373,9 @@ ojson make_summary(const SummaryInputs& in) {
   if (!verdict.error.empty()) j["experiment_error"] = verdict.error;
   j["silent_robots"] = m.silent_robots;
   j["command_verdicts"] = in.command_verdicts;
-  behaviour_at_end(*in.scenario, *in.robots, j);
+  behaviour_at_end(group_view(*in.scenario, 0), *in.robots, j);  // the first group's, with groups
+  if (in.group_verdicts != nullptr)
+    j["groups"] = groups_summary(*in.scenario, *in.group_verdicts, *in.robots);
   j["trajectory_sha256"] = in.trajectory_sha256.empty() ? ojson(nullptr) : ojson(in.trajectory_sha256);
   j["end_reason"] = in.end_reason;
   j["provenance"] = in.provenance;
@@ -426,6 +475,7 @@ bool is_world_summary_key(std::string_view key) {
                                                "trajectory_sha256",
                                                "end_reason",
                                                "provenance",
+                                               "groups",
                                                "summary_cut"};
   return std::find(std::begin(kKeys), std::end(kKeys), key) != std::end(kKeys);
 }

@@ -28,6 +28,11 @@ inline constexpr const char* kFloorImageFile = "floor.png";
 // world.json's `behaviour_descriptor`: the behaviour's name, plug-in path, parameters (with the run's
 // values), states and colours, telemetry columns, needs_shape and needs_goal (docs/recording-format.md).
 nlohmann::ordered_json describe_behaviour(const Scenario& scenario);
+// The same of robot group `group`'s behaviour (robot_groups.hpp).
+nlohmann::ordered_json describe_behaviour(const Scenario& scenario, std::size_t group);
+// world.json's and `world_server --check`'s `groups`: [{name, first_id, count, behaviour_descriptor}] (null
+// for a scenario without groups).
+nlohmann::ordered_json describe_groups(const Scenario& scenario);
 
 // The steady part of a run's wall clock: the time after its first `from_tick` ticks, which are slower than
 // the rest (world_server --warmup-ticks says why). bench-lockstep compares this rate with bare_round's.
@@ -45,6 +50,8 @@ struct SummaryInputs {
   const std::vector<RobotTruth>* robots = nullptr;
   const Metrics* metrics = nullptr;
   const ExperimentVerdict* verdict = nullptr;  // the behaviour's experiment: outcome, success, its metrics
+  // With robot groups: each group's verdict, in group order (summary.json's `groups`); null without.
+  const std::vector<const ExperimentVerdict*>* group_verdicts = nullptr;
   std::string trajectory_sha256;
   std::uint64_t command_verdicts = 0;  // commands not taken as they came (clamped, rejected, dropped)
   std::string end_reason;              // why the run stopped (end_reason.hpp)

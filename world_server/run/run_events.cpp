@@ -49,8 +49,8 @@ std::vector<Event> controller_events(Tick tick, const std::vector<RobotTruth>& r
   return out;
 }
 
-std::string EventDeriver::state_name(std::int32_t s) const {
-  for (const auto& st : states_) {
+std::string EventDeriver::state_name(std::int32_t s, std::size_t id) const {
+  for (const auto& st : id < robot_states_.size() ? robot_states_[id] : states_) {
     if (st.value == s) return std::string(st.name);
   }
   return "unknown";
@@ -87,8 +87,8 @@ std::vector<Event> EventDeriver::observe(Tick tick, const std::vector<RobotTruth
       Event e = make_event(tick, "state", r.id);
       e["from"] = before.state;
       e["to"] = now.state;
-      e["from_name"] = state_name(before.state);
-      e["to_name"] = state_name(now.state);
+      e["from_name"] = state_name(before.state, i);
+      e["to_name"] = state_name(now.state, i);
       out.push_back(std::move(e));
     }
     if (before.label != now.label) {

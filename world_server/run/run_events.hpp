@@ -38,6 +38,10 @@ class EventDeriver {
   // `states`: the behaviour's (its descriptor's), which name a state event's values ("unknown" for others).
   EventDeriver(double comm_range, std::span<const behaviour::StateSpec> states)
       : comm_range_(comm_range), states_(states) {}
+  // With robot groups: each robot's own behaviour's states, by id (a robot beyond the list: `states`).
+  void set_robot_states(std::vector<std::span<const behaviour::StateSpec>> by_id) {
+    robot_states_ = std::move(by_id);
+  }
 
   // Compares this tick's truth with what was seen before. The first call only sets the baseline. With
   // `track_graph` the shape robots' communication graph is checked and its component count is put in
@@ -58,11 +62,12 @@ class EventDeriver {
   void observe_graph(Tick tick, const std::vector<RobotTruth>& robots, std::vector<Event>& out,
                      std::size_t& components);
 
-  std::string state_name(std::int32_t s) const;
+  std::string state_name(std::int32_t s, std::size_t id) const;
 
   double comm_range_;
   std::span<const behaviour::StateSpec> states_;
-  std::vector<Seen> seen_;  // by id
+  std::vector<std::span<const behaviour::StateSpec>> robot_states_;  // by id; empty: states_ for all
+  std::vector<Seen> seen_;                                           // by id
   bool baseline_ = false;
   struct Candidate {
     RobotId id = 0;

@@ -16,6 +16,8 @@
 #include "world_server/run/run_end.hpp"
 #include "world_server/run/run_events.hpp"
 #include "world_server/run/sha256.hpp"
+#include "world_server/run/telemetry_columns.hpp"
+#include "world_server/world/robot_groups.hpp"
 
 namespace swarmform::world {
 
@@ -42,23 +44,33 @@ std::string log_line(const Event& e) {
 
 }  // namespace
 
+std::vector<std::unique_ptr<ExperimentRunner>> make_experiments(const World& w) {
+  std::vector<std::unique_ptr<ExperimentRunner>> out;
+  for (std::size_t k = 0; k < group_count(w.scenario()); ++k)
+    out.push_back(std::make_unique<ExperimentRunner>(w, k));
+  return out;
+}
+
 struct RunSession::Impl {
   Impl(const World& w, RunOptions o)
       : world(w),
         options(std::move(o)),
-        experiment(w),
+        experiments(make_experiments(w)),
+        experiment(*experiments.front()),
         fragment_range(options.fragment_range > 0.0 ? options.fragment_range : w.scenario().comm_range),
         events(fragment_range, w.scenario().behaviour ? w.scenario().behaviour->states
                                                       : std::span<const behaviour::StateSpec>{}) {
     if (options.record_every < 1) throw std::invalid_argument("RunOptions::record_every must be at least 1");
+    const Scenario& scenario = world.scenario();
+    if (!scenario.groups.empty()) {
+      std::vector<std::span<const behaviour::StateSpec>> by_id;
+      for (RobotId id = 0; id < scenario.robots.size(); ++id)
+        by_id.push_back(behaviour_of(scenario, id)->states);
+      events.set_robot_states(std::move(by_id));
+    }
     if (!options.run_dir.empty()) {
-      std::vector<std::string> columns;
-      std::uint32_t sensors = 0;
-      if (const behaviour::Descriptor* d = world.scenario().behaviour) {
-        for (const auto& c : d->telemetry) columns.emplace_back(c.name);
-        sensors = d->sensors;
-      }
-      writer.emplace(options.run_dir, std::move(columns), sensors);
+      const TelemetryColumns columns = telemetry_columns(scenario);
+      writer.emplace(options.run_dir, columns.names, sensors_of_run(scenario), columns.of_robot);
       auto description = describe_world(world.scenario(), options.mode);
       description["fragment_range"] = fragment_range;
       description["record_every"] = options.record_every;
@@ -81,7 +93,7 @@ struct RunSession::Impl {
     const Tick tick = world.tick();
     const auto& robots = world.robots();
     tracker.observe(tick, robots, recorded_once ? world.last_contacts() : ContactCounts{});
-    experiment.observe();
+    for (auto& e : experiments) e->observe();
     // The communication graph is watched from the tick the behaviour's experiment says it stood formed on
     // (before it, robots joining a shape one by one would read as endless splits and rejoins); never for a
     // behaviour without one.
@@ -119,8 +131,11 @@ struct RunSession::Impl {
   const World& world;
   RunOptions options;
   MetricsTracker tracker;
-  ExperimentRunner experiment;  // the behaviour's own judge, if it has one
-  double fragment_range;        // m
+  // Each robot group's behaviour's own judge (one without groups); `experiment` is the first group's, whose
+  // verdict is summary.json's top level and whose formation switches the graph watch on.
+  std::vector<std::unique_ptr<ExperimentRunner>> experiments;
+  ExperimentRunner& experiment;
+  double fragment_range;  // m
   EventDeriver events;
   Sha256 sha;
   std::vector<unsigned char> pose_bytes;
@@ -155,14 +170,14 @@ void RunSession::record_tick() {
 void RunSession::record_death(RobotId id) {
   if (auto e = impl_->events.death(impl_->world.tick(), id)) {
     impl_->emit(*e);
-    impl_->experiment.died(id);
+    for (auto& x : impl_->experiments) x->died(id);
   }
 }
 
 void RunSession::record_rejoin(RobotId id) {
   if (auto e = impl_->events.rejoin(impl_->world.tick(), id)) {
     impl_->emit(*e);
-    impl_->experiment.rejoined(id);
+    for (auto& x : impl_->experiments) x->rejoined(id);
   }
 }
 
@@ -186,8 +201,17 @@ void RunSession::record_event(std::int64_t id, const std::string& kind, const st
   impl_->emit(e);
 }
 
+// With groups: the tick by which every group's experiment was done (none has one: never).
 std::optional<Tick> RunSession::experiment_done_at() const {
-  return impl_->experiment.done_at();
+  if (impl_->experiments.size() == 1) return impl_->experiment.done_at();
+  std::optional<Tick> last;
+  for (const auto& e : impl_->experiments) {
+    if (!e->judges()) continue;
+    const std::optional<Tick> done = e->done_at();
+    if (!done) return std::nullopt;
+    last = std::max(last.value_or(0), *done);
+  }
+  return last;
 }
 
 const Metrics& RunSession::metrics() const {
@@ -234,7 +258,7 @@ std::string RunSession::finish(double wall_seconds, const SteadyWindow& steady) 
   EndReason reason = EndReason::Interrupted;
   if (impl_->end_reason) {
     reason = *impl_->end_reason;
-  } else if (const auto done = impl_->experiment.done_at(); done && tick >= *done + kTicksAfterDone) {
+  } else if (const auto done = experiment_done_at(); done && tick >= *done + kTicksAfterDone) {
     reason = EndReason::Completed;
   } else if (tick >= max_ticks) {
     reason = EndReason::MaxTicks;
@@ -248,6 +272,9 @@ std::string RunSession::finish(double wall_seconds, const SteadyWindow& steady) 
   in.robots = &impl_->world.robots();
   in.metrics = &impl_->tracker.metrics();
   in.verdict = &impl_->experiment.conclude();
+  std::vector<const ExperimentVerdict*> verdicts;
+  for (auto& e : impl_->experiments) verdicts.push_back(&e->conclude());
+  if (!impl_->world.scenario().groups.empty()) in.group_verdicts = &verdicts;
   in.trajectory_sha256 = trajectory_sha256();
   in.command_verdicts = impl_->command_verdicts;
   in.end_reason = std::string(to_string(reason));

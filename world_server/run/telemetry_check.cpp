@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "world_server/world/robot_groups.hpp"
+
 namespace swarmform::world {
 
 namespace {
@@ -19,19 +21,19 @@ void note(TelemetryDrops& d, const std::string& what) {
 
 }  // namespace
 
-TelemetryLimits telemetry_limits(const Scenario& scenario) {
+TelemetryLimits telemetry_limits(const Scenario& scenario, std::size_t group) {
   TelemetryLimits l;
   l.labels = scenario.mission.shape.label_count();
   l.robots = static_cast<std::uint32_t>(scenario.robots.size());
-  if (scenario.behaviour != nullptr) {
-    const auto& states = scenario.behaviour->states;
+  if (const behaviour::Descriptor* d = group_view(scenario, group).behaviour) {
+    const auto& states = d->states;
     l.min_state = 0;
     l.max_state = 0;
     for (const auto& st : states) {
       l.min_state = std::min(l.min_state, st.value);
       l.max_state = std::max(l.max_state, st.value);
     }
-    l.extra = scenario.behaviour->telemetry.size();
+    l.extra = d->telemetry.size();
   }
   return l;
 }

@@ -26,8 +26,9 @@ struct TelemetryLimits {
   std::size_t extra = 0;  // telemetry columns of the behaviour: `extra` holds 0 or exactly this many
 };
 
-// The limits of a run of `scenario`: its shape's labels, its robots, its behaviour's states and columns.
-TelemetryLimits telemetry_limits(const Scenario& scenario);
+// The limits of a run of `scenario`: its shape's labels, its robots, its behaviour's states and columns (with
+// robot groups, group `group`'s behaviour's: a robot is held to its own group's).
+TelemetryLimits telemetry_limits(const Scenario& scenario, std::size_t group = 0);
 
 // What one check dropped (0 everywhere for an honest controller).
 struct TelemetryDrops {

@@ -73,11 +73,14 @@ PlacementRegion default_region(std::size_t n) {
 }
 
 std::optional<std::vector<Pose2D>> place_randomly(std::size_t n, const PlacementRegion& region,
-                                                  const Scenario& scenario, std::uint64_t seed) {
+                                                  const Scenario& scenario, std::uint64_t seed,
+                                                  const std::vector<Pose2D>& others, std::uint64_t stream) {
   std::vector<StaticShape> statics;
   for (const Obstacle& o : present_statics(scenario, scenario.obstacles))
     statics.push_back(make_static_shape(o));
-  Rng rng(seed, kSaltPlacement);
+  // Stream 0 is the one a scenario without groups has always drawn from (its placements, and so every golden
+  // hash, unchanged); each later group draws from its own.
+  Rng rng(seed, kSaltPlacement + stream);
   const double link = kLinkFraction * scenario.comm_range;
   const double x_lo = region.centre.x - region.width / 2.0, x_hi = region.centre.x + region.width / 2.0;
   const double y_lo = region.centre.y - region.height / 2.0, y_hi = region.centre.y + region.height / 2.0;
@@ -85,7 +88,12 @@ std::optional<std::vector<Pose2D>> place_randomly(std::size_t n, const Placement
 
   std::vector<Pose2D> poses;
   poses.reserve(n);
+  // Every placed robot (the other groups' first, then these), for the separation test: a group's robots keep
+  // clear of those placed before them, wherever their regions lie.
+  std::vector<Pose2D> all = others;
+  all.reserve(others.size() + n);
   PlacedGrid grid(region);
+  for (std::size_t j = 0; j < others.size(); ++j) grid.add(others[j].x, others[j].y, j);
   for (std::size_t k = 0; k < n; ++k) {
     bool placed = false;
     for (int attempt = 0; attempt < kAttempts && !placed; ++attempt) {
@@ -105,10 +113,11 @@ std::optional<std::vector<Pose2D>> place_randomly(std::size_t n, const Placement
       }
       if (!inside_arena(x, y, scenario, body_clear)) continue;
       if (min_clearance(x, y, statics) < body_clear) continue;
-      if (!grid.clear(x, y, poses)) continue;
+      if (!grid.clear(x, y, all)) continue;
       const double theta = wrap_angle(rng.uniform(-std::numbers::pi, std::numbers::pi));
       poses.push_back(Pose2D{x, y, theta});
-      grid.add(x, y, k);
+      all.push_back(poses.back());
+      grid.add(x, y, all.size() - 1);
       placed = true;
     }
     if (!placed) return std::nullopt;

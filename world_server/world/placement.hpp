@@ -30,9 +30,14 @@ PlacementRegion default_region(std::size_t n);
 // Random placement: robot k (k >= 1) is drawn within kLinkFraction*comm_range of a uniformly chosen earlier
 // robot, inside the region, at least kMinSeparation from every placed robot and kObstacleClearance clear of
 // every static body; headings uniform. So the graph is connected by construction. Returns nullopt when the
-// region cannot hold them (after many tries), for the caller to report.
+// region cannot hold them (after many tries), for the caller to report. `others`: robots placed already (a
+// robot group's, docs/scenario-format.md "Groups"), kept kMinSeparation from too; `stream`: the group's
+// index, so that each group draws from its own stream of the seed (0: the stream of a scenario without
+// groups).
 std::optional<std::vector<Pose2D>> place_randomly(std::size_t n, const PlacementRegion& region,
-                                                  const Scenario& scenario, std::uint64_t seed);
+                                                  const Scenario& scenario, std::uint64_t seed,
+                                                  const std::vector<Pose2D>& others = {},
+                                                  std::uint64_t stream = 0);
 
 // What is wrong with listed pose k among poses[0..k) (overlap with another body, inside an obstacle or wall,
 // outside the arena), or empty when it is fine.

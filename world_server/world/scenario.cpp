@@ -11,6 +11,7 @@
 #include <limits>
 #include <memory>
 #include <numbers>
+#include <span>
 #include <sstream>
 
 #include "behaviour/params.hpp"
@@ -18,6 +19,7 @@
 #include "common/shape.hpp"
 #include "world_server/world/burst_loss.hpp"
 #include "world_server/world/placement.hpp"
+#include "world_server/world/robot_groups.hpp"
 #include "world_server/world/scenario.hpp"
 #include "world_server/world/yaml_fields.hpp"
 
@@ -164,43 +166,42 @@ struct RobotsSection {
   YAML::Node node;
 };
 
-RobotsSection parse_robots(const Source& src, MapReader& top) {
+// `robots:` (or a group's `robots:`, whose fields are named under `prefix`).
+RobotsSection parse_robots_node(const Source& src, const YAML::Node& node, const std::string& prefix) {
   RobotsSection r;
-  auto node = top.get("robots");
-  if (!node) return r;
-  r.node = *node;
-  MapReader m(src, *node, "robots");
+  r.node = node;
+  MapReader m(src, node, prefix);
   if (auto c = m.get("count")) {
-    const std::int64_t n = yaml::to_integer(src, *c, "robots.count");
+    const std::int64_t n = yaml::to_integer(src, *c, prefix + ".count");
     if (n < 1 || n > kMaxRobots) {
-      yaml::fail(src, *c, "robots.count", "must be in [1, " + std::to_string(kMaxRobots) + "]");
+      yaml::fail(src, *c, prefix + ".count", "must be in [1, " + std::to_string(kMaxRobots) + "]");
     }
     r.count = static_cast<std::size_t>(n);
   }
   if (auto reg = m.get("region")) {
-    MapReader rm(src, *reg, "robots.region");
+    MapReader rm(src, *reg, prefix + ".region");
     PlacementRegion pr;
     auto c = rm.get("centre");
     if (c) pr.centre = point(src, *c, rm.field("centre"));
     pr.width = rm.positive("width", 0.0, kMaxLength);
     pr.height = rm.positive("height", 0.0, kMaxLength);
     if (!rm.has("width") || !rm.has("height")) {
-      yaml::fail(src, *reg, "robots.region", "needs centre, width and height");
+      yaml::fail(src, *reg, prefix + ".region", "needs centre, width and height");
     }
     rm.finish({"centre", "width", "height"});
     r.region = pr;
   }
   if (auto poses = m.get("poses")) {
     if (r.count || r.region) {
-      yaml::fail(src, *poses, "robots.poses",
+      yaml::fail(src, *poses, prefix + ".poses",
                  "give either count/region (random placement) or poses, not both");
     }
     if (!poses->IsSequence() || poses->size() == 0) {
-      yaml::fail(src, *poses, "robots.poses", "expected a non-empty list of [x, y, theta]");
+      yaml::fail(src, *poses, prefix + ".poses", "expected a non-empty list of [x, y, theta]");
     }
     for (std::size_t i = 0; i < poses->size(); ++i) {
       const YAML::Node p = (*poses)[i];
-      const std::string path = "robots.poses[" + std::to_string(i) + "]";
+      const std::string path = prefix + ".poses[" + std::to_string(i) + "]";
       if (!p.IsSequence() || (p.size() != 2 && p.size() != 3)) {
         yaml::fail(src, p, path, "expected [x, y] or [x, y, theta] (m, m, rad)");
       }
@@ -215,6 +216,12 @@ RobotsSection parse_robots(const Source& src, MapReader& top) {
   }
   m.finish({"count", "region", "poses"});
   return r;
+}
+
+RobotsSection parse_robots(const Source& src, MapReader& top) {
+  auto node = top.get("robots");
+  if (!node) return {};
+  return parse_robots_node(src, *node, "robots");
 }
 
 // A grey level: `grey: 0..1` or `colour: [r, g, b]` (0..255 each, made grey as ARGoS does), not both; the
@@ -479,10 +486,10 @@ int parse_goal(const Source& src, MapReader& top, Mission& mission) {
 // outside its folders. `key`: "plugin" or "descriptor".
 std::string resolve_plugin(const Source& src, const YAML::Node& at, const std::string& given,
                            const fs::path& base, const std::vector<fs::path>& folders,
-                           const std::string& key = "plugin") {
+                           const std::string& key = "plugin", const std::string& prefix = "behaviour") {
   std::error_code ec;
   const fs::path g(given);
-  const std::string path = "behaviour." + key;
+  const std::string path = prefix + "." + key;
   const std::string what = key == "plugin" ? "plug-in '" + given + "'" : "descriptor file '" + given + "'";
   if (g.is_absolute()) {
     if (fs::exists(g, ec)) return g.string();
@@ -504,105 +511,140 @@ std::string resolve_plugin(const Source& src, const YAML::Node& at, const std::s
 }
 
 const behaviour::Descriptor& named_behaviour(const Source& src, const YAML::Node* at, const std::string& name,
-                                             behaviour::Registry& registry) {
+                                             behaviour::Registry& registry,
+                                             const std::string& prefix = "behaviour") {
   if (const behaviour::Descriptor* d = registry.find(name)) return *d;
   const std::string why = "unknown behaviour '" + name + "' (built in: " + registry.names() +
                           "; a plug-in is named by its library: behaviour: {plugin: path/libx.so})";
-  if (at) yaml::fail(src, *at, "behaviour", why);
+  if (at) yaml::fail(src, *at, prefix, why);
   throw InputError(at ? src.file : "command line", 0, (at ? "" : "--behaviour: ") + why);
 }
 
-// behaviour: NAME | {name: NAME, params: {...}} | {plugin: PATH, params: {...}} |
-// {descriptor: PATH, params: {...}} (docs/scenario-format.md),
-// and the older `controller:` section for the parameters. Every parameter is checked against the behaviour's
-// own table, with the line it is on.
-void parse_behaviour(const Source& src, MapReader& top, const ScenarioOverrides& ov, const fs::path& base,
-                     behaviour::Registry& registry, Scenario& s) {
+// A behaviour as chosen in the file: its descriptor and, in `mission`, its name, plug-in or descriptor file
+// and parameters.
+struct BehaviourChoice {
+  const behaviour::Descriptor* descriptor = nullptr;
   std::optional<YAML::Node> params_node;
   std::string params_path;
-  const behaviour::Descriptor* d = nullptr;
-  auto node = top.get("behaviour");
+};
+
+// behaviour: NAME | {name: NAME, params: {...}} | {plugin: PATH, params: {...}} |
+// {descriptor: PATH, params: {...}} (docs/scenario-format.md), at `node` (absent: the default, the paper's);
+// its fields named under `prefix` ("behaviour", or a group's "groups[1].behaviour").
+BehaviourChoice choose_behaviour(const Source& src, const std::optional<YAML::Node>& node,
+                                 const fs::path& base, behaviour::Registry& registry,
+                                 const std::string& prefix, Mission& mission) {
+  BehaviourChoice c;
+  const behaviour::Descriptor*& d = c.descriptor;
   if (node && node->IsMap()) {
-    MapReader m(src, *node, "behaviour");
+    MapReader m(src, *node, prefix);
     auto name = m.get("name");
     auto plugin = m.get("plugin");
     auto described = m.get("descriptor");
     if ((name ? 1 : 0) + (plugin ? 1 : 0) + (described ? 1 : 0) > 1) {
-      yaml::fail(src, *node, "behaviour",
+      yaml::fail(src, *node, prefix,
                  "give one of name (a built-in), plugin (a library) or descriptor (a JSON file), not two");
     }
     if (described) {
-      const std::string given = yaml::to_string(src, *described, "behaviour.descriptor");
-      const std::string path = resolve_plugin(src, *described, given, base, registry.folders(), "descriptor");
+      const std::string given = yaml::to_string(src, *described, prefix + ".descriptor");
+      const std::string path =
+          resolve_plugin(src, *described, given, base, registry.folders(), "descriptor", prefix);
       try {
         d = &registry.load_descriptor(path);
       } catch (const InputError& e) {
-        yaml::fail(src, *described, "behaviour.descriptor", e.what());
+        yaml::fail(src, *described, prefix + ".descriptor", e.what());
       }
-      s.mission.descriptor = fs::canonical(path).string();
+      mission.descriptor = fs::canonical(path).string();
     } else if (plugin) {
-      const std::string given = yaml::to_string(src, *plugin, "behaviour.plugin");
-      const std::string path = resolve_plugin(src, *plugin, given, base, registry.folders());
+      const std::string given = yaml::to_string(src, *plugin, prefix + ".plugin");
+      const std::string path =
+          resolve_plugin(src, *plugin, given, base, registry.folders(), "plugin", prefix);
       try {
         d = &registry.load_plugin(path);
       } catch (const behaviour::PluginError& e) {
-        yaml::fail(src, *plugin, "behaviour.plugin", e.what());
+        yaml::fail(src, *plugin, prefix + ".plugin", e.what());
       }
-      s.mission.plugin = fs::canonical(path).string();
+      mission.plugin = fs::canonical(path).string();
     } else if (name) {
-      d = &named_behaviour(src, &*name, yaml::to_string(src, *name, "behaviour.name"), registry);
+      d = &named_behaviour(src, &*name, yaml::to_string(src, *name, prefix + ".name"), registry, prefix);
     } else {
-      yaml::fail(src, *node, "behaviour",
+      yaml::fail(src, *node, prefix,
                  "expected name: (a built-in), plugin: (a shared library) or descriptor: (a JSON file)");
     }
-    params_node = m.get("params");
-    params_path = "behaviour.params";
+    c.params_node = m.get("params");
+    c.params_path = prefix + ".params";
     m.finish({"name", "plugin", "descriptor", "params"});
   } else if (node) {
-    d = &named_behaviour(src, &*node, yaml::to_string(src, *node, "behaviour"), registry);
+    d = &named_behaviour(src, &*node, yaml::to_string(src, *node, prefix), registry, prefix);
   } else {
-    d = &named_behaviour(src, nullptr, s.mission.behaviour, registry);  // the default: the paper's
+    d = &named_behaviour(src, nullptr, mission.behaviour, registry);  // the default: the paper's
   }
-  if (auto c = top.get("controller")) {
-    if (params_node)
-      yaml::fail(src, *c, "controller", "the parameters are already given in behaviour.params");
-    params_node = c;
-    params_path = "controller";
+  return c;
+}
+
+// The file's parameters of the chosen behaviour, each checked against its own table at its line.
+void set_params(const Source& src, const BehaviourChoice& c, bool behaviour_overridden, Mission& mission) {
+  const behaviour::Descriptor& d = *c.descriptor;
+  mission.behaviour = std::string(d.name);
+  if (!c.params_node || c.params_node->IsNull()) return;
+  const YAML::Node& params_node = *c.params_node;
+  if (!params_node.IsMap()) yaml::fail(src, params_node, c.params_path, "expected a map of name: value");
+  for (const auto& kv : params_node) {
+    const std::string name = kv.first.Scalar();
+    const std::string path = c.params_path + "." + name;
+    // A --behaviour override runs another behaviour than the file's: the file's parameters that it does not
+    // have belong to the file's behaviour and are left out (those it has are checked and kept).
+    if (behaviour_overridden && !behaviour::find_param(d, name)) continue;
+    if (!behaviour::find_param(d, name))
+      yaml::fail(src, kv.first, path, behaviour::check_param(d, name, 0.0));
+    const double value = yaml::to_number(src, kv.second, path);
+    const std::string why = behaviour::check_param(d, name, value);
+    if (!why.empty()) yaml::fail(src, kv.second, path, why);
+    mission.params[name] = value;
+  }
+}
+
+// One --param over the file's value, checked against the behaviour's table.
+void apply_param(const ParamOverride& p, const std::string& name, const behaviour::Descriptor& d,
+                 Mission& mission) {
+  try {
+    behaviour::check_params(d, {{name, p.value}});
+  } catch (const InputError& e) {
+    std::string why = e.what();
+    if (const std::string prefix = e.file() + ": "; why.rfind(prefix, 0) == 0) why.erase(0, prefix.size());
+    throw InputError("command line", 0, "--param " + p.text + ": " + why);
+  }
+  mission.params[name] = p.value;
+}
+
+// The top level's behaviour (and the older `controller:` section for the parameters). Every parameter is
+// checked against the behaviour's own table, with the line it is on.
+void parse_behaviour(const Source& src, MapReader& top, const ScenarioOverrides& ov, const fs::path& base,
+                     behaviour::Registry& registry, Scenario& s) {
+  BehaviourChoice c = choose_behaviour(src, top.get("behaviour"), base, registry, "behaviour", s.mission);
+  if (auto ctl = top.get("controller")) {
+    if (c.params_node)
+      yaml::fail(src, *ctl, "controller", "the parameters are already given in behaviour.params");
+    c.params_node = ctl;
+    c.params_path = "controller";
   }
   if (ov.behaviour) {
-    d = &named_behaviour(src, nullptr, *ov.behaviour, registry);
+    c.descriptor = &named_behaviour(src, nullptr, *ov.behaviour, registry);
     s.mission.plugin.clear();
     s.mission.descriptor.clear();
   }
-  s.behaviour = d;
-  s.mission.behaviour = std::string(d->name);
-  if (params_node && !params_node->IsNull()) {
-    if (!params_node->IsMap()) yaml::fail(src, *params_node, params_path, "expected a map of name: value");
-    for (const auto& kv : *params_node) {
-      const std::string name = kv.first.Scalar();
-      const std::string path = params_path + "." + name;
-      // A --behaviour override runs another behaviour than the file's: the file's parameters that it does not
-      // have belong to the file's behaviour and are left out (those it has are checked and kept).
-      if (ov.behaviour && !behaviour::find_param(*d, name)) continue;
-      if (!behaviour::find_param(*d, name))
-        yaml::fail(src, kv.first, path, behaviour::check_param(*d, name, 0.0));
-      const double value = yaml::to_number(src, kv.second, path);
-      const std::string why = behaviour::check_param(*d, name, value);
-      if (!why.empty()) yaml::fail(src, kv.second, path, why);
-      s.mission.params[name] = value;
-    }
-  }
+  s.behaviour = c.descriptor;
+  set_params(src, c, ov.behaviour.has_value(), s.mission);
   // --param: over the file's values, here, so that every check after this one (the shape's fit reads
   // shape_heading) sees the values the run will have.
   for (const ParamOverride& p : ov.params) {
-    try {
-      behaviour::check_params(*d, {{p.name, p.value}});
-    } catch (const InputError& e) {
-      std::string why = e.what();
-      if (const std::string prefix = e.file() + ": "; why.rfind(prefix, 0) == 0) why.erase(0, prefix.size());
-      throw InputError("command line", 0, "--param " + p.text + ": " + why);
+    if (p.name.find('.') != std::string::npos) {
+      throw InputError("command line", 0,
+                       "--param " + p.text +
+                           ": GROUP.NAME names a robot group, and this scenario has no "
+                           "groups: (give NAME=VALUE)");
     }
-    s.mission.params[p.name] = p.value;
+    apply_param(p, p.name, *s.behaviour, s.mission);
   }
 }
 
@@ -612,26 +654,36 @@ bool inside_arena(const Scenario& s, Vec2 p) {
 }
 
 // Robot poses: listed (checked), or random in the given or default region (clipped to the arena).
-void resolve_robots(const Source& src, const RobotsSection& r, const ScenarioOverrides& ov, Scenario& s) {
+// Where a group's robots are placed: `prefix` names its fields ("robots", "groups[1].robots"); `group` its
+// index (its own stream of the seed); `default_count` the count when the file gives none (0: none). The poses
+// are appended to s.robots (ids go on from the robots placed before).
+void resolve_robots(const Source& src, const RobotsSection& r, const ScenarioOverrides& ov, Scenario& s,
+                    const std::string& prefix = "robots", std::size_t group = 0,
+                    std::optional<std::size_t> default_count = std::nullopt) {
+  const std::size_t first = s.robots.size();
   if (!r.poses.empty()) {
     if (ov.robots && *ov.robots != r.poses.size()) {
       throw InputError(src.file, yaml::line_of(r.node),
                        "robots: --robots " + std::to_string(*ov.robots) + " conflicts with the " +
                            std::to_string(r.poses.size()) + " poses listed here");
     }
+    std::vector<Pose2D> all = s.robots;
+    all.insert(all.end(), r.poses.begin(), r.poses.end());
     for (std::size_t k = 0; k < r.poses.size(); ++k) {
-      const std::string why = check_listed_pose(r.poses, k, s);
-      if (!why.empty()) yaml::fail(src, r.pose_nodes[k], "robots.poses[" + std::to_string(k) + "]", why);
+      const std::string why = check_listed_pose(all, first + k, s);
+      if (!why.empty()) yaml::fail(src, r.pose_nodes[k], prefix + ".poses[" + std::to_string(k) + "]", why);
     }
-    s.robots = r.poses;
+    s.robots = std::move(all);
     return;
   }
-  const std::size_t n = ov.robots ? *ov.robots
-                        : r.count ? *r.count
-                                  : static_cast<std::size_t>(s.mission.shape.label_count());
-  if (n < 1 && s.shape_file.empty()) {
+  const std::size_t n = ov.robots       ? *ov.robots
+                        : r.count       ? *r.count
+                        : default_count ? *default_count
+                                        : static_cast<std::size_t>(s.mission.shape.label_count());
+  if (n < 1 && (s.shape_file.empty() || default_count)) {
     throw InputError(src.file, yaml::line_of(r.node),
-                     "robots: give robots.count or robots.poses (behaviour '" + s.mission.behaviour +
+                     prefix + ": give " + prefix + ".count or " + prefix + ".poses (behaviour '" +
+                         (default_count ? s.groups[group].mission.behaviour : s.mission.behaviour) +
                          "' has no shape to count the robots from)");
   }
   if (n < 1) throw InputError(src.file, yaml::line_of(r.node), "robots: need at least one robot");
@@ -649,15 +701,17 @@ void resolve_robots(const Source& src, const RobotsSection& r, const ScenarioOve
     region = PlacementRegion{Vec2{(x_lo + x_hi) / 2.0, (y_lo + y_hi) / 2.0}, std::max(x_hi - x_lo, 0.0),
                              std::max(y_hi - y_lo, 0.0)};
   }
-  auto poses = place_randomly(n, region, s, s.seed);
+  auto poses = place_randomly(n, region, s, s.seed, s.robots, group);
   if (!poses) {
     std::ostringstream why;
-    why << "robots: cannot place " << n << " robots in the region " << region.width << " x " << region.height
-        << " m centred at (" << region.centre.x << ", " << region.centre.y << ") at least " << kMinSeparation
-        << " m apart and clear of obstacles; give a larger robots.region";
+    why << prefix << ": cannot place " << n << " robots in the region " << region.width << " x "
+        << region.height << " m centred at (" << region.centre.x << ", " << region.centre.y << ") at least "
+        << kMinSeparation << " m apart and clear of obstacles"
+        << (first > 0 ? " and of the robots placed before them" : "") << "; give a larger " << prefix
+        << ".region";
     throw InputError(src.file, yaml::line_of(r.node), why.str());
   }
-  s.robots = std::move(*poses);
+  s.robots.insert(s.robots.end(), poses->begin(), poses->end());
 }
 
 // The shape must fit inside the walls from where it forms (docs/scenario-format.md, "The shape must fit").
@@ -666,14 +720,17 @@ void resolve_robots(const Source& src, const RobotsSection& r, const ScenarioOve
 // the robots' start poses are known here (listed, or drawn from the seed), so label 0 is taken at the robot
 // nearest the origin and, should it die and another be elected, at every robot less than one grid spacing
 // farther from the origin than it; every place must then lie inside the walls less a body radius.
-void check_shape_fits(const Source& src, const Scenario& s, int shape_line, bool shape_from_command_line) {
-  if (!s.walls || !s.behaviour->needs_shape) return;
-  const behaviour::ShapeRules& rules = s.behaviour->shape_rules;
+// With groups: each group whose behaviour forms the shape, from its own robots' start.
+void check_shape_fits(const Source& src, const Scenario& s, int shape_line, bool shape_from_command_line,
+                      const GroupView& group) {
+  if (!s.walls || !group.behaviour->needs_shape) return;
+  const behaviour::ShapeRules& rules = group.behaviour->shape_rules;
   if (rules.anchor != behaviour::ShapeAnchor::NearestOrigin) return;
   const ShapeMatrix& shape = s.mission.shape;
   const auto [r0, c0] = shape.cell_of(0);
   if (r0 < 0) return;
-  const double heading = behaviour::shape_heading(s.mission, *s.behaviour);
+  const double heading = behaviour::shape_heading(*group.mission, *group.behaviour);
+  const std::span<const Pose2D> robots(s.robots.data() + group.first_id, group.count);
   const std::string heading_name = rules.heading_param.empty() ? "heading" : std::string(rules.heading_param);
   const double rot = heading - std::numbers::pi / 2.0;
   const double cr = std::cos(rot);
@@ -715,9 +772,9 @@ void check_shape_fits(const Source& src, const Scenario& s, int shape_line, bool
   const double wy_hi = s.arena_centre.y + s.arena_height / 2.0 - margin;
   // Label 0's possible places: the robot nearest the origin, and those within a grid spacing of its distance.
   double nearest = std::numeric_limits<double>::infinity();
-  for (const Pose2D& p : s.robots) nearest = std::min(nearest, std::hypot(p.x, p.y));
+  for (const Pose2D& p : robots) nearest = std::min(nearest, std::hypot(p.x, p.y));
   std::vector<Vec2> origins;
-  for (const Pose2D& p : s.robots) {
+  for (const Pose2D& p : robots) {
     if (std::hypot(p.x, p.y) <= nearest + g) origins.push_back({p.x, p.y});
   }
   std::stable_sort(origins.begin(), origins.end(),
@@ -752,6 +809,146 @@ void check_shape_fits(const Source& src, const Scenario& s, int shape_line, bool
          << "region (robots.region)" << (rules.heading_param.empty() ? "" : " and " + heading_name)
          << " that leave the shape room";
     throw InputError(src.file, shape_line, what.str());
+  }
+}
+
+// One item of `groups:` as read: its name, behaviour and robots (placed once the shape and goal are known).
+struct GroupSection {
+  RobotsSection robots;
+  YAML::Node node;
+};
+
+bool lower_case_name(const std::string& n) {
+  if (n.empty() || !(n[0] >= 'a' && n[0] <= 'z')) return false;
+  return std::all_of(n.begin(), n.end(),
+                     [](char c) { return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_'; });
+}
+
+// `groups:` (docs/scenario-format.md "Groups"): instead of the top level's robots: and behaviour:. Fills
+// s.groups (names, behaviours, parameters) and makes the first group's behaviour and parameters the
+// scenario's own; the robots are placed later (resolve_groups).
+std::vector<GroupSection> parse_groups(const Source& src, const YAML::Node& node, MapReader& top,
+                                       const RobotsSection& top_robots, const ScenarioOverrides& ov,
+                                       const fs::path& base, behaviour::Registry& registry, Scenario& s) {
+  if (top.has("robots")) {
+    yaml::fail(src, top_robots.node, "robots",
+               "give groups: or a top-level robots:, not both (each group has its own robots:)");
+  }
+  for (const char* key : {"behaviour", "controller"}) {
+    if (auto n = top.get(key)) {
+      yaml::fail(src, *n, key,
+                 std::string("give groups: or a top-level ") + key +
+                     ":, not both (each group has its own "
+                     "behaviour:, its parameters in behaviour.params)");
+    }
+  }
+  if (ov.behaviour) {
+    throw InputError("command line", 0,
+                     "--behaviour: the scenario has groups:, each naming its own behaviour; change them in "
+                     "the file");
+  }
+  if (ov.robots) {
+    throw InputError("command line", 0,
+                     "--robots: the scenario has groups:, each with its own robots.count; change them in the "
+                     "file (or --set 'groups=...')");
+  }
+  if (!node.IsSequence() || node.size() == 0) {
+    yaml::fail(src, node, "groups", "expected a non-empty list of {name, behaviour, robots}");
+  }
+  std::vector<GroupSection> sections;
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const YAML::Node item = node[i];
+    const std::string path = "groups[" + std::to_string(i) + "]";
+    MapReader m(src, item, path);
+    RobotGroup g;
+    auto name = m.get("name");
+    if (!name) yaml::fail(src, item, path, "missing 'name' (lower_case, unique)");
+    g.name = yaml::to_string(src, *name, path + ".name");
+    if (!lower_case_name(g.name)) {
+      yaml::fail(src, *name, path + ".name",
+                 "'" + g.name + "' is not lower_case (a-z first, then a-z, 0-9 or _)");
+    }
+    for (const RobotGroup& other : s.groups) {
+      if (other.name == g.name) yaml::fail(src, *name, path + ".name", "'" + g.name + "' is given twice");
+    }
+    auto behaviour_node = m.get("behaviour");
+    if (!behaviour_node) yaml::fail(src, item, path, "missing 'behaviour' (as the top level's behaviour:)");
+    auto robots_node = m.get("robots");
+    if (!robots_node) yaml::fail(src, item, path, "missing 'robots' ({count, region} or {poses})");
+    m.finish({"name", "behaviour", "robots"});
+    const BehaviourChoice c =
+        choose_behaviour(src, behaviour_node, base, registry, path + ".behaviour", g.mission);
+    g.behaviour = c.descriptor;
+    set_params(src, c, false, g.mission);
+    s.groups.push_back(std::move(g));
+    sections.push_back({parse_robots_node(src, *robots_node, path + ".robots"), item});
+  }
+  // --param NAME=V is the first group's, --param GROUP.NAME=V that group's.
+  for (const ParamOverride& p : ov.params) {
+    const auto dot = p.name.find('.');
+    RobotGroup* into = &s.groups.front();
+    std::string name = p.name;
+    if (dot != std::string::npos) {
+      const std::string group = p.name.substr(0, dot);
+      name = p.name.substr(dot + 1);
+      into = nullptr;
+      std::string known;
+      for (RobotGroup& g : s.groups) {
+        if (g.name == group) into = &g;
+        known += (known.empty() ? "" : ", ") + g.name;
+      }
+      if (into == nullptr) {
+        throw InputError("command line", 0,
+                         "--param " + p.text + ": no robot group '" + group + "' (groups: " + known + ")");
+      }
+    }
+    apply_param(p, name, *into->behaviour, into->mission);
+  }
+  const RobotGroup& first = s.groups.front();
+  s.behaviour = first.behaviour;
+  s.mission.behaviour = first.mission.behaviour;
+  s.mission.plugin = first.mission.plugin;
+  s.mission.descriptor = first.mission.descriptor;
+  s.mission.params = first.mission.params;
+  return sections;
+}
+
+// Whether any of the run's behaviours forms a shape / goes somewhere (every group's, or the one).
+bool any_needs_shape(const Scenario& s) {
+  for (std::size_t k = 0; k < group_count(s); ++k) {
+    if (group_view(s, k).behaviour->needs_shape) return true;
+  }
+  return false;
+}
+bool any_needs_goal(const Scenario& s) {
+  for (std::size_t k = 0; k < group_count(s); ++k) {
+    if (group_view(s, k).behaviour->needs_goal) return true;
+  }
+  return false;
+}
+
+// Places every group's robots in group order (ids contiguous), each group's mission the scenario's run-wide
+// fields with its own behaviour and parameters.
+void resolve_groups(const Source& src, const std::vector<GroupSection>& sections, const ScenarioOverrides& ov,
+                    Scenario& s) {
+  for (std::size_t k = 0; k < sections.size(); ++k) {
+    RobotGroup& g = s.groups[k];
+    Mission own = std::move(g.mission);
+    g.mission = s.mission;
+    g.mission.behaviour = std::move(own.behaviour);
+    g.mission.plugin = std::move(own.plugin);
+    g.mission.descriptor = std::move(own.descriptor);
+    g.mission.params = std::move(own.params);
+    g.first_id = static_cast<RobotId>(s.robots.size());
+    const std::optional<std::size_t> count =
+        g.behaviour->needs_shape ? static_cast<std::size_t>(s.mission.shape.label_count()) : 0;
+    resolve_robots(src, sections[k].robots, ov, s, "groups[" + std::to_string(k) + "].robots", k, count);
+    g.count = s.robots.size() - g.first_id;
+    if (s.robots.size() > static_cast<std::size_t>(kMaxRobots)) {
+      throw InputError(src.file, yaml::line_of(sections[k].node),
+                       "groups: " + std::to_string(s.robots.size()) + " robots in all, more than " +
+                           std::to_string(kMaxRobots));
+    }
   }
 }
 
@@ -796,7 +993,12 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
       static_cast<std::uint32_t>(top.integer("max_message_bytes", s.mission.max_message_bytes, 1, 65536));
   const fs::path base = base_folder(origin);
   parse_floor(src, top, base, s);
-  parse_behaviour(src, top, ov, base, registry, s);
+  std::vector<GroupSection> group_sections;
+  if (auto groups = top.get("groups")) {
+    group_sections = parse_groups(src, *groups, top, robots, ov, base, registry, s);
+  } else {
+    parse_behaviour(src, top, ov, base, registry, s);
+  }
   auto shape_node = top.get("shape");
   if (auto d = top.get("description")) yaml::to_string(src, *d, "description");  // for people; not used
   top.finish({"description",  "arena",
@@ -812,7 +1014,8 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
               "behaviour",    "max_message_bytes",
               "controller",   "floor",
               "lights",       "battery",
-              "lidar",        "events"});
+              "lidar",        "events",
+              "groups"});
 
   // Overrides (before placement, so --robots and --seed take effect).
   if (ov.seed) s.seed = *ov.seed;
@@ -845,7 +1048,7 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
       for (const auto& t : tried) list += (list.empty() ? "" : ", ") + t;
       yaml::fail(src, *shape_node, "shape", "file '" + given + "' not found (looked at " + list + ")");
     }
-  } else if (s.behaviour->needs_shape) {
+  } else if (any_needs_shape(s)) {
     throw InputError(origin, 0,
                      "shape: missing (behaviour '" + s.mission.behaviour +
                          "' forms a shape: give the shape file, e.g. shape: triangle.txt)");
@@ -854,13 +1057,13 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
 
   // No goal: a behaviour that goes somewhere is told the default one (checked below); any other is told there
   // is none rather than a point it would take for one.
-  if (goal_line == 0 && !s.behaviour->needs_goal) {
+  if (goal_line == 0 && !any_needs_goal(s)) {
     s.mission.has_goal = false;
     s.mission.goal = Vec2{0.0, 0.0};
     s.mission.goal_radius = 0.0;
   }
   // Goal inside the walls (else the formation can never get there), for a behaviour that goes to one.
-  if (s.behaviour->needs_goal && s.walls && !inside_arena(s, s.mission.goal)) {
+  if (any_needs_goal(s) && s.walls && !inside_arena(s, s.mission.goal)) {
     std::ostringstream what;
     what << "goal: (" << s.mission.goal.x << ", " << s.mission.goal.y << ")"
          << (goal_line == 0 ? " (the default)" : "") << " lies outside the arena's walls";
@@ -869,9 +1072,19 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
 
   check_goal_events(origin, s);
 
-  resolve_robots(src, robots, ov, s);
-  check_shape_fits(src, s, shape_node && !ov.shape_file ? yaml::line_of(*shape_node) : 0,
-                   ov.shape_file.has_value());
+  // What the robots are told (before the groups copy the run-wide fields).
+  s.mission.tick_rate = s.tick_rate;
+  s.mission.comm_range = s.comm_range;
+  s.mission.seed = s.seed;
+  if (group_sections.empty()) {
+    resolve_robots(src, robots, ov, s);
+  } else {
+    resolve_groups(src, group_sections, ov, s);
+  }
+  for (std::size_t k = 0; k < group_count(s); ++k) {
+    check_shape_fits(src, s, shape_node && !ov.shape_file ? yaml::line_of(*shape_node) : 0,
+                     ov.shape_file.has_value(), group_view(s, k));
+  }
 
   s.kills.insert(s.kills.end(), ov.kills.begin(), ov.kills.end());
   // --fault texts: kills join the kills (after --kill's), the others the faults.
@@ -931,10 +1144,6 @@ Scenario parse(const YAML::Node& root, const std::string& origin, const Scenario
     throw InputError("command line", 0, "--fault '" + s.faults[i].text + "': " + what);
   }
 
-  // What the robots are told.
-  s.mission.tick_rate = s.tick_rate;
-  s.mission.comm_range = s.comm_range;
-  s.mission.seed = s.seed;
   return s;
 }
 

@@ -42,6 +42,17 @@ struct LightSource {
 
 enum class Mode { Lockstep, Realtime };
 
+// A robot group (`groups:`, docs/scenario-format.md "Groups"): robots first_id..first_id+count-1 run their
+// own behaviour with their own parameters. The mission's run-wide fields (shape, goal, speed limit...) are
+// the scenario's, the same in every group's.
+struct RobotGroup {
+  std::string name;  // lower_case, unique
+  RobotId first_id = 0;
+  std::size_t count = 0;
+  Mission mission;                                   // what this group's robots are told
+  const behaviour::Descriptor* behaviour = nullptr;  // never null in a loaded scenario
+};
+
 struct Kill {  // a scheduled fault: SIGKILL agent `id` (multi-process) or kill its robot (in-process) at
                // `tick`
   RobotId id = 0;
@@ -95,11 +106,15 @@ struct Scenario {
   std::vector<Fault> faults;
 
   // What the robots are told (goal, shape, speed limit, the behaviour's name, plug-in and parameters...).
+  // With groups: the first group's (robot_groups.hpp gives each robot its own).
   Mission mission;
   std::string shape_file;  // path the shape came from (for the log); empty when the scenario has no shape
   // The behaviour's descriptor (static data: a built-in's or a loaded plug-in's), resolved at load through
-  // the registry given to load_scenario. Never null in a loaded scenario.
+  // the registry given to load_scenario. Never null in a loaded scenario. With groups: the first group's.
   const behaviour::Descriptor* behaviour = nullptr;
+  // The file's `groups:`, in id order (contiguous ids from 0); empty when it has none (every robot runs
+  // `behaviour` with `mission`).
+  std::vector<RobotGroup> groups;
 };
 
 // Command-line overrides, applied before random placement is resolved (so --robots and --seed take effect).

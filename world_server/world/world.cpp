@@ -29,6 +29,7 @@
 #include "world_server/world/medium.hpp"
 #include "world_server/world/physics.hpp"
 #include "world_server/world/proximity.hpp"
+#include "world_server/world/robot_groups.hpp"
 #include "world_server/world/spatial_grid.hpp"
 #include "world_server/world/ultrasonic.hpp"
 
@@ -38,7 +39,7 @@ namespace {
 constexpr double kGridCell = 1.0;  // m: a compromise between the medium's 3 m and the sonar's 2.1 m queries
 
 std::uint32_t declared_sensors(const Scenario& s) {
-  return s.behaviour != nullptr ? s.behaviour->sensors : 0;
+  return sensors_of_run(s);  // every group's: the world equips every robot alike
 }
 
 MediumParams medium_params(const Scenario& s) {
