@@ -423,7 +423,11 @@ void PaperMotion::turn_from_blocked_places(const FormationContext& ctx, MotionSt
 // between itself and that place, 0 otherwise. The surface is kept (blocking_): the sonars see only ahead, and
 // a robot at rest beside a wall, turned away from it, no longer sees it; the wall is still there. Kept as a
 // plane (the surface point, the normal towards it from the robot); the place is reachable again once it lies
-// a body radius on this side of the plane, or the robot stands at it.
+// a body radius on this side of the plane, or the robot stands at it. The sense is the one found then, kept
+// while the surface is (as boundary following commits a side): a push nearly straight out from the centroid
+// has a torque near zero whose sign flips from tick to tick as the shape turns, and the leader, summing them,
+// turned back and forth (goal_moves_twice.yaml, the V, seed 4, kills 0@592 7@1307). Either way brings such a
+// place in.
 int PaperMotion::blocked_sense(const FormationContext& ctx, const Desire& desire, Vec2 position,
                                double surface_within) {
   if (!goal_moved_ || leader_ == ctx.self || !has_live_centroid_ || ctx.label < 0 ||
@@ -438,17 +442,17 @@ int PaperMotion::blocked_sense(const FormationContext& ctx, const Desire& desire
     if (const auto surface = trace_.surface(position, ctx.tick, surface_within, kTraceTicks)) {
       const Vec2 to_surface = vsub(*surface, position);
       const double near = vnorm(to_surface);
-      if (near > 1e-6 && vdot(to_surface, to_place) > 0.0 && near < distance)
-        blocking_ = Blocking{*surface, vscale(to_surface, 1.0 / near)};
+      if (near > 1e-6 && vdot(to_surface, to_place) > 0.0 && near < distance) {
+        const Vec2 normal = vscale(to_surface, 1.0 / near);
+        const Vec2 offset = turned(vsub(ctx.places[static_cast<std::size_t>(ctx.label)], live_centroid_));
+        const double torque = -(offset.x * normal.y - offset.y * normal.x);  // offset x push, push = -normal
+        blocking_ = Blocking{*surface, normal, torque >= 0.0 ? 1 : -1};
+      }
     }
   }
   if (blocking_ && vdot(vsub(desire.place, blocking_->at), blocking_->normal) <= -kRobotRadius)
     blocking_.reset();
-  if (!blocking_) return 0;
-  const Vec2 offset = turned(vsub(ctx.places[static_cast<std::size_t>(ctx.label)], live_centroid_));
-  const Vec2 push = vscale(blocking_->normal, -1.0);
-  const double torque = offset.x * push.y - offset.y * push.x;
-  return torque > 0.0 ? 1 : (torque < 0.0 ? -1 : 0);
+  return blocking_ ? blocking_->sense : 0;
 }
 
 // The leader stops once its place is this close to its target, i.e. once the live shape's centroid (as the

@@ -160,6 +160,7 @@ class PaperMotion final : public MotionPhases {
   struct Blocking {
     Vec2 at;      // the surface point found between the robot and its place
     Vec2 normal;  // unit, from the robot towards it then
+    int sense;    // +1 / -1: the way the push off it turned the shape about its centroid then
   };
   std::optional<Blocking> blocking_;  // blocked_sense's surface, kept while the place lies beyond it
 };
