@@ -85,7 +85,8 @@ class PaperMotion final : public MotionPhases {
   bool should_resume(const FormationContext& ctx) const;
   bool off_place(const FormationContext& ctx);
   void turn_from_blocked_places(const FormationContext& ctx, MotionStep& out);
-  int blocked_sense(const FormationContext& ctx, const Desire& desire, Vec2 position, double surface_within);
+  int blocked_sense(const FormationContext& ctx, const Desire& desire, Vec2 position, double surface_within,
+                    bool large);
   Vec2 turned(Vec2 v) const { return turned_ ? vrotate(v, turn_) : v; }     // shape frame -> as it stands
   Vec2 unturned(Vec2 v) const { return turned_ ? vrotate(v, -turn_) : v; }  // as it stands -> shape frame
 
