@@ -23,8 +23,11 @@
 //   2 Labels    index = label      value = holder id (>= 0), or kLabelFreedBase - tick when freed (allotment)
 //   3 Boundary  index = robot id   the motion phases' boundary roles (boundary.hpp)
 //   4 Parents   index = robot id   the motion phases' parents table (parent_tree.hpp)
-//   5 Leader    index = 0..        the motion phases' leader entries (leader_election.hpp)
-//   6..15       reserved for the motion phases
+//   5 Leader    index = 0..        the motion phases' leader entries (leader_election.hpp); index 1:
+//                                  the shape's turn after a goal move, in microradians (motion_phase.cpp)
+//   6 Blocked   index = robot id   after a goal move: the sense in which its blocked place turns the shape
+//                                  (+1, -1; 0 free) (motion_phase.cpp, turn_from_blocked_places)
+//   7..15       reserved for the motion phases
 #pragma once
 
 #include <array>
