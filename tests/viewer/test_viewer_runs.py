@@ -449,7 +449,35 @@ class RecordedRunsTest(unittest.TestCase):
 
 @unittest.skipUnless(vh.built("viewer"), f"swarm_viewer not built in {vh.BUILD_DIR}")
 @unittest.skipIf(not os.path.exists(cdp.CHROMIUM), "chromium missing (scripts/setup installs it)")
-class KheperaReplayTest(unittest.TestCase):
+class ViewedFolderTest(unittest.TestCase):
+    """A test of `swarm view` on one run folder, `self.dir` (made by setUp, removed here), with a headless page."""
+
+    def tearDown(self):
+        if self.browser:
+            self.browser.close()
+        if self.proc:
+            try:
+                os.killpg(self.proc.pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+            self.proc.wait(timeout=10)
+        shutil.rmtree(self.dir)
+
+    def open_view(self):
+        """`swarm view self.dir` in its own process group and a page navigated to it; the caller waits for it."""
+        port = vh.free_port()
+        env = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=vh.BUILD_DIR)
+        self.proc = subprocess.Popen([vh.SWARM, "view", self.dir, "--port", str(port)], stdin=subprocess.DEVNULL,
+                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env,
+                                     start_new_session=True)
+        url = f"http://127.0.0.1:{port}/"
+        vh.wait_http(url)
+        b = self.browser = cdp.Browser()
+        b.navigate(url)
+        return b
+
+
+class KheperaReplayTest(ViewedFolderTest):
     """`swarm view` of a recording with a floor, a light, LEDs and sensors' readings (tests/scripts/fixture.py, no
     DDS): the page draws the floor's image (the run folder's copy), its regions and the light from world.json, each
     live robot's lit LEDs from the frames, and the selected robot's readings (readings.csv) in its panel."""
@@ -478,27 +506,8 @@ class KheperaReplayTest(unittest.TestCase):
         self.proc = None
         self.browser = None
 
-    def tearDown(self):
-        if self.browser:
-            self.browser.close()
-        if self.proc:
-            try:
-                os.killpg(self.proc.pid, signal.SIGKILL)
-            except ProcessLookupError:
-                pass
-            self.proc.wait(timeout=10)
-        shutil.rmtree(self.dir)
-
     def test_the_floor_the_light_and_the_leds_are_drawn(self):
-        port = vh.free_port()
-        env = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=vh.BUILD_DIR)
-        self.proc = subprocess.Popen([vh.SWARM, "view", self.dir, "--port", str(port)], stdin=subprocess.DEVNULL,
-                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env,
-                                     start_new_session=True)
-        url = f"http://127.0.0.1:{port}/"
-        vh.wait_http(url)
-        b = self.browser = cdp.Browser()
-        b.navigate(url)
+        b = self.open_view()
         b.wait_for("window.sfViewer && sfViewer.replay && sfViewer.frame", what="the recording loaded")
 
         def scrub(tick):
@@ -574,7 +583,7 @@ class KheperaReplayTest(unittest.TestCase):
 
 @unittest.skipUnless(vh.built("viewer"), f"swarm_viewer not built in {vh.BUILD_DIR}")
 @unittest.skipIf(not os.path.exists(cdp.CHROMIUM), "chromium missing (scripts/setup installs it)")
-class GroupsReplayTest(unittest.TestCase):
+class GroupsReplayTest(ViewedFolderTest):
     """`swarm view` of a mixed swarm's recording (world.json `groups`; tests/scripts/fixture.py, no DDS): each robot
     is filled by its own group's state colours and outlined in its group's colour, and the legend has a line per
     group naming its behaviour and ids."""
@@ -597,27 +606,8 @@ class GroupsReplayTest(unittest.TestCase):
         self.proc = None
         self.browser = None
 
-    def tearDown(self):
-        if self.browser:
-            self.browser.close()
-        if self.proc:
-            try:
-                os.killpg(self.proc.pid, signal.SIGKILL)
-            except ProcessLookupError:
-                pass
-            self.proc.wait(timeout=10)
-        shutil.rmtree(self.dir)
-
     def test_each_robot_is_drawn_in_its_groups_colours_with_a_legend_line_per_group(self):
-        port = vh.free_port()
-        env = dict(os.environ, SWARM_NO_BUILD="1", BUILD_DIR=vh.BUILD_DIR)
-        self.proc = subprocess.Popen([vh.SWARM, "view", self.dir, "--port", str(port)], stdin=subprocess.DEVNULL,
-                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env,
-                                     start_new_session=True)
-        url = f"http://127.0.0.1:{port}/"
-        vh.wait_http(url)
-        b = self.browser = cdp.Browser()
-        b.navigate(url)
+        b = self.open_view()
         b.wait_for("window.sfViewer && sfViewer.replay && sfViewer.frame && sfViewer.drawn.groups"
                    " && sfViewer.drawn.groups.movers", what="the recording drawn")
         drawn = b.eval("sfViewer.drawn.groups")

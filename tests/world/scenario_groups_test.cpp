@@ -8,31 +8,17 @@
 
 #include "common/input_error.hpp"
 #include "robot_agent/controller/builtins.hpp"
+#include "tests/world/scenario_text.hpp"
 #include "world_server/world/robot_groups.hpp"
 #include "world_server/world/scenario.hpp"
 
 namespace swarmform::world {
 namespace {
 
-const std::string kRepo = SWARMFORM_REPO_DIR;
-const std::string kOrigin = kRepo + "/scenarios/inline-test.yaml";
-
-Scenario parse(const std::string& text, const ScenarioOverrides& ov = {}) {
-  return parse_scenario_text(text, kOrigin, ov, swarmform::controller::builtin_registry());
-}
-
-// Parsing must fail at `line` (0: no line) with a message containing `what`.
-void expect_rejected(const std::string& text, int line, const std::string& what,
-                     const ScenarioOverrides& ov = {}, const std::string& file = kOrigin) {
-  try {
-    parse(text, ov);
-    ADD_FAILURE() << "accepted:\n" << text;
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), file) << e.what();
-    EXPECT_EQ(e.line(), line) << e.what();
-    EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
-  }
-}
+using scenario_text::expect_rejected;
+using scenario_text::kOrigin;
+using scenario_text::kRepo;
+using scenario_text::parse;
 
 // Two groups: line 3 is the first group's item, 6 the second's.
 const std::string kTwoGroups = R"(shape: letter_t.txt

@@ -15,35 +15,16 @@
 #include <unistd.h>
 
 #include "common/input_error.hpp"
+#include "tests/world/scenario_text.hpp"
 #include "world_server/world/placement.hpp"
 
 namespace swarmform::world {
 namespace {
 
-const std::string kRepo = SWARMFORM_REPO_DIR;
-// Inline scenarios pretend to live in scenarios/, so `shape: triangle.txt` resolves as in a real file.
-const std::string kOrigin = kRepo + "/scenarios/inline-test.yaml";
-
-Scenario parse(const std::string& text, const ScenarioOverrides& ov = {}) {
-  return parse_scenario_text(text, kOrigin, ov, swarmform::controller::builtin_registry());
-}
-
-// Parsing must fail at `line` with a message containing `what`.
-void expect_rejected(const std::string& text, int line, const std::string& what) {
-  try {
-    parse(text);
-    ADD_FAILURE() << "accepted:\n" << text;
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), kOrigin);
-    EXPECT_EQ(e.line(), line) << e.what();
-    EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
-    if (line > 0) {
-      EXPECT_NE(std::string(e.what()).find("inline-test.yaml:" + std::to_string(line) + ": "),
-                std::string::npos)
-          << e.what();
-    }
-  }
-}
+using scenario_text::expect_rejected;
+using scenario_text::kOrigin;
+using scenario_text::kRepo;
+using scenario_text::parse;
 
 bool connected(const std::vector<Pose2D>& poses, double range) {
   std::vector<char> seen(poses.size(), 0);
