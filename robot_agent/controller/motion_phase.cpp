@@ -30,8 +30,8 @@ std::uint32_t parents_key(RobotId id) {
 std::uint32_t leader_key() {
   return stig::key(stig::Ns::Leader, 0);
 }
-// The shape's turn since it formed (turn_with_the_way), in microradians: every robot applies the one value
-// the stigmergy agrees on, so the turned shape is the same shape on every robot.
+// The shape's turn since it formed (turn_from_blocked_places), in microradians: every robot applies the one
+// value the stigmergy agrees on, so the turned shape is the same shape on every robot.
 std::uint32_t turn_key() {
   return stig::key(stig::Ns::Leader, 1);
 }
@@ -342,6 +342,8 @@ void PaperMotion::read_leader_and_parent(const FormationContext& ctx) {
   }
   has_live_centroid_ = held > 0;
   if (held > 0) live_centroid_ = vscale(sum, 1.0 / held);
+  // The largest distance of a live place from the live centroid (turn_from_blocked_places). Computed with
+  // the choice, whose inputs it shares, so it is ready on the tick the goal moves.
   shape_radius_ = 0.0;
   for (std::size_t label = 0; label < present.size() && held > 0; ++label) {
     if (present[label])
@@ -532,8 +534,8 @@ void PaperMotion::record_references(const FormationContext& ctx) {
     const auto member = ctx.members.find(id);
     if (member == ctx.members.end()) continue;
     const auto sum = ready_sums_.find(id);
-    // Kept in the shape's frame (turn_with_the_way): a robot that enters Ready after the shape turned (a
-    // reserve) reads the shape as it stands.
+    // Kept in the shape's frame (turn_from_blocked_places): a robot that enters Ready after the shape turned
+    // (a reserve) reads the shape as it stands.
     references_[id] =
         unturned(sum != ready_sums_.end() && sum->second.count > 0 ? sum->second.mean()
                                                                    : vsub(pos, {ctx.pose.x, ctx.pose.y}));
