@@ -399,39 +399,51 @@ Vec2 PaperMotion::own_target(const FormationContext& ctx) const {
 void PaperMotion::turn_from_blocked_places(const FormationContext& ctx, MotionStep& out) {
   if (!goal_moved_ || state_ == RobotState::Ready || leader_ != ctx.self || shape_radius_ <= 0.0) return;
   const Stigmergy& st = *ctx.stigmergy;
-  int sense = 0;
+  std::int64_t torque = 0;  // mm: the pushes' torques about the live centroid, summed
   for (const auto& [key, e] : st.in_namespace(kBlockedNs)) {
     const auto id = static_cast<RobotId>(stig::index_of(key));
     if (id == ctx.self || ctx.members.count(id) == 0 || marked_dead(st, id)) continue;
-    sense += e.value > 0 ? 1 : (e.value < 0 ? -1 : 0);
+    torque += e.value;
   }
-  if (sense == 0) {
+  if (torque == 0) {
     turning_ = 0;
     return;
   }
+  // Only at the goal: a turn starts while the leader stands at its target (Arrived), as the shape stands at a
+  // goal it does not fit; it goes on while places stay blocked, through the short walks by which the leader
+  // follows its own turned place. On the way, a place beyond a surface is the boundary follower's: the goal
+  // moved while the hexagon was still before the doorway's wall (the untuned doorway layout, clean, seed
+  // 1102,
+  // --kill 24@1666 --kill 2@2233), its front robots pinned at that wall turned it back and forth for
+  // thousands of ticks, robots touching at the wall.
+  if (turning_ == 0 && state_ != RobotState::Arrived) return;
   constexpr double kRimShare = 0.5;  // x the speed limit: the outermost place's speed while the shape turns
   const double rate = kRimShare * p_.max_speed / ctx.params->tick_rate / shape_radius_;  // rad a tick
-  const double turn = wrap_angle((turned_ ? turn_ : 0.0) + (sense > 0 ? rate : -rate));
+  const double turn = wrap_angle((turned_ ? turn_ : 0.0) + (torque > 0 ? rate : -rate));
   const auto entry = static_cast<std::int64_t>(std::llround(turn / kTurnUnit));
   ctx.stigmergy->put(turn_key(), entry);
   turn_ = static_cast<double>(entry) * kTurnUnit;
   turned_ = true;
-  const int side = sense > 0 ? 1 : -1;
+  const int side = torque > 0 ? 1 : -1;
   if (turning_ != side) out.events.push_back("shape_turning " + std::to_string(side));
   turning_ = side;
 }
 
-// A follower's sense for turn_from_blocked_places: +1 / -1 while its place lies beyond a surface it found
-// between itself and that place, 0 otherwise. The surface is kept (blocking_): the sonars see only ahead, and
-// a robot at rest beside a wall, turned away from it, no longer sees it; the wall is still there. Kept as a
-// plane (the surface point, the normal towards it from the robot); the place is reachable again once it lies
-// a body radius on this side of the plane, or the robot stands at it. The sense is the one found then, kept
-// while the surface is (as boundary following commits a side): a push nearly straight out from the centroid
-// has a torque near zero whose sign flips from tick to tick as the shape turns, and the leader, summing them,
+// A follower's push for turn_from_blocked_places: while its place lies beyond a surface it found between
+// itself and that place, the torque about the live centroid of the push off that surface (the place's offset
+// x the push, a unit vector), in mm; 0 otherwise. The surface is kept (blocking_): the sonars see only ahead,
+// and a robot at rest beside a wall, turned away from it, no longer sees it; the wall is still there. Kept as
+// a plane (the surface point, the normal towards it from the robot); the place is reachable again once it
+// lies a body radius on this side of the plane, or the robot stands at it. The torque is the one found then,
+// kept while the surface is (as boundary following commits a side): a push nearly straight out from the
+// centroid has a torque near zero whose sign flips from tick to tick as the shape turns, and the leader
 // turned back and forth (goal_moves_twice.yaml, the V, seed 4, kills 0@592 7@1307). Either way brings such a
-// place in.
-int PaperMotion::blocked_sense(const FormationContext& ctx, const Desire& desire, Vec2 position,
-                               double surface_within, bool large) {
+// place in. The leader sums the torques, not their signs, as a body pushed off-centre turns by the pushes'
+// net torque: with signs, the V's arm end (a long lever) and the place next to it (a push nearly straight
+// out, its normal taken from an echo up and aside) stood blocked with opposite signs, the sum 0, the shape
+// never turned (goal_moves.yaml, the V, seed 4, a clean radio, once turns waited for the leader's arrival).
+std::int64_t PaperMotion::blocked_torque(const FormationContext& ctx, const Desire& desire, Vec2 position,
+                                         double surface_within, bool large) {
   if (!goal_moved_ || leader_ == ctx.self || !has_live_centroid_ || ctx.label < 0 ||
       static_cast<std::size_t>(ctx.label) >= ctx.places.size()) {
     blocking_.reset();
@@ -452,13 +464,23 @@ int PaperMotion::blocked_sense(const FormationContext& ctx, const Desire& desire
         const Vec2 normal = vscale(to_surface, 1.0 / near);
         const Vec2 offset = turned(vsub(ctx.places[static_cast<std::size_t>(ctx.label)], live_centroid_));
         const double torque = -(offset.x * normal.y - offset.y * normal.x);  // offset x push, push = -normal
-        blocking_ = Blocking{*surface, normal, torque >= 0.0 ? 1 : -1};
+        blocking_ = Blocking{*surface, normal, static_cast<std::int64_t>(std::llround(torque * 1000.0))};
       }
     }
   }
   if (blocking_ && vdot(vsub(desire.place, blocking_->at), blocking_->normal) <= -kRobotRadius)
     blocking_.reset();
-  return blocking_ ? blocking_->sense : 0;
+  // A turn about the live centroid moves the place on a circle of the place's offset about it: it can bring
+  // the place a body radius to this side of the surface only if the centroid stands no further beyond the
+  // surface than that. A place behind a wall that the shape's centroid stands beyond is to be gone round, not
+  // turned in (the same doorway run: the leader at the moved goal past the wall, robots left before it).
+  if (blocking_) {
+    const Vec2 offset = turned(vsub(ctx.places[static_cast<std::size_t>(ctx.label)], live_centroid_));
+    const Vec2 centroid = vsub(desire.place, offset);
+    const double centroid_this_side = -vdot(vsub(centroid, blocking_->at), blocking_->normal);
+    if (centroid_this_side + vnorm(offset) < kRobotRadius) blocking_.reset();
+  }
+  return blocking_ ? blocking_->torque_mm : 0;
 }
 
 // The leader stops once its place is this close to its target, i.e. once the live shape's centroid (as the
@@ -646,7 +668,7 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
   const bool pinned = progress_.update(position, vnorm(desire.velocity), ctx.tick, ctx.params->tick_rate);
   const double surface_within = p_.obstacle_range + kRobotRadius + 0.3;
   const BoundaryFollowParams bf{p_.wall_distance + kRobotRadius, p_.max_speed, 1.0, 20, 1200};
-  blocked_ = blocked_sense(ctx, desire, position, surface_within, view.sense.size == ObstacleSize::Large);
+  blocked_ = blocked_torque(ctx, desire, position, surface_within, view.sense.size == ObstacleSize::Large);
 
   // 3. The last approach, and a cut-off robot's way (approach_stage.hpp).
   const bool near_place = vnorm(vsub(desire.place, position)) < p_.fusion_range;
