@@ -176,7 +176,7 @@ TEST(MotionGoalMoves, AShapeThatArrivedSetsOffForTheGoalWhereItMovedAndArrivesTh
 // 0.7-2.3 m beyond the wall wherever its centroid stands in the goal's radius: that arm's robots stayed
 // pinned at the wall and the shape was never formed there (every seed, with any radio:
 // docs/design-notes/goal-moves.md). A place found beyond a surface turns the shape (motion_phase.cpp,
-// turn_from_blocked_places) until it fits. Judged by the world's rule at the goal as it stands after the
+// shape_turn.hpp) until it fits. Judged by the world's rule at the goal as it stands after the
 // move.
 TEST(MotionGoalMoves, AVSentBesideAWallTurnsOffItAndArrivesThere) {
   world::ScenarioOverrides over;
@@ -211,7 +211,7 @@ TEST(MotionGoalMoves, AVSentBesideAWallTurnsOffItAndArrivesThere) {
 // --goal-move 1500:0,-5,0.8` writes it. The front robots pinned at the wall, their places beyond it, turned
 // the shape back and forth on the way (5 turns, arrived at 9406; in the hexagon's run robots touched at the
 // wall). The shape fits at the new goal: it is to be gone round the wall, never turned (motion_phase.cpp,
-// turn_from_blocked_places: a turn starts only at the goal, for a place a turn can bring in), and it arrives.
+// shape_turn.hpp: a turn starts only at the goal, for a place a turn can bring in), and it arrives.
 TEST(MotionGoalMoves, AGoalMovedPastAWallStillAheadIsReachedRoundItWithoutATurn) {
   world::ScenarioOverrides over;
   over.shape_file = repo("shapes/triangle.txt");
