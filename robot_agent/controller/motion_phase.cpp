@@ -30,19 +30,6 @@ std::uint32_t parents_key(RobotId id) {
 std::uint32_t leader_key() {
   return stig::key(stig::Ns::Leader, 0);
 }
-// The shape's turn since it formed (turn_from_blocked_places), in microradians: every robot applies the one
-// value the stigmergy agrees on, so the turned shape is the same shape on every robot.
-std::uint32_t turn_key() {
-  return stig::key(stig::Ns::Leader, 1);
-}
-constexpr double kTurnUnit = 1e-6;  // rad per unit of the turn entry
-// Stigmergy namespace 6 (stigmergy.hpp: reserved for the motion phases): index = robot id, value = the sense
-// in which its blocked place would turn the shape (+1, -1; 0 free). Written only once the goal has moved.
-constexpr std::uint32_t kBlockedNs = 6;
-std::uint32_t blocked_key(RobotId id) {
-  return stig::key(kBlockedNs, id);
-}
-
 bool marked_dead(const Stigmergy& s, RobotId id) {
   return s.get(parents_key(id)) == kDeadMark;
 }
@@ -66,7 +53,7 @@ WheelSpeeds forward_wheels(Vec2 v, double theta, double max_speed) {
 }  // namespace
 
 PaperMotion::PaperMotion(const FormationParams& params)
-    : p_(motion_params(params)), seed_(params.seed), first_goal_(p_.goal) {}
+    : p_(motion_params(params)), turn_(p_.goal), seed_(params.seed) {}
 
 void PaperMotion::on_ready(const FormationContext& ctx) {
   state_ = RobotState::Ready;
@@ -109,11 +96,7 @@ MotionStep PaperMotion::step(const FormationContext& ctx) {
     p_.goal = ctx.perception->goal->at;
     p_.goal_radius = ctx.perception->goal->radius;
   }
-  if (p_.goal.x != first_goal_.x || p_.goal.y != first_goal_.y) goal_moved_ = true;
-  if (const auto turn = ctx.stigmergy->get(turn_key())) {
-    turn_ = static_cast<double>(*turn) * kTurnUnit;
-    turned_ = true;
-  }
+  turn_.observe(p_.goal, *ctx.stigmergy);
   MotionStep out;
   for (const auto& [id, n] : ctx.neighbours->all()) {
     if (ctx.neighbours->fresh(n)) {
@@ -140,7 +123,13 @@ MotionStep PaperMotion::step(const FormationContext& ctx) {
   judge_boundary(ctx);
   watch_for_the_dead(ctx);
   choose_leader_and_parent(ctx, out);
-  turn_from_blocked_places(ctx, out);
+  if (state_ != RobotState::Ready && leader_ == ctx.self) {
+    const Stigmergy& st = *ctx.stigmergy;
+    turn_.lead(
+        *ctx.stigmergy,
+        [&](RobotId id) { return id != ctx.self && ctx.members.count(id) != 0 && !marked_dead(st, id); },
+        state_ == RobotState::Arrived, p_.max_speed, ctx.params->tick_rate, shape_radius_, out.events);
+  }
 
   Vec2 velocity;
   net_force_ = 0.0;
@@ -164,12 +153,8 @@ MotionStep PaperMotion::step(const FormationContext& ctx) {
     follower_.reset();
     out.events.push_back("motion_resumed off_place");
   }
-  blocked_ = 0;
   if (state_ == RobotState::Motion) velocity = motion_velocity(ctx, out);
-  if (goal_moved_ && ctx.stigmergy->get(blocked_key(ctx.self)).value_or(0) != blocked_) {
-    ctx.stigmergy->put(blocked_key(ctx.self), blocked_);
-    out.events.push_back("place_blocked " + std::to_string(blocked_));
-  }
+  turn_.publish(ctx.self, *ctx.stigmergy, out.events);
 
   // Collision avoidance, eq. (1), in every phase (also when the formation forces are zero).
   std::vector<NeighbourPosition> near;
@@ -342,7 +327,7 @@ void PaperMotion::read_leader_and_parent(const FormationContext& ctx) {
   }
   has_live_centroid_ = held > 0;
   if (held > 0) live_centroid_ = vscale(sum, 1.0 / held);
-  // The largest distance of a live place from the live centroid (turn_from_blocked_places). Computed with
+  // The largest distance of a live place from the live centroid (shape_turn.hpp). Computed with
   // the choice, whose inputs it shares, so it is ready on the tick the goal moves.
   shape_radius_ = 0.0;
   for (std::size_t label = 0; label < present.size() && held > 0; ++label) {
@@ -377,88 +362,7 @@ void PaperMotion::read_leader_and_parent(const FormationContext& ctx) {
 Vec2 PaperMotion::own_target(const FormationContext& ctx) const {
   if (ctx.label < 0 || static_cast<std::size_t>(ctx.label) >= ctx.places.size() || !has_live_centroid_)
     return p_.goal;
-  return vadd(p_.goal, turned(vsub(ctx.places[static_cast<std::size_t>(ctx.label)], live_centroid_)));
-}
-
-// Way out (extends eq. 3 and its arrival for a goal that moves): a place beyond an obstacle turns the shape.
-// The paper takes the shape to its goal in the orientation it formed in; a scenario's first goal is placed by
-// its author where the shape fits, but a goal moved during the run is checked only as a point inside the
-// walls (docs/scenario-format.md, "World events"). scenarios/goal_moves.yaml moves it back and aside to 2.5 m
-// below a wall, and the V, 8 m wide across its old way, has its arm's last places 0.7 to 2.3 m beyond that
-// wall wherever its centroid stands in the goal's radius: those robots stay pinned at the wall and the shape
-// is never formed there, with any radio (docs/design-notes/goal-moves.md). The world judges the shape under
-// any rotation, so the shape turns, as a body turns that is pushed off-centre: a follower whose place is
-// still (its parent at rest, place_still) and lies beyond a surface it remembers (trace_: the echo nearer
-// than its place, on the way to it) puts in the stigmergy the sense in which that push would turn the shape
-// about its live centroid (the cross product of its place's offset and the push from the surface); the leader
-// turns the shape, while the senses of the live members so blocked sum to one side, at the rate at which the
-// outermost place moves at kRimShare x the speed limit, and puts the sum of its turns in the stigmergy; every
-// member turns its place offsets (own_target) and its recorded references (eq. 2, kept in the shape's frame)
-// by that one value. It stops when no place is blocked. Only once the goal has moved (goal_moved_): runs
-// whose goal never moves are unchanged (a place blocked at a first goal is motion-known-limits.md's).
-void PaperMotion::turn_from_blocked_places(const FormationContext& ctx, MotionStep& out) {
-  if (!goal_moved_ || state_ == RobotState::Ready || leader_ != ctx.self || shape_radius_ <= 0.0) return;
-  const Stigmergy& st = *ctx.stigmergy;
-  int sense = 0;
-  for (const auto& [key, e] : st.in_namespace(kBlockedNs)) {
-    const auto id = static_cast<RobotId>(stig::index_of(key));
-    if (id == ctx.self || ctx.members.count(id) == 0 || marked_dead(st, id)) continue;
-    sense += e.value > 0 ? 1 : (e.value < 0 ? -1 : 0);
-  }
-  if (sense == 0) {
-    turning_ = 0;
-    return;
-  }
-  constexpr double kRimShare = 0.5;  // x the speed limit: the outermost place's speed while the shape turns
-  const double rate = kRimShare * p_.max_speed / ctx.params->tick_rate / shape_radius_;  // rad a tick
-  const double turn = wrap_angle((turned_ ? turn_ : 0.0) + (sense > 0 ? rate : -rate));
-  const auto entry = static_cast<std::int64_t>(std::llround(turn / kTurnUnit));
-  ctx.stigmergy->put(turn_key(), entry);
-  turn_ = static_cast<double>(entry) * kTurnUnit;
-  turned_ = true;
-  const int side = sense > 0 ? 1 : -1;
-  if (turning_ != side) out.events.push_back("shape_turning " + std::to_string(side));
-  turning_ = side;
-}
-
-// A follower's sense for turn_from_blocked_places: +1 / -1 while its place lies beyond a surface it found
-// between itself and that place, 0 otherwise. The surface is kept (blocking_): the sonars see only ahead, and
-// a robot at rest beside a wall, turned away from it, no longer sees it; the wall is still there. Kept as a
-// plane (the surface point, the normal towards it from the robot); the place is reachable again once it lies
-// a body radius on this side of the plane, or the robot stands at it. The sense is the one found then, kept
-// while the surface is (as boundary following commits a side): a push nearly straight out from the centroid
-// has a torque near zero whose sign flips from tick to tick as the shape turns, and the leader, summing them,
-// turned back and forth (goal_moves_twice.yaml, the V, seed 4, kills 0@592 7@1307). Either way brings such a
-// place in.
-int PaperMotion::blocked_sense(const FormationContext& ctx, const Desire& desire, Vec2 position,
-                               double surface_within, bool large) {
-  if (!goal_moved_ || leader_ == ctx.self || !has_live_centroid_ || ctx.label < 0 ||
-      static_cast<std::size_t>(ctx.label) >= ctx.places.size()) {
-    blocking_.reset();
-    return 0;
-  }
-  const Vec2 to_place = vsub(desire.place, position);
-  const double distance = vnorm(to_place);
-  if (distance <= p_.arrival_tolerance) blocking_.reset();
-  // Only a large obstacle (seen by three sensors or more, or latched: obstacle_view.hpp) blocks: a robot's
-  // body is small and is gone round by the approach (goal_moves.yaml, the square, 20 % loss + noise, seed 1,
-  // --kill 11@2010 --kill 4@2537: members beside the two dead robots' bodies inside the square took them for
-  // walls and turned the shape over and over; it never stood formed).
-  if (!blocking_ && large && desire.place_still && distance > p_.arrival_tolerance) {
-    if (const auto surface = trace_.surface(position, ctx.tick, surface_within, kTraceTicks)) {
-      const Vec2 to_surface = vsub(*surface, position);
-      const double near = vnorm(to_surface);
-      if (near > 1e-6 && vdot(to_surface, to_place) > 0.0 && near < distance) {
-        const Vec2 normal = vscale(to_surface, 1.0 / near);
-        const Vec2 offset = turned(vsub(ctx.places[static_cast<std::size_t>(ctx.label)], live_centroid_));
-        const double torque = -(offset.x * normal.y - offset.y * normal.x);  // offset x push, push = -normal
-        blocking_ = Blocking{*surface, normal, torque >= 0.0 ? 1 : -1};
-      }
-    }
-  }
-  if (blocking_ && vdot(vsub(desire.place, blocking_->at), blocking_->normal) <= -kRobotRadius)
-    blocking_.reset();
-  return blocking_ ? blocking_->sense : 0;
+  return vadd(p_.goal, turn_.turned(vsub(ctx.places[static_cast<std::size_t>(ctx.label)], live_centroid_)));
 }
 
 // The leader stops once its place is this close to its target, i.e. once the live shape's centroid (as the
@@ -500,7 +404,7 @@ bool PaperMotion::off_place(const FormationContext& ctx) {
                      static_cast<Tick>(p_.neighbour_timeout));
   }
   const auto place =
-      place_watch_.place(turned(parent_reference_), static_cast<std::size_t>(p_.neighbour_timeout / 2));
+      place_watch_.place(turn_.turned(parent_reference_), static_cast<std::size_t>(p_.neighbour_timeout / 2));
   return place && vnorm(vsub(*place, position)) > kResumeFactor * p_.arrival_tolerance;
 }
 
@@ -534,11 +438,11 @@ void PaperMotion::record_references(const FormationContext& ctx) {
     const auto member = ctx.members.find(id);
     if (member == ctx.members.end()) continue;
     const auto sum = ready_sums_.find(id);
-    // Kept in the shape's frame (turn_from_blocked_places): a robot that enters Ready after the shape turned
+    // Kept in the shape's frame (shape_turn.hpp): a robot that enters Ready after the shape turned
     // (a reserve) reads the shape as it stands.
-    references_[id] =
-        unturned(sum != ready_sums_.end() && sum->second.count > 0 ? sum->second.mean()
-                                                                   : vsub(pos, {ctx.pose.x, ctx.pose.y}));
+    references_[id] = turn_.unturned(sum != ready_sums_.end() && sum->second.count > 0
+                                         ? sum->second.mean()
+                                         : vsub(pos, {ctx.pose.x, ctx.pose.y}));
     // Way out (extends eq. 2's record): a pair that stood well off the shape's own geometry at Ready -- one
     // of them took its place as reached short of a dead robot's body (blocked place) -- keeps the geometry
     // instead, or the shape would carry that offset to the goal, away from the body, and never match its
@@ -567,7 +471,7 @@ Vec2 PaperMotion::reference_to(const FormationContext& ctx, RobotId id) const {
                 ctx.places[static_cast<std::size_t>(ctx.label)]);
   }
   if (auto it = last_position_.find(id); it != last_position_.end())
-    return unturned(vsub(it->second, {ctx.pose.x, ctx.pose.y}));
+    return turn_.unturned(vsub(it->second, {ctx.pose.x, ctx.pose.y}));
   return {};
 }
 
@@ -581,7 +485,7 @@ Desire PaperMotion::desired_motion(const FormationContext& ctx) {
   if (!parent_ || parent_lost(ctx)) return cut_off_desire(position, own_target(ctx), p_);
   ParentView parent;
   parent.id = *parent_;
-  parent.reference = turned(parent_reference_);
+  parent.reference = turn_.turned(parent_reference_);
   if (auto it = last_position_.find(*parent_); it != last_position_.end()) parent.last_position = it->second;
   if (auto it = last_velocity_.find(*parent_); it != last_velocity_.end()) parent.last_velocity = it->second;
   return follower_.step(*ctx.neighbours, position, ctx.tick, ctx.params->tick_rate, parent, p_);
@@ -646,7 +550,21 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
   const bool pinned = progress_.update(position, vnorm(desire.velocity), ctx.tick, ctx.params->tick_rate);
   const double surface_within = p_.obstacle_range + kRobotRadius + 0.3;
   const BoundaryFollowParams bf{p_.wall_distance + kRobotRadius, p_.max_speed, 1.0, 20, 1200};
-  blocked_ = blocked_sense(ctx, desire, position, surface_within, view.sense.size == ObstacleSize::Large);
+  // A moved goal: the push off a surface its place lies beyond (shape_turn.hpp).
+  if (leader_ == ctx.self || !has_live_centroid_ || ctx.label < 0 ||
+      static_cast<std::size_t>(ctx.label) >= ctx.places.size()) {
+    turn_.no_push();
+  } else {
+    PushView push;
+    push.position = position;
+    push.place = desire.place;
+    push.place_still = desire.place_still;
+    push.offset = vsub(ctx.places[static_cast<std::size_t>(ctx.label)], live_centroid_);
+    push.surface = [&] { return trace_.surface(position, ctx.tick, surface_within, kTraceTicks); };
+    push.large = view.sense.size == ObstacleSize::Large;
+    push.arrival_tolerance = p_.arrival_tolerance;
+    turn_.push(push);
+  }
 
   // 3. The last approach, and a cut-off robot's way (approach_stage.hpp).
   const bool near_place = vnorm(vsub(desire.place, position)) < p_.fusion_range;

@@ -47,6 +47,7 @@
 #include "robot_agent/controller/parent_tree.hpp"
 #include "robot_agent/controller/place_watch.hpp"
 #include "robot_agent/controller/progress_window.hpp"
+#include "robot_agent/controller/shape_turn.hpp"
 #include "robot_agent/controller/vec2_math.hpp"
 #include "robot_agent/controller/wall_follow.hpp"
 
@@ -84,13 +85,9 @@ class PaperMotion final : public MotionPhases {
   bool parent_lost(const FormationContext& ctx) const;
   bool should_resume(const FormationContext& ctx) const;
   bool off_place(const FormationContext& ctx);
-  void turn_from_blocked_places(const FormationContext& ctx, MotionStep& out);
-  int blocked_sense(const FormationContext& ctx, const Desire& desire, Vec2 position, double surface_within,
-                    bool large);
-  Vec2 turned(Vec2 v) const { return turned_ ? vrotate(v, turn_) : v; }     // shape frame -> as it stands
-  Vec2 unturned(Vec2 v) const { return turned_ ? vrotate(v, -turn_) : v; }  // as it stands -> shape frame
 
   MotionParams p_;
+  ShapeTurn turn_;  // a moved goal: a place beyond a surface turns the shape (shape_turn.hpp)
   RobotState state_ = RobotState::Ready;
   bool started_ = false;  // on_ready has run
   Tick ready_tick_ = 0;   // FormationContext::ready_tick of this Ready phase
@@ -147,23 +144,8 @@ class PaperMotion final : public MotionPhases {
   std::vector<LeaderCandidate> candidates_;
   std::vector<bool> present_;
   std::vector<std::optional<RobotId>> holder_;
-  // A moved goal (turn_from_blocked_places): the mission's goal, whether the goal has moved from it, this
-  // robot's blocked sense this tick, the leader's last turning side (0: not turning), the largest distance of
-  // a live place from the live centroid, and the shape's turn as the stigmergy holds it (none until a leader
-  // turned it: every place offset and reference as recorded).
-  Vec2 first_goal_;
-  bool goal_moved_ = false;
-  int blocked_ = 0;
-  int turning_ = 0;
+  // The largest distance of a live place from the live centroid (the turn's rate: shape_turn.hpp).
   double shape_radius_ = 0.0;
-  double turn_ = 0.0;
-  bool turned_ = false;
-  struct Blocking {
-    Vec2 at;      // the surface point found between the robot and its place
-    Vec2 normal;  // unit, from the robot towards it then
-    int sense;    // +1 / -1: the way the push off it turned the shape about its centroid then
-  };
-  std::optional<Blocking> blocking_;  // blocked_sense's surface, kept while the place lies beyond it
 };
 
 }  // namespace swarmform::controller::motion

@@ -24,9 +24,9 @@
 //   3 Boundary  index = robot id   the motion phases' boundary roles (boundary.hpp)
 //   4 Parents   index = robot id   the motion phases' parents table (parent_tree.hpp)
 //   5 Leader    index = 0..        the motion phases' leader entries (leader_election.hpp); index 1:
-//                                  the shape's turn after a goal move, in microradians (motion_phase.cpp)
-//   6 Blocked   index = robot id   after a goal move: the sense in which its blocked place turns the shape
-//                                  (+1, -1; 0 free) (motion_phase.cpp, turn_from_blocked_places)
+//                                  the shape's turn after a goal move, in microradians (shape_turn.hpp)
+//   6 Blocked   index = robot id   after a goal move: the torque (mm) with which the push off the surface
+//                                  its place lies beyond turns the shape (0 free) (shape_turn.hpp)
 //   7..15       reserved for the motion phases
 #pragma once
 
