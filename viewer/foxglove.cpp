@@ -1,6 +1,7 @@
 #include "viewer/foxglove.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -129,6 +130,7 @@ std::string telemetry_schema() {
                              {"alive", {{"type", "boolean"}}},
                              {"state", {{"type", "integer"}}},
                              {"state_name", {{"type", "string"}}},
+                             {"group", {{"type", "string"}}},
                              {"label", {{"type", "integer"}}},
                              {"parent", {{"type", "integer"}}},
                              {"leader", {{"type", "boolean"}}},
@@ -234,6 +236,67 @@ void floor_and_lights(const json& world, json& cubes, json& cylinders, json& sph
                        {"size", {{"x", 0.15}, {"y", 0.15}, {"z", 0.15}}},
                        {"color", rgba("#ffd600")}});
   }
+}
+
+// A mixed swarm's robot groups (world.json `groups`, docs/recording-format.md "Robot groups"): each robot
+// takes its state's name and colour from its own group's behaviour and is edged in its group's colour, as the
+// page (viewer.js GROUP_OUTLINES) and the pictures (scene.py GROUP_EDGES) draw it. Without groups every robot
+// has the frame's states and no edge.
+constexpr std::array<const char*, 6> kGroupEdges = {"#263238", "#d81b60", "#ff6f00",
+                                                    "#00897b", "#5e35b1", "#6d4c41"};
+struct StateLook {
+  std::string name, colour;
+};
+struct RobotGroup {
+  std::string name, edge;
+  std::int64_t first = 0, count = 0;
+  std::map<std::int32_t, StateLook> states;
+};
+std::map<std::int32_t, StateLook> states_by_value(const json& list) {
+  std::map<std::int32_t, StateLook> out;
+  if (!list.is_array()) return out;
+  for (const json& s : list) {
+    if (!s.is_object() || !s.contains("value") || !s["value"].is_number_integer()) continue;
+    const std::string colour = s.value("colour", std::string());
+    out[s["value"].get<std::int32_t>()] = {s.value("name", std::string()),
+                                           hex_colour(colour) ? colour : "#000000"};
+  }
+  return out;
+}
+std::vector<RobotGroup> robot_groups(const json& world) {
+  std::vector<RobotGroup> out;
+  if (!world.is_object() || !world.contains("groups") || !world["groups"].is_array()) return out;
+  for (const json& g : world["groups"]) {
+    if (!g.is_object()) continue;
+    RobotGroup group;
+    group.name = g.value("name", std::string());
+    group.edge = kGroupEdges[out.size() % kGroupEdges.size()];
+    group.first = g.value("first_id", std::int64_t{0});
+    group.count = g.value("count", std::int64_t{0});
+    if (g.contains("behaviour_descriptor") && g["behaviour_descriptor"].is_object())
+      group.states = states_by_value(g["behaviour_descriptor"].value("states", json::array()));
+    out.push_back(std::move(group));
+  }
+  return out;
+}
+// The robot's group (nullptr without groups, or for an id none lists).
+const RobotGroup* group_of(const std::vector<RobotGroup>& groups, std::int64_t id) {
+  for (const auto& g : groups) {
+    if (id >= g.first && id < g.first + g.count) return &g;
+  }
+  return nullptr;
+}
+// The name and colour of a robot's state: its group's when it has one, else the frame's.
+StateLook state_look(const std::map<std::int32_t, StateLook>& frame_states, const RobotGroup* group,
+                     std::int32_t state) {
+  const auto& table = group != nullptr ? group->states : frame_states;
+  const auto s = table.find(state);
+  return s != table.end() ? s->second : StateLook{"state " + std::to_string(state), "#000000"};
+}
+std::map<std::int32_t, StateLook> frame_states(const dds::ObserveFrameData& f) {
+  std::map<std::int32_t, StateLook> out;
+  for (const auto& s : f.states) out[s.value] = {s.name, hex_colour(s.colour) ? s.colour : "#000000"};
+  return out;
 }
 
 void put_u32(std::string& out, std::uint32_t v) {
@@ -424,8 +487,8 @@ json Foxglove::scene(const dds::ObserveFrameData& f, const json& stamp, bool wit
                      bool with_obstacles) const {
   const json tick_meta = json::array({{{"key", "tick"}, {"value", std::to_string(f.tick)}}});
   const double radius = num(world_, "robot_radius", kRobotRadius);
-  std::map<std::int32_t, std::string> colours;
-  for (const auto& s : f.states) colours[s.value] = hex_colour(s.colour) ? s.colour : "#000000";
+  const auto states = frame_states(f);
+  const auto groups = robot_groups(world_);
   json entities = json::array();
   if (with_arena && world_.is_object()) {
     json cubes = json::array(), cylinders = json::array();
@@ -502,7 +565,7 @@ json Foxglove::scene(const dds::ObserveFrameData& f, const json& stamp, bool wit
                         {"texts", json::array()}});
   }
   json cylinders = json::array(), texts = json::array(), leds = json::array(), arrows = json::array();
-  json links = json::array(), rays = json::array(), rings = json::array();
+  json links = json::array(), rays = json::array(), rings = json::array(), edges = json::array();
   std::map<std::uint32_t, const dds::ObservedRobotRow*> by_id;
   for (const auto& r : f.robots) by_id[r.id] = &r;
   for (const auto& r : f.robots) {
@@ -553,8 +616,17 @@ json Foxglove::scene(const dds::ObserveFrameData& f, const json& stamp, bool wit
                       {"size", {{"x", d}, {"y", d}, {"z", d}}},
                       {"color", {{"r", c.r / 255.0}, {"g", c.g / 255.0}, {"b", c.b / 255.0}, {"a", 1.0}}}});
     }
-    const auto c = colours.find(r.state);
-    const std::string colour = !r.alive ? "#bdbdbd" : c != colours.end() ? c->second : "#000000";
+    const RobotGroup* group = group_of(groups, r.id);
+    const std::string colour = !r.alive ? "#bdbdbd" : state_look(states, group, r.state).colour;
+    if (group != nullptr) {
+      json edge = json::array();
+      for (int k = 0; k < 32; ++k) {
+        const double a = 2.0 * std::numbers::pi * k / 32;
+        edge.push_back(
+            point(r.pose.x + 1.15 * radius * std::cos(a), r.pose.y + 1.15 * radius * std::sin(a), 0.005));
+      }
+      edges.push_back(lines(1, 0.012, std::move(edge), rgba(group->edge)));
+    }
     cylinders.push_back({{"pose", pose(r.pose.x, r.pose.y, kRobotHeight / 2, r.pose.theta)},
                          {"size", {{"x", 2 * radius}, {"y", 2 * radius}, {"z", kRobotHeight}}},
                          {"bottom_scale", 1.0},
@@ -592,6 +664,7 @@ json Foxglove::scene(const dds::ObserveFrameData& f, const json& stamp, bool wit
   if (!recorded_)
     line_entity("ultrasonic_rays", json::array({lines(2, 0.005, std::move(rays), rgba("#e53935"))}));
   line_entity("leader", std::move(rings));
+  if (!groups.empty()) line_entity("group_edges", std::move(edges));
   // Every primitive list in every entity, empty or not: a reader need not know which an entity uses.
   for (json& e : entities) {
     for (const char* k : {"arrows", "cubes", "cylinders", "lines", "spheres", "texts"}) {
@@ -644,19 +717,16 @@ json Foxglove::metrics(const dds::ObserveFrameData& f, const json& stamp) const 
 }
 
 json Foxglove::telemetry(const dds::ObserveFrameData& f, const json& stamp) const {
-  std::map<std::int32_t, std::string> names;
-  for (const auto& s : f.states) names[s.value] = s.name;
+  const auto states = frame_states(f);
+  const auto groups = robot_groups(world_);
   json list = json::array();
   for (const auto& r : f.robots) {
-    const auto n = names.find(r.state);
-    json robot = {{"id", r.id},
-                  {"alive", r.alive},
-                  {"state", r.state},
-                  {"state_name", n != names.end() ? n->second : "state " + std::to_string(r.state)},
-                  {"label", r.label},
-                  {"parent", r.parent},
-                  {"leader", r.leader},
-                  {"net_force", r.net_force}};
+    const RobotGroup* group = group_of(groups, r.id);
+    json robot = {{"id", r.id},         {"alive", r.alive},
+                  {"state", r.state},   {"state_name", state_look(states, group, r.state).name},
+                  {"label", r.label},   {"parent", r.parent},
+                  {"leader", r.leader}, {"net_force", r.net_force}};
+    if (group != nullptr) robot["group"] = group->name;
     if (!recorded_) {
       robot["left_speed"] = r.left_speed;
       robot["right_speed"] = r.right_speed;

@@ -4,11 +4,14 @@
 //                                            the light sources as spheres); the robots as cylinders in
 //                                            their state's colour with a heading arrow, their id as text and
 //                                            their lit LEDs as small spheres on top; the parent links, the
-//                                            ultrasonic rays (live) and the leader's ring as lines
+//                                            ultrasonic rays (live) and the leader's ring as lines; in a
+//                                            mixed swarm (world.json `groups`) each robot in its own
+//                                            group's state colours, edged in its group's colour
 //   /robots/poses      foxglove.PosesInFrame  every robot's pose (frame "arena", z = 0)
 //   /tf                foxglove.FrameTransforms  arena -> robot_<id> for each robot
-//   /robots/telemetry  swarmform.RobotTelemetry  per robot: state (and its name), label, parent, leader, net
-//                                            force, last wheel speeds
+//   /robots/telemetry  swarmform.RobotTelemetry  per robot: state (and its name, by its group's behaviour),
+//                                            its group (mixed swarms), label, parent, leader, net force,
+//                                            last wheel speeds
 //   /metrics           swarmform.Metrics      per tick numbers for the Plot panel: alive, shape error, net
 //                                            force (mean, max, each robot's)
 // The schemas are JSON Schema written here for the fields we send (schemaEncoding "jsonschema"). Every

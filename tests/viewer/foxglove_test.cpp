@@ -331,5 +331,46 @@ TEST(Foxglove, SceneDrawsHeadingParentLinksRaysAndTheLeader) {
     EXPECT_NE(e["id"], "ultrasonic_rays");
 }
 
+// A mixed swarm (world.json `groups`): each robot in its own group's state colours and names, edged in its
+// group's colour (the page's and the pictures' edges); the frame's states are the first group's only.
+TEST(Foxglove, AMixedSwarmsRobotsTakeTheirOwnGroupsStatesAndEdges) {
+  json world = kWorld;
+  world["groups"] = json::parse(R"([
+    {"name": "shapers", "first_id": 0, "count": 2,
+     "behaviour_descriptor": {"states": [{"value": 0, "name": "idle", "colour": "#ff0000"}]}},
+    {"name": "movers", "first_id": 2, "count": 1,
+     "behaviour_descriptor": {"states": [{"value": 0, "name": "walking", "colour": "#0000ff"}]}}])");
+  dds::ObserveFrameData f = three_robots();
+  f.robots[2].alive = true;
+  f.states = {{0, "idle", "#ff0000"}};
+  Foxglove fox;
+  fox.set_world(world);
+  subscribe_all(fox);
+  const auto got = all_channels(fox, f);
+  const json& bodies = entity(got.at(Foxglove::kScene).second, "robots")["cylinders"];
+  ASSERT_EQ(bodies.size(), 3U);
+  EXPECT_DOUBLE_EQ(bodies[0]["color"]["r"].get<double>(), 1.0);  // a shaper, idle: red
+  EXPECT_DOUBLE_EQ(bodies[2]["color"]["b"].get<double>(), 1.0);  // the mover, walking: blue
+  EXPECT_DOUBLE_EQ(bodies[2]["color"]["r"].get<double>(), 0.0);
+  const json& edges = entity(got.at(Foxglove::kScene).second, "group_edges")["lines"];
+  ASSERT_EQ(edges.size(), 3U);
+  EXPECT_EQ(edges[0]["color"], edges[1]["color"]);
+  EXPECT_NE(edges[0]["color"], edges[2]["color"]);
+  const json& robots = got.at(Foxglove::kTelemetry).second["robots"];
+  EXPECT_EQ(robots[0]["state_name"], "idle");
+  EXPECT_EQ(robots[0]["group"], "shapers");
+  EXPECT_EQ(robots[2]["state_name"], "walking");
+  EXPECT_EQ(robots[2]["group"], "movers");
+  // Without groups: the frame's states for every robot, no edges, no group.
+  Foxglove plain;
+  plain.set_world(kWorld);
+  subscribe_all(plain);
+  const auto one = all_channels(plain, f);
+  EXPECT_DOUBLE_EQ(
+      entity(one.at(Foxglove::kScene).second, "robots")["cylinders"][2]["color"]["r"].get<double>(), 1.0);
+  for (const json& e : one.at(Foxglove::kScene).second["entities"]) EXPECT_NE(e["id"], "group_edges");
+  EXPECT_FALSE(one.at(Foxglove::kTelemetry).second["robots"][2].contains("group"));
+}
+
 }  // namespace
 }  // namespace swarmform::viewer
