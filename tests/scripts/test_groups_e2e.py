@@ -1,7 +1,8 @@
 """A mixed swarm through the launcher (scenarios/mixed_swarm.yaml, docs/scenario-format.md "Groups"), in-process
 on the real build (BUILD_DIR): `--expect` on a group's keys (`groups.shapers.outcome`) is checked before the run
 and judged after it, an unknown group key is refused before anything runs, and `--robots` / `--exec` are refused
-naming why. The multi-process run of the same scenario is a golden run (tests/golden: `mixed_swarm`)."""
+naming why. The multi-process run of the same scenario is a golden run (tests/golden: `mixed_swarm`); kills in
+it, one robot of each group, run with real agent processes (DDS test domain 30)."""
 
 import json
 import os
@@ -48,6 +49,28 @@ class MixedSwarmLauncherTest(unittest.TestCase):
             world = json.load(f)
         self.assertEqual([(g["name"], g["first_id"], g["count"]) for g in world["groups"]],
                          [("shapers", 0, 8), ("movers", 8, 4)])
+
+    def test_kills_in_a_multi_process_mixed_run_take_the_robot_of_the_global_id(self):
+        # Ids are global and contiguous in group order (shapers 0-7, movers 8-11): --kill 9 is the second mover's
+        # agent process, --kill 3 a shaper's. Each is killed at its tick by the pid the launcher started for that
+        # id, its own group loses it, and the shape arrives with the seven left.
+        r = helpers.swarm("run", "--scenario", SCENARIO, "--no-pictures", "--out", self.out,
+                          "--domain", str(helpers.test_domain(30)), "--kill", "9@300", "--kill", "3@400",
+                          build_dir=BUILD_DIR, timeout=300)
+        self.assertEqual(r.returncode, 0, f"stdout:\n{r.stdout}\nstderr:\n{r.stderr}")
+        with open(os.path.join(self.out, "summary.json")) as f:
+            summary = json.load(f)
+        self.assertEqual(summary["deaths"], [{"id": 9, "tick": 300}, {"id": 3, "tick": 400}])
+        with open(os.path.join(self.out, "agents.json")) as f:
+            pids = json.load(f)
+        with open(os.path.join(self.out, "events.jsonl")) as f:
+            events = [json.loads(line) for line in f if line.strip()]
+        kills = {(e["id"], e["tick"]): e["detail"] for e in events if e["kind"] == "kill_sent"}
+        self.assertEqual(kills, {(9, 300): f"SIGKILL pid {pids['9']}", (3, 400): f"SIGKILL pid {pids['3']}"})
+        movers, shapers = summary["groups"]["movers"], summary["groups"]["shapers"]
+        self.assertEqual(movers["states_at_end"], {"walking": 3})
+        self.assertEqual(shapers["outcome"], "arrived")
+        self.assertEqual(shapers["arrived"], 7)
 
     def test_an_unknown_group_key_is_refused_before_the_run(self):
         r = self.swarm("--expect", "groups.dancers.outcome == none", "--expect", "groups.movers.states_at_end.x > 1",

@@ -4,7 +4,8 @@
 //   0 tests/golden/test_golden.py (the multi-process golden runs), 1..15 multiprocess_test (11:
 //   wire_endpoints_test), 16..20 paper_multiprocess_test, 21..22 bench_lockstep_smoke, 23..26
 //   tests/scripts/test_launcher_e2e.py, 27 tests/bench/test_bench_script.py, 28
-//   examples.installed_launcher, 29 example_run_tests' foraging run, 36..37 wire_faults_test, 38..39
+//   examples.installed_launcher, 29 example_run_tests' foraging run, 30
+//   tests/scripts/test_groups_e2e.py, 36..37 wire_faults_test, 38..39
 //   test_launcher_e2e.py's two concurrent runs (the launcher's free-domain picker, given
 //   SWARM_DOMAINS=base+38-base+39). 40..43 the abuse tests (40 paper liar, 41 lockstep flood, 42 full disk +
 //   end reasons, 43 realtime flood). 44..46 faults_process_test, 47 tests/scripts/test_faults_e2e.py. 48..63
