@@ -1,4 +1,4 @@
-# Precompiled headers (SWARMFORM_PCH, on by default): two headers, each compiled once per build by an owner
+# Precompiled headers (SWARMFORM_PCH, on by default with clang, below): two headers, each compiled once per build by an owner
 # target of one empty source, and reused (REUSE_FROM) by every target of its kind:
 #   swarmform_pch_tests  the GoogleTest programs (and libraries) of tests/: gtest, nlohmann/json, the standard headers
 #   swarmform_pch_code   our other C++ targets (libraries, programs, benchmarks): nlohmann/json, the standard headers
@@ -14,7 +14,18 @@
 # lacks, while a user's extra macros (SWARMFORM_REPO_DIR, DDS_NDEBUG...) are fine for both compilers as long as
 # the headers below do not read them. CMake passes GCC -Winvalid-pch, which -Werror turns into an error: a target
 # that stops matching its owner fails the build rather than silently parsing the headers again.
-option(SWARMFORM_PCH "Compile the common headers once (precompiled headers) for our non-exported targets" ON)
+# On by default with clang only. Measured per translation unit with scripts/compile-cpu (same files, a clean build
+# before and after, 2026-12-07): clang-14 under the sanitizers (scripts/test's build-asan/) spent ~35 % less CPU
+# per file using it; GCC 12 at -O3 (the Release build) gained nothing on the test files (-12 %, as much as files
+# without a PCH moved between the two builds) and lost 17 % on the others: loading its ~100 MB .gch costs a small
+# file more than parsing the few headers it needs. tests/README.md "Time budget" has the figures.
+if(CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+  set(_sf_pch_default ON)
+else()
+  set(_sf_pch_default OFF)
+endif()
+option(SWARMFORM_PCH "Compile the common headers once (precompiled headers) for our non-exported targets"
+       ${_sf_pch_default})
 
 set(SWARMFORM_PCH_STD_HEADERS
     <algorithm> <array> <chrono> <cmath> <cstddef> <cstdint> <cstdio> <cstring> <filesystem> <fstream>
