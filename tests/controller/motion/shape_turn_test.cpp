@@ -125,7 +125,7 @@ TEST(ShapeTurn, TheLeaderStartsOnlyAtTheGoalTurnsByTheNetTorqueAndEveryRobotAppl
   ShapeTurn member(kFirstGoal);
   member.observe(kMovedGoal, st);
   const Vec2 v = member.turned({1.0, 0.0});
-  EXPECT_NEAR(std::atan2(v.y, v.x), 2 * std::llround(rate / 1e-6) * 1e-6, 1e-12);
+  EXPECT_NEAR(std::atan2(v.y, v.x), static_cast<double>(2 * std::llround(rate / 1e-6)) * 1e-6, 1e-12);
   const Vec2 back = member.unturned(v);
   EXPECT_NEAR(back.x, 1.0, 1e-12);
   // No push left: it stops, and starts again only at the goal.
