@@ -593,7 +593,10 @@ TEST_F(MultiProcess, BareRoundRobotsAnswerTheRealWorldWithTheirReplyMessage) {
 
 // Realtime at 10 ticks/s: robot 1's agent answers each packet 150 ms after taking it, so its commands miss
 // their ticks and come in during a later one. The world counts the misses and, for each late command, says
-// where its time went (a late_command event and a summary on stderr): here the agent's answer, >= 150 ms.
+// where its time went (a late_command event and a summary on stderr): here the agent's answer, longer than
+// the whole 100 ms tick (the world's stamps put ~147-151 ms for the agent's 150 ms wait: a bound at the wait
+// itself failed a fresh clone's run by 2 ms, so the test asserts what the event is for, that the answer took
+// the tick).
 TEST_F(MultiProcess, RealtimeWorldTellsWhereALateCommandsTimeWent) {
   const int domain = swarmform::testing::test_domain(15);
   Process& slow = start({kRogue, "--domain", std::to_string(domain), "--timeout", "30", "slow", "--id", "1",
@@ -615,7 +618,7 @@ TEST_F(MultiProcess, RealtimeWorldTellsWhereALateCommandsTimeWent) {
     const std::string detail = e.value("detail", "");
     std::smatch m;
     ASSERT_TRUE(std::regex_search(detail, m, answered)) << detail;
-    EXPECT_GE(std::stod(m[1].str()), 149.0) << detail;
+    EXPECT_GT(std::stod(m[1].str()), 100.0) << detail;
     ++slow_answers;
   }
   EXPECT_GE(slow_answers, 5) << "late commands of robot 1 in 30 ticks";
