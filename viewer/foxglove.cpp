@@ -244,14 +244,8 @@ void floor_and_lights(const json& world, json& cubes, json& cylinders, json& sph
 // has the frame's states and no edge.
 constexpr std::array<const char*, 6> kGroupEdges = {"#263238", "#d81b60", "#ff6f00",
                                                     "#00897b", "#5e35b1", "#6d4c41"};
-struct StateLook {
-  std::string name, colour;
-};
-struct RobotGroup {
-  std::string name, edge;
-  std::int64_t first = 0, count = 0;
-  std::map<std::int32_t, StateLook> states;
-};
+using StateLook = Foxglove::StateLook;
+using RobotGroup = Foxglove::RobotGroup;
 std::map<std::int32_t, StateLook> states_by_value(const json& list) {
   std::map<std::int32_t, StateLook> out;
   if (!list.is_array()) return out;
@@ -483,12 +477,17 @@ json obstacles_at(const json& world, std::uint64_t tick) {
   return present;
 }
 
+void Foxglove::set_world(const json& world) {
+  world_ = world;
+  groups_ = robot_groups(world);
+}
+
 json Foxglove::scene(const dds::ObserveFrameData& f, const json& stamp, bool with_arena,
                      bool with_obstacles) const {
   const json tick_meta = json::array({{{"key", "tick"}, {"value", std::to_string(f.tick)}}});
   const double radius = num(world_, "robot_radius", kRobotRadius);
   const auto states = frame_states(f);
-  const auto groups = robot_groups(world_);
+  const auto& groups = groups_;
   json entities = json::array();
   if (with_arena && world_.is_object()) {
     json cubes = json::array(), cylinders = json::array();
@@ -718,7 +717,7 @@ json Foxglove::metrics(const dds::ObserveFrameData& f, const json& stamp) const 
 
 json Foxglove::telemetry(const dds::ObserveFrameData& f, const json& stamp) const {
   const auto states = frame_states(f);
-  const auto groups = robot_groups(world_);
+  const auto& groups = groups_;
   json list = json::array();
   for (const auto& r : f.robots) {
     const RobotGroup* group = group_of(groups, r.id);

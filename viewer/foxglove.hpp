@@ -42,7 +42,7 @@ nlohmann::json goal_at(const nlohmann::json& world, std::uint64_t tick);
 class Foxglove {
  public:
   // `world`: world.json of the run (arena, obstacles, goal, tick_rate); may be null until it is read.
-  void set_world(const nlohmann::json& world) { world_ = world; }
+  void set_world(const nlohmann::json& world);
   bool has_world() const { return world_.is_object(); }
   // A replay's frames come from robots.csv, which holds no readings, neighbours heard or commands: the
   // telemetry leaves those fields out instead of sending zeros.
@@ -95,6 +95,21 @@ class Foxglove {
   double seconds(std::uint64_t tick) const;
 
   nlohmann::json world_;
+
+ public:
+  // A mixed swarm's robot groups as world.json gives them, read once by set_world: each robot's state names
+  // and colours come from its own group's behaviour, and it is edged in its group's colour.
+  struct StateLook {
+    std::string name, colour;
+  };
+  struct RobotGroup {
+    std::string name, edge;
+    std::int64_t first = 0, count = 0;
+    std::map<std::int32_t, StateLook> states;
+  };
+
+ private:
+  std::vector<RobotGroup> groups_;
   bool recorded_ = false;
   std::uint64_t start_ns_ = 0;
   // client -> its advertised /control channel ids
