@@ -137,7 +137,9 @@ std::string telemetry_schema() {
                              {"net_force", number()},
                              {"left_speed", number()},
                              {"right_speed", number()},
-                             {"heard", array_of({{"type", "integer"}})}});
+                             {"heard", array_of({{"type", "integer"}})},
+                             // Its behaviour's own telemetry columns (its group's): name -> number.
+                             {"columns", {{"type", "object"}, {"additionalProperties", number()}}}});
   json s =
       object({{"timestamp", time_schema()}, {"tick", {{"type", "integer"}}}, {"robots", array_of(robot)}});
   s["title"] = "swarmform.RobotTelemetry";
@@ -726,6 +728,12 @@ json Foxglove::telemetry(const dds::ObserveFrameData& f, const json& stamp) cons
                   {"label", r.label},   {"parent", r.parent},
                   {"leader", r.leader}, {"net_force", r.net_force}};
     if (group != nullptr) robot["group"] = group->name;
+    json columns = json::object();
+    const auto& names = f.columns_of(r.id);
+    for (std::size_t k = 0; k < names.size() && k < r.extra.size(); ++k) {
+      if (std::isfinite(r.extra[k])) columns[names[k]] = r.extra[k];
+    }
+    robot["columns"] = std::move(columns);
     if (!recorded_) {
       robot["left_speed"] = r.left_speed;
       robot["right_speed"] = r.right_speed;

@@ -74,6 +74,12 @@ nlohmann::json frame_json(const dds::ObserveFrameData& f) {
                             {"right_speed", r4(r.right_speed)},
                             {"message_bytes", r.message_bytes}};
     if (nlohmann::json leds = leds_json(r.leds); !leds.is_null()) robot["leds"] = std::move(leds);
+    // Its behaviour's own columns by name, as a replay's robot has them (a name the frame already gives the
+    // robot is not overwritten; a value the world could not take as finite is left out).
+    const auto& names = f.columns_of(r.id);
+    for (std::size_t k = 0; k < names.size() && k < r.extra.size(); ++k) {
+      if (std::isfinite(r.extra[k]) && !robot.contains(names[k])) robot[names[k]] = r.extra[k];
+    }
     add_readings(r.equipped, r.readings, robot);
     robots.push_back(std::move(robot));
   }

@@ -73,16 +73,16 @@ std::string check_world(const json& w) {
 }
 
 // The recording's own description of its behaviour (world.json's behaviour_descriptor: the descriptor's
-// states and telemetry columns, docs/recording-format.md), in the form the live frames give it.
-dds::BehaviourView behaviour_of(const json& world) {
+// states, docs/recording-format.md), in the form the live frames give it. Its telemetry columns are
+// robots.csv's `columns` (with robot groups, every group's: a robot has its own group's values, the others'
+// empty).
+dds::BehaviourView behaviour_of(const json& world, const std::vector<std::string>& columns) {
   dds::BehaviourView v = dds::describe_behaviour("", nullptr);
   v.name = world.value("behaviour", std::string("?"));
+  v.columns = columns;
+  v.telemetry_fields.insert(v.telemetry_fields.end(), columns.begin(), columns.end());
   const json d = world.value("behaviour_descriptor", json::object());
   if (!d.is_object()) return v;
-  for (const auto& t : d.value("telemetry", json::array())) {
-    if (t.is_object() && t.contains("name") && t["name"].is_string())
-      v.telemetry_fields.push_back(t["name"].get<std::string>());
-  }
   for (const auto& s : d.value("states", json::array())) {
     if (!s.is_object() || !s.contains("value") || !s["value"].is_number_integer()) continue;
     dds::StateStyleRow row;
@@ -124,7 +124,7 @@ class Session {
         csv_(csv),
         readings_(readings),
         sensors_(sensors),
-        view_(behaviour_of(world_)) {
+        view_(behaviour_of(world_, csv.extra_columns())) {
     tick_rate_ = world_.value("tick_rate", 10.0);
     finished_ = summary.has_value();
     if (summary && summary->is_object()) {
@@ -345,6 +345,7 @@ class Session {
     frame_.behaviour = view_.name;
     frame_.states = view_.states;
     frame_.telemetry_fields = view_.telemetry_fields;
+    frame_.columns = view_.columns;
     const bool formed = formation_tick_ >= 0 && static_cast<std::uint64_t>(formation_tick_) <= rec.tick;
     frame_.formation_tick = formed ? formation_tick_ : -1;
     frame_.shape_error = formed ? shape_error_ : -1.0;
@@ -370,6 +371,7 @@ class Session {
       o.leader = r.leader;
       o.net_force = r.net_force;
       o.leds = r.leds;
+      o.extra = r.extra;
       if (sensed != nullptr && is_selected(r.id)) readings_of(*sensed, row, r.id, o);
       frame_.alive += r.alive ? 1 : 0;
       // The page's robot: what robots.csv and readings.csv hold (no ultrasonics, neighbours heard or command:

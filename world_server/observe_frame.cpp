@@ -1,8 +1,27 @@
 #include "world_server/observe_frame.hpp"
 
+#include <algorithm>
+
 #include "common/sensor_readings.hpp"
+#include "world_server/world/robot_groups.hpp"
 
 namespace swarmform::server {
+
+dds::BehaviourView describe_run(const world::Scenario& scenario) {
+  dds::BehaviourView run = dds::describe_behaviour(scenario.mission.behaviour, scenario.behaviour);
+  for (const world::RobotGroup& g : scenario.groups) {
+    dds::BehaviourView own = dds::describe_behaviour(g.mission.behaviour, g.behaviour);
+    for (const std::string& c : own.columns) {
+      if (std::find(run.telemetry_fields.begin(), run.telemetry_fields.end(), c) ==
+          run.telemetry_fields.end())
+        run.telemetry_fields.push_back(c);
+    }
+    run.groups.push_back(dds::ObservedGroupRow{static_cast<std::uint32_t>(g.first_id),
+                                               static_cast<std::uint32_t>(g.count), std::move(own.name),
+                                               std::move(own.states), std::move(own.columns)});
+  }
+  return run;
+}
 
 void build_frame(const world::World& world, const LatestCommand& latest,
                  const experiment::Formation& formation, const dds::BehaviourView& behaviour,
@@ -13,6 +32,8 @@ void build_frame(const world::World& world, const LatestCommand& latest,
   frame.behaviour = behaviour.name;
   frame.states = behaviour.states;
   frame.telemetry_fields = behaviour.telemetry_fields;
+  frame.columns = behaviour.columns;
+  frame.groups = behaviour.groups;
   frame.formation_tick = formation.tick ? static_cast<std::int64_t>(*formation.tick) : -1;
   frame.shape_error = formation.error.value_or(-1.0);
   frame.robots.resize(truth.size());
@@ -29,6 +50,7 @@ void build_frame(const world::World& world, const LatestCommand& latest,
     r.leader = t.telemetry.leader;
     r.net_force = t.telemetry.net_force;
     r.leds = t.leds;
+    r.extra = t.telemetry.extra;
     r.heard.clear();
     r.ultrasonic.fill(0.0);
     r.equipped = 0;

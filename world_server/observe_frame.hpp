@@ -9,12 +9,18 @@
 #include "behaviour/experiment.hpp"
 #include "common/dds/behaviour_view.hpp"
 #include "common/dds/observe_wire.hpp"
+#include "world_server/world/scenario.hpp"
 #include "world_server/world/world.hpp"
 
 namespace swarmform::server {
 
 // Each robot's last command taken, by id.
 using LatestCommand = std::function<const Command&(RobotId)>;
+
+// How the run's robots are described to a viewer: the scenario's behaviour, and with robot groups each
+// group's own (its states and telemetry columns), so that a robot is drawn and listed as its own behaviour
+// says.
+dds::BehaviourView describe_run(const world::Scenario& scenario);
 
 // `frame`'s rows are reused. `formation`: the behaviour's experiment's (the frame's formation_tick and
 // shape_error; none without an experiment).

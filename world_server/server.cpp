@@ -15,6 +15,7 @@
 
 #include "common/id_ranges.hpp"
 #include "common/process_state.hpp"
+#include "world_server/observe_frame.hpp"
 #include "world_server/run/run_end.hpp"
 #include "world_server/wire_check.hpp"
 #include "world_server/world/robot_groups.hpp"
@@ -100,9 +101,9 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
   // (World::defer_perceptions).
   world_.defer_perceptions(true);
   if (options_.viewer_token != 0) {
-    viewer_ = std::make_unique<ViewerControl>(
-        link_.participant, options_.run_nonce, options_.viewer_token, scenario.mode == world::Mode::Lockstep,
-        options_.start_paused, dds::describe_behaviour(scenario.mission.behaviour, scenario.behaviour));
+    viewer_ = std::make_unique<ViewerControl>(link_.participant, options_.run_nonce, options_.viewer_token,
+                                              scenario.mode == world::Mode::Lockstep, options_.start_paused,
+                                              describe_run(scenario));
     link_.waiter.attach(viewer_->condition());
   }
   signals_.notify(&link_.waiter);

@@ -9,7 +9,8 @@ BehaviourView describe_behaviour(const std::string& name, const behaviour::Descr
   if (d == nullptr) return v;
   for (const auto& s : d->states)
     v.states.push_back(StateStyleRow{s.value, std::string(s.name), std::string(s.colour)});
-  for (const auto& t : d->telemetry) v.telemetry_fields.emplace_back(t.name);
+  for (const auto& t : d->telemetry) v.columns.emplace_back(t.name);
+  v.telemetry_fields.insert(v.telemetry_fields.end(), v.columns.begin(), v.columns.end());
   return v;
 }
 

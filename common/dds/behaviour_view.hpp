@@ -15,7 +15,13 @@ namespace swarmform::dds {
 struct BehaviourView {
   std::string name;
   std::vector<StateStyleRow> states;
-  std::vector<std::string> telemetry_fields;  // of "state", "label", "parent", "leader", "net_force"
+  std::vector<std::string>
+      telemetry_fields;              // "state", "label", "parent", "leader", "net_force", then `columns`
+  std::vector<std::string> columns;  // its own telemetry columns (the descriptor's), Telemetry::extra's names
+  // A mixed swarm's groups, in id order, each with its own behaviour's states and columns; the fields above
+  // are then the first group's, except `telemetry_fields`: every group's, for a panel that lists what each
+  // robot has.
+  std::vector<ObservedGroupRow> groups;
 };
 
 // The description of behaviour `name` from its descriptor `d`: its states' names and colours, the fixed

@@ -17,13 +17,63 @@ using internal::make_reader;
 using internal::make_writer;
 using internal::str;
 
+const std::vector<std::string>& ObserveFrameData::columns_of(RobotId id) const {
+  for (const auto& g : groups) {
+    if (id >= g.first_id && id - g.first_id < g.count) return g.columns;
+  }
+  return columns;
+}
+
 struct ObserveWriter::Impl {
   Entity writer;
   std::uint64_t run_nonce = 0;
   std::vector<sfdds_ObservedRobot> robots;
   std::vector<sfdds_StateStyle> states;
   std::vector<char*> fields;
+  std::vector<char*> columns;
+  std::vector<sfdds_ObservedGroup> groups;
+  std::vector<std::vector<sfdds_StateStyle>> group_states;
+  std::vector<std::vector<char*>> group_columns;
 };
+
+namespace {
+
+// Sequences that point into the frame's own vectors (not owned: Cyclone serialises them during dds_write).
+void style_rows(const std::vector<StateStyleRow>& rows, std::vector<sfdds_StateStyle>& out) {
+  out.resize(rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    out[i] = sfdds_StateStyle{rows[i].value, const_cast<char*>(rows[i].name.c_str()),
+                              const_cast<char*>(rows[i].colour.c_str())};
+}
+
+void name_rows(const std::vector<std::string>& names, std::vector<char*>& out) {
+  out.resize(names.size());
+  for (std::size_t i = 0; i < names.size(); ++i) out[i] = const_cast<char*>(names[i].c_str());
+}
+
+template <typename Seq, typename T>
+void point_at(Seq& seq, std::vector<T>& rows) {
+  seq._buffer = rows.data();
+  seq._length = seq._maximum = static_cast<std::uint32_t>(rows.size());
+  seq._release = false;
+}
+
+std::vector<StateStyleRow> styles_of(const dds_sequence_sfdds_StateStyle& seq) {
+  std::vector<StateStyleRow> out(seq._length);
+  for (std::uint32_t i = 0; i < seq._length; ++i) {
+    const sfdds_StateStyle& st = seq._buffer[i];
+    out[i] = StateStyleRow{st.value, str(st.name), str(st.colour)};
+  }
+  return out;
+}
+
+std::vector<std::string> names_of(const dds_sequence_string& seq) {
+  std::vector<std::string> out(seq._length);
+  for (std::uint32_t i = 0; i < seq._length; ++i) out[i] = str(seq._buffer[i]);
+  return out;
+}
+
+}  // namespace
 
 ObserveWriter::ObserveWriter(const Participant& participant, std::uint64_t run_nonce)
     : impl_(std::make_unique<Impl>()) {
@@ -65,17 +115,29 @@ void ObserveWriter::publish(const ObserveFrameData& f) {
     o.readings._buffer = const_cast<double*>(r.readings.data());
     o.readings._length = o.readings._maximum = static_cast<std::uint32_t>(r.readings.size());
     o.readings._release = false;
+    o.extra._buffer = const_cast<double*>(r.extra.data());
+    o.extra._length = o.extra._maximum = static_cast<std::uint32_t>(r.extra.size());
+    o.extra._release = false;
   }
-  auto& states = impl_->states;
-  states.resize(f.states.size());
-  for (std::size_t i = 0; i < f.states.size(); ++i) {
-    states[i] = sfdds_StateStyle{f.states[i].value, const_cast<char*>(f.states[i].name.c_str()),
-                                 const_cast<char*>(f.states[i].colour.c_str())};
+  Impl& m = *impl_;
+  style_rows(f.states, m.states);
+  name_rows(f.telemetry_fields, m.fields);
+  name_rows(f.columns, m.columns);
+  m.groups.resize(f.groups.size());
+  m.group_states.resize(f.groups.size());
+  m.group_columns.resize(f.groups.size());
+  for (std::size_t i = 0; i < f.groups.size(); ++i) {
+    const ObservedGroupRow& g = f.groups[i];
+    style_rows(g.states, m.group_states[i]);
+    name_rows(g.columns, m.group_columns[i]);
+    sfdds_ObservedGroup& o = m.groups[i];
+    o = sfdds_ObservedGroup{};
+    o.first_id = g.first_id;
+    o.count = g.count;
+    o.behaviour = const_cast<char*>(g.behaviour.c_str());
+    point_at(o.states, m.group_states[i]);
+    point_at(o.columns, m.group_columns[i]);
   }
-  auto& fields = impl_->fields;
-  fields.resize(f.telemetry_fields.size());
-  for (std::size_t i = 0; i < f.telemetry_fields.size(); ++i)
-    fields[i] = const_cast<char*>(f.telemetry_fields[i].c_str());
   sfdds_ObserveFrame s{};
   s.wire_version = kWireVersion;
   s.run_nonce = impl_->run_nonce;
@@ -88,10 +150,10 @@ void ObserveWriter::publish(const ObserveFrameData& f) {
   s.formation_tick = f.formation_tick;
   s.shape_error = f.shape_error;
   s.behaviour = const_cast<char*>(f.behaviour.c_str());
-  s.states._buffer = states.data();
-  s.states._length = s.states._maximum = static_cast<std::uint32_t>(states.size());
-  s.telemetry_fields._buffer = fields.data();
-  s.telemetry_fields._length = s.telemetry_fields._maximum = static_cast<std::uint32_t>(fields.size());
+  point_at(s.states, m.states);
+  point_at(s.telemetry_fields, m.fields);
+  point_at(s.columns, m.columns);
+  point_at(s.groups, m.groups);
   s.robots._buffer = robots.data();
   s.robots._length = s.robots._maximum = static_cast<std::uint32_t>(robots.size());
   check(dds_write(impl_->writer.get(), &s), "dds_write(observe)");
@@ -131,14 +193,14 @@ bool ObserveReader::take(std::uint64_t run_nonce, ObserveFrameData& out) {
   out.formation_tick = s.formation_tick;
   out.shape_error = s.shape_error;
   out.behaviour = str(s.behaviour);
-  out.states.resize(s.states._length);
-  for (std::uint32_t i = 0; i < s.states._length; ++i) {
-    const sfdds_StateStyle& st = s.states._buffer[i];
-    out.states[i] = StateStyleRow{st.value, str(st.name), str(st.colour)};
-  }
-  out.telemetry_fields.resize(s.telemetry_fields._length);
-  for (std::uint32_t i = 0; i < s.telemetry_fields._length; ++i) {
-    out.telemetry_fields[i] = str(s.telemetry_fields._buffer[i]);
+  out.states = styles_of(s.states);
+  out.telemetry_fields = names_of(s.telemetry_fields);
+  out.columns = names_of(s.columns);
+  out.groups.resize(s.groups._length);
+  for (std::uint32_t i = 0; i < s.groups._length; ++i) {
+    const sfdds_ObservedGroup& g = s.groups._buffer[i];
+    out.groups[i] =
+        ObservedGroupRow{g.first_id, g.count, str(g.behaviour), styles_of(g.states), names_of(g.columns)};
   }
   out.robots.resize(s.robots._length);
   for (std::uint32_t i = 0; i < s.robots._length; ++i) {
@@ -163,6 +225,7 @@ bool ObserveReader::take(std::uint64_t run_nonce, ObserveFrameData& out) {
     const bool whole = sensor_readings_count(o.equipped) == o.readings._length;
     r.equipped = whole ? o.equipped : 0;
     r.readings.assign(o.readings._buffer, o.readings._buffer + (whole ? o.readings._length : 0));
+    r.extra.assign(o.extra._buffer, o.extra._buffer + o.extra._length);
   }
   return true;
 }

@@ -36,6 +36,9 @@ struct ObservedRobotRow {
   // the Sensor bits present, then their readings in bit order.
   std::uint32_t equipped = 0;
   std::vector<double> readings;
+  // What its controller last reported in its behaviour's own telemetry columns (Telemetry::extra): named by
+  // its group's `columns`, or the frame's without groups; empty before it said any.
+  std::vector<double> extra;
 };
 
 // One state of the current behaviour: its value in Telemetry::state, its name and its colour ("#rrggbb").
@@ -43,6 +46,15 @@ struct StateStyleRow {
   std::int32_t value = 0;
   std::string name;
   std::string colour;
+};
+
+// A mixed swarm's robot group: its ids, its behaviour and how that behaviour's robots are drawn and listed.
+struct ObservedGroupRow {
+  std::uint32_t first_id = 0;
+  std::uint32_t count = 0;
+  std::string behaviour;
+  std::vector<StateStyleRow> states;
+  std::vector<std::string> columns;  // its behaviour's own telemetry columns: its robots' `extra` names
 };
 
 struct ObserveFrameData {
@@ -58,7 +70,12 @@ struct ObserveFrameData {
   std::string behaviour;
   std::vector<StateStyleRow> states;
   std::vector<std::string> telemetry_fields;
+  std::vector<std::string> columns;  // the behaviour's own telemetry columns: the robots' `extra` names
+  std::vector<ObservedGroupRow>
+      groups;  // a mixed swarm's groups in id order (their robots' own); empty without
   std::vector<ObservedRobotRow> robots;
+  // The names of robot `id`'s `extra`: its group's columns, or the frame's without groups.
+  const std::vector<std::string>& columns_of(RobotId id) const;
   // Reader side: when the world wrote it (the sample's source timestamp, dds_time(): ns since the epoch), for
   // the page's lag.
   std::int64_t sent_at = 0;

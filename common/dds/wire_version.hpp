@@ -6,6 +6,6 @@
 
 namespace swarmform::dds {
 
-inline constexpr std::uint16_t kWireVersion = 12;
+inline constexpr std::uint16_t kWireVersion = 13;
 
 }  // namespace swarmform::dds

@@ -176,6 +176,44 @@ TEST(WireEndpoints, ObserveFramesCarryTheOptionalReadingsTheBehaviourDeclared) {
   EXPECT_TRUE(got.robots[1].readings.empty());
 }
 
+// A mixed swarm's frame names each robot's telemetry values by its own group's columns.
+TEST(WireEndpoints, ObserveFramesCarryEachGroupsColumnsAndEachRobotsOwnValues) {
+  const dds::Participant participant(world_on_loopback());
+  dds::ObserveWriter writer(participant, 78);
+  dds::ObserveReader reader(participant);
+  dds::ObserveFrameData frame;
+  frame.columns = {"a"};
+  frame.groups = {{0, 2, "first", {{0, "idle", "#ff0000"}}, {"a"}}, {2, 1, "second", {}, {"b", "c"}}};
+  frame.robots.resize(3);
+  for (std::size_t i = 0; i < 3; ++i) frame.robots[i].id = static_cast<RobotId>(i);
+  frame.robots[0].extra = {1.5};
+  frame.robots[2].extra = {-2.0, 7.0};
+  dds::ObserveFrameData got;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  bool taken = false;
+  while (!taken && std::chrono::steady_clock::now() < deadline) {
+    writer.publish(frame);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    taken = reader.take(78, got);
+  }
+  ASSERT_TRUE(taken);
+  EXPECT_EQ(got.columns, frame.columns);
+  ASSERT_EQ(got.groups.size(), 2U);
+  EXPECT_EQ(got.groups[1].first_id, 2U);
+  EXPECT_EQ(got.groups[1].count, 1U);
+  EXPECT_EQ(got.groups[1].behaviour, "second");
+  EXPECT_EQ(got.groups[0].states.size(), 1U);
+  EXPECT_EQ(got.groups[0].states[0].name, "idle");
+  ASSERT_EQ(got.robots.size(), 3U);
+  EXPECT_EQ(got.robots[0].extra, (std::vector<double>{1.5}));
+  EXPECT_TRUE(got.robots[1].extra.empty());
+  EXPECT_EQ(got.robots[2].extra, (std::vector<double>{-2.0, 7.0}));
+  EXPECT_EQ(got.columns_of(1), (std::vector<std::string>{"a"}));
+  EXPECT_EQ(got.columns_of(2), (std::vector<std::string>{"b", "c"}));
+  got.groups.clear();  // without groups: the frame's own
+  EXPECT_EQ(got.columns_of(2), (std::vector<std::string>{"a"}));
+}
+
 TEST(WireEndpoints, ClaimsForIdsOutsideTheRunKeepAtMostEightChannels) {
   const dds::Participant participant(world_on_loopback());
   dds::RobotChannels channels(participant, 2, /*realtime=*/false);

@@ -68,6 +68,8 @@ def validate(value, schema, where="$"):
                 validate(v, props[k], f"{where}.{k}")
             elif schema.get("additionalProperties") is False:
                 raise AssertionError(f"{where}: field '{k}' is not in the schema (Foxglove would ignore it)")
+            elif isinstance(schema.get("additionalProperties"), dict):
+                validate(v, schema["additionalProperties"], f"{where}.{k}")
     if isinstance(value, list) and "items" in schema:
         for i, v in enumerate(value):
             validate(v, schema["items"], f"{where}[{i}]")

@@ -343,6 +343,11 @@ TEST(Foxglove, AMixedSwarmsRobotsTakeTheirOwnGroupsStatesAndEdges) {
   dds::ObserveFrameData f = three_robots();
   f.robots[2].alive = true;
   f.states = {{0, "idle", "#ff0000"}};
+  // Each group's own telemetry columns name its robots' values.
+  f.columns = {"seen"};
+  f.groups = {{0, 2, "paper", {}, {"seen"}}, {2, 1, "random_walk", {}, {"speed", "turns"}}};
+  f.robots[0].extra = {3.0};
+  f.robots[2].extra = {0.25, std::nan("")};
   Foxglove fox;
   fox.set_world(world);
   subscribe_all(fox);
@@ -361,6 +366,9 @@ TEST(Foxglove, AMixedSwarmsRobotsTakeTheirOwnGroupsStatesAndEdges) {
   EXPECT_EQ(robots[0]["group"], "shapers");
   EXPECT_EQ(robots[2]["state_name"], "walking");
   EXPECT_EQ(robots[2]["group"], "movers");
+  EXPECT_EQ(robots[0]["columns"], json({{"seen", 3.0}}));
+  EXPECT_EQ(robots[1]["columns"], json::object());           // nothing reported yet
+  EXPECT_EQ(robots[2]["columns"], json({{"speed", 0.25}}));  // a value not finite is left out
   // Without groups: the frame's states for every robot, no edges, no group.
   Foxglove plain;
   plain.set_world(kWorld);

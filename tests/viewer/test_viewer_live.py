@@ -2,7 +2,8 @@
 scripts/swarm, DDS test domain offset 62, one run at a time): in a headless Chromium the page draws the robots where
 robots.csv puts them in their state's colour, pause holds the tick, step 1 moves it by exactly one, a click on a
 robot opens its panel; a Foxglove client (foxglove.websocket.v1) gets the channels with their schemas, and poses
-that are robots.csv's; the aggregation example's frames carry its gathered robots' green LEDs. Controls say what they
+that are robots.csv's; the aggregation example's frames carry its gathered robots' green LEDs, and a mixed swarm's
+each robot's own group's telemetry columns. Controls say what they
 do: a kill while paused is shown at once, a page closed while paused resumes the run after the grace, a run's end
 (max_ticks) is shown as such, and a realtime run's controls are disabled saying why."""
 
@@ -27,6 +28,23 @@ import foxglove_schemas
 
 SCENARIO = os.path.join(vh.ROOT, "scenarios", "paper.yaml")
 AGGREGATION_DIR = os.path.join(vh.BUILD_DIR, "examples", "behaviours", "aggregation")
+DISPERSION_DIR = os.path.join(vh.BUILD_DIR, "examples", "behaviours", "dispersion")
+# A mixed swarm of two plug-ins whose telemetry columns differ (written here, not a shipped scenario).
+MIXED_SCENARIO = """description: gatherers and spreaders, each group with its own telemetry columns
+arena: {centre: [0.0, 0.0], width: 9.0, height: 9.0, walls: true}
+comm_range: 3.0
+mode: lockstep
+tick_rate: 10
+seed: 4
+max_ticks: 60
+groups:
+  - name: gatherers
+    behaviour: {plugin: libaggregation.so, params: {stop_distance: 0.4}}
+    robots: {count: 5, region: {centre: [-2.0, 0.0], width: 3.0, height: 3.0}}
+  - name: spreaders
+    behaviour: {plugin: libdispersion.so, params: {spacing: 1.0}}
+    robots: {count: 4, region: {centre: [2.0, 0.0], width: 1.5, height: 1.5}}
+"""
 
 
 @unittest.skipUnless(vh.built("world", "agent", "viewer"), f"world_server/robot_agent/swarm_viewer not built in "
@@ -332,6 +350,43 @@ class LiveViewTest(unittest.TestCase):
                 self.assertEqual(r.get("leds"), want, f"tick {f['tick']} robot {r['id']} state {r['state']}")
                 lit += want is not None
         self.assertGreater(lit, 0, f"no gathered robot in {len(frames)} frames")
+
+    @unittest.skipUnless(all(os.path.exists(os.path.join(d, f"lib{n}.so")) for d, n in
+                             ((AGGREGATION_DIR, "aggregation"), (DISPERSION_DIR, "dispersion"))),
+                         "the aggregation and dispersion examples are not built")
+    def test_live_frames_carry_each_robots_own_groups_telemetry_columns(self):
+        """A mixed swarm's live frames: each robot carries its own group's telemetry columns by name (the
+        gatherers' neighbours and centroid_distance, the spreaders' nearest), never the other group's, with the
+        values robots.csv records for that tick; the panel's field list is every group's."""
+        out = os.path.join(self.dir, "mixed")
+        scenario = os.path.join(self.dir, "mixed.yaml")
+        with open(scenario, "w") as f:
+            f.write(MIXED_SCENARIO)
+        port = vh.free_port()
+        run = vh.SwarmRun("--scenario", scenario, "--plugin-dir", AGGREGATION_DIR, "--plugin-dir", DISPERSION_DIR,
+                          "--domain", str(vh.helpers.test_domain(62)), "--out", out, "--no-pictures",
+                          "--view-paused", "--view", str(port))
+        self.runs.append(run)
+        vh.wait_http(f"http://127.0.0.1:{port}/")
+        frames = asyncio.run(self.live_frames(port))
+        code, text = run.wait(timeout=120)
+        self.assertEqual(code, 0, text)
+        own = {"gatherers": {"neighbours", "centroid_distance"}, "spreaders": {"nearest"}}
+        later = [f for f in frames if f["tick"] >= 5 and not f["finished"]]
+        self.assertGreater(len(later), 0, f"no frame past tick 5 in {len(frames)}")
+        for f in later:
+            self.assertTrue(own["gatherers"] | own["spreaders"] <= set(f["telemetry_fields"]), f["telemetry_fields"])
+            for r in f["robots"]:
+                mine, theirs = (own["gatherers"], own["spreaders"]) if r["id"] < 5 else \
+                    (own["spreaders"], own["gatherers"])
+                self.assertTrue(mine <= set(r), f"tick {f['tick']} robot {r['id']}: {sorted(r)}")
+                self.assertFalse(theirs & set(r), f"tick {f['tick']} robot {r['id']}: {sorted(r)}")
+        # The values are the robot's own report, as robots.csv records it for the frame's tick.
+        f = later[-1]
+        rows = vh.rows_at(out, f["tick"])
+        for r in f["robots"]:
+            for name in own["gatherers"] if r["id"] < 5 else own["spreaders"]:
+                self.assertEqual(r[name], float(rows[r["id"]][name]), f"tick {f['tick']} robot {r['id']} {name}")
 
     async def live_frames(self, port):
         """Every frame of the run (paused at tick 0 until resumed here, then as fast as it goes)."""
