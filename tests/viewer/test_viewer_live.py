@@ -141,8 +141,13 @@ class LiveViewTest(unittest.TestCase):
                     "ground (0..1)0.00 1.00 1.00 0.50", "lidar682 rays, nearest 0.42 m at 30°", "battery37 %"):
             self.assertIn(row, shown)
         # Kill it from its panel (the path of --kill: at the next round), then let the run end; robots.csv then
-        # holds the paused tick's rows.
+        # holds the paused tick's rows. The rows made up above move the kill button down until the next frame
+        # draws the panel again: the click waits for that, and the page says it sent the kill before resuming.
+        b.wait_for("!document.getElementById('robot-fields').textContent.includes('battery')",
+                   what="the panel drawn again from a frame")
         b.click_element("kill")
+        b.wait_for("document.getElementById('kill-state').textContent.startsWith('kill sent')",
+                   what="the page's kill sent")
         b.click_element("resume")
         code, text = run.wait(timeout=120)
         self.assertEqual(code, 0, text)
