@@ -20,7 +20,7 @@ namespace swarmform::behaviour {
 // Raised with any change to Descriptor, Controller, Experiment, Mission, Perception or Command: a plug-in
 // built against another version is refused with both numbers named, never run (docs/behaviour-api.md has the
 // list).
-inline constexpr std::uint32_t kApiVersion = 5;
+inline constexpr std::uint32_t kApiVersion = 6;
 
 struct ParamSpec {
   std::string_view name;  // as written in the scenario: `behaviour: {params: {name: value}}`
@@ -80,10 +80,28 @@ struct MetricSpec {
   std::string_view doc;   // meaning and unit
 };
 
+// The kind of value a summary field holds (experiment.hpp FieldValue; null is always allowed: not reached).
+enum class SummaryKind : std::int32_t {
+  Tick = 0,    // std::int64_t: a tick
+  Count = 1,   // std::int64_t: a count
+  Number = 2,  // double
+  Ids = 3,     // std::vector<std::int64_t>: robot ids
+  Series = 4,  // std::vector<SeriesPoint>: (tick, number) pairs, written last
+};
+
+// A top-level summary.json key the behaviour's experiment returns (Result::summary): summary.json has every
+// declared key, in this order (null when conclude did not give it), whatever the run.
+struct SummarySpec {
+  std::string_view key;  // lower_case, unique, none of the keys the world writes itself (ticks, outcome...)
+  SummaryKind kind = SummaryKind::Number;
+  std::string_view doc;  // meaning and unit
+};
+
 // The behaviour's own judge (experiment.hpp): what it returns, declared so a launcher can check a gate's keys
 // and a sweep can judge success before the run. All empty (the default): no experiment, outcome "none".
 struct ExperimentSpec {
   std::span<const MetricSpec> metrics;         // Result::metrics, in this order
+  std::span<const SummarySpec> summary;        // Result::summary's keys, in this order
   std::span<const std::string_view> outcomes;  // every value Result::outcome may take ("none" is reserved)
   std::string_view success;                    // the one outcome that counts as success, among `outcomes`
   std::unique_ptr<experiment::Experiment> (*make)() = nullptr;  // one per run, made by the world

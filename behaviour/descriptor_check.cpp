@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 #include <utility>
+#include <variant>
+#include <vector>
 
 #include "behaviour/params.hpp"
 
@@ -36,8 +38,8 @@ std::string check_experiment(const Descriptor& d) {
   const ExperimentSpec& e = d.experiment;
   const std::string where = "behaviour '" + std::string(d.name) + "': experiment: ";
   if (e.make == nullptr) {
-    if (!e.metrics.empty() || !e.outcomes.empty() || !e.success.empty())
-      return where + "metrics, outcomes or success declared without a make";
+    if (!e.metrics.empty() || !e.summary.empty() || !e.outcomes.empty() || !e.success.empty())
+      return where + "metrics, summary keys, outcomes or success declared without a make";
     return {};
   }
   if (e.outcomes.empty()) return where + "declares no outcomes";
@@ -58,7 +60,96 @@ std::string check_experiment(const Descriptor& d) {
       if (e.metrics[j].name == name) return where + "metric '" + std::string(name) + "' twice";
     }
   }
+  for (std::size_t i = 0; i < e.summary.size(); ++i) {
+    const std::string key(e.summary[i].key);
+    if (!lower_case_name(key)) return where + "summary key '" + key + "' is not a lower_case name";
+    if (world_summary_key(key)) return where + "summary key '" + key + "' is one the world writes itself";
+    if (summary_kind_name(e.summary[i].kind).empty())
+      return where + "summary key '" + key + "' has an unknown kind " +
+             std::to_string(static_cast<std::int32_t>(e.summary[i].kind));
+    for (std::size_t j = 0; j < i; ++j) {
+      if (e.summary[j].key == key) return where + "summary key '" + key + "' twice";
+    }
+  }
   return {};
+}
+
+bool world_summary_key(std::string_view key) {
+  // make_summary's own keys, summary_outcome's summary_cut and world_server's own (input_dropped,
+  // mass_losses, RunSession::set_summary_field); a test holds make_summary to this list.
+  static constexpr std::array<std::string_view, 40> kKeys = {"format",
+                                                             "version",
+                                                             "scenario",
+                                                             "shape_file",
+                                                             "behaviour",
+                                                             "robots",
+                                                             "labels",
+                                                             "seed",
+                                                             "mode",
+                                                             "ticks",
+                                                             "wall_seconds",
+                                                             "ticks_per_second",
+                                                             "robot_ticks_per_second",
+                                                             "steady_from_tick",
+                                                             "steady_ticks_per_second",
+                                                             "alive_at_end",
+                                                             "deaths",
+                                                             "rejoins",
+                                                             "collisions_robot_robot",
+                                                             "collisions_robot_obstacle",
+                                                             "leader_changes",
+                                                             "fragmentations",
+                                                             "graph_rejoins",
+                                                             "max_components",
+                                                             "outcome",
+                                                             "success",
+                                                             "behaviour_metrics",
+                                                             "experiment_error",
+                                                             "silent_robots",
+                                                             "command_verdicts",
+                                                             "params",
+                                                             "states_at_end",
+                                                             "telemetry_mean_at_end",
+                                                             "trajectory_sha256",
+                                                             "end_reason",
+                                                             "provenance",
+                                                             "groups",
+                                                             "summary_cut",
+                                                             "input_dropped",
+                                                             "mass_losses"};
+  return std::find(kKeys.begin(), kKeys.end(), key) != kKeys.end();
+}
+
+std::string_view summary_kind_name(SummaryKind kind) {
+  switch (kind) {
+    case SummaryKind::Tick:
+      return "tick";
+    case SummaryKind::Count:
+      return "count";
+    case SummaryKind::Number:
+      return "number";
+    case SummaryKind::Ids:
+      return "ids";
+    case SummaryKind::Series:
+      return "series";
+  }
+  return {};
+}
+
+bool summary_value_fits(SummaryKind kind, const experiment::FieldValue& value) {
+  if (std::holds_alternative<std::monostate>(value)) return true;
+  switch (kind) {
+    case SummaryKind::Tick:
+    case SummaryKind::Count:
+      return std::holds_alternative<std::int64_t>(value);
+    case SummaryKind::Number:
+      return std::holds_alternative<double>(value);
+    case SummaryKind::Ids:
+      return std::holds_alternative<std::vector<std::int64_t>>(value);
+    case SummaryKind::Series:
+      return std::holds_alternative<std::vector<experiment::SeriesPoint>>(value);
+  }
+  return false;
 }
 
 std::string check_telemetry(const Descriptor& d) {

@@ -15,11 +15,20 @@ namespace swarmform::behaviour {
 // refused: it would read "not equipped" where it expects readings.
 inline constexpr std::uint32_t kModelledSensors = kProximity | kGround | kLight | kLidar | kBattery;
 
-// Empty when d's experiment declaration is consistent (outcomes given with a make, success among them, "none"
-// not used, metric names lower_case and unique); otherwise what is wrong, naming the behaviour.
 // a-z first, then a-z, 0-9 or _: the names a descriptor gives its metrics, parameters, states and columns.
 bool lower_case_name(std::string_view s);
+// Empty when d's experiment declaration is consistent (outcomes given with a make, success among them, "none"
+// not used, metric names and summary keys lower_case and unique, no summary key the world writes, nothing
+// declared without a make); otherwise what is wrong, naming the behaviour.
 std::string check_experiment(const Descriptor& d);
+// A top-level key summary.json's writer writes itself (world_server/run/recording_format.cpp make_summary,
+// and summary_outcome's summary_cut): an experiment may neither declare nor return one.
+bool world_summary_key(std::string_view key);
+// "tick", "count", "number", "ids", "series": a SummaryKind as world.json and `world_server --check` name it.
+std::string_view summary_kind_name(SummaryKind kind);
+// Whether `value` may stand for a declared field of this kind: null always (not reached), else the kind's own
+// alternative (a tick or a count: std::int64_t; a number: double; ids: a list of integers; a series: pairs).
+bool summary_value_fits(SummaryKind kind, const experiment::FieldValue& value);
 // Empty when d's telemetry columns can head robots.csv's columns: lower_case, unique, and none named as a
 // column the recording writes itself (tick, id, ..., net_force, leds); otherwise what is wrong.
 std::string check_telemetry(const Descriptor& d);

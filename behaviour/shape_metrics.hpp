@@ -29,6 +29,7 @@
 //   kStuckRadius disc in the last kStuckTicks ticks.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -136,9 +137,25 @@ class ShapeMetrics {
   std::optional<Vec2> previous_centroid_;
 };
 
-// The measures as summary.json's keys, in its order (Result::summary): formation_tick,
-// shape_error_at_formation, motion_start_tick, motion_ticks_minimum, goal_tick, shape_error_at_goal,
-// peak_distortion, mean_distortion, path_length, arrived, stuck_robots, stuck_robot_count, distortion.
+// The keys summary_fields returns, in its order, with their kinds: an experiment that returns them declares
+// them in one line, `.summary = shape_metrics::kSummaryFields` (docs/recording-format.md has each meaning).
+inline constexpr std::array<behaviour::SummarySpec, 13> kSummaryFields = {{
+    {"formation_tick", behaviour::SummaryKind::Tick, "first tick the shape stands formed"},
+    {"shape_error_at_formation", behaviour::SummaryKind::Number, "shape error at formation_tick, grid units"},
+    {"motion_start_tick", behaviour::SummaryKind::Tick, "first tick a robot reports the motion state"},
+    {"motion_ticks_minimum", behaviour::SummaryKind::Number, "the fewest ticks the motion can take"},
+    {"goal_tick", behaviour::SummaryKind::Tick, "first tick formed with its centroid in the goal"},
+    {"shape_error_at_goal", behaviour::SummaryKind::Number, "shape error at goal_tick, grid units"},
+    {"peak_distortion", behaviour::SummaryKind::Number, "max shape error over the motion ticks, grid units"},
+    {"mean_distortion", behaviour::SummaryKind::Number, "mean shape error over the motion ticks, grid units"},
+    {"path_length", behaviour::SummaryKind::Number, "m travelled by the shape's centre in motion"},
+    {"arrived", behaviour::SummaryKind::Count, "live robots with a place at the end, once goal_tick is set"},
+    {"stuck_robots", behaviour::SummaryKind::Ids, "live robots neither at a place nor moving, at the end"},
+    {"stuck_robot_count", behaviour::SummaryKind::Count, "the length of stuck_robots"},
+    {"distortion", behaviour::SummaryKind::Series, "(tick, shape error) from formation_tick on"},
+}};
+
+// The measures as summary.json's keys, in its order (Result::summary): kSummaryFields' keys.
 std::vector<experiment::SummaryField> summary_fields(const Measures& measures);
 
 }  // namespace swarmform::shape_metrics

@@ -23,6 +23,7 @@
 #include "robot_agent/controller/builtins.hpp"
 #include "world_server/run/param_flags.hpp"
 #include "world_server/run/record_every_flag.hpp"
+#include "world_server/run/recording_format.hpp"
 #include "world_server/run/run_end.hpp"
 #include "world_server/world/robot_groups.hpp"
 
@@ -148,6 +149,7 @@ int main(int argc, char** argv) {
   double fragment_range = 0.0;
   bool no_record = false;
   bool quiet = false;
+  bool check = false;
   Tick record_every = 1;
   app.add_option("--scenario", scenario_path, "scenario file (YAML)")->capture_default_str();
   app.add_option("--shape", shape, "shape file, instead of the scenario's");
@@ -182,6 +184,9 @@ int main(int argc, char** argv) {
   app.add_flag("--no-record", no_record, "write nothing (metrics only; for benchmarks)");
   swarmform::world::add_record_every_flag(app, record_every);
   app.add_flag("--quiet", quiet, "no progress lines on stderr");
+  app.add_flag("--check", check,
+               "load and validate the scenario, print world_server --check's JSON line (with the keys the "
+               "run's summary.json will have), run nothing");
   app.footer(kExitHelp_swarm_inprocess);
   try {
     app.parse(argc, argv);
@@ -221,6 +226,11 @@ int main(int argc, char** argv) {
       throw InputError(scenario_path, 0,
                        (g.name.empty() ? "" : "group '" + std::string(g.name) + "': ") +
                            behaviour::no_controller_message(g.mission->behaviour, g.mission->descriptor));
+    }
+
+    if (check) {
+      std::cout << world::check_info(scenario).dump() << std::endl;
+      return kExitOk;
     }
 
     const bool default_out = out.empty();

@@ -148,14 +148,7 @@ int run(const Options& o) {
     }
   }
   if (o.check) {
-    nlohmann::ordered_json j = {{"robots", scenario.robots.size()},
-                                {"labels", scenario.mission.shape.label_count()},
-                                {"mode", std::string(swarmform::world::to_string(scenario.mode))},
-                                {"max_ticks", scenario.max_ticks},
-                                {"seed", scenario.seed},
-                                {"behaviour_descriptor", swarmform::world::describe_behaviour(scenario)}};
-    // Each robot group's behaviour, for the launcher's check of --expect 'groups.NAME.KEY' before the run.
-    if (!scenario.groups.empty()) j["groups"] = swarmform::world::describe_groups(scenario);
+    const nlohmann::ordered_json j = swarmform::world::check_info(scenario);
     std::cout << j.dump() << std::endl;
     return kExitOk;
   }

@@ -70,8 +70,9 @@ const Descriptor kPaper{
     .make = &make_paper,
     .sensors = 0,
     // The experiment measures the shape (behaviour/shape_metrics.hpp): its outcome, and the formation and
-    // motion numbers as summary.json's own keys (Result::summary).
+    // motion numbers as summary.json's own keys (Result::summary), declared by the measurement's table.
     .experiment = {.metrics = {},
+                   .summary = shape_metrics::kSummaryFields,
                    .outcomes = kPaperOutcomes,
                    .success = kPaperSuccess,
                    .make = &make_paper_experiment},

@@ -81,8 +81,8 @@ def _shown(v: Any) -> str:
 def check_declared(expectations: Sequence[Expectation], declared: set[str],
                    skip: Callable[[str], bool] = lambda key: False) -> list[str]:
     """Before a run: a message for each expectation whose key the run's summary will not have (`declared`:
-    summary_keys.declared_keys of a one-tick probe); keys for which `skip(key)` is true are left to after the
-    run."""
+    summary_keys.declared_keys of `world_server --check`'s summary_template); keys for which `skip(key)` is true
+    are left to after the run."""
     return [f"'{e.text}': summary.json will have {summary_keys.unknown_text(e.key, declared)}"
             for e in expectations if e.key not in declared and not skip(e.key)]
 

@@ -115,69 +115,29 @@ def overrides(args: argparse.Namespace) -> list[str]:
     return out
 
 
-def probe_flags(args: argparse.Namespace) -> list[str]:
-    """The overrides that decide what the run's summary holds (the scenario, its behaviour and parameters, the
-    robots), for a one-tick in-process probe: not the kills and faults (a probe stops before them)."""
-    flags = overrides(args)
-    out: list[str] = []
-    for i in range(0, len(flags), 2):
-        if flags[i] not in ("--kill", "--fault", "--record-every", "--max-ticks", "--mode"):
-            out += flags[i:i + 2]
-    return out
-
-
-def described_keys(info: dict[str, Any]) -> set[str]:
-    """The behaviour-owned summary keys (summary_keys.behaviour_owned) of a behaviour described by a file, from
-    its descriptor as `world_server --check` printed it: params.NAME, states_at_end.NAME (and the count of robots
-    in an undeclared state, which the summary names `state N`), telemetry_mean_at_end.NAME."""
-    d = info.get("behaviour_descriptor") or {}
-    keys = {f"params.{p['name']}" for p in d.get("params", [])}
-    keys |= {f"states_at_end.{s['name']}" for s in d.get("states", [])}
-    keys |= {f"telemetry_mean_at_end.{t['name']}" for t in d.get("telemetry", [])}
-    for prefix in ("params", "states_at_end", "telemetry_mean_at_end"):
-        if any(k.startswith(prefix + ".") for k in keys):
-            keys.add(prefix)
-    return keys
-
-
-def check_expectations(args: argparse.Namespace, status: "Status", info: Optional[dict[str, Any]] = None) -> None:
-    """--expect: every key checked against what the run's summary will hold, before the run starts: a one-tick
-    in-process probe of the same scenario (summary_keys.py). An unknown key: LaunchError, exit 2. Under --exec the
-    behaviour is the program's, not the scenario's: its parameters, states and telemetry are checked after the
-    run, unless a descriptor file declares them (`info`, world_server --check's JSON): then they are checked
-    against it, and the probe (which cannot run a behaviour without a controller) runs the world's generic keys
-    with the built-in random_walk."""
+def check_expectations(args: argparse.Namespace, status: "Status", info: dict[str, Any]) -> None:
+    """--expect: every key checked against what the run's summary will hold, before the run starts: the
+    summary_template `world_server --check` printed (`info`), summary.json's keys as the code that writes it will
+    write them for this scenario (summary_keys.py): the generic keys, the behaviour's parameters, states,
+    telemetry, metrics and declared summary keys. An unknown key: LaunchError, exit 2, nothing run. Under --exec
+    with a behaviour that is not described by a file, the behaviour is the program's, not the scenario's: its
+    parameters, states and telemetry are checked after the run."""
     from . import expect, summary_keys
     exps = getattr(args, "expect", None) or []
     if not exps:
         return
-    described = described_by(info) if info is not None else None
-    exe = executable("inprocess")
-    flags = probe_flags(args)
-    if described is not None:
-        flags = [f for i in range(0, len(flags), 2) if flags[i] != "--param" for f in flags[i:i + 2]]
-        flags += ["--behaviour", "random_walk"]
-    cmd = [exe] + flags + ["--max-ticks", "1", "--no-record", "--quiet"]
-    try:
-        p = subprocess.run(cmd, capture_output=True, timeout=CHECK_TIMEOUT_S, encoding="utf-8",
-                           errors="backslashreplace", preexec_fn=die_with_parent)
-    except subprocess.TimeoutExpired:
-        raise LaunchError(f"--expect: the probe {shlex.join(cmd)} did not answer within {CHECK_TIMEOUT_S} s") \
-            from None
-    from .sweep import parse_summary
-    probe = parse_summary(p.stdout) if p.returncode == 0 else None
-    if probe is None:
-        raise LaunchError(p.stderr.strip() or f"{shlex.join(cmd)}: exit {p.returncode}, no summary",
-                          p.returncode if p.returncode == EXIT_BAD_INPUT else EXIT_WORLD_FAILED)
-    declared = summary_keys.declared_keys(probe)
-    skip = summary_keys.behaviour_owned if getattr(args, "exec", None) else (lambda key: False)
-    if described is not None:  # the probe's own behaviour's keys are not the run's: the descriptor's are
-        declared = {k for k in declared if not summary_keys.behaviour_owned(k + ".")} | described_keys(info or {})
-        skip = lambda key: False  # noqa: E731
+    template = info.get("summary_template")
+    if not isinstance(template, dict):
+        raise LaunchError("--expect: world_server --check printed no summary_template (a world_server older than "
+                          "this launcher: rebuild it)", EXIT_WORLD_FAILED)
+    series = [f["key"] for f in summary_keys.declared_summary(info) if f.get("kind") == "series"]
+    declared = summary_keys.declared_keys(template, series)
+    program_owned = bool(getattr(args, "exec", None)) and described_by(info) is None
+    skip = summary_keys.behaviour_owned if program_owned else (lambda key: False)
     bad = expect.check_declared(exps, declared, skip)
     if bad:
         raise LaunchError("--expect " + "\nswarm: --expect ".join(bad) + "\n(nothing was run)", EXIT_BAD_INPUT)
-    if getattr(args, "exec", None) and described is None and any(skip(e.key) for e in exps):
+    if program_owned and any(skip(e.key) for e in exps):
         status.line("swarm: --expect: the --exec program's parameters, states and telemetry are checked after "
                     "the run")
 
@@ -251,7 +211,8 @@ def refuse_without_exec(args: argparse.Namespace, info: dict[str, Any], in_proce
 
 
 def check_scenario(world_exe: str, args: argparse.Namespace) -> dict[str, Any]:
-    """Runs `world_server --check`; returns its JSON ({robots, labels, mode, max_ticks, seed})."""
+    """Runs `world_server --check`; returns its JSON ({robots, labels, mode, max_ticks, seed,
+    behaviour_descriptor, groups, summary_template}: world_server/run/recording_format.hpp check_info)."""
     cmd = [world_exe] + overrides(args) + ["--check"]
     try:
         p = subprocess.run(cmd, capture_output=True, timeout=CHECK_TIMEOUT_S, encoding="utf-8",
@@ -1151,7 +1112,8 @@ def _run_in_process(args: argparse.Namespace, stop: StopFlag, status: Status,
     if getattr(args, "exec", None):
         raise LaunchError("--exec runs each robot's behaviour as a child process of its robot_agent; an in-process "
                           "run has no agents: leave out --in-process", 2)
-    refuse_without_exec(args, check_scenario(executable("world"), args), in_process=True)
+    info = check_scenario(executable("world"), args)
+    refuse_without_exec(args, info, in_process=True)
     exe = executable("inprocess")
     help_text = subprocess.run([exe, "--help"], capture_output=True, timeout=30, encoding="utf-8",
                                errors="backslashreplace").stdout
@@ -1168,7 +1130,7 @@ def _run_in_process(args: argparse.Namespace, stop: StopFlag, status: Status,
         dropped.append("--view")
     if dropped:
         status.line(f"swarm: {', '.join(sorted(set(dropped)))} do(es) not apply to an in-process run; ignored")
-    check_expectations(args, status)
+    check_expectations(args, status, info)
     run_dir = args.run_dir = make_run_dir(args.out)
     cmd += ["--out", run_dir]
     procs = Processes()

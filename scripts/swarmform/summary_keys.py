@@ -4,10 +4,12 @@
 One reading for `swarm run --expect`, `swarm sweep --expect`, sweep.csv / sweep.json and the sweep's table, so
 that a key `--expect` accepts is a column of sweep.csv with the same name.
 
-What a run's summary will hold is learnt before the run from the summary of a one-tick probe of the same
-scenario (`swarm_inprocess --max-ticks 1 --no-record --quiet`): the generic keys, the behaviour's parameters
-(`params.NAME`), its states (`states_at_end.NAME`, every declared state listed, 0 included) and its telemetry
-columns (`telemetry_mean_at_end.NAME`), all written by the same code that writes the run's own summary.
+What a run's summary will hold is known before the run from `world_server --check` (or `swarm_inprocess
+--check`): its `summary_template` is summary.json as the run will write it, made by the code that writes the
+run's own summary (world_server/run/recording_format.hpp summary_template), before any tick: the generic keys,
+the behaviour's parameters (`params.NAME`), its states (`states_at_end.NAME`, every declared state), its
+telemetry columns (`telemetry_mean_at_end.NAME`), its experiment's metrics (`behaviour_metrics.NAME`) and the
+summary keys its experiment declares (`goal_tick`, ...: every one is in every summary, null when not reached).
 """
 
 from typing import Any, Iterable, Optional
@@ -38,22 +40,31 @@ def flatten(summary: dict[str, Any], prefix: str = "") -> dict[str, Any]:
     return out
 
 
-def experiment_keys(probe: dict[str, Any]) -> set[str]:
-    """The keys a behaviour's experiment declares that its one-tick probe may not show yet (metrics it computes
-    only at the end). The one place where declared experiment metrics join the keys checked before a run: today
-    a probe's summary already lists every key its behaviour declares, so there are none more."""
-    del probe
-    return set()
+def declared_summary(info: dict[str, Any]) -> list[dict[str, Any]]:
+    """The summary keys the scenario's behaviour's experiment declares, [{key, kind, doc}] in its order, from
+    `world_server --check`'s JSON (`behaviour_descriptor.experiment.summary`); [] without an experiment."""
+    d = info.get("behaviour_descriptor") or {}
+    e = d.get("experiment") if isinstance(d, dict) else None
+    fields = e.get("summary") if isinstance(e, dict) else None
+    return [f for f in fields or [] if isinstance(f, dict) and isinstance(f.get("key"), str)]
 
 
-def declared_keys(probe: dict[str, Any]) -> set[str]:
-    """Every key `--expect` may name for a run of the scenario that gave this one-tick probe summary."""
-    keys = set(flatten(probe))
+def declared_keys(template: dict[str, Any], series: Iterable[str] = ()) -> set[str]:
+    """Every key `--expect` may name for a run whose summary will have the keys of `template` (`world_server
+    --check`'s summary_template, or a summary of the same scenario); `series`: the keys of per-tick series, which
+    are not keys to judge on (the experiment's declared series; the paper's distortion)."""
+    keys = set(flatten(template)) - set(series)
     # An object's own name is a key as well (`states_at_end == ...` is refused by type, not as unknown).
     for k in list(keys):
         parts = k.split(".")
         keys.update(".".join(parts[:i]) for i in range(1, len(parts)))
-    return keys | experiment_keys(probe)
+    return keys
+
+
+def number_keys(info: dict[str, Any]) -> list[str]:
+    """The declared summary keys whose values are numbers (ticks, counts, numbers), in the declared order: the
+    behaviour's own top-level columns of a sweep's table."""
+    return [f["key"] for f in declared_summary(info) if f.get("kind") in ("tick", "count", "number")]
 
 
 def behaviour_owned(key: str) -> bool:
@@ -61,10 +72,11 @@ def behaviour_owned(key: str) -> bool:
     return key.startswith(BEHAVIOUR_PREFIXES) or key.startswith("params.")
 
 
-def behaviour_columns(summaries: Iterable[Optional[dict[str, Any]]]) -> list[str]:
-    """The behaviour's own numeric keys across these summaries (flattened, first-seen order): its states and
-    telemetry at the end, and the numbers of any other nested object but the generic ones (GENERIC_OBJECTS)."""
-    cols: list[str] = []
+def behaviour_columns(summaries: Iterable[Optional[dict[str, Any]]], declared: Iterable[str] = ()) -> list[str]:
+    """The behaviour's own numeric keys: first `declared` (the numeric summary keys its experiment declares,
+    number_keys), then across these summaries (flattened, first-seen order) its states and telemetry at the end,
+    and the numbers of any other nested object but the generic ones (GENERIC_OBJECTS)."""
+    cols: list[str] = list(dict.fromkeys(declared))
     for s in summaries:
         for k, v in flatten(s or {}).items():
             if "." not in k or k in cols or k.split(".", 1)[0] in GENERIC_OBJECTS:

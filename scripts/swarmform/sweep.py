@@ -6,7 +6,8 @@ Order of a sweep:
   1. the grid is checked: every flag, every kill schedule's text (`none`, `ID@TICK[+D][,...]`, `random:K[+D]`);
   2. a probe per (scenario, shape, robots), with the grid's first --param values: `swarm_inprocess ... --max-ticks 1
      --no-record --quiet` validates the files (a bad one: its `file:line: what`, exit 2, before anything long
-     starts) and says N and the shape;
+     starts) and says N and the shape; then `swarm_inprocess ... --check` says every key the runs' summaries will
+     have (the --expect keys are checked against them) and the summary keys the behaviour's experiment declares;
      and one per scenario and --param value, which the behaviour checks against its own parameter table, and one
      per scenario and scenario-field value (--loss, --burst, --noise, --set: sweep_fields.py), which the loader
      checks like the file's own fields;
@@ -110,8 +111,9 @@ with a summary. An outcome word instead: arrived, formed (arrived or formed_not_
 (a clean exit with a summary). Or 'KEY OP VALUE', the grammar of `swarm run --expect` (a summary key, dotted for
 a nested one: 'states_at_end.settled >= 10', 'outcome == settled'): every one must hold; given alone, they
 judge the run with a clean exit (no outcome word asked). Every KEY is checked before any run against the keys
-the scenario's behaviour declares (each scenario's probe; an unknown one: exit 2). A summary without `outcome`
-(older builds) is judged from its ticks: arrived iff goal_tick is set, formed iff formation_tick is set. Then the
+the runs' summaries will have (each scenario's `swarm_inprocess --check`; an unknown one: exit 2). A summary
+without `outcome` (older builds) is judged from its ticks: arrived iff goal_tick is set, formed iff
+formation_tick is set. Then the
 optional thresholds: --max-shape-error on shape_error_at_goal (success, arrived) or shape_error_at_formation
 (otherwise), --max-contacts on robot-robot + robot-obstacle contacts, --max-robot-contacts on robot-robot ones.
 A run that never ends is cut at max_ticks by the harness and fails by its outcome; a run that crashes, exits
@@ -351,6 +353,9 @@ class Run:
         self.severity = 9  # for the worst-case order: 0 ok .. 4 crash/timeout
         self.retries = 0  # --cluster: how many times a dying worker made the scheduler start it again
         self.real_processes = False  # --exec: `swarm run` (sweep_exec.py), its summary read from its run directory
+        # The numeric summary keys its scenario's behaviour's experiment declares (summary_keys.number_keys): the
+        # table's own columns before the rest.
+        self.declared: list[str] = []
 
 
 def command_text(cmd: Sequence[str]) -> str:
@@ -416,6 +421,24 @@ def probe(exe: str, scenario: str, shape: Optional[str], robots: Optional[int], 
         msg = p.stderr.strip() or p.stdout.strip()[:300] or f"exit {p.returncode}"
         raise SweepError(f"{msg}\n(the probe: {command_text(cmd)})")
     return summary
+
+
+def check_info(exe: str, scenario: str, shape: Optional[str], robots: Optional[int], params: Optional[Combo] = None,
+               plugin_dirs: Sequence[str] = (), field_flags: Sequence[str] = ()) -> dict[str, Any]:
+    """`swarm_inprocess --check`: world_server --check's JSON (the behaviour's descriptor, the summary_template:
+    every key the run's summary will have), for the --expect keys and the declared columns."""
+    cmd = (base_command(exe, scenario, shape, robots, None, None, plugin_dirs) + param_flags(params or {}) +
+           list(field_flags) + ["--check"])
+    try:
+        p = subprocess.run(cmd, capture_output=True, timeout=PROBE_TIMEOUT_S, encoding="utf-8",
+                           errors="backslashreplace", preexec_fn=die_with_parent)
+    except subprocess.TimeoutExpired:
+        raise SweepError(f"{command_text(cmd)}: no answer within {PROBE_TIMEOUT_S:.0f} s") from None
+    info = parse_summary(p.stdout)
+    if p.returncode != 0 or info is None or not isinstance(info.get("summary_template"), dict):
+        msg = p.stderr.strip() or p.stdout.strip()[:300] or f"exit {p.returncode}"
+        raise SweepError(f"{msg}\n(the check: {command_text(cmd)})")
+    return info
 
 
 def probe_exec(opts: argparse.Namespace, scenario: str, shape: Optional[str], robots: Optional[int],
@@ -920,7 +943,7 @@ def results(runs: Sequence[Run], opts: argparse.Namespace, grid: dict[str, Any],
     finished = [r for r in runs if r.reason != "not run" and r.reason != "interrupted"]
     # The behaviour's own numbers (its states and telemetry at the end, an experiment's metrics) and the keys the
     # --expect expressions name: their medians per group, and the table's columns.
-    own = summary_keys.behaviour_columns(r.summary for r in finished)
+    own = summary_keys.behaviour_columns((r.summary for r in finished), (k for r in finished for k in r.declared))
     behaviour_keys = list(dict.fromkeys([e.key for e in expressions(opts)] + own))
     by: dict[str, Any] = {}
     keys: tuple[tuple[str, Callable[[Run], str]], ...] = (
@@ -962,6 +985,7 @@ def _opt(value: Optional[float]) -> str:
 
 PAPER_COLUMNS = (("formed@", "median_formation_tick", ".0f"), ("goal@", "median_goal_tick", ".0f"),
                  ("err@form", "max_shape_error_at_formation", ".3f"), ("err@goal", "max_shape_error_at_goal", ".3f"))
+PAPER_KEYS = {"formation_tick", "goal_tick", "shape_error_at_formation", "shape_error_at_goal"}
 
 
 def print_table(res: dict[str, Any], out: Callable[[str], None] = print) -> None:
@@ -974,7 +998,8 @@ def print_table(res: dict[str, Any], out: Callable[[str], None] = print) -> None
 
     paper = [c for c in PAPER_COLUMNS if any(cell.get(c[1]) is not None for cell in cells)]
     own = list(res["judging"].get("behaviour_keys") or [])
-    shown_own = own[:BEHAVIOUR_COLUMNS_SHOWN]
+    # The keys the paper's columns show already are not shown twice.
+    shown_own = [k for k in own if not paper or k not in PAPER_KEYS][:BEHAVIOUR_COLUMNS_SHOWN]
     with_params = any(c.get("params", "defaults") != "defaults" for c in cells)
     with_fields = any(c.get("fields", "scenario") != "scenario" for c in cells)
     head = ["scenario", "shape", "N", "kills"] + (["params"] if with_params else []) + \
@@ -1100,8 +1125,17 @@ def plan(opts: argparse.Namespace, exe: str) -> tuple[list[Run], dict[str, Any]]
                 # With the grid's first parameters: they may decide whether the scenario loads (shape_heading
                 # turns the shape, and the loader checks that it fits).
                 info = check(scenario, shape, robots, combos[0], field_combos[0][1])
-                # Every --expect key against what this scenario's behaviour declares, before any run.
-                bad = expect.check_declared(expressions(opts), summary_keys.declared_keys(info))
+                # Every --expect key against what this scenario's runs' summaries will hold, before any run: the
+                # summary_template of `swarm_inprocess --check` (summary_keys.py); with --exec, the probe's summary.
+                declared: list[str] = []
+                if program is None:
+                    described = check_info(exe, scenario, shape, robots, combos[0], plugin_dirs, field_combos[0][1])
+                    series = [f["key"] for f in summary_keys.declared_summary(described) if f.get("kind") == "series"]
+                    keys = summary_keys.declared_keys(described["summary_template"], series)
+                    declared = summary_keys.number_keys(described)
+                else:
+                    keys = summary_keys.declared_keys(info, summary_keys.SERIES_KEYS)
+                bad = expect.check_declared(expressions(opts), keys)
                 if bad:
                     raise SweepError("--expect " + "\n--expect ".join(bad) + f"\n(the probe of {scenario}; "
                                      "nothing was run)")
@@ -1125,6 +1159,7 @@ def plan(opts: argparse.Namespace, exe: str) -> tuple[list[Run], dict[str, Any]]
                             runs.append(Run(len(runs), scenario, shape, shape_name, robots, n, seed, schedule,
                                             flags, opts.max_ticks, cmd, combo, field_labels))
                             runs[-1].real_processes = program is not None
+                            runs[-1].declared = declared
     grid = {"scenarios": scenarios, "shapes": [s or "(the scenario's)" for s in shapes],
             "robots": [r or "(the scenario's)" for r in robots_list], "seeds": _ranges(seeds),
             "seed_count": len(seeds), "kills": [s.text for s in schedules], "kill_window": opts.kill_window,

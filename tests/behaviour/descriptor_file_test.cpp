@@ -24,7 +24,7 @@ namespace {
 namespace fs = std::filesystem;
 
 const std::string kGood = R"({
-  "api_version": 5,
+  "api_version": 6,
   "name": "gather_py",
   "summary": "gathers at the neighbours' centroid",
   "params": [
@@ -107,7 +107,7 @@ TEST_F(DescriptorFile, AGoodFileGivesBackEveryField) {
   EXPECT_EQ(check_param(d, "spacing", 3.0), "must be in [0.1, 2]");
   EXPECT_EQ(check_param(d, "gain", 2.0), "");
   // Only api_version and name are required.
-  const auto minimal = load_descriptor_file(write("min.json", R"({"api_version": 5, "name": "quiet"})"));
+  const auto minimal = load_descriptor_file(write("min.json", R"({"api_version": 6, "name": "quiet"})"));
   EXPECT_EQ(minimal->descriptor().name, "quiet");
   EXPECT_TRUE(minimal->descriptor().params.empty());
   EXPECT_FALSE(minimal->descriptor().needs_goal);
@@ -134,7 +134,7 @@ TEST_F(DescriptorFile, EachKindOfBadFileIsRefusedNamingTheKey) {
   expect_refused("[1, 2]", "expected an object, got array");
   expect_refused(R"({"name": "x"})", "api_version: missing");
   expect_refused(R"({"api_version": 2, "name": "x"})",
-                 "api_version: the file declares behaviour API version 2, this program has version 5 "
+                 "api_version: the file declares behaviour API version 2, this program has version 6 "
                  "(docs/behaviour-api.md lists what changed)");
   expect_refused(R"({"api_version": "3", "name": "x"})", "api_version: expected an integer, got string");
   expect_refused(good_with("\"needs_goal\"", "\"needs_gaol\""),
@@ -213,7 +213,7 @@ TEST_F(DescriptorFile, TheRegistryKeepsItAndRefusesItAController) {
     EXPECT_EQ(std::string(e.what()), says);
   }
   // A name already registered is refused, naming the file.
-  const std::string clash = write("walk.json", R"({"api_version": 5, "name": "random_walk"})");
+  const std::string clash = write("walk.json", R"({"api_version": 6, "name": "random_walk"})");
   try {
     (void)registry.load_descriptor(clash);
     ADD_FAILURE() << "a descriptor took a built-in's name";

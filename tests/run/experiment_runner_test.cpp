@@ -9,15 +9,20 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <span>
 #include <stdexcept>
 #include <string>
+#include <variant>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "behaviour/descriptor_check.hpp"
 #include "behaviour/registry.hpp"
+#include "behaviour/shape_metrics.hpp"
 #include "robot_agent/controller/builtins.hpp"
+#include "world_server/run/recording_format.hpp"
 #include "world_server/run/run_end.hpp"
 #include "world_server/run/run_session.hpp"
 #include "world_server/world/scenario.hpp"
@@ -29,7 +34,16 @@ namespace {
 using Json = nlohmann::json;
 
 // How the test experiment concludes.
-enum class Ending { Honest, UndeclaredOutcome, Throws, DoneAtSeven, Fields, ClashingField };
+enum class Ending {
+  Honest,
+  UndeclaredOutcome,
+  Throws,
+  DoneAtSeven,
+  Fields,
+  ClashingField,
+  UndeclaredField,
+  WrongKind
+};
 Ending g_ending = Ending::Honest;
 
 constexpr std::array kMetrics = {behaviour::MetricSpec{"ticks_seen", "observe calls"},
@@ -37,6 +51,16 @@ constexpr std::array kMetrics = {behaviour::MetricSpec{"ticks_seen", "observe ca
                                  behaviour::MetricSpec{"first_x_of_robot_0", "m"},
                                  behaviour::MetricSpec{"never", "a metric not reached"}};
 constexpr std::array<std::string_view, 2> kOutcomes = {"saw_a_death", "saw_none"};
+// In an order other than the one conclude returns them in (Ending::Fields): summary.json follows this one.
+// `never_given` is never returned: null in every summary.
+constexpr std::array kSummary = {
+    behaviour::SummarySpec{"first_tick", behaviour::SummaryKind::Tick, "a tick"},
+    behaviour::SummarySpec{"never_given", behaviour::SummaryKind::Count, "never returned"},
+    behaviour::SummarySpec{"spread", behaviour::SummaryKind::Number, "m"},
+    behaviour::SummarySpec{"trail", behaviour::SummaryKind::Series, "a series"},
+    behaviour::SummarySpec{"not_reached", behaviour::SummaryKind::Tick, "returned null"},
+    behaviour::SummarySpec{"lagging", behaviour::SummaryKind::Ids, "robot ids"},
+};
 
 class CountingExperiment final : public experiment::Experiment {
  public:
@@ -71,6 +95,8 @@ class CountingExperiment final : public experiment::Experiment {
                    {"lagging", std::vector<std::int64_t>{2, 3}}};
     }
     if (g_ending == Ending::ClashingField) r.summary = {{"ticks", std::int64_t{1}}};
+    if (g_ending == Ending::UndeclaredField) r.summary = {{"spread", 1.0}, {"surprise", std::int64_t{1}}};
+    if (g_ending == Ending::WrongKind) r.summary = {{"first_tick", 3.0}};  // a tick given as a number
     return r;
   }
 
@@ -100,6 +126,7 @@ const behaviour::Descriptor kJudged{
     .make = &no_controller,
     .sensors = 0,
     .experiment = {.metrics = kMetrics,
+                   .summary = kSummary,
                    .outcomes = kOutcomes,
                    .success = "saw_a_death",
                    .make = &make_counting},
@@ -121,17 +148,25 @@ const behaviour::Descriptor kUnjudged{
 // Up to 20 ticks (run_complete decides, as both front ends do) of 4 robots driving ahead, each reporting its
 // id as its label (so the communication graph has robots to watch); robot 1 dies at tick 10. Returns
 // summary.json's text. `extra`: more lines of the scenario.
-std::string run_text(const std::string& behaviour, const std::string& extra = "") {
-  behaviour::Registry registry;
-  registry.add(kJudged);
-  registry.add(kUnjudged);
-  const Scenario s = parse_scenario_text("behaviour: " + behaviour + R"(
+Scenario scenario(const std::string& behaviour, const std::string& extra = "") {
+  // The scenario points into the registry's entries: it lives as long as the test program.
+  static behaviour::Registry& registry = *[] {
+    auto* r = new behaviour::Registry;
+    r->add(kJudged);
+    r->add(kUnjudged);
+    return r;
+  }();
+  return parse_scenario_text("behaviour: " + behaviour + R"(
 arena: {centre: [0.0, 0.0], width: 10.0, height: 10.0, walls: true}
 robots: {count: 4, region: {centre: [0.0, 0.0], width: 4.0, height: 4.0}}
 seed: 3
 max_ticks: 20
 )" + extra,
-                                         "<experiment_runner_test>", {}, registry);
+                             "<experiment_runner_test>", {}, registry);
+}
+
+std::string run_text(const std::string& behaviour, const std::string& extra = "") {
+  const Scenario s = scenario(behaviour, extra);
   World world(s);
   RunSession session(world, {});
   Command ahead;
@@ -225,14 +260,31 @@ TEST(ExperimentRunner, ItsSummaryFieldsAndFormationReachTheSummary) {
   EXPECT_TRUE(j.contains("not_reached") && j["not_reached"].is_null());
   EXPECT_EQ(j["lagging"], Json::parse("[2, 3]"));
   EXPECT_EQ(j["trail"], Json::parse("[[1, 0.5], [2, 0.25]]"));
-  EXPECT_GE(j["max_components"], 1);  // watched from tick 5
-  const auto ordered = nlohmann::ordered_json::parse(run_text("judged"));
-  std::vector<std::string> keys;
-  for (const auto& [key, value] : ordered.items()) keys.push_back(key);
+  EXPECT_TRUE(j.contains("never_given") && j["never_given"].is_null());  // declared, not returned: null
+  EXPECT_GE(j["max_components"], 1);                                     // watched from tick 5
+  // The declared order (not the order returned), the series last; the same keys in the same order when
+  // conclude returns none of them (Ending::Honest).
+  const auto keys_of = [](const std::string& text) {
+    const auto parsed = nlohmann::ordered_json::parse(text);  // not a temporary: items() refers to it
+    std::vector<std::string> keys;
+    for (const auto& [key, value] : parsed.items()) keys.push_back(key);
+    return keys;
+  };
+  const std::vector<std::string> keys = keys_of(run_text("judged"));
   const auto at = [&](const std::string& k) { return std::find(keys.begin(), keys.end(), k) - keys.begin(); };
   EXPECT_EQ(at("first_tick"), at("max_components") + 1);
+  EXPECT_EQ(at("never_given"), at("first_tick") + 1);
+  EXPECT_EQ(at("spread"), at("never_given") + 1);
+  EXPECT_EQ(at("not_reached"), at("spread") + 1);
+  EXPECT_EQ(at("lagging"), at("not_reached") + 1);
   EXPECT_LT(at("lagging"), at("outcome"));
   EXPECT_EQ(keys.back(), "trail");
+  g_ending = Ending::Honest;
+  const std::string honest = run_text("judged");
+  EXPECT_EQ(keys_of(honest), keys);
+  for (const char* key : {"first_tick", "never_given", "spread", "trail", "not_reached", "lagging"}) {
+    EXPECT_TRUE(Json::parse(honest)[key].is_null()) << key;
+  }
 
   g_ending = Ending::ClashingField;
   j = run("judged");
@@ -242,6 +294,30 @@ TEST(ExperimentRunner, ItsSummaryFieldsAndFormationReachTheSummary) {
             "experiment of behaviour 'judged' returned summary field 'ticks', a key the world writes");
   EXPECT_EQ(j["ticks"], 20);                        // the world's, not the experiment's
   EXPECT_EQ(run("unjudged")["max_components"], 0);  // no experiment, no formation: the graph is never watched
+}
+
+// A summary field the descriptor does not declare, or a value of another kind than declared, is a broken
+// declaration: experiment_failed naming the key and the behaviour, every declared key still there (null).
+TEST(ExperimentRunner, AnUndeclaredSummaryFieldOrAWrongKindIsNamedNotTaken) {
+  g_ending = Ending::UndeclaredField;
+  Json j = run("judged");
+  EXPECT_EQ(j["outcome"], "experiment_failed");
+  EXPECT_EQ(
+      j["experiment_error"],
+      "experiment of behaviour 'judged' returned summary field 'surprise', which its descriptor does not "
+      "declare (experiment.summary)");
+  EXPECT_FALSE(j.contains("surprise"));
+  EXPECT_TRUE(j.contains("spread") && j["spread"].is_null());  // not taken either: the verdict is void
+  EXPECT_TRUE(j.contains("trail") && j["trail"].is_null());
+
+  g_ending = Ending::WrongKind;
+  j = run("judged");
+  g_ending = Ending::Honest;
+  EXPECT_EQ(j["outcome"], "experiment_failed");
+  EXPECT_EQ(
+      j["experiment_error"],
+      "experiment of behaviour 'judged' returned summary field 'first_tick' as a number, declared tick");
+  EXPECT_TRUE(j["first_tick"].is_null());
 }
 
 // The world measures no shape: a behaviour that needs a shape and a goal but brings no experiment gets no
@@ -309,6 +385,49 @@ max_ticks: 20
   EXPECT_EQ(*formation.error, p["shape_error_at_formation"].get<double>());
 }
 
+// `world_server --check`'s summary_template has the keys of the run's summary.json, in its order (the
+// launcher checks --expect against it), and every key but the experiment's declared ones is one the registry
+// keeps an experiment from declaring (behaviour::world_summary_key): the reserved list cannot drift from
+// make_summary.
+TEST(ExperimentRunner, TheSummaryTemplateHasTheRunsKeys) {
+  const auto keys_of = [](const nlohmann::ordered_json& j) {
+    std::vector<std::string> keys;
+    for (const auto& [key, value] : j.items()) keys.push_back(key);
+    return keys;
+  };
+  for (const char* name : {"judged", "unjudged"}) {
+    g_ending = Ending::Honest;
+    const nlohmann::ordered_json run = nlohmann::ordered_json::parse(run_text(name));
+    const nlohmann::ordered_json tmpl = summary_template(scenario(name), "in-process");
+    EXPECT_EQ(keys_of(tmpl), keys_of(run)) << name;
+    for (const std::string& key : keys_of(tmpl)) {
+      const bool declared = std::any_of(kSummary.begin(), kSummary.end(),
+                                        [&](const behaviour::SummarySpec& f) { return f.key == key; });
+      EXPECT_TRUE(declared != behaviour::world_summary_key(key)) << key;
+    }
+  }
+  // The paper's declaration is the shape measurement's table, in the order it returns its fields, each of the
+  // declared kind.
+  const auto& declared = controller::paper_descriptor().experiment.summary;
+  shape_metrics::Measures m;
+  m.formation_tick = 4;
+  m.shape_error_at_formation = 0.5;
+  m.motion_start_tick = 5;
+  m.motion_ticks_minimum = 10.0;
+  m.goal_tick = 9;
+  m.shape_error_at_goal = 0.25;
+  m.peak_distortion = m.mean_distortion = 0.3;
+  m.distortion = {{4, 0.5}};
+  m.stuck_robots = {1};
+  const auto fields = shape_metrics::summary_fields(m);
+  ASSERT_EQ(fields.size(), declared.size());
+  for (std::size_t k = 0; k < fields.size(); ++k) {
+    EXPECT_EQ(fields[k].key, declared[k].key);
+    EXPECT_FALSE(std::holds_alternative<std::monostate>(fields[k].value)) << fields[k].key;
+    EXPECT_TRUE(behaviour::summary_value_fits(declared[k].kind, fields[k].value)) << fields[k].key;
+  }
+}
+
 TEST(ExperimentRunner, TheRegistryRefusesAnInconsistentDeclaration) {
   behaviour::Descriptor d = kJudged;
   d.experiment.success = "won";
@@ -322,6 +441,42 @@ TEST(ExperimentRunner, TheRegistryRefusesAnInconsistentDeclaration) {
   d.experiment.metrics = kBadName;
   EXPECT_NE(behaviour::check_experiment(d).find("metric 'Ticks Seen' is not a lower_case name"),
             std::string::npos);
+  // Summary keys: empty, not lower_case, repeated, one the world writes, or declared without a make.
+  const auto summary_refusal = [&](std::span<const behaviour::SummarySpec> summary) {
+    behaviour::Descriptor bad = kJudged;
+    bad.experiment.summary = summary;
+    const std::string why = behaviour::check_experiment(bad);
+    behaviour::Registry refusing;
+    EXPECT_THROW(refusing.add(bad), std::logic_error) << why;
+    return why;
+  };
+  static constexpr std::array kEmpty = {behaviour::SummarySpec{"", behaviour::SummaryKind::Tick, ""}};
+  static constexpr std::array kUpper = {
+      behaviour::SummarySpec{"Goal Tick", behaviour::SummaryKind::Tick, ""}};
+  static constexpr std::array kRepeated = {
+      behaviour::SummarySpec{"goal_tick", behaviour::SummaryKind::Tick, ""},
+      behaviour::SummarySpec{"goal_tick", behaviour::SummaryKind::Count, ""}};
+  static constexpr std::array kWorlds = {
+      behaviour::SummarySpec{"alive_at_end", behaviour::SummaryKind::Count, ""}};
+  static constexpr std::array kFront = {
+      behaviour::SummarySpec{"input_dropped", behaviour::SummaryKind::Count, ""}};
+  EXPECT_EQ(summary_refusal(kEmpty),
+            "behaviour 'judged': experiment: summary key '' is not a lower_case name");
+  EXPECT_EQ(summary_refusal(kUpper),
+            "behaviour 'judged': experiment: summary key 'Goal Tick' is not a lower_case name");
+  EXPECT_EQ(summary_refusal(kRepeated), "behaviour 'judged': experiment: summary key 'goal_tick' twice");
+  EXPECT_EQ(summary_refusal(kWorlds),
+            "behaviour 'judged': experiment: summary key 'alive_at_end' is one the world writes itself");
+  EXPECT_EQ(summary_refusal(kFront),
+            "behaviour 'judged': experiment: summary key 'input_dropped' is one the world writes itself");
+  d = kUnjudged;
+  d.experiment.summary = kSummary;
+  EXPECT_EQ(
+      behaviour::check_experiment(d),
+      "behaviour 'unjudged': experiment: metrics, summary keys, outcomes or success declared without a make");
+  EXPECT_THROW(registry.add(d), std::logic_error);
+  d = kJudged;
+  EXPECT_EQ(behaviour::check_experiment(d), "");  // kSummary itself is fine
   d = kUnjudged;
   // The modelled sensors are taken; a bit no sensor has is refused, named.
   d.sensors = behaviour::kProximity | behaviour::kGround | behaviour::kLight | behaviour::kLidar |

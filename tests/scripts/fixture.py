@@ -75,6 +75,18 @@ def robot_row(tick, k, ticks, death):
     return x, y, 0.1 * k, alive, state, lab, parent, leader, force
 
 
+def summary_doc(ticks=80, robots=7, death=(2, 50)):
+    """The synthetic run's summary.json (without the distortion series); the stand-in world_server --check prints
+    its keys as the summary_template."""
+    return {"robots": robots, "seed": 7, "mode": "lockstep", "ticks": ticks, "wall_seconds": 1.25,
+            "ticks_per_second": ticks / 1.25, "alive_at_end": robots - (1 if death else 0),
+            "deaths": [{"id": death[0], "tick": death[1]}] if death else [],
+            "collisions_robot_robot": 1, "collisions_robot_obstacle": 0,
+            "formation_tick": int(ticks * 0.3), "shape_error_at_formation": 0.0,
+            "goal_tick": None, "peak_distortion": 0.21, "trajectory_sha256": "ab" * 32,
+            "outcome": "formed_not_arrived", "stuck_robots": [3, 5], "stuck_robot_count": 2}
+
+
 def make_run(run_dir, ticks=80, robots=7, summary=True, distortion=False, death=(2, 50)):
     """Writes a synthetic run directory; returns the list of rows written (as tuples, in file order)."""
     os.makedirs(run_dir, exist_ok=True)
@@ -98,13 +110,7 @@ def make_run(run_dir, ticks=80, robots=7, summary=True, distortion=False, death=
         for e in events:
             f.write(json.dumps(e) + "\n")
     if summary:
-        doc = {"robots": robots, "seed": 7, "mode": "lockstep", "ticks": ticks, "wall_seconds": 1.25,
-               "ticks_per_second": ticks / 1.25, "alive_at_end": robots - (1 if death else 0),
-               "deaths": [{"id": death[0], "tick": death[1]}] if death else [],
-               "collisions_robot_robot": 1, "collisions_robot_obstacle": 0,
-               "formation_tick": int(ticks * 0.3), "shape_error_at_formation": 0.0,
-               "goal_tick": None, "peak_distortion": 0.21, "trajectory_sha256": "ab" * 32,
-               "outcome": "formed_not_arrived", "stuck_robots": [3, 5], "stuck_robot_count": 2}
+        doc = summary_doc(ticks, robots, death)
         if distortion:
             doc["distortion"] = [[t, 0.01 * (t % 10)] for t in range(int(ticks * 0.3), ticks)]
         with open(os.path.join(run_dir, "summary.json"), "w") as f:

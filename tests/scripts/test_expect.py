@@ -106,6 +106,28 @@ class NestedKeyTest(unittest.TestCase):
         self.assertEqual(expect.check_declared(exps, declared, summary_keys.behaviour_owned), [bad[1]],
                          "the behaviour's own keys left to after the run (--exec)")
 
+    def test_the_declared_summary_keys_come_from_the_check(self):
+        """`world_server --check`'s JSON: its summary_template holds every key (a declared one null before the
+        run), a declared series is not a key to judge on, and the numeric declared keys are the sweep's own
+        columns, first and in the declared order."""
+        info = {"behaviour_descriptor": {"experiment": {"summary": [
+                    {"key": "goal_tick", "kind": "tick", "doc": ""}, {"key": "stragglers", "kind": "ids", "doc": ""},
+                    {"key": "spread", "kind": "number", "doc": ""}, {"key": "trail", "kind": "series", "doc": ""},
+                    {"key": "arrived", "kind": "count", "doc": ""}]}},
+                "summary_template": {"ticks": 0, "goal_tick": None, "stragglers": None, "spread": None,
+                                     "arrived": None, "states_at_end": {"settled": 0}, "trail": None}}
+        series = [f["key"] for f in summary_keys.declared_summary(info) if f["kind"] == "series"]
+        declared = summary_keys.declared_keys(info["summary_template"], series)
+        self.assertEqual(declared, {"ticks", "goal_tick", "stragglers", "spread", "arrived", "states_at_end",
+                                    "states_at_end.settled"})
+        self.assertEqual(summary_keys.number_keys(info), ["goal_tick", "spread", "arrived"])
+        self.assertEqual(summary_keys.declared_summary({"behaviour_descriptor": {"experiment": None}}), [])
+        runs = [{"goal_tick": 40, "spread": 1.0, "states_at_end": {"settled": 3}}, None]
+        self.assertEqual(summary_keys.behaviour_columns(runs, summary_keys.number_keys(info)),
+                         ["goal_tick", "spread", "arrived", "states_at_end.settled"])
+        self.assertEqual(summary_keys.behaviour_columns(runs), ["states_at_end.settled"],
+                         "a top-level key is a column only when declared")
+
 
 class EvaluateTest(unittest.TestCase):
     def setUp(self):
@@ -145,7 +167,8 @@ class EvaluateTest(unittest.TestCase):
 
 class CommandLineTest(unittest.TestCase):
     def test_an_unknown_key_is_refused_before_the_run_starts(self):
-        """The stand-in build's one-tick probe has no `dancers` key: refused before the world starts."""
+        """The stand-in world_server --check's summary_template has no `dancers` key: refused before the world
+        starts, in both modes (no run directory)."""
         out = os.path.join(tempfile.mkdtemp(prefix="swarm-expect-run-"), "run")
         try:
             for mode in ([], ["--in-process"]):

@@ -286,6 +286,16 @@ class SweepCliTest(unittest.TestCase):
         with open(os.path.join(self.out, "sweep.json")) as f:
             res = json.load(f)
         self.assertEqual(res["overall"]["medians"]["states_at_end.settled"], 2)
+        # The numeric summary keys the behaviour declares (the stand-in's --check: the paper's formation and goal
+        # keys; not its stuck_robots list nor its distortion series) are its own columns, after the --expect key;
+        # the table does not repeat those its formed@/goal@ columns show.
+        self.assertEqual(res["judging"]["behaviour_keys"][:5], ["states_at_end.settled", "formation_tick",
+                                                                "shape_error_at_formation", "goal_tick",
+                                                                "shape_error_at_goal"])
+        self.assertEqual(res["overall"]["medians"]["formation_tick"], 550)
+        head = r.stdout.splitlines()[0].split()
+        self.assertIn("formed@", head)
+        self.assertNotIn("formation_tick", head)
 
         shutil.rmtree(self.out)
         r = self.sweep("--seeds", "1", "--expect", "states_at_end.setled >= 2")

@@ -525,7 +525,7 @@ TEST(Scenario, ADescriptorFileBehaviourChecksItsParametersWithFileAndLine) {
       std::filesystem::temp_directory_path() / ("swarmform-described-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "gather.json")
-      << R"({"api_version": 5, "name": "gather_py", "params": [)"
+      << R"({"api_version": 6, "name": "gather_py", "params": [)"
       << R"({"name": "spacing", "default": 0.45, "min": 0.1, "max": 2.0, "doc": "m"}],)"
       << R"( "states": [{"value": 0, "name": "alone", "colour": "#888888"}]})";
   const std::string origin = (dir / "gather.yaml").string();
@@ -567,7 +567,7 @@ TEST(Scenario, ADescriptorFileBehaviourChecksItsParametersWithFileAndLine) {
   std::ofstream(dir / "old.json") << R"({"api_version": 1, "name": "old_py"})";
   refused("behaviour: {descriptor: old.json}\n",
           origin + ":1: behaviour.descriptor: " + (dir / "old.json").string() +
-              ": api_version: the file declares behaviour API version 1, this program has version 5 "
+              ": api_version: the file declares behaviour API version 1, this program has version 6 "
               "(docs/behaviour-api.md lists what changed)");
   std::filesystem::remove_all(dir);
 }

@@ -1,5 +1,6 @@
 #include "world_server/run/experiment_runner.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <exception>
 #include <set>
@@ -8,7 +9,6 @@
 
 #include "behaviour/descriptor_check.hpp"
 #include "world_server/run/metrics.hpp"
-#include "world_server/run/recording_format.hpp"
 #include "world_server/world/robot_groups.hpp"
 
 namespace swarmform::world {
@@ -19,9 +19,8 @@ ExperimentRunner::ExperimentRunner(const World& world, std::size_t group) : worl
   descriptor_ = g.behaviour;
   first_ = g.first_id;
   count_ = g.count;
+  verdict_ = declared_verdict(descriptor_);
   if (descriptor_ == nullptr || descriptor_->experiment.make == nullptr) return;
-  verdict_.success = false;
-  for (const auto& m : descriptor_->experiment.metrics) verdict_.metrics[std::string(m.name)] = nullptr;
   arena_ = {s.arena_centre, s.arena_width, s.arena_height, s.walls};
   // The scenario's goal is the run's goal only for a behaviour that goes to one (the world checks it then).
   if (descriptor_->needs_goal) goal_ = experiment::Goal{s.mission.goal, s.mission.goal_radius};
@@ -40,13 +39,21 @@ ExperimentRunner::ExperimentRunner(const World& world, std::size_t group) : worl
 
 void ExperimentRunner::fail(const std::string& what) {
   experiment_.reset();
+  verdict_ = declared_verdict(descriptor_);  // every declared key, null: the summary's keys stay the same
   verdict_.outcome = kExperimentFailed;
-  verdict_.success = false;
   verdict_.error = "experiment of behaviour '" + std::string(descriptor_->name) + "' " + what;
-  for (auto& [name, value] : verdict_.metrics.items()) value = nullptr;
-  verdict_.fields = nlohmann::ordered_json::object();
-  verdict_.series = nlohmann::ordered_json::object();
   formation_ = {};
+}
+
+ExperimentVerdict declared_verdict(const behaviour::Descriptor* d) {
+  ExperimentVerdict v;
+  if (d == nullptr || d->experiment.make == nullptr) return v;
+  v.success = false;
+  for (const auto& m : d->experiment.metrics) v.metrics[std::string(m.name)] = nullptr;
+  for (const auto& f : d->experiment.summary) {
+    (f.kind == behaviour::SummaryKind::Series ? v.series : v.fields)[std::string(f.key)] = nullptr;
+  }
+  return v;
 }
 
 namespace {
@@ -73,14 +80,45 @@ nlohmann::ordered_json field_json(const experiment::FieldValue& value) {
       value);
 }
 
-// Why the experiment's summary fields cannot be written ("" if they can): a key empty, given twice or one
-// the world writes itself.
-std::string check_fields(const std::vector<experiment::SummaryField>& fields) {
+// "an integer", "a number"...: what a value is, for the message of one that is not its declared kind.
+std::string value_kind(const experiment::FieldValue& value) {
+  return std::visit(
+      [](const auto& v) -> std::string {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, std::monostate>) {
+          return "null";
+        } else if constexpr (std::is_same_v<T, std::int64_t>) {
+          return "an integer";
+        } else if constexpr (std::is_same_v<T, double>) {
+          return "a number";
+        } else if constexpr (std::is_same_v<T, std::vector<std::int64_t>>) {
+          return "a list of integers";
+        } else {
+          return "a series";
+        }
+      },
+      value);
+}
+
+// Why the experiment's summary fields cannot be written ("" if they can): a key empty, one the world writes
+// itself, one its descriptor does not declare, given twice, or a value not of its declared kind.
+std::string check_fields(const behaviour::ExperimentSpec& spec,
+                         const std::vector<experiment::SummaryField>& fields) {
   std::set<std::string> seen;
   for (const auto& f : fields) {
     if (f.key.empty()) return "returned a summary field with an empty key";
-    if (is_world_summary_key(f.key)) return "returned summary field '" + f.key + "', a key the world writes";
+    if (behaviour::world_summary_key(f.key))
+      return "returned summary field '" + f.key + "', a key the world writes";
+    const auto declared = std::find_if(spec.summary.begin(), spec.summary.end(),
+                                       [&](const behaviour::SummarySpec& s) { return s.key == f.key; });
+    if (declared == spec.summary.end())
+      return "returned summary field '" + f.key +
+             "', which its descriptor does not declare (experiment.summary)";
     if (!seen.insert(f.key).second) return "returned summary field '" + f.key + "' twice";
+    if (!behaviour::summary_value_fits(declared->kind, f.value)) {
+      return "returned summary field '" + f.key + "' as " + value_kind(f.value) + ", declared " +
+             std::string(behaviour::summary_kind_name(declared->kind));
+    }
   }
   return {};
 }
@@ -160,13 +198,13 @@ const ExperimentVerdict& ExperimentRunner::conclude() {
     fail(why);
     return verdict_;
   }
-  if (const std::string why = check_fields(r.summary); !why.empty()) {
+  if (const std::string why = check_fields(descriptor_->experiment, r.summary); !why.empty()) {
     fail(why);
     return verdict_;
   }
+  // Into the declared slots (declared_verdict): the declared order, whatever the order returned.
   for (const auto& f : r.summary) {
-    auto& into = std::holds_alternative<std::vector<experiment::SeriesPoint>>(f.value) ? verdict_.series
-                                                                                       : verdict_.fields;
+    auto& into = verdict_.series.contains(f.key) ? verdict_.series : verdict_.fields;
     into[f.key] = field_json(f.value);
   }
   verdict_.outcome = r.outcome;

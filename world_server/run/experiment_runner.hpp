@@ -23,14 +23,20 @@ struct ExperimentVerdict {
   std::string outcome = "none";  // the experiment's, "none" without one, "experiment_failed"
   std::optional<bool> success;   // null without an experiment
   nlohmann::ordered_json metrics = nlohmann::ordered_json::object();  // behaviour_metrics
-  // The experiment's own top-level keys (Result::summary), in its order: `series` its series ([[tick,
-  // value]...]), `fields` the others. Empty without an experiment or when it failed.
+  // The experiment's own top-level keys (Result::summary): every key its descriptor declares, in the declared
+  // order, null when conclude did not give it (or the experiment failed); `series` the keys declared a series
+  // ([[tick, value]...], written last), `fields` the others. Empty without an experiment.
   nlohmann::ordered_json fields = nlohmann::ordered_json::object();
   nlohmann::ordered_json series = nlohmann::ordered_json::object();
   std::string error;  // with experiment_failed: what went wrong
 };
 
 inline constexpr const char* kExperimentFailed = "experiment_failed";
+
+// The verdict of behaviour `d` before its experiment concluded: without an experiment, outcome none; with
+// one, success false and every declared metric and summary key null. What summary.json's keys will be,
+// whatever the run (the summary template of `world_server --check` is made from it).
+ExperimentVerdict declared_verdict(const behaviour::Descriptor* d);
 
 class ExperimentRunner {
  public:

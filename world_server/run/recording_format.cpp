@@ -7,6 +7,7 @@
 
 #include "behaviour/descriptor_check.hpp"
 #include "common/led_text.hpp"
+#include "world_server/run/provenance.hpp"
 #include "world_server/world/robot_groups.hpp"
 
 namespace swarmform::world {
@@ -233,9 +234,16 @@ ojson describe_behaviour(const Scenario& scenario, std::size_t group) {
     ojson metrics = ojson::array();
     for (const auto& m : e.metrics)
       metrics.push_back({{"name", std::string(m.name)}, {"doc", std::string(m.doc)}});
+    ojson summary = ojson::array();
+    for (const auto& f : e.summary) {
+      summary.push_back({{"key", std::string(f.key)},
+                         {"kind", std::string(behaviour::summary_kind_name(f.kind))},
+                         {"doc", std::string(f.doc)}});
+    }
     ojson outcomes = ojson::array();
     for (std::string_view o : e.outcomes) outcomes.push_back(std::string(o));
     j["experiment"] = {{"metrics", std::move(metrics)},
+                       {"summary", std::move(summary)},
                        {"outcomes", std::move(outcomes)},
                        {"success", std::string(e.success)}};
   }
@@ -386,6 +394,46 @@ ojson make_summary(const SummaryInputs& in) {
   return j;
 }
 
+ojson summary_template(const Scenario& scenario, const std::string& mode) {
+  // Every robot dead: states_at_end lists the declared states, each 0, and no undeclared one.
+  std::vector<RobotTruth> robots(scenario.robots.size());
+  for (std::size_t k = 0; k < robots.size(); ++k) {
+    robots[k].id = static_cast<RobotId>(k);
+    robots[k].alive = false;
+  }
+  const Metrics metrics;
+  const std::size_t groups = std::max<std::size_t>(scenario.groups.size(), 1);
+  std::vector<ExperimentVerdict> verdicts;
+  for (std::size_t k = 0; k < groups; ++k)
+    verdicts.push_back(declared_verdict(group_view(scenario, k).behaviour));
+  std::vector<const ExperimentVerdict*> group_verdicts;
+  for (const ExperimentVerdict& v : verdicts) group_verdicts.push_back(&v);
+  SummaryInputs in;
+  in.scenario = &scenario;
+  in.mode = mode;
+  in.robots = &robots;
+  in.metrics = &metrics;
+  in.verdict = &verdicts.front();
+  if (!scenario.groups.empty()) in.group_verdicts = &group_verdicts;
+  in.provenance = provenance(scenario);
+  return make_summary(in);
+}
+
+ojson check_info(const Scenario& scenario) {
+  const std::string mode(to_string(scenario.mode));
+  ojson j = {{"robots", scenario.robots.size()},
+             {"labels", scenario.mission.shape.label_count()},
+             {"mode", mode},
+             {"max_ticks", scenario.max_ticks},
+             {"seed", scenario.seed},
+             {"behaviour_descriptor", describe_behaviour(scenario)}};
+  // Each robot group's behaviour, for the launcher's check of --expect 'groups.NAME.KEY' before the run.
+  if (!scenario.groups.empty()) j["groups"] = describe_groups(scenario);
+  // Every key the run's summary.json will have, from the code that writes it.
+  j["summary_template"] = summary_template(scenario, mode);
+  return j;
+}
+
 ojson summary_outcome(const ojson& summary) {
   ojson out = ojson::object();
   ojson cut = ojson::object();
@@ -435,49 +483,6 @@ bool is_series(const ojson& value) {
   if (!value.is_array() || value.empty()) return false;
   return std::all_of(value.begin(), value.end(),
                      [](const ojson& p) { return p.is_array() && p.size() == 2; });
-}
-
-bool is_world_summary_key(std::string_view key) {
-  // make_summary's own keys (and summary_outcome's summary_cut): an experiment's field may not take one.
-  static constexpr std::string_view kKeys[] = {"format",
-                                               "version",
-                                               "scenario",
-                                               "shape_file",
-                                               "behaviour",
-                                               "robots",
-                                               "labels",
-                                               "seed",
-                                               "mode",
-                                               "ticks",
-                                               "wall_seconds",
-                                               "ticks_per_second",
-                                               "robot_ticks_per_second",
-                                               "steady_from_tick",
-                                               "steady_ticks_per_second",
-                                               "alive_at_end",
-                                               "deaths",
-                                               "rejoins",
-                                               "collisions_robot_robot",
-                                               "collisions_robot_obstacle",
-                                               "leader_changes",
-                                               "fragmentations",
-                                               "graph_rejoins",
-                                               "max_components",
-                                               "outcome",
-                                               "success",
-                                               "behaviour_metrics",
-                                               "experiment_error",
-                                               "silent_robots",
-                                               "command_verdicts",
-                                               "params",
-                                               "states_at_end",
-                                               "telemetry_mean_at_end",
-                                               "trajectory_sha256",
-                                               "end_reason",
-                                               "provenance",
-                                               "groups",
-                                               "summary_cut"};
-  return std::find(std::begin(kKeys), std::end(kKeys), key) != std::end(kKeys);
 }
 
 }  // namespace swarmform::world

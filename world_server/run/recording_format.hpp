@@ -63,10 +63,20 @@ struct SummaryInputs {
 // summary.json: the world's generic metrics, then the experiment's own fields (ExperimentVerdict::fields)
 // after max_components, its series last; null where not reached.
 nlohmann::ordered_json make_summary(const SummaryInputs& in);
+// summary.json as make_summary will write it for a run of this scenario, before the run: every key it will
+// have, whatever the run (the values as before any tick: no robot counted in a state, every declared
+// experiment key null). `world_server --check` and `swarm_inprocess --check` print it, so a launcher checks
+// an
+// --expect key against the keys of the code that writes the run's summary. Not the front end's own keys
+// (world_server's input_dropped, mass_losses: RunSession::set_summary_field) nor experiment_error (a
+// failure's).
+nlohmann::ordered_json summary_template(const Scenario& scenario, const std::string& mode);
+// What `world_server --check` and `swarm_inprocess --check` print of a loaded scenario (one JSON line):
+// robots, labels, mode, max_ticks, seed, behaviour_descriptor, groups (with robot groups) and
+// summary_template, for the launcher's checks before a run (docs/recording-format.md).
+nlohmann::ordered_json check_info(const Scenario& scenario);
 // A series: a non-empty array of [tick, value] pairs (the paper's `distortion`).
 bool is_series(const nlohmann::ordered_json& value);
-// A key make_summary writes itself (an experiment's field may not take it).
-bool is_world_summary_key(std::string_view key);
 // The summary as text: indented, except each long series, which goes on one line at the end.
 std::string summary_text(const nlohmann::ordered_json& summary);
 // The summary cut to the run's outcome, for a full disk: every field but the series, each list (deaths,

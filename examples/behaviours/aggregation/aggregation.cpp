@@ -6,12 +6,13 @@
 //
 // Its experiment judges the run from the true poses: robots whose centres are within 2 x stop_distance of
 // each other are in one cluster (transitively); the outcome is `gathered` when every live robot ends in one
-// cluster, else `scattered`.
+// cluster, else `scattered`; summary.json's `stragglers` lists the live robots outside the largest cluster.
 #include <swarmform/behaviour.hpp>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numeric>
 #include <vector>
@@ -46,6 +47,12 @@ constexpr std::array kMetrics = {
                           "live robots' mean distance to their centroid at the end, m"},
     behaviour::MetricSpec{"green_at_end", "live robots showing green LEDs (gathered) at the end"},
 };
+// Its own top-level summary.json key (Result::summary), declared so `--expect 'stragglers == 0'` is checked
+// before the run.
+constexpr std::array kSummary = {
+    behaviour::SummarySpec{"stragglers", behaviour::SummaryKind::Ids,
+                           "live robots outside the largest cluster at the end (ids)"},
+};
 constexpr std::array<std::string_view, 2> kOutcomes = {"gathered", "scattered"};
 
 std::unique_ptr<controller::Controller> make();
@@ -63,6 +70,7 @@ const behaviour::Descriptor kDescriptor{
     .make = &make,
     .sensors = 0,
     .experiment = {.metrics = kMetrics,
+                   .summary = kSummary,
                    .outcomes = kOutcomes,
                    .success = "gathered",
                    .make = &make_experiment},
@@ -145,10 +153,12 @@ class AggregationExperiment final : public experiment::Experiment {
 
   void observe(const experiment::Truth& truth) override {
     live_.clear();
+    live_ids_.clear();
     green_ = 0;
     for (const auto& r : truth.robots) {
       if (!r.alive) continue;
       live_.push_back({r.pose.x, r.pose.y});
+      live_ids_.push_back(static_cast<std::int64_t>(r.id));
       green_ += r.leds[0] == Rgb{0, 255, 0} ? 1 : 0;
     }
     sizes_ = cluster_sizes();
@@ -171,6 +181,7 @@ class AggregationExperiment final : public experiment::Experiment {
                  gathered_tick_ < 0 ? nan : gathered_tick_, live_.empty() ? nan : mean,
                  static_cast<double>(green_)};
     r.outcome = sizes_.size() == 1 ? "gathered" : "scattered";
+    r.summary = {{"stragglers", stragglers()}};
     return r;
   }
 
@@ -195,11 +206,25 @@ class AggregationExperiment final : public experiment::Experiment {
     }
     return sizes;
   }
+  // The live robots outside the largest cluster of the last observe (the first of the largest, when tied).
+  std::vector<std::int64_t> stragglers() {
+    std::vector<std::size_t> count(live_.size(), 0);
+    for (std::size_t i = 0; i < live_.size(); ++i) ++count[root(i)];
+    std::vector<std::int64_t> out;
+    if (count.empty()) return out;
+    const auto largest =
+        static_cast<std::size_t>(std::max_element(count.begin(), count.end()) - count.begin());
+    for (std::size_t i = 0; i < live_.size(); ++i) {
+      if (root(i) != largest) out.push_back(live_ids_[i]);
+    }
+    return out;
+  }
 
   double link_ = 0.8;  // m
   double gathered_tick_ = -1.0;
   std::size_t green_ = 0;
   std::vector<Vec2> live_;
+  std::vector<std::int64_t> live_ids_;  // live_'s robots' ids
   std::vector<std::size_t> parent_;
   std::vector<std::size_t> sizes_;
 };

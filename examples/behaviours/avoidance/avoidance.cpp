@@ -66,6 +66,7 @@ const behaviour::Descriptor kDescriptor{
     .make = &make,
     .sensors = behaviour::kProximity,
     .experiment = {.metrics = kMetrics,
+                   .summary = {},
                    .outcomes = kOutcomes,
                    .success = "avoided",
                    .make = &make_experiment},

@@ -79,6 +79,7 @@ const behaviour::Descriptor kDescriptor{
     .make = &make,
     .sensors = behaviour::kGround | behaviour::kLight | behaviour::kProximity,
     .experiment = {.metrics = kMetrics,
+                   .summary = {},
                    .outcomes = kOutcomes,
                    .success = "foraged",
                    .make = &make_experiment},

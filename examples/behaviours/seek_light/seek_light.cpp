@@ -63,6 +63,7 @@ const behaviour::Descriptor kDescriptor{
     .make = &make,
     .sensors = behaviour::kLight | behaviour::kProximity,
     .experiment = {.metrics = kMetrics,
+                   .summary = {},
                    .outcomes = kOutcomes,
                    .success = "reached",
                    .make = &make_experiment},

@@ -1,10 +1,12 @@
 """Judging a behaviour that is not the paper, through `scripts/swarm` with the real build: the dispersion plug-in
-(no judge of its own) swept and judged by its own summary keys, --expect keys checked before anything runs, `swarm run --param`, and the
-same refusal (exit 2, the same reason) for the same mistake whichever way a run goes (multi-process or
---in-process). No test here starts a DDS process: a multi-process run that is refused is refused before its
-world starts (`world_server --check`, then the launcher's one-tick in-process probe).
+(no judge of its own) swept and judged by its own summary keys, --expect keys checked before anything runs, `swarm
+run --param`, and the same refusal (exit 2, the same reason) for the same mistake whichever way a run goes
+(multi-process or --in-process); the summary keys an experiment declares (the paper's, the aggregation plug-in's)
+accepted by --expect before anything runs. No test here starts a DDS process: a multi-process run that is refused
+is refused before its world starts (`world_server --check`, whose summary_template has every key the run's
+summary.json will have).
 
-Run by ctest (label examples) with BUILD_DIR and DISPERSION_DIR set."""
+Run by ctest (label examples) with BUILD_DIR, DISPERSION_DIR and AGGREGATION_DIR set."""
 
 import csv
 import json
@@ -19,6 +21,9 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(HERE)))
 SWARM = os.path.join(ROOT, "scripts", "swarm")
 SCENARIO = os.path.join(ROOT, "examples", "behaviours", "dispersion", "dispersion.yaml")
 PLUGIN_DIR = os.environ.get("DISPERSION_DIR", "")
+AGGREGATION_DIR = os.environ.get("AGGREGATION_DIR", "")
+AGGREGATION = os.path.join(ROOT, "examples", "behaviours", "aggregation", "aggregation.yaml")
+PAPER = os.path.join(ROOT, "scenarios", "paper.yaml")
 
 
 def swarm(*args, timeout=240):
@@ -90,6 +95,41 @@ class JudgingTest(unittest.TestCase):
             self.assertEqual(r.returncode, 2, f"{mode}: {r.stderr}")
             self.assertIn("summary.json will have no key 'states_at_end.gathered'", r.stderr)
             self.assertFalse(os.path.exists(out), f"{mode}: nothing was run")
+
+    @unittest.skipUnless(AGGREGATION_DIR, "needs AGGREGATION_DIR (ctest)")
+    def test_a_declared_experiment_summary_key_is_known_before_the_run(self):
+        # An experiment's summary keys are declared (ExperimentSpec::summary): `world_server --check` prints them
+        # and a summary_template holding them, so --expect takes them before anything runs (`swarm run --check`
+        # runs every check a run makes and starts nothing), whatever the run will give, and refuses a misspelt one.
+        for scenario, plugin, good, bad in (
+                (PAPER, [], ("goal_tick <= 3000", "stuck_robot_count == 0", "shape_error_at_goal < 0.1"),
+                 "goal_tik <= 3000"),
+                (AGGREGATION, ["--plugin-dir", AGGREGATION_DIR], ("stragglers == 0", "behaviour_metrics.clusters <= 2"),
+                 "straglers == 0")):
+            name = os.path.basename(scenario)
+            world = os.path.join(os.environ["BUILD_DIR"], "world_server", "world_server")
+            p = subprocess.run([world, "--scenario", scenario, *plugin, "--check"], capture_output=True, text=True,
+                               timeout=60)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            info = json.loads(p.stdout.strip().splitlines()[-1])
+            declared = [f["key"] for f in info["behaviour_descriptor"]["experiment"]["summary"]]
+            template = list(info["summary_template"])
+            self.assertLess(template.index("max_components"), template.index(declared[0]), name)
+            for key in declared:
+                self.assertIsNone(info["summary_template"][key], f"{name}: {key} (null before the run)")
+            for mode in ([], ["--in-process"]):
+                expects = [a for text in good for a in ("--expect", text)]
+                r = swarm("run", "--scenario", scenario, *plugin, "--check", *expects, *mode, timeout=60)
+                self.assertEqual(r.returncode, 0, f"{name} {mode}: {r.stderr}")
+                self.assertIn("nothing started", r.stderr + r.stdout)
+                out = os.path.join(self.dir, "declared" + "".join(mode))
+                r = swarm("run", "--scenario", scenario, *plugin, "--no-pictures", "--out", out, *expects,
+                          "--expect", bad, *mode, timeout=60)
+                self.assertEqual(r.returncode, 2, f"{name} {mode}: {r.stderr}")
+                self.assertIn(f"--expect '{bad}': summary.json will have no key '{bad.split()[0]}'", r.stderr)
+                self.assertIn("(nothing was run)", r.stderr)
+                self.assertFalse(os.path.exists(out), f"{name} {mode}: nothing was run")
+        self.assertIn("stragglers", declared)
 
     def test_run_param_reaches_the_run_and_a_bad_one_is_refused_alike(self):
         out = os.path.join(self.dir, "param")
