@@ -7,6 +7,7 @@
 #include <variant>
 #include <vector>
 
+#include "behaviour/known_columns.hpp"
 #include "behaviour/params.hpp"
 
 namespace swarmform::behaviour {
@@ -154,15 +155,18 @@ bool summary_value_fits(SummaryKind kind, const experiment::FieldValue& value) {
 
 std::string check_telemetry(const Descriptor& d) {
   // robots.csv's own columns (docs/recording-format.md): a telemetry column of the same name would make the
-  // file ambiguous to every reader.
-  constexpr std::array<std::string_view, 12> kRecorded = {
-      "tick", "id", "x", "y", "theta", "alive", "state", "label", "parent", "leader", "net_force", "leds"};
+  // file ambiguous to every reader. The known columns (known_columns.hpp) are recorded in robots.csv's own
+  // column of their name: they may be declared, with their meaning.
+  constexpr std::array<std::string_view, 8> kRecorded = {"tick",  "id",    "x",     "y",
+                                                         "theta", "alive", "state", "leds"};
   const std::string where = "behaviour '" + std::string(d.name) + "': telemetry column '";
   for (std::size_t i = 0; i < d.telemetry.size(); ++i) {
     const std::string_view name = d.telemetry[i].name;
     if (!lower_case_name(name)) return where + std::string(name) + "' is not a lower_case name";
     if (std::find(kRecorded.begin(), kRecorded.end(), name) != kRecorded.end())
       return where + std::string(name) + "' is one of robots.csv's own columns";
+    if (name == kLabelColumn && !d.needs_shape)
+      return where + std::string(name) + "' is a place in a shape: the behaviour must declare needs_shape";
     for (std::size_t j = 0; j < i; ++j) {
       if (d.telemetry[j].name == name) return where + std::string(name) + "' twice";
     }

@@ -19,6 +19,7 @@ Tick full_solve_interval(std::size_t places, bool near_formed) {
 ShapeMetrics::ShapeMetrics(const Mission& mission, const behaviour::Descriptor& d)
     : has_shape_(mission.shape.label_count() > 0),
       motion_state_(d.shape_rules.motion_state),
+      known_(behaviour::KnownColumns::of(&d)),
       assigner_(mission.shape, mission.grid_spacing, behaviour::shape_heading(mission, d)),
       grid_spacing_(mission.grid_spacing),
       goal_(mission.goal),
@@ -106,7 +107,7 @@ void ShapeMetrics::observe(const experiment::Truth& truth) {
     move_anchor(stuck_[r.id], p, tick, kStuckRadius);
     live_ids_.push_back(r.id);
     live_positions_.push_back(p);
-    live_labels_.push_back(r.telemetry->label);
+    live_labels_.push_back(known_.label_of(*r.telemetry));  // -1 when it declares no label
     if (motion_state_ != behaviour::ShapeRules::kNoState && r.telemetry->state == motion_state_) {
       any_motion = true;
     }

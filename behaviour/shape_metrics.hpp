@@ -38,6 +38,7 @@
 
 #include "behaviour/descriptor.hpp"
 #include "behaviour/experiment.hpp"
+#include "behaviour/known_columns.hpp"
 #include "behaviour/shape_assignment.hpp"
 #include "common/mission.hpp"
 
@@ -111,7 +112,8 @@ class ShapeMetrics {
   ShapeAssignment assign(Tick tick, bool force_full);
 
   bool has_shape_;
-  std::int32_t motion_state_;  // the behaviour's ShapeRules::motion_state
+  std::int32_t motion_state_;      // the behaviour's ShapeRules::motion_state
+  behaviour::KnownColumns known_;  // where its robots report their labels
   ShapeAssigner assigner_;
   double grid_spacing_;
   Vec2 goal_;

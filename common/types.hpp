@@ -111,13 +111,10 @@ struct Perception {
 // What the controller reports about itself, for the recorder and the metrics only (never delivered to
 // robots).
 struct Telemetry {
-  std::int32_t state = 0;   // the behaviour's state (its descriptor's `states`; the paper's: robot_state.hpp)
-  std::int32_t label = -1;  // shape label, -1 none
-  std::int32_t parent = -1;  // id of the parent robot in the formation tree, -1 none
-  bool leader = false;       // this robot believes it is the leader
-  double net_force = 0.0;    // |F_net| (eq. 5), or 0 when not in formation motion
+  std::int32_t state = 0;  // the behaviour's state (its descriptor's `states`; the paper's: robot_state.hpp)
   // The behaviour's own telemetry columns (its descriptor's `telemetry`, in that order): recorded in
-  // robots.csv after the fixed columns. Empty or exactly as many values as the descriptor names.
+  // robots.csv. Empty or exactly as many values as the descriptor names. Columns named label, parent, leader
+  // or net_force carry those quantities, which the world knows (behaviour/known_columns.hpp).
   std::vector<double> extra;
   // What happened in the controller this tick that the recorder should log, one event a string:
   // "<kind> <detail>", kind one word (e.g. "seed_elected", "label_taken 3", "label_lost 3 to 7",

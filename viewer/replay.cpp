@@ -14,6 +14,7 @@
 #include <optional>
 #include <sstream>
 
+#include "behaviour/known_columns.hpp"
 #include "common/dds/behaviour_view.hpp"
 #include "common/sensor_readings.hpp"
 #include "viewer/foxglove.hpp"
@@ -80,6 +81,20 @@ dds::BehaviourView behaviour_of(const json& world, const std::vector<std::string
   dds::BehaviourView v = dds::describe_behaviour("", nullptr);
   v.name = world.value("behaviour", std::string("?"));
   v.columns = columns;
+  // The known columns (robots.csv's own label, parent, leader, net_force) a behaviour of the run declares.
+  std::vector<json> descriptors = {world.value("behaviour_descriptor", json::object())};
+  for (const json& g : world.value("groups", json::array()))
+    if (g.is_object()) descriptors.push_back(g.value("behaviour_descriptor", json::object()));
+  for (const std::string_view known : {behaviour::kLabelColumn, behaviour::kParentColumn,
+                                       behaviour::kLeaderColumn, behaviour::kNetForceColumn}) {
+    const auto declares = [&](const json& d) {
+      if (!d.is_object() || !d.contains("telemetry") || !d["telemetry"].is_array()) return false;
+      for (const json& t : d["telemetry"])
+        if (t.is_object() && t.value("name", std::string()) == known) return true;
+      return false;
+    };
+    if (std::any_of(descriptors.begin(), descriptors.end(), declares)) v.telemetry_fields.emplace_back(known);
+  }
   v.telemetry_fields.insert(v.telemetry_fields.end(), columns.begin(), columns.end());
   const json d = world.value("behaviour_descriptor", json::object());
   if (!d.is_object()) return v;

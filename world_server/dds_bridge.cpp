@@ -122,12 +122,14 @@ dds::MissionAnnouncement mission_of(const world::Scenario& scenario, std::uint64
   return a;
 }
 
-void pose_rows(const world::World& world, std::vector<dds::RobotPoseRow>& rows) {
+void pose_rows(const world::World& world, const std::vector<behaviour::KnownColumns>& known,
+               std::vector<dds::RobotPoseRow>& rows) {
   const auto& truth = world.robots();
   rows.resize(truth.size());
   for (std::size_t i = 0; i < truth.size(); ++i) {
     const world::RobotTruth& t = truth[i];
-    rows[i] = dds::RobotPoseRow{t.id, t.pose, t.alive, t.telemetry.state, t.telemetry.label};
+    const std::int32_t label = i < known.size() ? known[i].label_of(t.telemetry) : -1;
+    rows[i] = dds::RobotPoseRow{t.id, t.pose, t.alive, t.telemetry.state, label};
   }
 }
 

@@ -7,6 +7,7 @@
 #include <optional>
 #include <vector>
 
+#include "behaviour/known_columns.hpp"
 #include "common/dds/command_reader.hpp"
 #include "common/dds/identity.hpp"
 #include "common/dds/mission_endpoints.hpp"
@@ -87,7 +88,9 @@ struct WorldLink {
 // What the agents are told: the scenario's mission, the robot count and this run's nonce.
 dds::MissionAnnouncement mission_of(const world::Scenario& scenario, std::uint64_t run_nonce);
 
-// One row per robot for observers (rows reused: no allocation once sized).
-void pose_rows(const world::World& world, std::vector<dds::RobotPoseRow>& rows);
+// One row per robot for observers (rows reused: no allocation once sized); its label from `known` (by id,
+// world::known_columns_by_robot), -1 where its behaviour reports none.
+void pose_rows(const world::World& world, const std::vector<behaviour::KnownColumns>& known,
+               std::vector<dds::RobotPoseRow>& rows);
 
 }  // namespace swarmform::server

@@ -9,6 +9,7 @@ namespace swarmform::server {
 
 dds::BehaviourView describe_run(const world::Scenario& scenario) {
   dds::BehaviourView run = dds::describe_behaviour(scenario.mission.behaviour, scenario.behaviour);
+  run.known = world::known_columns_by_robot(scenario);
   for (const world::RobotGroup& g : scenario.groups) {
     dds::BehaviourView own = dds::describe_behaviour(g.mission.behaviour, g.behaviour);
     for (const std::string& c : own.columns) {
@@ -45,10 +46,12 @@ void build_frame(const world::World& world, const LatestCommand& latest,
     r.pose = t.pose;
     r.alive = t.alive;
     r.state = t.telemetry.state;
-    r.label = t.telemetry.label;
-    r.parent = t.telemetry.parent;
-    r.leader = t.telemetry.leader;
-    r.net_force = t.telemetry.net_force;
+    const behaviour::KnownColumns known =
+        i < behaviour.known.size() ? behaviour.known[i] : behaviour::KnownColumns{};
+    r.label = known.label_of(t.telemetry);
+    r.parent = known.parent_of(t.telemetry);
+    r.leader = known.leader_of(t.telemetry);
+    r.net_force = known.net_force_of(t.telemetry);
     r.leds = t.leds;
     r.extra = t.telemetry.extra;
     r.heard.clear();

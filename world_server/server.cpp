@@ -100,6 +100,7 @@ Server::Server(const world::Scenario& scenario, ServerOptions options, dds::Sign
   // i + 1, and the step (which every agent waits for) is shorter. The readings are the same
   // (World::defer_perceptions).
   world_.defer_perceptions(true);
+  known_ = world::known_columns_by_robot(scenario);
   if (options_.viewer_token != 0) {
     viewer_ = std::make_unique<ViewerControl>(link_.participant, options_.run_nonce, options_.viewer_token,
                                               scenario.mode == world::Mode::Lockstep, options_.start_paused,
@@ -1052,7 +1053,7 @@ void Server::record_tick() {
 void Server::publish_observers() {
   const dds_time_t now = dds_time();
   if (now - last_state_ >= kStatePeriod) {
-    pose_rows(world_, rows_);
+    pose_rows(world_, known_, rows_);
     std::uint32_t alive = 0;
     for (const auto& r : rows_) alive += r.alive ? 1 : 0;
     link_.state.publish(world_.tick(), false, alive, rows_);
@@ -1093,7 +1094,7 @@ void Server::announce_end() {
     const auto id = static_cast<RobotId>(i);
     if (may_hear_the_end(id)) link_.robots.write_packet(id, dds::PacketStatus::End, end);
   }
-  pose_rows(world_, rows_);
+  pose_rows(world_, known_, rows_);
   std::uint32_t alive = 0;
   for (const auto& r : rows_) alive += r.alive ? 1 : 0;
   link_.state.publish(world_.tick(), true, alive, rows_);

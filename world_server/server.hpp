@@ -211,6 +211,7 @@ class Server {
   // Claims and commands taken after their writer went away: ignored, counted.
   std::uint64_t stale_samples_ = 0;
   std::vector<dds::RobotPoseRow> rows_;
+  std::vector<behaviour::KnownColumns> known_;  // by robot id: where each reports its label
 
   dds_time_t start_ = 0;
   dds_time_t steady_start_ = 0;  // the end of tick options_.warmup_ticks; 0 until then

@@ -5,7 +5,7 @@ namespace swarmform::dds {
 BehaviourView describe_behaviour(const std::string& name, const behaviour::Descriptor* d) {
   BehaviourView v;
   v.name = name;
-  v.telemetry_fields = {"state", "label", "parent", "leader", "net_force"};
+  v.telemetry_fields = {"state"};
   if (d == nullptr) return v;
   for (const auto& s : d->states)
     v.states.push_back(StateStyleRow{s.value, std::string(s.name), std::string(s.colour)});

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "behaviour/descriptor.hpp"
+#include "behaviour/known_columns.hpp"
 #include "common/dds/observe_wire.hpp"
 
 namespace swarmform::dds {
@@ -15,17 +16,19 @@ namespace swarmform::dds {
 struct BehaviourView {
   std::string name;
   std::vector<StateStyleRow> states;
-  std::vector<std::string>
-      telemetry_fields;              // "state", "label", "parent", "leader", "net_force", then `columns`
-  std::vector<std::string> columns;  // its own telemetry columns (the descriptor's), Telemetry::extra's names
+  std::vector<std::string> telemetry_fields;  // "state", then `columns`
+  std::vector<std::string> columns;  // its telemetry columns (the descriptor's), Telemetry::extra's names
   // A mixed swarm's groups, in id order, each with its own behaviour's states and columns; the fields above
   // are then the first group's, except `telemetry_fields`: every group's, for a panel that lists what each
   // robot has.
   std::vector<ObservedGroupRow> groups;
+  // Where each robot's known columns are (behaviour/known_columns.hpp), by id: the frames' label, parent,
+  // leader and net force come from them. Empty: none for any robot.
+  std::vector<behaviour::KnownColumns> known;
 };
 
-// The description of behaviour `name` from its descriptor `d`: its states' names and colours, the fixed
-// telemetry fields, then its own columns. Without a descriptor (a recording made before descriptors), the
+// The description of behaviour `name` from its descriptor `d`: its states' names and colours, the state
+// field, then its columns. Without a descriptor (a recording made before descriptors), the
 // state numbers are drawn grey.
 BehaviourView describe_behaviour(const std::string& name, const behaviour::Descriptor* d);
 

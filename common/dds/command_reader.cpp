@@ -230,10 +230,6 @@ std::size_t CommandReader::take(std::vector<CommandSample>& buf, std::size_t max
         c.command.leds[k] = {s.leds[3 * k], s.leds[3 * k + 1], s.leds[3 * k + 2]};
       Telemetry& t = c.command.telemetry;
       t.state = s.state;
-      t.label = s.label;
-      t.parent = s.parent;
-      t.leader = s.leader;
-      t.net_force = s.net_force;
       t.events.resize(s.events._length);
       for (std::uint32_t k = 0; k < s.events._length; ++k) t.events[k] = str(s.events._buffer[k]);
       t.extra.assign(s.extra._buffer, s.extra._buffer + s.extra._length);

@@ -55,7 +55,7 @@ sfdds_Command command_key(RobotId id) {
 }
 
 // A command of `kind` for `id` stamped with the writer's run and version; its telemetry says nothing (no
-// label, no parent) until a step fills it.
+// columns) until a step fills it.
 sfdds_Command stamped_command(RobotId id, std::uint8_t kind, std::uint64_t run_nonce,
                               std::uint16_t wire_version) {
   sfdds_Command s{};
@@ -63,8 +63,6 @@ sfdds_Command stamped_command(RobotId id, std::uint8_t kind, std::uint64_t run_n
   s.wire_version = wire_version;
   s.run_nonce = run_nonce;
   s.kind = kind;
-  s.label = -1;
-  s.parent = -1;
   return s;
 }
 }  // namespace
@@ -130,10 +128,6 @@ void CommandWriter::step(RobotId id, Tick tick, const Command& c) {
     s.leds[3 * k + 2] = c.leds[k].b;
   }
   s.state = c.telemetry.state;
-  s.label = c.telemetry.label;
-  s.parent = c.telemetry.parent;
-  s.leader = c.telemetry.leader;
-  s.net_force = c.telemetry.net_force;
   auto& events = impl_->events;
   events.clear();
   for (const std::string& e : c.telemetry.events) events.push_back(const_cast<char*>(e.c_str()));

@@ -6,6 +6,6 @@
 
 namespace swarmform::dds {
 
-inline constexpr std::uint16_t kWireVersion = 13;
+inline constexpr std::uint16_t kWireVersion = 14;
 
 }  // namespace swarmform::dds

@@ -7,6 +7,7 @@
 #include "robot_agent/controller/paper_controller.hpp"
 #include "robot_agent/controller/paper_experiment.hpp"
 #include "robot_agent/controller/paper_params.hpp"
+#include "robot_agent/controller/paper_telemetry.hpp"
 #include "robot_agent/controller/phototaxis.hpp"
 #include "robot_agent/controller/random_walk.hpp"
 #include "robot_agent/controller/robot_state.hpp"
@@ -59,7 +60,7 @@ const Descriptor kPaper{
     .summary = "the paper's shape formation from a label matrix, then formation control to the goal",
     .params = kPaperParams,
     .states = kPaperStates,
-    .telemetry = {},
+    .telemetry = kPaperTelemetry,
     .needs_shape = true,
     .needs_goal = true,
     // Label 0 at the robot nearest the origin (its seed election), turned by shape_heading

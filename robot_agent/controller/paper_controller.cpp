@@ -8,6 +8,7 @@
 #include "robot_agent/controller/collision_avoidance.hpp"
 #include "robot_agent/controller/drive.hpp"
 #include "robot_agent/controller/label_timeout.hpp"
+#include "robot_agent/controller/paper_telemetry.hpp"
 #include "robot_agent/controller/reserve.hpp"
 #include "robot_agent/controller/vec2_math.hpp"
 
@@ -213,6 +214,9 @@ Command PaperController::step(const Perception& p) {
       !(state_ == RobotState::Idle || state_ == RobotState::Searching || state_ == RobotState::Moving);
   std::vector<std::uint8_t> motion_bytes;
   Telemetry telemetry;
+  std::int32_t parent = -1;
+  bool leader = false;
+  double net_force = 0.0;
   switch (state_) {
     case RobotState::Idle:
     case RobotState::Searching:
@@ -237,11 +241,11 @@ Command PaperController::step(const Perception& p) {
     wheels = last_motion_.wheels;
     motion_bytes = last_motion_.message;
     for (auto& e : last_motion_.events) events_.push_back(e);
-    telemetry.leader = last_motion_.leader;
-    telemetry.net_force = std::isfinite(last_motion_.net_force) ? last_motion_.net_force : 0.0;
-    telemetry.parent = last_motion_.parent;
+    leader = last_motion_.leader;
+    net_force = std::isfinite(last_motion_.net_force) ? last_motion_.net_force : 0.0;
+    parent = last_motion_.parent;
   } else {
-    telemetry.parent = parent_id();
+    parent = parent_id();
   }
 
   Command cmd;
@@ -252,7 +256,7 @@ Command PaperController::step(const Perception& p) {
   cmd.right_speed = w.right;
   cmd.message = encode_message(compose_message(p, motion_bytes));
   telemetry.state = static_cast<std::int32_t>(state_);
-  telemetry.label = label_;
+  telemetry.extra = paper_telemetry(label_, parent, leader, net_force);
   telemetry.events = std::move(events_);
   events_.clear();
   cmd.telemetry = std::move(telemetry);

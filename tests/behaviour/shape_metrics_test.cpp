@@ -9,6 +9,7 @@
 
 #include "behaviour/shape_metrics.hpp"
 #include "robot_agent/controller/builtins.hpp"
+#include "robot_agent/controller/paper_telemetry.hpp"
 #include "robot_agent/controller/robot_state.hpp"
 
 namespace swarmform::shape_metrics {
@@ -22,6 +23,11 @@ constexpr auto kMotion = static_cast<std::int32_t>(RobotState::Motion);
 
 const behaviour::Descriptor& paper() {
   return controller::paper_descriptor();
+}
+
+// The paper's telemetry with this label (its other columns none).
+void set_label(Telemetry& t, std::int32_t label) {
+  t.extra = controller::paper_telemetry(label, -1, false, 0.0);
 }
 
 // A robot as the world holds it; the truth an experiment sees is made from it.
@@ -57,7 +63,7 @@ std::vector<Robot> line_at(double x0, std::int32_t state) {
   for (RobotId i = 0; i < 4; ++i) {
     robots[i].id = i;
     robots[i].telemetry.state = state;
-    robots[i].telemetry.label = i < 3 ? static_cast<std::int32_t>(i) : -1;
+    set_label(robots[i].telemetry, i < 3 ? static_cast<std::int32_t>(i) : -1);
     robots[i].pose = {x0 + i, 0.0, 0.0};
   }
   robots[3].pose = {-20.0, 0.0, 0.0};
@@ -171,9 +177,9 @@ TEST(ShapeMetrics, AGoalThatMovesUndoesTheArrivalAndIsJudgedWhereItStands) {
 TEST(ShapeMetrics, RobotsReportingWrongLabelsAreJudgedOnTheirPositions) {
   ShapeMetrics tracker(line_mission(), paper());
   auto robots = line_at(0.0, kReady);
-  robots[0].telemetry.label = 2;  // swapped
-  robots[2].telemetry.label = 0;
-  robots[1].telemetry.label = 0;  // and a lie
+  set_label(robots[0].telemetry, 2);  // swapped
+  set_label(robots[2].telemetry, 0);
+  set_label(robots[1].telemetry, 0);  // and a lie
   for (Tick t = 0; t <= kRestTicks; ++t) observe(tracker, t, robots);
   ASSERT_TRUE(tracker.measures().formation_tick);
   EXPECT_LT(*tracker.measures().shape_error_at_formation, 1e-9);
@@ -205,7 +211,7 @@ TEST(ShapeMetrics, RobotsAtRestThatCannotStandInTheShapeCostNoSolve) {
     const double a = 2.0 * std::numbers::pi * i / 9.0;
     robots[i].id = i;
     robots[i].telemetry.state = kSearching;
-    robots[i].telemetry.label = static_cast<std::int32_t>(i);
+    set_label(robots[i].telemetry, static_cast<std::int32_t>(i));
     robots[i].pose = {5.0 * std::cos(a), 5.0 * std::sin(a), 0.0};  // a ring of radius 5, the block 2 x 2
   }
   Tick t = 0;
@@ -260,7 +266,7 @@ std::vector<Robot> block_at(double x0) {
   for (RobotId i = 0; i < 17; ++i) {
     robots[i].id = i;
     robots[i].telemetry.state = kMoving;
-    robots[i].telemetry.label = i < 16 ? static_cast<std::int32_t>(i) : -1;
+    set_label(robots[i].telemetry, i < 16 ? static_cast<std::int32_t>(i) : -1);
     robots[i].pose = {x0 + i % 4, -static_cast<double>(i / 4), 0.0};
   }
   robots[16].pose = {-20.0, 0.0, 0.0};

@@ -74,6 +74,7 @@
 #include "common/dds/wire_version.hpp"
 #include "common/dds/world_state_endpoints.hpp"
 #include "robot_agent/controller/builtins.hpp"
+#include "robot_agent/controller/paper_telemetry.hpp"
 
 namespace {
 
@@ -218,9 +219,9 @@ int liar_agent(dds::Participant& participant, RobotId id, double timeout_s) {
   return answering_agent(participant, id, mission->realtime, timeout_s, "liar", [&](const Perception& p) {
     Command c = controller->step(p);
     c.telemetry.state = 6;  // arrived, in range: recorded as what it says
-    c.telemetry.label = 2000000000;
-    c.telemetry.parent = 2000000000;
-    c.telemetry.net_force = std::numeric_limits<double>::quiet_NaN();
+    // The paper's columns (kPaperTelemetry): label and parent 2e9, its own leader flag, a net force of 1e300.
+    const bool leader = c.telemetry.extra.size() > 2 && c.telemetry.extra[2] != 0.0;
+    c.telemetry.extra = controller::paper_telemetry(2000000000, 2000000000, leader, 1e300);
     c.telemetry.events = {huge, control, "formed"};
     return std::optional<Command>(c);
   });

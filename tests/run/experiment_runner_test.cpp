@@ -22,6 +22,7 @@
 #include "behaviour/registry.hpp"
 #include "behaviour/shape_metrics.hpp"
 #include "robot_agent/controller/builtins.hpp"
+#include "tests/support/paper_columns.hpp"
 #include "world_server/run/recording_format.hpp"
 #include "world_server/run/run_end.hpp"
 #include "world_server/run/run_session.hpp"
@@ -178,7 +179,7 @@ std::string run_text(const std::string& behaviour, const std::string& extra = ""
     }
     for (RobotId id = 0; id < 4; ++id) {
       Command c = ahead;
-      c.telemetry.label = static_cast<std::int32_t>(id);
+      testing::set_label(c.telemetry, static_cast<std::int32_t>(id));
       world.apply_command(id, c);
     }
     world.step();
@@ -355,7 +356,7 @@ max_ticks: 20
     while (!run_complete(session, world.tick(), s.max_ticks)) {
       for (RobotId id = 0; id < 3; ++id) {
         Command still;  // each holds its place's label (the communication graph's robots)
-        still.telemetry.label = static_cast<std::int32_t>(id);
+        testing::set_label(still.telemetry, static_cast<std::int32_t>(id));
         world.apply_command(id, still);
       }
       world.step();
@@ -503,6 +504,43 @@ TEST(ExperimentRunner, TheRegistryRefusesAnInconsistentDeclaration) {
   EXPECT_EQ(behaviour::check_telemetry(d), "behaviour 'unjudged': telemetry column 'seen' twice");
   d.telemetry = kFine;
   EXPECT_EQ(behaviour::check_telemetry(d), "");
+  // The known columns (behaviour/known_columns.hpp) may be declared, each with its meaning; a label only by a
+  // behaviour that forms a shape.
+  static constexpr std::array kKnown = {behaviour::TelemetryColumn{"leader", ""},
+                                        behaviour::TelemetryColumn{"seen", ""},
+                                        behaviour::TelemetryColumn{"parent", ""}};
+  static constexpr std::array kLabel = {behaviour::TelemetryColumn{"label", ""}};
+  d.telemetry = kKnown;
+  EXPECT_EQ(behaviour::check_telemetry(d), "");
+  const behaviour::KnownColumns known = behaviour::KnownColumns::of(&d);
+  EXPECT_EQ(known.leader, 0);
+  EXPECT_EQ(known.parent, 2);
+  EXPECT_EQ(known.label, -1);
+  EXPECT_EQ(known.net_force, -1);
+  d.telemetry = kLabel;
+  EXPECT_EQ(
+      behaviour::check_telemetry(d),
+      "behaviour 'unjudged': telemetry column 'label' is a place in a shape: the behaviour must declare "
+      "needs_shape");
+  d.needs_shape = true;
+  EXPECT_EQ(behaviour::check_telemetry(d), "");
+  // The paper's columns are where its controller writes them.
+  const behaviour::KnownColumns paper = behaviour::KnownColumns::of(&controller::paper_descriptor());
+  EXPECT_EQ(paper.label, controller::kPaperColumns.label);
+  EXPECT_EQ(paper.parent, controller::kPaperColumns.parent);
+  EXPECT_EQ(paper.leader, controller::kPaperColumns.leader);
+  EXPECT_EQ(paper.net_force, controller::kPaperColumns.net_force);
+  const Telemetry said{.state = 0, .extra = controller::paper_telemetry(3, 7, true, 0.25), .events = {}};
+  EXPECT_EQ(paper.label_of(said), 3);
+  EXPECT_EQ(paper.parent_of(said), 7);
+  EXPECT_TRUE(paper.leader_of(said));
+  EXPECT_EQ(paper.net_force_of(said), 0.25);
+  // Nothing reported yet, or a value that is no id: none.
+  EXPECT_EQ(paper.label_of(Telemetry{}), -1);
+  EXPECT_FALSE(paper.leader_of(Telemetry{}));
+  const Telemetry odd{.state = 0, .extra = {2.5, -3.0, 0.0, 0.0}, .events = {}};
+  EXPECT_EQ(paper.label_of(odd), -1);
+  EXPECT_EQ(paper.parent_of(odd), -1);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include "robot_agent/controller/builtins.hpp"
 #include "robot_agent/controller/robot_state.hpp"
+#include "tests/support/paper_columns.hpp"
 #include "world_server/run/comm_graph.hpp"
 #include "world_server/run/metrics_tracker.hpp"
 #include "world_server/run/run_events.hpp"
@@ -27,7 +28,7 @@ std::vector<RobotTruth> line_at(double x0, std::int32_t state) {
   for (RobotId i = 0; i < 4; ++i) {
     robots[i].id = i;
     robots[i].telemetry.state = state;
-    robots[i].telemetry.label = i < 3 ? static_cast<std::int32_t>(i) : -1;
+    testing::set_label(robots[i].telemetry, i < 3 ? static_cast<std::int32_t>(i) : -1);
     robots[i].pose = {x0 + i, 0.0, 0.0};
     robots[i].last_broadcast_tick = kSpeaking;
   }
@@ -106,14 +107,37 @@ TEST(EventDeriver, NamesStatesFromTheBehavioursOwnTable) {
   EXPECT_EQ(events[0]["to_name"], "unknown");
 }
 
+// Label and leader events come from the columns a behaviour declares as such (behaviour/known_columns.hpp):
+// the same numbers from a behaviour that does not are its own, and no event.
+TEST(EventDeriver, LabelAndLeaderEventsOnlyFromTheColumnsDeclaredAsSuch) {
+  for (const bool declared : {false, true}) {
+    EventDeriver deriver(3.0, swarmform::controller::paper_descriptor().states);
+    if (declared)
+      deriver.set_known_columns(std::vector<behaviour::KnownColumns>(4, controller::kPaperColumns));
+    std::size_t components = 0;
+    auto robots = line_at(0.0, kReached);
+    EXPECT_TRUE(deriver.observe(0, robots, false, components).empty());
+    testing::set_label(robots[3].telemetry, 7);
+    testing::set_leader(robots[1].telemetry, true);
+    std::vector<std::string> seen;
+    for (Tick t = 1; t <= kLeaderSettleTicks + 1; ++t) {
+      for (const auto& k : kinds(deriver.observe(t, robots, false, components))) seen.push_back(k);
+    }
+    const std::vector<std::string> want =
+        declared ? std::vector<std::string>{"label", "leader"} : std::vector<std::string>{};
+    EXPECT_EQ(seen, want) << "declared " << declared;
+  }
+}
+
 TEST(EventDeriver, StateLabelLeaderDeathAndGraph) {
   EventDeriver deriver(3.0, swarmform::controller::paper_descriptor().states);
+  deriver.set_known_columns(std::vector<behaviour::KnownColumns>(4, controller::kPaperColumns));
   std::size_t components = 0;
   auto robots = line_at(0.0, kReached);
   EXPECT_TRUE(deriver.observe(0, robots, false, components).empty());  // baseline
 
   robots[0].telemetry.state = kReady;
-  robots[3].telemetry.label = 7;
+  testing::set_label(robots[3].telemetry, 7);
   auto events = deriver.observe(1, robots, false, components);
   ASSERT_EQ(kinds(events), (std::vector<std::string>{"state", "label"}));
   EXPECT_EQ(events[0]["from"], kReached);
@@ -122,11 +146,11 @@ TEST(EventDeriver, StateLabelLeaderDeathAndGraph) {
 
   // An election: 1 and 2 both claim for a while (no leader yet), then 1 alone; it is taken after
   // kLeaderSettleTicks ticks alone, with `since` = its first tick alone.
-  robots[1].telemetry.leader = true;
-  robots[2].telemetry.leader = true;
+  testing::set_leader(robots[1].telemetry, true);
+  testing::set_leader(robots[2].telemetry, true);
   Tick t = 2;
   for (; t < 10; ++t) EXPECT_TRUE(deriver.observe(t, robots, false, components).empty());
-  robots[2].telemetry.leader = false;
+  testing::set_leader(robots[2].telemetry, false);
   const Tick alone_since = t;
   for (; t < alone_since + kLeaderSettleTicks - 1; ++t) {
     EXPECT_TRUE(deriver.observe(t, robots, false, components).empty());
@@ -137,7 +161,7 @@ TEST(EventDeriver, StateLabelLeaderDeathAndGraph) {
   EXPECT_EQ(events[0]["previous"], -1);
   EXPECT_EQ(events[0]["since"], alone_since);
   // A second claimant while the incumbent still claims changes nothing.
-  robots[2].telemetry.leader = true;
+  testing::set_leader(robots[2].telemetry, true);
   EXPECT_TRUE(deriver.observe(++t, robots, false, components).empty());
 
   // The leader dies: the world's alive flag is enough for a death event, the title is lost at once, and the
@@ -165,7 +189,7 @@ TEST(EventDeriver, StateLabelLeaderDeathAndGraph) {
   EXPECT_TRUE(deriver.observe(++t, robots, false, components).empty());
 
   // Graph: robots 0 and 2 (1 is dead) are 2 m apart: one component with a 3 m range.
-  robots[3].telemetry.label = -1;
+  testing::set_label(robots[3].telemetry, -1);
   events = deriver.observe(++t, robots, true, components);
   EXPECT_EQ(components, 1u);
   ASSERT_EQ(kinds(events), (std::vector<std::string>{"label"}));

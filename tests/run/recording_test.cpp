@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "common/input_error.hpp"
+#include "tests/support/paper_columns.hpp"
 #include "world_server/run/recorder.hpp"
 #include "world_server/run/recording_format.hpp"
 #include "world_server/run/recording_reader.hpp"
@@ -40,10 +41,10 @@ std::vector<RobotTruth> robots_at(Tick tick) {
     r.pose = {0.1 * i + 1.0 / 3.0 * static_cast<double>(tick), -1e-300 * i, std::numbers::pi - i};
     r.alive = i != 2;
     r.telemetry.state = static_cast<std::int32_t>(tick % 7);
-    r.telemetry.label = static_cast<std::int32_t>(i) - 1;
-    r.telemetry.parent = i == 0 ? -1 : 0;
-    r.telemetry.leader = i == 0;
-    r.telemetry.net_force = std::sqrt(2.0) * static_cast<double>(tick);
+    testing::set_label(r.telemetry, static_cast<std::int32_t>(i) - 1);
+    testing::set_parent(r.telemetry, i == 0 ? -1 : 0);
+    testing::set_leader(r.telemetry, i == 0);
+    testing::set_net_force(r.telemetry, std::sqrt(2.0) * static_cast<double>(tick));
     // Robot 1's LEDs change every tick (every byte value passes through one of them); the others' stay off.
     if (i == 1) {
       const auto v = static_cast<std::uint8_t>(tick * 37 % 256);
@@ -56,7 +57,9 @@ std::vector<RobotTruth> robots_at(Tick tick) {
 TEST(Recording, RobotsCsvAndEventsRoundTrip) {
   const auto dir = fresh_dir("roundtrip");
   {
-    RecordingWriter writer(dir.string());
+    // The paper's known columns: robots.csv's label, parent, leader and net_force are read from them.
+    RecordingWriter writer(dir.string(), {}, 0, {},
+                           std::vector<behaviour::KnownColumns>(4, controller::kPaperColumns));
     for (Tick t = 0; t < 25; ++t) writer.write_rows(t, robots_at(t));
     Event e = make_event(12, "state", 3);
     e["from"] = 1;
@@ -81,10 +84,12 @@ TEST(Recording, RobotsCsvAndEventsRoundTrip) {
       EXPECT_EQ(r.pose.theta, expected[i].pose.theta);
       EXPECT_EQ(r.alive, expected[i].alive);
       EXPECT_EQ(r.state, expected[i].telemetry.state);
-      EXPECT_EQ(r.label, expected[i].telemetry.label);
-      EXPECT_EQ(r.parent, expected[i].telemetry.parent);
-      EXPECT_EQ(r.leader, expected[i].telemetry.leader);
-      EXPECT_EQ(r.net_force, expected[i].telemetry.net_force);
+      const Telemetry& said = expected[i].telemetry;
+      EXPECT_EQ(r.label, static_cast<std::int32_t>(i) - 1);
+      EXPECT_EQ(r.label, controller::kPaperColumns.label_of(said));
+      EXPECT_EQ(r.parent, controller::kPaperColumns.parent_of(said));
+      EXPECT_EQ(r.leader, controller::kPaperColumns.leader_of(said));
+      EXPECT_EQ(r.net_force, controller::kPaperColumns.net_force_of(said));
       EXPECT_EQ(r.leds, expected[i].leds) << "robot " << i << " tick " << t;
     }
   }

@@ -74,7 +74,26 @@ TEST(TelemetryColumns, WithoutGroupsTheBehavioursColumnsAsTheyAre) {
   s.behaviour = &first;
   const TelemetryColumns c = telemetry_columns(s);
   EXPECT_EQ(c.names, (std::vector<std::string>{"a", "shared"}));
-  EXPECT_TRUE(c.of_robot.empty());
+  EXPECT_EQ(c.of_robot, (std::vector<std::vector<int>>(2, std::vector<int>{0, 1})));
+}
+
+// The known columns (label, parent, leader, net_force) are robots.csv's own: not among the behaviour's
+// columns, and found where the behaviour puts them.
+TEST(TelemetryColumns, TheKnownColumnsAreNotRecordedTwice) {
+  static constexpr std::array kWithKnown = {behaviour::TelemetryColumn{"leader", ""},
+                                            behaviour::TelemetryColumn{"a", ""},
+                                            behaviour::TelemetryColumn{"net_force", ""}};
+  const behaviour::Descriptor d = with_columns(kWithKnown);
+  Scenario s;
+  s.robots.resize(2);
+  s.behaviour = &d;
+  const TelemetryColumns c = telemetry_columns(s);
+  EXPECT_EQ(c.names, std::vector<std::string>{"a"});
+  EXPECT_EQ(c.of_robot, (std::vector<std::vector<int>>(2, std::vector<int>{1})));
+  ASSERT_EQ(c.known.size(), 2U);
+  EXPECT_EQ(c.known[1].leader, 0);
+  EXPECT_EQ(c.known[1].net_force, 2);
+  EXPECT_EQ(c.known[1].label, -1);
 }
 
 }  // namespace

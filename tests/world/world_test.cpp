@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "test_scenarios.hpp"
+#include "tests/support/paper_columns.hpp"
 #include "world_server/world/faults.hpp"
 #include "world_server/world/placement.hpp"
 
@@ -175,13 +176,13 @@ TEST(World, TelemetryFromTheLastCommandIsKept) {
   World w(open_scenario({Pose2D{0, 0, 0}}));
   Command c = drive(0, 0);
   c.telemetry.state = 3;
-  c.telemetry.label = 5;
-  c.telemetry.leader = true;
+  swarmform::testing::set_label(c.telemetry, 5);
+  swarmform::testing::set_leader(c.telemetry, true);
   w.apply_command(0, c);
   w.step();
   EXPECT_EQ(w.robots()[0].telemetry.state, 3);
-  EXPECT_EQ(w.robots()[0].telemetry.label, 5);
-  EXPECT_TRUE(w.robots()[0].telemetry.leader);
+  EXPECT_EQ(w.robots()[0].telemetry.extra, c.telemetry.extra);
+  EXPECT_EQ(controller::kPaperColumns.label_of(w.robots()[0].telemetry), 5);
 }
 
 TEST(World, ContactsCountedThroughTheWorld) {

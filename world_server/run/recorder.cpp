@@ -55,11 +55,13 @@ std::FILE* RecordingWriter::open(const std::string& path, const char* mode, std:
 }
 
 RecordingWriter::RecordingWriter(const std::string& run_dir, std::vector<std::string> extra_columns,
-                                 std::uint32_t sensors, std::vector<std::vector<int>> column_of_robot)
+                                 std::uint32_t sensors, std::vector<std::vector<int>> column_of_robot,
+                                 std::vector<behaviour::KnownColumns> known)
     : run_dir_(run_dir),
       sensors_(sensors),
       extra_columns_(extra_columns.size()),
-      column_of_robot_(std::move(column_of_robot)) {
+      column_of_robot_(std::move(column_of_robot)),
+      known_(std::move(known)) {
   std::error_code ec;
   std::filesystem::create_directories(run_dir_, ec);
   if (ec) throw std::runtime_error(run_dir_ + ": cannot create the run directory: " + ec.message());
@@ -173,11 +175,12 @@ void RecordingWriter::write_rows(Tick tick, const std::vector<RobotTruth>& robot
     row_buffer_.append(r.alive ? ",1," : ",0,");
     append_int(row_buffer_, r.telemetry.state);
     row_buffer_.push_back(',');
-    append_int(row_buffer_, r.telemetry.label);
+    const behaviour::KnownColumns known = r.id < known_.size() ? known_[r.id] : behaviour::KnownColumns{};
+    append_int(row_buffer_, known.label_of(r.telemetry));
     row_buffer_.push_back(',');
-    append_int(row_buffer_, r.telemetry.parent);
-    row_buffer_.append(r.telemetry.leader ? ",1," : ",0,");
-    append_double(row_buffer_, r.telemetry.net_force);
+    append_int(row_buffer_, known.parent_of(r.telemetry));
+    row_buffer_.append(known.leader_of(r.telemetry) ? ",1," : ",0,");
+    append_double(row_buffer_, known.net_force_of(r.telemetry));
     row_buffer_.push_back(',');
     append_led_text(row_buffer_, r.leds);
     // The behaviour's columns: its values, or empty fields before it has said any (telemetry_check.hpp

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "behaviour/known_columns.hpp"
 #include "world_server/world/world.hpp"
 
 namespace swarmform::world {
@@ -35,10 +36,13 @@ class RecordingWriter {
   // `extra_columns`: the behaviour's telemetry columns (its descriptor's), written after the fixed ones.
   // `sensors`: the optional sensors the behaviour declares (behaviour::Sensor bits): readings.csv records
   // them; 0: no readings.csv.
-  // `column_of_robot` (robot groups, telemetry_columns.hpp): for robot id, the index into its telemetry.extra
-  // of each extra column, -1 for none (left empty); empty: column k is extra[k] for every robot.
+  // `column_of_robot` (telemetry_columns.hpp): for robot id, the index into its telemetry.extra of each
+  // extra column, -1 for none (left empty); empty: column k is extra[k] for every robot.
+  // `known` (by robot id): where its behaviour's known columns are (behaviour/known_columns.hpp), recorded in
+  // robots.csv's label, parent, leader and net_force; a robot without: -1, -1, 0, 0.
   explicit RecordingWriter(const std::string& run_dir, std::vector<std::string> extra_columns = {},
-                           std::uint32_t sensors = 0, std::vector<std::vector<int>> column_of_robot = {});
+                           std::uint32_t sensors = 0, std::vector<std::vector<int>> column_of_robot = {},
+                           std::vector<behaviour::KnownColumns> known = {});
   ~RecordingWriter();
   RecordingWriter(const RecordingWriter&) = delete;
   RecordingWriter& operator=(const RecordingWriter&) = delete;
@@ -85,6 +89,7 @@ class RecordingWriter {
   std::vector<double> sensor_values_;
   std::size_t extra_columns_ = 0;
   std::vector<std::vector<int>> column_of_robot_;
+  std::vector<behaviour::KnownColumns> known_;
   Tick ticks_since_flush_ = 0;
 };
 

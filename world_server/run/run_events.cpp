@@ -91,10 +91,11 @@ std::vector<Event> EventDeriver::observe(Tick tick, const std::vector<RobotTruth
       e["to_name"] = state_name(now.state, i);
       out.push_back(std::move(e));
     }
-    if (before.label != now.label) {
+    const behaviour::KnownColumns known = known_of(i);
+    if (known.label_of(before) != known.label_of(now)) {
       Event e = make_event(tick, "label", r.id);
-      e["from"] = before.label;
-      e["to"] = now.label;
+      e["from"] = known.label_of(before);
+      e["to"] = known.label_of(now);
       out.push_back(std::move(e));
     }
     s.telemetry = now;
@@ -111,7 +112,7 @@ std::vector<Event> EventDeriver::observe(Tick tick, const std::vector<RobotTruth
 // it alone for kLeaderSettleTicks ticks (the event is written then, with `since` = the first of those ticks).
 void EventDeriver::observe_leader(Tick tick, const std::vector<RobotTruth>& robots, std::vector<Event>& out) {
   const auto claims = [&](RobotId id) {
-    return id < robots.size() && robots[id].alive && robots[id].telemetry.leader;
+    return id < robots.size() && robots[id].alive && known_of(id).leader_of(robots[id].telemetry);
   };
   if (leader_ && claims(*leader_)) {
     candidate_.reset();
@@ -123,7 +124,7 @@ void EventDeriver::observe_leader(Tick tick, const std::vector<RobotTruth>& robo
   }
   std::optional<RobotId> only;
   for (const auto& r : robots) {
-    if (!r.alive || !r.telemetry.leader) continue;
+    if (!r.alive || !known_of(r.id).leader_of(r.telemetry)) continue;
     if (only) {  // contested: nobody yet
       candidate_.reset();
       return;
@@ -150,7 +151,9 @@ void EventDeriver::observe_graph(Tick tick, const std::vector<RobotTruth>& robot
   std::vector<Vec2> points;
   std::vector<RobotId> ids;
   for (const auto& r : robots) {
-    if (!r.alive || r.telemetry.label < 0) continue;
+    // The formation's robots: those holding a label, in a run whose behaviours report labels; every live one
+    // in a run where none does.
+    if (!r.alive || (labelled_run_ && known_of(r.id).label_of(r.telemetry) < 0)) continue;
     points.push_back({r.pose.x, r.pose.y});
     ids.push_back(r.id);
   }

@@ -4,6 +4,7 @@
 // event is one JSON object, written as one line of events.jsonl (docs/recording-format.md).
 #pragma once
 
+#include <algorithm>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -12,6 +13,7 @@
 #include <span>
 
 #include "behaviour/descriptor.hpp"
+#include "behaviour/known_columns.hpp"
 #include "world_server/world/world.hpp"
 
 namespace swarmform::world {
@@ -42,6 +44,12 @@ class EventDeriver {
   void set_robot_states(std::vector<std::span<const behaviour::StateSpec>> by_id) {
     robot_states_ = std::move(by_id);
   }
+  // Where each robot's label and leader flag are (behaviour/known_columns.hpp), by id: a robot beyond the
+  // list reports neither, so its label and leader events are never derived.
+  void set_known_columns(std::vector<behaviour::KnownColumns> by_id) {
+    known_ = std::move(by_id);
+    labelled_run_ = std::any_of(known_.begin(), known_.end(), [](const auto& k) { return k.label >= 0; });
+  }
 
   // Compares this tick's truth with what was seen before. The first call only sets the baseline. With
   // `track_graph` the shape robots' communication graph is checked and its component count is put in
@@ -67,7 +75,13 @@ class EventDeriver {
   double comm_range_;
   std::span<const behaviour::StateSpec> states_;
   std::vector<std::span<const behaviour::StateSpec>> robot_states_;  // by id; empty: states_ for all
-  std::vector<Seen> seen_;                                           // by id
+  std::vector<behaviour::KnownColumns> known_;                       // by id
+  bool labelled_run_ =
+      false;  // a behaviour of the run reports labels (the graph is then its labelled robots')
+  behaviour::KnownColumns known_of(std::size_t id) const {
+    return id < known_.size() ? known_[id] : behaviour::KnownColumns{};
+  }
+  std::vector<Seen> seen_;  // by id
   bool baseline_ = false;
   struct Candidate {
     RobotId id = 0;

@@ -62,6 +62,7 @@ struct RunSession::Impl {
                                                       : std::span<const behaviour::StateSpec>{}) {
     if (options.record_every < 1) throw std::invalid_argument("RunOptions::record_every must be at least 1");
     const Scenario& scenario = world.scenario();
+    events.set_known_columns(known_columns_by_robot(scenario));
     if (!scenario.groups.empty()) {
       std::vector<std::span<const behaviour::StateSpec>> by_id;
       for (RobotId id = 0; id < scenario.robots.size(); ++id)
@@ -70,7 +71,8 @@ struct RunSession::Impl {
     }
     if (!options.run_dir.empty()) {
       const TelemetryColumns columns = telemetry_columns(scenario);
-      writer.emplace(options.run_dir, columns.names, sensors_of_run(scenario), columns.of_robot);
+      writer.emplace(options.run_dir, columns.names, sensors_of_run(scenario), columns.of_robot,
+                     columns.known);
       auto description = describe_world(world.scenario(), options.mode);
       description["fragment_range"] = fragment_range;
       description["record_every"] = options.record_every;

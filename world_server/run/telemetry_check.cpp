@@ -1,6 +1,7 @@
 #include "world_server/run/telemetry_check.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 
 #include "world_server/world/robot_groups.hpp"
@@ -13,6 +14,13 @@ namespace {
 // UTF-8 have no business there.
 bool printable(const std::string& s) {
   return std::all_of(s.begin(), s.end(), [](char c) { return c >= 0x20 && c < 0x7f; });
+}
+
+// The shortest text that reads back as `v` (2000000000, -1, 0.5).
+std::string number_text(double v) {
+  char buf[32];
+  const auto res = std::to_chars(buf, buf + sizeof(buf), v);
+  return std::string(buf, res.ptr);
 }
 
 void note(TelemetryDrops& d, const std::string& what) {
@@ -34,6 +42,7 @@ TelemetryLimits telemetry_limits(const Scenario& scenario, std::size_t group) {
       l.max_state = std::max(l.max_state, st.value);
     }
     l.extra = d->telemetry.size();
+    l.known = behaviour::KnownColumns::of(d);
   }
   return l;
 }
@@ -46,22 +55,6 @@ TelemetryDrops check_telemetry(Telemetry& t, const Telemetry& accepted, const Te
     t.state = accepted.state;
     ++d.fields;
   }
-  if (t.label < -1 || t.label >= limits.labels) {
-    note(d, "label " + std::to_string(t.label) + " outside -1.." + std::to_string(limits.labels - 1));
-    t.label = accepted.label;
-    ++d.fields;
-  }
-  if (t.parent < -1 || (t.parent >= 0 && static_cast<std::uint32_t>(t.parent) >= limits.robots)) {
-    note(d, "parent " + std::to_string(t.parent) + " outside -1.." + std::to_string(limits.robots) + "-1");
-    t.parent = accepted.parent;
-    ++d.fields;
-  }
-  if (!std::isfinite(t.net_force) || t.net_force < 0.0 || t.net_force > limits.max_net_force) {
-    note(d, "net_force " + std::to_string(t.net_force) + " not finite in 0.." +
-                std::to_string(limits.max_net_force));
-    t.net_force = accepted.net_force;
-    ++d.fields;
-  }
   bool extra_ok = t.extra.empty() || t.extra.size() == limits.extra;
   for (const double v : t.extra) extra_ok = extra_ok && std::isfinite(v);
   if (!extra_ok) {
@@ -70,6 +63,21 @@ TelemetryDrops check_telemetry(Telemetry& t, const Telemetry& accepted, const Te
     t.extra = accepted.extra;
     ++d.fields;
   }
+  // A known column's value out of its range takes the value accepted before (none when there is none).
+  const auto check_known = [&](int at, double low, double high, bool whole, const char* name, double none) {
+    if (at < 0 || static_cast<std::size_t>(at) >= t.extra.size()) return;
+    double& v = t.extra[static_cast<std::size_t>(at)];
+    if (v >= low && v <= high && (!whole || v == std::floor(v))) return;
+    note(d, std::string(name) + " " + number_text(v) + " outside " + number_text(low) + ".." +
+                number_text(high));
+    v = t.extra.size() == accepted.extra.size() ? accepted.extra[static_cast<std::size_t>(at)] : none;
+    ++d.fields;
+  };
+  const behaviour::KnownColumns& k = limits.known;
+  check_known(k.label, -1.0, static_cast<double>(limits.labels) - 1.0, true, "label", -1.0);
+  check_known(k.parent, -1.0, static_cast<double>(limits.robots) - 1.0, true, "parent", -1.0);
+  check_known(k.leader, 0.0, 1.0, true, "leader", 0.0);
+  check_known(k.net_force, 0.0, limits.max_net_force, false, "net_force", 0.0);
   if (!t.events.empty()) {
     std::size_t kept = 0;
     for (std::size_t i = 0; i < t.events.size(); ++i) {

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <string>
 
+#include "behaviour/known_columns.hpp"
 #include "common/types.hpp"
 #include "world_server/world/scenario.hpp"
 
@@ -16,9 +17,13 @@ namespace swarmform::world {
 
 // The bounds of one run's telemetry (from the scenario).
 struct TelemetryLimits {
-  std::int32_t labels = 0;            // a label is -1 (none) or 0..labels-1
-  std::uint32_t robots = 0;           // a parent is -1 (none) or 0..robots-1
-  double max_net_force = 1e6;         // |F_net| is finite and in 0..max_net_force
+  // The known columns (behaviour/known_columns.hpp) of the behaviour, where it declares them: a label is
+  // -1 (none) or 0..labels-1, a parent -1 (none) or 0..robots-1, a leader 0 or 1, a net force in
+  // 0..max_net_force.
+  behaviour::KnownColumns known;
+  std::int32_t labels = 0;
+  std::uint32_t robots = 0;
+  double max_net_force = 1e6;
   std::size_t max_events = 16;        // event strings in one command; more are dropped
   std::size_t max_event_bytes = 256;  // a longer event string is dropped
   std::int32_t min_state = 0;         // a state is one of the behaviour's (its descriptor's `states`)
@@ -32,7 +37,8 @@ TelemetryLimits telemetry_limits(const Scenario& scenario, std::size_t group = 0
 
 // What one check dropped (0 everywhere for an honest controller).
 struct TelemetryDrops {
-  std::uint32_t fields = 0;  // state, label, parent, net_force, extra: each one out of range
+  std::uint32_t fields =
+      0;  // the state, the columns (as a whole), a known column's value: each one out of range
   std::uint32_t events = 0;  // event strings dropped (too many, too long, or not printable ASCII)
   std::string first;         // the first problem, e.g. "label 2000000000 outside -1..2" (for the log)
   bool any() const { return fields > 0 || events > 0; }

@@ -6,7 +6,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
+#include "behaviour/known_columns.hpp"
 #include "world_server/world/scenario.hpp"
 
 namespace swarmform::world {
@@ -44,6 +46,15 @@ inline const Mission& mission_of(const Scenario& s, RobotId id) {
 
 inline const behaviour::Descriptor* behaviour_of(const Scenario& s, RobotId id) {
   return s.groups.empty() ? s.behaviour : s.groups[group_of(s, id)].behaviour;
+}
+
+// Where each robot's known telemetry columns are (behaviour/known_columns.hpp), by id: its own behaviour's.
+inline std::vector<behaviour::KnownColumns> known_columns_by_robot(const Scenario& s) {
+  std::vector<behaviour::KnownColumns> out;
+  out.reserve(s.robots.size());
+  for (RobotId id = 0; id < s.robots.size(); ++id)
+    out.push_back(behaviour::KnownColumns::of(behaviour_of(s, id)));
+  return out;
 }
 
 // The optional sensors any robot of the run reads: the world equips every robot alike.

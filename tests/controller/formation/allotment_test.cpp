@@ -13,6 +13,7 @@
 #include "robot_agent/controller/builtins.hpp"
 #include "robot_agent/controller/message.hpp"
 #include "robot_agent/controller/paper_controller.hpp"
+#include "robot_agent/controller/paper_telemetry.hpp"
 
 namespace swarmform::controller {
 namespace {
@@ -181,7 +182,8 @@ TEST(Allotment, ASearcherTakesTheClosestOfferedLabelAndLosesItToAHigherId) {
   ASSERT_EQ(c.state(), RobotState::Moving);
   EXPECT_EQ(c.label(), 2);
   EXPECT_TRUE(has_event(cmd, "label_taken 2"));
-  EXPECT_EQ(cmd.telemetry.parent, -1);  // the seed's label is not yet in its stigmergy
+  EXPECT_EQ(controller::kPaperColumns.parent_of(cmd.telemetry),
+            -1);  // the seed's label is not yet in its stigmergy
 
   // Robot 9 claims label 2 too, at the same version: the higher id keeps it.
   auto rival = shape_robot(9, 2, {0.5, -1.5}, {});

@@ -8,6 +8,7 @@
 #include "mini_world.hpp"
 #include "robot_agent/controller/message.hpp"
 #include "robot_agent/controller/paper_controller.hpp"
+#include "robot_agent/controller/paper_telemetry.hpp"
 
 namespace swarmform::controller {
 namespace {
@@ -98,7 +99,7 @@ TEST(PaperControllerMini, TheRobotClosestToTheOriginBecomesTheSeed) {
   }
   for (int t = 0; t < 60; ++t) w.step();
   for (std::size_t i = 0; i < w.size(); ++i) {
-    if (w.last(i).telemetry.label == 0) {
+    if (controller::kPaperColumns.label_of(w.last(i).telemetry) == 0) {
       EXPECT_EQ(i, closest);
     }
   }
@@ -112,7 +113,8 @@ TEST(PaperControllerMini, TriangleFormsAndEveryRobotPassesTheBarrier) {
   EXPECT_EQ(count_ready(w), 9);
   EXPECT_GT(min_sep, 2 * kRobotRadius);
   std::set<int> labels;
-  for (std::size_t i = 0; i < w.size(); ++i) labels.insert(w.last(i).telemetry.label);
+  for (std::size_t i = 0; i < w.size(); ++i)
+    labels.insert(controller::kPaperColumns.label_of(w.last(i).telemetry));
   EXPECT_EQ(labels.size(), 9u);
 }
 
@@ -135,16 +137,16 @@ TEST(PaperControllerMini, ADeadRobotsLabelGoesToASpare) {
     w.step();
     for (std::size_t i = 0; i < w.size(); ++i) {
       const auto& tm = w.last(i).telemetry;
-      if (tm.state == static_cast<int>(RobotState::Moving) && tm.label > 0) victim = i;
+      if (tm.state == static_cast<int>(RobotState::Moving) && kPaperColumns.label_of(tm) > 0) victim = i;
     }
   }
   ASSERT_TRUE(victim.has_value());
-  const int lost_label = w.last(*victim).telemetry.label;
+  const int lost_label = controller::kPaperColumns.label_of(w.last(*victim).telemetry);
   w.kill(*victim);
   EXPECT_LT(run_until_ready(w, 9, 6000), 6000u);
   bool taken = false;
   for (std::size_t i = 0; i < w.size(); ++i) {
-    if (w.alive(i) && w.last(i).telemetry.label == lost_label) taken = true;
+    if (w.alive(i) && controller::kPaperColumns.label_of(w.last(i).telemetry) == lost_label) taken = true;
   }
   EXPECT_TRUE(taken);
 }
@@ -156,7 +158,7 @@ TEST(PaperControllerMini, WithNoSpareTheShapeCompletesWithoutTheDeadRobotsLabel)
     w.step();
     for (std::size_t i = 0; i < w.size(); ++i) {
       const auto& tm = w.last(i).telemetry;
-      if (tm.state == static_cast<int>(RobotState::Reached) && tm.label > 0) victim = i;
+      if (tm.state == static_cast<int>(RobotState::Reached) && kPaperColumns.label_of(tm) > 0) victim = i;
     }
   }
   ASSERT_TRUE(victim.has_value());

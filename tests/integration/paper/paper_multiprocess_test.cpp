@@ -345,7 +345,7 @@ TEST_F(PaperMultiProcess, WouldBeSeedKilledAtTick5AnotherIsElectedAndTheSwarmArr
 
 // Telemetry is checked (docs/faults.md): the agent that owns robot 4 is a liar. It moves exactly as an honest
 // agent (the real controller drives it) but every command's telemetry says: state arrived, label and parent
-// 2e9, net force NaN, and event strings of 20 KB, with control bytes, and "formed". The world drops and
+// 2e9, net force 1e300, and event strings of 20 KB, with control bytes, and "formed". The world drops and
 // counts what is out of range; nothing of it reaches robots.csv or events.jsonl; the metrics and the end come
 // from the world's poses, so formation_tick, goal_tick and the trajectory are the honest run's. Without the
 // telemetry check, robots.csv carries label 2000000000 and events.jsonl the 20 KB string. (Domain: base + 36,

@@ -19,6 +19,7 @@
 
 #include "harness/harness.hpp"
 #include "robot_agent/controller/builtins.hpp"
+#include "robot_agent/controller/paper_telemetry.hpp"
 #include "robot_agent/controller/robot_state.hpp"
 #include "tests/sim/measured.hpp"
 #include "world_server/world/scenario.hpp"
@@ -89,7 +90,8 @@ std::string snapshot(const harness::Harness& h) {
   for (const auto& r : h.world().robots()) {
     char line[160];
     std::snprintf(line, sizeof line, "  robot %u %s state %d label %d at (%.2f, %.2f)\n", r.id,
-                  r.alive ? "alive" : "dead", r.telemetry.state, r.telemetry.label, r.pose.x, r.pose.y);
+                  r.alive ? "alive" : "dead", r.telemetry.state,
+                  controller::kPaperColumns.label_of(r.telemetry), r.pose.x, r.pose.y);
     out += line;
   }
   return out;
@@ -99,7 +101,7 @@ int state_of(const harness::Harness& h, RobotId id) {
   return h.world().robots()[id].telemetry.state;
 }
 int label_of(const harness::Harness& h, RobotId id) {
-  return h.world().robots()[id].telemetry.label;
+  return controller::kPaperColumns.label_of(h.world().robots()[id].telemetry);
 }
 
 // ---- Every shape, five seeds ----

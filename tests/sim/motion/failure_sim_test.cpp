@@ -8,6 +8,7 @@
 #include <string>
 
 #include "robot_agent/controller/builtins.hpp"
+#include "robot_agent/controller/paper_telemetry.hpp"
 #include "tests/sim/measured.hpp"
 #include "tests/sim/motion/preformed.hpp"
 #include "tests/sim/motion/sim_checks.hpp"
@@ -30,7 +31,7 @@ world::Scenario short_trip() {
 
 std::optional<RobotId> reported_leader(const PreformedRun& run) {
   for (const auto& r : run.world.robots()) {
-    if (r.alive && r.telemetry.leader) return r.id;
+    if (r.alive && controller::kPaperColumns.leader_of(r.telemetry)) return r.id;
   }
   return std::nullopt;
 }
@@ -72,10 +73,12 @@ TEST(MotionFailures, KilledParentsChildrenReParentAndArrive) {
   run.run(kKillTick);
   // The non-leader robot with the most children.
   std::map<std::int32_t, std::vector<RobotId>> children;
-  for (const auto& r : run.world.robots()) children[r.telemetry.parent].push_back(r.id);
+  for (const auto& r : run.world.robots())
+    children[controller::kPaperColumns.parent_of(r.telemetry)].push_back(r.id);
   std::optional<RobotId> victim;
   for (const auto& r : run.world.robots()) {
-    if (r.telemetry.leader || !children.count(static_cast<std::int32_t>(r.id))) continue;
+    if (controller::kPaperColumns.leader_of(r.telemetry) || !children.count(static_cast<std::int32_t>(r.id)))
+      continue;
     if (!victim || children[static_cast<std::int32_t>(r.id)].size() >
                        children[static_cast<std::int32_t>(*victim)].size()) {
       victim = r.id;
@@ -87,7 +90,7 @@ TEST(MotionFailures, KilledParentsChildrenReParentAndArrive) {
   const Tick killed_at = run.world.tick();
   auto reparented = [&](const PreformedRun& r) {
     for (RobotId c : orphans) {
-      const auto p = r.world.robots()[c].telemetry.parent;
+      const auto p = controller::kPaperColumns.parent_of(r.world.robots()[c].telemetry);
       if (p < 0 || static_cast<RobotId>(p) == *victim || !r.world.alive(static_cast<RobotId>(p)))
         return false;
     }

@@ -12,6 +12,7 @@
 
 #include "harness/harness.hpp"
 #include "robot_agent/controller/builtins.hpp"
+#include "robot_agent/controller/paper_telemetry.hpp"
 #include "tests/sim/measured.hpp"
 #include "tests/sim/motion/sim_checks.hpp"
 #include "world_server/world/scenario.hpp"
@@ -39,8 +40,8 @@ struct PaperRunRecord {
 double left_reach(const std::vector<world::RobotTruth>& robots) {
   double leader_y = 0.0, max_y = -1e9;
   for (const auto& r : robots) {
-    if (!r.alive || r.telemetry.label < 0) continue;
-    if (r.telemetry.leader) leader_y = r.pose.y;
+    if (!r.alive || controller::kPaperColumns.label_of(r.telemetry) < 0) continue;
+    if (controller::kPaperColumns.leader_of(r.telemetry)) leader_y = r.pose.y;
     max_y = std::max(max_y, r.pose.y);
   }
   return max_y - leader_y;
@@ -74,7 +75,8 @@ TEST(MotionPaperRun, EveryRobotArrivesPastBothObstaclesAndTheShapeRecovers) {
       if (rec.passed[k]) continue;
       bool past = true;
       for (const auto& r : robots) {
-        if (r.alive && r.telemetry.label >= 0 && r.pose.x - kRobotRadius <= far_x(scenario.obstacles[k]))
+        if (r.alive && controller::kPaperColumns.label_of(r.telemetry) >= 0 &&
+            r.pose.x - kRobotRadius <= far_x(scenario.obstacles[k]))
           past = false;
       }
       if (past) rec.passed[k] = t;

@@ -2,6 +2,7 @@
 
 #include "robot_agent/controller/drive.hpp"
 #include "robot_agent/controller/message.hpp"
+#include "robot_agent/controller/paper_telemetry.hpp"
 #include "robot_agent/controller/params.hpp"
 
 namespace swarmform::sim_motion {
@@ -75,10 +76,8 @@ Command PreformedController::step(const Perception& p) {
   m.entries = stigmergy_.outgoing(controller::kMaxEntriesPerMessage);
   cmd.message = controller::encode_message(m);
   cmd.telemetry.state = static_cast<std::int32_t>(state_);
-  cmd.telemetry.label = static_cast<std::int32_t>(self_);
-  cmd.telemetry.parent = out.parent;
-  cmd.telemetry.leader = out.leader;
-  cmd.telemetry.net_force = out.net_force;
+  cmd.telemetry.extra =
+      controller::paper_telemetry(static_cast<std::int32_t>(self_), out.parent, out.leader, out.net_force);
   cmd.telemetry.events = out.events;
   return cmd;
 }

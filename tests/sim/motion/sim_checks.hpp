@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "common/mission.hpp"
+#include "robot_agent/controller/paper_telemetry.hpp"
 #include "robot_agent/controller/robot_state.hpp"
 #include "world_server/world/world.hpp"
 
@@ -21,9 +22,9 @@ inline std::string tree_problem(const std::vector<world::RobotTruth>& robots) {
   std::map<RobotId, std::int32_t> parent;
   std::vector<RobotId> leaders;
   for (const auto& r : robots) {
-    if (!r.alive || r.telemetry.label < 0) continue;
-    parent[r.id] = r.telemetry.parent;
-    if (r.telemetry.leader) leaders.push_back(r.id);
+    if (!r.alive || controller::kPaperColumns.label_of(r.telemetry) < 0) continue;
+    parent[r.id] = controller::kPaperColumns.parent_of(r.telemetry);
+    if (controller::kPaperColumns.leader_of(r.telemetry)) leaders.push_back(r.id);
   }
   if (leaders.size() != 1) return std::to_string(leaders.size()) + " robots say they lead";
   const RobotId root = leaders[0];
@@ -50,7 +51,7 @@ inline std::string tree_problem(const std::vector<world::RobotTruth>& robots) {
 inline std::size_t neighbour_components(const std::vector<world::RobotTruth>& robots, double range) {
   std::vector<const world::RobotTruth*> live;
   for (const auto& r : robots) {
-    if (r.alive && r.telemetry.label >= 0) live.push_back(&r);
+    if (r.alive && controller::kPaperColumns.label_of(r.telemetry) >= 0) live.push_back(&r);
   }
   std::vector<std::size_t> comp(live.size());
   for (std::size_t i = 0; i < live.size(); ++i) comp[i] = i;
@@ -72,7 +73,7 @@ inline std::size_t neighbour_components(const std::vector<world::RobotTruth>& ro
 
 inline bool all_arrived(const std::vector<world::RobotTruth>& robots) {
   for (const auto& r : robots) {
-    if (r.alive && r.telemetry.label >= 0 &&
+    if (r.alive && controller::kPaperColumns.label_of(r.telemetry) >= 0 &&
         r.telemetry.state != static_cast<std::int32_t>(RobotState::Arrived)) {
       return false;
     }
@@ -110,7 +111,7 @@ class ArrivalJudge {
       }
       if (a.since < 0 || std::hypot(r.pose.x - a.x, r.pose.y - a.y) > 0.005)
         a = {r.pose.x, r.pose.y, static_cast<long>(tick)};
-      const int label = r.telemetry.label;
+      const int label = controller::kPaperColumns.label_of(r.telemetry);
       if (label < 0 || static_cast<std::size_t>(label) >= places_.size()) continue;
       pairs.push_back({places_[static_cast<std::size_t>(label)], {r.pose.x, r.pose.y}});
       if (static_cast<long>(tick) < a.since + 10) at_rest = false;
