@@ -4,6 +4,8 @@
 // behaviour that declares none has none: the world never makes up a label, a parent, a leader or a force.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <string_view>
@@ -23,6 +25,12 @@ inline constexpr std::string_view kParentColumn = "parent";
 inline constexpr std::string_view kLeaderColumn = "leader";
 // The magnitude of the force it steers by (>= 0, finite). Plotted against the distance travelled.
 inline constexpr std::string_view kNetForceColumn = "net_force";
+
+inline constexpr std::array<std::string_view, 4> kKnownColumns = {kLabelColumn, kParentColumn, kLeaderColumn,
+                                                                  kNetForceColumn};
+inline constexpr bool is_known_column(std::string_view name) {
+  return std::find(kKnownColumns.begin(), kKnownColumns.end(), name) != kKnownColumns.end();
+}
 
 // Where a behaviour's known columns are in Telemetry::extra (-1: not declared), and their values in one
 // telemetry. A value not reported yet (extra empty) reads as "none": -1, not a leader, 0.

@@ -85,8 +85,7 @@ dds::BehaviourView behaviour_of(const json& world, const std::vector<std::string
   std::vector<json> descriptors = {world.value("behaviour_descriptor", json::object())};
   for (const json& g : world.value("groups", json::array()))
     if (g.is_object()) descriptors.push_back(g.value("behaviour_descriptor", json::object()));
-  for (const std::string_view known : {behaviour::kLabelColumn, behaviour::kParentColumn,
-                                       behaviour::kLeaderColumn, behaviour::kNetForceColumn}) {
+  for (const std::string_view known : behaviour::kKnownColumns) {
     const auto declares = [&](const json& d) {
       if (!d.is_object() || !d.contains("telemetry") || !d["telemetry"].is_array()) return false;
       for (const json& t : d["telemetry"])

@@ -24,15 +24,12 @@ struct TelemetryColumns {
 
 inline TelemetryColumns telemetry_columns(const Scenario& s) {
   TelemetryColumns out;
-  const auto is_known = [](std::string_view name) {
-    return name == behaviour::kLabelColumn || name == behaviour::kParentColumn ||
-           name == behaviour::kLeaderColumn || name == behaviour::kNetForceColumn;
-  };
   for (std::size_t k = 0; k < group_count(s); ++k) {
     const behaviour::Descriptor* d = group_view(s, k).behaviour;
     if (d == nullptr) continue;
     for (const auto& c : d->telemetry) {
-      if (!is_known(c.name) && std::find(out.names.begin(), out.names.end(), c.name) == out.names.end())
+      if (!behaviour::is_known_column(c.name) &&
+          std::find(out.names.begin(), out.names.end(), c.name) == out.names.end())
         out.names.emplace_back(c.name);
     }
   }
