@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -560,7 +561,10 @@ Vec2 PaperMotion::motion_velocity(const FormationContext& ctx, MotionStep& out) 
     push.place = desire.place;
     push.place_still = desire.place_still;
     push.offset = vsub(ctx.places[static_cast<std::size_t>(ctx.label)], live_centroid_);
-    push.surface = [&] { return trace_.surface(position, ctx.tick, surface_within, kTraceTicks); };
+    // Held by reference: a std::function of a lambda with four captures would allocate on every tick of every
+    // robot in Motion; one of a reference_wrapper never does.
+    const auto find_surface = [&] { return trace_.surface(position, ctx.tick, surface_within, kTraceTicks); };
+    push.surface = std::cref(find_surface);
     push.large = view.sense.size == ObstacleSize::Large;
     push.arrival_tolerance = p_.arrival_tolerance;
     turn_.push(push);
