@@ -404,23 +404,28 @@ def parse_summary(text: str) -> Optional[dict[str, Any]]:
     return None
 
 
+def _json_of(cmd: list[str], what: str, usable: Callable[[dict[str, Any]], bool]) -> dict[str, Any]:
+    """The JSON object `cmd` prints, when it exits 0 and `usable` takes it; else SweepError with its message and
+    the command (`what`: "probe", "check")."""
+    try:
+        p = subprocess.run(cmd, capture_output=True, timeout=PROBE_TIMEOUT_S, encoding="utf-8",
+                           errors="backslashreplace", preexec_fn=die_with_parent)
+    except subprocess.TimeoutExpired:
+        raise SweepError(f"{command_text(cmd)}: no answer within {PROBE_TIMEOUT_S:.0f} s") from None
+    out = parse_summary(p.stdout)
+    if p.returncode != 0 or out is None or not usable(out):
+        msg = p.stderr.strip() or p.stdout.strip()[:300] or f"exit {p.returncode}"
+        raise SweepError(f"{msg}\n(the {what}: {command_text(cmd)})")
+    return out
+
+
 def probe(exe: str, scenario: str, shape: Optional[str], robots: Optional[int], params: Optional[Combo] = None,
           plugin_dirs: Sequence[str] = (), field_flags: Sequence[str] = ()) -> dict[str, Any]:
     """Runs one tick: validates the files (and the --param values, and the scenario fields' --set flags) and returns
     the summary (robots, labels, shape_file)."""
     cmd = (base_command(exe, scenario, shape, robots, None, 1, plugin_dirs) + param_flags(params or {}) +
            list(field_flags) + ["--no-record", "--quiet"])
-    try:
-        p = subprocess.run(cmd, capture_output=True, timeout=PROBE_TIMEOUT_S, encoding="utf-8",
-                           errors="backslashreplace",
-                           preexec_fn=die_with_parent)
-    except subprocess.TimeoutExpired:
-        raise SweepError(f"{command_text(cmd)}: no answer within {PROBE_TIMEOUT_S:.0f} s") from None
-    summary = parse_summary(p.stdout)
-    if p.returncode != 0 or summary is None or not isinstance(summary.get("robots"), int):
-        msg = p.stderr.strip() or p.stdout.strip()[:300] or f"exit {p.returncode}"
-        raise SweepError(f"{msg}\n(the probe: {command_text(cmd)})")
-    return summary
+    return _json_of(cmd, "probe", lambda s: isinstance(s.get("robots"), int))
 
 
 def check_info(exe: str, scenario: str, shape: Optional[str], robots: Optional[int], params: Optional[Combo] = None,
@@ -429,16 +434,7 @@ def check_info(exe: str, scenario: str, shape: Optional[str], robots: Optional[i
     every key the run's summary will have), for the --expect keys and the declared columns."""
     cmd = (base_command(exe, scenario, shape, robots, None, None, plugin_dirs) + param_flags(params or {}) +
            list(field_flags) + ["--check"])
-    try:
-        p = subprocess.run(cmd, capture_output=True, timeout=PROBE_TIMEOUT_S, encoding="utf-8",
-                           errors="backslashreplace", preexec_fn=die_with_parent)
-    except subprocess.TimeoutExpired:
-        raise SweepError(f"{command_text(cmd)}: no answer within {PROBE_TIMEOUT_S:.0f} s") from None
-    info = parse_summary(p.stdout)
-    if p.returncode != 0 or info is None or not isinstance(info.get("summary_template"), dict):
-        msg = p.stderr.strip() or p.stdout.strip()[:300] or f"exit {p.returncode}"
-        raise SweepError(f"{msg}\n(the check: {command_text(cmd)})")
-    return info
+    return _json_of(cmd, "check", lambda s: isinstance(s.get("summary_template"), dict))
 
 
 def probe_exec(opts: argparse.Namespace, scenario: str, shape: Optional[str], robots: Optional[int],

@@ -142,6 +142,18 @@ TEST(WireEndpoints, OptionalSensorsArriveBitForBitAndOnlyWhenEquipped) {
   EXPECT_TRUE(none.lidar.empty());
 }
 
+// `frame` written until the reader takes it (5 s at most): true with it in `got`.
+bool publish_until_taken(dds::ObserveWriter& writer, dds::ObserveReader& reader, std::uint64_t run_nonce,
+                         const dds::ObserveFrameData& frame, dds::ObserveFrameData& got) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (std::chrono::steady_clock::now() < deadline) {
+    writer.publish(frame);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    if (reader.take(run_nonce, got)) return true;
+  }
+  return false;
+}
+
 // A viewer's frame carries each robot's optional readings (the lidar as its nearest ray), only when equipped.
 TEST(WireEndpoints, ObserveFramesCarryTheOptionalReadingsTheBehaviourDeclared) {
   const dds::Participant participant(world_on_loopback());
@@ -161,14 +173,7 @@ TEST(WireEndpoints, ObserveFramesCarryTheOptionalReadingsTheBehaviourDeclared) {
             (std::vector<double>{1.0, 0.0, 1.0 / 3.0, 0.5, 0.0, 0.0, 0.0, 0.25, 3.0, 0.5, 0.42, 0.375}));
   EXPECT_EQ(frame.robots[1].equipped, 0U);
   dds::ObserveFrameData got;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
-  bool taken = false;
-  while (!taken && std::chrono::steady_clock::now() < deadline) {
-    writer.publish(frame);
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    taken = reader.take(77, got);
-  }
-  ASSERT_TRUE(taken);
+  ASSERT_TRUE(publish_until_taken(writer, reader, 77, frame, got));
   ASSERT_EQ(got.robots.size(), 2U);
   EXPECT_EQ(got.robots[0].equipped, frame.robots[0].equipped);
   EXPECT_EQ(got.robots[0].readings, frame.robots[0].readings);
@@ -189,14 +194,7 @@ TEST(WireEndpoints, ObserveFramesCarryEachGroupsColumnsAndEachRobotsOwnValues) {
   frame.robots[0].extra = {1.5};
   frame.robots[2].extra = {-2.0, 7.0};
   dds::ObserveFrameData got;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
-  bool taken = false;
-  while (!taken && std::chrono::steady_clock::now() < deadline) {
-    writer.publish(frame);
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    taken = reader.take(78, got);
-  }
-  ASSERT_TRUE(taken);
+  ASSERT_TRUE(publish_until_taken(writer, reader, 78, frame, got));
   EXPECT_EQ(got.columns, frame.columns);
   ASSERT_EQ(got.groups.size(), 2U);
   EXPECT_EQ(got.groups[1].first_id, 2U);
