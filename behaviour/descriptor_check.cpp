@@ -77,8 +77,9 @@ std::string check_experiment(const Descriptor& d) {
 
 bool world_summary_key(std::string_view key) {
   // make_summary's own keys, summary_outcome's summary_cut and world_server's own (input_dropped,
-  // mass_losses, RunSession::set_summary_field); a test holds make_summary to this list.
-  static constexpr std::array<std::string_view, 40> kKeys = {"format",
+  // mass_losses, RunSession::set_summary_field), and a robot group's first_id and count, beside which a
+  // group's experiment writes its keys (groups.NAME); a test holds make_summary to this list.
+  static constexpr std::array<std::string_view, 42> kKeys = {"format",
                                                              "version",
                                                              "scenario",
                                                              "shape_file",
@@ -117,7 +118,9 @@ bool world_summary_key(std::string_view key) {
                                                              "groups",
                                                              "summary_cut",
                                                              "input_dropped",
-                                                             "mass_losses"};
+                                                             "mass_losses",
+                                                             "first_id",
+                                                             "count"};
   return std::find(kKeys.begin(), kKeys.end(), key) != kKeys.end();
 }
 

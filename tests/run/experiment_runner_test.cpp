@@ -470,6 +470,10 @@ TEST(ExperimentRunner, TheRegistryRefusesAnInconsistentDeclaration) {
             "behaviour 'judged': experiment: summary key 'alive_at_end' is one the world writes itself");
   EXPECT_EQ(summary_refusal(kFront),
             "behaviour 'judged': experiment: summary key 'input_dropped' is one the world writes itself");
+  // In a mixed swarm a group's experiment writes its keys beside the group's first_id and count.
+  static constexpr std::array kGroups = {behaviour::SummarySpec{"count", behaviour::SummaryKind::Count, ""}};
+  EXPECT_EQ(summary_refusal(kGroups),
+            "behaviour 'judged': experiment: summary key 'count' is one the world writes itself");
   d = kUnjudged;
   d.experiment.summary = kSummary;
   EXPECT_EQ(
