@@ -24,17 +24,20 @@ dds::BehaviourView describe_run(const world::Scenario& scenario) {
   return run;
 }
 
+void describe_frame(const dds::BehaviourView& behaviour, dds::ObserveFrameData& frame) {
+  frame.behaviour = behaviour.name;
+  frame.states = behaviour.states;
+  frame.telemetry_fields = behaviour.telemetry_fields;
+  frame.columns = behaviour.columns;
+  frame.groups = behaviour.groups;
+}
+
 void build_frame(const world::World& world, const LatestCommand& latest,
                  const experiment::Formation& formation, const dds::BehaviourView& behaviour,
                  dds::ObserveFrameData& frame) {
   const auto& truth = world.robots();
   frame.tick = world.tick();
   frame.finished = false;
-  frame.behaviour = behaviour.name;
-  frame.states = behaviour.states;
-  frame.telemetry_fields = behaviour.telemetry_fields;
-  frame.columns = behaviour.columns;
-  frame.groups = behaviour.groups;
   frame.formation_tick = formation.tick ? static_cast<std::int64_t>(*formation.tick) : -1;
   frame.shape_error = formation.error.value_or(-1.0);
   frame.robots.resize(truth.size());

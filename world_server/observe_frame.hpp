@@ -22,6 +22,10 @@ using LatestCommand = std::function<const Command&(RobotId)>;
 // says.
 dds::BehaviourView describe_run(const world::Scenario& scenario);
 
+// The run's description in `frame` (behaviour, states, telemetry fields, columns, groups): set once, as it
+// never changes during a run; build_frame leaves it as it is.
+void describe_frame(const dds::BehaviourView& behaviour, dds::ObserveFrameData& frame);
+
 // `frame`'s rows are reused. `formation`: the behaviour's experiment's (the frame's formation_tick and
 // shape_error; none without an experiment).
 void build_frame(const world::World& world, const LatestCommand& latest,

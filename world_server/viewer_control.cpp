@@ -34,7 +34,9 @@ ViewerControl::ViewerControl(const dds::Participant& participant, std::uint64_t 
       token_(token),
       lockstep_(lockstep),
       paused_(lockstep && start_paused),
-      created_(dds_time()) {}
+      created_(dds_time()) {
+  describe_frame(behaviour_, frame_);  // the same for every frame of the run
+}
 
 void ViewerControl::poll(dds_time_t now) {
   samples_.clear();
