@@ -194,7 +194,10 @@ class LiveViewTest(unittest.TestCase):
         b.wait_for("sfViewer.frame.speed_cap === 20", what="the cap the + key set")
         # space: go; the status bar then measures ticks, frames and the lag.
         b.key(" ")
-        b.wait_for("!sfViewer.frame.paused && sfViewer.frame.tick >= 30", timeout=60, what="running after space")
+        # Running until the robots have parents (the paper's first at tick 32), so the links layer has lines.
+        b.wait_for("!sfViewer.frame.paused && sfViewer.frame.tick >= 30 && "
+                   "sfViewer.frame.robots.some(r => r.alive && r.parent >= 0)", timeout=60,
+                   what="running after space, with parent links")
         b.wait_for("sfViewer.rates.now && sfViewer.rates.now.tps !== null", what="a measured tick rate")
         tps = b.eval("sfViewer.rates.now.tps")
         self.assertLess(tps, 20 * 1.5, "ticks/s over a cap of 20")
@@ -373,12 +376,14 @@ class LiveViewTest(unittest.TestCase):
                           "--view-paused", "--view", str(port))
         self.runs.append(run)
         vh.wait_http(f"http://127.0.0.1:{port}/")
-        frames = asyncio.run(self.live_frames(port))
+        # 60 ticks at most 20 a second: 3 s of frames, however fast the host runs the ticks.
+        frames = asyncio.run(self.live_frames(port, speed_cap=20))
         code, text = run.wait(timeout=120)
         self.assertEqual(code, 0, text)
         own = {"gatherers": {"neighbours", "centroid_distance"}, "spreaders": {"nearest"}}
         later = [f for f in frames if f["tick"] >= 5 and not f["finished"]]
-        self.assertGreater(len(later), 0, f"no frame past tick 5 in {len(frames)}")
+        self.assertGreater(len(later), 0, f"no frame past tick 5 in {[(f['tick'], f['paused']) for f in frames]}; "
+                                          f"the run said:\n{text}")
         for f in later:
             self.assertTrue(own["gatherers"] | own["spreaders"] <= set(f["telemetry_fields"]), f["telemetry_fields"])
             for r in f["robots"]:
@@ -393,11 +398,14 @@ class LiveViewTest(unittest.TestCase):
             for name in own["gatherers"] if r["id"] < 5 else own["spreaders"]:
                 self.assertEqual(r[name], float(rows[r["id"]][name]), f"tick {f['tick']} robot {r['id']} {name}")
 
-    async def live_frames(self, port):
-        """Every frame of the run (paused at tick 0 until resumed here, then as fast as it goes)."""
+    async def live_frames(self, port, speed_cap=None):
+        """Every frame of the run (paused at tick 0 until resumed here, then as fast as it goes, or at most
+        `speed_cap` ticks a second)."""
         frames = []
         async with websockets.connect(f"ws://127.0.0.1:{port}/ws") as page:
             await page.send(json.dumps({"cmd": "rate", "value": 60}))
+            if speed_cap:
+                await page.send(json.dumps({"cmd": "speed", "value": speed_cap}))
             await page.send(json.dumps({"cmd": "resume"}))
             deadline = time.monotonic() + 90
             while time.monotonic() < deadline:
