@@ -201,6 +201,7 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
   std::uint32_t stale_packets = 0;  // perceptions of the previous owner skipped before the first own one
   constexpr std::uint32_t kStalePackets = 2;  // a round in flight, one more for a realtime world's timing
   std::optional<swarmform::Tick> last_tick;   // of the last own perception
+  swarmform::Command last_command;            // what this robot answered for last_tick
   for (;;) {
     switch (link.next_packet(o.timeout_s, packet)) {
       case WaitResult::Ok:
@@ -252,6 +253,13 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
       }
       return stopped(kExitOk);
     }
+    if (last_tick && packet.perception.tick <= *last_tick && packet.generation == generation) {
+      // The round's packet again (world_server's rewrite_round: the round waited long, and the first may
+      // have been lost): the same answer, without stepping the controller a second time for one tick, so
+      // the trajectory is the one the round would have had. Lockstep only; never an older tick.
+      if (packet.perception.tick == *last_tick) link.send(*last_tick, last_command);
+      continue;
+    }
     last_tick = packet.perception.tick;
     if (generation == 0) {
       generation = packet.generation;
@@ -284,6 +292,7 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
       return stopped(kExitBehaviourFailed);
     }
     link.send(packet.perception.tick, command);
+    last_command = std::move(command);
   }
 }
 

@@ -230,6 +230,13 @@ int Server::run_inner() {
                  "was there; %zu came back (not deaths)\n",
                  stragglers_.total(), stragglers_.came_back());
   }
+  if (rounds_rewritten_ > 0) {
+    std::fprintf(stderr,
+                 "world_server: lockstep rounds waited long and wrote their packets again %llu time(s) (%llu "
+                 "packets; events round_rewritten)\n",
+                 static_cast<unsigned long long>(rounds_rewritten_),
+                 static_cast<unsigned long long>(packets_rewritten_));
+  }
   if (unjudged_lapses_ > 0) {
     std::fprintf(
         stderr,
@@ -869,6 +876,7 @@ void Server::publish_packets() {
     RobotSlot& r = robots_[i];
     const bool live = world_.alive(id) && registry_.connected(id) && !schedule_.held(id);
     r.waiting = live;
+    r.in_round = live;
     waiting_count_ += r.waiting ? 1 : 0;
     if (!live) continue;
     if (!r.judged) {
@@ -923,10 +931,17 @@ bool Server::collect_lockstep() {
   const dds_duration_t allowed = seconds(scenario_.lockstep_deadline_s);
   dds_time_t waited_since = stalls_.awake();
   dds_time_t next_report = waited_since + kWaitReport;
+  const dds_duration_t rewrite = std::min(kRoundRewrite, allowed / 2);
+  dds_time_t next_rewrite = round_start_ + rewrite;  // wall time: the agents wait in theirs
   std::size_t came_back = stragglers_.came_back();
   for (;;) {
     pump(true);
     if (waiting_count_ == 0 || stopping()) break;
+    if (const dds_time_t now = dds_time(); now >= next_rewrite) {
+      rewrite_round();
+      next_rewrite = now + rewrite;
+      continue;  // pump again: an answer to it may be in already
+    }
     const dds_time_t awake = stalls_.awake();
     if (stragglers_.came_back() != came_back) {
       // A straggler heard again has the whole wait from now on: the packet it missed comes again first.
@@ -946,7 +961,7 @@ bool Server::collect_lockstep() {
     // Sleep until as many samples are in as commands are awaited (each awaited agent sends one), not at each
     // arrival: a round at N = 64 took the commands 8.9 times (dds::Waiter, "Counted arrivals").
     link_.waiter.need(waiting_count_);
-    wait_a_while(dds_time() + std::min(waited_since + allowed, next_report) - awake);
+    wait_a_while(std::min(dds_time() + std::min(waited_since + allowed, next_report) - awake, next_rewrite));
   }
   link_.waiter.need(1);  // elsewhere every sample wakes the world
   profile_.collect += dds_time() - collect_start;
@@ -965,6 +980,29 @@ bool Server::collect_lockstep() {
     return false;
   }
   return !stopping();
+}
+
+void Server::rewrite_round() {
+  // A round that waits long may wait for a packet that never arrived: a reliable sample written while its
+  // reader was not matched (a participant dropped after its lease on a starved host, and matched again) is
+  // never delivered, and the round waited for an answer to it until the agent gave up. And an agent that
+  // answered hears nothing from the world while it waits: on a starved host the world's writers miss their
+  // lease at the agent, and Cyclone 0.10.2 makes a lapsed writer alive again only on data, so after its
+  // silence limit the agent took a waiting world for gone. The same packet again serves both: an agent
+  // answers a tick it answered already with the same command (robot_agent/main.cpp), and the world takes a
+  // command for a robot it no longer waits for as the same one, so the run is as if nothing happened.
+  ++rounds_rewritten_;
+  std::size_t written = 0;
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    const auto id = static_cast<RobotId>(i);
+    if (!robots_[i].in_round || !world_.alive(id) || !registry_.connected(id)) continue;
+    link_.robots.write_packet(id, dds::PacketStatus::Run, world_.perception(id));
+    ++written;
+  }
+  packets_rewritten_ += written;
+  session_.record_event(-1, "round_rewritten",
+                        "tick " + std::to_string(world_.tick()) + ": waiting for " + awaited_text() + "; " +
+                            std::to_string(written) + " packet(s) of the round written again");
 }
 
 std::string Server::awaited_text() const {

@@ -15,6 +15,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "common/dds/qos.hpp"
 #include "common/dds/refusal_log.hpp"
 #include "common/dds/signal_watch.hpp"
 #include "common/exit_codes.hpp"
@@ -110,6 +111,8 @@ class Server {
   // until the period is over. False when a stop was asked (the round in flight is then not stepped).
   bool collect();
   bool collect_lockstep();
+  // The round's packets again, to every robot its packets went to (collect_lockstep, kRoundRewrite).
+  void rewrite_round();
   bool collect_realtime();
   void apply_commands();  // this round's commands, in id order
   void step_world();      // World::step
@@ -195,6 +198,13 @@ class Server {
   static constexpr dds_duration_t kFirstAnswerGrace = DDS_SECS(2);
   // A round waiting this long says on stderr whom it waits for, and again at each further period.
   static constexpr dds_duration_t kWaitReport = DDS_SECS(5);
+  // A lockstep round still waiting this long (wall time) writes its packets again, and again at each further
+  // period (rewrite_round): two of the world's writer leases, so an agent that answered hears the world again
+  // well within its own silence limit, and one whose packet was lost gets it again; at most half the
+  // scenario's lockstep_deadline, so that a lost packet is written again before the wait ends the run.
+  static constexpr dds_duration_t kRoundRewrite = 2 * dds::kWorldLivelinessLease;
+  std::uint64_t rounds_rewritten_ = 0;
+  std::uint64_t packets_rewritten_ = 0;
   InputGuard guard_;
   std::vector<world::TelemetryLimits> telemetry_limits_;  // a robot group's each (one without groups)
   std::uint64_t telemetry_fields_dropped_ = 0;

@@ -31,6 +31,11 @@
 //       2e9, a NaN net force, and a 20 KB event string, one with control bytes and an "arrived" among its
 //       events. The world must drop and count the out-of-range fields and strings and record none of them;
 //       the run's metrics (from the world's poses) must be those of the honest run.
+//   rogue_agent deaf --id K [--tick T] --domain D [--timeout SEC]
+//       claims K and drives it with the real controller, as robot_agent would, but takes the first packet of
+//       tick T as lost on the wire (it neither steps nor answers): the lockstep world must write the round's
+//       packet again, and the run be the honest one bit for bit. A packet of a tick it answered already is
+//       answered with the same command, as robot_agent does.
 //   rogue_agent flood --seconds S [--ids N] [--made-up] [--realtime] --domain D [--timeout SEC]
 //       owns nothing; once its writer has matched the world's reader (prints "flood ready") it writes
 //       commands for ids 0..N-1 (1 KB message, 4 event strings each) as fast as the wire takes them for S
@@ -49,7 +54,7 @@
 //       Prints "stranger participant=<GUID>" (its participant's GUID, as DDS discovery gives it to the world)
 //       first. Exits 0 once the world accepts the claim, 4 when it refuses it ("rogue_agent: refused: ...").
 //
-// Exits 0 when the world announces the end (nan, slow, silent, liar) or finishes (spoof, forge), 3 on
+// Exits 0 when the world announces the end (nan, slow, silent, liar, deaf) or finishes (spoof, forge), 3 on
 // --timeout.
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -224,6 +229,26 @@ int liar_agent(dds::Participant& participant, RobotId id, double timeout_s) {
     c.telemetry.extra = controller::paper_telemetry(2000000000, 2000000000, leader, 1e300);
     c.telemetry.events = {huge, control, "formed"};
     return std::optional<Command>(c);
+  });
+}
+
+int deaf_agent(dds::Participant& participant, RobotId id, Tick deaf_tick, double timeout_s) {
+  const auto mission = wait_mission(participant, after(timeout_s));
+  if (!mission) return 3;
+  const auto controller = controller::make_controller(mission->mission, id);
+  bool lost = false;
+  std::optional<Tick> last_tick;
+  Command last;
+  return answering_agent(participant, id, mission->realtime, timeout_s, "deaf", [&](const Perception& p) {
+    if (p.tick == deaf_tick && !lost) {
+      lost = true;
+      std::cerr << "rogue_agent: the packet of tick " << p.tick << " taken as lost\n";
+      return std::optional<Command>();
+    }
+    if (last_tick && p.tick == *last_tick) return std::optional<Command>(last);
+    last = controller->step(p);
+    last_tick = p.tick;
+    return std::optional<Command>(last);
   });
 }
 
@@ -405,7 +430,8 @@ int silent_agent(dds::Participant& participant, RobotId id, double timeout_s) {
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "rogue_agent: a spoofing, NaN-sending, slow, silent, lying, flooding or claim-storming participant for "
+      "rogue_agent: a spoofing, NaN-sending, slow, silent, lying, deaf, flooding or claim-storming "
+      "participant for "
       "the integration tests"};
   app.require_subcommand(1);
   std::uint32_t domain = 0;
@@ -442,6 +468,10 @@ int main(int argc, char** argv) {
   bw->add_option("--nonce", nonce_hex, "the run nonce to stamp (hex)");
   auto* li = app.add_subcommand("liar", "own an id, move honestly, report out-of-range telemetry");
   li->add_option("--id", id, "the id to claim")->required();
+  auto* de = app.add_subcommand("deaf", "own an id, move honestly, take one tick's first packet as lost");
+  de->add_option("--id", id, "the id to claim")->required();
+  std::uint64_t deaf_tick = 40;
+  de->add_option("--tick", deaf_tick, "the tick whose first packet is taken as lost");
   double seconds = 5.0;
   std::uint32_t ids = 8;
   auto* fl = app.add_subcommand("flood", "own nothing; write commands for every id as fast as possible");
@@ -480,6 +510,7 @@ int main(int argc, char** argv) {
     if (bw->parsed())
       return badwire(participant, id, version, std::stoull(nonce_hex, nullptr, 16), timeout_s);
     if (li->parsed()) return liar_agent(participant, id, timeout_s);
+    if (de->parsed()) return deaf_agent(participant, id, static_cast<Tick>(deaf_tick), timeout_s);
     if (fl->parsed()) return flood(participant, seconds, ids, made_up, with_claims, realtime, timeout_s);
     if (cs->parsed()) return claim_storm(participant, seconds, first, timeout_s);
     if (st->parsed()) return stranger(participant, id, stated_pid, timeout_s);
