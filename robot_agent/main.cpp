@@ -31,6 +31,7 @@
 #include "common/dds/signal_watch.hpp"
 #include "common/exit_codes.hpp"
 #include "common/input_error.hpp"
+#include "robot_agent/answer_memory.hpp"
 #include "robot_agent/controller/builtins.hpp"
 #include "robot_agent/dds_link.hpp"
 #include "robot_agent/exec/exec_controller.hpp"
@@ -201,7 +202,7 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
   std::uint32_t stale_packets = 0;  // perceptions of the previous owner skipped before the first own one
   constexpr std::uint32_t kStalePackets = 2;  // a round in flight, one more for a realtime world's timing
   std::optional<swarmform::Tick> last_tick;   // of the last own perception
-  swarmform::Command last_command;            // what this robot answered for last_tick
+  swarmform::agent::AnswerMemory answers;     // a repeated round's packet gets the same answer
   for (;;) {
     switch (link.next_packet(o.timeout_s, packet)) {
       case WaitResult::Ok:
@@ -253,11 +254,10 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
       }
       return stopped(kExitOk);
     }
-    if (last_tick && packet.perception.tick <= *last_tick && packet.generation == generation) {
-      // The round's packet again (world_server's rewrite_round: the round waited long, and the first may
-      // have been lost): the same answer, without stepping the controller a second time for one tick, so
-      // the trajectory is the one the round would have had. Lockstep only; never an older tick.
-      if (packet.perception.tick == *last_tick) link.send(*last_tick, last_command);
+    if (const auto verdict = answers.judge(packet.perception.tick, packet.generation);
+        verdict != swarmform::agent::AnswerMemory::Verdict::Step) {
+      if (verdict == swarmform::agent::AnswerMemory::Verdict::Repeat)
+        link.send(packet.perception.tick, answers.last());
       continue;
     }
     last_tick = packet.perception.tick;
@@ -292,7 +292,7 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
       return stopped(kExitBehaviourFailed);
     }
     link.send(packet.perception.tick, command);
-    last_command = std::move(command);
+    answers.answered(packet.perception.tick, generation, std::move(command));
   }
 }
 

@@ -26,7 +26,6 @@ struct RobotSlot {
   // This round: its command is still awaited (lockstep), and when its packet went out (realtime, for
   // late_commands).
   bool waiting = false;
-  bool in_round = false;  // its packet went out this round (lockstep writes it again to a long wait)
   dds_time_t written_at = 0;
 };
 

@@ -876,7 +876,6 @@ void Server::publish_packets() {
     RobotSlot& r = robots_[i];
     const bool live = world_.alive(id) && registry_.connected(id) && !schedule_.held(id);
     r.waiting = live;
-    r.in_round = live;
     waiting_count_ += r.waiting ? 1 : 0;
     if (!live) continue;
     if (!r.judged) {
@@ -985,24 +984,22 @@ bool Server::collect_lockstep() {
 void Server::rewrite_round() {
   // A round that waits long may wait for a packet that never arrived: a reliable sample written while its
   // reader was not matched (a participant dropped after its lease on a starved host, and matched again) is
-  // never delivered, and the round waited for an answer to it until the agent gave up. And an agent that
-  // answered hears nothing from the world while it waits: on a starved host the world's writers miss their
-  // lease at the agent, and Cyclone 0.10.2 makes a lapsed writer alive again only on data, so after its
-  // silence limit the agent took a waiting world for gone. The same packet again serves both: an agent
-  // answers a tick it answered already with the same command (robot_agent/main.cpp), and the world takes a
-  // command for a robot it no longer waits for as the same one, so the run is as if nothing happened.
+  // never delivered, and the round waited for an answer to it until the agent gave up; or for an answer
+  // that was lost. The awaited robots' packets again serve both: an agent answers a tick it answered already
+  // with the same command (robot_agent/answer_memory.hpp), so the run is as if nothing happened. Only the
+  // awaited: at 1024 agents on a starved host every robot's packet again cost as many answers each period.
   ++rounds_rewritten_;
   std::size_t written = 0;
   for (std::size_t i = 0; i < robots_.size(); ++i) {
     const auto id = static_cast<RobotId>(i);
-    if (!robots_[i].in_round || !world_.alive(id) || !registry_.connected(id)) continue;
+    if (!robots_[i].waiting || !world_.alive(id) || !registry_.connected(id)) continue;
     link_.robots.write_packet(id, dds::PacketStatus::Run, world_.perception(id));
     ++written;
   }
   packets_rewritten_ += written;
   session_.record_event(-1, "round_rewritten",
                         "tick " + std::to_string(world_.tick()) + ": waiting for " + awaited_text() + "; " +
-                            std::to_string(written) + " packet(s) of the round written again");
+                            std::to_string(written) + " packet(s) written again");
 }
 
 std::string Server::awaited_text() const {

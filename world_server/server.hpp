@@ -111,7 +111,7 @@ class Server {
   // until the period is over. False when a stop was asked (the round in flight is then not stepped).
   bool collect();
   bool collect_lockstep();
-  // The round's packets again, to every robot its packets went to (collect_lockstep, kRoundRewrite).
+  // The awaited robots' packets again (collect_lockstep, kRoundRewrite).
   void rewrite_round();
   bool collect_realtime();
   void apply_commands();  // this round's commands, in id order
@@ -198,10 +198,9 @@ class Server {
   static constexpr dds_duration_t kFirstAnswerGrace = DDS_SECS(2);
   // A round waiting this long says on stderr whom it waits for, and again at each further period.
   static constexpr dds_duration_t kWaitReport = DDS_SECS(5);
-  // A lockstep round still waiting this long (wall time) writes its packets again, and again at each further
-  // period (rewrite_round): two of the world's writer leases, so an agent that answered hears the world again
-  // well within its own silence limit, and one whose packet was lost gets it again; at most half the
-  // scenario's lockstep_deadline, so that a lost packet is written again before the wait ends the run.
+  // A lockstep round still waiting this long (wall time) writes the awaited robots' packets again, and again
+  // at each further period (rewrite_round): two of the world's writer leases; at most half the scenario's
+  // lockstep_deadline, so that a lost packet is written again before the wait ends the run.
   static constexpr dds_duration_t kRoundRewrite = 2 * dds::kWorldLivelinessLease;
   std::uint64_t rounds_rewritten_ = 0;
   std::uint64_t packets_rewritten_ = 0;

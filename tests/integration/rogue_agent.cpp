@@ -78,6 +78,7 @@
 #include "common/dds/waiter.hpp"
 #include "common/dds/wire_version.hpp"
 #include "common/dds/world_state_endpoints.hpp"
+#include "robot_agent/answer_memory.hpp"
 #include "robot_agent/controller/builtins.hpp"
 #include "robot_agent/controller/paper_telemetry.hpp"
 
@@ -237,18 +238,23 @@ int deaf_agent(dds::Participant& participant, RobotId id, Tick deaf_tick, double
   if (!mission) return 3;
   const auto controller = controller::make_controller(mission->mission, id);
   bool lost = false;
-  std::optional<Tick> last_tick;
-  Command last;
+  agent::AnswerMemory answers;  // as robot_agent's (one generation: this agent never rejoins)
   return answering_agent(participant, id, mission->realtime, timeout_s, "deaf", [&](const Perception& p) {
     if (p.tick == deaf_tick && !lost) {
       lost = true;
       std::cerr << "rogue_agent: the packet of tick " << p.tick << " taken as lost\n";
       return std::optional<Command>();
     }
-    if (last_tick && p.tick == *last_tick) return std::optional<Command>(last);
-    last = controller->step(p);
-    last_tick = p.tick;
-    return std::optional<Command>(last);
+    switch (answers.judge(p.tick, 1)) {
+      case agent::AnswerMemory::Verdict::Repeat:
+        return std::optional<Command>(answers.last());
+      case agent::AnswerMemory::Verdict::Stale:
+        return std::optional<Command>();
+      case agent::AnswerMemory::Verdict::Step:
+        break;
+    }
+    answers.answered(p.tick, 1, controller->step(p));
+    return std::optional<Command>(answers.last());
   });
 }
 

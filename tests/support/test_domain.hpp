@@ -7,12 +7,12 @@
 //   examples.installed_launcher, 29 example_run_tests' foraging run, 30
 //   tests/scripts/test_groups_e2e.py, 36..37 wire_faults_test, 38..39
 //   test_launcher_e2e.py's two concurrent runs (the launcher's free-domain picker, given
-//   SWARM_DOMAINS=base+38-base+39). 40..43 the abuse tests (40 paper liar, 41 lockstep flood, 42 full disk +
-//   end reasons, 43 realtime flood). 44..46 faults_process_test, 47 tests/scripts/test_faults_e2e.py. 48..63
-//   the plug-in, agent, hosts, faces, secure and viewer tests (48..51 plug-ins, 52..55 external
-//   agents, 56..58 hosts, 59 faces_test (docs/wire.md "Faces"), 60..61 secure, 62..63 viewer: 62
-//   tests/viewer/test_viewer_live.py, 63 tests/viewer/test_viewer_runs.py); each area's README or test header
-//   says which it took (60..61: tests/scripts/test_secure_e2e.py).
+//   SWARM_DOMAINS=base+38-base+39). 40..43 the abuse tests (40 paper liar and deaf, 41 lockstep flood, 42
+//   full disk + end reasons, 43 realtime flood). 44..46 faults_process_test, 47
+//   tests/scripts/test_faults_e2e.py. 48..63 the plug-in, agent, hosts, faces, secure and viewer tests
+//   (48..51 plug-ins, 52..55 external agents, 56..58 hosts, 59 faces_test (docs/wire.md "Faces"), 60..61
+//   secure, 62..63 viewer: 62 tests/viewer/test_viewer_live.py, 63 tests/viewer/test_viewer_runs.py); each
+//   area's README or test header says which it took (60..61: tests/scripts/test_secure_e2e.py).
 #pragma once
 
 #include <cstdlib>
