@@ -35,6 +35,7 @@ class AnswerMemory {
   }
 
   const Command& last() const { return command_; }
+  std::optional<Tick> last_tick() const { return tick_; }
 
  private:
   std::optional<Tick> tick_;

@@ -201,8 +201,7 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
   std::uint64_t own_packets = 0;    // perceptions stamped with our claim nonce
   std::uint32_t stale_packets = 0;  // perceptions of the previous owner skipped before the first own one
   constexpr std::uint32_t kStalePackets = 2;  // a round in flight, one more for a realtime world's timing
-  std::optional<swarmform::Tick> last_tick;   // of the last own perception
-  swarmform::agent::AnswerMemory answers;     // a repeated round's packet gets the same answer
+  swarmform::agent::AnswerMemory answers;     // the last tick answered; a repeat of it gets the same answer
   for (;;) {
     switch (link.next_packet(o.timeout_s, packet)) {
       case WaitResult::Ok:
@@ -245,6 +244,7 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
       const swarmform::Tick end_tick = packet.perception.tick;
       const auto allowed = static_cast<swarmform::Tick>(
           mission.realtime ? std::max(2.0, std::ceil(mission.mission.tick_rate)) : 1.0);
+      const std::optional<swarmform::Tick> last_tick = answers.last_tick();
       if (last_tick && end_tick > *last_tick + allowed) {
         std::cerr
             << me << ": the run ended at tick " << end_tick
@@ -260,7 +260,6 @@ int run(const Options& o, swarmform::dds::SignalWatch& signals) {
         link.send(packet.perception.tick, answers.last());
       continue;
     }
-    last_tick = packet.perception.tick;
     if (generation == 0) {
       generation = packet.generation;
     } else if (packet.generation > generation) {

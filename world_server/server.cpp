@@ -936,7 +936,8 @@ bool Server::collect_lockstep() {
   for (;;) {
     pump(true);
     if (waiting_count_ == 0 || stopping()) break;
-    if (const dds_time_t now = dds_time(); now >= next_rewrite) {
+    const dds_time_t now = dds_time();
+    if (now >= next_rewrite) {
       rewrite_round();
       next_rewrite = now + rewrite;
       continue;  // pump again: an answer to it may be in already
@@ -960,7 +961,7 @@ bool Server::collect_lockstep() {
     // Sleep until as many samples are in as commands are awaited (each awaited agent sends one), not at each
     // arrival: a round at N = 64 took the commands 8.9 times (dds::Waiter, "Counted arrivals").
     link_.waiter.need(waiting_count_);
-    wait_a_while(std::min(dds_time() + std::min(waited_since + allowed, next_report) - awake, next_rewrite));
+    wait_a_while(std::min(now + std::min(waited_since + allowed, next_report) - awake, next_rewrite));
   }
   link_.waiter.need(1);  // elsewhere every sample wakes the world
   profile_.collect += dds_time() - collect_start;
@@ -991,8 +992,8 @@ void Server::rewrite_round() {
   ++rounds_rewritten_;
   std::size_t written = 0;
   for (std::size_t i = 0; i < robots_.size(); ++i) {
+    if (!robots_[i].waiting) continue;  // awaited: live and connected (publish_packets, on_dead)
     const auto id = static_cast<RobotId>(i);
-    if (!robots_[i].waiting || !world_.alive(id) || !registry_.connected(id)) continue;
     link_.robots.write_packet(id, dds::PacketStatus::Run, world_.perception(id));
     ++written;
   }
